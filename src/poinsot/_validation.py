@@ -1,0 +1,127 @@
+"""Argument checking at poinsot's boundary.
+
+Every public function turns user input into arrays here, so that a bad value is refused with
+a message that names the argument, the offending index and the rule it breaks, e.g.
+``"`masses[3]` must be a positive finite number, found -1.0"``. Nothing is broadcast silently:
+a wrong shape is an error, never a reshaped array.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+__all__ = [
+    "as_array",
+    "as_positive_scalar",
+    "as_rotation_matrix",
+    "as_scalar",
+    "as_vector3",
+]
+
+#: Tolerance for accepting a user-given rotation matrix or quaternion (typed-in values such as
+#: 0.7071 are common); accepted input is then projected exactly onto SO(3).
+ROTATION_TOLERANCE = 1e-6
+
+
+def _fmt_index(idx: tuple[int, ...]) -> str:
+    return "".join(f"[{i}]" for i in idx)
+
+
+def as_array(value, name: str, shape: tuple[int | None, ...], *, finite: bool = True) -> np.ndarray:
+    """Convert ``value`` to a float array of ``shape`` (``None`` = any length).
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not numeric.
+    ValueError
+        If the shape differs or (with ``finite``) an entry is NaN or infinite; the message
+        names ``name`` and the first offending index.
+    """
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"`{name}` must be numeric, found {type(value).__name__}") from exc
+    dims = ["N" if s is None else str(s) for s in shape]
+    expected = "(" + ", ".join(dims) + ("," if len(dims) == 1 else "") + ")"
+    if arr.ndim != len(shape) or any(
+        s is not None and n != s for s, n in zip(shape, arr.shape, strict=True)
+    ):
+        raise ValueError(f"`{name}` must have shape {expected}, found shape {arr.shape}")
+    if finite and not np.all(np.isfinite(arr)):
+        bad = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
+        raise ValueError(
+            f"`{name}{_fmt_index(bad)}` must be finite, found {arr[bad] if bad else arr.item()}"
+        )
+    return arr
+
+
+def as_vector3(value, name: str) -> np.ndarray:
+    """A finite 3-vector, shape (3,)."""
+    return as_array(value, name, (3,))
+
+
+def as_scalar(value, name: str) -> float:
+    """A finite real number (bools refused)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real | np.ndarray):
+        raise TypeError(f"`{name}` must be a real number, found {type(value).__name__}")
+    arr = np.asarray(value, dtype=float)
+    if arr.ndim != 0:
+        raise ValueError(f"`{name}` must be a scalar, found shape {arr.shape}")
+    x = float(arr)
+    if not np.isfinite(x):
+        raise ValueError(f"`{name}` must be finite, found {x}")
+    return x
+
+
+def as_positive_scalar(value, name: str) -> float:
+    """A finite number > 0."""
+    x = as_scalar(value, name)
+    if x <= 0:
+        raise ValueError(f"`{name}` must be a positive number, found {x}")
+    return x
+
+
+def as_positive_array(value, name: str, shape: tuple[int | None, ...]) -> np.ndarray:
+    """A finite array with every entry > 0; the message names the first bad index."""
+    arr = as_array(value, name, shape)
+    if np.any(arr <= 0):
+        bad = tuple(int(i) for i in np.argwhere(arr <= 0)[0])
+        raise ValueError(f"`{name}{_fmt_index(bad)}` must be a positive number, found {arr[bad]}")
+    return arr
+
+
+def as_rotation_matrix(value, name: str) -> np.ndarray:
+    """A rotation given as a 3×3 matrix or a scalar-first unit quaternion (w, x, y, z).
+
+    Input within :data:`ROTATION_TOLERANCE` of a rotation is accepted and projected exactly onto
+    SO(3) (quaternion normalised; matrix replaced by its orthogonal polar factor). Anything else
+    (a reflection, a shear, a quaternion of the wrong norm) is refused.
+    """
+    arr = np.asarray(value, dtype=float) if not isinstance(value, str) else None
+    if arr is None or arr.shape not in ((3, 3), (4,)):
+        shape = None if arr is None else arr.shape
+        raise ValueError(
+            f"`{name}` must be a 3×3 rotation matrix or a unit quaternion (w, x, y, z), "
+            f"found shape {shape}"
+        )
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"`{name}` must be finite, found {arr.tolist()}")
+    if arr.shape == (4,):
+        norm = float(np.linalg.norm(arr))
+        if abs(norm - 1.0) > ROTATION_TOLERANCE:
+            raise ValueError(f"`{name}` is not a rotation: quaternion norm is {norm:.9g}, not 1")
+        from .kernels.so3 import quat_to_matrix
+
+        return quat_to_matrix(arr / norm)
+    orth = float(np.max(np.abs(arr.T @ arr - np.eye(3))))
+    det = float(np.linalg.det(arr))
+    if orth > ROTATION_TOLERANCE or det <= 0:
+        raise ValueError(
+            f"`{name}` is not a rotation: needs RᵀR = I and det R = +1, "
+            f"found max|RᵀR − I| = {orth:.3g} and det R = {det:.6g}"
+        )
+    u, _, vt = np.linalg.svd(arr)
+    return u @ vt

@@ -1,0 +1,407 @@
+"""Rigid bodies and their mass properties (THEORY.md §1, eqs (04), (10)–(15)).
+
+A :class:`RigidBody` is its mass, centre of mass and inertia operator about the centre of mass,
+expressed in the reference frame in which it was built (the body frame at ``Q = I``). Bodies
+built from particles also keep the particles, so the offsets ``u_i`` of eq. (04) and the
+particle forces of eq. (08) are available. Bodies are immutable: every array they return is
+read-only.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from functools import cached_property
+
+import numpy as np
+
+from . import shapes
+from ._validation import (
+    as_array,
+    as_positive_array,
+    as_positive_scalar,
+    as_rotation_matrix,
+    as_vector3,
+)
+from .kernels import inertia as kin
+
+__all__ = ["SYMMETRY_CLASSES", "RigidBody"]
+
+#: Relative tolerance (to the largest principal moment) used to accept inertia matrices and to
+#: classify symmetry.
+DEFAULT_RTOL = 1e-9
+
+SYMMETRY_CLASSES = ("asymmetric", "prolate", "oblate", "spherical")
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=float)
+    a.flags.writeable = False
+    return a
+
+
+def _check_inertia(inertia, name: str = "inertia") -> np.ndarray:
+    J = as_array(inertia, name, (3, 3))
+    scale = max(float(np.max(np.abs(J))), np.finfo(float).tiny)
+    asym = float(np.max(np.abs(J - J.T)))
+    if asym > DEFAULT_RTOL * scale:
+        raise ValueError(f"`{name}` must be symmetric, found max|J − Jᵀ| = {asym:.3g}")
+    J = 0.5 * (J + J.T)
+    I1, I2, I3 = np.linalg.eigvalsh(J)
+    tol = DEFAULT_RTOL * max(abs(I3), np.finfo(float).tiny)
+    if I1 < -tol:
+        raise ValueError(
+            f"`{name}` must be positive semi-definite: principal moments are "
+            f"{I1:.6g}, {I2:.6g}, {I3:.6g}"
+        )
+    if I1 + I2 < I3 - tol:
+        raise ValueError(
+            f"`{name}`: principal moments must satisfy I1 + I2 ≥ I3 (no mass distribution has "
+            f"one moment exceeding the sum of the others), found I1 + I2 = {I1 + I2:.6g} < "
+            f"I3 = {I3:.6g}"
+        )
+    return J
+
+
+def _placement(position, orientation) -> tuple[np.ndarray, np.ndarray]:
+    pos = np.zeros(3) if position is None else as_vector3(position, "position")
+    rot = np.eye(3) if orientation is None else as_rotation_matrix(orientation, "orientation")
+    return pos, rot
+
+
+class RigidBody:
+    """A rigid body: mass, centre of mass and inertia about the centre of mass.
+
+    Parameters
+    ----------
+    mass : float
+        Total mass ``M > 0``.
+    inertia : array_like, shape (3, 3)
+        Inertia operator ``A`` about the centre of mass (eq. (13)): symmetric, positive
+        semi-definite, with principal moments satisfying ``I1 + I2 ≥ I3``.
+    center_of_mass : array_like, shape (3,), optional
+        Position ``R`` of the centre of mass in the reference frame.
+
+    Examples
+    --------
+    The notebook's worked example, three unit masses (THEORY.md §1):
+
+    >>> body = RigidBody.from_particles([1, 1, 1], [[0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    >>> body.principal_moments.round(6).tolist()
+    [0.333333, 1.0, 1.333333]
+    >>> body.center_of_mass.round(6).tolist()
+    [0.333333, 0.333333, 0.0]
+    """
+
+    def __init__(self, mass, inertia, center_of_mass=(0.0, 0.0, 0.0)):
+        self._mass = as_positive_scalar(mass, "mass")
+        self._inertia = _readonly(_check_inertia(inertia))
+        self._com = _readonly(as_vector3(center_of_mass, "center_of_mass"))
+        self._particle_masses = None
+        self._particle_offsets = None
+
+    # ----------------------------------------------------------------- constructors
+    @classmethod
+    def _build(cls, mass, inertia, com, particle_masses=None, offsets=None) -> RigidBody:
+        body = cls.__new__(cls)
+        body._mass = float(mass)
+        body._inertia = _readonly(0.5 * (inertia + inertia.T))
+        body._com = _readonly(com)
+        body._particle_masses = None if particle_masses is None else _readonly(particle_masses)
+        body._particle_offsets = None if offsets is None else _readonly(offsets)
+        return body
+
+    @classmethod
+    def from_particles(cls, masses, positions) -> RigidBody:
+        """A body of point masses ``masses`` (N,) at ``positions`` (N, 3), eq. (04).
+
+        Examples
+        --------
+        >>> RigidBody.from_particles([2.0], [[1.0, 2.0, 3.0]]).is_degenerate
+        True
+        """
+        m = as_positive_array(masses, "masses", (None,))
+        r = as_array(positions, "positions", (None, 3))
+        if len(m) == 0:
+            raise ValueError("`masses` must hold at least one particle, found N = 0")
+        if len(m) != len(r):
+            raise ValueError(
+                f"`masses` and `positions` must have the same length, found {len(m)} and {len(r)}"
+            )
+        com = kin.center_of_mass(m, r)
+        u = r - com
+        return cls._build(m.sum(), kin.particle_inertia(m, u), com, m, u)
+
+    @classmethod
+    def _primitive(cls, mass, inertia_local, position, orientation) -> RigidBody:
+        pos, rot = _placement(position, orientation)
+        return cls._build(mass, kin.rotate_inertia(inertia_local, rot), pos)
+
+    @classmethod
+    def box(cls, mass, size, *, position=None, orientation=None) -> RigidBody:
+        """Uniform box with edge lengths ``size = (a, b, c)`` along its x, y, z axes.
+
+        ``A = M/12 · diag(b² + c², a² + c², a² + b²)``.
+
+        Examples
+        --------
+        >>> RigidBody.box(12.0, (1.0, 2.0, 3.0)).principal_moments.tolist()
+        [5.0, 10.0, 13.0]
+        """
+        m = as_positive_scalar(mass, "mass")
+        size = as_positive_array(size, "size", (3,))
+        return cls._primitive(m, shapes.box_inertia(m, size), position, orientation)
+
+    @classmethod
+    def sphere(cls, mass, radius, *, position=None, orientation=None) -> RigidBody:
+        """Uniform solid sphere: ``A = 2/5 M r² 𝟙``."""
+        m = as_positive_scalar(mass, "mass")
+        r = as_positive_scalar(radius, "radius")
+        return cls._primitive(m, shapes.sphere_inertia(m, r), position, orientation)
+
+    @classmethod
+    def spherical_shell(cls, mass, radius, *, position=None, orientation=None) -> RigidBody:
+        """Thin uniform spherical shell: ``A = 2/3 M r² 𝟙``."""
+        m = as_positive_scalar(mass, "mass")
+        r = as_positive_scalar(radius, "radius")
+        return cls._primitive(m, shapes.spherical_shell_inertia(m, r), position, orientation)
+
+    @classmethod
+    def cylinder(cls, mass, radius, height, *, position=None, orientation=None) -> RigidBody:
+        """Uniform solid cylinder with its axis along z."""
+        m = as_positive_scalar(mass, "mass")
+        r = as_positive_scalar(radius, "radius")
+        h = as_positive_scalar(height, "height")
+        return cls._primitive(m, shapes.cylinder_inertia(m, r, h), position, orientation)
+
+    @classmethod
+    def ellipsoid(cls, mass, semi_axes, *, position=None, orientation=None) -> RigidBody:
+        """Uniform solid ellipsoid with semi-axes ``(a, b, c)`` along x, y, z."""
+        m = as_positive_scalar(mass, "mass")
+        ax = as_positive_array(semi_axes, "semi_axes", (3,))
+        return cls._primitive(m, shapes.ellipsoid_inertia(m, ax), position, orientation)
+
+    @classmethod
+    def rod(cls, mass, length, *, position=None, orientation=None) -> RigidBody:
+        """Thin uniform rod along z: the degenerate (collinear) body, ``I1 = 0``."""
+        m = as_positive_scalar(mass, "mass")
+        length = as_positive_scalar(length, "length")
+        return cls._primitive(m, shapes.rod_inertia(m, length), position, orientation)
+
+    @classmethod
+    def cone(cls, mass, radius, height, *, position=None, orientation=None) -> RigidBody:
+        """Uniform solid cone, axis z, apex up; its centre of mass sits h/4 above the base."""
+        m = as_positive_scalar(mass, "mass")
+        r = as_positive_scalar(radius, "radius")
+        h = as_positive_scalar(height, "height")
+        return cls._primitive(m, shapes.cone_inertia(m, r, h), position, orientation)
+
+    @classmethod
+    def from_mesh(cls, mesh, *, mass=None, density=None) -> RigidBody:
+        """A uniform solid bounded by a closed triangle mesh (exact polyhedral integrals).
+
+        Parameters
+        ----------
+        mesh : path, ``trimesh.Trimesh`` or ``(vertices, faces)``
+            A watertight, consistently wound mesh, in the units of the body.
+        mass, density : float, optional
+            Give at most one. With neither, the density is 1 (mass equals the volume).
+        """
+        from .mesh import mesh_mass_properties
+
+        if mass is not None and density is not None:
+            raise ValueError("give `mass` or `density`, not both")
+        volume, centroid, unit_inertia = mesh_mass_properties(mesh)
+        if mass is not None:
+            rho = as_positive_scalar(mass, "mass") / volume
+        else:
+            rho = 1.0 if density is None else as_positive_scalar(density, "density")
+        return cls._build(rho * volume, rho * unit_inertia, centroid)
+
+    @classmethod
+    def compose(cls, parts: Iterable) -> RigidBody:
+        """One body made of ``parts``: bodies and particles ``(mass, position)``, rigidly joined.
+
+        Mass adds, the centre of mass is the mass-weighted mean and inertias add after the
+        parallel-axis shift to the common centre of mass. When every part is a particle or a
+        particle body the result keeps the particles (so ``u`` is defined).
+        """
+        bodies = []
+        for i, part in enumerate(parts):
+            if isinstance(part, RigidBody):
+                bodies.append(part)
+            elif isinstance(part, tuple | list) and len(part) == 2:
+                m = as_positive_scalar(part[0], f"parts[{i}] mass")
+                r = as_vector3(part[1], f"parts[{i}] position")
+                bodies.append(cls._build(m, np.zeros((3, 3)), r, np.array([m]), np.zeros((1, 3))))
+            else:
+                raise TypeError(
+                    f"`parts[{i}]` must be a RigidBody or a (mass, position) particle, "
+                    f"found {type(part).__name__}"
+                )
+        if not bodies:
+            raise ValueError("`parts` must contain at least one body or particle")
+        masses = np.array([b.mass for b in bodies])
+        coms = np.array([b.center_of_mass for b in bodies])
+        com = kin.center_of_mass(masses, coms)
+        total = sum(kin.parallel_axis(b.inertia, b.mass, b.center_of_mass - com) for b in bodies)
+        if all(b.has_particles for b in bodies):
+            pm = np.concatenate([b.particle_masses for b in bodies])
+            pos = np.concatenate([b.particle_positions for b in bodies])
+            return cls._build(masses.sum(), total, com, pm, pos - com)
+        return cls._build(masses.sum(), total, com)
+
+    def placed(self, position=None, orientation=None) -> RigidBody:
+        """This body rotated by ``orientation`` about its centre of mass, moved to ``position``.
+
+        ``position`` defaults to the current centre of mass, ``orientation`` to the identity.
+        """
+        pos = self._com if position is None else as_vector3(position, "position")
+        rot = np.eye(3) if orientation is None else as_rotation_matrix(orientation, "orientation")
+        offsets = None if self._particle_offsets is None else self._particle_offsets @ rot.T
+        return type(self)._build(
+            self._mass, kin.rotate_inertia(self._inertia, rot), pos, self._particle_masses, offsets
+        )
+
+    # ----------------------------------------------------------------- properties
+    @property
+    def mass(self) -> float:
+        """Total mass ``M``."""
+        return self._mass
+
+    @property
+    def center_of_mass(self) -> np.ndarray:
+        """Centre of mass ``R`` (3,) in the reference frame."""
+        return self._com
+
+    @property
+    def inertia(self) -> np.ndarray:
+        """Inertia operator ``A`` (3, 3) about the centre of mass, eq. (13)."""
+        return self._inertia
+
+    def inertia_about(self, point) -> np.ndarray:
+        """Inertia (3, 3) about ``point`` (3,), by the parallel-axis theorem."""
+        p = as_vector3(point, "point")
+        return kin.parallel_axis(self._inertia, self._mass, p - self._com)
+
+    @cached_property
+    def _principal(self) -> tuple[np.ndarray, np.ndarray]:
+        moments, axes = kin.principal_decomposition(self._inertia)
+        return _readonly(moments), _readonly(axes)
+
+    @property
+    def principal_moments(self) -> np.ndarray:
+        """Principal moments ``(I1, I2, I3)``, ascending, eqs (10)–(11)."""
+        return self._principal[0]
+
+    @property
+    def principal_axes(self) -> np.ndarray:
+        """Principal axes (3, 3), columns ``e1, e2, e3``: orthonormal and right-handed.
+
+        Sign rule: ``e1`` and ``e2`` have their largest-magnitude component positive and
+        ``e3 = e1 × e2``. For repeated moments, any orthonormal basis of the eigenspace.
+        """
+        return self._principal[1]
+
+    def moment_of_inertia(self, axis, point=None) -> float:
+        """Moment of inertia ``I(v) = v·Av / v·v`` about the axis along ``axis`` through
+        ``point`` (default: the centre of mass); ``I1 ≤ I(v) ≤ I3`` through the centre of mass.
+        """
+        v = as_vector3(axis, "axis")
+        vv = float(v @ v)
+        if vv == 0:
+            raise ValueError("`axis` must be a non-zero vector")
+        J = self._inertia if point is None else self.inertia_about(point)
+        return float(v @ J @ v) / vv
+
+    @property
+    def planar_inertia(self) -> np.ndarray:
+        """Planar inertia tensor ``J' = Σ m ρρᵀ = ½ tr(J) 𝟙 − J`` (paper eqs (3)–(4))."""
+        return _readonly(kin.planar_inertia(self._inertia))
+
+    @property
+    def is_degenerate(self) -> bool:
+        """True when ``A`` is singular (I1 ≈ 0): all the mass lies on one line."""
+        I1, _, I3 = self.principal_moments
+        return bool(I1 <= DEFAULT_RTOL * I3) or I3 == 0
+
+    def classify_symmetry(self, rtol: float = DEFAULT_RTOL) -> str:
+        """``"spherical"`` (I1 = I3), ``"oblate"`` (I1 = I2 < I3), ``"prolate"`` (I1 < I2 = I3)
+        or ``"asymmetric"``, with moments equal when they differ by ≤ ``rtol · I3``."""
+        I1, I2, I3 = self.principal_moments
+        tol = rtol * I3
+        if I3 - I1 <= tol:
+            return "spherical"
+        if I2 - I1 <= tol:
+            return "oblate"
+        if I3 - I2 <= tol:
+            return "prolate"
+        return "asymmetric"
+
+    @property
+    def symmetry(self) -> str:
+        """Symmetry class at the default tolerance; see :meth:`classify_symmetry`."""
+        return self.classify_symmetry()
+
+    @property
+    def has_particles(self) -> bool:
+        """True for bodies built from particles (``u`` is defined)."""
+        return self._particle_offsets is not None
+
+    def _require_particles(self, what: str) -> None:
+        if self._particle_offsets is None:
+            raise AttributeError(
+                f"`{what}` is defined only for bodies built from particles "
+                "(RigidBody.from_particles or compose of particles)"
+            )
+
+    @property
+    def u(self) -> np.ndarray:
+        """Particle offsets ``u_i`` (N, 3) from the centre of mass, eq. (04); ``Σ m_i u_i = 0``."""
+        self._require_particles("u")
+        return self._particle_offsets
+
+    @property
+    def particle_masses(self) -> np.ndarray:
+        """Particle masses (N,)."""
+        self._require_particles("particle_masses")
+        return self._particle_masses
+
+    @property
+    def particle_positions(self) -> np.ndarray:
+        """Particle positions (N, 3) in the reference configuration, ``R + u_i``."""
+        self._require_particles("particle_positions")
+        return _readonly(self._com + self._particle_offsets)
+
+    @property
+    def n_particles(self) -> int:
+        """Number of particles (0 for a body given by its mass properties)."""
+        return 0 if self._particle_offsets is None else len(self._particle_offsets)
+
+    # ----------------------------------------------------------------- display
+    def __repr__(self) -> str:
+        fmt = np.array2string
+        kind = f", particles={self.n_particles}" if self.has_particles else ""
+        return (
+            f"RigidBody(mass={self._mass:.6g}, center_of_mass={fmt(self._com, precision=6)}, "
+            f"principal_moments={fmt(self.principal_moments, precision=6)}, "
+            f"symmetry={self.symmetry!r}{kind})"
+        )
+
+    def _repr_html_(self) -> str:
+        def row(name, value):
+            return f"<tr><th style='text-align:left'>{name}</th><td>{value}</td></tr>"
+
+        def mat(a):
+            return "<br>".join(np.array2string(r, precision=6) for r in np.atleast_2d(a))
+
+        rows = [
+            row("mass", f"{self._mass:.6g}"),
+            row("center of mass", mat(self._com)),
+            row("inertia about the centre of mass", mat(self._inertia)),
+            row("principal moments", mat(self.principal_moments)),
+            row("principal axes (columns)", mat(self.principal_axes)),
+            row("symmetry", self.symmetry + (" (degenerate)" if self.is_degenerate else "")),
+        ]
+        if self.has_particles:
+            rows.append(row("particles", str(self.n_particles)))
+        return "<table><caption>RigidBody</caption>" + "".join(rows) + "</table>"

@@ -1,0 +1,41 @@
+"""Shared fixtures and hypothesis strategies."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
+
+from poinsot import RigidBody
+
+finite = st.floats(-10, 10, allow_nan=False, allow_infinity=False)
+positive_mass = st.floats(0.1, 10, allow_nan=False, allow_infinity=False)
+
+
+@st.composite
+def point_clouds(draw, min_size=1, max_size=12):
+    """(masses (N,), positions (N, 3)) with well-scaled values."""
+    n = draw(st.integers(min_size, max_size))
+    masses = draw(hnp.arrays(float, n, elements=positive_mass))
+    positions = draw(hnp.arrays(float, (n, 3), elements=finite))
+    return masses, positions
+
+
+@st.composite
+def rotations(draw):
+    """Uniformly spread rotation matrices from a random unit quaternion."""
+    q = draw(hnp.arrays(float, 4, elements=st.floats(-1, 1)))
+    n = np.linalg.norm(q)
+    if n < 1e-3:
+        q, n = np.array([1.0, 0, 0, 0]), 1.0
+    from poinsot.kernels.so3 import quat_to_matrix
+
+    return quat_to_matrix(q / n)
+
+
+@pytest.fixture
+def notebook_body():
+    """The notebook's reference body: 27 equal particles on a 1×2×3 grid, total mass 10."""
+    pts = [(i, 2 * j, 3 * k) for i in (0, 0.5, 1) for j in (0, 0.5, 1) for k in (0, 0.5, 1)]
+    return RigidBody.from_particles(np.full(27, 10 / 27), pts)
