@@ -14,12 +14,54 @@ __version__ = "0.1.0"
 # public name -> module that defines it
 _LAZY = {
     "RigidBody": "poinsot.bodies",
+    "simulate": "poinsot.simulation",
+    "SimulationError": "poinsot.simulation",
+    "Trajectory": "poinsot.trajectory",
+    "Gravity": "poinsot.forces",
+    "CentralGravity": "poinsot.forces",
+    "ParticleForce": "poinsot.forces",
+    "PointForce": "poinsot.forces",
+    "Torque": "poinsot.forces",
+    "Spring": "poinsot.forces",
+    "LinearDrag": "poinsot.forces",
+    "QuadraticDrag": "poinsot.forces",
+    "CustomForce": "poinsot.forces",
 }
 
 __all__ = ["__version__", *sorted(_LAZY)]
 
 if TYPE_CHECKING:  # pragma: no cover
     from .bodies import RigidBody as RigidBody
+    from .forces import (
+        CentralGravity as CentralGravity,
+    )
+    from .forces import (
+        CustomForce as CustomForce,
+    )
+    from .forces import (
+        Gravity as Gravity,
+    )
+    from .forces import (
+        LinearDrag as LinearDrag,
+    )
+    from .forces import (
+        ParticleForce as ParticleForce,
+    )
+    from .forces import (
+        PointForce as PointForce,
+    )
+    from .forces import (
+        QuadraticDrag as QuadraticDrag,
+    )
+    from .forces import (
+        Spring as Spring,
+    )
+    from .forces import (
+        Torque as Torque,
+    )
+    from .simulation import SimulationError as SimulationError
+    from .simulation import simulate as simulate
+    from .trajectory import Trajectory as Trajectory
 
 
 def __getattr__(name: str):

@@ -1,0 +1,31 @@
+"""poinsot's integrators: one contract (:class:`Solver`), one registry (:data:`METHODS`).
+
+========== ===== ======== ==========================================================
+name       order adaptive conserves
+========== ===== ======== ==========================================================
+rk4        4     no       nothing (the notebook's method; its drift is reported)
+dop853     8     yes      nothing exactly (errors at the tolerance)
+rkmk4      4     no       Q on SO(3) (Lie-group method)
+splitting  2     no       Q on SO(3), |L| and spatial L (torque-free), symplectic
+========== ===== ======== ==========================================================
+"""
+
+from .base import INVARIANTS, METHODS, Solver, get_solver, register
+from .dop853 import DOP853
+from .lie import RKMK4, MuntheKaas
+from .rk import RK4, ExplicitRungeKutta
+from .splitting import Splitting
+
+__all__ = [
+    "DOP853",
+    "INVARIANTS",
+    "METHODS",
+    "RK4",
+    "RKMK4",
+    "ExplicitRungeKutta",
+    "MuntheKaas",
+    "Solver",
+    "Splitting",
+    "get_solver",
+    "register",
+]

@@ -1,0 +1,285 @@
+"""The result of a rigid-body simulation: samples, derived quantities, diagnostics, export."""
+
+from __future__ import annotations
+
+import json
+from functools import cached_property
+
+import numpy as np
+
+from ._io import atomic_path
+from .kernels import rigid
+from .kernels.so3 import matrix_to_quat
+
+__all__ = ["Trajectory"]
+
+
+def _readonly(a):
+    a = np.asarray(a)
+    a.flags.writeable = False
+    return a
+
+
+class Trajectory:
+    """Samples of a rigid-body motion and everything computed from them.
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+    R, V : ndarray, shape (n, 3)
+        Centre of mass and its velocity, space frame.
+    Q : ndarray, shape (n, 3, 3)
+        Attitude: body frame → space frame.
+    omega : ndarray, shape (n, 3)
+        Angular velocity in the body frame.
+    method, nfev, nsteps, wall_time
+        How it was computed.
+    """
+
+    def __init__(self, t, y, system, *, method="", nfev=0, nsteps=0, wall_time=0.0, message=""):
+        self.t = _readonly(np.asarray(t, dtype=float))
+        self._y = _readonly(np.asarray(y, dtype=float).reshape(len(self.t), rigid.STATE_SIZE))
+        self.system = system
+        self.body = system.body
+        self.method = method
+        self.nfev = nfev
+        self.nsteps = nsteps
+        self.wall_time = wall_time
+        self.message = message
+
+    def __len__(self):
+        return len(self.t)
+
+    def __repr__(self):
+        return (
+            f"Trajectory(n={len(self.t)}, t=[{self.t[0]:.6g}, {self.t[-1]:.6g}], "
+            f"method={self.method!r}, nfev={self.nfev})"
+        )
+
+    # ----------------------------------------------------------------- state
+    @property
+    def R(self):
+        return self._y[:, 0:3]
+
+    @property
+    def V(self):
+        return self._y[:, 3:6]
+
+    @property
+    def Q(self):
+        return self._y[:, 6:15].reshape(-1, 3, 3)
+
+    @property
+    def omega(self):
+        return self._y[:, 15:18]
+
+    @property
+    def state(self):
+        """The flat 18-component states (n, 18): ``[R, V, Q (row-major), ω]``."""
+        return self._y
+
+    @cached_property
+    def quaternion(self):
+        """Attitude as scalar-first unit quaternions (n, 4), sign chosen continuous in time."""
+        q = matrix_to_quat(self.Q)
+        # remove the ±q ambiguity: keep each sample on the side of the previous one
+        for i in range(1, len(q)):
+            if q[i] @ q[i - 1] < 0:
+                q[i] = -q[i]
+        return _readonly(q)
+
+    @cached_property
+    def omega_space(self):
+        """Angular velocity in the space frame, ``Q ω`` (n, 3)."""
+        return _readonly(np.einsum("nij,nj->ni", self.Q, self.omega))
+
+    @cached_property
+    def angular_momentum_com(self):
+        """Angular momentum about the centre of mass, space frame: ``Q A ω`` (n, 3)."""
+        return _readonly(np.einsum("nij,jk,nk->ni", self.Q, self.body.inertia, self.omega))
+
+    @cached_property
+    def angular_momentum(self):
+        """Angular momentum about the space origin, eq. (03): ``L = Q A ω + M R × Ṙ`` (n, 3)."""
+        return _readonly(self.angular_momentum_com + self.body.mass * np.cross(self.R, self.V))
+
+    @cached_property
+    def kinetic_energy(self):
+        """Kinetic energy, eq. (12): ``½ Aω·ω + ½ M |Ṙ|²`` (n,)."""
+        w = self.omega
+        rot = 0.5 * np.einsum("ni,ij,nj->n", w, self.body.inertia, w)
+        return _readonly(rot + 0.5 * self.body.mass * (self.V**2).sum(axis=1))
+
+    @property
+    def is_conservative(self) -> bool:
+        """True when every force has a potential (total energy should be conserved)."""
+        return self.system.has_potential
+
+    @cached_property
+    def potential_energy(self):
+        """Sum of the potentials of the forces that have one (n,); zero with no such force."""
+        out = np.zeros(len(self.t))
+        forces = [f for f in self.system.forces if f.has_potential]
+        for i in range(len(self.t)):
+            ctx = self.system.context(self.t[i], self.R[i], self.V[i], self.Q[i], self.omega[i])
+            out[i] = sum(f.potential(ctx) for f in forces)
+        return _readonly(out)
+
+    @cached_property
+    def total_energy(self):
+        """``kinetic_energy + potential_energy`` (n,); conserved when :attr:`is_conservative`."""
+        return _readonly(self.kinetic_energy + self.potential_energy)
+
+    def positions(self):
+        """Particle trajectories ``r_i = Q u_i + R``, shape (n, N, 3); needs a particle body."""
+        return np.einsum("nij,pj->npi", self.Q, self.body.u) + self.R[:, None, :]
+
+    # ----------------------------------------------------------------- diagnostics
+    @cached_property
+    def orthogonality_error(self):
+        """``max |QᵀQ − I|`` per sample (n,)."""
+        Q = self.Q
+        return _readonly(np.abs(np.einsum("nki,nkj->nij", Q, Q) - np.eye(3)).max(axis=(1, 2)))
+
+    @cached_property
+    def rigidity_error(self):
+        """Largest change of a distance between two body points, per sample (n,).
+
+        Exact over all particle pairs for particle bodies of up to 200 particles; otherwise
+        the bound ``max_k |σ_k(Q) − 1| · d`` with ``d`` the body's diameter (the farthest pair
+        of particles, or of the 6 points ``±√(5 I_k / M)`` along the principal axes of a body
+        given by its mass properties).
+        """
+        body = self.body
+        if body.has_particles and body.n_particles <= 200:
+            u = body.u
+            i, j = np.triu_indices(len(u), 1)
+            if len(i) == 0:
+                return _readonly(np.zeros(len(self.t)))
+            d_ref = np.linalg.norm(u[i] - u[j], axis=1)
+            d = np.linalg.norm(np.einsum("nab,pb->npa", self.Q, u[i] - u[j]), axis=2)
+            return _readonly(np.abs(d - d_ref).max(axis=1))
+        if body.has_particles:
+            span = np.ptp(body.u, axis=0)
+            diameter = float(np.linalg.norm(span))
+        else:
+            radius = np.sqrt(5 * np.maximum(body.principal_moments, 0) / body.mass)
+            diameter = 2 * float(radius.max())
+        sigma = np.linalg.svd(self.Q, compute_uv=False)
+        return _readonly(np.abs(sigma - 1).max(axis=1) * diameter)
+
+    @cached_property
+    def energy_drift(self):
+        """Relative change of total energy ``(E(t) − E(0))/|E(0)|`` (n,) (absolute if E(0)=0)."""
+        E = self.total_energy
+        return _readonly((E - E[0]) / (abs(E[0]) or 1.0))
+
+    @cached_property
+    def momentum_drift(self):
+        """Relative change of the spatial angular momentum about the centre of mass,
+        ``|L(t) − L(0)| / |L(0)|`` (n,): zero for a torque-free body."""
+        L = self.angular_momentum_com
+        return _readonly(np.linalg.norm(L - L[0], axis=1) / (np.linalg.norm(L[0]) or 1.0))
+
+    def diagnostics(self) -> dict:
+        """Largest orthogonality, rigidity, energy and momentum errors over the run."""
+        return {
+            "orthogonality_error": float(self.orthogonality_error.max()),
+            "rigidity_error": float(self.rigidity_error.max()),
+            "energy_drift": float(np.abs(self.energy_drift).max()),
+            "momentum_drift": float(self.momentum_drift.max()),
+            "energy_conserved_by_model": self.is_conservative,
+        }
+
+    def summary(self) -> dict:
+        """A JSON-ready summary: the run, the body and the diagnostics."""
+        return {
+            "method": self.method,
+            "samples": len(self.t),
+            "t_start": float(self.t[0]),
+            "t_end": float(self.t[-1]),
+            "nfev": int(self.nfev),
+            "nsteps": int(self.nsteps),
+            "wall_time_s": float(self.wall_time),
+            "mass": self.body.mass,
+            "principal_moments": self.body.principal_moments.tolist(),
+            "diagnostics": self.diagnostics(),
+        }
+
+    # ----------------------------------------------------------------- export
+    _COLUMNS = (
+        ["t"]
+        + [f"R_{c}" for c in "xyz"]
+        + [f"V_{c}" for c in "xyz"]
+        + [f"Q_{i}{j}" for i in range(1, 4) for j in range(1, 4)]
+        + [f"omega_{c}" for c in "xyz"]
+        + [f"q_{c}" for c in "wxyz"]
+        + ["kinetic_energy", "potential_energy", "total_energy"]
+    )
+
+    def _table(self):
+        return np.column_stack(
+            [
+                self.t,
+                self._y,
+                self.quaternion,
+                self.kinetic_energy,
+                self.potential_energy,
+                self.total_energy,
+            ]
+        )
+
+    def to_npz(self, path) -> None:
+        """Write every array to a compressed ``.npz`` file (atomically)."""
+        with atomic_path(path, suffix=".npz") as tmp, open(tmp, "wb") as fh:
+            np.savez_compressed(
+                fh,
+                t=self.t,
+                R=self.R,
+                V=self.V,
+                Q=self.Q,
+                omega=self.omega,
+                quaternion=self.quaternion,
+                omega_space=self.omega_space,
+                angular_momentum=self.angular_momentum,
+                kinetic_energy=self.kinetic_energy,
+                potential_energy=self.potential_energy,
+                total_energy=self.total_energy,
+                orthogonality_error=self.orthogonality_error,
+                summary=np.array(json.dumps(self.summary())),
+            )
+
+    def to_csv(self, path) -> None:
+        """Write one row per sample (t, R, V, Q, ω, quaternion, energies) to CSV, atomically."""
+        with atomic_path(path) as tmp:
+            np.savetxt(
+                tmp,
+                self._table(),
+                delimiter=",",
+                header=",".join(self._COLUMNS),
+                comments="",
+                fmt="%.17g",
+            )
+
+    def to_xarray(self):
+        """An ``xarray.Dataset`` with a ``time`` dimension (needs the ``xarray`` extra)."""
+        try:
+            import xarray as xr
+        except ImportError as exc:  # pragma: no cover - depends on the environment
+            raise ImportError("to_xarray needs xarray: pip install 'poinsot[xarray]'") from exc
+        vec = ("time", "axis")
+        return xr.Dataset(
+            {
+                "R": (vec, self.R),
+                "V": (vec, self.V),
+                "Q": (("time", "row", "col"), self.Q),
+                "omega": (vec, self.omega),
+                "omega_space": (vec, self.omega_space),
+                "quaternion": (("time", "component"), self.quaternion),
+                "angular_momentum": (vec, self.angular_momentum),
+                "kinetic_energy": ("time", self.kinetic_energy),
+                "total_energy": ("time", self.total_energy),
+            },
+            coords={"time": self.t, "axis": list("xyz"), "component": list("wxyz")},
+            attrs={"method": self.method, "summary": json.dumps(self.summary())},
+        )
