@@ -32,6 +32,8 @@ __all__ = ["FixedPointSet", "FreeRigidBody", "Polhode", "Stability"]
 
 #: Moments closer than this (relative to I3) are treated as equal (symmetric body).
 SYMMETRY_RTOL = 1e-12
+#: ω within this relative distance of the intermediate axis is taken as that fixed point.
+NEAR_UNSTABLE_AXIS = 1e-140
 
 
 @dataclass(frozen=True)
@@ -206,7 +208,7 @@ class FreeRigidBody:
 
         Examples
         --------
-        >>> FreeRigidBody((1, 2, 3)).cone_coefficients(0.5, 2 ** 0.5).tolist()
+        >>> FreeRigidBody((1, 2, 3)).cone_coefficients(0.5, 2 ** 0.5).round(12).tolist()
         [1.0, 0.0, -3.0]
         """
         D = self.check_feasible(energy, momentum)
@@ -350,7 +352,10 @@ class FreeRigidBody:
         P1 = I2 * (I2 - I1) * w2 * w2 + I3 * (I3 - I1) * w3 * w3  # a² − 2k I1 ≥ 0
         D2 = I3 * (I3 - I2) * w3 * w3 - I1 * (I2 - I1) * w1 * w1  # a² − 2k I2
         base = {"a": math.sqrt(a2), "k": 0.5 * k2}
-        if w1 == 0 and w3 == 0:
+        if max(abs(w1), abs(w3)) <= NEAR_UNSTABLE_AXIS * abs(w2):
+            # Within 1e-140 of the unstable axis the motion is its fixed point: leaving it
+            # takes longer than ln(1e140)/σ ≈ 322/σ, and the invariants' differences that set
+            # the orbit underflow in double precision.
             return base | {"case": "fixed", "axis": 1}
         if P3 == 0:
             return base | {"case": "fixed", "axis": 2}
@@ -367,9 +372,6 @@ class FreeRigidBody:
             lam = math.sqrt((I3 - I2) * P1 / (I1 * I2 * I3))
             m = (I2 - I1) * P3 / ((I3 - I2) * P1)
             m1 = (I3 - I1) * D2 / ((I3 - I2) * P1)
-            s3 = 1.0 if w3 > 0 else -1.0
-            signs = np.array([1.0, s3, s3])
-            phi0 = math.atan2(signs[1] * w2 / alpha[1], w1 / alpha[0])
             pole = 2
         else:  # around e1
             alpha = np.array(
@@ -382,12 +384,24 @@ class FreeRigidBody:
             lam = math.sqrt((I2 - I1) * P3 / (I1 * I2 * I3))
             m = (I3 - I2) * P1 / ((I2 - I1) * P3)
             m1 = (I3 - I1) * (-D2) / ((I2 - I1) * P3)
-            s1 = 1.0 if w1 > 0 else -1.0
-            signs = np.array([s1, s1, 1.0])
-            phi0 = math.atan2(signs[1] * w2 / alpha[1], w3 / alpha[2])
             pole = 0
         m, m1 = min(max(m, 0.0), 1.0), min(max(m1, 0.0), 1.0)
-        u0 = float(elliptic.ellipf(phi0, m, m1))
+        if m1 < 1e-300:  # subnormal: the separatrix is the orbit to within O(m1)
+            m, m1 = 1.0, 0.0
+        s1 = 1.0 if w1 > 0 else -1.0
+        s3 = 1.0 if w3 > 0 else -1.0
+        # Signs: the ODE needs σ1 = σ2 σ3. Off the separatrix cn takes both signs, so the sign
+        # of the cn-component is +1 (absorbed in the phase); on the separatrix cn = sech u > 0
+        # and each of the four arcs keeps the signs of both ω1 and ω3.
+        if pole == 2:
+            s1 = s1 if m1 == 0 else 1.0
+            signs = np.array([s1, s1 * s3, s3])
+            sn0, cn0 = signs[1] * w2 / alpha[1], signs[0] * w1 / alpha[0]
+        else:
+            s3 = s3 if m1 == 0 else 1.0
+            signs = np.array([s1, s1 * s3, s3])
+            sn0, cn0 = signs[1] * w2 / alpha[1], signs[2] * w3 / alpha[2]
+        u0 = elliptic.first_kind_from_sn_cn(sn0, cn0, m, m1)
         case = "separatrix" if m1 == 0 else ("around e3" if pole == 2 else "around e1")
         return base | {
             "case": case,
@@ -419,17 +433,16 @@ class FreeRigidBody:
             s, _, nu = self._symmetric_parts(w)
             pi = np.einsum("nij,j->ni", exp_so3(-np.outer(t, nu * np.eye(3)[s])), self._I * w)
             return pi / self._I, reg
-        sn, cn, dn, am = elliptic.jacobi(reg["u0"] + reg["lam"] * t, reg["m"], reg["m1"])
+        sn, cn, dn = elliptic.jacobi(reg["u0"] + reg["lam"] * t, reg["m"], reg["m1"])
         alpha, signs = reg["alpha"], reg["signs"]
         if reg["pole"] == 2:
             out = np.column_stack(
-                [alpha[0] * cn, signs[1] * alpha[1] * sn, signs[2] * alpha[2] * dn]
+                [signs[0] * alpha[0] * cn, signs[1] * alpha[1] * sn, signs[2] * alpha[2] * dn]
             )
         else:
             out = np.column_stack(
-                [signs[0] * alpha[0] * dn, signs[1] * alpha[1] * sn, alpha[2] * cn]
+                [signs[0] * alpha[0] * dn, signs[1] * alpha[1] * sn, signs[2] * alpha[2] * cn]
             )
-        reg["am"] = am
         return out, reg
 
     def exact_omega(self, omega0, t) -> np.ndarray:
@@ -502,7 +515,9 @@ class FreeRigidBody:
         invariable frame (z along L), with pole the axis the polhode circles (e3, or e1 via the
         right-handed relabelling ``(e3, −e2, e1)``); ``cos θ = π_pole/a``,
         ``tan φ = π_1'/π_2'`` and
-        ``ψ(t) = a t/I_p + a (I_p − I_q)/(I_p I_q λ) [Π(n; am u | m) − Π(n; am u0 | m)]``,
+        ``ψ(t) = a t/I_p + a (I_p − I_q)/(I_p I_q λ) [Π(n; am u | m) − Π(n; am u0 | m)]``
+        (evaluated as ``∫ du/(1 − n sn² u)`` in u, never through the amplitude, which rounds
+        to ±π/2 while the body lingers by its unstable axis),
         ``n = −I_p (I2 − I1)/(I1 (I3 − I2))`` (pole e3; swap 1 ↔ 3 for pole e1), n < 0, so the
         third-kind integral has no pole. Symmetric bodies:
         ``Q(t) = exp(t L̂/I⊥) Q0 exp(ν t ê_s)``; fixed points: ``Q0 exp(Ω t)``.
@@ -534,8 +549,8 @@ class FreeRigidBody:
         pi_b = (omega_s * self._I) @ B.T  # body momentum in the relabelled frame
         theta = np.arctan2(np.hypot(pi_b[:, 0], pi_b[:, 1]), pi_b[:, 2])
         phi = np.arctan2(pi_b[:, 0], pi_b[:, 1])
-        am0 = float(elliptic.jacobi(np.array([reg["u0"]]), m, m1)[3][0])
-        Pi = elliptic.ellippi(n, reg["am"], m, m1) - elliptic.ellippi(n, am0, m, m1)
+        u0 = reg["u0"]
+        Pi = elliptic.third_kind_u(n, u0 + lam * t, m, m1) - elliptic.third_kind_u(n, u0, m, m1)
         psi = a * t / Ip + a * (Ip - Iq) / (Ip * Iq * lam) * Pi  # ψ(0) = 0
         R_inv = _zxz(psi, theta, phi)  # relabelled body → invariable frame
         # Q(t) = P0 R_inv(t) B, with P0 (invariable → space) fixed by Q(0) = Q0:

@@ -12,10 +12,14 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["jacobi_sn_cn_dn_am"]
+__all__ = ["jacobi_reduced", "jacobi_sn_cn_dn_am"]
 
 _EPS = 2.220446049250313e-16
 _MAX_ITER = 64
+#: Below this m1, |u| ≤ K/2 is evaluated by one ascending Landen step and the hyperbolic
+#: expansion (neglected terms O(m1³)); above it the AGM's relative error, ~eps·K/m1^¼, is
+#: below 3e-14.
+_NEAR_ONE = 1e-5
 
 
 def jacobi_sn_cn_dn_am(u, m, m1):
@@ -59,3 +63,70 @@ def jacobi_sn_cn_dn_am(u, m, m1):
     cn = np.cos(phi)
     dn = np.sqrt(cn * cn + m1 * sn * sn)  # = √(1 − m sn²) without cancellation; dn > 0
     return sn, cn, dn, phi
+
+
+def jacobi_reduced(u, m, m1, K):
+    """``sn, cn, dn`` of ``u`` with small ``cn``, ``dn`` kept to relative precision.
+
+    Near odd multiples of the quarter period K (where ``sn ≈ ±1``), the amplitude computed by
+    the AGM rounds to ±π/2 and ``cn``, ``dn`` lose all relative precision — exactly where the
+    free body lingers near its unstable axis. So ``u = 2pK + v`` (|v| ≤ K) and, for |v| > K/2,
+    the quarter-period shift ``x = K − |v|``: ``sn v = ±cd x``, ``cn v = √m1 sd x``,
+    ``dn v = √m1 nd x`` (DLMF 22.4.3), with ``sn(u) = (−1)^p sn v``, ``cn(u) = (−1)^p cn v``,
+    ``dn(u) = dn v``.
+
+    Returns ``sn, cn, dn, p, v`` (``p`` integer array, ``v`` the reduced argument).
+    ``K = inf`` (m = 1) leaves ``u`` unreduced.
+    """
+    shape = np.shape(u)
+    u = np.atleast_1d(np.asarray(u, dtype=float)).ravel()
+    if np.isinf(K):
+        sn, cn, dn, _ = jacobi_sn_cn_dn_am(u, m, m1)
+        out = (sn, cn, dn, np.zeros_like(u), u)
+        return tuple(np.reshape(x, shape) for x in out)
+    p = np.round(u / (2.0 * K))
+    v = u - 2.0 * K * p
+    base = _jacobi_near_one if m1 < _NEAR_ONE else _jacobi_agm
+    sn, cn, dn = base(v, m, m1)
+    near = np.abs(v) > 0.5 * K
+    if np.any(near):
+        x = K - np.abs(v[near])
+        sx, cx, dx = base(x, m, m1)
+        r = np.sqrt(m1)
+        sn[near] = np.sign(v[near]) * cx / dx
+        cn[near] = r * sx / dx
+        dn[near] = r / dx
+    parity = 1.0 - 2.0 * (np.abs(p) % 2)
+    out = (parity * sn, parity * cn, dn, p, v)
+    return tuple(np.reshape(x, shape) for x in out)
+
+
+def _jacobi_agm(u, m, m1):
+    sn, cn, dn, _ = jacobi_sn_cn_dn_am(u, m, m1)
+    return sn, cn, dn
+
+
+def _jacobi_near_one(u, m, m1):
+    """``sn, cn, dn`` for ``m1 ≪ 1`` and ``|u| ≤ K/2``, to round-off relative to each value.
+
+    One ascending Landen transformation (A&S 16.14.2–4) maps ``m`` to ``μ`` with complement
+    ``μ1 = r²``, ``r = (1 − √m)/(1 + √m) = m1/(1 + √m)²`` (no cancellation); for parameter
+    ``μ`` the first-order hyperbolic expansion (A&S 16.15.1–3) is exact to O(μ1² e^{4|w|}),
+    i.e. O(m1³) on |u| ≤ K/2. Then ``sn = (1 + r) sn_μ cn_μ / dn_μ``,
+    ``cn = (1 + r)/μ · (dn_μ² − r)/dn_μ``, ``dn = (1 − r)/μ · (dn_μ² + r)/dn_μ``.
+    """
+    u = np.asarray(u, dtype=float)
+    r = m1 / (1.0 + np.sqrt(m)) ** 2
+    mu1 = r * r
+    mu = 1.0 - mu1
+    w = u / (1.0 + r)
+    t = np.tanh(w)
+    s = 1.0 / np.cosh(w)
+    # sinh·cosh·sech² = tanh and sinh·cosh·tanh·sech = tanh²/sech: no overflow for large w
+    sn_mu = t + 0.25 * mu1 * (t - w * s * s)
+    cn_mu = s - 0.25 * mu1 * (t * t / s - w * t * s)
+    dn_mu = s + 0.25 * mu1 * (t * t / s + w * t * s)
+    sn = (1.0 + r) * sn_mu * cn_mu / dn_mu
+    cn = (1.0 + r) / mu * (dn_mu * dn_mu - r) / dn_mu
+    dn = (1.0 - r) / mu * (dn_mu * dn_mu + r) / dn_mu
+    return sn, cn, dn
