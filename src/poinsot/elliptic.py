@@ -115,6 +115,17 @@ def first_kind_from_sn_cn(s, c, m, m1):
     return (1.0 if s >= 0 else -1.0) * 2.0 * ellipk(m1) - r
 
 
+_TINY_M1 = 1e-32
+
+
+def _third_kind_separatrix(n, u):
+    """m = 1, sn = tanh: with ν = −n > 0,
+    ``∫₀^u du/(1 + ν tanh²u) = u/(1 + ν) + √ν/(1 + ν) · atan(√ν tanh u)``."""
+    nu = -n
+    r = math.sqrt(max(nu, 0.0))
+    return u / (1 + nu) + r / (1 + nu) * np.arctan(r * np.tanh(u))
+
+
 def third_kind_u(n, u, m, m1):
     """``∫₀^u du' / (1 − n sn²u')  (= Π(n; am u | m))`` for ``n < 1``, accurate for every u.
 
@@ -129,13 +140,18 @@ def third_kind_u(n, u, m, m1):
         raise ValueError(f"`n` must be < 1 (no pole on the path), found {n}")
     u = np.asarray(u, dtype=float)
     if m1 == 0:
-        # m = 1, sn = tanh: with ν = −n > 0,
-        # ∫ du/(1 + ν tanh²u) = u/(1 + ν) + √ν/(1 + ν) · atan(√ν tanh u)
-        nu = -n
-        r = math.sqrt(max(nu, 0.0))
-        return u / (1 + nu) + r / (1 + nu) * np.arctan(r * np.tanh(u))
+        return _third_kind_separatrix(n, u)
     K = ellipk(m1)
     _, _, _, p, v = jacobi_reduced(u, float(m), float(m1), K)
+    if m1 < _TINY_M1:
+        # sn(v|m) = tanh v + O(√m1) on |v| ≤ K/2, and cd ≈ 1 beyond: G(v) is the m = 1 form
+        # there and Π(n|m) − (K − |v|)/(1 − n) up to K, both exact to O(√m1) < 1e-16 (scipy's
+        # R_J loses digits when its two small arguments approach 1e-160)
+        av = np.abs(v)
+        inner = _third_kind_separatrix(n, v)
+        outer = np.sign(v) * (ellippi_complete(n, m, m1) - (K - av) / (1.0 - n))
+        G = np.where(av <= 0.5 * K, inner, outer)
+        return 2.0 * p * ellippi_complete(n, m, m1) + G if np.any(p) else G
     s, c, d, _, _ = jacobi_reduced(v, float(m), float(m1), K)
     c2, d2 = c * c, d * d
     G = s * elliprf(c2, d2, 1.0) + n / 3.0 * s**3 * elliprj(c2, d2, 1.0, 1.0 - n * s * s)

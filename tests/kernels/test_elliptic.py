@@ -97,3 +97,15 @@ def test_third_kind_incomplete_and_complete():
     assert elliptic.ellippi(n, phi + 2 * np.pi, m, 1 - m) == pytest.approx(ref + 4 * full)
     with pytest.raises(ValueError, match="`n` must be < 1"):
         elliptic.ellippi(1.5, 0.3, m, 1 - m)
+
+
+@pytest.mark.parametrize("m1", [1e-20, 1e-31, 1e-33, 1e-80, 1.2e-158])
+def test_third_kind_derivative_near_quarter_period_for_tiny_m1(m1):
+    """Regression: d/du ∫ du/(1 − n sn²) must be 1/(1 − n sn²) around u = K as m1 → 0."""
+    n, m = -9.0, 1 - m1
+    K = elliptic.ellipk(m1)
+    for u in (K - 2.0, K - 0.3, K, K + 0.7, 0.5 * K, 1.5 * K, 3 * K + 0.1):
+        h = 1e-4
+        d = elliptic.third_kind_u(n, u + h, m, m1) - elliptic.third_kind_u(n, u - h, m, m1)
+        sn = elliptic.jacobi(np.array([u]), m, m1)[0][0]
+        assert d / (2 * h) == pytest.approx(1 / (1 - n * sn**2), rel=1e-6)
