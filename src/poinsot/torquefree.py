@@ -20,6 +20,7 @@ published versions contain sign errors.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -106,6 +107,9 @@ class FreeRigidBody:
     moments : array_like (3,)
         Principal moments along the body's x, y, z axes, in any order, all > 0, satisfying the
         triangle inequalities (no moment exceeds the sum of the other two).
+    allow_unphysical : bool
+        Accept moments that break the triangle inequality, with a warning: Euler's equation is
+        still well posed (the source notebook's example (3, 3, 9) is such a case).
 
     Examples
     --------
@@ -120,7 +124,7 @@ class FreeRigidBody:
     [1.0, -1.0]
     """
 
-    def __init__(self, moments):
+    def __init__(self, moments, *, allow_unphysical: bool = False):
         I = as_array(moments, "moments", (3,))
         if np.any(I <= 0):
             k = int(np.argmax(I <= 0))
@@ -130,10 +134,13 @@ class FreeRigidBody:
             )
         s = np.sort(I)
         if s[0] + s[1] < s[2] * (1 - 1e-12):
-            raise ValueError(
+            message = (
                 "principal moments must satisfy I1 + I2 ≥ I3, found "
                 f"{s[0]:.6g} + {s[1]:.6g} < {s[2]:.6g}"
             )
+            if not allow_unphysical:
+                raise ValueError(message + " (allow_unphysical=True to study the equation anyway)")
+            warnings.warn(message + ": no mass distribution has these moments", stacklevel=2)
         self._setup(I, np.eye(3))
 
     def _setup(self, moments, body_axes):
@@ -636,12 +643,7 @@ class FreeRigidBody:
             for sgn in (1.0, -1.0):
                 out.append(self.polhode(self.point_on_polhode(k, a, sgn), n=n))
         if self.symmetry == "asymmetric":
-            a = math.sqrt(2 * k * I2)
-            w = self._to_sorted(self.point_on_polhode(k, a))
-            for s1 in (1, -1):
-                for s3 in (1, -1):
-                    arc = self.polhode(self._from_sorted(w * np.array([s1, 1, s3])), n=n)
-                    out.append(arc)
+            out.extend(self.separatrix_arcs(k, n=n))
         for fp in self.fixed_points():
             if fp.kind == "axis":
                 e = fp.basis[:, 0]
@@ -658,6 +660,43 @@ class FreeRigidBody:
                         )
                     )
         return out
+
+    def separatrix_arcs(self, energy=0.5, *, n=400, reach=1e-6) -> list[Polhode]:
+        """The four heteroclinic arcs at ``a² = 2k I2`` joining the unstable points ±√(2k/I2) e2,
+        in closed form: ``ω = (σ1 α1 sech u, σ1σ3 α2 tanh u, σ3 α3 sech u)``,
+        ``α1² = 2k(I3 − I2)/(I1(I3 − I1))``, ``α2² = 2k/I2``, ``α3² = 2k(I2 − I1)/(I3(I3 − I1))``,
+        ``u = λt``, ``λ² = (I3 − I2)(I2 − I1)·2k/(I1 I2 I3)``; ``u`` spans the arc until the
+        sech terms fall to ``reach``."""
+        if self.symmetry != "asymmetric":
+            raise ValueError(
+                f"a separatrix needs three distinct moments; this body is {self.symmetry}"
+            )
+        I1, I2, I3 = self._I
+        k = float(energy)
+        alpha = np.sqrt(
+            [2 * k * (I3 - I2) / (I1 * (I3 - I1)), 2 * k / I2, 2 * k * (I2 - I1) / (I3 * (I3 - I1))]
+        )
+        lam = math.sqrt((I3 - I2) * (I2 - I1) * 2 * k / (I1 * I2 * I3))
+        U = math.acosh(1 / reach)
+        u = np.linspace(-U, U, n)
+        sech, tanh = 1 / np.cosh(u), np.tanh(u)
+        arcs = []
+        for s1 in (1.0, -1.0):
+            for s3 in (1.0, -1.0):
+                w = np.column_stack(
+                    [s1 * alpha[0] * sech, s1 * s3 * alpha[1] * tanh, s3 * alpha[2] * sech]
+                )
+                arcs.append(
+                    Polhode(
+                        self._from_sorted(w),
+                        "separatrix",
+                        k,
+                        math.sqrt(2 * k * I2),
+                        math.inf,
+                        u / lam,
+                    )
+                )
+        return arcs
 
     def herpolhode(self, omega0, t, Q0=None) -> np.ndarray:
         """The herpolhode: ω in space, in the invariable frame (z along L), (n, 3).
