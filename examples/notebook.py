@@ -62,14 +62,14 @@ def gravity_run(body, out):
     print("fall of the centre of mass at t = 20:", traj.R[-1] - traj.R[0], "(−½ g t² = −1960)")
     d = traj.diagnostics()
     print(
-        "RK4 drift reported: |QᵀQ − I| ≤ %.2e, energy %.2e"
-        % (d["orthogonality_error"], d["energy_drift"])
+        "RK4 drift reported: |QᵀQ − I| ≤ {:.2e}, energy {:.2e}".format(
+            d["orthogonality_error"], d["energy_drift"]
+        )
     )
     free = FreeRigidBody.from_body(body)
     exact = free.exact_omega((0, 1, 1), t)
     print(
-        "max |ω_RK4 − ω_exact| = %.2e (gravity has no torque about the centre of mass)"
-        % np.abs(traj.omega - exact).max()
+        f"max |ω_RK4 − ω_exact| = {np.abs(traj.omega - exact).max():.2e} (gravity has no torque about the centre of mass)"
     )
     from poinsot.plotting import plot_omega
 
@@ -85,7 +85,7 @@ def torque_free_theory(body):
     free = FreeRigidBody.from_body(body)
     for fp in free.fixed_points():
         print(f"fixed points: {fp.label:22s} stable = {fp.stable}")
-    I1, I2, I3 = free.principal_moments
+    I1, _I2, I3 = free.principal_moments
     w = np.array([0.0, 1.0, 0.0])
     s = free.stability(free._from_sorted(w))
     print(

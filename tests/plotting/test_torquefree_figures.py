@@ -35,14 +35,14 @@ def test_polhode_family_figure_data():
     I = BODY.principal_moments
     seps = [pts for line, pts in _lines3d(ax) if line.get_linestyle() == "--"]
     assert len(seps) == 4  # the four separatrix arcs, dashed
-    for line, pts in _lines3d(ax):
+    for _line, pts in _lines3d(ax):
         if len(pts) > 2:  # every curve lies on the energy ellipsoid of k = 1/2
             w = pts @ BODY._S
             np.testing.assert_allclose((I * w * w).sum(1), 1.0, atol=1e-12)
     labels = ax.get_legend_handles_labels()[1]
     assert {"around e1", "around e3", "separatrix", "stable", "unstable"} <= set(labels)
-    stable = [c for c in ax.collections if c.get_label() == "stable"][0]
-    unstable = [c for c in ax.collections if c.get_label() == "unstable"][0]
+    stable = next(c for c in ax.collections if c.get_label() == "stable")
+    unstable = next(c for c in ax.collections if c.get_label() == "unstable")
     assert len(stable._offsets3d[0]) == 4 and len(unstable._offsets3d[0]) == 2
     xlim, zlim = ax.get_xlim(), ax.get_zlim()
     assert xlim == pytest.approx(zlim)  # equal axes
@@ -74,7 +74,7 @@ def test_two_equal_and_all_equal_cases():
     with pytest.warns(UserWarning, match="no mass distribution"):
         sym = FreeRigidBody((3.0, 3.0, 9.0), allow_unphysical=True)
     ax = plot_energy_ellipsoid(sym, 0.5, math.sqrt(3.0)).axes[0]
-    circle = [pts for line, pts in _lines3d(ax) if line.get_color() == "crimson"][0]
+    circle = next(pts for line, pts in _lines3d(ax) if line.get_color() == "crimson")
     np.testing.assert_allclose(circle[:, 2], 0, atol=1e-15)  # the plane ω3 = 0
     plot_energy_ellipsoid(FreeRigidBody((1, 1, 1)), 0.5, 1.0)
     fig = plot_polhode_family(FreeRigidBody((3, 3, 5)), 0.5)
