@@ -68,9 +68,8 @@ def gravity_run(body, out):
     )
     free = FreeRigidBody.from_body(body)
     exact = free.exact_omega((0, 1, 1), t)
-    print(
-        f"max |ω_RK4 − ω_exact| = {np.abs(traj.omega - exact).max():.2e} (gravity has no torque about the centre of mass)"
-    )
+    err = np.abs(traj.omega - exact).max()
+    print(f"max |ω_RK4 − ω_exact| = {err:.2e} (gravity exerts no torque about the centre of mass)")
     from poinsot.plotting import plot_omega
 
     fig = plot_omega(t, traj.omega, exact=exact)
