@@ -322,7 +322,7 @@ class RigidBody:
     def is_degenerate(self) -> bool:
         """True when ``A`` is singular (I1 ≈ 0): all the mass lies on one line."""
         I1, _, I3 = self.principal_moments
-        return bool(I1 <= DEFAULT_RTOL * I3) or I3 == 0
+        return bool(I1 <= DEFAULT_RTOL * I3 or I3 == 0)
 
     def classify_symmetry(self, rtol: float = DEFAULT_RTOL) -> str:
         """``"spherical"`` (I1 = I3), ``"oblate"`` (I1 = I2 < I3), ``"prolate"`` (I1 < I2 = I3)

@@ -49,6 +49,7 @@ def simulate(
     omega_frame="body",
     particle_velocities=None,
     save_every=1,
+    progress=None,
 ) -> Trajectory:
     """Integrate the motion of ``body`` under ``forces``: eqs (07) ``M R̈ = F``,
     (08) ``A ω̇ + ω × Aω = Σ u_i × Qᵀ F_i`` and (09) ``Q̇ = QΩ``.
@@ -84,6 +85,8 @@ def simulate(
         when they are not a rigid motion.
     save_every : int
         Without ``t_eval``, keep every ``save_every``-th step.
+    progress : callable, optional
+        Called with the current time after every step (progress bars).
 
     Returns
     -------
@@ -149,6 +152,7 @@ def simulate(
             rtol=rtol,
             atol=atol,
             save_every=int(save_every),
+            progress=progress,
         )
     except IntegrationError as exc:
         p = exc.partial

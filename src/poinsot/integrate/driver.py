@@ -53,6 +53,7 @@ def integrate(
     atol=None,
     save_every=1,
     solver_options=None,
+    progress=None,
 ) -> IntegrationResult:
     """Integrate ``system`` from ``t_span[0]`` to ``t_span[1]``.
 
@@ -64,7 +65,8 @@ def integrate(
     cls = get_solver(method)
     t0, t1 = float(t_span[0]), float(t_span[1])
     start = time.perf_counter()
-    solver = cls(system, t0, y0, t1, dt=dt, rtol=rtol, atol=atol, **(solver_options or {}))
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):  # first-step choice
+        solver = cls(system, t0, y0, t1, dt=dt, rtol=rtol, atol=atol, **(solver_options or {}))
     ts, ys = [], []
     nsteps = 0
     if t_eval is not None:
@@ -104,6 +106,8 @@ def integrate(
         except Exception as exc:
             raise IntegrationError(f"{exc} (at t = {solver.t:.9g})", partial(str(exc))) from exc
         nsteps += 1
+        if progress is not None:
+            progress(solver.t)
         if not cls.adaptive and landing:
             solver.t = target  # exact sample times, no accumulated round-off
             if target == t1:

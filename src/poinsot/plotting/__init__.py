@@ -11,11 +11,15 @@ from .torquefree import (
     plot_omega,
     plot_polhode_family,
 )
+from .trajectory import plot_center_of_mass_path, plot_conservation, plot_omega_series
 
 __all__ = [
     "animate_tumbling",
     "plot_attitude_frames",
+    "plot_center_of_mass_path",
+    "plot_conservation",
     "plot_energy_ellipsoid",
     "plot_omega",
+    "plot_omega_series",
     "plot_polhode_family",
 ]

@@ -1,0 +1,369 @@
+"""The ``poinsot`` command line.
+
+    poinsot run [SCENARIO.toml] [--example NAME] [--out DIR] [--force] [--quiet] [--json]
+    poinsot examples
+    poinsot inertia BODY [--mass M | --density RHO] [--json]
+    poinsot polhodes --moments I1 I2 I3 [--energy K] [--omega0 W1 W2 W3] [--out DIR] [--json]
+
+Exit codes: 0 success; 2 bad input (the message on stderr names the file and the key);
+1 numerical failure (with the diagnostic); 130 interrupted (nothing half-written is left).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+__all__ = ["main"]
+
+EXIT_OK, EXIT_NUMERICAL, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+DEFAULT_EXAMPLE = "notebook"
+
+
+class _Progress:
+    """A one-line progress bar on stderr, shown only on a terminal and after one second.
+
+    Written here rather than taken from tqdm/rich: it is twenty lines, and the core
+    dependencies stay numpy, scipy, sympy, matplotlib and numba.
+    """
+
+    def __init__(self, t0, t1, enabled):
+        self.t0, self.t1 = t0, t1
+        self.enabled = enabled and sys.stderr.isatty()
+        self.start = time.monotonic()
+        self.last = 0.0
+        self.shown = False
+
+    def __call__(self, t):
+        if not self.enabled:
+            return
+        now = time.monotonic()
+        if now - self.start < 1.0 or now - self.last < 0.1:
+            return
+        self.last = now
+        frac = min(max((t - self.t0) / (self.t1 - self.t0), 0.0), 1.0)
+        bar = "#" * int(30 * frac) + "." * (30 - int(30 * frac))
+        sys.stderr.write(f"\r[{bar}] {100 * frac:5.1f}%  t = {t:.4g} / {self.t1:.4g}")
+        sys.stderr.flush()
+        self.shown = True
+
+    def close(self):
+        if self.shown:
+            sys.stderr.write("\n")
+
+
+def _say(args, *text):
+    if not args.quiet and not getattr(args, "json", False):
+        print(*text)
+
+
+def _cmd_run(args):
+    from .job import run_scenario
+    from .scenario import load_example, load_scenario
+
+    if args.scenario and args.example:
+        raise _BadInput("give a SCENARIO file or --example NAME, not both")
+    if args.scenario:
+        scenario = load_scenario(Path(args.scenario))
+    else:
+        scenario = load_example(args.example or DEFAULT_EXAMPLE)
+    out = Path(args.out) if args.out else Path("poinsot-out") / scenario.name
+    _say(args, f"poinsot: {scenario.name} — {scenario.description}")
+    progress = _Progress(*scenario.t_span, enabled=not args.quiet)
+    try:
+        summary = run_scenario(scenario, out, force=args.force, progress=progress)
+    finally:
+        progress.close()
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        d = summary["integration"]["diagnostics"]
+        _say(
+            args,
+            f"  body: mass {summary['body']['mass']:.6g}, principal moments "
+            + ", ".join(f"{x:.6g}" for x in summary["body"]["principal_moments"]),
+        )
+        _say(
+            args,
+            f"  integrated t ∈ [{scenario.t_span[0]:g}, {scenario.t_span[1]:g}] with "
+            f"{summary['integration']['method']} ({summary['integration']['nsteps']} "
+            f"steps): energy drift {d['energy_drift']:.2e}, |QᵀQ − I| "
+            f"{d['orthogonality_error']:.2e}",
+        )
+        if "torque_free" in summary:
+            tf = summary["torque_free"]
+            _say(args, f"  torque-free motion: polhode family {tf['family']!r}")
+        _say(args, f"  wrote {out}/ (summary.json, trajectory.npz/.csv, figures, report.html)")
+    return EXIT_OK
+
+
+def _cmd_examples(args):
+    from .scenario import list_examples
+
+    for name, description in list_examples().items():
+        print(f"{name:16s} {description}")
+    return EXIT_OK
+
+
+def _cmd_inertia(args):
+    from .scenario import ScenarioError, _Table, build_body, load_scenario
+
+    path = Path(args.body)
+    if not path.exists():
+        raise _BadInput(f"{path}: no such file")
+    if path.suffix.lower() == ".toml":
+        if args.mass is not None or args.density is not None:
+            raise _BadInput("--mass/--density apply to mesh files only")
+        try:
+            body = load_scenario(path).body
+        except ScenarioError:
+            import tomllib
+
+            try:  # a file with only a [body] table is fine too
+                data = tomllib.loads(path.read_text(encoding="utf-8"))
+            except tomllib.TOMLDecodeError as exc:
+                raise ScenarioError(f"{path}: TOML syntax error: {exc}") from None
+            if set(data) != {"body"}:
+                raise
+            try:
+                body = build_body(_Table(data["body"], "body"), path.parent)
+            except ScenarioError as exc:
+                raise ScenarioError(f"{path}: {exc}") from None
+    else:
+        from .bodies import RigidBody
+
+        try:
+            body = RigidBody.from_mesh(path, mass=args.mass, density=args.density)
+        except (ValueError, TypeError) as exc:
+            raise _BadInput(f"{path}: {exc}") from None
+    info = {
+        "mass": body.mass,
+        "center_of_mass": body.center_of_mass.tolist(),
+        "inertia": body.inertia.tolist(),
+        "principal_moments": body.principal_moments.tolist(),
+        "principal_axes": body.principal_axes.tolist(),
+        "symmetry": body.symmetry,
+        "degenerate": body.is_degenerate,
+    }
+    if args.json:
+        print(json.dumps(info, indent=2))
+        return EXIT_OK
+    import numpy as np
+
+    with np.printoptions(precision=6, suppress=True):
+        print(f"mass               {body.mass:.6g}")
+        print(f"centre of mass     {body.center_of_mass}")
+        print(f"inertia (about the centre of mass)\n{body.inertia}")
+        print(f"principal moments  {body.principal_moments}")
+        print(f"principal axes (columns e1, e2, e3)\n{body.principal_axes}")
+        print(
+            f"symmetry           {body.symmetry}"
+            + ("  (degenerate: all mass on a line)" if body.is_degenerate else "")
+        )
+    return EXIT_OK
+
+
+def _cmd_polhodes(args):
+    import math
+
+    import numpy as np
+
+    from .torquefree import FreeRigidBody
+
+    try:
+        free = FreeRigidBody(args.moments)
+    except ValueError as exc:
+        raise _BadInput(f"--moments: {exc}") from None
+    I = free.principal_moments
+    result = {
+        "principal_moments": I.tolist(),
+        "symmetry": free.symmetry,
+        "fixed_points": [{"set": fp.label, "stable": fp.stable} for fp in free.fixed_points()],
+    }
+    energy = args.energy
+    if args.omega0 is not None:
+        w0 = np.array(args.omega0, dtype=float)
+        if not np.all(np.isfinite(w0)) or not np.any(w0):
+            raise _BadInput("--omega0: expected three finite numbers, not all zero")
+        k, a = free.invariants(w0)
+        result["omega0"] = w0.tolist()
+        result["energy"], result["momentum"] = k, a
+        result["family"] = free.classify(w0)
+        for name, fn in (("period", free.period), ("flip_interval", free.flip_interval)):
+            try:
+                value = fn(w0)
+                result[name] = value if math.isfinite(value) else "inf"
+            except ValueError as exc:
+                result[name] = f"undefined: {exc}"
+        energy = energy if energy is not None else k
+    energy = 0.5 if energy is None else energy
+    if not energy > 0:
+        raise _BadInput(f"--energy: expected a positive number, found {energy}")
+    out = Path(args.out) if args.out else Path("poinsot-out") / "polhodes"
+    if out.exists() and not args.force:
+        raise _BadInput(f"{out}: output folder exists (use --force to replace it)")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ._io import atomic_path, atomic_write_text
+    from .plotting import plot_energy_ellipsoid, plot_polhode_family
+
+    out.mkdir(parents=True, exist_ok=True)
+    fig = plot_polhode_family(free, energy)
+    if args.omega0 is not None:
+        scale = math.sqrt(energy / result["energy"])
+        t = np.linspace(
+            0,
+            min(free.period(w0), 200.0)
+            if result["family"] not in ("fixed point", "spherical", "separatrix")
+            else 50.0,
+            400,
+        )
+        path = free.exact_omega(w0, t) * scale
+        fig.axes[0].plot(*path.T, color="crimson", lw=3, label="ω(t) from ω0")
+        fig.axes[0].legend(loc="upper left", fontsize=8)
+    with atomic_path(out / "polhodes.png") as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+    if args.omega0 is not None:
+        fig = plot_energy_ellipsoid(free, result["energy"], result["momentum"])
+        with atomic_path(out / "energy_ellipsoid.png") as tmp:
+            fig.savefig(tmp, dpi=110, format="png")
+        plt.close(fig)
+    atomic_write_text(out / "polhodes.json", json.dumps(result, indent=2))
+    if args.json:
+        print(json.dumps(result, indent=2))
+    else:
+        _say(args, f"principal moments {', '.join(f'{x:.6g}' for x in I)} ({free.symmetry})")
+        for fp in result["fixed_points"]:
+            _say(args, f"  fixed points {fp['set']}: {'stable' if fp['stable'] else 'unstable'}")
+        for key in ("family", "energy", "momentum", "period", "flip_interval"):
+            if key in result:
+                _say(args, f"  {key}: {result[key]}")
+        _say(args, f"  wrote {out}/")
+    return EXIT_OK
+
+
+class _BadInput(ValueError):
+    pass
+
+
+def _parser():
+    p = argparse.ArgumentParser(
+        prog="poinsot",
+        description="Dynamics of rigid bodies and constrained mechanical systems.",
+        epilog="Exit codes: 0 success, 2 bad input, 1 numerical failure, 130 interrupted.",
+    )
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+
+    run = sub.add_parser(
+        "run",
+        help="simulate a scenario and write data, figures and a report",
+        description="Simulate a scenario (TOML) and write trajectory.npz/.csv, "
+        "summary.json, PNG figures and report.html. With no SCENARIO it runs "
+        f"the built-in default, the example {DEFAULT_EXAMPLE!r}: the source "
+        "notebook's 27-particle body under gravity with its polhode sweep.",
+    )
+    run.add_argument(
+        "scenario",
+        nargs="?",
+        metavar="SCENARIO.toml",
+        help="scenario file (see docs/scenarios.md); default: the built-in example",
+    )
+    run.add_argument(
+        "--example",
+        metavar="NAME",
+        help="run a bundled example instead (list them with `poinsot examples`)",
+    )
+    run.add_argument(
+        "--out", metavar="DIR", help="output folder (default ./poinsot-out/<scenario-name>/)"
+    )
+    run.add_argument("--force", action="store_true", help="replace the output folder if it exists")
+    run.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    run.add_argument("--json", action="store_true", help="print the summary as JSON on stdout")
+    run.set_defaults(func=_cmd_run)
+
+    ex = sub.add_parser("examples", help="list the bundled example scenarios")
+    ex.set_defaults(func=_cmd_examples, quiet=False)
+
+    inertia = sub.add_parser(
+        "inertia",
+        help="mass properties of a body (scenario or mesh file)",
+        description="Mass, centre of mass, inertia, principal moments and "
+        "axes, and symmetry class of the [body] of a scenario file, or of a "
+        "closed triangle mesh (STL/OBJ/PLY; needs poinsot[mesh]).",
+    )
+    inertia.add_argument("body", metavar="BODY", help="scenario .toml or mesh file")
+    group = inertia.add_mutually_exclusive_group()
+    group.add_argument("--mass", type=float, help="mesh: total mass (kg)")
+    group.add_argument("--density", type=float, help="mesh: density (kg/m³; default 1)")
+    inertia.add_argument("--json", action="store_true", help="print JSON for machines")
+    inertia.set_defaults(func=_cmd_inertia, quiet=False)
+
+    pol = sub.add_parser(
+        "polhodes",
+        help="torque-free analysis and polhode figures",
+        description="Fixed points, stability, invariants, period and flip "
+        "interval of the torque-free body, and its polhodes drawn on the energy "
+        "ellipsoid (polhodes.png; with --omega0 also energy_ellipsoid.png).",
+    )
+    pol.add_argument(
+        "--moments",
+        type=float,
+        nargs=3,
+        required=True,
+        metavar=("I1", "I2", "I3"),
+        help="principal moments (kg m²)",
+    )
+    pol.add_argument(
+        "--energy",
+        type=float,
+        metavar="K",
+        help="rotational kinetic energy k of the ellipsoid (default: that of --omega0, else 0.5)",
+    )
+    pol.add_argument(
+        "--omega0",
+        type=float,
+        nargs=3,
+        metavar=("W1", "W2", "W3"),
+        help="an initial angular velocity (body = principal frame)",
+    )
+    pol.add_argument("--out", metavar="DIR", help="output folder (default ./poinsot-out/polhodes/)")
+    pol.add_argument("--force", action="store_true", help="replace the output folder's files")
+    pol.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    pol.add_argument("--json", action="store_true", help="print the analysis as JSON")
+    pol.set_defaults(func=_cmd_polhodes)
+    return p
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``poinsot`` console script; returns the exit code."""
+    from .job import OutputExistsError
+    from .scenario import ScenarioError
+    from .simulation import SimulationError
+
+    parser = _parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return EXIT_BAD_INPUT
+    try:
+        return args.func(args)
+    except (ScenarioError, _BadInput, OutputExistsError) as exc:
+        print(f"poinsot: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except SimulationError as exc:
+        print(f"poinsot: numerical failure: {exc}", file=sys.stderr)
+        return EXIT_NUMERICAL
+    except KeyboardInterrupt:
+        print("poinsot: interrupted; no partial output was left", file=sys.stderr)
+        return EXIT_INTERRUPTED
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,194 @@
+"""Running a scenario end to end: simulate, analyse, and write data, figures and the report.
+
+Everything is written into a fresh temporary folder beside the target and moved into place only
+when complete, so an interrupted run (Ctrl-C, a crash) never leaves a half-written output folder;
+an existing folder is replaced only with ``force=True``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import shutil
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ._io import atomic_path, atomic_write_text
+
+__all__ = ["OutputExistsError", "run_scenario", "summarize"]
+
+
+class OutputExistsError(FileExistsError):
+    """The output folder exists and ``force`` was not given."""
+
+
+def _torque_free(scenario):
+    """The torque-free analysis of the body, or ``None`` when it does not apply."""
+    from .torquefree import FreeRigidBody
+
+    if not scenario.analysis.get("polhodes", True) or scenario.body.is_degenerate:
+        return None
+    if scenario.pivot is not None and np.any(scenario.pivot != scenario.body.center_of_mass):
+        return None
+    return FreeRigidBody.from_body(scenario.body)
+
+
+def summarize(scenario, traj, free=None) -> dict:
+    """The numbers of a run, JSON-ready: body, invariants, torque-free analysis, diagnostics."""
+    body = scenario.body
+    w0 = traj.omega[0]
+    k0 = 0.5 * float(w0 @ body.inertia @ w0)
+    a0 = float(np.linalg.norm(body.inertia @ w0))
+    out = {
+        "scenario": {
+            "name": scenario.name,
+            "description": scenario.description,
+            "source": scenario.source,
+        },
+        "body": {
+            "mass": body.mass,
+            "center_of_mass": body.center_of_mass.tolist(),
+            "inertia": body.inertia.tolist(),
+            "principal_moments": body.principal_moments.tolist(),
+            "principal_axes": body.principal_axes.tolist(),
+            "symmetry": body.symmetry,
+            "particles": body.n_particles,
+        },
+        "initial": {
+            "omega": w0.tolist(),
+            "rotational_energy": k0,
+            "angular_momentum_magnitude": a0,
+            "a2_over_2k": a0 * a0 / (2 * k0) if k0 > 0 else None,
+        },
+        "final": {
+            "t": float(traj.t[-1]),
+            "R": traj.R[-1].tolist(),
+            "omega": traj.omega[-1].tolist(),
+        },
+        "integration": traj.summary(),
+    }
+    if free is not None and k0 > 0:
+        analysis = {
+            "family": free.classify(w0),
+            "fixed_points": [{"set": fp.label, "stable": fp.stable} for fp in free.fixed_points()],
+        }
+        with contextlib.suppress(ValueError):
+            analysis["period"] = free.period(w0)
+        with contextlib.suppress(ValueError):
+            analysis["flip_interval"] = free.flip_interval(w0)
+        if scenario.forces == [] or all(type(f).__name__ == "Gravity" for f in scenario.forces):
+            analysis["exact_solution_error"] = free.trajectory_error(traj)
+        out["torque_free"] = analysis
+    return _jsonable(out)
+
+
+def _jsonable(obj):
+    if isinstance(obj, dict):
+        return {k: _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_jsonable(v) for v in obj]
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not np.isfinite(obj):
+        return None if np.isnan(obj) else ("inf" if obj > 0 else "-inf")
+    return obj
+
+
+def _figures(folder: Path, scenario, traj, free):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .plotting import (
+        plot_attitude_frames,
+        plot_center_of_mass_path,
+        plot_conservation,
+        plot_omega_series,
+        plot_polhode_family,
+    )
+    from .report import equivalent_box_half_extents
+
+    def save(fig, name):
+        with atomic_path(folder / name) as tmp:
+            fig.savefig(tmp, dpi=110, format="png")
+        plt.close(fig)
+
+    save(plot_omega_series(traj), "omega.png")
+    save(plot_conservation(traj), "conservation.png")
+    save(plot_center_of_mass_path(traj), "center_of_mass.png")
+    half = equivalent_box_half_extents(scenario.body)
+    QE = traj.Q @ scenario.body.principal_axes  # draw the box in principal axes
+    save(plot_attitude_frames(QE, traj.t, half_extents=np.maximum(half, 1e-3)), "body.png")
+    if free is not None:
+        energy = scenario.analysis.get("energy")
+        k = (
+            energy
+            if energy is not None
+            else 0.5 * float(traj.omega[0] @ scenario.body.inertia @ traj.omega[0])
+        )
+        if k > 0:
+            fig = plot_polhode_family(free, k, levels=scenario.analysis.get("levels", 9))
+            k_traj = 0.5 * float(traj.omega[0] @ scenario.body.inertia @ traj.omega[0])
+            if k_traj > 0:
+                path = traj.omega * np.sqrt(k / k_traj)
+                fig.axes[0].plot(*path.T, color="crimson", lw=2.5, label="ω(t) of this run")
+                fig.axes[0].legend(loc="upper left", fontsize=8)
+            save(fig, "polhodes.png")
+
+
+def run_scenario(scenario, out, *, force=False, progress=None, report=True) -> dict:
+    """Simulate ``scenario`` and write its outputs to the folder ``out``; return the summary.
+
+    Raises :class:`OutputExistsError` if ``out`` exists and ``force`` is false (checked before
+    any work), and :class:`~poinsot.simulation.SimulationError` on a numerical failure.
+    """
+    out = Path(out)
+    if out.exists() and not force:
+        raise OutputExistsError(f"{out}: output folder exists (use --force to replace it)")
+    start = time.perf_counter()
+    traj = scenario.simulate(progress=progress)
+    sim_time = time.perf_counter() - start
+    free = _torque_free(scenario)
+    summary = summarize(scenario, traj, free)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    work = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
+    try:
+        if scenario.outputs.get("data", True):
+            traj.to_npz(work / "trajectory.npz")
+            traj.to_csv(work / "trajectory.csv")
+            try:
+                ds = traj.to_xarray()
+            except ImportError:
+                pass
+            else:
+                with atomic_path(work / "trajectory.nc") as tmp:
+                    ds.to_netcdf(tmp, engine="scipy")
+        if scenario.outputs.get("figures", True):
+            _figures(work, scenario, traj, free)
+        if report and scenario.outputs.get("report", True):
+            from .report import write_report
+
+            write_report(
+                work / "report.html",
+                traj,
+                summary,
+                free=free,
+                energy=scenario.analysis.get("energy"),
+            )
+        summary["timings"] = {"simulation_s": sim_time, "total_s": time.perf_counter() - start}
+        atomic_write_text(work / "summary.json", json.dumps(_jsonable(summary), indent=2))
+        if out.exists():
+            old = out.with_name(f".{out.name}.old-{int(time.time() * 1e6)}")
+            out.rename(old)
+            work.rename(out)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            work.rename(out)
+    except BaseException:
+        shutil.rmtree(work, ignore_errors=True)
+        raise
+    return summary

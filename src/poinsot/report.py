@@ -1,0 +1,332 @@
+"""A self-contained interactive HTML report of a run (needs the ``report`` extra: plotly).
+
+One page, plotly.js inlined (opens with no network): the body tumbling in 3D (animated), ω on
+the energy ellipsoid with the polhode family, the time series, and the numbers.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+
+import numpy as np
+
+from ._io import atomic_write_text
+
+__all__ = ["equivalent_box_half_extents", "write_report"]
+
+MAX_FRAMES = 120
+
+
+def _plotly():
+    try:
+        import plotly.graph_objects as go
+        import plotly.io as pio
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ImportError("the HTML report needs plotly: pip install 'poinsot[report]'") from exc
+    return go, pio
+
+
+def equivalent_box_half_extents(body) -> np.ndarray:
+    """Half extents (along e1, e2, e3) of the uniform box with the body's mass and principal
+    moments: ``a² = 6 (I2 + I3 − I1)/M`` etc. (real by the triangle inequalities)."""
+    I1, I2, I3 = body.principal_moments
+    M = body.mass
+    sq = 6.0 / M * np.array([I2 + I3 - I1, I1 + I3 - I2, I1 + I2 - I3])
+    return 0.5 * np.sqrt(np.maximum(sq, 0.0))
+
+
+def _box_lines(half):
+    """Vertices (closed polyline through the 12 edges, None-separated) of a box."""
+    c = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * half
+    edges = [
+        (i, j) for i in range(8) for j in range(i + 1, 8) if np.sum(np.abs(c[i] - c[j]) > 0) == 1
+    ]
+    return c, edges
+
+
+def _body_figure(traj, go):
+    body = traj.body
+    E = body.principal_axes
+    half = np.maximum(equivalent_box_half_extents(body), 1e-3 * max(1.0, body.mass))
+    corners, edges = _box_lines(half)
+    step = max(1, len(traj.t) // MAX_FRAMES)
+    idx = np.arange(0, len(traj.t), step)
+    particles = body.u if body.has_particles else None
+
+    # the body about its centre of mass (or about its fixed pivot): translation has its own plot
+    pivot = getattr(traj.system, "pivot", None)
+    c = traj.system.c if pivot is not None else np.zeros(3)  # centre of mass from the pivot
+
+    def traces(i):
+        Q = traj.Q[i]
+        R = Q @ c
+        pts = (corners @ E.T) @ Q.T + R  # box in principal axes, then attitude and position
+        xs, ys, zs = [], [], []
+        for a, b in edges:
+            for p in (pts[a], pts[b]):
+                xs.append(p[0])
+                ys.append(p[1])
+                zs.append(p[2])
+            xs.append(None)
+            ys.append(None)
+            zs.append(None)
+        out = [
+            go.Scatter3d(
+                x=xs,
+                y=ys,
+                z=zs,
+                mode="lines",
+                line={"color": "#444", "width": 4},
+                name="body (equivalent box)",
+            )
+        ]
+        for k, color in enumerate(("#d62728", "#2ca02c", "#1f77b4")):
+            tip = R + Q @ E[:, k] * 1.3 * half[k]
+            out.append(
+                go.Scatter3d(
+                    x=[R[0], tip[0]],
+                    y=[R[1], tip[1]],
+                    z=[R[2], tip[2]],
+                    mode="lines",
+                    line={"color": color, "width": 7},
+                    name=f"e{k + 1}",
+                )
+            )
+        if pivot is not None:
+            out.append(
+                go.Scatter3d(
+                    x=[0, R[0]],
+                    y=[0, R[1]],
+                    z=[0, R[2]],
+                    mode="lines+markers",
+                    line={"color": "#8c564b", "width": 5},
+                    marker={"size": [5, 2]},
+                    name="pivot → centre of mass",
+                )
+            )
+        if particles is not None:
+            P = particles @ Q.T + R
+            out.append(
+                go.Scatter3d(
+                    x=P[:, 0],
+                    y=P[:, 1],
+                    z=P[:, 2],
+                    mode="markers",
+                    marker={"size": 3, "color": "#ff7f0e"},
+                    name="particles",
+                )
+            )
+        return out
+
+    fig = go.Figure(
+        data=traces(idx[0]), frames=[go.Frame(data=traces(i), name=f"{traj.t[i]:.3g}") for i in idx]
+    )
+    reach = 1.4 * float(np.max(half)) + (
+        float(np.linalg.norm(traj.system.c)) if pivot is not None else 0.0
+    )
+    if particles is not None:
+        reach = max(reach, float(np.max(np.linalg.norm(particles, axis=1))) * 1.15)
+    axes = {f"{c}axis": {"range": [-reach, reach], "title": f"{c} [m]"} for c in "xyz"}
+    where = "about the fixed pivot" if pivot is not None else "about the centre of mass"
+    fig.update_layout(
+        title=f"Body attitude {where} (animated; red e₁, green e₂, blue e₃)",
+        scene={**axes, "aspectmode": "cube"},
+        height=560,
+        updatemenus=[
+            {
+                "type": "buttons",
+                "showactive": False,
+                "x": 0.05,
+                "y": 0.05,
+                "buttons": [
+                    {
+                        "label": "▶ play",
+                        "method": "animate",
+                        "args": [
+                            None,
+                            {"frame": {"duration": 60, "redraw": True}, "fromcurrent": True},
+                        ],
+                    },
+                    {
+                        "label": "⏸ pause",
+                        "method": "animate",
+                        "args": [[None], {"mode": "immediate", "frame": {"duration": 0}}],
+                    },
+                ],
+            }
+        ],
+        sliders=[
+            {
+                "currentvalue": {"prefix": "t = "},
+                "steps": [
+                    {
+                        "label": f.name,
+                        "method": "animate",
+                        "args": [
+                            [f.name],
+                            {"mode": "immediate", "frame": {"duration": 0, "redraw": True}},
+                        ],
+                    }
+                    for f in fig.frames
+                ],
+            }
+        ],
+    )
+    return fig
+
+
+def _polhode_figure(traj, go, free, energy, levels):
+    I = free.principal_moments
+    S = free._S
+    w = traj.omega
+    k_traj = 0.5 * float(np.einsum("ni,ij,nj->n", w[:1], traj.body.inertia, w[:1])[0])
+    k = energy if energy is not None else k_traj
+    semi = np.sqrt(2 * k / I)
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 48), np.linspace(0, np.pi, 24))
+    unit = np.stack([np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v)], -1)
+    pts = (unit * semi) @ S.T
+    data = [
+        go.Surface(
+            x=pts[..., 0],
+            y=pts[..., 1],
+            z=pts[..., 2],
+            opacity=0.25,
+            showscale=False,
+            colorscale=[[0, "#9ecae1"], [1, "#9ecae1"]],
+            name="energy ellipsoid",
+            hoverinfo="skip",
+        )
+    ]
+    colors = {
+        "around e1": "#1f77b4",
+        "around e3": "#ff7f0e",
+        "separatrix": "black",
+        "symmetric": "#9467bd",
+    }
+    shown = set()
+    for p in free.polhode_family(k, levels=levels, n=200):
+        if p.family in ("fixed point", "spherical"):
+            continue
+        data.append(
+            go.Scatter3d(
+                x=p.points[:, 0],
+                y=p.points[:, 1],
+                z=p.points[:, 2],
+                mode="lines",
+                line={
+                    "color": colors.get(p.family, "gray"),
+                    "width": 5 if p.family == "separatrix" else 2,
+                    "dash": "dash" if p.family == "separatrix" else "solid",
+                },
+                name=p.family,
+                legendgroup=p.family,
+                showlegend=p.family not in shown,
+            )
+        )
+        shown.add(p.family)
+    scale = np.sqrt(k / k_traj) if k_traj > 0 else 1.0
+    path = w * scale
+    data.append(
+        go.Scatter3d(
+            x=path[:, 0],
+            y=path[:, 1],
+            z=path[:, 2],
+            mode="lines",
+            line={"color": "crimson", "width": 6},
+            name="ω(t) of this run" + (" (scaled)" if abs(scale - 1) > 1e-9 else ""),
+        )
+    )
+    fig = go.Figure(data=data)
+    fig.update_layout(
+        title=f"ω on the energy ellipsoid (k = {k:.4g}) with the polhode family",
+        scene={"aspectmode": "data", "xaxis_title": "ω₁", "yaxis_title": "ω₂", "zaxis_title": "ω₃"},
+        height=560,
+    )
+    return fig
+
+
+def _series_figure(traj, go):
+    from plotly.subplots import make_subplots
+
+    fig = make_subplots(
+        rows=1,
+        cols=2,
+        subplot_titles=("Angular velocity (body frame)", "Conservation (relative drift)"),
+    )
+    for i, name in enumerate(("ω₁", "ω₂", "ω₃")):
+        fig.add_trace(go.Scatter(x=traj.t, y=traj.omega[:, i], name=name), row=1, col=1)
+    tiny = 1e-17
+    fig.add_trace(
+        go.Scatter(x=traj.t, y=np.abs(traj.energy_drift) + tiny, name="energy"), row=1, col=2
+    )
+    fig.add_trace(go.Scatter(x=traj.t, y=traj.momentum_drift + tiny, name="|ΔL|/|L|"), row=1, col=2)
+    fig.add_trace(
+        go.Scatter(x=traj.t, y=traj.orthogonality_error + tiny, name="|QᵀQ − I|"), row=1, col=2
+    )
+    fig.update_yaxes(type="log", row=1, col=2)
+    fig.update_xaxes(title_text="t [s]")
+    fig.update_layout(height=420)
+    return fig
+
+
+def _numbers_table(summary: dict) -> str:
+    def fmt(v):
+        if isinstance(v, float):
+            return f"{v:.6g}"
+        if isinstance(v, list):
+            return "[" + ", ".join(fmt(x) for x in v) + "]"
+        return html.escape(str(v))
+
+    rows = []
+
+    def walk(prefix, obj):
+        for key, value in obj.items():
+            name = f"{prefix}{key}"
+            if isinstance(value, dict):
+                walk(name + ".", value)
+            else:
+                rows.append(f"<tr><th>{html.escape(name)}</th><td>{fmt(value)}</td></tr>")
+
+    walk("", summary)
+    return "<table class='numbers'>" + "".join(rows) + "</table>"
+
+
+def write_report(path, traj, summary: dict, *, free=None, energy=None, levels=7) -> None:
+    """Write the interactive report for ``traj`` to ``path`` (atomically)."""
+    go, pio = _plotly()
+    figures = [_body_figure(traj, go)]
+    if free is not None:
+        figures.append(_polhode_figure(traj, go, free, energy, levels))
+    figures.append(_series_figure(traj, go))
+    parts = [
+        pio.to_html(
+            f,
+            full_html=False,
+            include_plotlyjs=(i == 0),
+            auto_play=False,
+            div_id=f"poinsot-plot-{i}",
+        )
+        for i, f in enumerate(figures)
+    ]
+    title = html.escape(f"poinsot — {summary.get('scenario', {}).get('name', 'run')}")
+    page = f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>{title}</title>
+<style>
+body {{ font-family: system-ui, sans-serif; margin: 1.5em auto; max-width: 1200px;
+       color: #222; }}
+h1 {{ font-size: 1.5em; }} .plot {{ margin: 1em 0; }}
+table.numbers {{ border-collapse: collapse; font-size: 0.85em; }}
+table.numbers th {{ text-align: left; padding: 2px 12px 2px 0; font-weight: normal;
+                    color: #555; }}
+table.numbers td {{ font-family: ui-monospace, monospace; }}
+</style></head><body>
+<h1>{title}</h1>
+<p>{html.escape(summary.get("scenario", {}).get("description", ""))}</p>
+{"".join(f'<div class="plot">{p}</div>' for p in parts)}
+<h2>Numbers</h2>
+{_numbers_table(summary)}
+<script type="application/json" id="poinsot-summary">{html.escape(json.dumps(summary))}</script>
+</body></html>
+"""
+    atomic_write_text(path, page)

@@ -1,0 +1,543 @@
+"""Scenario files (TOML): a body, its forces, initial conditions, integrator, time and outputs.
+
+Everything is validated before anything runs. An error names the key path, what was expected
+and what was found — ``body.particles[3].mass: expected a positive number, found -1`` — and an
+unknown key is refused with the nearest valid key suggested. Units are SI. The reference of
+every key and its default is ``docs/scenarios.md``; bundled examples live in
+``poinsot/scenarios/``.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["Scenario", "ScenarioError", "list_examples", "load_example", "load_scenario"]
+
+_MISSING = object()
+
+
+class ScenarioError(ValueError):
+    """A scenario that cannot run; ``str()`` starts with the file and the key path."""
+
+
+class _Table:
+    """A TOML table being read: typed getters, key paths in errors, unknown keys refused."""
+
+    def __init__(self, data, path: str):
+        if not isinstance(data, dict):
+            raise ScenarioError(f"{path or 'scenario'}: expected a table, found {_show(data)}")
+        self.data = data
+        self.path = path
+        self.used: set[str] = set()
+
+    def where(self, key):
+        return f"{self.path}.{key}" if self.path else key
+
+    def has(self, key):
+        return key in self.data
+
+    def get(self, key, kind, default=_MISSING, **kw):
+        self.used.add(key)
+        if key not in self.data:
+            if default is _MISSING:
+                raise ScenarioError(f"{self.where(key)}: required key is missing")
+            return default
+        return _convert(self.data[key], kind, self.where(key), **kw)
+
+    def table(self, key, default=_MISSING):
+        self.used.add(key)
+        if key not in self.data:
+            if default is _MISSING:
+                raise ScenarioError(f"{self.where(key)}: required table is missing")
+            return _Table({}, self.where(key)) if default is None else default
+        return _Table(self.data[key], self.where(key))
+
+    def tables(self, key):
+        self.used.add(key)
+        items = self.data.get(key, [])
+        if not isinstance(items, list):
+            raise ScenarioError(
+                f"{self.where(key)}: expected an array of tables, found {_show(items)}"
+            )
+        return [_Table(item, f"{self.where(key)}[{i}]") for i, item in enumerate(items)]
+
+    def finish(self, valid=None):
+        valid = set(valid or ()) | self.used
+        for key in self.data:
+            if key not in valid:
+                near = difflib.get_close_matches(key, sorted(valid), n=1, cutoff=0.5)
+                hint = (
+                    f"; did you mean {near[0]!r}?"
+                    if near
+                    else (f"; valid keys: {', '.join(sorted(valid))}" if valid else "")
+                )
+                raise ScenarioError(f"{self.where(key)}: unknown key{hint}")
+
+
+def _show(value):
+    text = repr(value)
+    return text if len(text) < 60 else text[:57] + "..."
+
+
+def _number(value, where):
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ScenarioError(f"{where}: expected a number, found {_show(value)}")
+    if not math.isfinite(value):
+        raise ScenarioError(f"{where}: expected a finite number, found {value}")
+    return float(value)
+
+
+def _convert(value, kind, where, choices=None):
+    if kind == "number":
+        return _number(value, where)
+    if kind == "positive":
+        if isinstance(value, int | float) and not isinstance(value, bool) and not value > 0:
+            raise ScenarioError(f"{where}: expected a positive number, found {value}")
+        x = _number(value, where)
+        return x
+    if kind == "nonnegative":
+        x = _number(value, where)
+        if x < 0:
+            raise ScenarioError(f"{where}: expected a number ≥ 0, found {value}")
+        return x
+    if kind == "int":
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+            raise ScenarioError(f"{where}: expected a positive integer, found {_show(value)}")
+        return value
+    if kind == "bool":
+        if not isinstance(value, bool):
+            raise ScenarioError(f"{where}: expected true or false, found {_show(value)}")
+        return value
+    if kind == "string":
+        if not isinstance(value, str):
+            raise ScenarioError(f"{where}: expected a string, found {_show(value)}")
+        if choices and value not in choices:
+            near = difflib.get_close_matches(value, choices, n=1, cutoff=0.5)
+            hint = f" (did you mean {near[0]!r}?)" if near else ""
+            raise ScenarioError(
+                f"{where}: expected one of {', '.join(map(repr, choices))}, found {value!r}{hint}"
+            )
+        return value
+    if kind in ("vector3", "vector4", "vector2", "vector"):
+        n = {"vector3": 3, "vector4": 4, "vector2": 2, "vector": None}[kind]
+        if not isinstance(value, list) or (n is not None and len(value) != n):
+            what = f"an array of {n} numbers" if n else "an array of numbers"
+            raise ScenarioError(f"{where}: expected {what}, found {_show(value)}")
+        return np.array([_number(v, f"{where}[{i}]") for i, v in enumerate(value)])
+    if kind == "matrix3":
+        if not isinstance(value, list) or len(value) != 3:
+            raise ScenarioError(f"{where}: expected a 3×3 array, found {_show(value)}")
+        return np.array([_convert(row, "vector3", f"{where}[{i}]") for i, row in enumerate(value)])
+    if kind == "vectors3":
+        if not isinstance(value, list) or not value:
+            raise ScenarioError(
+                f"{where}: expected a non-empty array of 3-vectors, found {_show(value)}"
+            )
+        return np.array([_convert(row, "vector3", f"{where}[{i}]") for i, row in enumerate(value)])
+    raise AssertionError(kind)  # pragma: no cover
+
+
+# --------------------------------------------------------------------------- bodies
+PRIMITIVES = {
+    "box": ("size",),
+    "sphere": ("radius",),
+    "spherical_shell": ("radius",),
+    "cylinder": ("radius", "height"),
+    "ellipsoid": ("semi_axes",),
+    "rod": ("length",),
+    "cone": ("radius", "height"),
+}
+BODY_TYPES = ("particles", "particle_grid", *PRIMITIVES, "mesh", "composite", "mass_properties")
+
+
+def _orientation(t: _Table):
+    """``orientation``: a quaternion [w, x, y, z], a 3×3 matrix, or a table
+    ``{euler = [..], seq = "ZXZ", degrees = false}``."""
+    if not t.has("orientation"):
+        t.used.add("orientation")
+        return None
+    value = t.data["orientation"]
+    t.used.add("orientation")
+    where = t.where("orientation")
+    if isinstance(value, dict):
+        e = _Table(value, where)
+        angles = e.get("euler", "vector3")
+        seq = e.get("seq", "string", "ZXZ")
+        degrees = e.get("degrees", "bool", False)
+        e.finish()
+        from .rotation import EULER_SEQUENCES, matrix_from_euler
+
+        if seq not in EULER_SEQUENCES:
+            raise ScenarioError(
+                f"{where}.seq: expected an Euler sequence such as 'ZXZ', found {seq!r}"
+            )
+        return matrix_from_euler(angles, seq, degrees=degrees)
+    if isinstance(value, list) and len(value) == 4:
+        q = _convert(value, "vector4", where)
+    else:
+        q = _convert(value, "matrix3", where)
+    from ._validation import as_rotation_matrix
+
+    try:
+        return as_rotation_matrix(q, "orientation")
+    except ValueError as exc:
+        raise ScenarioError(f"{where}: {str(exc).replace('`orientation` ', '')}") from None
+
+
+def build_body(t: _Table, base_dir: Path):
+    """The :class:`~poinsot.bodies.RigidBody` described by a ``[body]`` table."""
+    from .bodies import RigidBody
+
+    kind = t.get(
+        "type", "string", "particles" if t.has("particles") else _MISSING, choices=BODY_TYPES
+    )
+    try:
+        if kind == "particles":
+            parts = t.tables("particles")
+            if not parts:
+                raise ScenarioError(f"{t.where('particles')}: expected at least one particle")
+            masses, positions = [], []
+            for p in parts:
+                masses.append(p.get("mass", "positive"))
+                positions.append(p.get("position", "vector3"))
+                p.finish()
+            body = RigidBody.from_particles(masses, positions)
+        elif kind == "particle_grid":
+            lower = t.get("lower", "vector3", np.zeros(3))
+            upper = t.get("upper", "vector3")
+            counts = t.get("counts", "vector3")
+            if np.any(counts < 1) or np.any(counts != np.round(counts)):
+                raise ScenarioError(
+                    f"{t.where('counts')}: expected three positive integers, "
+                    f"found {counts.tolist()}"
+                )
+            total = t.get("total_mass", "positive")
+            axes = [np.linspace(lower[k], upper[k], int(counts[k])) for k in range(3)]
+            grid = np.array(np.meshgrid(*axes, indexing="ij")).reshape(3, -1).T
+            body = RigidBody.from_particles(np.full(len(grid), total / len(grid)), grid)
+        elif kind in PRIMITIVES:
+            mass = t.get("mass", "positive")
+            args = []
+            for name in PRIMITIVES[kind]:
+                vec = name in ("size", "semi_axes")
+                value = t.get(name, "vector3" if vec else "positive")
+                if vec and np.any(value <= 0):
+                    bad = int(np.argmax(value <= 0))
+                    raise ScenarioError(
+                        f"{t.where(name)}[{bad}]: expected a positive number, found {value[bad]}"
+                    )
+                args.append(value)
+            position = t.get("position", "vector3", None)
+            body = getattr(RigidBody, kind)(
+                mass, *args, position=position, orientation=_orientation(t)
+            )
+        elif kind == "mesh":
+            path = Path(t.get("path", "string"))
+            if not path.is_absolute():
+                path = base_dir / path
+            mass = t.get("mass", "positive", None)
+            density = t.get("density", "positive", None)
+            body = RigidBody.from_mesh(path, mass=mass, density=density)
+        elif kind == "composite":
+            parts = t.tables("parts")
+            if not parts:
+                raise ScenarioError(f"{t.where('parts')}: expected at least one part")
+            body = RigidBody.compose([build_body(p, base_dir) for p in parts])
+        else:  # mass_properties
+            body = RigidBody(
+                t.get("mass", "positive"),
+                t.get("inertia", "matrix3"),
+                t.get("center_of_mass", "vector3", np.zeros(3)),
+            )
+    except ScenarioError:
+        raise
+    except (ValueError, TypeError) as exc:
+        raise ScenarioError(f"{t.path}: {exc}") from None
+    t.finish({"pivot"})
+    return body
+
+
+# --------------------------------------------------------------------------- forces
+FORCE_TYPES = (
+    "gravity",
+    "central_gravity",
+    "spring",
+    "linear_drag",
+    "quadratic_drag",
+    "point_force",
+    "torque",
+)
+
+
+def build_force(t: _Table):
+    """One force from a ``[[forces]]`` table."""
+    from . import forces as F
+
+    kind = t.get("type", "string", choices=FORCE_TYPES)
+    try:
+        if kind == "gravity":
+            force = F.Gravity(t.get("g", "vector3", np.array([0.0, 0.0, -9.81])))
+        elif kind == "central_gravity":
+            force = F.CentralGravity(
+                t.get("mu", "positive"),
+                t.get("center", "vector3", np.zeros(3)),
+                gradient=t.get("gradient", "bool", True),
+            )
+        elif kind == "spring":
+            force = F.Spring(
+                t.get("point", "vector3"),
+                t.get("anchor", "vector3"),
+                t.get("stiffness", "positive"),
+                t.get("rest_length", "nonnegative", 0.0),
+                damping=t.get("damping", "nonnegative", 0.0),
+                tether=t.get("tether", "bool", False),
+            )
+        elif kind in ("linear_drag", "quadratic_drag"):
+            cls = F.LinearDrag if kind == "linear_drag" else F.QuadraticDrag
+            force = cls(
+                t.get("coefficient", "nonnegative"), t.get("rotational", "nonnegative", 0.0)
+            )
+        elif kind == "point_force":
+            force = F.PointForce(
+                t.get("point", "vector3"),
+                t.get("force", "vector3"),
+                frame=t.get("frame", "string", "space", choices=("space", "body")),
+            )
+        else:
+            force = F.Torque(
+                t.get("torque", "vector3"),
+                frame=t.get("frame", "string", "body", choices=("space", "body")),
+            )
+    except ScenarioError:
+        raise
+    except (ValueError, TypeError) as exc:
+        raise ScenarioError(f"{t.path}: {exc}") from None
+    t.finish()
+    return force
+
+
+# --------------------------------------------------------------------------- scenario
+METHOD_NAMES = ("dop853", "rk4", "rkmk4", "splitting")
+
+
+@dataclass
+class Scenario:
+    """A validated scenario, ready to run."""
+
+    name: str
+    description: str
+    body: object
+    forces: list
+    pivot: np.ndarray | None
+    initial: dict
+    method: str
+    dt: float | None
+    rtol: float | None
+    atol: float | None
+    t_span: tuple[float, float]
+    samples: int
+    outputs: dict = field(default_factory=dict)
+    analysis: dict = field(default_factory=dict)
+    source: str = "<built-in>"
+
+    @property
+    def t_eval(self):
+        return np.linspace(self.t_span[0], self.t_span[1], self.samples)
+
+    def simulate(self, progress=None):
+        """Run the simulation: a :class:`~poinsot.trajectory.Trajectory`."""
+        from .simulation import simulate
+
+        return simulate(
+            self.body,
+            self.t_span,
+            forces=self.forces,
+            pivot=self.pivot,
+            method=self.method,
+            dt=self.dt,
+            rtol=self.rtol,
+            atol=self.atol,
+            t_eval=self.t_eval,
+            progress=progress,
+            **self.initial,
+        )
+
+
+def _initial(t: _Table, body, pivot):
+    out = {}
+    if t.has("particle_velocities"):
+        v = t.get("particle_velocities", "vectors3")
+        if not body.has_particles or len(v) != body.n_particles:
+            n = body.n_particles
+            raise ScenarioError(
+                f"{t.where('particle_velocities')}: expected {n} velocities "
+                f"(one per particle), found {len(v)}"
+            )
+        out["particle_velocities"] = v
+    else:
+        out["omega0"] = t.get("omega", "vector3")
+        out["omega_frame"] = t.get("omega_frame", "string", "body", choices=("body", "space"))
+    orientation = _orientation(t)
+    if orientation is not None:
+        out["Q0"] = orientation
+    for key, name in (("position", "R0"), ("velocity", "V0")):
+        value = t.get(key, "vector3", None)
+        if value is not None:
+            out[name] = value
+    if pivot is not None and "V0" in out:
+        raise ScenarioError(
+            f"{t.where('velocity')}: must be omitted when the body has a pivot "
+            "(the velocity follows from omega)"
+        )
+    t.finish()
+    return out
+
+
+def _parse(data: dict, source: str, base_dir: Path) -> Scenario:
+    root = _Table(data, "")
+    name = root.get("name", "string", Path(source).stem if source != "<built-in>" else "default")
+    description = root.get("description", "string", "")
+    bt = root.table("body")
+    body = build_body(bt, base_dir)
+    pivot = bt.get("pivot", "vector3", None)
+    forces = [build_force(f) for f in root.tables("forces")]
+    initial = _initial(root.table("initial"), body, pivot)
+    it = root.table("integrator", None)
+    method = it.get("method", "string", "dop853", choices=METHOD_NAMES)
+    dt = it.get("dt", "positive", None)
+    rtol = it.get("rtol", "positive", None)
+    atol = it.get("atol", "positive", None)
+    it.finish()
+    if method != "dop853" and dt is None:
+        raise ScenarioError(f"{it.where('dt')}: required for the fixed-step method {method!r}")
+    tt = root.table("time")
+    span = tt.get("span", "vector2")
+    if not span[1] > span[0]:
+        raise ScenarioError(
+            f"{tt.where('span')}: expected [start, end] with end > start, found {span.tolist()}"
+        )
+    samples = tt.get("samples", "int", 201)
+    if samples < 2:
+        raise ScenarioError(f"{tt.where('samples')}: expected at least 2, found {samples}")
+    tt.finish()
+    ot = root.table("output", None)
+    outputs = {
+        "data": ot.get("data", "bool", True),
+        "figures": ot.get("figures", "bool", True),
+        "report": ot.get("report", "bool", True),
+    }
+    ot.finish()
+    at = root.table("analysis", None)
+    analysis = {
+        "polhodes": at.get("polhodes", "bool", True),
+        "energy": at.get("energy", "positive", None),
+        "momentum": at.get("momentum", "nonnegative", None),
+        "levels": at.get("levels", "int", 9),
+    }
+    at.finish()
+    root.finish()
+    scenario = Scenario(
+        name,
+        description,
+        body,
+        forces,
+        pivot,
+        initial,
+        method,
+        dt,
+        rtol,
+        atol,
+        (float(span[0]), float(span[1])),
+        samples,
+        outputs,
+        analysis,
+        source,
+    )
+    _check_physics(scenario)
+    return scenario
+
+
+def _check_physics(s: Scenario):
+    """Refuse what cannot run: infeasible torque-free invariants, a bad initial state."""
+    energy, momentum = s.analysis["energy"], s.analysis["momentum"]
+    if momentum is not None:
+        if energy is None:
+            raise ScenarioError("analysis.momentum: needs analysis.energy as well")
+        from .torquefree import FreeRigidBody
+
+        try:
+            FreeRigidBody.from_body(s.body).check_feasible(energy, momentum)
+        except ValueError as exc:
+            raise ScenarioError(f"analysis.momentum: {exc}") from None
+    try:
+        from .dynamics import RigidBodySystem
+
+        system = RigidBodySystem(s.body, s.forces, s.pivot)
+        if "omega0" in s.initial:
+            system.initial_state(
+                omega0=s.initial["omega0"],
+                Q0=s.initial.get("Q0"),
+                R0=s.initial.get("R0"),
+                V0=s.initial.get("V0"),
+                omega_frame=s.initial.get("omega_frame", "body"),
+            )
+    except (ValueError, TypeError) as exc:
+        raise ScenarioError(f"initial: {exc}") from None
+
+
+def load_scenario(source) -> Scenario:
+    """Read and validate a scenario from a path (``.toml``) or from TOML text."""
+    if isinstance(source, Path) or (
+        isinstance(source, str) and source.endswith(".toml") and "\n" not in source
+    ):
+        path = Path(source)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except OSError as exc:
+            raise ScenarioError(f"{path}: cannot read: {exc.strerror}") from None
+        label, base = str(path), path.parent
+    else:
+        text, label, base = str(source), "<built-in>", Path.cwd()
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{label}: TOML syntax error: {exc}") from None
+    try:
+        return _parse(data, label, base)
+    except ScenarioError as exc:
+        raise ScenarioError(f"{label}: {exc}") from None
+
+
+# --------------------------------------------------------------------------- examples
+def _example_files():
+    return resources.files("poinsot") / "scenarios"
+
+
+def list_examples() -> dict[str, str]:
+    """``{name: one-line description}`` of the bundled example scenarios."""
+    out = {}
+    for entry in sorted(_example_files().iterdir(), key=lambda p: p.name):
+        if entry.name.endswith(".toml"):
+            data = tomllib.loads(entry.read_text(encoding="utf-8"))
+            out[entry.name[:-5]] = data.get("description", "").split("\n")[0]
+    return out
+
+
+def load_example(name: str) -> Scenario:
+    """A bundled example scenario by name (see :func:`list_examples`)."""
+    names = list_examples()
+    if name not in names:
+        near = difflib.get_close_matches(name, list(names), n=1)
+        hint = f" (did you mean {near[0]!r}?)" if near else ""
+        raise ScenarioError(f"no example named {name!r}{hint}; available: {', '.join(names)}")
+    entry = _example_files() / f"{name}.toml"
+    scenario = load_scenario(entry.read_text(encoding="utf-8"))
+    scenario.source = f"example:{name}"
+    return scenario

@@ -1,0 +1,321 @@
+"""The `poinsot` command line: runs, examples, inertia, polhodes, bad input, interrupts."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from poinsot.cli import main
+from poinsot.scenario import list_examples
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _poinsot(*args, cwd, timeout=300):
+    return subprocess.run(
+        [sys.executable, "-m", "poinsot.cli", *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
+
+
+def test_run_without_arguments_in_an_empty_folder(tmp_path):
+    res = _poinsot("run", cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    out = tmp_path / "poinsot-out" / "notebook"
+    expected = {
+        "summary.json",
+        "trajectory.npz",
+        "trajectory.csv",
+        "omega.png",
+        "conservation.png",
+        "center_of_mass.png",
+        "body.png",
+        "polhodes.png",
+        "report.html",
+    }
+    assert expected <= {p.name for p in out.iterdir()}
+    assert not [p for p in tmp_path.rglob(".*partial*")]
+    summary = json.loads((out / "summary.json").read_text())
+    # the same problem through the library API
+    from poinsot import Gravity, RigidBody, simulate
+    from poinsot.torquefree import FreeRigidBody
+
+    grid = [(i, 2 * j, 3 * k) for i in (0, 0.5, 1) for j in (0, 0.5, 1) for k in (0, 0.5, 1)]
+    body = RigidBody.from_particles(np.full(27, 10 / 27), grid)
+    traj = simulate(
+        body,
+        (0, 20),
+        omega0=(0, 1, 1),
+        forces=[Gravity((0, 0, -9.8))],
+        method="rk4",
+        dt=0.2,
+        t_eval=np.linspace(0, 20, 101),
+    )
+    np.testing.assert_allclose(
+        summary["body"]["principal_moments"], body.principal_moments, rtol=1e-14
+    )
+    np.testing.assert_allclose(summary["final"]["R"], traj.R[-1], rtol=1e-14)
+    np.testing.assert_allclose(summary["final"]["omega"], traj.omega[-1], rtol=1e-14)
+    d = summary["integration"]["diagnostics"]
+    assert d["energy_drift"] == pytest.approx(traj.diagnostics()["energy_drift"], rel=1e-12)
+    free = FreeRigidBody.from_body(body)
+    assert summary["torque_free"]["period"] == pytest.approx(free.period((0, 1, 1)), rel=1e-14)
+    data = np.load(out / "trajectory.npz")
+    # the scenario's grid lists the particles in another order: sums round differently
+    np.testing.assert_allclose(data["omega"], traj.omega, rtol=1e-12, atol=1e-14)
+    # an existing folder is not overwritten without --force
+    again = _poinsot("run", cwd=tmp_path)
+    assert again.returncode == 2 and "output folder exists" in again.stderr
+    assert _poinsot("run", "--force", "--quiet", cwd=tmp_path).returncode == 0
+
+
+@pytest.mark.parametrize("name", sorted(list_examples()))
+def test_every_bundled_example_runs(name, tmp_path):
+    assert main(["run", "--example", name, "--out", str(tmp_path / name), "--quiet"]) == 0
+    summary = json.loads((tmp_path / name / "summary.json").read_text())
+    assert summary["scenario"]["name"] == name
+    assert (tmp_path / name / "report.html").stat().st_size > 100_000
+
+
+def test_examples_listing(capsys):
+    assert main(["examples"]) == 0
+    out = capsys.readouterr().out
+    for name in ("notebook", "tennis-racket", "heavy-top"):
+        assert name in out
+
+
+def test_json_output(tmp_path, capsys):
+    assert main(["run", "--example", "tennis-racket", "--out", str(tmp_path / "o"), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["torque_free"]["flip_interval"] == pytest.approx(3.3357687, abs=1e-6)
+
+
+GOOD = """
+name = "t"
+[body]
+type = "box"
+mass = 1.0
+size = [1.0, 2.0, 3.0]
+[initial]
+omega = [0.0, 1.0, 0.1]
+[time]
+span = [0.0, 1.0]
+samples = 5
+"""
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("name = 't'\n[body\n", "TOML syntax error"),
+        (
+            GOOD.replace("[time]", "[time]\nspam = 1"),
+            r"time\.spam: unknown key; did you mean 'span'",
+        ),
+        (GOOD.replace("mass = 1.0", "mas = 1.0"), r"body\.mass: required key is missing"),
+        (
+            GOOD.replace("size = [1.0, 2.0, 3.0]", 'size = "big"'),
+            r"body\.size: expected an array of 3 numbers, found 'big'",
+        ),
+        (
+            GOOD.replace("mass = 1.0", "mass = -1"),
+            r"body\.mass: expected a positive number, "
+            r"found -1",
+        ),
+        (
+            GOOD.replace(
+                'type = "box"',
+                'type = "particles"\n[[body.particles]]\nmass = 1\n'
+                "position = [0, 0, 0]\n[[body.particles]]\nmass = -1\nposition = [1, 0, 0]",
+            ).replace("mass = 1.0\nsize = [1.0, 2.0, 3.0]\n", ""),
+            r"body\.particles\[1\]\.mass: expected a positive number, found -1",
+        ),
+        (
+            GOOD.replace(
+                "[initial]", "[initial]\norientation = [[1, 0, 0], [0, 1, 0], [0, 0, -1]]"
+            ),
+            r"initial\.orientation: is not a rotation",
+        ),
+        (
+            GOOD + "[analysis]\nenergy = 0.5\nmomentum = 100.0\n",
+            r"analysis\.momentum: infeasible invariants: every motion has I1 ≤ a²/\(2k\) ≤ I3",
+        ),
+        (GOOD.replace('type = "box"', 'type = "boks"'), r"body\.type: .*did you mean 'box'"),
+        (
+            GOOD + '[integrator]\nmethod = "rk4"\n',
+            r"integrator\.dt: required for the "
+            r"fixed-step method 'rk4'",
+        ),
+        (
+            GOOD + '[[forces]]\ntype = "gravity"\ng = [0, 0]\n',
+            r"forces\[0\]\.g: expected an array of 3 numbers",
+        ),
+    ],
+)
+def test_malformed_scenarios_exit_2_naming_the_key(text, match, tmp_path, capsys):
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    code = main(["run", str(path), "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert str(path) in err
+    import re
+
+    assert re.search(match, err), err
+    assert not (tmp_path / "out").exists()
+
+
+def test_numerical_failure_exit_1(tmp_path, capsys):
+    path = tmp_path / "blowup.toml"
+    path.write_text(
+        GOOD.replace(
+            "[initial]", '[[forces]]\ntype = "torque"\ntorque = [1e308, 1e308, 0]\n[initial]'
+        )
+    )
+    assert main(["run", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 1
+    assert "poinsot: numerical failure:" in capsys.readouterr().err
+    path.write_text(path.read_text() + '[integrator]\nmethod = "rk4"\ndt = 0.1\n')
+    assert main(["run", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 1
+    assert "numerical failure: non-finite Q, omega at t = 0.1" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_inertia_command(tmp_path, capsys):
+    path = tmp_path / "b.toml"
+    path.write_text(GOOD)
+    assert main(["inertia", str(path), "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    np.testing.assert_allclose(info["principal_moments"], [5 / 12, 10 / 12, 13 / 12])
+    only_body = tmp_path / "only.toml"
+    only_body.write_text('[body]\ntype = "sphere"\nmass = 2.0\nradius = 0.5\n')
+    assert main(["inertia", str(only_body)]) == 0
+    assert "spherical" in capsys.readouterr().out
+    trimesh = pytest.importorskip("trimesh")
+    stl = tmp_path / "box.stl"
+    trimesh.creation.box(extents=(1, 2, 3)).export(stl)
+    assert main(["inertia", str(stl), "--mass", "12", "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    np.testing.assert_allclose(info["principal_moments"], [5, 10, 13], rtol=1e-12)
+    assert main(["inertia", str(tmp_path / "none.stl")]) == 2
+
+
+def test_polhodes_command(tmp_path, capsys):
+    out = tmp_path / "p"
+    assert (
+        main(
+            [
+                "polhodes",
+                "--moments",
+                "1",
+                "2",
+                "3",
+                "--omega0",
+                "1e-3",
+                "1",
+                "1e-3",
+                "--out",
+                str(out),
+                "--json",
+            ]
+        )
+        == 0
+    )
+    result = json.loads(capsys.readouterr().out)
+    assert result["flip_interval"] == pytest.approx(27.530840553733, rel=1e-12)
+    assert (out / "polhodes.png").exists() and (out / "energy_ellipsoid.png").exists()
+    assert main(["polhodes", "--moments", "1", "1", "3", "--out", str(tmp_path / "q")]) == 2
+    assert "I1 + I2 ≥ I3" in capsys.readouterr().err
+
+
+def test_help_explains_every_option(capsys):
+    with pytest.raises(SystemExit):
+        main(["run", "--help"])
+    text = capsys.readouterr().out
+    for option in ("--example", "--out", "--force", "--quiet", "--json", "SCENARIO"):
+        assert option in text
+
+
+def test_sigint_leaves_no_partial_files(tmp_path):
+    slow = tmp_path / "slow.toml"
+    slow.write_text(
+        GOOD.replace("span = [0.0, 1.0]", "span = [0.0, 1e6]").replace(
+            "samples = 5", "samples = 50000"
+        )
+        + '[integrator]\nmethod = "rk4"\ndt = 0.001\n'
+    )
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "poinsot.cli", "run", str(slow), "--out", str(tmp_path / "out")],
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    time.sleep(4.0)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "interrupted" in err
+    left = [p.name for p in tmp_path.iterdir()]
+    assert sorted(left) == ["slow.toml"], left
+
+
+def _chromium():
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        for d in os.environ.get("PATH", "").split(os.pathsep):
+            if (Path(d) / name).exists():
+                return str(Path(d) / name)
+    return None
+
+
+def test_report_in_a_headless_browser(tmp_path):
+    browser = _chromium()
+    if browser is None:
+        if os.environ.get("CI"):
+            pytest.fail("CI must install Chromium (.ci/run) for the report test")
+        pytest.skip("no Chromium on this machine")
+    assert main(["run", "--example", "tennis-racket", "--out", str(tmp_path / "r"), "--quiet"]) == 0
+    page = (tmp_path / "r" / "report.html").as_uri()
+    flags = [
+        browser,
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--use-angle=swiftshader",
+        "--enable-unsafe-swiftshader",
+        "--window-size=1300,1500",
+        "--virtual-time-budget=10000",
+        "--enable-logging=stderr",
+        "--v=0",
+    ]
+    shot = tmp_path / "shot.png"
+    res = subprocess.run(
+        [*flags, f"--screenshot={shot}", page], capture_output=True, text=True, timeout=180
+    )
+    console = [line for line in res.stderr.splitlines() if ":CONSOLE" in line]
+    errors = [line for line in console if "Uncaught" in line or "Error" in line]
+    assert not errors, errors
+    dom = subprocess.run(
+        [*flags, "--dump-dom", page], capture_output=True, text=True, timeout=180
+    ).stdout
+    for i in range(3):  # body, polhodes, time series: the containers exist and were drawn
+        assert f'id="poinsot-plot-{i}"' in dom
+    assert dom.count('class="main-svg"') >= 3
+    assert "gl-container" in dom  # WebGL scenes were created
+    import matplotlib.image as mpimg
+
+    img = mpimg.imread(shot)[..., :3]
+    plot3d = img[150:600, 60:1100]  # the animated 3D plot's area
+    colors = np.unique((plot3d * 255).astype(np.uint8).reshape(-1, 3), axis=0)
+    assert len(colors) > 50  # not blank
+    assert plot3d.std() > 0.03
