@@ -145,7 +145,7 @@ class RigidBodySystem:
         if self.pivot is None:
             return None
         point = self.pivot_point(y0)
-        return lambda y: self.constrain(y, point)
+        return lambda y, t=None: self.constrain(y, point)
 
     def constrain(self, y, pivot_point) -> np.ndarray:
         """With a pivot, reset ``R, V`` from ``Q, ω`` so the pivot stays exactly fixed."""

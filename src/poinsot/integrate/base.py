@@ -80,6 +80,8 @@ class Solver:
         self.y_old = None
         self.nfev = 0
         self.status = "running"
+        # system.projector(y0), if present, returns None or a map (y, t) -> y onto the
+        # constraint manifold, applied after every step
         projector = getattr(system, "projector", None)
         self._project = projector(self.y) if projector is not None else None
 
@@ -95,10 +97,14 @@ class Solver:
         self.t_old, self.y_old = self.t, self.y
         self._advance(h)
         if self._project is not None and not self._projects_itself:
-            self.y = self._project(self.y)
+            self.y = self._project(self.y, self.t)
+            self._after_projection()
         if self.t >= self.t_bound - 1e-12 * max(1.0, abs(self.t_bound)):
             self.t = self.t_bound
             self.status = "finished"
+
+    def _after_projection(self):
+        """Hook: adaptive methods that keep their own state take the projected ``y`` back."""
 
     def _advance(self, h):
         h = self.dt if h is None else h

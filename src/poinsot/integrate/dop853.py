@@ -47,7 +47,12 @@ class DOP853(Solver):
         if self._inner.status == "failed":
             raise RuntimeError(f"dop853 failed at t = {self._inner.t}: {message}")
         self.t = self._inner.t
-        self.y = self._inner.y.copy()  # a pivot projection (base.step) applies to outputs only
+        self.y = self._inner.y.copy()
+
+    def _after_projection(self):
+        # continue from the projected state; FSAL caches f(t, y), so recompute it
+        self._inner.y = self.y.copy()
+        self._inner.f = self._inner.fun(self._inner.t, self._inner.y)
 
     def _dense_output_impl(self):
         return self._inner.dense_output()

@@ -125,9 +125,13 @@ def integrate(
                 j += 1
             if j > k:
                 dense = solver.dense_output()
+                project = solver._project  # samples on the constraint manifold too
                 for s in samples[k:j]:
                     ts.append(s)
-                    ys.append(dense(s) if s != solver.t else solver.y.copy())
+                    if s == solver.t:
+                        ys.append(solver.y.copy())
+                    else:
+                        ys.append(dense(s) if project is None else project(dense(s), s))
                 k = j
         else:
             while k < len(samples) and samples[k] <= solver.t + 1e-12 * max(1, abs(solver.t)):

@@ -61,7 +61,7 @@ class Splitting(Solver):
             self._R, self._V, self._Qp @ E.T, self.system.inertia_inv @ (E @ self._pi)
         )
         if self._project is not None:
-            y = self._project(y)
+            y = self._project(y, self.t)
             self._R, self._V = y[0:3].copy(), y[3:6].copy()
         return y
 

@@ -1,0 +1,388 @@
+"""Lagrangian systems with constraints, symbolically (THEORY.md §3, eqs (6.49)–(6.61)).
+
+Sign convention for the multipliers (fixed here once and for all: SymPy's ``LagrangesMethod``
+leaves the sign to the way constraints are entered — sympy issue #30215 — and stores
+``lam_coeffs = −G``; with SymPy 1.14 its λ equal ours for holonomic and Pfaffian constraints,
+which ``tests/lagrange/test_lagrange.py`` checks)::
+
+    d/dt ∂L/∂q̇_j − ∂L/∂q_j = Σ_k λ_k G_kj + Q_j                                   (6.60)
+
+with ``G`` the constraint Jacobian: ``G_kj = ∂g_k/∂q_j`` for a holonomic constraint
+``g_k(q, t) = 0`` (6.52) and ``G_kj = a_kj`` for a Pfaffian constraint
+``Σ_j a_kj q̇_j + a_k0 = 0`` (6.53). So ``Σ_k λ_k G_kj`` is the generalized constraint force on
+``q_j`` — for Cartesian coordinates of a point, the physical reaction force on it. In matrix form,
+with SymPy's ``mass_matrix``/``forcing`` (``M q̈ = f`` before constraint forces)::
+
+    M q̈ = f + Gᵀ λ,      G q̈ = −γ,      γ = Ġ q̇ + ḃ   (b = ∂g/∂t or a_k0)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from functools import cached_property
+
+__all__ = ["LagrangianSystem", "PointMass"]
+
+
+def _sympy():
+    import sympy
+
+    return sympy
+
+
+class PointMass:
+    """A point mass ``mass`` at ``position`` (a 3-vector of SymPy expressions in q and t)."""
+
+    def __init__(self, mass, position):
+        sp = _sympy()
+        self.mass = sp.sympify(mass)
+        self.position = sp.Matrix(position)
+        if self.position.shape != (3, 1):
+            raise ValueError(f"`position` must be a 3-vector, found shape {self.position.shape}")
+
+
+class LagrangianSystem:
+    """A mechanical system in generalized coordinates, with constraints and applied forces.
+
+    Parameters
+    ----------
+    coordinates : sequence of SymPy functions of t
+        Generalized coordinates ``q_j(t)`` (e.g. ``sympy.physics.mechanics.dynamicsymbols``).
+    lagrangian : SymPy expression, optional
+        ``L(q, q̇, t)``. Or give ``kinetic`` and ``potential`` (L = T − U), or ``bodies``.
+    kinetic, potential : SymPy expressions, optional
+    bodies : sequence, optional
+        :class:`PointMass` objects, and ``(rigid_body, position, orientation)`` triples: a
+        :class:`~poinsot.bodies.RigidBody`, the position of its centre of mass (3-vector) and its
+        attitude matrix (3×3), both functions of q and t. Their kinetic energy
+        ``½ M |Ṙ|² + ½ ωᵀ A ω`` (``hat(ω) = Qᵀ Q̇``) is added to ``kinetic``.
+    holonomic : sequence of expressions
+        ``g_k(q, t)`` with ``g_k = 0`` (6.52).
+    nonholonomic : sequence of expressions
+        Pfaffian velocity constraints ``Σ_j a_kj q̇_j + a_k0`` (= 0), linear in q̇ (6.53).
+    forces : sequence
+        Applied forces not in the potential: ``(point, force)`` pairs of 3-vectors (converted by
+        ``Q_j = F · ∂r/∂q_j``, (6.61)), or mappings ``{coordinate: generalized force}``.
+
+    Examples
+    --------
+    A pendulum in Cartesian coordinates, the rod as a constraint:
+
+    >>> import sympy as sp
+    >>> from sympy.physics.mechanics import dynamicsymbols
+    >>> x, y = dynamicsymbols("x y")
+    >>> m, g, l = sp.symbols("m g l", positive=True)
+    >>> sys = LagrangianSystem([x, y], kinetic=m * (x.diff() ** 2 + y.diff() ** 2) / 2,
+    ...                        potential=m * g * y, holonomic=[x**2 + y**2 - l**2])
+    >>> sys.mass_matrix
+    Matrix([
+    [m, 0],
+    [0, m]])
+    >>> sys.constraint_jacobian
+    Matrix([[2*x(t), 2*y(t)]])
+    """
+
+    def __init__(
+        self,
+        coordinates,
+        lagrangian=None,
+        *,
+        kinetic=None,
+        potential=None,
+        bodies=(),
+        holonomic=(),
+        nonholonomic=(),
+        forces=(),
+    ):
+        sp = _sympy()
+        self.t = sp.Symbol("t")
+        self.coordinates = list(coordinates)
+        if not self.coordinates:
+            raise ValueError("`coordinates` must hold at least one generalized coordinate")
+        for i, q in enumerate(self.coordinates):
+            if not (
+                isinstance(q, sp.Function | sp.core.function.AppliedUndef) and q.args == (self.t,)
+            ):
+                raise ValueError(
+                    f"`coordinates[{i}]` = {q} is not a function of time: use "
+                    "sympy.physics.mechanics.dynamicsymbols (e.g. dynamicsymbols('x'))"
+                )
+        if len(set(self.coordinates)) != len(self.coordinates):
+            raise ValueError("`coordinates` must be distinct")
+        self.speeds = [q.diff(self.t) for q in self.coordinates]
+        if lagrangian is not None and (kinetic is not None or potential is not None):
+            raise ValueError("give `lagrangian`, or `kinetic`/`potential`, not both")
+        T = sp.sympify(0 if kinetic is None else kinetic) + self._bodies_kinetic(bodies)
+        self.potential = sp.sympify(0 if potential is None else potential)
+        if lagrangian is None:
+            if T == 0 and lagrangian is None:
+                raise ValueError("give `lagrangian`, `kinetic` (with `potential`) or `bodies`")
+            lagrangian = T - self.potential
+        self.lagrangian = sp.sympify(lagrangian)
+        self.holonomic = [sp.sympify(g) for g in holonomic]
+        self.nonholonomic = [sp.sympify(a) for a in nonholonomic]
+        self._check_constraints()
+        self.generalized_forces = self._generalized_forces(forces)
+
+    # ----------------------------------------------------------------- construction
+    def _bodies_kinetic(self, bodies):
+        sp = _sympy()
+        T = sp.Integer(0)
+        for i, item in enumerate(bodies):
+            if isinstance(item, PointMass):
+                v = item.position.diff(self.t)
+                T += item.mass * (v.T * v)[0] / 2
+                continue
+            try:
+                body, position, orientation = item
+            except (TypeError, ValueError):
+                raise TypeError(
+                    f"`bodies[{i}]` must be a PointMass or a (RigidBody, position, "
+                    "orientation) triple"
+                ) from None
+            R = sp.Matrix(position)
+            Q = sp.Matrix(orientation)
+            if R.shape != (3, 1) or Q.shape != (3, 3):
+                raise ValueError(f"`bodies[{i}]`: position must be 3×1 and orientation 3×3")
+            v = R.diff(self.t)
+            W = sp.simplify(Q.T * Q.diff(self.t))
+            w = sp.Matrix([W[2, 1], W[0, 2], W[1, 0]])
+            A = sp.Matrix(body.inertia.tolist())
+            T += body.mass * (v.T * v)[0] / 2 + (w.T * A * w)[0] / 2
+        return T
+
+    def _check_constraints(self):
+        sp = _sympy()
+        for kind, exprs in (("holonomic", self.holonomic), ("nonholonomic", self.nonholonomic)):
+            for k, g in enumerate(exprs):
+                wrt = self.coordinates if kind == "holonomic" else self.speeds
+                if all(sp.simplify(g.diff(s)) == 0 for s in wrt):
+                    what = "coordinates" if kind == "holonomic" else "velocities"
+                    raise ValueError(
+                        f"`{kind}[{k}]` = {g} does not depend on the {what}: it constrains nothing"
+                    )
+                if kind == "nonholonomic":
+                    for s in self.speeds:
+                        if sp.simplify(g.diff(s).diff(s)) != 0:
+                            raise ValueError(
+                                f"`nonholonomic[{k}]` = {g} is not linear in the "
+                                "velocities (Pfaffian form Σ a_kj q̇_j + a_k0)"
+                            )
+                    if any(g.has(s.diff(self.t)) for s in self.speeds):
+                        raise ValueError(f"`nonholonomic[{k}]` must not contain accelerations")
+                elif any(g.has(s) for s in self.speeds):
+                    raise ValueError(
+                        f"`holonomic[{k}]` = {g} contains velocities: give it as a "
+                        "nonholonomic (Pfaffian) constraint"
+                    )
+        if self.n_constraints:
+            self._check_rank()
+
+    def _check_rank(self):
+        """Refuse redundant or inconsistent constraints: G must have full row rank at a generic
+        point (random coordinates, velocities and parameters)."""
+        import numpy as np
+
+        rng = np.random.default_rng(12345)
+        G = self.constraint_jacobian
+        syms = sorted(G.free_symbols - {self.t}, key=str)
+        subs = {s: float(rng.uniform(0.7, 1.9)) for s in syms}
+        subs.update({q: float(rng.uniform(-1.3, 1.3)) for q in self.coordinates})
+        subs[self.t] = 0.37
+        for _ in range(3):
+            value = np.array(G.subs(subs).evalf(), dtype=float)
+            rank = np.linalg.matrix_rank(value, tol=1e-9 * max(1.0, np.abs(value).max()))
+            if rank == self.n_constraints:
+                return
+            subs.update({q: float(rng.uniform(-1.3, 1.3)) for q in self.coordinates})
+        raise ValueError(
+            f"the constraints are redundant or inconsistent: the constraint Jacobian has rank "
+            f"{rank} < {self.n_constraints} constraints (rank-deficient Jacobian)"
+        )
+
+    def _generalized_forces(self, forces):
+        sp = _sympy()
+        Q = sp.zeros(len(self.coordinates), 1)
+        for i, item in enumerate(forces):
+            if isinstance(item, Mapping):
+                for q, value in item.items():
+                    if q not in self.coordinates:
+                        raise ValueError(f"`forces[{i}]`: {q} is not one of the coordinates")
+                    Q[self.coordinates.index(q)] += sp.sympify(value)
+                continue
+            try:
+                point, force = item
+            except (TypeError, ValueError):
+                raise TypeError(
+                    f"`forces[{i}]` must be a (point, force) pair of 3-vectors or "
+                    "a {coordinate: generalized force} mapping"
+                ) from None
+            r = sp.Matrix(point)
+            F = sp.Matrix(force)
+            if r.shape != (3, 1) or F.shape != (3, 1):
+                raise ValueError(f"`forces[{i}]`: point and force must be 3-vectors")
+            for j, q in enumerate(self.coordinates):  # Q_j = F · ∂r/∂q_j  (6.61)
+                Q[j] += (F.T * r.diff(q))[0]
+        return Q
+
+    # ----------------------------------------------------------------- sizes
+    @property
+    def n_coordinates(self) -> int:
+        return len(self.coordinates)
+
+    @property
+    def n_holonomic(self) -> int:
+        return len(self.holonomic)
+
+    @property
+    def n_constraints(self) -> int:
+        return len(self.holonomic) + len(self.nonholonomic)
+
+    # ----------------------------------------------------------------- symbolic outputs
+    @cached_property
+    def mass_matrix(self):
+        """``M = ∂²L/∂q̇∂q̇`` (n × n), SymPy."""
+        sp = _sympy()
+        return sp.Matrix(
+            self.n_coordinates,
+            self.n_coordinates,
+            lambda i, j: self.lagrangian.diff(self.speeds[i]).diff(self.speeds[j]),
+        )
+
+    @cached_property
+    def forcing(self):
+        """``f`` (n × 1) with ``M q̈ = f`` before constraint forces (SymPy's convention):
+        ``f_j = ∂L/∂q_j − Σ_k ∂²L/∂q̇_j∂q_k q̇_k − ∂²L/∂q̇_j∂t + Q_j``."""
+        sp = _sympy()
+        t = self.t
+        rows = []
+        for j, qd in enumerate(self.speeds):
+            p = self.lagrangian.diff(qd)
+            expr = self.lagrangian.diff(self.coordinates[j]) - sum(
+                p.diff(q) * v for q, v in zip(self.coordinates, self.speeds, strict=True)
+            )
+            # explicit time dependence of ∂L/∂q̇_j (not through q, q̇)
+            expr -= _explicit_time_derivative(p, self.coordinates, self.speeds, t)
+            rows.append(expr + self.generalized_forces[j])
+        return sp.Matrix(rows)
+
+    @cached_property
+    def constraint_jacobian(self):
+        """``G`` (m × n): ``∂g_k/∂q_j`` (holonomic rows first), then ``a_kj`` (Pfaffian)."""
+        sp = _sympy()
+        rows = [[g.diff(q) for q in self.coordinates] for g in self.holonomic]
+        rows += [[a.diff(v) for v in self.speeds] for a in self.nonholonomic]
+        return sp.Matrix(rows) if rows else sp.zeros(0, self.n_coordinates)
+
+    @cached_property
+    def constraint_rhs(self):
+        """``b`` (m × 1) with the velocity-level constraints ``G q̇ + b = 0``:
+        ``∂g_k/∂t`` for holonomic rows, ``a_k0`` for Pfaffian ones."""
+        sp = _sympy()
+        b = [
+            _explicit_time_derivative(g, self.coordinates, self.speeds, self.t)
+            for g in self.holonomic
+        ]
+        zero = {v: 0 for v in self.speeds}
+        b += [a.subs(zero) for a in self.nonholonomic]
+        return sp.Matrix(b) if b else sp.zeros(0, 1)
+
+    @cached_property
+    def constraint_gamma(self):
+        """``γ = d/dt(G) q̇ + d/dt(b)`` (m × 1): the velocity-product terms of the
+        differentiated constraints, so that ``G q̈ = −γ``."""
+        sp = _sympy()
+        if not self.n_constraints:
+            return sp.zeros(0, 1)
+        v = sp.Matrix(self.speeds)
+        expr = self.constraint_jacobian.diff(self.t) * v + self.constraint_rhs.diff(self.t)
+        acc = {s.diff(self.t): 0 for s in self.speeds}
+        return expr.subs(acc)
+
+    @cached_property
+    def lam_vec(self):
+        """The multipliers ``λ_k(t)`` (m × 1), holonomic first (SymPy's name)."""
+        sp = _sympy()
+        from sympy.physics.mechanics import dynamicsymbols
+
+        return (
+            sp.Matrix(dynamicsymbols(f"lambda1:{self.n_constraints + 1}"))
+            if self.n_constraints
+            else sp.zeros(0, 1)
+        )
+
+    def equations(self):
+        """Euler–Lagrange equations with multipliers, (6.50)/(6.60), as SymPy ``Eq`` objects:
+        ``d/dt ∂L/∂q̇_j − ∂L/∂q_j = Σ_k λ_k G_kj + Q_j``, one per coordinate."""
+        sp = _sympy()
+        out = []
+        lam_force = (
+            self.constraint_jacobian.T * self.lam_vec
+            if self.n_constraints
+            else sp.zeros(self.n_coordinates, 1)
+        )
+        for j, (q, v) in enumerate(zip(self.coordinates, self.speeds, strict=True)):
+            lhs = self.lagrangian.diff(v).diff(self.t) - self.lagrangian.diff(q)
+            out.append(sp.Eq(lhs, lam_force[j] + self.generalized_forces[j]))
+        return out
+
+    @cached_property
+    def generalized_constraint_forces(self):
+        """``Σ_k λ_k G_kj`` (n × 1) in terms of :attr:`lam_vec` (SymPy)."""
+        return self.constraint_jacobian.T * self.lam_vec
+
+    @cached_property
+    def energy_function(self):
+        """The Jacobi integral ``h = Σ q̇_j ∂L/∂q̇_j − L`` (= T + U for natural systems)."""
+        return sum(v * self.lagrangian.diff(v) for v in self.speeds) - self.lagrangian
+
+    @property
+    def parameters(self):
+        """Free symbols other than t (to be given numbers at ``simulate`` time), sorted."""
+        sp = _sympy()
+        exprs = [
+            self.lagrangian,
+            *self.holonomic,
+            *self.nonholonomic,
+            *list(self.generalized_forces),
+        ]
+        out = set()
+        for e in exprs:
+            out |= sp.sympify(e).free_symbols
+        return sorted(out - {self.t}, key=str)
+
+    def __repr__(self):
+        return (
+            f"LagrangianSystem(coordinates={self.coordinates}, holonomic={self.n_holonomic}, "
+            f"nonholonomic={len(self.nonholonomic)})"
+        )
+
+    # numeric side: poinsot.lagrange.numeric
+    def simulate(self, t_span, *, q0, qd0=None, params=None, **kwargs):
+        """Integrate the equations of motion; see :func:`poinsot.lagrange.numeric.simulate`."""
+        from .numeric import simulate
+
+        return simulate(self, t_span, q0=q0, qd0=qd0, params=params, **kwargs)
+
+    def equilibria(self, params=None, **kwargs):
+        """Equilibria ``{coordinate: value}``; see :func:`poinsot.lagrange.linear.equilibria`."""
+        from .linear import equilibria
+
+        return equilibria(self, params=params, **kwargs)
+
+    def linearize(self, equilibrium, params=None, **kwargs):
+        """Linearisation about an equilibrium; see :func:`poinsot.lagrange.linear.linearize`."""
+        from .linear import linearize
+
+        return linearize(self, equilibrium, params=params, **kwargs)
+
+
+def _explicit_time_derivative(expr, coordinates, speeds, t):
+    """``∂expr/∂t`` holding q and q̇ fixed."""
+    sp = _sympy()
+    qs = sp.symbols(f"_q0:{len(coordinates)}")
+    vs = sp.symbols(f"_v0:{len(speeds)}")
+    forward = dict(zip(speeds, vs, strict=True))
+    e = expr.subs(forward).subs(dict(zip(coordinates, qs, strict=True)))
+    back = {**dict(zip(qs, coordinates, strict=True)), **dict(zip(vs, speeds, strict=True))}
+    return e.diff(t).subs(back)
