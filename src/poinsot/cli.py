@@ -79,6 +79,23 @@ def _cmd_run(args):
         progress.close()
     if args.json:
         print(json.dumps(summary, indent=2))
+    elif "system" in summary:  # a constrained (Lagrangian) model
+        i = summary["integration"]
+        _say(
+            args,
+            f"  coordinates {', '.join(summary['system']['coordinates'])}; "
+            f"{len(summary['system']['holonomic_constraints'])} holonomic and "
+            f"{len(summary['system']['nonholonomic_constraints'])} non-holonomic "
+            "constraints",
+        )
+        _say(
+            args,
+            f"  integrated with {i['method']} (stabilization {i['stabilization']}): "
+            f"energy drift {i['energy_drift']:.2e}, max |g| "
+            f"{i['max_constraint_residual']:.2e}, max |G q̇ + b| "
+            f"{i['max_velocity_residual']:.2e}",
+        )
+        _say(args, f"  wrote {out}/ (summary.json, solution.npz/.csv, solution.png, report.html)")
     else:
         d = summary["integration"]["diagnostics"]
         _say(
@@ -104,7 +121,7 @@ def _cmd_examples(args):
     from .scenario import list_examples
 
     for name, description in list_examples().items():
-        print(f"{name:16s} {description}")
+        print(f"{name:20s} {description}")
     return EXIT_OK
 
 

@@ -97,6 +97,97 @@ def _jsonable(obj):
     return obj
 
 
+def summarize_lagrangian(scenario, sol) -> dict:
+    """The numbers of a Lagrangian run, JSON-ready."""
+    system = sol.system
+    e0 = sol.energy[0]
+    out = {
+        "scenario": {
+            "name": scenario.name,
+            "description": scenario.description,
+            "source": scenario.source,
+            "model": scenario.model.name,
+        },
+        "system": {
+            "coordinates": [str(q) for q in system.coordinates],
+            "holonomic_constraints": [str(g) for g in system.holonomic],
+            "nonholonomic_constraints": [str(a) for a in system.nonholonomic],
+            "parameters": {str(k): float(v) for k, v in scenario.params.items()},
+        },
+        "initial": {"q": sol.q[0].tolist(), "qd": sol.qd[0].tolist()},
+        "final": {
+            "t": float(sol.t[-1]),
+            "q": sol.q[-1].tolist(),
+            "qd": sol.qd[-1].tolist(),
+            "multipliers": sol.multipliers[-1].tolist(),
+        },
+        "integration": {
+            "method": sol.method,
+            "stabilization": sol.stabilization,
+            "nfev": int(sol.nfev),
+            "samples": len(sol.t),
+            "energy_drift": float(np.abs(sol.energy - e0).max() / (abs(e0) or 1.0)),
+            "max_constraint_residual": float(np.abs(sol.constraint_residual).max())
+            if sol.constraint_residual.size
+            else 0.0,
+            "max_velocity_residual": float(np.abs(sol.constraint_velocity_residual).max())
+            if sol.constraint_velocity_residual.size
+            else 0.0,
+        },
+        "multipliers": {
+            "min": sol.multipliers.min(axis=0).tolist(),
+            "max": sol.multipliers.max(axis=0).tolist(),
+        }
+        if sol.multipliers.size
+        else {},
+    }
+    return _jsonable(out)
+
+
+def _write_lagrangian(work: Path, scenario, sol, summary, report):
+    names = [str(q).replace("(t)", "") for q in sol.coordinates]
+    if scenario.outputs.get("data", True):
+        with atomic_path(work / "solution.npz", suffix=".npz") as tmp, open(tmp, "wb") as fh:
+            np.savez_compressed(
+                fh,
+                t=sol.t,
+                q=sol.q,
+                qd=sol.qd,
+                multipliers=sol.multipliers,
+                constraint_forces=sol.constraint_forces,
+                constraint_residual=sol.constraint_residual,
+                constraint_velocity_residual=sol.constraint_velocity_residual,
+                energy=sol.energy,
+                coordinates=np.array(names),
+            )
+        header = (
+            ["t"]
+            + names
+            + [f"{n}_dot" for n in names]
+            + [f"lambda{k + 1}" for k in range(sol.multipliers.shape[1])]
+            + ["energy"]
+        )
+        table = np.column_stack([sol.t, sol.q, sol.qd, sol.multipliers, sol.energy])
+        with atomic_path(work / "solution.csv") as tmp:
+            np.savetxt(tmp, table, delimiter=",", header=",".join(header), comments="", fmt="%.17g")
+    if scenario.outputs.get("figures", True):
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        from .plotting.lagrange import plot_lagrangian_solution
+
+        fig = plot_lagrangian_solution(sol, title=scenario.model.description)
+        with atomic_path(work / "solution.png") as tmp:
+            fig.savefig(tmp, dpi=110, format="png")
+        plt.close(fig)
+    if report and scenario.outputs.get("report", True):
+        from .report import write_lagrangian_report
+
+        write_lagrangian_report(work / "report.html", sol, summary)
+
+
 def _figures(folder: Path, scenario, traj, free):
     import matplotlib
 
@@ -152,12 +243,19 @@ def run_scenario(scenario, out, *, force=False, progress=None, report=True) -> d
     start = time.perf_counter()
     traj = scenario.simulate(progress=progress)
     sim_time = time.perf_counter() - start
-    free = _torque_free(scenario)
-    summary = summarize(scenario, traj, free)
+    from .scenario import LagrangianScenario
+
+    lagrangian = isinstance(scenario, LagrangianScenario)
+    free = None if lagrangian else _torque_free(scenario)
+    summary = (
+        summarize_lagrangian(scenario, traj) if lagrangian else summarize(scenario, traj, free)
+    )
     out.parent.mkdir(parents=True, exist_ok=True)
     work = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
     try:
-        if scenario.outputs.get("data", True):
+        if lagrangian:
+            _write_lagrangian(work, scenario, traj, summary, report)
+        elif scenario.outputs.get("data", True):
             traj.to_npz(work / "trajectory.npz")
             traj.to_csv(work / "trajectory.csv")
             try:
@@ -167,9 +265,9 @@ def run_scenario(scenario, out, *, force=False, progress=None, report=True) -> d
             else:
                 with atomic_path(work / "trajectory.nc") as tmp:
                     ds.to_netcdf(tmp, engine="scipy")
-        if scenario.outputs.get("figures", True):
+        if not lagrangian and scenario.outputs.get("figures", True):
             _figures(work, scenario, traj, free)
-        if report and scenario.outputs.get("report", True):
+        if not lagrangian and report and scenario.outputs.get("report", True):
             from .report import write_report
 
             write_report(

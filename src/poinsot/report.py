@@ -13,7 +13,7 @@ import numpy as np
 
 from ._io import atomic_write_text
 
-__all__ = ["equivalent_box_half_extents", "write_report"]
+__all__ = ["equivalent_box_half_extents", "write_lagrangian_report", "write_report"]
 
 MAX_FRAMES = 120
 
@@ -299,6 +299,66 @@ def write_report(path, traj, summary: dict, *, free=None, energy=None, levels=7)
     if free is not None:
         figures.append(_polhode_figure(traj, go, free, energy, levels))
     figures.append(_series_figure(traj, go))
+    _write_page(path, figures, summary, pio)
+
+
+def write_lagrangian_report(path, sol, summary: dict) -> None:
+    """The interactive report of a Lagrangian run: coordinates, multipliers and generalized
+    constraint forces, residuals and energy, and the numbers."""
+    go, pio = _plotly()
+    from plotly.subplots import make_subplots
+
+    names = [str(q).replace("(t)", "") for q in sol.coordinates]
+    fig = make_subplots(
+        rows=2,
+        cols=2,
+        subplot_titles=(
+            "Generalized coordinates",
+            "Multipliers λ (eq. 6.60 sign)",
+            "Constraint residuals",
+            "Energy h − h(0)",
+        ),
+    )
+    for j, n in enumerate(names):
+        fig.add_trace(go.Scatter(x=sol.t, y=sol.q[:, j], name=n), row=1, col=1)
+    for k in range(sol.multipliers.shape[1]):
+        fig.add_trace(go.Scatter(x=sol.t, y=sol.multipliers[:, k], name=f"λ{k + 1}"), row=1, col=2)
+    tiny = 1e-18
+    if sol.constraint_residual.size:
+        fig.add_trace(
+            go.Scatter(
+                x=sol.t, y=np.abs(sol.constraint_residual).max(axis=1) + tiny, name="|g(q)|"
+            ),
+            row=2,
+            col=1,
+        )
+    if sol.constraint_velocity_residual.size:
+        fig.add_trace(
+            go.Scatter(
+                x=sol.t,
+                y=np.abs(sol.constraint_velocity_residual).max(axis=1) + tiny,
+                name="|G q̇ + b|",
+            ),
+            row=2,
+            col=1,
+        )
+    fig.update_yaxes(type="log", row=2, col=1)
+    fig.add_trace(go.Scatter(x=sol.t, y=sol.energy - sol.energy[0], name="h − h(0)"), row=2, col=2)
+    fig.update_xaxes(title_text="t [s]", row=2)
+    fig.update_layout(height=720)
+    forces = go.Figure(
+        [
+            go.Scatter(x=sol.t, y=sol.constraint_forces[:, j], name=f"on {n}")
+            for j, n in enumerate(names)
+        ]
+    )
+    forces.update_layout(
+        title="Generalized constraint forces Σ λ_k ∂g_k/∂q_j", height=400, xaxis_title="t [s]"
+    )
+    _write_page(path, [fig, forces], summary, pio)
+
+
+def _write_page(path, figures, summary, pio):
     parts = [
         pio.to_html(
             f,

@@ -18,7 +18,14 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Scenario", "ScenarioError", "list_examples", "load_example", "load_scenario"]
+__all__ = [
+    "LagrangianScenario",
+    "Scenario",
+    "ScenarioError",
+    "list_examples",
+    "load_example",
+    "load_scenario",
+]
 
 _MISSING = object()
 
@@ -400,8 +407,140 @@ def _initial(t: _Table, body, pivot):
     return out
 
 
-def _parse(data: dict, source: str, base_dir: Path) -> Scenario:
+@dataclass
+class LagrangianScenario:
+    """A validated scenario of a canonical constrained system (``[model]``)."""
+
+    name: str
+    description: str
+    model: object
+    q0: dict
+    qd0: dict
+    params: dict
+    method: str
+    dt: float | None
+    rtol: float | None
+    atol: float | None
+    stabilization: str | None
+    t_span: tuple[float, float]
+    samples: int
+    outputs: dict = field(default_factory=dict)
+    source: str = "<built-in>"
+
+    @property
+    def t_eval(self):
+        return np.linspace(self.t_span[0], self.t_span[1], self.samples)
+
+    def simulate(self, progress=None):
+        """Run it: a :class:`~poinsot.lagrange.LagrangianSolution`."""
+        kwargs = {
+            "method": self.method,
+            "dt": self.dt,
+            "t_eval": self.t_eval,
+            "stabilization": self.stabilization,
+        }
+        if self.rtol is not None:
+            kwargs["rtol"] = self.rtol
+        if self.atol is not None:
+            kwargs["atol"] = self.atol
+        del progress  # the Lagrangian runs are short; no progress bar
+        return self.model.simulate(
+            self.t_span, q0=self.q0, qd0=self.qd0, params=self.params, **kwargs
+        )
+
+
+def _by_name(t: _Table, key, known: dict, what: str):
+    """``{symbol: value}`` from a table ``{name = value}`` whose names must be in ``known``."""
+    table = t.table(key, None)
+    out = {}
+    for name in list(table.data):
+        if name not in known:
+            near = difflib.get_close_matches(name, list(known), n=1, cutoff=0.5)
+            hint = f"; did you mean {near[0]!r}?" if near else f"; {what}: {', '.join(known)}"
+            raise ScenarioError(f"{table.where(name)}: unknown {what[:-1]}{hint}")
+        out[known[name]] = table.get(name, "number")
+    return out
+
+
+def _parse_model(root: _Table, name: str, description: str, source: str) -> LagrangianScenario:
+    from . import models
+
+    mt = root.table("model")
+    model_name = mt.get("name", "string", choices=tuple(models.MODELS))
+    model = models.MODELS[model_name]()
+    coords = {str(q).replace("(t)", ""): q for q in model.system.coordinates}
+    params_known = {str(p): p for p in model.system.parameters}
+    params = {**model.params, **_by_name(mt, "params", params_known, "parameters")}
+    q0 = _by_name(mt, "q0", coords, "coordinates") if mt.has("q0") else dict(model.q0)
+    qd0 = _by_name(mt, "qd0", coords, "coordinates") if mt.has("qd0") else dict(model.qd0)
+    mt.finish()
+    it = root.table("integrator", None)
+    method = it.get("method", "string", "dop853", choices=("dop853", "rk4"))
+    dt = it.get("dt", "positive", None)
+    rtol = it.get("rtol", "positive", None)
+    atol = it.get("atol", "positive", None)
+    stab = it.get(
+        "stabilization", "string", "baumgarte", choices=("baumgarte", "projection", "none")
+    )
+    it.finish()
+    if method != "dop853" and dt is None:
+        raise ScenarioError(f"{it.where('dt')}: required for the fixed-step method {method!r}")
+    tt = root.table("time")
+    span = tt.get("span", "vector2")
+    if not span[1] > span[0]:
+        raise ScenarioError(
+            f"{tt.where('span')}: expected [start, end] with end > start, found {span.tolist()}"
+        )
+    samples = tt.get("samples", "int", 201)
+    tt.finish()
+    ot = root.table("output", None)
+    outputs = {k: ot.get(k, "bool", True) for k in ("data", "figures", "report")}
+    ot.finish()
+    root.finish()
+    scenario = LagrangianScenario(
+        name,
+        description,
+        model,
+        q0,
+        qd0,
+        params,
+        method,
+        dt,
+        rtol,
+        atol,
+        None if stab == "none" else stab,
+        (float(span[0]), float(span[1])),
+        samples,
+        outputs,
+        source,
+    )
+    try:  # consistency of the initial conditions, before anything runs
+        from .lagrange.numeric import _keyed, _numeric, consistent_initial_state
+
+        system = model.system
+        num = _numeric(system, params)
+        consistent_initial_state(
+            system,
+            num,
+            scenario.t_span[0],
+            _keyed(q0, system, "q0", allow_missing=system.n_holonomic > 0),
+            _keyed(qd0, system, "qd0", allow_missing=True),
+            _keyed(model.guess, system, "guess", allow_missing=True) if model.guess else None,
+        )
+    except ValueError as exc:
+        raise ScenarioError(f"model: {exc}") from None
+    return scenario
+
+
+def _parse(data: dict, source: str, base_dir: Path):
     root = _Table(data, "")
+    if "model" in data and "body" not in data:
+        name = root.get(
+            "name",
+            "string",
+            data["model"].get("name", "model") if isinstance(data["model"], dict) else "model",
+        )
+        return _parse_model(root, name, root.get("description", "string", ""), source)
     name = root.get("name", "string", Path(source).stem if source != "<built-in>" else "default")
     description = root.get("description", "string", "")
     bt = root.table("body")

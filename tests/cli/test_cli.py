@@ -319,3 +319,46 @@ def test_report_in_a_headless_browser(tmp_path):
     colors = np.unique((plot3d * 255).astype(np.uint8).reshape(-1, 3), axis=0)
     assert len(colors) > 50  # not blank
     assert plot3d.std() > 0.03
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        (
+            '[model]\nname = "pendulum-cartesian"\nparams = { mass = 2.0 }\n[time]\nspan = [0, 1]\n',
+            r"model\.params\.mass: unknown parameter; parameters: g, l, m",
+        ),
+        (
+            '[model]\nname = "pendulum"\n[time]\nspan = [0, 1]\n',
+            r"model\.name: expected one of .*did you mean",
+        ),
+        (
+            '[model]\nname = "pendulum-cartesian"\nq0 = { x = 0.5, y = 0.5 }\n[time]\n'
+            "span = [0, 1]\n",
+            r"model: inconsistent initial conditions",
+        ),
+        (
+            '[model]\nname = "atwood"\n[integrator]\nstabilization = "springs"\n[time]\n'
+            "span = [0, 1]\n",
+            r"integrator\.stabilization: expected one of",
+        ),
+    ],
+)
+def test_malformed_model_scenarios(text, match, tmp_path, capsys):
+    path = tmp_path / "m.toml"
+    path.write_text(text)
+    assert main(["run", str(path), "--out", str(tmp_path / "o")]) == 2
+    import re
+
+    assert re.search(match, capsys.readouterr().err)
+
+
+def test_lagrangian_example_outputs_match_the_library(tmp_path):
+    from poinsot import models
+
+    assert main(["run", "--example", "atwood", "--out", str(tmp_path / "a"), "--quiet"]) == 0
+    data = np.load(tmp_path / "a" / "solution.npz")
+    mdl = models.atwood_machine()
+    sol = mdl.simulate((0, 2), t_eval=np.linspace(0, 2, 201))
+    np.testing.assert_allclose(data["multipliers"], sol.multipliers, rtol=1e-12)
+    assert list(data["coordinates"]) == ["y1", "y2", "phi"]
