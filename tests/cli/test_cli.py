@@ -325,7 +325,8 @@ def test_report_in_a_headless_browser(tmp_path):
     ("text", "match"),
     [
         (
-            '[model]\nname = "pendulum-cartesian"\nparams = { mass = 2.0 }\n[time]\nspan = [0, 1]\n',
+            '[model]\nname = "pendulum-cartesian"\nparams = { mass = 2.0 }\n'
+            "[time]\nspan = [0, 1]\n",
             r"model\.params\.mass: unknown parameter; parameters: g, l, m",
         ),
         (
