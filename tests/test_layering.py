@@ -12,7 +12,7 @@ from pathlib import Path
 import poinsot
 
 KERNELS = Path(poinsot.__file__).parent / "kernels"
-ALLOWED_THIRD_PARTY = {"numpy", "numba", "math", "__future__", "typing", "functools", "os"}
+ALLOWED_THIRD_PARTY = {"numpy", "numba", "math", "__future__", "typing", "functools", "importlib"}
 
 
 def _imports(path: Path):

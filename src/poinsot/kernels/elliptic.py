@@ -38,7 +38,7 @@ def jacobi_sn_cn_dn_am(u, m, m1):
     sn, cn, dn, am : ndarray
         Same shape as ``u``. ``am`` is the amplitude φ (continuous, ``sn = sin φ``).
     """
-    u = np.asarray(u, dtype=float)
+    u = np.asarray(u) * 1.0  # float copy (the numba-compatible spelling)
     if m1 <= 0.0:  # m = 1: the separatrix limit
         am = 2.0 * np.arctan(np.tanh(0.5 * u))  # Gudermannian
         sech = 1.0 / np.cosh(u)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .so3 import exp_so3
+from .so3 import rodrigues
 
 __all__ = [
     "STATE_SIZE",
@@ -22,6 +22,9 @@ __all__ = [
 ]
 
 STATE_SIZE = 18
+# the symmetric composition H1(h/2) H2(h/2) H3(h) H2(h/2) H1(h/2), as homogeneous tuples
+_STRANG_AXES = (0, 1, 2, 1, 0)
+_STRANG_FRACTIONS = (0.5, 0.5, 1.0, 0.5, 0.5)
 
 
 def pack_state(R, V, Q, omega):
@@ -83,7 +86,9 @@ def free_rotor_strang(moments, pi, Qp, h):
     """
     pi = pi.copy()
     Qp = Qp.copy()
-    for axis, frac in ((0, 0.5), (1, 0.5), (2, 1.0), (1, 0.5), (0, 0.5)):
+    for k in range(5):
+        axis = _STRANG_AXES[k]
+        frac = _STRANG_FRACTIONS[k]
         if moments[axis] > 0:
             theta = frac * h * pi[axis] / moments[axis]
             Rot = axis_rotation(axis, theta)
@@ -102,7 +107,7 @@ def free_rotor_symmetric(moments, pi, Qp, h, axis):
     (for a spherical rotor the second term vanishes). A zero moment (a rod) has no spin flow.
     """
     Ie = moments[(axis + 1) % 3]
-    Qp = Qp @ exp_so3(h * pi / Ie)
+    Qp = Qp @ rodrigues(h * pi / Ie)
     Ia = moments[axis]
     if Ia > 0:
         theta = h * (1.0 / Ia - 1.0 / Ie) * pi[axis]

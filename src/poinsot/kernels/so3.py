@@ -26,6 +26,7 @@ __all__ = [
     "dexpinv",
     "exp_so3",
     "hat",
+    "hat3",
     "log_so3",
     "matrix_to_quat",
     "quat_conjugate",
@@ -34,6 +35,7 @@ __all__ = [
     "quat_rotate",
     "quat_to_matrix",
     "quat_to_rotvec",
+    "rodrigues",
     "rotvec_to_quat",
     "vee",
 ]
@@ -250,3 +252,30 @@ def dexpinv(u, v):
     )
     uxv = np.cross(u, v)
     return v - 0.5 * uxv + c[..., None] * np.cross(u, uxv)
+
+
+def hat3(w):
+    """Skew matrix of one 3-vector (scalar code, numba-compilable). (3,) → (3, 3)."""
+    out = np.zeros((3, 3))
+    out[0, 1] = -w[2]
+    out[0, 2] = w[1]
+    out[1, 0] = w[2]
+    out[1, 2] = -w[0]
+    out[2, 0] = -w[1]
+    out[2, 1] = w[0]
+    return out
+
+
+def rodrigues(w):
+    """``exp(hat(w))`` for one 3-vector (scalar code, numba-compilable); same formula and
+    small-angle series as :func:`exp_so3`. (3,) → (3, 3)."""
+    t2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+    theta = np.sqrt(t2)
+    if theta < _SMALL:
+        a = 1.0 - t2 / 6.0 + t2 * t2 / 120.0
+        b = 0.5 - t2 / 24.0 + t2 * t2 / 720.0
+    else:
+        a = np.sin(theta) / theta
+        b = (1.0 - np.cos(theta)) / t2
+    W = hat3(w)
+    return np.eye(3) + a * W + b * (W @ W)
