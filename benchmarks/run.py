@@ -40,22 +40,42 @@ def case_torque_free(repeat):
 
     def peer():
         def rhs(_, w):
-            return np.array([(I[1] - I[2]) / I[0] * w[1] * w[2],
-                             (I[2] - I[0]) / I[1] * w[2] * w[0],
-                             (I[0] - I[1]) / I[2] * w[0] * w[1]])
+            return np.array(
+                [
+                    (I[1] - I[2]) / I[0] * w[1] * w[2],
+                    (I[2] - I[0]) / I[1] * w[2] * w[0],
+                    (I[0] - I[1]) / I[2] * w[0] * w[1],
+                ]
+            )
 
-        return solve_ivp(rhs, (0, 100), w0, method="DOP853", rtol=1e-10, atol=1e-12,
-                         t_eval=t).y.T
+        return solve_ivp(rhs, (0, 100), w0, method="DOP853", rtol=1e-10, atol=1e-12, t_eval=t).y.T
 
     t_ours, ours = timed(lambda: fb.exact_omega(w0, t), repeat)
     t_peer, theirs = timed(peer, repeat)
-    ref = solve_ivp(lambda _, w: np.array([(I[1] - I[2]) / I[0] * w[1] * w[2],
-                                           (I[2] - I[0]) / I[1] * w[2] * w[0],
-                                           (I[0] - I[1]) / I[2] * w[0] * w[1]]),
-                    (0, 100), w0, method="DOP853", rtol=2.5e-14, atol=1e-16, t_eval=t).y.T
-    return ("ω(t), torque-free, 10⁴ times over t ∈ [0, 100]", "exact_omega",
-            "solve_ivp DOP853 rtol 1e-10", t_ours, t_peer,
-            np.abs(ours - ref).max(), np.abs(theirs - ref).max())
+    ref = solve_ivp(
+        lambda _, w: np.array(
+            [
+                (I[1] - I[2]) / I[0] * w[1] * w[2],
+                (I[2] - I[0]) / I[1] * w[2] * w[0],
+                (I[0] - I[1]) / I[2] * w[0] * w[1],
+            ]
+        ),
+        (0, 100),
+        w0,
+        method="DOP853",
+        rtol=2.5e-14,
+        atol=1e-16,
+        t_eval=t,
+    ).y.T
+    return (
+        "ω(t), torque-free, 10⁴ times over t ∈ [0, 100]",
+        "exact_omega",
+        "solve_ivp DOP853 rtol 1e-10",
+        t_ours,
+        t_peer,
+        np.abs(ours - ref).max(),
+        np.abs(theirs - ref).max(),
+    )
 
 
 def case_rigid_body(repeat):
@@ -63,7 +83,7 @@ def case_rigid_body(repeat):
 
     from poinsot import Gravity, RigidBody, simulate
 
-    grid = [(i, 2 * j, 3 * k) for i in (0, .5, 1) for j in (0, .5, 1) for k in (0, .5, 1)]
+    grid = [(i, 2 * j, 3 * k) for i in (0, 0.5, 1) for j in (0, 0.5, 1) for k in (0, 0.5, 1)]
     body = RigidBody.from_particles(np.full(27, 10 / 27), grid)
     t = np.linspace(0, 20, 101)
     A, Ainv, M, u = body.inertia, np.linalg.inv(body.inertia), body.mass, body.u
@@ -79,20 +99,31 @@ def case_rigid_body(repeat):
             return np.concatenate([y[3:6], F.sum(0) / M, wdot, (Q @ W).ravel()])
 
         y0 = np.concatenate([body.center_of_mass, np.zeros(3), [0, 1, 1], np.eye(3).ravel()])
-        return solve_ivp(rhs, (0, 20), y0, method="DOP853", rtol=1e-10, atol=1e-12,
-                         t_eval=t).y.T[:, 6:9]
+        return solve_ivp(rhs, (0, 20), y0, method="DOP853", rtol=1e-10, atol=1e-12, t_eval=t).y.T[
+            :, 6:9
+        ]
 
     def ours():
-        return simulate(body, (0, 20), omega0=(0, 1, 1), forces=[Gravity((0, 0, -9.8))],
-                        t_eval=t).omega
+        return simulate(
+            body, (0, 20), omega0=(0, 1, 1), forces=[Gravity((0, 0, -9.8))], t_eval=t
+        ).omega
 
     t_ours, w_ours = timed(ours, repeat)
     t_peer, w_peer = timed(peer, repeat)
-    exact = __import__("poinsot.torquefree", fromlist=["x"]).FreeRigidBody.from_body(
-        body).exact_omega((0, 1, 1), t)
-    return ("27-particle body under gravity, t ∈ [0, 20]", "simulate dop853",
-            "solve_ivp on the 18-state", t_ours, t_peer, np.abs(w_ours - exact).max(),
-            np.abs(w_peer - exact).max())
+    exact = (
+        __import__("poinsot.torquefree", fromlist=["x"])
+        .FreeRigidBody.from_body(body)
+        .exact_omega((0, 1, 1), t)
+    )
+    return (
+        "27-particle body under gravity, t ∈ [0, 20]",
+        "simulate dop853",
+        "solve_ivp on the 18-state",
+        t_ours,
+        t_peer,
+        np.abs(w_ours - exact).max(),
+        np.abs(w_peer - exact).max(),
+    )
 
 
 def case_inertia(repeat):
@@ -112,8 +143,15 @@ def case_inertia(repeat):
 
     t_ours, A_ours = timed(lambda: RigidBody.from_particles(m, r).inertia, repeat)
     t_peer, A_peer = timed(peer, max(1, repeat // 2))
-    return ("inertia of 2·10⁴ particles", "RigidBody.from_particles", "per-particle loop",
-            t_ours, t_peer, 0.0, np.abs(A_ours - A_peer).max())
+    return (
+        "inertia of 2·10⁴ particles",
+        "RigidBody.from_particles",
+        "per-particle loop",
+        t_ours,
+        t_peer,
+        0.0,
+        np.abs(A_ours - A_peer).max(),
+    )
 
 
 def case_lagrange(repeat):
@@ -141,31 +179,43 @@ def case_lagrange(repeat):
         ff = sp.lambdify([qs, vs], lm.forcing_full.subs(sub).subs(mdl.params))
 
         def rhs(_, y):
-            return np.linalg.solve(np.array(Mf(y[:2], y[2:]), float),
-                                   np.array(ff(y[:2], y[2:]), float).ravel())
+            return np.linalg.solve(
+                np.array(Mf(y[:2], y[2:]), float), np.array(ff(y[:2], y[2:]), float).ravel()
+            )
 
         y0 = [2.0, 1.0, 0.0, 0.0]
-        return solve_ivp(rhs, (0, 10), y0, method="DOP853", rtol=1e-10, atol=1e-12,
-                         t_eval=t).y.T[:, :2]
+        return solve_ivp(rhs, (0, 10), y0, method="DOP853", rtol=1e-10, atol=1e-12, t_eval=t).y.T[
+            :, :2
+        ]
 
     reps = max(1, repeat // 2)
     t_ours, q_ours = timed(ours, reps)
     t_peer, q_peer = timed(peer, reps)
-    return ("double pendulum: derive + integrate t ∈ [0, 10]", "LagrangianSystem",
-            "sympy LagrangesMethod + solve_ivp", t_ours, t_peer, 0.0,
-            np.abs(q_ours - q_peer).max())
+    return (
+        "double pendulum: derive + integrate t ∈ [0, 10]",
+        "LagrangianSystem",
+        "sympy LagrangesMethod + solve_ivp",
+        t_ours,
+        t_peer,
+        0.0,
+        np.abs(q_ours - q_peer).max(),
+    )
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--repeat", type=int, default=5)
     args = parser.parse_args()
-    rows = [case(args.repeat) for case in (case_torque_free, case_rigid_body, case_inertia,
-                                           case_lagrange)]
+    rows = [
+        case(args.repeat)
+        for case in (case_torque_free, case_rigid_body, case_inertia, case_lagrange)
+    ]
     print(f"{'case':50s} {'poinsot':>10s} {'peer':>10s} {'peer/poinsot':>13s}   accuracy")
     for name, ours, peer, t_ours, t_peer, err_ours, err_peer in rows:
-        print(f"{name:50s} {t_ours * 1e3:8.1f}ms {t_peer * 1e3:8.1f}ms {t_peer / t_ours:12.2f}x"
-              f"   poinsot ({ours}) {err_ours:.1e}, peer ({peer}) {err_peer:.1e}")
+        print(
+            f"{name:50s} {t_ours * 1e3:8.1f}ms {t_peer * 1e3:8.1f}ms {t_peer / t_ours:12.2f}x"
+            f"   poinsot ({ours}) {err_ours:.1e}, peer ({peer}) {err_peer:.1e}"
+        )
 
 
 if __name__ == "__main__":

@@ -252,6 +252,21 @@ def _cmd_polhodes(args):
         with atomic_path(out / "energy_ellipsoid.png") as tmp:
             fig.savefig(tmp, dpi=110, format="png")
         plt.close(fig)
+    try:  # the interactive versions, when plotly is installed
+        from .plotting.interactive import energy_ellipsoid_figure, polhode_family_figure
+    except ImportError:  # pragma: no cover - depends on the environment
+        pass
+    else:
+        try:
+            html_figs = [polhode_family_figure(free, energy)]
+            if args.omega0 is not None:
+                html_figs.append(
+                    energy_ellipsoid_figure(free, result["energy"], result["momentum"])
+                )
+            for name, f in zip(("polhodes.html", "energy_ellipsoid.html"), html_figs, strict=False):
+                atomic_write_text(out / name, f.to_html(include_plotlyjs=True))
+        except ImportError:  # pragma: no cover
+            pass
     atomic_write_text(out / "polhodes.json", json.dumps(result, indent=2))
     if args.json:
         print(json.dumps(result, indent=2))

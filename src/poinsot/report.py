@@ -177,72 +177,16 @@ def _body_figure(traj, go):
 
 
 def _polhode_figure(traj, go, free, energy, levels):
-    I = free.principal_moments
-    S = free._S
+    from .plotting.interactive import polhode_family_figure
+
     w = traj.omega
-    k_traj = 0.5 * float(np.einsum("ni,ij,nj->n", w[:1], traj.body.inertia, w[:1])[0])
+    k_traj = 0.5 * float(w[0] @ traj.body.inertia @ w[0])
     k = energy if energy is not None else k_traj
-    semi = np.sqrt(2 * k / I)
-    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 48), np.linspace(0, np.pi, 24))
-    unit = np.stack([np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v)], -1)
-    pts = (unit * semi) @ S.T
-    data = [
-        go.Surface(
-            x=pts[..., 0],
-            y=pts[..., 1],
-            z=pts[..., 2],
-            opacity=0.25,
-            showscale=False,
-            colorscale=[[0, "#9ecae1"], [1, "#9ecae1"]],
-            name="energy ellipsoid",
-            hoverinfo="skip",
-        )
-    ]
-    colors = {
-        "around e1": "#1f77b4",
-        "around e3": "#ff7f0e",
-        "separatrix": "black",
-        "symmetric": "#9467bd",
-    }
-    shown = set()
-    for p in free.polhode_family(k, levels=levels, n=200):
-        if p.family in ("fixed point", "spherical"):
-            continue
-        data.append(
-            go.Scatter3d(
-                x=p.points[:, 0],
-                y=p.points[:, 1],
-                z=p.points[:, 2],
-                mode="lines",
-                line={
-                    "color": colors.get(p.family, "gray"),
-                    "width": 5 if p.family == "separatrix" else 2,
-                    "dash": "dash" if p.family == "separatrix" else "solid",
-                },
-                name=p.family,
-                legendgroup=p.family,
-                showlegend=p.family not in shown,
-            )
-        )
-        shown.add(p.family)
     scale = np.sqrt(k / k_traj) if k_traj > 0 else 1.0
-    path = w * scale
-    data.append(
-        go.Scatter3d(
-            x=path[:, 0],
-            y=path[:, 1],
-            z=path[:, 2],
-            mode="lines",
-            line={"color": "crimson", "width": 6},
-            name="ω(t) of this run" + (" (scaled)" if abs(scale - 1) > 1e-9 else ""),
-        )
-    )
-    fig = go.Figure(data=data)
-    fig.update_layout(
-        title=f"ω on the energy ellipsoid (k = {k:.4g}) with the polhode family",
-        scene={"aspectmode": "data", "xaxis_title": "ω₁", "yaxis_title": "ω₂", "zaxis_title": "ω₃"},
-        height=560,
-    )
+    fig = polhode_family_figure(free, k, levels=levels, omega=w * scale)
+    if abs(scale - 1) > 1e-9:
+        fig.data[-1].name = "ω(t) of this run (scaled to this ellipsoid)"
+    fig.update_layout(title=f"ω on the energy ellipsoid (k = {k:.4g}) with the polhode family")
     return fig
 
 

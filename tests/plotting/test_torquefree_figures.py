@@ -97,3 +97,23 @@ def test_omega_and_frames_and_animation(tmp_path):
     with pytest.raises(ValueError, match=r"`path` must end in \.gif, \.mp4 or \.html"):
         animate_tumbling(Q[:2], t[:2], tmp_path / "x.avi")
     assert not list(tmp_path.glob(".x.avi*"))  # the temporary file is removed
+
+
+def test_interactive_figures_data():
+    pytest.importorskip("plotly")
+    from poinsot.plotting.interactive import energy_ellipsoid_figure, polhode_family_figure
+
+    fig = polhode_family_figure(BODY, 0.5, levels=5, omega=np.zeros((2, 3)))
+    I = BODY.principal_moments
+    lines = [t for t in fig.data if t.type == "scatter3d" and t.mode == "lines"][:-1]
+    assert sum(t.name == "separatrix" for t in lines) == 4
+    for t in lines:
+        w = np.column_stack([t.x, t.y, t.z]) @ BODY._S
+        np.testing.assert_allclose((I * w * w).sum(1), 1.0, atol=1e-12)
+    names = {t.name for t in fig.data}
+    assert {"stable fixed points", "unstable fixed points", "ω(t)"} <= names
+    fig = energy_ellipsoid_figure(BODY, 0.5, math.sqrt(14.0))
+    poly = [t for t in fig.data if t.type == "scatter3d"]
+    assert len(poly) == 2
+    with pytest.raises(ValueError, match="infeasible"):
+        energy_ellipsoid_figure(BODY, 2.0, 4.0)

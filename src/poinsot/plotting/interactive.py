@@ -1,0 +1,166 @@
+"""Interactive (plotly) figures of the torque-free body; needs the ``report`` extra.
+
+The same constructions as :mod:`poinsot.plotting.torquefree`, as ``plotly.graph_objects.Figure``
+objects: rotate them in a browser, or ``fig.write_html(path)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["energy_ellipsoid_figure", "polhode_family_figure"]
+
+COLORS = {
+    "around e1": "#1f77b4",
+    "around e3": "#ff7f0e",
+    "separatrix": "black",
+    "symmetric": "#9467bd",
+}
+
+
+def _go():
+    try:
+        import plotly.graph_objects as go
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ImportError("interactive figures need plotly: pip install 'poinsot[report]'") from exc
+    return go
+
+
+def _ellipsoid(go, semi, axes, color, name, opacity=0.25):
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 48), np.linspace(0, np.pi, 24))
+    unit = np.stack([np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v)], -1)
+    pts = (unit * semi) @ axes.T
+    return go.Surface(
+        x=pts[..., 0],
+        y=pts[..., 1],
+        z=pts[..., 2],
+        opacity=opacity,
+        showscale=False,
+        colorscale=[[0, color], [1, color]],
+        name=name,
+        showlegend=True,
+        hoverinfo="skip",
+    )
+
+
+def _line(go, pts, family, show):
+    return go.Scatter3d(
+        x=pts[:, 0],
+        y=pts[:, 1],
+        z=pts[:, 2],
+        mode="lines",
+        name=family,
+        legendgroup=family,
+        showlegend=show,
+        line={
+            "color": COLORS.get(family, "gray"),
+            "width": 5 if family == "separatrix" else 2,
+            "dash": "dash" if family == "separatrix" else "solid",
+        },
+    )
+
+
+def polhode_family_figure(body, energy=0.5, *, levels=9, omega=None, n=200):
+    """The polhode family on the energy ellipsoid with fixed points (green stable, red
+    unstable) and, if given, a path ``omega`` (n, 3). ``body`` is a
+    :class:`~poinsot.torquefree.FreeRigidBody`. Returns a plotly figure."""
+    go = _go()
+    k = float(energy)
+    semi = np.sqrt(2 * k / body.principal_moments)
+    data = [_ellipsoid(go, semi, body._S, "#9ecae1", "energy ellipsoid")]
+    shown = set()
+    stable, unstable = [], []
+    for p in body.polhode_family(k, levels=levels, n=n):
+        if p.family == "fixed point":
+            (stable if body.stability(p.points[0]).stable else unstable).append(p.points[0])
+        elif p.family != "spherical":
+            data.append(_line(go, p.points, p.family, p.family not in shown))
+            shown.add(p.family)
+    for pts, color, symbol, name in (
+        (stable, "green", "circle", "stable fixed points"),
+        (unstable, "red", "x", "unstable fixed points"),
+    ):
+        if pts:
+            arr = np.array(pts)
+            data.append(
+                go.Scatter3d(
+                    x=arr[:, 0],
+                    y=arr[:, 1],
+                    z=arr[:, 2],
+                    mode="markers",
+                    marker={"size": 6, "color": color, "symbol": symbol},
+                    name=name,
+                )
+            )
+    if omega is not None:
+        w = np.asarray(omega)
+        data.append(
+            go.Scatter3d(
+                x=w[:, 0],
+                y=w[:, 1],
+                z=w[:, 2],
+                mode="lines",
+                line={"color": "crimson", "width": 6},
+                name="ω(t)",
+            )
+        )
+    fig = go.Figure(data=data)
+    fig.update_layout(
+        title=f"Polhodes on the energy ellipsoid, k = {k:.4g}",
+        height=600,
+        scene={"aspectmode": "data", "xaxis_title": "ω₁", "yaxis_title": "ω₂", "zaxis_title": "ω₃"},
+    )
+    return fig
+
+
+def energy_ellipsoid_figure(body, energy, momentum):
+    """The energy ellipsoid, the momentum ellipsoid, the cone (32) and their intersection for
+    invariants ``(k, a)`` (refused with the numbers when infeasible, (33))."""
+    from .torquefree import _intersection
+
+    go = _go()
+    k, a = float(energy), float(momentum)
+    D = body.check_feasible(k, a)
+    I = body.principal_moments
+    data = [
+        _ellipsoid(go, np.sqrt(2 * k / I), body._S, "#9ecae1", "energy ellipsoid"),
+        _ellipsoid(go, a / I, body._S, "#a1d99b", "momentum ellipsoid", 0.15),
+    ]
+    curves = _intersection(body, k, a)
+    s = np.linspace(-1.35, 1.35, 25)
+    if body.symmetry != "spherical":
+        for i, pts in enumerate(curves):
+            if len(pts) > 1:
+                X, Y, Z = (s[:, None] * pts[None, :, c] for c in range(3))
+                data.append(
+                    go.Surface(
+                        x=X,
+                        y=Y,
+                        z=Z,
+                        opacity=0.3,
+                        showscale=False,
+                        colorscale=[[0, "#fc9272"], [1, "#fc9272"]],
+                        name="cone (32)",
+                        showlegend=i == 0,
+                        hoverinfo="skip",
+                    )
+                )
+    for i, pts in enumerate(curves):
+        data.append(
+            go.Scatter3d(
+                x=pts[:, 0],
+                y=pts[:, 1],
+                z=pts[:, 2],
+                mode="lines+markers" if len(pts) == 1 else "lines",
+                line={"color": "crimson", "width": 7},
+                name="polhode (intersection)",
+                showlegend=i == 0,
+            )
+        )
+    fig = go.Figure(data=data)
+    fig.update_layout(
+        title=f"Energy ellipsoid ∩ cone, k = {k:.4g}, a²/2k = {D:.4g}",
+        height=600,
+        scene={"aspectmode": "data"},
+    )
+    return fig
