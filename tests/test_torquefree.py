@@ -318,3 +318,14 @@ def test_attitude_kinematics_while_lingering_by_the_unstable_axis(tiny):
     assert np.abs(fb.exact_attitude(w0, ref.t) - ref.Q).max() < 1e-10
     L = np.einsum("nij,nj->ni", Q, w * [1.0, 2.0, 3.0])
     np.testing.assert_allclose(L, np.tile(L[0], (len(t), 1)), atol=1e-12)
+
+
+def test_describe_summarises_the_motion():
+    fb = FreeRigidBody(I123)
+    d = fb.describe((1e-3, 1.0, 1e-3))
+    assert d["family"] == "around e3"
+    assert d["flip_interval"] == pytest.approx(27.530840553733, rel=1e-12)
+    assert d["period"] == pytest.approx(2 * d["flip_interval"])
+    assert "flip_interval" not in fb.describe((0.0, 0.0, 1.0))  # fixed point: undefined
+    sep = fb.describe(fb.point_on_polhode(0.5, math.sqrt(2 * 0.5 * 2.0)))
+    assert sep["flip_interval"] == "inf"

@@ -205,16 +205,9 @@ def _cmd_polhodes(args):
         w0 = np.array(args.omega0, dtype=float)
         if not np.all(np.isfinite(w0)) or not np.any(w0):
             raise _BadInput("--omega0: expected three finite numbers, not all zero")
-        k, a = free.invariants(w0)
         result["omega0"] = w0.tolist()
-        result["energy"], result["momentum"] = k, a
-        result["family"] = free.classify(w0)
-        for name, fn in (("period", free.period), ("flip_interval", free.flip_interval)):
-            try:
-                value = fn(w0)
-                result[name] = value if math.isfinite(value) else "inf"
-            except ValueError as exc:
-                result[name] = f"undefined: {exc}"
+        result.update(free.describe(w0))
+        k = result["energy"]
         energy = energy if energy is not None else k
     energy = 0.5 if energy is None else energy
     if not energy > 0:

@@ -358,27 +358,26 @@ class Spring(Force):
         return 0.5 * self.stiffness * stretch * stretch
 
 
-class LinearDrag(Force):
-    """Linear (Stokes) drag: ``F = −c V`` on the centre of mass, ``τ = −c_rot ω``."""
+class _Drag(Force):
+    """Drag with a translational ``coefficient`` (on the centre of mass) and a ``rotational``
+    one (a torque against ω), both ≥ 0."""
 
     def __init__(self, coefficient, rotational=0.0):
         self.coefficient = as_scalar(coefficient, "coefficient")
         self.rotational = as_scalar(rotational, "rotational")
         if self.coefficient < 0 or self.rotational < 0:
             raise ValueError("drag coefficients `coefficient` and `rotational` must be ≥ 0")
+
+
+class LinearDrag(_Drag):
+    """Linear (Stokes) drag: ``F = −c V`` on the centre of mass, ``τ = −c_rot ω``."""
 
     def wrench(self, ctx):
         return -self.coefficient * ctx.V, -self.rotational * ctx.omega
 
 
-class QuadraticDrag(Force):
+class QuadraticDrag(_Drag):
     """Quadratic drag: ``F = −c |V| V`` on the centre of mass, ``τ = −c_rot |ω| ω``."""
-
-    def __init__(self, coefficient, rotational=0.0):
-        self.coefficient = as_scalar(coefficient, "coefficient")
-        self.rotational = as_scalar(rotational, "rotational")
-        if self.coefficient < 0 or self.rotational < 0:
-            raise ValueError("drag coefficients `coefficient` and `rotational` must be ≥ 0")
 
     def wrench(self, ctx):
         V, w = ctx.V, ctx.omega

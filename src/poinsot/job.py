@@ -7,7 +7,6 @@ an existing folder is replaced only with ``force=True``.
 
 from __future__ import annotations
 
-import contextlib
 import json
 import shutil
 import tempfile
@@ -71,15 +70,10 @@ def summarize(scenario, traj, free=None) -> dict:
         "integration": traj.summary(),
     }
     if free is not None and k0 > 0:
-        analysis = {
-            "family": free.classify(w0),
-            "fixed_points": [{"set": fp.label, "stable": fp.stable} for fp in free.fixed_points()],
-        }
-        with contextlib.suppress(ValueError):
-            analysis["period"] = free.period(w0)
-        with contextlib.suppress(ValueError):
-            analysis["flip_interval"] = free.flip_interval(w0)
-        if scenario.forces == [] or all(type(f).__name__ == "Gravity" for f in scenario.forces):
+        analysis = free.describe(w0)
+        from .forces import Gravity
+
+        if all(isinstance(f, Gravity) for f in scenario.forces):  # no torque about the c.o.m.
             analysis["exact_solution_error"] = free.trajectory_error(traj)
         out["torque_free"] = analysis
     return _jsonable(out)

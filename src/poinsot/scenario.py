@@ -462,6 +462,47 @@ def _by_name(t: _Table, key, known: dict, what: str):
     return out
 
 
+def _integrator(root: _Table, methods, extra: dict | None = None):
+    """``[integrator]``: ``(method, dt, rtol, atol, extra values)``; ``extra`` maps more keys to
+    ``(kind, default, choices)``."""
+    it = root.table("integrator", None)
+    method = it.get("method", "string", "dop853", choices=methods)
+    dt = it.get("dt", "positive", None)
+    rtol = it.get("rtol", "positive", None)
+    atol = it.get("atol", "positive", None)
+    more = {
+        key: it.get(key, kind, default, choices=choices)
+        for key, (kind, default, choices) in (extra or {}).items()
+    }
+    it.finish()
+    if method != "dop853" and dt is None:
+        raise ScenarioError(f"{it.where('dt')}: required for the fixed-step method {method!r}")
+    return method, dt, rtol, atol, more
+
+
+def _time(root: _Table):
+    """``[time]``: ``((t0, t1), samples)``."""
+    tt = root.table("time")
+    span = tt.get("span", "vector2")
+    if not span[1] > span[0]:
+        raise ScenarioError(
+            f"{tt.where('span')}: expected [start, end] with end > start, found {span.tolist()}"
+        )
+    samples = tt.get("samples", "int", 201)
+    if samples < 2:
+        raise ScenarioError(f"{tt.where('samples')}: expected at least 2, found {samples}")
+    tt.finish()
+    return (float(span[0]), float(span[1])), samples
+
+
+def _outputs(root: _Table):
+    """``[output]``: which of data, figures and report to write."""
+    ot = root.table("output", None)
+    outputs = {key: ot.get(key, "bool", True) for key in ("data", "figures", "report")}
+    ot.finish()
+    return outputs
+
+
 def _parse_model(root: _Table, name: str, description: str, source: str) -> LagrangianScenario:
     from . import models
 
@@ -474,28 +515,13 @@ def _parse_model(root: _Table, name: str, description: str, source: str) -> Lagr
     q0 = _by_name(mt, "q0", coords, "coordinates") if mt.has("q0") else dict(model.q0)
     qd0 = _by_name(mt, "qd0", coords, "coordinates") if mt.has("qd0") else dict(model.qd0)
     mt.finish()
-    it = root.table("integrator", None)
-    method = it.get("method", "string", "dop853", choices=("dop853", "rk4"))
-    dt = it.get("dt", "positive", None)
-    rtol = it.get("rtol", "positive", None)
-    atol = it.get("atol", "positive", None)
-    stab = it.get(
-        "stabilization", "string", "baumgarte", choices=("baumgarte", "projection", "none")
+    stab_choices = ("baumgarte", "projection", "none")
+    method, dt, rtol, atol, more = _integrator(
+        root, ("dop853", "rk4"), {"stabilization": ("string", "baumgarte", stab_choices)}
     )
-    it.finish()
-    if method != "dop853" and dt is None:
-        raise ScenarioError(f"{it.where('dt')}: required for the fixed-step method {method!r}")
-    tt = root.table("time")
-    span = tt.get("span", "vector2")
-    if not span[1] > span[0]:
-        raise ScenarioError(
-            f"{tt.where('span')}: expected [start, end] with end > start, found {span.tolist()}"
-        )
-    samples = tt.get("samples", "int", 201)
-    tt.finish()
-    ot = root.table("output", None)
-    outputs = {k: ot.get(k, "bool", True) for k in ("data", "figures", "report")}
-    ot.finish()
+    stab = more["stabilization"]
+    t_span, samples = _time(root)
+    outputs = _outputs(root)
     root.finish()
     scenario = LagrangianScenario(
         name,
@@ -509,7 +535,7 @@ def _parse_model(root: _Table, name: str, description: str, source: str) -> Lagr
         rtol,
         atol,
         None if stab == "none" else stab,
-        (float(span[0]), float(span[1])),
+        t_span,
         samples,
         outputs,
         source,
@@ -548,31 +574,9 @@ def _parse(data: dict, source: str, base_dir: Path):
     pivot = bt.get("pivot", "vector3", None)
     forces = [build_force(f) for f in root.tables("forces")]
     initial = _initial(root.table("initial"), body, pivot)
-    it = root.table("integrator", None)
-    method = it.get("method", "string", "dop853", choices=METHOD_NAMES)
-    dt = it.get("dt", "positive", None)
-    rtol = it.get("rtol", "positive", None)
-    atol = it.get("atol", "positive", None)
-    it.finish()
-    if method != "dop853" and dt is None:
-        raise ScenarioError(f"{it.where('dt')}: required for the fixed-step method {method!r}")
-    tt = root.table("time")
-    span = tt.get("span", "vector2")
-    if not span[1] > span[0]:
-        raise ScenarioError(
-            f"{tt.where('span')}: expected [start, end] with end > start, found {span.tolist()}"
-        )
-    samples = tt.get("samples", "int", 201)
-    if samples < 2:
-        raise ScenarioError(f"{tt.where('samples')}: expected at least 2, found {samples}")
-    tt.finish()
-    ot = root.table("output", None)
-    outputs = {
-        "data": ot.get("data", "bool", True),
-        "figures": ot.get("figures", "bool", True),
-        "report": ot.get("report", "bool", True),
-    }
-    ot.finish()
+    method, dt, rtol, atol, _ = _integrator(root, METHOD_NAMES)
+    t_span, samples = _time(root)
+    outputs = _outputs(root)
     at = root.table("analysis", None)
     analysis = {
         "polhodes": at.get("polhodes", "bool", True),
@@ -593,7 +597,7 @@ def _parse(data: dict, source: str, base_dir: Path):
         dt,
         rtol,
         atol,
-        (float(span[0]), float(span[1])),
+        t_span,
         samples,
         outputs,
         analysis,

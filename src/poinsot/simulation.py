@@ -155,18 +155,12 @@ def simulate(
             progress=progress,
         )
     except IntegrationError as exc:
-        p = exc.partial
-        partial = Trajectory(
-            p.t,
-            p.y,
-            system,
-            method=p.method,
-            nfev=p.nfev,
-            nsteps=p.nsteps,
-            wall_time=p.wall_time,
-            message=p.message,
-        )
-        raise SimulationError(str(exc), partial) from exc
+        raise SimulationError(str(exc), _trajectory(exc.partial, system)) from exc
+    return _trajectory(result, system)
+
+
+def _trajectory(result, system) -> Trajectory:
+    """A :class:`Trajectory` from an integration result (complete or partial)."""
     return Trajectory(
         result.t,
         result.y,

@@ -661,6 +661,24 @@ class FreeRigidBody:
                     )
         return out
 
+    def describe(self, omega0) -> dict:
+        """A JSON-ready summary of the motion from ``omega0``: family, invariants, period,
+        flip interval (``"inf"`` on the separatrix; absent where undefined) and fixed points."""
+        k, a = self.invariants(omega0)
+        out = {
+            "family": self.classify(omega0),
+            "energy": k,
+            "momentum": a,
+            "fixed_points": [{"set": fp.label, "stable": fp.stable} for fp in self.fixed_points()],
+        }
+        for name, fn in (("period", self.period), ("flip_interval", self.flip_interval)):
+            try:
+                value = fn(omega0)
+            except ValueError:
+                continue
+            out[name] = value if math.isfinite(value) else "inf"
+        return out
+
     def separatrix_arcs(self, energy=0.5, *, n=400, reach=1e-6) -> list[Polhode]:
         """The four heteroclinic arcs at ``a² = 2k I2`` joining the unstable points ±√(2k/I2) e2,
         in closed form: ``ω = (σ1 α1 sech u, σ1σ3 α2 tanh u, σ3 α3 sech u)``,
