@@ -26,6 +26,9 @@ _LAZY = {
     "LinearDrag": "poinsot.forces",
     "QuadraticDrag": "poinsot.forces",
     "CustomForce": "poinsot.forces",
+    "FreeRigidBody": "poinsot.torquefree",
+    "LagrangianSystem": "poinsot.lagrange",
+    "PointMass": "poinsot.lagrange",
 }
 
 __all__ = ["__version__", *sorted(_LAZY)]
@@ -59,7 +62,10 @@ if TYPE_CHECKING:  # pragma: no cover
     from .forces import (
         Torque as Torque,
     )
+    from .lagrange import LagrangianSystem as LagrangianSystem
+    from .lagrange import PointMass as PointMass
     from .simulation import SimulationError as SimulationError
+    from .torquefree import FreeRigidBody as FreeRigidBody
     from .simulation import simulate as simulate
     from .trajectory import Trajectory as Trajectory
 
