@@ -33,40 +33,22 @@ _LAZY = {
 
 __all__ = ["__version__", *sorted(_LAZY)]
 
-if TYPE_CHECKING:  # pragma: no cover
+if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     from .bodies import RigidBody as RigidBody
-    from .forces import (
-        CentralGravity as CentralGravity,
-    )
-    from .forces import (
-        CustomForce as CustomForce,
-    )
-    from .forces import (
-        Gravity as Gravity,
-    )
-    from .forces import (
-        LinearDrag as LinearDrag,
-    )
-    from .forces import (
-        ParticleForce as ParticleForce,
-    )
-    from .forces import (
-        PointForce as PointForce,
-    )
-    from .forces import (
-        QuadraticDrag as QuadraticDrag,
-    )
-    from .forces import (
-        Spring as Spring,
-    )
-    from .forces import (
-        Torque as Torque,
-    )
+    from .forces import CentralGravity as CentralGravity
+    from .forces import CustomForce as CustomForce
+    from .forces import Gravity as Gravity
+    from .forces import LinearDrag as LinearDrag
+    from .forces import ParticleForce as ParticleForce
+    from .forces import PointForce as PointForce
+    from .forces import QuadraticDrag as QuadraticDrag
+    from .forces import Spring as Spring
+    from .forces import Torque as Torque
     from .lagrange import LagrangianSystem as LagrangianSystem
     from .lagrange import PointMass as PointMass
     from .simulation import SimulationError as SimulationError
-    from .torquefree import FreeRigidBody as FreeRigidBody
     from .simulation import simulate as simulate
+    from .torquefree import FreeRigidBody as FreeRigidBody
     from .trajectory import Trajectory as Trajectory
 
 
