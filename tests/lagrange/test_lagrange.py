@@ -329,3 +329,19 @@ def test_symbolic_outputs():
     assert sp.simplify(eqs[1].lhs - (m * y.diff(mdl.system.t, 2) + m * g)) == 0
     assert mdl.system.constraint_gamma[0] == 2 * x.diff() ** 2 + 2 * y.diff() ** 2
     assert set(mdl.system.parameters) == {mdl.symbols["m"], mdl.symbols["g"], mdl.symbols["l"]}
+
+
+def test_augmented_system_solves_to_the_simulated_accelerations_and_multipliers():
+    mdl = models.pendulum_cartesian()
+    s, system = mdl.symbols, mdl.system
+    x, y = s["x"], s["y"]
+    state = {x.diff(): 1.2, y.diff(): 0.9, x: 0.6, y: -0.8, **mdl.params}
+    K = system.augmented_matrix.subs(state)
+    rhs = system.augmented_forcing.subs(state)
+    solved = [float(v) for v in K.LUsolve(rhs)]
+    sol = system.simulate(
+        (0, 1e-9), q0={x: 0.6, y: -0.8}, qd0={x: 1.2, y: 0.9}, params=mdl.params, t_eval=[0.0]
+    )
+    np.testing.assert_allclose(solved[:2], sol.accelerations[0], rtol=1e-12)
+    assert solved[2] == pytest.approx(sol.multipliers[0, 0], rel=1e-12)
+    assert system.augmented_matrix.shape == (3, 3)

@@ -327,6 +327,30 @@ class LagrangianSystem:
         return out
 
     @cached_property
+    def augmented_matrix(self):
+        """The multiplier-augmented (index-1) matrix ``[[M, −Gᵀ], [G, 0]]``, (n+m) × (n+m),
+        acting on ``[q̈; λ]``."""
+        sp = _sympy()
+        n, m = self.n_coordinates, self.n_constraints
+        K = sp.zeros(n + m, n + m)
+        K[:n, :n] = self.mass_matrix
+        if m:
+            K[:n, n:] = -self.constraint_jacobian.T
+            K[n:, :n] = self.constraint_jacobian
+        return K
+
+    @cached_property
+    def augmented_forcing(self):
+        """Right-hand side ``[f; −γ]`` ((n+m) × 1) of the augmented system
+        ``augmented_matrix · [q̈; λ] = augmented_forcing``."""
+        sp = _sympy()
+        return (
+            sp.Matrix.vstack(self.forcing, -self.constraint_gamma)
+            if self.n_constraints
+            else self.forcing
+        )
+
+    @cached_property
     def generalized_constraint_forces(self):
         """``Σ_k λ_k G_kj`` (n × 1) in terms of :attr:`lam_vec` (SymPy)."""
         return self.constraint_jacobian.T * self.lam_vec
