@@ -306,3 +306,13 @@ def test_non_rotation_orientation_refused(orientation, match):
 def test_other_bad_input(call, match):
     with pytest.raises((ValueError, TypeError), match=match):
         call()
+
+
+def test_mass_properties_dict(notebook_body):
+    import json
+
+    info = notebook_body.mass_properties()
+    assert json.loads(json.dumps(info)) == info  # JSON-ready
+    np.testing.assert_allclose(info["principal_moments"], [25 / 3, 50 / 3, 65 / 3], rtol=1e-12)
+    assert info["particles"] == 27 and info["symmetry"] == "asymmetric"
+    assert info["degenerate"] is False

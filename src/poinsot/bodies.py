@@ -377,6 +377,20 @@ class RigidBody:
         """Number of particles (0 for a body given by its mass properties)."""
         return 0 if self._particle_offsets is None else len(self._particle_offsets)
 
+    def mass_properties(self) -> dict:
+        """The mass properties as a JSON-ready dict: mass, centre of mass, inertia, principal
+        moments and axes, symmetry class, degeneracy and number of particles."""
+        return {
+            "mass": self._mass,
+            "center_of_mass": self._com.tolist(),
+            "inertia": self._inertia.tolist(),
+            "principal_moments": self.principal_moments.tolist(),
+            "principal_axes": self.principal_axes.tolist(),
+            "symmetry": self.symmetry,
+            "degenerate": self.is_degenerate,
+            "particles": self.n_particles,
+        }
+
     # ----------------------------------------------------------------- display
     def __repr__(self) -> str:
         fmt = np.array2string

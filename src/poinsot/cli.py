@@ -156,15 +156,7 @@ def _cmd_inertia(args):
             body = RigidBody.from_mesh(path, mass=args.mass, density=args.density)
         except (ValueError, TypeError) as exc:
             raise _BadInput(f"{path}: {exc}") from None
-    info = {
-        "mass": body.mass,
-        "center_of_mass": body.center_of_mass.tolist(),
-        "inertia": body.inertia.tolist(),
-        "principal_moments": body.principal_moments.tolist(),
-        "principal_axes": body.principal_axes.tolist(),
-        "symmetry": body.symmetry,
-        "degenerate": body.is_degenerate,
-    }
+    info = body.mass_properties()
     if args.json:
         print(json.dumps(info, indent=2))
         return EXIT_OK

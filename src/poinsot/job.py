@@ -47,15 +47,7 @@ def summarize(scenario, traj, free=None) -> dict:
             "description": scenario.description,
             "source": scenario.source,
         },
-        "body": {
-            "mass": body.mass,
-            "center_of_mass": body.center_of_mass.tolist(),
-            "inertia": body.inertia.tolist(),
-            "principal_moments": body.principal_moments.tolist(),
-            "principal_axes": body.principal_axes.tolist(),
-            "symmetry": body.symmetry,
-            "particles": body.n_particles,
-        },
+        "body": body.mass_properties(),
         "initial": {
             "omega": w0.tolist(),
             "rotational_energy": k0,
