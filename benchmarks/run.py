@@ -81,10 +81,10 @@ def case_torque_free(repeat):
 def case_rigid_body(repeat):
     from scipy.integrate import solve_ivp
 
-    from poinsot import Gravity, RigidBody, simulate
+    from poinsot import Gravity, simulate
+    from poinsot.models import notebook_body
 
-    grid = [(i, 2 * j, 3 * k) for i in (0, 0.5, 1) for j in (0, 0.5, 1) for k in (0, 0.5, 1)]
-    body = RigidBody.from_particles(np.full(27, 10 / 27), grid)
+    body = notebook_body()
     t = np.linspace(0, 20, 101)
     A, Ainv, M, u = body.inertia, np.linalg.inv(body.inertia), body.mass, body.u
     F = np.tile([0, 0, -9.8 * 10 / 27], (27, 1))

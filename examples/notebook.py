@@ -41,8 +41,9 @@ def worked_example():
 
 def reference_body():
     """The notebook's 27-particle body: a 3×3×3 grid (a, b, c) = (1, 2, 3), total mass 10."""
-    grid = [(i, 2 * j, 3 * k) for i in (0, 0.5, 1) for j in (0, 0.5, 1) for k in (0, 0.5, 1)]
-    return RigidBody.from_particles(np.full(27, 10 / 27), grid)
+    from poinsot.models import notebook_body
+
+    return notebook_body()
 
 
 def gravity_run(body, out):

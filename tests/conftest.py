@@ -7,8 +7,6 @@ import pytest
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-from poinsot import RigidBody
-
 finite = st.floats(-10, 10, allow_nan=False, allow_infinity=False)
 positive_mass = st.floats(0.1, 10, allow_nan=False, allow_infinity=False)
 
@@ -37,5 +35,6 @@ def rotations(draw):
 @pytest.fixture
 def notebook_body():
     """The notebook's reference body: 27 equal particles on a 1×2×3 grid, total mass 10."""
-    pts = [(i, 2 * j, 3 * k) for i in (0, 0.5, 1) for j in (0, 0.5, 1) for k in (0, 0.5, 1)]
-    return RigidBody.from_particles(np.full(27, 10 / 27), pts)
+    from poinsot.models import notebook_body as build
+
+    return build()

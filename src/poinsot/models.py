@@ -16,6 +16,7 @@ __all__ = [
     "bead_on_rotating_hoop",
     "double_pendulum",
     "heavy_symmetric_top",
+    "notebook_body",
     "pendulum_cartesian",
     "pendulum_on_cart",
     "pendulum_polar",
@@ -47,6 +48,24 @@ class Model:
         if self.guess:
             kwargs.setdefault("guess", self.guess)
         return self.system.simulate(t_span, **kwargs)
+
+
+def notebook_body():
+    """The source notebook's reference body (THEORY.md §1): 27 equal particles at
+    ``(a i, b j, c k)``, ``i, j, k ∈ {0, ½, 1}``, ``(a, b, c) = (1, 2, 3)``, total mass 10.
+    Principal moments 25/3, 50/3, 65/3.
+
+    Examples
+    --------
+    >>> (notebook_body().principal_moments * 3).round(9).tolist()
+    [25.0, 50.0, 65.0]
+    """
+    import numpy as np
+
+    from .bodies import RigidBody
+
+    grid = [(i, 2 * j, 3 * k) for i in (0, 0.5, 1) for j in (0, 0.5, 1) for k in (0, 0.5, 1)]
+    return RigidBody.from_particles(np.full(27, 10 / 27), grid)
 
 
 def _sp():

@@ -48,11 +48,11 @@ def test_run_without_arguments_in_an_empty_folder(tmp_path):
     assert not [p for p in tmp_path.rglob(".*partial*")]
     summary = json.loads((out / "summary.json").read_text())
     # the same problem through the library API
-    from poinsot import Gravity, RigidBody, simulate
+    from poinsot import Gravity, simulate
+    from poinsot.models import notebook_body
     from poinsot.torquefree import FreeRigidBody
 
-    grid = [(i, 2 * j, 3 * k) for i in (0, 0.5, 1) for j in (0, 0.5, 1) for k in (0, 0.5, 1)]
-    body = RigidBody.from_particles(np.full(27, 10 / 27), grid)
+    body = notebook_body()
     traj = simulate(
         body,
         (0, 20),
