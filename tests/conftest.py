@@ -38,3 +38,11 @@ def notebook_body():
     from poinsot.models import notebook_body as build
 
     return build()
+
+
+# Kernels compile on first use (then load from numba's disk cache): a property test's first
+# example may take seconds, so hypothesis runs without a per-example deadline.
+from hypothesis import settings  # noqa: E402
+
+settings.register_profile("poinsot", deadline=None)
+settings.load_profile("poinsot")

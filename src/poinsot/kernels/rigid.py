@@ -1,131 +1,483 @@
-"""Rigid-body equations of motion on plain arrays (THEORY.md §1, eqs (07)–(09)).
+"""Rigid-body equations, energies, momenta and free-rotor flows (``docs/theory.md`` §1).
 
-The flat state is the notebook's 18-vector ``y = [R (3), V (3), Q (9, row-major), ω (3)]``:
-centre of mass, its velocity (space frame), attitude matrix and body angular velocity.
+* Euler's equation ``A ω̇ + ω × Aω = τ`` (08), in principal components (27)–(29):
+  :func:`omega_dot_principal`.
+* The motion under a wrench, eqs (07)–(09), free or about a fixed point:
+  :func:`free_rigid_derivative`, :func:`rigid_derivative`, with :func:`shift_torque_to_pivot`
+  and :func:`project_onto_pivot`.
+* Energies and momenta, eqs (03), (12), (30)–(31): :func:`kinetic_energy`,
+  :func:`rotational_energy`, :func:`angular_momentum_body`, :func:`angular_momentum_com`,
+  :func:`angular_momentum`.
+* The exact flows of the free rotor that the splitting integrator composes:
+  :func:`free_rotor_step_into`.
+* Conversions of states between the body frame and the principal frame in which the compiled
+  engine integrates: :func:`states_to_principal`, :func:`states_from_principal`.
+
+The engine's functions read the body from its parameter vector (see
+:mod:`poinsot.kernels.layout`) and write into preallocated arrays: no allocation per step.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from .so3 import rodrigues
+from .inertia import SYMMETRY_RTOL, symmetry_code
+from .jit import kernel
+from .layout import (
+    BODY_SIZE,
+    COM_OFFSET,
+    HAS_PIVOT,
+    INV_MASS,
+    INV_MOMENTS,
+    MOMENTS,
+    OMEGA_AT,
+    PIVOT,
+    Q_AT,
+    R_AT,
+    ROTOR,
+    STATE_SIZE,
+    V_AT,
+)
+from .so3 import exp_so3_into
 
 __all__ = [
-    "STATE_SIZE",
-    "axis_rotation",
+    "angular_momentum",
+    "angular_momentum_body",
+    "angular_momentum_com",
     "euler_omega_dot",
+    "free_rigid_derivative",
     "free_rotor_step",
-    "free_rotor_strang",
-    "free_rotor_symmetric",
-    "pack_state",
-    "unpack_state",
+    "free_rotor_step_into",
+    "kinetic_energy",
+    "omega_dot_principal",
+    "omega_space",
+    "orthogonality_error",
+    "project_onto_pivot",
+    "rigid_derivative",
+    "rotate_pair_into",
+    "rotational_energy",
+    "rotor_code",
+    "shift_torque_to_pivot",
+    "state_from_principal_into",
+    "state_to_principal_into",
+    "states_from_principal",
+    "states_to_principal",
 ]
 
-STATE_SIZE = 18
-# the symmetric composition H1(h/2) H2(h/2) H3(h) H2(h/2) H1(h/2), as homogeneous tuples
-_STRANG_AXES = (0, 1, 2, 1, 0)
-_STRANG_FRACTIONS = (0.5, 0.5, 1.0, 0.5, 0.5)
 
+# --------------------------------------------------------------------------- Euler's equation
+@kernel(inline=True)
+def omega_dot_principal(I1, I2, I3, J1, J2, J3, w1, w2, w3, t1, t2, t3):
+    """``ω̇`` from Euler's equation (08) in principal components, eqs (27)–(29) with a torque::
 
-def pack_state(R, V, Q, omega):
-    """Flat 18-state from ``R`` (3,), ``V`` (3,), ``Q`` (3, 3), ``omega`` (3,)."""
-    y = np.empty(STATE_SIZE)
-    y[0:3] = R
-    y[3:6] = V
-    y[6:15] = Q.reshape(9)
-    y[15:18] = omega
-    return y
+        I1 ω̇1 = τ1 + (I2 − I3) ω2 ω3,  I2 ω̇2 = τ2 + (I3 − I1) ω3 ω1,  I3 ω̇3 = τ3 + (I1 − I2) ω1 ω2
 
-
-def unpack_state(y):
-    """Views ``R, V, Q, omega`` into a flat state ``y`` (..., 18)."""
+    ``J_i = 1/I_i``, or 0 where ``I_i = 0`` (a degenerate body: no angular acceleration about
+    its line, the minimum-norm solution). Returns a 3-tuple.
+    """
     return (
-        y[..., 0:3],
-        y[..., 3:6],
-        y[..., 6:15].reshape(*y.shape[:-1], 3, 3),
-        y[..., 15:18],
+        J1 * (t1 + (I2 - I3) * w2 * w3),
+        J2 * (t2 + (I3 - I1) * w3 * w1),
+        J3 * (t3 + (I1 - I2) * w1 * w2),
     )
 
 
-def euler_omega_dot(A, A_inv, omega, torque):
-    """``ω̇ = A⁻¹ (τ − ω × Aω)``: Euler's equation (08) in the body frame.
+@kernel
+def euler_omega_dot(moments, omega, torque):
+    """``ω̇`` of Euler's equation (08) for principal ``moments`` (3,) and ``omega``, ``torque``
+    in principal components (..., 3) → (..., 3); eqs (27)–(29) when the torque is zero.
 
-    ``A_inv`` may be a pseudo-inverse for a degenerate (collinear) body, giving the minimum-norm
-    ``ω̇`` (no spin acceleration about the body's line).
+    Examples
+    --------
+    >>> import numpy as np
+    >>> w_dot = euler_omega_dot(np.array([1.0, 2.0, 3.0]), np.ones(3), np.zeros(3))
+    >>> w_dot.round(6).tolist()   # ((I2 − I3)/I1, (I3 − I1)/I2, (I1 − I2)/I3)
+    [-1.0, 1.0, -0.333333]
     """
-    return A_inv @ (torque - np.cross(omega, A @ omega))
+    omega = np.asarray(omega)
+    torque = np.asarray(torque)
+    w = np.ascontiguousarray(omega).reshape((-1, 3)).astype(np.float64)
+    tau = np.ascontiguousarray(torque).reshape((-1, 3)).astype(np.float64)
+    if tau.shape[0] != w.shape[0]:
+        raise ValueError("`omega` and `torque` must have the same shape")
+    inv = np.zeros(3)
+    for k in range(3):
+        if moments[k] != 0.0:
+            inv[k] = 1.0 / moments[k]
+    out = np.empty_like(w)
+    for i in range(w.shape[0]):
+        a = omega_dot_principal(
+            moments[0], moments[1], moments[2], inv[0], inv[1], inv[2],
+            w[i, 0], w[i, 1], w[i, 2], tau[i, 0], tau[i, 1], tau[i, 2],
+        )  # fmt: skip
+        out[i, 0] = a[0]
+        out[i, 1] = a[1]
+        out[i, 2] = a[2]
+    return out.reshape(omega.shape)
 
 
-def axis_rotation(axis, angle):
-    """Rotation matrix by ``angle`` about coordinate axis ``axis`` ∈ {0, 1, 2}."""
-    c, s = np.cos(angle), np.sin(angle)
-    R = np.eye(3)
-    i, j = (axis + 1) % 3, (axis + 2) % 3
-    R[i, i] = c
-    R[j, j] = c
-    R[i, j] = -s
-    R[j, i] = s
-    return R
+# --------------------------------------------------------------------------- eqs (07)–(09)
+@kernel(inline=True)
+def shift_torque_to_pivot(body, y, Fx, Fy, Fz, tx, ty, tz):
+    """The torque about the reference point: with a pivot, ``τ_P = τ_G + c × Qᵀ F`` (``c`` the
+    centre of mass seen from the pivot, body frame); unchanged for a free body. 3-tuple."""
+    if body[HAS_PIVOT] == 0.0:
+        return tx, ty, tz
+    c0 = body[COM_OFFSET]
+    c1 = body[COM_OFFSET + 1]
+    c2 = body[COM_OFFSET + 2]
+    b0 = y[Q_AT] * Fx + y[Q_AT + 3] * Fy + y[Q_AT + 6] * Fz  # Qᵀ F
+    b1 = y[Q_AT + 1] * Fx + y[Q_AT + 4] * Fy + y[Q_AT + 7] * Fz
+    b2 = y[Q_AT + 2] * Fx + y[Q_AT + 5] * Fy + y[Q_AT + 8] * Fz
+    return tx + c1 * b2 - c2 * b1, ty + c2 * b0 - c0 * b2, tz + c0 * b1 - c1 * b0
 
 
-def free_rotor_strang(moments, pi, Qp, h):
-    """Torque-free rotor advanced by ``h`` with the symmetric split of McLachlan (1993).
+@kernel(inline=True)
+def free_rigid_derivative(body, y, Fx, Fy, Fz, tx, ty, tz, out):
+    """``out = ẏ`` (18,) of a free body under the force ``F`` (space frame) and the torque
+    ``τ`` about its centre of mass (principal frame): eqs (07)–(09).
 
-    In the principal frame the Hamiltonian ``H = Σ π_i²/(2 I_i)`` splits into three exactly
-    solvable flows: under ``H_i`` the body momentum turns about ``e_i`` by ``−θ`` and the
-    attitude by ``+θ``, ``θ = h π_i / I_i``. The composition
-    ``H1(h/2) H2(h/2) H3(h) H2(h/2) H1(h/2)`` is symmetric, second order, symplectic, and keeps
-    both ``|π|`` and the spatial momentum ``Qp π`` exactly (each sub-flow is a rotation).
-    Axes with ``I_i = 0`` (a degenerate body's line) carry no flow.
+    * (07) ``M R̈ = F``;
+    * (08) ``ω̇`` from Euler's equation in principal components (27)–(29);
+    * (09) ``Q̇ = QΩ``: row i of ``Q̇`` is ``q_i × ω``.
 
-    Parameters
-    ----------
-    moments : (3,) principal moments; pi : (3,) body angular momentum in principal axes;
-    Qp : (3, 3) attitude of the principal frame; h : step.
-    Returns the new ``(pi, Qp)``.
+    Returns ``ω̇`` as a 3-tuple.
     """
-    pi = pi.copy()
-    Qp = Qp.copy()
-    for k in range(5):
-        axis = _STRANG_AXES[k]
-        frac = _STRANG_FRACTIONS[k]
-        if moments[axis] > 0:
-            theta = frac * h * pi[axis] / moments[axis]
-            Rot = axis_rotation(axis, theta)
-            pi = Rot.T @ pi
-            Qp = Qp @ Rot
-    return pi, Qp
+    w0 = y[OMEGA_AT]
+    w1 = y[OMEGA_AT + 1]
+    w2 = y[OMEGA_AT + 2]
+    for r in range(3):
+        a = y[Q_AT + 3 * r]
+        b = y[Q_AT + 3 * r + 1]
+        c = y[Q_AT + 3 * r + 2]
+        out[Q_AT + 3 * r] = b * w2 - c * w1
+        out[Q_AT + 3 * r + 1] = c * w0 - a * w2
+        out[Q_AT + 3 * r + 2] = a * w1 - b * w0
+    d0, d1, d2 = omega_dot_principal(
+        body[MOMENTS], body[MOMENTS + 1], body[MOMENTS + 2],
+        body[INV_MOMENTS], body[INV_MOMENTS + 1], body[INV_MOMENTS + 2],
+        w0, w1, w2, tx, ty, tz,
+    )  # fmt: skip
+    out[OMEGA_AT] = d0
+    out[OMEGA_AT + 1] = d1
+    out[OMEGA_AT + 2] = d2
+    inv_mass = body[INV_MASS]
+    out[R_AT] = y[V_AT]
+    out[R_AT + 1] = y[V_AT + 1]
+    out[R_AT + 2] = y[V_AT + 2]
+    out[V_AT] = Fx * inv_mass
+    out[V_AT + 1] = Fy * inv_mass
+    out[V_AT + 2] = Fz * inv_mass
+    return d0, d1, d2
 
 
-def free_rotor_symmetric(moments, pi, Qp, h, axis):
-    """Exact torque-free flow of a symmetric rotor (two equal moments) over ``h``.
+@kernel(inline=True)
+def rigid_derivative(body, y, Fx, Fy, Fz, tx, ty, tz, out):
+    """``out = ẏ`` (18,) under the force ``F`` (space frame) and the torque ``τ`` about the
+    reference point (principal frame): :func:`free_rigid_derivative` for a free body; about a
+    pivot, ``R = P + Q c`` is slaved to the attitude and ``R̈ = Q (ω̇ × c + ω × (ω × c))``
+    (the pivot's reaction does the rest)."""
+    d0, d1, d2 = free_rigid_derivative(body, y, Fx, Fy, Fz, tx, ty, tz, out)
+    if body[HAS_PIVOT] != 0.0:
+        w0 = y[OMEGA_AT]
+        w1 = y[OMEGA_AT + 1]
+        w2 = y[OMEGA_AT + 2]
+        c0 = body[COM_OFFSET]
+        c1 = body[COM_OFFSET + 1]
+        c2 = body[COM_OFFSET + 2]
+        u0 = w1 * c2 - w2 * c1  # ω × c
+        u1 = w2 * c0 - w0 * c2
+        u2 = w0 * c1 - w1 * c0
+        a0 = d1 * c2 - d2 * c1 + w1 * u2 - w2 * u1  # ω̇ × c + ω × (ω × c)
+        a1 = d2 * c0 - d0 * c2 + w2 * u0 - w0 * u2
+        a2 = d0 * c1 - d1 * c0 + w0 * u1 - w1 * u0
+        for k in range(3):
+            row = Q_AT + 3 * k
+            out[V_AT + k] = y[row] * a0 + y[row + 1] * a1 + y[row + 2] * a2
 
-    With ``I_e`` the repeated moment and ``axis`` the distinct one,
-    ``H = |π|²/(2 I_e) + (1/I_axis − 1/I_e) π_axis²/2``; the two terms commute and each flow is
-    a rotation: about ``π`` itself by ``h|π|/I_e`` (``π`` fixed, ``Q ← Q exp(h π/I_e)``), and
-    about ``e_axis`` by ``θ = h (1/I_axis − 1/I_e) π_axis``. Their product is the exact flow
-    (for a spherical rotor the second term vanishes). A zero moment (a rod) has no spin flow.
+
+@kernel(inline=True)
+def project_onto_pivot(body, y):
+    """With a pivot, reset ``R = P + Q c`` and ``V = Q (ω × c)`` from the attitude, in place,
+    so that the pivot stays exactly fixed (no-op for a free body)."""
+    if body[HAS_PIVOT] == 0.0:
+        return
+    c0 = body[COM_OFFSET]
+    c1 = body[COM_OFFSET + 1]
+    c2 = body[COM_OFFSET + 2]
+    w0 = y[OMEGA_AT]
+    w1 = y[OMEGA_AT + 1]
+    w2 = y[OMEGA_AT + 2]
+    u0 = w1 * c2 - w2 * c1
+    u1 = w2 * c0 - w0 * c2
+    u2 = w0 * c1 - w1 * c0
+    for k in range(3):
+        q0 = y[Q_AT + 3 * k]
+        q1 = y[Q_AT + 3 * k + 1]
+        q2 = y[Q_AT + 3 * k + 2]
+        y[R_AT + k] = body[PIVOT + k] + q0 * c0 + q1 * c1 + q2 * c2
+        y[V_AT + k] = q0 * u0 + q1 * u1 + q2 * u2
+
+
+# --------------------------------------------------------------------------- energy, momentum
+@kernel
+def _rows(a, k):
+    return np.ascontiguousarray(np.asarray(a)).reshape((-1, k)).astype(np.float64)
+
+
+@kernel
+def rotational_energy(inertia, omega):
+    """Rotational kinetic energy ``½ ω·Aω`` (the ``k`` of eq. (30)). inertia (3, 3), omega
+    (..., 3) → (...)."""
+    omega = np.asarray(omega)
+    w = _rows(omega, 3)
+    out = np.empty(w.shape[0])
+    for i in range(w.shape[0]):
+        e = 0.0
+        for j in range(3):
+            for k in range(3):
+                e += w[i, j] * inertia[j, k] * w[i, k]
+        out[i] = 0.5 * e
+    return out.reshape(omega.shape[:-1])
+
+
+@kernel
+def kinetic_energy(inertia, mass, omega, V):
+    """Kinetic energy, eq. (12): ``K = ½ Aω·ω + ½ M |Ṙ|²`` (erratum corrected: the notebook
+    prints ``½ ω·ω``). inertia (3, 3) about the centre of mass, omega and V (..., 3) → (...)."""
+    V = np.asarray(V)
+    rot = rotational_energy(inertia, omega).ravel()
+    v = _rows(V, 3)
+    out = np.empty(v.shape[0])
+    for i in range(v.shape[0]):
+        out[i] = rot[i] + 0.5 * mass * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
+    return out.reshape(V.shape[:-1])
+
+
+@kernel
+def angular_momentum_body(inertia, omega):
+    """Angular momentum in the body frame, ``π = A ω``; its length is the ``a`` of eq. (31).
+    inertia (3, 3), omega (..., 3) → (..., 3)."""
+    omega = np.asarray(omega)
+    w = _rows(omega, 3)
+    out = np.empty_like(w)
+    for i in range(w.shape[0]):
+        for j in range(3):
+            out[i, j] = inertia[j, 0] * w[i, 0] + inertia[j, 1] * w[i, 1] + inertia[j, 2] * w[i, 2]
+    return out.reshape(omega.shape)
+
+
+@kernel
+def angular_momentum_com(inertia, Q, omega):
+    """Angular momentum about the centre of mass in the space frame, ``Q A ω`` (the first term
+    of eq. (03)). Q (n, 3, 3), omega (n, 3) → (n, 3)."""
+    pi = angular_momentum_body(inertia, omega)
+    out = np.empty_like(pi)
+    for i in range(pi.shape[0]):
+        for j in range(3):
+            out[i, j] = Q[i, j, 0] * pi[i, 0] + Q[i, j, 1] * pi[i, 1] + Q[i, j, 2] * pi[i, 2]
+    return out
+
+
+@kernel
+def angular_momentum(inertia, mass, R, V, Q, omega):
+    """Angular momentum about the space origin, eq. (03): ``L = Q A ω + M R × Ṙ``.
+    R, V, omega (n, 3), Q (n, 3, 3) → (n, 3)."""
+    out = angular_momentum_com(inertia, Q, omega)
+    for i in range(out.shape[0]):
+        out[i, 0] += mass * (R[i, 1] * V[i, 2] - R[i, 2] * V[i, 1])
+        out[i, 1] += mass * (R[i, 2] * V[i, 0] - R[i, 0] * V[i, 2])
+        out[i, 2] += mass * (R[i, 0] * V[i, 1] - R[i, 1] * V[i, 0])
+    return out
+
+
+@kernel
+def omega_space(Q, omega):
+    """Angular velocity in the space frame, ``Q ω``. Q (n, 3, 3), omega (n, 3) → (n, 3)."""
+    out = np.empty((omega.shape[0], 3))
+    for i in range(omega.shape[0]):
+        for j in range(3):
+            out[i, j] = (
+                Q[i, j, 0] * omega[i, 0] + Q[i, j, 1] * omega[i, 1] + Q[i, j, 2] * omega[i, 2]
+            )
+    return out
+
+
+@kernel
+def orthogonality_error(Q):
+    """``max |QᵀQ − I|`` per matrix: how far integration has taken Q off SO(3).
+    Q (n, 3, 3) → (n,)."""
+    out = np.empty(Q.shape[0])
+    for i in range(Q.shape[0]):
+        worst = 0.0
+        for a in range(3):
+            for b in range(3):
+                s = Q[i, 0, a] * Q[i, 0, b] + Q[i, 1, a] * Q[i, 1, b] + Q[i, 2, a] * Q[i, 2, b]
+                if a == b:
+                    s -= 1.0
+                worst = max(worst, abs(s))
+        out[i] = worst
+    return out
+
+
+# --------------------------------------------------------------------------- frames
+@kernel(inline=True)
+def state_to_principal_into(axes, y, out):
+    """A state from the body frame to the principal frame of ``axes`` (columns e1, e2, e3 in
+    body coordinates): ``Q_p = Q E``, ``ω_p = Eᵀ ω``; R and V unchanged."""
+    for k in range(3):
+        out[R_AT + k] = y[R_AT + k]
+        out[V_AT + k] = y[V_AT + k]
+        out[OMEGA_AT + k] = (
+            axes[0, k] * y[OMEGA_AT] + axes[1, k] * y[OMEGA_AT + 1] + axes[2, k] * y[OMEGA_AT + 2]
+        )
+    for r in range(3):
+        for k in range(3):
+            out[Q_AT + 3 * r + k] = (
+                y[Q_AT + 3 * r] * axes[0, k]
+                + y[Q_AT + 3 * r + 1] * axes[1, k]
+                + y[Q_AT + 3 * r + 2] * axes[2, k]
+            )
+
+
+@kernel(inline=True)
+def state_from_principal_into(axes, z, out):
+    """Inverse of :func:`state_to_principal_into`: ``Q = Q_p Eᵀ``, ``ω = E ω_p``."""
+    for k in range(3):
+        out[R_AT + k] = z[R_AT + k]
+        out[V_AT + k] = z[V_AT + k]
+        out[OMEGA_AT + k] = (
+            axes[k, 0] * z[OMEGA_AT] + axes[k, 1] * z[OMEGA_AT + 1] + axes[k, 2] * z[OMEGA_AT + 2]
+        )
+    for r in range(3):
+        for k in range(3):
+            out[Q_AT + 3 * r + k] = (
+                z[Q_AT + 3 * r] * axes[k, 0]
+                + z[Q_AT + 3 * r + 1] * axes[k, 1]
+                + z[Q_AT + 3 * r + 2] * axes[k, 2]
+            )
+
+
+@kernel
+def states_to_principal(axes, Y):
+    """States (n, 18) from the body frame to the principal frame of ``axes``."""
+    out = np.empty((Y.shape[0], STATE_SIZE))
+    for i in range(Y.shape[0]):
+        state_to_principal_into(axes, Y[i], out[i])
+    return out
+
+
+@kernel
+def states_from_principal(axes, Z):
+    """States (n, 18) from the principal frame of ``axes`` back to the body frame."""
+    out = np.empty((Z.shape[0], STATE_SIZE))
+    for i in range(Z.shape[0]):
+        state_from_principal_into(axes, Z[i], out[i])
+    return out
+
+
+# --------------------------------------------------------------------------- free rotor
+@kernel
+def rotor_code(moments, rtol):
+    """Which exact free-rotor flow applies to the ascending principal ``moments``: −1 for
+    three distinct moments (McLachlan's split), or the index of the symmetry axis (0 for a
+    prolate body or a rod, 2 for an oblate or spherical one)."""
+    code = symmetry_code(moments, rtol)
+    if code == 0:
+        return -1
+    if code == 1:
+        return 0
+    return 2
+
+
+@kernel(inline=True)
+def rotate_pair_into(axis, angle, z):
+    """The sub-flow of a rotation by ``angle`` about principal axis ``axis``, in place on the
+    momentum state ``z`` (the body momentum π in the ω slot): ``π ← Rotᵀ π``, ``Q ← Q Rot``."""
+    c = math.cos(angle)
+    s = math.sin(angle)
+    i = (axis + 1) % 3
+    j = (axis + 2) % 3
+    pi_i = z[OMEGA_AT + i]
+    pi_j = z[OMEGA_AT + j]
+    z[OMEGA_AT + i] = c * pi_i + s * pi_j
+    z[OMEGA_AT + j] = -s * pi_i + c * pi_j
+    for r in range(3):
+        qi = z[Q_AT + 3 * r + i]
+        qj = z[Q_AT + 3 * r + j]
+        z[Q_AT + 3 * r + i] = c * qi + s * qj
+        z[Q_AT + 3 * r + j] = -s * qi + c * qj
+
+
+@kernel(inline=True)
+def free_rotor_step_into(body, z, h, E, P):
+    """Advance the torque-free rotor by ``h``, in place, exactly or by a symmetric split.
+
+    ``z`` is the momentum state (π, the body angular momentum in principal axes, in the ω slot;
+    Q the attitude of the principal frame); the principal moments (ascending) and the flow to
+    use (:func:`rotor_code`) come from the body parameters. ``E``, ``P`` (3, 3) are work space.
+
+    * Symmetric rotor (symmetry axis s, ``I_e`` the repeated moment):
+      ``H = |π|²/(2 I_e) + (1/I_s − 1/I_e) π_s²/2``; both terms commute and each flow is a
+      rotation: about π itself by ``h|π|/I_e`` (``Q ← Q exp(h π/I_e)``) and about ``e_s`` by
+      ``h (1/I_s − 1/I_e) π_s``. Their product is the exact flow. A zero moment (a rod) has
+      no spin flow.
+    * Otherwise the symmetric composition ``H1(h/2) H2(h/2) H3(h) H2(h/2) H1(h/2)`` of the
+      exact flows of ``H_i = π_i²/(2 I_i)`` (McLachlan 1993, Phys. Rev. Lett. 71): second
+      order, symplectic, and it keeps ``|π|`` and the spatial momentum ``Q π`` exactly.
+      Axes with ``I_i = 0`` carry no flow.
     """
-    Ie = moments[(axis + 1) % 3]
-    Qp = Qp @ rodrigues(h * pi / Ie)
-    Ia = moments[axis]
-    if Ia > 0:
-        theta = h * (1.0 / Ia - 1.0 / Ie) * pi[axis]
-        Rot = axis_rotation(axis, theta)
-        pi = Rot.T @ pi
-        Qp = Qp @ Rot
-    return pi.copy(), Qp
+    rotor = int(body[ROTOR])
+    if rotor < 0:
+        for k in range(5):
+            axis = 0 if k == 0 or k == 4 else (1 if k == 1 or k == 3 else 2)
+            frac = 1.0 if k == 2 else 0.5
+            Ik = body[MOMENTS + axis]
+            if Ik > 0.0:
+                rotate_pair_into(axis, frac * h * z[OMEGA_AT + axis] / Ik, z)
+        return
+    s = rotor
+    Ie = body[MOMENTS + (s + 1) % 3]
+    c = h / Ie
+    exp_so3_into(c * z[OMEGA_AT], c * z[OMEGA_AT + 1], c * z[OMEGA_AT + 2], E)
+    for r in range(3):
+        for k in range(3):
+            P[r, k] = (
+                z[Q_AT + 3 * r] * E[0, k]
+                + z[Q_AT + 3 * r + 1] * E[1, k]
+                + z[Q_AT + 3 * r + 2] * E[2, k]
+            )
+    for r in range(3):
+        for k in range(3):
+            z[Q_AT + 3 * r + k] = P[r, k]
+    Is = body[MOMENTS + s]
+    if Is > 0.0:
+        rotate_pair_into(s, h * (1.0 / Is - 1.0 / Ie) * z[OMEGA_AT + s], z)
 
 
-def free_rotor_step(moments, pi, Qp, h, rtol=1e-12):
-    """Torque-free rotor step: exact for symmetric rotors, McLachlan's split otherwise.
+@kernel
+def free_rotor_step(moments, pi, Q, h):
+    """The torque-free rotor advanced by ``h`` (see :func:`free_rotor_step_into`): returns the
+    new ``(pi (3,), Q (3, 3))``; ``moments`` ascending, ``Q`` the principal frame's attitude.
 
-    ``moments`` ascending. Returns the new ``(pi, Qp)``; see :func:`free_rotor_symmetric` and
-    :func:`free_rotor_strang`.
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pi, Q = free_rotor_step(np.array([1.0, 2.0, 3.0]), np.array([0.0, 0.0, 3.0]),
+    ...                         np.eye(3), np.pi / 2)     # a steady spin about e3 at ω = 1
+    >>> np.round(Q @ [1.0, 0.0, 0.0], 12).tolist()
+    [0.0, 1.0, 0.0]
     """
-    scale = moments[2]
-    if moments[1] - moments[0] <= rtol * scale and moments[0] > 0:
-        return free_rotor_symmetric(moments, pi, Qp, h, 2)
-    if moments[2] - moments[1] <= rtol * scale:
-        return free_rotor_symmetric(moments, pi, Qp, h, 0)
-    return free_rotor_strang(moments, pi, Qp, h)
+    body = np.zeros(BODY_SIZE)
+    for k in range(3):
+        body[MOMENTS + k] = moments[k]
+    body[ROTOR] = rotor_code(moments, SYMMETRY_RTOL)
+    z = np.zeros(STATE_SIZE)
+    for k in range(3):
+        z[OMEGA_AT + k] = pi[k]
+        for j in range(3):
+            z[Q_AT + 3 * k + j] = Q[k, j]
+    free_rotor_step_into(body, z, h, np.empty((3, 3)), np.empty((3, 3)))
+    return z[OMEGA_AT : OMEGA_AT + 3].copy(), z[Q_AT : Q_AT + 9].copy().reshape((3, 3))

@@ -1,0 +1,123 @@
+"""Memory layouts shared by every module: the rigid-body state, the body's parameters as the
+compiled engine reads them, and the lowered forces.
+
+The state of one body is the flat 18-vector of the source notebook (THEORY.md §1, eqs (07)–(09))::
+
+    y = [R (3), V (3), Q (9, row-major), ω (3)]
+
+centre of mass and its velocity (space frame), attitude (body → space) and angular velocity
+(body frame). Everything that reads or writes a state uses the offsets and slices below, never
+literal numbers.
+
+Inside the compiled engine the same layout is used in the body's *principal* frame (the frame
+of the principal axes of the inertia about the reference point: the centre of mass, or the
+pivot): ``Q`` then maps principal axes to space and ω has principal components, so Euler's
+equation takes the component form (27)–(29). :mod:`poinsot.kernels.rigid` converts between the
+two frames.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .jit import kernel
+
+__all__ = [
+    "BODY_SIZE",
+    "COM_OFFSET",
+    "FORCE_KINDS",
+    "FORCE_PARAMS",
+    "HAS_PIVOT",
+    "INERTIA_COM",
+    "INV_MASS",
+    "INV_MOMENTS",
+    "MASS",
+    "MOMENTS",
+    "OMEGA_AT",
+    "PIVOT",
+    "Q_AT",
+    "ROTOR",
+    "R_AT",
+    "STATE_SIZE",
+    "STATE_SLICES",
+    "V_AT",
+    "pack_state",
+    "unpack_state",
+]
+
+# ------------------------------------------------------------------ the 18-component state
+STATE_SIZE = 18
+R_AT = 0  #: centre of mass, space frame (3)
+V_AT = 3  #: its velocity (3)
+Q_AT = 6  #: attitude, row-major (9)
+OMEGA_AT = 15  #: angular velocity, body (or principal) frame (3)
+
+#: Named blocks of a state, for NumPy code: ``y[..., STATE_SLICES["omega"]]``.
+STATE_SLICES = {
+    "R": slice(R_AT, R_AT + 3),
+    "V": slice(V_AT, V_AT + 3),
+    "Q": slice(Q_AT, Q_AT + 9),
+    "omega": slice(OMEGA_AT, OMEGA_AT + 3),
+}
+
+# ------------------------------------------------------------------ body parameters
+# One float vector per body, in the principal frame of the inertia about the reference point.
+MASS = 0  #: M
+INV_MASS = 1  #: 1/M
+MOMENTS = 2  #: principal moments about the reference point (3), zero on a degenerate line
+INV_MOMENTS = 5  #: their inverses (3), zero where the moment is zero (minimum-norm ω̇)
+COM_OFFSET = 8  #: c = centre of mass − reference point (3); zero for a free body
+INERTIA_COM = 11  #: inertia about the centre of mass (9, row-major; gravity gradient)
+PIVOT = 20  #: the fixed point in space (3), with a pivot
+HAS_PIVOT = 23  #: 1.0 when the body turns about a fixed point, else 0.0
+ROTOR = 24  #: free-rotor flow: -1 asymmetric, k in {0, 2} symmetric about axis k, 3 spherical
+BODY_SIZE = 25
+
+# ------------------------------------------------------------------ lowered forces
+#: Parameters per lowered force (rows of ``force_params``); see :mod:`poinsot.kernels.forces`.
+FORCE_PARAMS = 10
+#: Built-in force kinds: name → code of ``force_kind``.
+FORCE_KINDS = {
+    "gravity": 1,
+    "central_gravity": 2,
+    "spring": 3,
+    "linear_drag": 4,
+    "quadratic_drag": 5,
+    "point_force": 6,
+    "torque": 7,
+}
+
+
+@kernel
+def pack_state(R, V, Q, omega):
+    """The flat state from ``R`` (3,), ``V`` (3,), ``Q`` (3, 3) and ``omega`` (3,) → (18,).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pack_state(np.zeros(3), np.ones(3), np.eye(3), np.full(3, 2.0))[15:].tolist()
+    [2.0, 2.0, 2.0]
+    """
+    y = np.empty(STATE_SIZE)
+    for i in range(3):
+        y[R_AT + i] = R[i]
+        y[V_AT + i] = V[i]
+        y[OMEGA_AT + i] = omega[i]
+        for j in range(3):
+            y[Q_AT + 3 * i + j] = Q[i, j]
+    return y
+
+
+def unpack_state(y):
+    """Views ``R, V, Q, omega`` of states ``y`` (..., 18); ``Q`` has shape (..., 3, 3).
+
+    (Plain NumPy, not compiled: it returns views for any number of leading axes.)
+    """
+    y = np.asarray(y)
+    s = STATE_SLICES
+    return (
+        y[..., s["R"]],
+        y[..., s["V"]],
+        y[..., s["Q"]].reshape(*y.shape[:-1], 3, 3),
+        y[..., s["omega"]],
+    )
