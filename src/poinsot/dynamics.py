@@ -1,13 +1,16 @@
-"""The vector field of a rigid body under forces, free or about a fixed point (eqs (07)–(09)).
+"""One rigid body, its forces and an optional fixed point: the system the integrators step
+(``docs/theory.md`` §1, eqs (07)–(09)).
 
-:class:`RigidBodySystem` is the "term" the integrators step: it knows the body, its forces and
-an optional pivot, and evaluates
+:class:`RigidBodySystem` holds no formula. It prepares what the kernels need:
 
-* ``M R̈ = F`` (07) for a free body, or ``R = P + Q c`` for a body turning about the fixed point
-  ``P`` (``c`` the centre of mass relative to the pivot, body frame);
-* ``A ω̇ + ω × Aω = τ`` (08), with ``A`` and ``τ`` about the centre of mass (free body) or the
-  pivot;
-* ``Q̇ = Q Ω`` (09).
+* the reference point (the centre of mass, or the pivot) and the principal frame of the inertia
+  about it, in which the compiled engine integrates (Euler's equation then takes its component
+  form (27)–(29); states are converted to and from the body frame at the boundary);
+* the forces, lowered once to arrays (:meth:`~poinsot.forces.Force.lower`); the forces
+  themselves are never modified;
+* :meth:`RigidBodySystem.compiled_system`, the named tuple of arrays the compiled engine runs,
+  and :meth:`RigidBodySystem.python_system`, the same physics evaluated from Python, for forces
+  given by Python callables (the slow path).
 
 It also builds initial states, including the notebook's rules from particle velocities.
 """
@@ -20,10 +23,19 @@ from typing import ClassVar
 import numpy as np
 
 from ._validation import as_array, as_rotation_matrix, as_vector3
-from .forces import Force, ForceContext
+from .forces import BodyFrame, Force, ForceContext
 from .kernels import inertia as kin_inertia
-from .kernels import rigid
-from .kernels.so3 import hat
+from .kernels import layout
+from .kernels.forces import builtin_potential, builtin_wrench
+from .kernels.rigid import (
+    project_onto_pivot,
+    rigid_derivative,
+    rotor_code,
+    shift_torque_to_pivot,
+    states_from_principal,
+    states_to_principal,
+)
+from .kernels.systems import RigidSystem, TorqueFreeSystem
 
 __all__ = ["DegenerateBodyWarning", "RigidBodySystem", "rigid_velocity_from_particles"]
 
@@ -44,15 +56,17 @@ class RigidBodySystem:
     forces : sequence of Force
     pivot : array_like (3,), optional
         A body point (reference configuration) held fixed in space.
+
+    Attributes
+    ----------
+    inertia : (3, 3) about the reference point (the pivot, or the centre of mass), body frame.
+    principal_moments, principal_axes : of ``inertia`` (ascending; columns, right-handed); the
+        moment along a degenerate body's line is set to exactly zero.
+    c : (3,) the centre of mass seen from the reference point, body frame.
     """
 
     #: Names of the blocks of the flat state, for diagnostics.
-    state_slices: ClassVar[dict[str, slice]] = {
-        "R": slice(0, 3),
-        "V": slice(3, 6),
-        "Q": slice(6, 15),
-        "omega": slice(15, 18),
-    }
+    state_slices: ClassVar[dict[str, slice]] = layout.STATE_SLICES
 
     def __init__(self, body, forces=(), pivot=None):
         self.body = body
@@ -63,7 +77,7 @@ class RigidBodySystem:
                     f"`forces[{i}]` must be a poinsot Force (e.g. Gravity, ParticleForce, "
                     f"CustomForce), found {type(f).__name__}"
                 )
-            f.bind(body)
+            f.check(body)
         self.mass = body.mass
         if pivot is None:
             self.pivot = None
@@ -73,18 +87,36 @@ class RigidBodySystem:
             self.pivot = as_vector3(pivot, "pivot")
             self.c = body.center_of_mass - self.pivot
             self.inertia = body.inertia_about(self.pivot)
-        moments, axes = kin_inertia.principal_decomposition(self.inertia)  # right-handed axes
+        moments, axes = kin_inertia.principal_decomposition(self.inertia)
+        self.degenerate = bool(kin_inertia.is_degenerate(moments, kin_inertia.DEGENERATE_RTOL))
+        if self.degenerate:  # minimum-norm dynamics: no spin acceleration about the line
+            moments = np.where(moments <= kin_inertia.DEGENERATE_RTOL * moments[2], 0.0, moments)
         self.principal_moments = moments
         self.principal_axes = axes
-        self.degenerate = bool(moments[0] <= 1e-12 * max(moments[2], 1e-300))
-        if self.degenerate:
-            # minimum-norm solution: no angular acceleration about the body's line
-            self.inertia_inv = np.linalg.pinv(self.inertia, rcond=1e-12, hermitian=True)
-            self.principal_moments = np.where(moments <= 1e-12 * moments[2], 0.0, moments)
-        else:
-            self.inertia_inv = np.linalg.inv(self.inertia)
+        E = axes
+        frame = BodyFrame(body.center_of_mass, E)
+        builtin = [f for f in self.forces if f.compiled]
+        self.python_forces = tuple(f for f in self.forces if not f.compiled)
+        self.force_kind = np.array([layout.FORCE_KINDS[f.kind] for f in builtin], dtype=np.int64)
+        self.force_params = np.array([f.lower(frame) for f in builtin]).reshape(
+            -1, layout.FORCE_PARAMS
+        )
+        self._body_params = layout.body_vector(
+            float(body.mass),
+            moments,
+            E.T @ self.c,
+            E.T @ np.asarray(body.inertia) @ E,
+            np.zeros(3),
+            self.pivot is not None,
+            float(rotor_code(moments, kin_inertia.SYMMETRY_RTOL)),
+        )
 
-    # ----------------------------------------------------------------- evaluation
+    # ----------------------------------------------------------------- properties
+    @property
+    def compiled(self) -> bool:
+        """True when every force is built-in: the whole run is one compiled call."""
+        return not self.python_forces
+
     @property
     def position_only(self) -> bool:
         """True when every force is position-only (the splitting integrator applies)."""
@@ -92,74 +124,118 @@ class RigidBodySystem:
 
     @property
     def has_potential(self) -> bool:
+        """True when every force has a potential (``K + U`` is reported)."""
         return all(f.has_potential for f in self.forces)
 
+    @property
+    def conservative(self) -> bool:
+        """True when every force is conservative: total energy is a constant of the motion."""
+        return all(f.conservative for f in self.forces)
+
+    @property
+    def inertia_inv(self) -> np.ndarray:
+        """Inverse (pseudo-inverse for a degenerate body) of :attr:`inertia`."""
+        E = self.principal_axes
+        inv = np.array([1.0 / m if m != 0 else 0.0 for m in self.principal_moments])
+        return E @ np.diag(inv) @ E.T
+
+    # ----------------------------------------------------------------- frames
+    def to_internal(self, y) -> np.ndarray:
+        """States (n, 18) (or one state (18,)) from the body frame to the principal frame."""
+        y = np.asarray(y, dtype=float)
+        return states_to_principal(self.principal_axes, np.atleast_2d(y)).reshape(y.shape)
+
+    def from_internal(self, z) -> np.ndarray:
+        """States (or their time derivatives) from the principal frame to the body frame."""
+        z = np.asarray(z, dtype=float)
+        return states_from_principal(self.principal_axes, np.atleast_2d(z)).reshape(z.shape)
+
+    def pivot_point(self, y) -> np.ndarray:
+        """The fixed point ``P = R − Q c`` in space, from a body-frame state (with a pivot)."""
+        R, _, Q, _ = layout.unpack_state(np.asarray(y, dtype=float))
+        return R - Q @ self.c
+
+    def body_parameters(self, pivot_point=None) -> np.ndarray:
+        """The body's parameter vector for the engine, with the pivot held at ``pivot_point``."""
+        params = self._body_params.copy()
+        if self.pivot is not None:
+            params[layout.PIVOT : layout.PIVOT + 3] = pivot_point
+        return params
+
+    def compiled_system(self, y0):
+        """The named tuple of arrays the compiled engine integrates, from the initial
+        body-frame state ``y0`` (which fixes where the pivot is in space)."""
+        params = self.body_parameters(self.pivot_point(y0) if self.pivot is not None else None)
+        if self.pivot is None and not len(self.force_kind):
+            return TorqueFreeSystem(params)
+        return RigidSystem(params, self.force_kind, self.force_params)
+
+    def python_system(self, y0):
+        """The same physics evaluated from Python, for the Python backend (Python forces)."""
+        return _PythonRigidSystem(self, self.compiled_system(y0))
+
+    # ----------------------------------------------------------------- body-frame evaluation
     def context(self, t, R, V, Q, omega) -> ForceContext:
         return ForceContext(self.body, t, R, V, Q, omega)
 
     def wrench(self, t, R, V, Q, omega):
-        """Total force (space) and torque (body frame) about the reference point.
+        """Total force (space) and torque (body frame) about the reference point, at a
+        body-frame state: ``τ_P = τ_G + c × Qᵀ F`` with a pivot."""
+        y = layout.pack_state(
+            as_vector3(R, "R"), as_vector3(V, "V"), np.asarray(Q, float), as_vector3(omega, "w")
+        )
+        system = self.python_system(y)
+        w = system.wrench(float(t), self.to_internal(y))
+        E = self.principal_axes
+        return np.array(w[:3]), E @ np.array(w[3:])
 
-        The reference point is the centre of mass, or the pivot when there is one:
-        ``τ_P = τ_G + c × Qᵀ F``.
-        """
-        F = np.zeros(3)
-        tau = np.zeros(3)
-        if self.forces:
-            ctx = self.context(t, R, V, Q, omega)
-            for f in self.forces:
-                Fi, ti = f.wrench(ctx)
-                F = F + Fi
-                tau = tau + ti
-        if self.pivot is not None:
-            tau = tau + np.cross(self.c, Q.T @ F)
-        return F, tau
+    def rhs(self, t, y) -> np.ndarray:
+        """Time derivative of the body-frame 18-state ``[R, V, Q, ω]``: eqs (07)–(09)."""
+        y = np.asarray(y, dtype=float)
+        system = self.python_system(y)
+        out = np.empty(layout.STATE_SIZE)
+        system.vector_field(float(t), self.to_internal(y), out)
+        return self.from_internal(out)
 
-    def omega_dot(self, tau, omega):
-        return rigid.euler_omega_dot(self.inertia, self.inertia_inv, omega, tau)
+    def potential_energies(self, t, Y) -> np.ndarray:
+        """Total potential energy of the forces at samples ``t`` (n,), body-frame ``Y`` (n, 18):
+        built-in forces by the compiled kernels, Python forces by their own ``potential``."""
+        from .kernels.forces import potential_energies
 
-    def rhs(self, t, y):
-        """Time derivative of the flat 18-state ``[R, V, Q, ω]``."""
-        R, V, Q, omega = rigid.unpack_state(y)
-        F, tau = self.wrench(t, R, V, Q, omega)
-        wdot = self.omega_dot(tau, omega)
-        if self.pivot is None:
-            acc = F / self.mass
-        else:  # R = P + Q c  ⇒  R̈ = Q (ω̇ × c + ω × (ω × c))
-            acc = Q @ (np.cross(wdot, self.c) + np.cross(omega, np.cross(omega, self.c)))
-        dy = np.empty(rigid.STATE_SIZE)
-        dy[0:3] = V
-        dy[3:6] = acc
-        dy[6:15] = (Q @ hat(omega)).reshape(9)
-        dy[15:18] = wdot
-        return dy
+        t = np.asarray(t, dtype=float)
+        Y = np.asarray(Y, dtype=float)
+        if not len(t):
+            return np.zeros(0)
+        params = self.body_parameters(self.pivot_point(Y[0]) if self.pivot is not None else None)
+        out = potential_energies(self.force_kind, self.force_params, params, t, self.to_internal(Y))
+        for f in self.python_forces:
+            if f.has_potential:
+                for i in range(len(t)):
+                    R, V, Q, w = layout.unpack_state(Y[i])
+                    out[i] += f.potential(self.context(t[i], R, V, Q, w))
+        return out
 
-    def pivot_point(self, y) -> np.ndarray:
-        """The fixed point ``P = R − Q c`` in space (only with a pivot)."""
-        R, _, Q, _ = rigid.unpack_state(y)
-        return R - Q @ self.c
-
+    # ----------------------------------------------------------------- constraint
     def projector(self, y0):
-        """``None`` for a free body; with a pivot, a map ``y ↦ y`` that resets ``R, V`` from
-        ``Q, ω`` with the pivot held where it is in ``y0`` (used by the integrators)."""
+        """``None`` for a free body; with a pivot, a map ``y ↦ y`` (body frame) that resets
+        ``R, V`` from ``Q, ω`` with the pivot held where it is in ``y0``."""
         if self.pivot is None:
             return None
         point = self.pivot_point(y0)
         return lambda y, t=None: self.constrain(y, point)
 
     def constrain(self, y, pivot_point) -> np.ndarray:
-        """With a pivot, reset ``R, V`` from ``Q, ω`` so the pivot stays exactly fixed."""
+        """With a pivot, reset ``R, V`` of a body-frame state from ``Q, ω`` so that the pivot
+        stays exactly at ``pivot_point``."""
         if self.pivot is None:
-            return y
-        y = y.copy()
-        _, _, Q, omega = rigid.unpack_state(y)
-        y[0:3] = pivot_point + Q @ self.c
-        y[3:6] = Q @ np.cross(omega, self.c)
-        return y
+            return np.array(y, dtype=float)
+        z = self.to_internal(y)
+        project_onto_pivot(self.body_parameters(pivot_point), z)
+        return self.from_internal(z)
 
     # ----------------------------------------------------------------- initial state
     def initial_state(self, *, omega0, Q0=None, R0=None, V0=None, omega_frame="body"):
-        """The flat initial state.
+        """The flat body-frame initial state.
 
         ``Q0`` defaults to the identity. Free body: ``R0`` defaults to the body's centre of mass
         and ``V0`` to zero. With a pivot the pivot stays where the body has it (``R0`` then sets
@@ -190,11 +266,66 @@ class RigidBodySystem:
                     stacklevel=3,
                 )
                 w = w - spin * line
-        return rigid.pack_state(R, V, Q, w)
+        return layout.pack_state(R, V, Q, w)
+
+
+class _PythonRigidSystem:
+    """A rigid system evaluated from Python (the Python backend): the built-in forces through
+    the compiled kernels, the user's Python forces through their callables, at the body-frame
+    state they expect. It offers the generic system interface of
+    :mod:`poinsot.kernels.systems` as methods."""
+
+    def __init__(self, owner: RigidBodySystem, data):
+        self.owner = owner
+        self.data = data
+        self.body = data.body
+        self.axes = owner.principal_axes
+        self._forces = owner.python_forces
+
+    def state_size(self, y):
+        return layout.STATE_SIZE
+
+    def body_parameters(self):
+        return self.body
+
+    def wrench(self, t, y):
+        owner = self.owner
+        if len(owner.force_kind):
+            Fx, Fy, Fz, tx, ty, tz = builtin_wrench(
+                owner.force_kind, owner.force_params, self.body, t, y
+            )
+        else:
+            Fx = Fy = Fz = tx = ty = tz = 0.0
+        if self._forces:
+            R, V, Qp, wp = layout.unpack_state(y)
+            E = self.axes
+            ctx = ForceContext(owner.body, t, R.copy(), V.copy(), Qp @ E.T, E @ wp)
+            F = np.array([Fx, Fy, Fz])
+            tau = np.array([tx, ty, tz])
+            for f in self._forces:
+                Fi, ti = f.python_wrench(ctx)
+                F = F + Fi
+                tau = tau + E.T @ ti
+            Fx, Fy, Fz = (float(v) for v in F)
+            tx, ty, tz = (float(v) for v in tau)
+        tx, ty, tz = shift_torque_to_pivot(self.body, y, Fx, Fy, Fz, tx, ty, tz)
+        return Fx, Fy, Fz, tx, ty, tz
+
+    def vector_field(self, t, y, out):
+        Fx, Fy, Fz, tx, ty, tz = self.wrench(t, y)
+        rigid_derivative(self.body, y, Fx, Fy, Fz, tx, ty, tz, out)
+
+    def project(self, t, y):
+        project_onto_pivot(self.body, y)
+        return self.owner.pivot is not None
+
+    def potential(self, t, y):
+        U = builtin_potential(self.owner.force_kind, self.owner.force_params, self.body, t, y)
+        return float(U)
 
 
 def rigid_velocity_from_particles(body, velocities):
-    """``(V0, omega0)`` from particle velocities by the notebook's rules (THEORY.md §1).
+    """``(V0, omega0)`` from particle velocities by the notebook's rules (``docs/theory.md`` §1).
 
     ``Ṙ(0) = Σ m_i ṙ_i / M`` and ``A ω(0) = L(0) − M R(0) × Ṙ(0)``, ``L(0) = Σ m_i r_i × ṙ_i``,
     with the particles at their reference positions (``Q(0) = I``). Velocities that are not a

@@ -1,16 +1,26 @@
-"""Forces and torques on a rigid body (THEORY.md §1, eqs (07)–(08)).
+"""Forces and torques on a rigid body, as immutable descriptions (``docs/theory.md`` §1, eqs
+(07)–(08)).
 
-Every force reports, at a state ``(t, R, V, Q, ω)``, its **wrench**: the total force ``F``
-in the space frame and its torque ``τ`` about the **centre of mass** in the **body frame**.
-The simulator adds the wrenches, shifts torques to the pivot when there is one, and solves
-``M R̈ = F`` (07) and ``A ω̇ + ω × Aω = τ`` (08) with ``τ = Σ u_i × Qᵀ F_i``.
+A force is data: a kind and its parameters. It never changes once built, and preparing it for a
+body — :meth:`Force.lower` — returns a *new* row of numbers, the lowered force that the compiled
+engine reads (:mod:`poinsot.kernels.forces` holds every formula). The same force can therefore
+act on several bodies, in several systems, at once.
 
-Two flags describe what a force allows:
+At a state ``(t, R, V, Q, ω)`` a force has a **wrench**: the total force ``F`` in the space frame
+and its torque ``τ`` about the **centre of mass** in the **body frame**. The simulator adds the
+wrenches, shifts torques to the pivot when there is one, and solves ``M R̈ = F`` (07) and
+``A ω̇ + ω × Aω = τ`` (08), ``τ = Σ u_i × Qᵀ F_i``.
 
-* ``position_only``: the wrench depends on ``(t, R, Q)`` alone, not on velocities, so the
-  force can be applied as a *kick* in the symplectic splitting integrator;
-* ``has_potential``: the force derives from a potential ``U(t, R, Q)``
-  (:meth:`Force.potential`) and total energy ``K + U`` can be reported.
+Flags:
+
+* ``position_only``: the wrench depends on ``(t, R, Q)`` alone, so the force can act as a kick
+  in the symplectic splitting integrator;
+* ``has_potential``: there is a potential ``U`` (:meth:`Force.potential`), and ``K + U`` is
+  reported; ``dissipative``: the force also removes energy (a damper, drag);
+  ``conservative = has_potential and not dissipative``: total energy is then conserved.
+* ``compiled``: a built-in kind the compiled engine evaluates. Forces given by Python callables
+  (:class:`ParticleForce`, :class:`CustomForce`, a :class:`PointForce` or :class:`Torque` with a
+  callable) run on the Python path, the slow one: each right-hand side then calls Python.
 
 Body points are given in the body's reference configuration (the frame in which the
 :class:`~poinsot.bodies.RigidBody` was built); at attitude ``Q`` the point ``p`` sits at
@@ -20,12 +30,15 @@ Body points are given in the body's reference configuration (the frame in which 
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import ClassVar
 
 import numpy as np
 
 from ._validation import as_positive_scalar, as_scalar, as_vector3
+from .kernels.layout import FORCE_KINDS, FORCE_PARAMS
 
 __all__ = [
+    "BodyFrame",
     "CentralGravity",
     "CustomForce",
     "Force",
@@ -40,17 +53,37 @@ __all__ = [
     "Torque",
 ]
 
-_ZERO = np.zeros(3)
-
 
 class ForceError(ValueError):
     """A force (usually a user callable) returned something unusable."""
 
 
+class BodyFrame:
+    """Where a body's points and body-fixed vectors go when a force is lowered: relative to the
+    centre of mass ``center_of_mass`` (3,), in the frame whose axes are the columns of ``axes``
+    (3, 3) in body coordinates (the principal axes inside the engine; the identity for the
+    body's own frame)."""
+
+    __slots__ = ("axes", "center_of_mass")
+
+    def __init__(self, center_of_mass, axes=None):
+        self.center_of_mass = np.asarray(center_of_mass, dtype=float)
+        self.axes = np.eye(3) if axes is None else np.asarray(axes, dtype=float)
+
+    def point(self, p) -> np.ndarray:
+        """Coordinates of the body point ``p`` (reference configuration) from the centre of
+        mass, in this frame."""
+        return self.axes.T @ (np.asarray(p, dtype=float) - self.center_of_mass)
+
+    def vector(self, v) -> np.ndarray:
+        """Components of the body-fixed vector ``v`` in this frame."""
+        return self.axes.T @ np.asarray(v, dtype=float)
+
+
 class ForceContext:
-    """The state a force sees: time, centre of mass ``R``, its velocity ``V`` (space frame),
-    attitude ``Q`` and body angular velocity ``omega``, plus the body. Particle positions and
-    velocities are computed on first use."""
+    """The state a Python force sees: time, centre of mass ``R``, its velocity ``V`` (space
+    frame), attitude ``Q`` and body angular velocity ``omega``, plus the body. Particle
+    positions and velocities are computed on first use."""
 
     __slots__ = ("Q", "R", "V", "_r", "_v", "body", "omega", "t")
 
@@ -80,38 +113,116 @@ class ForceContext:
             self._v = np.cross(self.omega, self.body.u) @ self.Q.T + self.V
         return self._v
 
+    def state(self) -> np.ndarray:
+        """The flat 18-state ``[R, V, Q, ω]`` (body frame)."""
+        from .kernels.layout import pack_state
+
+        return pack_state(self.R, self.V, self.Q, self.omega)
+
+
+def _readonly(a) -> np.ndarray:
+    a = np.array(a, dtype=float)
+    a.flags.writeable = False
+    return a
+
 
 class Force:
-    """Base class: subclasses implement :meth:`wrench` and, if conservative, :meth:`potential`.
+    """Base class of forces: an immutable description.
 
-    Attributes
-    ----------
-    position_only : bool
-        True when the wrench depends on ``(t, R, Q)`` only (splitting kicks allowed).
-    has_potential : bool
-        True when :meth:`potential` is implemented.
+    Built-in kinds set :attr:`kind` (a key of :data:`~poinsot.kernels.layout.FORCE_KINDS`)
+    and implement :meth:`lower`; forces given by Python callables implement
+    :meth:`python_wrench` (and :meth:`python_potential`) instead.
     """
 
+    kind: ClassVar[str | None] = None
     position_only: bool = False
     has_potential: bool = False
+    dissipative: bool = False
+
+    def _freeze(self, **values):
+        for name, value in values.items():
+            object.__setattr__(self, name, value)
+
+    def __setattr__(self, name, value):
+        raise AttributeError(
+            f"{type(self).__name__} is immutable: build a new force instead of setting {name!r}"
+        )
 
     @property
     def name(self) -> str:
         return type(self).__name__
 
-    def bind(self, body) -> None:
-        """Check the force applies to ``body`` (called once, before integration)."""
+    @property
+    def compiled(self) -> bool:
+        """True when the compiled engine evaluates this force (a built-in kind)."""
+        return self.kind is not None
+
+    @property
+    def conservative(self) -> bool:
+        """True when the force has a potential and dissipates nothing (``K + U`` is kept)."""
+        return self.has_potential and not self.dissipative
+
+    def check(self, body) -> None:
+        """Refuse a body this force cannot act on (raises ``ValueError``)."""
+
+    def lower(self, frame: BodyFrame) -> np.ndarray:
+        """The force's parameters for the compiled engine, a new array (FORCE_PARAMS,), with body
+        points and body-fixed vectors expressed in ``frame``. The force itself is unchanged."""
+        raise NotImplementedError(f"{self.name} is evaluated in Python, it has no lowered form")
 
     def wrench(self, ctx: ForceContext) -> tuple[np.ndarray, np.ndarray]:
-        """``(F (3,) space frame, τ (3,) body frame about the centre of mass)``."""
-        raise NotImplementedError
+        """``(F (3,) space frame, τ (3,) body frame about the centre of mass)`` at ``ctx``."""
+        if not self.compiled:
+            return self.python_wrench(ctx)
+        from .kernels.forces import force_wrench
+
+        body_params, frame = _body_frame_parameters(ctx.body)
+        return force_wrench(
+            FORCE_KINDS[self.kind], self.lower(frame), body_params, float(ctx.t), ctx.state()
+        )
 
     def potential(self, ctx: ForceContext) -> float:
         """Potential energy ``U``, defined up to a constant."""
-        raise NotImplementedError(f"{self.name} has no potential")
+        if not self.has_potential:
+            raise NotImplementedError(f"{self.name} has no potential")
+        if not self.compiled:
+            return self.python_potential(ctx)
+        from .kernels.forces import force_potential_of
+
+        body_params, frame = _body_frame_parameters(ctx.body)
+        return float(
+            force_potential_of(
+                FORCE_KINDS[self.kind], self.lower(frame), body_params, float(ctx.t), ctx.state()
+            )
+        )
+
+    def python_wrench(self, ctx):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def python_potential(self, ctx):  # pragma: no cover - abstract
+        raise NotImplementedError
 
     def __repr__(self) -> str:
         return self.name
+
+
+def _body_frame_parameters(body):
+    """The parameter vector of a free body in its own frame (identity axes), for evaluating one
+    force outside the engine."""
+    from .kernels.layout import body_vector
+
+    inertia = np.asarray(body.inertia, dtype=float)
+    params = body_vector(
+        float(body.mass), np.diag(inertia).copy(), np.zeros(3), inertia, np.zeros(3), False, -1
+    )
+    return params, BodyFrame(body.center_of_mass)
+
+
+def _row(*values) -> np.ndarray:
+    row = np.zeros(FORCE_PARAMS)
+    flat = np.concatenate([np.atleast_1d(np.asarray(v, dtype=float)) for v in values])
+    row[: flat.size] = flat
+    return row
 
 
 def _check_output(value, shape, force: Force, what: str) -> np.ndarray:
@@ -125,12 +236,13 @@ def _check_output(value, shape, force: Force, what: str) -> np.ndarray:
     return arr
 
 
-def _vector_or_callable(value, name: str):
-    if callable(value):
-        return value
-    return as_vector3(value, name)
+def _frame_name(frame: str) -> str:
+    if frame not in ("space", "body"):
+        raise ValueError(f"`frame` must be 'space' or 'body', found {frame!r}")
+    return frame
 
 
+# --------------------------------------------------------------------------- built-in kinds
 class Gravity(Force):
     """Uniform gravity ``g`` (3,): ``F = M g`` at the centre of mass, no torque about it.
 
@@ -142,17 +254,15 @@ class Gravity(Force):
     [0.0, 0.0, -9.8]
     """
 
+    kind = "gravity"
     position_only = True
     has_potential = True
 
     def __init__(self, g=(0.0, 0.0, -9.81)):
-        self.g = as_vector3(g, "g")
+        self._freeze(g=_readonly(as_vector3(g, "g")))
 
-    def wrench(self, ctx):
-        return ctx.body.mass * self.g, _ZERO
-
-    def potential(self, ctx):
-        return -ctx.body.mass * float(self.g @ ctx.R)
+    def lower(self, frame):
+        return _row(self.g)
 
     def __repr__(self):
         return f"Gravity(g={self.g.tolist()})"
@@ -165,93 +275,97 @@ class CentralGravity(Force):
     ``U = −μM/r − μ/(2r³) (tr A − 3 n̂·A n̂)``, ``n̂`` the unit vector from the centre to the
     body, in body axes. The torque about the centre of mass is ``τ = 3μ/r³ n̂ × (A n̂)`` (the
     gravity-gradient torque); the force is ``−∇U`` of the same expression, so total energy is
-    conserved exactly by the model.
+    conserved exactly by the model. See :func:`poinsot.kernels.forces.central_gravity_wrench`.
     """
 
+    kind = "central_gravity"
     position_only = True
     has_potential = True
 
     def __init__(self, mu, center=(0.0, 0.0, 0.0), *, gradient: bool = True):
-        self.mu = as_positive_scalar(mu, "mu")
-        self.center = as_vector3(center, "center")
-        self.gradient = bool(gradient)
-
-    def wrench(self, ctx):
-        rv = ctx.R - self.center
-        r2 = float(rv @ rv)
-        if r2 == 0:
-            raise ForceError("force CentralGravity: the body's centre of mass is at the centre")
-        r = np.sqrt(r2)
-        mu, M = self.mu, ctx.body.mass
-        F = -mu * M * rv / (r2 * r)
-        if not self.gradient:
-            return F, _ZERO
-        A = ctx.body.inertia
-        As = ctx.Q @ A @ ctx.Q.T
-        rAr = float(rv @ As @ rv)
-        F = F - (
-            1.5 * mu * np.trace(A) * rv / r**5
-            + 3.0 * mu * (As @ rv) / r**5
-            - 7.5 * mu * rAr * rv / r**7
+        self._freeze(
+            mu=as_positive_scalar(mu, "mu"),
+            center=_readonly(as_vector3(center, "center")),
+            gradient=bool(gradient),
         )
-        n = ctx.Q.T @ rv / r
-        tau = 3.0 * mu / (r2 * r) * np.cross(n, A @ n)
-        return F, tau
 
-    def potential(self, ctx):
-        rv = ctx.R - self.center
-        r = float(np.linalg.norm(rv))
-        U = -self.mu * ctx.body.mass / r
-        if self.gradient:
-            A = ctx.body.inertia
-            n = ctx.Q.T @ rv / r
-            U -= self.mu / (2 * r**3) * (np.trace(A) - 3.0 * float(n @ A @ n))
-        return U
+    def lower(self, frame):
+        return _row(self.mu, self.center, float(self.gradient))
+
+    def __repr__(self):
+        return f"CentralGravity(mu={self.mu:g}, center={self.center.tolist()})"
 
 
-class ParticleForce(Force):
-    """Forces on every particle from one callable ``func(t, r, v) → F``, arrays (N, 3).
+class Spring(Force):
+    """A linear spring (or elastic tether) from a body point to a fixed anchor in space.
 
-    The total force is ``Σ F_i`` and the torque ``Σ u_i × Qᵀ F_i`` (eq. (08)). Needs a body
-    built from particles. ``position_only=True`` declares that ``func`` ignores ``v`` (enables
-    the splitting integrator).
-
-    Examples
-    --------
-    The notebook's gravity, particle by particle:
-
-    >>> import numpy as np
-    >>> from poinsot import RigidBody
-    >>> body = RigidBody.from_particles([1.0, 2.0], [[0, 0, 0], [1, 0, 0]])
-    >>> f = ParticleForce(lambda t, r, v: np.outer([1.0, 2.0], [0, 0, -9.8]), name="weight")
-    >>> f.name
-    'weight'
+    Tension ``T = k (ℓ − ℓ₀) + c ℓ̇`` along the spring, ``ℓ`` its length; a ``tether`` goes
+    slack (no force) when ``ℓ < ℓ₀``. ``U = ½ k (ℓ − ℓ₀)²`` (zero while a tether is slack).
+    Damping ``c > 0`` makes the force velocity-dependent and dissipative: the potential is still
+    that of the elastic part, but the spring is no longer conservative.
     """
 
-    def __init__(self, func: Callable, *, name: str | None = None, position_only: bool = False):
-        if not callable(func):
-            raise TypeError(f"`func` must be callable, found {type(func).__name__}")
-        self.func = func
-        self._name = name or getattr(func, "__name__", "ParticleForce")
-        self.position_only = bool(position_only)
+    kind = "spring"
+    has_potential = True
 
-    @property
-    def name(self):
-        return self._name
-
-    def bind(self, body):
-        if not body.has_particles:
-            raise ValueError(f"force {self.name}: ParticleForce needs a body built from particles")
-
-    def wrench(self, ctx):
-        u = ctx.body.u
-        F_i = _check_output(
-            self.func(ctx.t, ctx.particle_positions, ctx.particle_velocities),
-            u.shape,
-            self,
-            "particle forces",
+    def __init__(
+        self, point, anchor, stiffness, rest_length=0.0, *, damping=0.0, tether: bool = False
+    ):
+        rest = as_scalar(rest_length, "rest_length")
+        if rest < 0:
+            raise ValueError(f"`rest_length` must be ≥ 0, found {rest}")
+        damping = as_scalar(damping, "damping")
+        if damping < 0:
+            raise ValueError(f"`damping` must be ≥ 0, found {damping}")
+        self._freeze(
+            point=_readonly(as_vector3(point, "point")),
+            anchor=_readonly(as_vector3(anchor, "anchor")),
+            stiffness=as_positive_scalar(stiffness, "stiffness"),
+            rest_length=rest,
+            damping=damping,
+            tether=bool(tether),
+            position_only=damping == 0,
+            dissipative=damping > 0,
         )
-        return F_i.sum(axis=0), np.cross(u, F_i @ ctx.Q).sum(axis=0)
+
+    def lower(self, frame):
+        return _row(
+            frame.point(self.point),
+            self.anchor,
+            self.stiffness,
+            self.rest_length,
+            self.damping,
+            float(self.tether),
+        )
+
+
+class _Drag(Force):
+    """Drag with a translational ``coefficient`` (on the centre of mass) and a ``rotational``
+    one (a torque against ω), both ≥ 0."""
+
+    dissipative = True
+
+    def __init__(self, coefficient, rotational=0.0):
+        c = as_scalar(coefficient, "coefficient")
+        r = as_scalar(rotational, "rotational")
+        if c < 0 or r < 0:
+            raise ValueError("drag coefficients `coefficient` and `rotational` must be ≥ 0")
+        self._freeze(coefficient=c, rotational=r)
+
+    def lower(self, frame):
+        return _row(self.coefficient, self.rotational)
+
+
+class LinearDrag(_Drag):
+    """Linear (Stokes) drag: ``F = −c V`` on the centre of mass, ``τ = −c_rot ω``."""
+
+    kind = "linear_drag"
+
+
+class QuadraticDrag(_Drag):
+    """Quadratic drag: ``F = −c |V| V`` on the centre of mass, ``τ = −c_rot |ω| ω``."""
+
+    kind = "quadratic_drag"
 
 
 class PointForce(Force):
@@ -262,7 +376,7 @@ class PointForce(Force):
     point : array_like, shape (3,)
         The point of application, in the body's reference configuration.
     force : array_like (3,) or callable ``f(t) → (3,)``
-        Constant or time-dependent force.
+        Constant (built-in, compiled) or time-dependent (a Python callable: the slow path).
     frame : {"space", "body"}
         ``"space"``: ``force`` is given in the space frame; ``"body"``: it is body-fixed and
         turns with the body (``F = Q f``).
@@ -271,140 +385,115 @@ class PointForce(Force):
     position_only = True
 
     def __init__(self, point, force, *, frame: str = "space"):
-        self.point = as_vector3(point, "point")
-        self.force = _vector_or_callable(force, "force")
-        if frame not in ("space", "body"):
-            raise ValueError(f"`frame` must be 'space' or 'body', found {frame!r}")
-        self.frame = frame
-        self._offset = None
+        constant = not callable(force)
+        self._freeze(
+            point=_readonly(as_vector3(point, "point")),
+            force=_readonly(as_vector3(force, "force")) if constant else force,
+            frame=_frame_name(frame),
+            kind="point_force" if constant else None,
+        )
 
-    def bind(self, body):
-        self._offset = self.point - body.center_of_mass
+    def lower(self, frame):
+        f = frame.vector(self.force) if self.frame == "body" else self.force
+        return _row(frame.point(self.point), f, float(self.frame == "body"))
 
-    def wrench(self, ctx):
-        f = self.force(ctx.t) if callable(self.force) else self.force
-        f = _check_output(f, (3,), self, "force") if callable(self.force) else f
+    def python_wrench(self, ctx):
+        f = _check_output(self.force(ctx.t), (3,), self, "force")
         F = ctx.Q @ f if self.frame == "body" else f
-        return F, np.cross(self._offset, ctx.Q.T @ F)
+        b = self.point - ctx.body.center_of_mass
+        return F, np.cross(b, ctx.Q.T @ F)
 
 
 class Torque(Force):
-    """A pure torque (couple), constant or ``f(t) → (3,)``, in the body or the space frame."""
+    """A pure torque (couple), constant (built-in) or ``f(t) → (3,)`` (a Python callable), in
+    the body or the space frame."""
 
     position_only = True
 
     def __init__(self, torque, *, frame: str = "body"):
-        self.torque = _vector_or_callable(torque, "torque")
-        if frame not in ("space", "body"):
-            raise ValueError(f"`frame` must be 'space' or 'body', found {frame!r}")
-        self.frame = frame
-
-    def wrench(self, ctx):
-        tau = self.torque(ctx.t) if callable(self.torque) else self.torque
-        tau = _check_output(tau, (3,), self, "torque") if callable(self.torque) else tau
-        return _ZERO, (ctx.Q.T @ tau if self.frame == "space" else tau)
-
-
-class Spring(Force):
-    """A linear spring (or elastic tether) from a body point to a fixed anchor in space.
-
-    Tension ``T = k (ℓ − ℓ₀) + c ℓ̇`` along the spring, ``ℓ`` its length; a ``tether`` goes
-    slack (no force) when ``ℓ < ℓ₀``. ``U = ½ k (ℓ − ℓ₀)²`` (zero while a tether is slack).
-    Damping ``c > 0`` makes the force velocity-dependent (no potential for the damper).
-    """
-
-    def __init__(
-        self, point, anchor, stiffness, rest_length=0.0, *, damping=0.0, tether: bool = False
-    ):
-        self.point = as_vector3(point, "point")
-        self.anchor = as_vector3(anchor, "anchor")
-        self.stiffness = as_positive_scalar(stiffness, "stiffness")
-        self.rest_length = as_scalar(rest_length, "rest_length")
-        if self.rest_length < 0:
-            raise ValueError(f"`rest_length` must be ≥ 0, found {self.rest_length}")
-        self.damping = as_scalar(damping, "damping")
-        if self.damping < 0:
-            raise ValueError(f"`damping` must be ≥ 0, found {self.damping}")
-        self.tether = bool(tether)
-        self.position_only = self.damping == 0
-        self.has_potential = True
-        self._offset = None
-
-    def bind(self, body):
-        self._offset = self.point - body.center_of_mass
-
-    def _geometry(self, ctx):
-        d = self.anchor - ctx.point_position(self._offset)
-        length = float(np.linalg.norm(d))
-        return d, length
-
-    def wrench(self, ctx):
-        d, length = self._geometry(ctx)
-        stretch = length - self.rest_length
-        if length == 0 or (self.tether and stretch <= 0):
-            return _ZERO, _ZERO
-        unit = d / length
-        tension = self.stiffness * stretch
-        if self.damping:
-            tension -= self.damping * float(unit @ ctx.point_velocity(self._offset))
-        F = tension * unit
-        return F, np.cross(self._offset, ctx.Q.T @ F)
-
-    def potential(self, ctx):
-        _, length = self._geometry(ctx)
-        stretch = length - self.rest_length
-        if self.tether and stretch <= 0:
-            return 0.0
-        return 0.5 * self.stiffness * stretch * stretch
-
-
-class _Drag(Force):
-    """Drag with a translational ``coefficient`` (on the centre of mass) and a ``rotational``
-    one (a torque against ω), both ≥ 0."""
-
-    def __init__(self, coefficient, rotational=0.0):
-        self.coefficient = as_scalar(coefficient, "coefficient")
-        self.rotational = as_scalar(rotational, "rotational")
-        if self.coefficient < 0 or self.rotational < 0:
-            raise ValueError("drag coefficients `coefficient` and `rotational` must be ≥ 0")
-
-
-class LinearDrag(_Drag):
-    """Linear (Stokes) drag: ``F = −c V`` on the centre of mass, ``τ = −c_rot ω``."""
-
-    def wrench(self, ctx):
-        return -self.coefficient * ctx.V, -self.rotational * ctx.omega
-
-
-class QuadraticDrag(_Drag):
-    """Quadratic drag: ``F = −c |V| V`` on the centre of mass, ``τ = −c_rot |ω| ω``."""
-
-    def wrench(self, ctx):
-        V, w = ctx.V, ctx.omega
-        return (
-            -self.coefficient * np.linalg.norm(V) * V,
-            -self.rotational * np.linalg.norm(w) * w,
+        constant = not callable(torque)
+        self._freeze(
+            torque=_readonly(as_vector3(torque, "torque")) if constant else torque,
+            frame=_frame_name(frame),
+            kind="torque" if constant else None,
         )
 
+    def lower(self, frame):
+        tau = frame.vector(self.torque) if self.frame == "body" else self.torque
+        return _row(tau, float(self.frame == "body"))
 
-class CustomForce(Force):
-    """Any wrench from a callable ``func(ctx) → (F_space (3,), τ_body (3,))`` about the centre
-    of mass, ``ctx`` a :class:`ForceContext`; optionally with ``potential(ctx) → float``."""
+    def python_wrench(self, ctx):
+        tau = _check_output(self.torque(ctx.t), (3,), self, "torque")
+        return np.zeros(3), (ctx.Q.T @ tau if self.frame == "space" else tau)
 
-    def __init__(self, func, *, potential=None, position_only=False, name=None):
+
+# --------------------------------------------------------------------------- Python forces
+class ParticleForce(Force):
+    """Forces on every particle from one callable ``func(t, r, v) → F``, arrays (N, 3).
+
+    The total force is ``Σ F_i`` and the torque ``Σ u_i × Qᵀ F_i`` (eq. (08)). Needs a body
+    built from particles. ``position_only=True`` declares that ``func`` ignores ``v`` (enables
+    the splitting integrator). A Python callable: the slow path.
+
+    Examples
+    --------
+    The notebook's gravity, particle by particle:
+
+    >>> import numpy as np
+    >>> f = ParticleForce(lambda t, r, v: np.outer([1.0, 2.0], [0, 0, -9.8]), name="weight")
+    >>> f.name
+    'weight'
+    """
+
+    def __init__(self, func: Callable, *, name: str | None = None, position_only: bool = False):
         if not callable(func):
             raise TypeError(f"`func` must be callable, found {type(func).__name__}")
-        self.func = func
-        self._potential = potential
-        self.has_potential = potential is not None
-        self.position_only = bool(position_only)
-        self._name = name or getattr(func, "__name__", "CustomForce")
+        self._freeze(
+            func=func,
+            _name=name or getattr(func, "__name__", "ParticleForce"),
+            position_only=bool(position_only),
+        )
 
     @property
     def name(self):
         return self._name
 
-    def wrench(self, ctx):
+    def check(self, body):
+        if not body.has_particles:
+            raise ValueError(f"force {self.name}: ParticleForce needs a body built from particles")
+
+    def python_wrench(self, ctx):
+        u = ctx.body.u
+        F_i = _check_output(
+            self.func(ctx.t, ctx.particle_positions, ctx.particle_velocities),
+            u.shape,
+            self,
+            "particle forces",
+        )
+        return F_i.sum(axis=0), np.cross(u, F_i @ ctx.Q).sum(axis=0)
+
+
+class CustomForce(Force):
+    """Any wrench from a callable ``func(ctx) → (F_space (3,), τ_body (3,))`` about the centre
+    of mass, ``ctx`` a :class:`ForceContext`; optionally with ``potential(ctx) → float``.
+    A Python callable: the slow path."""
+
+    def __init__(self, func, *, potential=None, position_only=False, name=None):
+        if not callable(func):
+            raise TypeError(f"`func` must be callable, found {type(func).__name__}")
+        self._freeze(
+            func=func,
+            _potential=potential,
+            has_potential=potential is not None,
+            position_only=bool(position_only),
+            _name=name or getattr(func, "__name__", "CustomForce"),
+        )
+
+    @property
+    def name(self):
+        return self._name
+
+    def python_wrench(self, ctx):
         out = self.func(ctx)
         if not isinstance(out, tuple | list) or len(out) != 2:
             raise ForceError(f"force {self.name} must return a pair (force, torque)")
@@ -413,7 +502,5 @@ class CustomForce(Force):
             _check_output(out[1], (3,), self, "torque"),
         )
 
-    def potential(self, ctx):
-        if self._potential is None:
-            return super().potential(ctx)
+    def python_potential(self, ctx):
         return float(self._potential(ctx))

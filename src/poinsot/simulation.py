@@ -8,6 +8,7 @@ from ._validation import as_array, as_scalar
 from .dynamics import RigidBodySystem, rigid_velocity_from_particles
 from .integrate.base import get_solver
 from .integrate.driver import IntegrationError, integrate
+from .kernels.layout import unpack_state
 from .trajectory import Trajectory
 
 __all__ = ["SimulationError", "simulate"]
@@ -50,6 +51,7 @@ def simulate(
     particle_velocities=None,
     save_every=1,
     progress=None,
+    backend=None,
 ) -> Trajectory:
     """Integrate the motion of ``body`` under ``forces``: eqs (07) ``M R̈ = F``,
     (08) ``A ω̇ + ω × Aω = Σ u_i × Qᵀ F_i`` and (09) ``Q̇ = QΩ``.
@@ -86,7 +88,12 @@ def simulate(
     save_every : int
         Without ``t_eval``, keep every ``save_every``-th step.
     progress : callable, optional
-        Called with the current time after every step (progress bars).
+        Called with the current time as the run advances (progress bars).
+    backend : {"compiled", "python"}, optional
+        ``"compiled"`` (the default whenever every force is built-in) runs the whole time loop
+        in one compiled call; ``"python"`` runs the same steps from Python and is used for
+        forces given by Python callables (:class:`~poinsot.forces.ParticleForce`,
+        :class:`~poinsot.forces.CustomForce`, callables of t): the slow path.
 
     Returns
     -------
@@ -138,9 +145,7 @@ def simulate(
         raise ValueError(f"`save_every` must be a positive integer, found {save_every!r}")
     if dt is not None:
         dt = as_scalar(dt, "dt")
-    # evaluate every force once now, so a broken callable fails here, named, before any step
-    R, V, Q, w = y0[0:3], y0[3:6], y0[6:15].reshape(3, 3), y0[15:18]
-    system.wrench(t0, R, V, Q, w)
+    _check_forces_at_start(system, t0, y0)
     try:
         result = integrate(
             system,
@@ -153,10 +158,25 @@ def simulate(
             atol=atol,
             save_every=int(save_every),
             progress=progress,
+            backend=backend,
         )
     except IntegrationError as exc:
         raise SimulationError(str(exc), _trajectory(exc.partial, system)) from exc
     return _trajectory(result, system)
+
+
+def _check_forces_at_start(system, t0, y0):
+    """Evaluate every force once at the start, so that a broken callable, or a force that is
+    undefined there (central gravity at its centre), is refused before any step, named."""
+    R, V, Q, w = unpack_state(y0)
+    ctx = system.context(t0, R, V, Q, w)
+    for f in system.forces:
+        F, tau = f.wrench(ctx)
+        if not (np.all(np.isfinite(F)) and np.all(np.isfinite(tau))):
+            raise ValueError(
+                f"force {f.name} is undefined at the initial state (non-finite wrench; e.g. a "
+                "body at the centre of a central gravity field)"
+            )
 
 
 def _trajectory(result, system) -> Trajectory:
@@ -170,4 +190,6 @@ def _trajectory(result, system) -> Trajectory:
         nsteps=result.nsteps,
         wall_time=result.wall_time,
         message=result.message,
+        success=result.success,
+        backend=result.backend,
     )

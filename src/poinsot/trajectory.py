@@ -9,6 +9,7 @@ import numpy as np
 
 from ._io import atomic_path
 from .kernels import rigid
+from .kernels.layout import STATE_SIZE, STATE_SLICES
 from .kernels.so3 import matrix_to_quat
 
 __all__ = ["Trajectory"]
@@ -36,9 +37,22 @@ class Trajectory:
         How it was computed.
     """
 
-    def __init__(self, t, y, system, *, method="", nfev=0, nsteps=0, wall_time=0.0, message=""):
+    def __init__(
+        self,
+        t,
+        y,
+        system,
+        *,
+        method="",
+        nfev=0,
+        nsteps=0,
+        wall_time=0.0,
+        message="",
+        success=True,
+        backend="",
+    ):
         self.t = _readonly(np.asarray(t, dtype=float))
-        self._y = _readonly(np.asarray(y, dtype=float).reshape(len(self.t), rigid.STATE_SIZE))
+        self._y = _readonly(np.asarray(y, dtype=float).reshape(len(self.t), STATE_SIZE))
         self.system = system
         self.body = system.body
         self.method = method
@@ -46,6 +60,8 @@ class Trajectory:
         self.nsteps = nsteps
         self.wall_time = wall_time
         self.message = message
+        self.success = bool(success)
+        self.backend = backend
 
     def __len__(self):
         return len(self.t)
@@ -59,19 +75,19 @@ class Trajectory:
     # ----------------------------------------------------------------- state
     @property
     def R(self):
-        return self._y[:, 0:3]
+        return self._y[:, STATE_SLICES["R"]]
 
     @property
     def V(self):
-        return self._y[:, 3:6]
+        return self._y[:, STATE_SLICES["V"]]
 
     @property
     def Q(self):
-        return self._y[:, 6:15].reshape(-1, 3, 3)
+        return self._y[:, STATE_SLICES["Q"]].reshape(-1, 3, 3)
 
     @property
     def omega(self):
-        return self._y[:, 15:18]
+        return self._y[:, STATE_SLICES["omega"]]
 
     @property
     def state(self):
@@ -88,42 +104,53 @@ class Trajectory:
                 q[i] = -q[i]
         return _readonly(q)
 
+    def _c(self, a):
+        return np.ascontiguousarray(a)
+
     @cached_property
     def omega_space(self):
         """Angular velocity in the space frame, ``Q ω`` (n, 3)."""
-        return _readonly(np.einsum("nij,nj->ni", self.Q, self.omega))
+        return _readonly(rigid.omega_space(self._c(self.Q), self._c(self.omega)))
 
     @cached_property
     def angular_momentum_com(self):
         """Angular momentum about the centre of mass, space frame: ``Q A ω`` (n, 3)."""
-        return _readonly(np.einsum("nij,jk,nk->ni", self.Q, self.body.inertia, self.omega))
+        A = np.asarray(self.body.inertia)
+        return _readonly(rigid.angular_momentum_com(A, self._c(self.Q), self._c(self.omega)))
 
     @cached_property
     def angular_momentum(self):
         """Angular momentum about the space origin, eq. (03): ``L = Q A ω + M R × Ṙ`` (n, 3)."""
-        return _readonly(self.angular_momentum_com + self.body.mass * np.cross(self.R, self.V))
+        A = np.asarray(self.body.inertia)
+        return _readonly(
+            rigid.angular_momentum(
+                A,
+                float(self.body.mass),
+                self._c(self.R),
+                self._c(self.V),
+                self._c(self.Q),
+                self._c(self.omega),
+            )
+        )
 
     @cached_property
     def kinetic_energy(self):
         """Kinetic energy, eq. (12): ``½ Aω·ω + ½ M |Ṙ|²`` (n,)."""
-        w = self.omega
-        rot = 0.5 * np.einsum("ni,ij,nj->n", w, self.body.inertia, w)
-        return _readonly(rot + 0.5 * self.body.mass * (self.V**2).sum(axis=1))
+        A = np.asarray(self.body.inertia)
+        return _readonly(
+            rigid.kinetic_energy(A, float(self.body.mass), self._c(self.omega), self._c(self.V))
+        )
 
     @property
     def is_conservative(self) -> bool:
-        """True when every force has a potential (total energy should be conserved)."""
-        return self.system.has_potential
+        """True when every force is conservative (total energy is a constant of the motion):
+        each has a potential and none dissipates (a damped spring, drag)."""
+        return self.system.conservative
 
     @cached_property
     def potential_energy(self):
         """Sum of the potentials of the forces that have one (n,); zero with no such force."""
-        out = np.zeros(len(self.t))
-        forces = [f for f in self.system.forces if f.has_potential]
-        for i in range(len(self.t)):
-            ctx = self.system.context(self.t[i], self.R[i], self.V[i], self.Q[i], self.omega[i])
-            out[i] = sum(f.potential(ctx) for f in forces)
-        return _readonly(out)
+        return _readonly(self.system.potential_energies(self.t, self._y))
 
     @cached_property
     def total_energy(self):
@@ -138,8 +165,7 @@ class Trajectory:
     @cached_property
     def orthogonality_error(self):
         """``max |QᵀQ − I|`` per sample (n,)."""
-        Q = self.Q
-        return _readonly(np.abs(np.einsum("nki,nkj->nij", Q, Q) - np.eye(3)).max(axis=(1, 2)))
+        return _readonly(rigid.orthogonality_error(self._c(self.Q)))
 
     @cached_property
     def rigidity_error(self):
@@ -195,6 +221,9 @@ class Trajectory:
         """A JSON-ready summary: the run, the body and the diagnostics."""
         return {
             "method": self.method,
+            "backend": self.backend,
+            "success": self.success,
+            "message": self.message,
             "samples": len(self.t),
             "t_start": float(self.t[0]),
             "t_end": float(self.t[-1]),

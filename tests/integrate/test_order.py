@@ -92,7 +92,10 @@ def test_tableau_invariants(cls):
 
 
 def test_generic_ode_and_dense_output():
-    """rk4 and dop853 take any system with rhs(t, y); dense output interpolates a step."""
+    """rk4 and dop853 take any system with rhs(t, y); a stateless step and its dense output
+    interpolate within the step."""
+    from poinsot.integrate.driver import ODESystem
+    from poinsot.kernels.steppers import hermite_interpolate_into
 
     class Harmonic:
         def rhs(self, t, y):
@@ -108,10 +111,16 @@ def test_generic_ode_and_dense_output():
             t_eval=np.linspace(0, 2 * np.pi, 9),
         )
         np.testing.assert_allclose(out.y[:, 0], np.cos(out.t), atol=1e-8)
-    solver = METHODS["rk4"](Harmonic(), 0.0, [1.0, 0.0], 1.0, dt=0.1)
-    solver.step()
-    dense = solver.dense_output()
-    np.testing.assert_allclose(dense(0.05)[0], np.cos(0.05), atol=1e-6)
+    system = ODESystem(Harmonic(), np.array([1.0, 0.0]))
+    solver = METHODS["rk4"]()
+    state = solver.init(system, 0.0, [1.0, 0.0])
+    new, error = solver.step(system, state, 0.1)
+    assert error is None and new.t == pytest.approx(0.1)
+    assert state.z.tolist() == [1.0, 0.0]  # the step is pure: the old state is untouched
+    f0, f1 = Harmonic().rhs(0, state.z), Harmonic().rhs(0.1, new.z)
+    dense = np.empty(2)
+    hermite_interpolate_into(state.z, f0, new.z, f1, 0.1, 0.5, dense)
+    np.testing.assert_allclose(dense[0], np.cos(0.05), atol=1e-6)
 
 
 def test_splitting_refuses_velocity_dependent_forces():

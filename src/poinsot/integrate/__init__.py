@@ -8,12 +8,17 @@ dop853     8     yes      nothing exactly (errors at the tolerance)
 rkmk4      4     no       Q on SO(3) (Lie-group method)
 splitting  2     no       Q on SO(3), |L| and spatial L (torque-free), symplectic
 ========== ===== ======== ==========================================================
+
+The steps themselves are kernels (:mod:`poinsot.kernels.steppers`), shared by every driver;
+:func:`~poinsot.integrate.driver.integrate` runs a whole integration in one compiled call.
 """
 
-from .base import INVARIANTS, METHODS, Solver, get_solver, register
+from .base import INVARIANTS, METHODS, Solver, SolverState, get_solver, register
+from .control import ConstantStepSize, StepSizeController
 from .dop853 import DOP853
 from .lie import RKMK4, MuntheKaas
 from .rk import RK4, ExplicitRungeKutta
+from .saveat import SaveAt
 from .splitting import Splitting
 
 __all__ = [
@@ -22,10 +27,14 @@ __all__ = [
     "METHODS",
     "RK4",
     "RKMK4",
+    "ConstantStepSize",
     "ExplicitRungeKutta",
     "MuntheKaas",
+    "SaveAt",
     "Solver",
+    "SolverState",
     "Splitting",
+    "StepSizeController",
     "get_solver",
     "register",
 ]

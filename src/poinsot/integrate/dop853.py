@@ -1,15 +1,24 @@
-"""Adaptive 8th-order Dormand–Prince with dense output, through SciPy's implementation.
+"""Adaptive 8th-order Dormand–Prince with error control and dense output, in the kernel layer.
 
-We use :class:`scipy.integrate.DOP853` rather than our own tableau: it is well tested, has the
-7th-order dense output, and its step-size control is the standard one (Hairer, Nørsett & Wanner,
-*Solving ODEs I*, §II.10).
+The tableau, the error estimators and the dense-output coefficients are data
+(:mod:`poinsot.kernels.tableaux`); the step, the scaled error norm and the interpolant are
+kernels (:func:`~poinsot.kernels.steppers.dop853_step`,
+:func:`~poinsot.kernels.steppers.dop853_error_norm`,
+:func:`~poinsot.kernels.steppers.dop853_dense_into`), and the standard step-size controller is
+:class:`~poinsot.integrate.control.StepSizeController` (Hairer, Nørsett & Wanner, *Solving ODEs
+I*, §II.4 and §II.10). SciPy's ``solve_ivp(method="DOP853")`` runs the same method and serves as
+the cross-check in the tests; it is not the engine.
 """
 
 from __future__ import annotations
 
-from .base import Solver, register
+import numpy as np
 
-__all__ = ["DOP853"]
+from ..kernels import steppers as _st
+from ..kernels import tableaux
+from .base import Solver, SolverState, _kernel_for, register
+
+__all__ = ["DEFAULT_ATOL", "DEFAULT_RTOL", "DOP853"]
 
 DEFAULT_RTOL = 1e-10
 DEFAULT_ATOL = 1e-12
@@ -20,39 +29,39 @@ class DOP853(Solver):
     """Explicit Runge–Kutta of order 8(5,3) with adaptive steps (the default method).
 
     ``rtol``/``atol`` default to 1e-10/1e-12; ``dt`` (optional) is the first step and
-    ``max_step`` (keyword) caps the step size.
+    ``max_step`` (a solver option) caps the step size.
     """
 
     name = "dop853"
     order = 8
+    error_order = 7
     adaptive = True
+    code = _st.DOP853
+    driver = "run_adaptive"
+    A = tableaux.DOP853_A[: tableaux.DOP853_STAGES, : tableaux.DOP853_STAGES]
+    B = tableaux.DOP853_B
+    C = tableaux.DOP853_C[: tableaux.DOP853_STAGES]
 
-    def __init__(self, system, t0, y0, t_bound, *, dt=None, rtol=None, atol=None, max_step=None):
-        super().__init__(system, t0, y0, t_bound, dt=dt, rtol=rtol, atol=atol)
-        from scipy.integrate import DOP853 as _ScipyDOP853
+    def init(self, system, t0, y0):
+        from ..kernels.steppers import evaluate
 
-        self._inner = _ScipyDOP853(
-            self.fun,
-            t0,
-            self.y,
-            t_bound,
-            rtol=DEFAULT_RTOL if rtol is None else rtol,
-            atol=DEFAULT_ATOL if atol is None else atol,
-            first_step=dt,
-            max_step=float("inf") if max_step is None else max_step,
+        state = super().init(system, t0, y0)
+        f = np.empty_like(state.z)
+        _kernel_for(evaluate, system)(system, state.t, state.z, f)
+        return SolverState(state.t, state.z, f)
+
+    def step(self, system, state, h, controller=None):
+        from .control import StepSizeController
+
+        controller = controller or StepSizeController()
+        z = state.z
+        n = z.size
+        K = np.empty((tableaux.DOP853_STAGES_EXTENDED, n))
+        out_y = np.empty_like(z)
+        out_f = np.empty_like(z)
+        step = _kernel_for(_st.dop853_step, system)
+        step(system, state.t, z, state.f, float(h), K, np.empty_like(z), out_y, out_f)
+        error = float(
+            _st.dop853_error_norm(K, float(h), z, out_y, controller.rtol, controller.atol)
         )
-
-    def _advance(self, h):
-        message = self._inner.step()
-        if self._inner.status == "failed":
-            raise RuntimeError(f"dop853 failed at t = {self._inner.t}: {message}")
-        self.t = self._inner.t
-        self.y = self._inner.y.copy()
-
-    def _after_projection(self):
-        # continue from the projected state; FSAL caches f(t, y), so recompute it
-        self._inner.y = self.y.copy()
-        self._inner.f = self._inner.fun(self._inner.t, self._inner.y)
-
-    def _dense_output_impl(self):
-        return self._inner.dense_output()
+        return SolverState(state.t + h, out_y, out_f), error

@@ -1,21 +1,38 @@
-"""Driving a :class:`~poinsot.integrate.base.Solver` over a time span, keeping only the samples
-asked for."""
+"""Running a solver over a time span: one compiled call, or the same code run from Python.
+
+:func:`integrate` prepares the arrays the compiled drivers of :mod:`poinsot.kernels.drivers`
+read, calls the driver for the whole run (in segments only to report progress or to grow the
+output of an adaptive run), and turns the status it returns into results or errors. The
+``"python"`` backend runs the very same driver code as Python (its
+:func:`~poinsot.kernels.jit.python_twin`) with a system evaluated from Python: the path for
+forces given by Python callables, and the reference the compiled backend is tested against.
+"""
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .base import get_solver
+from ..kernels import drivers as _drv
+from .base import Solver, get_solver
+from .control import StepSizeController
+from .saveat import SaveAt
 
-__all__ = ["IntegrationError", "IntegrationResult", "integrate"]
+__all__ = ["BACKENDS", "IntegrationError", "IntegrationResult", "ODESystem", "integrate"]
+
+BACKENDS = ("compiled", "python")
+#: Steps per compiled call when a progress callback is given (progress is reported between).
+PROGRESS_CHUNK_COMPILED = 20_000
+PROGRESS_CHUNK_PYTHON = 200
 
 
 @dataclass
 class IntegrationResult:
-    """Samples ``t`` (n,), states ``y`` (n, d) and the run's bookkeeping."""
+    """Samples ``t`` (n,), states ``y`` (n, d) and the run's bookkeeping; ``success`` and
+    ``message`` as in :func:`scipy.integrate.solve_ivp`."""
 
     t: np.ndarray
     y: np.ndarray
@@ -25,6 +42,9 @@ class IntegrationResult:
     wall_time: float
     message: str = "finished"
     options: dict = field(default_factory=dict)
+    backend: str = "compiled"
+    nrejected: int = 0
+    success: bool = True
 
 
 class IntegrationError(RuntimeError):
@@ -35,10 +55,35 @@ class IntegrationError(RuntimeError):
         self.partial = partial
 
 
-def _describe_nonfinite(system, t, y) -> str:
-    names = getattr(system, "state_slices", None) or {"state": slice(0, len(y))}
-    bad = [name for name, sl in names.items() if not np.all(np.isfinite(y[sl]))]
-    return f"non-finite {', '.join(bad)} at t = {t:.9g}"
+class ODESystem:
+    """Any object with ``rhs(t, y) → ẏ`` (and optionally ``projector(y0)``, returning ``None``
+    or a map ``(y, t) → y`` onto its constraint manifold) as a Python system, in the generic
+    contract of :mod:`poinsot.kernels.systems`; integrated by the Python backend."""
+
+    def __init__(self, problem, y0):
+        self.rhs = problem.rhs
+        make = getattr(problem, "projector", None)
+        self._project = make(y0) if make is not None else None
+
+    def vector_field(self, t, y, out):
+        out[:] = self.rhs(t, y)
+
+    def project(self, t, y):
+        if self._project is None:
+            return False
+        y[:] = self._project(y, t)
+        return True
+
+    def state_size(self, y):
+        return y.shape[0]
+
+    def body_parameters(self):
+        raise TypeError("this method needs a rigid-body system")
+
+
+def _describe_nonfinite(slices, t, y) -> str:
+    bad = [name for name, sl in slices.items() if not np.all(np.isfinite(y[sl]))]
+    return f"non-finite {', '.join(bad) or 'state'} at t = {t:.9g}"
 
 
 def integrate(
@@ -54,90 +99,148 @@ def integrate(
     save_every=1,
     solver_options=None,
     progress=None,
+    backend=None,
 ) -> IntegrationResult:
-    """Integrate ``system`` from ``t_span[0]`` to ``t_span[1]``.
+    """Integrate ``system`` from ``t_span[0]`` to ``t_span[1]`` from ``y0``.
 
-    Samples are kept at ``t_eval`` (fixed-step methods shorten a step to land on each sample;
-    adaptive ones use their dense output), or, without ``t_eval``, at the start and every
-    ``save_every``-th step and the end. A non-finite state stops the run with an
-    :class:`IntegrationError` naming the time and the quantity, carrying the samples so far.
+    ``system`` is a :class:`~poinsot.dynamics.RigidBodySystem` (states in the body frame) or
+    any object with ``rhs(t, y)``. Samples are kept at ``t_eval`` or, without it, at the start,
+    every ``save_every``-th step and the end (:class:`~poinsot.integrate.saveat.SaveAt`).
+    Fixed-step methods take steps of ``dt``; adaptive ones use ``rtol``, ``atol`` (``dt``: the
+    first step; ``solver_options={"max_step": ...}``). ``backend`` is ``"compiled"`` (the
+    default when every force is built-in) or ``"python"``. A non-finite state or a step size
+    that underflows stops the run with an :class:`IntegrationError` naming the time and the
+    quantity, carrying the samples computed until then.
     """
     cls = get_solver(method)
+    solver: Solver = cls()
+    options = dict(solver_options or {})
+    max_step = options.pop("max_step", math.inf)
+    if options:
+        raise ValueError(f"unknown `solver_options`: {', '.join(sorted(options))}")
     t0, t1 = float(t_span[0]), float(t_span[1])
-    start = time.perf_counter()
-    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):  # first-step choice
-        solver = cls(system, t0, y0, t1, dt=dt, rtol=rtol, atol=atol, **(solver_options or {}))
-    ts, ys = [], []
-    nsteps = 0
-    if t_eval is not None:
-        samples = np.asarray(t_eval, dtype=float)
-        k = 0
-        while k < len(samples) and samples[k] <= t0:
-            ts.append(samples[k])
-            ys.append(solver.y.copy())
-            k += 1
-    else:
-        samples = None
-        ts.append(t0)
-        ys.append(solver.y.copy())
+    if not t1 > t0:
+        raise ValueError(f"`t_span` must increase, found t0 = {t0}, t1 = {t1}")
+    rigid = hasattr(system, "compiled_system")
+    if not rigid and cls.requires == "rigid":
+        raise ValueError(f"method {cls.name!r} needs a rigid-body system")
+    if rigid and getattr(cls, "needs_position_only_forces", False):
+        bad = [f.name for f in system.forces if not f.position_only]
+        if bad:
+            raise ValueError(
+                f"method {cls.name!r} needs forces that depend only on time, position and "
+                f"attitude (kicks); these depend on velocities: {', '.join(bad)}"
+            )
+    if cls.adaptive:
+        from .dop853 import DEFAULT_ATOL, DEFAULT_RTOL
 
-    def partial(message):
+        controller = StepSizeController(
+            DEFAULT_RTOL if rtol is None else rtol,
+            DEFAULT_ATOL if atol is None else atol,
+            first_step=dt,
+            max_step=max_step,
+        )
+    else:
+        if dt is None:
+            raise ValueError(f"method {cls.name!r} is fixed-step: `dt` must be given")
+        if not (np.isfinite(dt) and dt > 0):
+            raise ValueError(f"`dt` must be a positive number, found {dt}")
+        controller = None
+    saveat = SaveAt(None if t_eval is None else np.asarray(t_eval, dtype=float), save_every)
+
+    y0 = np.array(y0, dtype=float)
+    if rigid:
+        compiled_ok = system.compiled
+        if backend is None:
+            backend = "compiled" if compiled_ok else "python"
+        elif backend not in BACKENDS:
+            raise ValueError(f"`backend` must be one of {BACKENDS}, found {backend!r}")
+        if backend == "compiled" and not compiled_ok:
+            names = ", ".join(f.name for f in system.python_forces)
+            raise ValueError(
+                "`backend='compiled'` needs built-in forces; these are Python callables (use "
+                f"backend='python'): {names}"
+            )
+        target = system.compiled_system(y0) if backend == "compiled" else system.python_system(y0)
+        y_internal = system.to_internal(y0)
+        slices = system.state_slices
+    else:
+        if backend == "compiled":
+            raise ValueError("`backend='compiled'` needs a rigid-body system")
+        backend = "python"
+        target = ODESystem(system, y0) if hasattr(system, "rhs") else system
+        y_internal = y0
+        slices = getattr(system, "state_slices", None) or {"state": slice(0, y0.size)}
+
+    start = time.perf_counter()
+    state = solver.init(target, t0, y_internal)
+    z = state.z.copy()
+    n = z.size
+    times = saveat.times
+    if len(times):
+        capacity = len(times)
+    elif cls.adaptive:
+        capacity = 256
+    else:
+        capacity = int(min((t1 - t0) / dt, 1e9)) // saveat.every + 3
+    out_t = np.empty(capacity)
+    out_y = np.empty((capacity, n))
+    clock = np.array([t0, 0.0])
+    counters = np.zeros(_drv.COUNTERS_SIZE, dtype=np.int64)
+    driver = solver.driver_function(target)
+    chunk = PROGRESS_CHUNK_COMPILED if backend == "compiled" else PROGRESS_CHUNK_PYTHON
+    max_steps = chunk if progress is not None else 2**62
+    f = np.empty(n)
+    if cls.adaptive:
+        ctrl = controller.as_array()
+
+    def result(message, success):
+        k = int(counters[_drv.N_OUT])
+        y = out_y[:k]
+        y = system.from_internal(y) if rigid else y.copy()
         return IntegrationResult(
-            np.array(ts),
-            np.array(ys).reshape(len(ts), -1),
+            out_t[:k].copy(),
+            y,
             cls.name,
-            solver.nfev,
-            nsteps,
+            int(counters[_drv.N_FEV]),
+            int(counters[_drv.N_STEPS]),
             time.perf_counter() - start,
             message,
+            {"dt": dt, "rtol": rtol, "atol": atol},
+            backend,
+            int(counters[_drv.N_REJECTED]),
+            success,
         )
 
-    while solver.status == "running":
-        h = None
-        if not cls.adaptive:
-            target = t1 if samples is None or k >= len(samples) else samples[k]
-            gap = target - solver.t
-            h = gap if gap <= solver.dt * (1 + 1e-9) else solver.dt
-            landing = h == gap
-        try:
-            # overflow/invalid values are detected below and reported with time and quantity
-            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-                solver.step(h)
-        except Exception as exc:
-            raise IntegrationError(f"{exc} (at t = {solver.t:.9g})", partial(str(exc))) from exc
-        nsteps += 1
+    while True:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            if cls.adaptive:
+                status = driver(
+                    target, clock, z, f, t1, ctrl, times, saveat.every, out_t, out_y, counters,
+                    max_steps,
+                )  # fmt: skip
+            else:
+                status = driver(
+                    target, solver.A, solver.B, solver.C, clock, z, t1, float(dt), times,
+                    saveat.every, out_t, out_y, counters, max_steps,
+                )  # fmt: skip
         if progress is not None:
-            progress(solver.t)
-        if not cls.adaptive and landing:
-            solver.t = target  # exact sample times, no accumulated round-off
-            if target == t1:
-                solver.status = "finished"
-        if not np.all(np.isfinite(solver.y)):
-            message = _describe_nonfinite(system, solver.t, solver.y)
-            raise IntegrationError(message, partial(message))
-        if samples is None:
-            if nsteps % save_every == 0 or solver.status != "running":
-                ts.append(solver.t)
-                ys.append(solver.y.copy())
-        elif cls.adaptive:
-            j = k
-            while j < len(samples) and samples[j] <= solver.t:
-                j += 1
-            if j > k:
-                dense = solver.dense_output()
-                project = solver._project  # samples on the constraint manifold too
-                for s in samples[k:j]:
-                    ts.append(s)
-                    if s == solver.t:
-                        ys.append(solver.y.copy())
-                    else:
-                        ys.append(dense(s) if project is None else project(dense(s), s))
-                k = j
-        else:
-            while k < len(samples) and samples[k] <= solver.t + 1e-12 * max(1, abs(solver.t)):
-                ts.append(samples[k])
-                ys.append(solver.y.copy())
-                k += 1
-    result = partial("finished")
-    result.options = {"dt": dt, "rtol": rtol, "atol": atol}
-    return result
+            progress(float(clock[0]))
+        if status == _drv.FINISHED:
+            return result("finished", True)
+        if status == _drv.OUTPUT_FULL:
+            out_t = np.concatenate([out_t, np.empty(len(out_t))])
+            out_y = np.concatenate([out_y, np.empty((len(out_y), n))])
+            continue
+        if status == _drv.NONFINITE:
+            y_bad = z.copy()
+            if rigid:
+                y_bad = system.from_internal(y_bad)
+            message = _describe_nonfinite(slices, float(clock[0]), y_bad)
+            raise IntegrationError(message, result(message, False))
+        if status == _drv.STEP_TOO_SMALL:
+            message = (
+                f"the step size fell below the resolution of t = {clock[0]:.9g} (the problem "
+                "may be stiff or singular there, or the tolerances too tight)"
+            )
+            raise IntegrationError(message, result(message, False))

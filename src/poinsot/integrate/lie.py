@@ -4,16 +4,15 @@ The attitude is advanced as ``Q = Q_n exp(θ̂)`` with ``θ`` solving the ODE in
 ``θ̇ = dexp⁻¹_{−θ}(ω)`` (from ``Q̇ = QΩ``), integrated by an explicit Runge–Kutta tableau, while
 ``R, V, ω`` follow the same tableau in their vector space. Every ``Q`` it produces is a product of
 exact rotations, so ``QᵀQ = I`` holds to round-off (Munthe-Kaas 1999, BIT 39; Iserles et al.
-2000, Acta Numerica §5).
+2000, Acta Numerica §5). The step is :func:`poinsot.kernels.steppers.rkmk_step`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..kernels import rigid
-from ..kernels.so3 import dexpinv, exp_so3
-from .base import register
+from ..kernels import steppers as _st
+from .base import SolverState, _kernel_for, register
 from .rk import RK4, ExplicitRungeKutta
 
 __all__ = ["RKMK4", "MuntheKaas"]
@@ -24,26 +23,19 @@ class MuntheKaas(ExplicitRungeKutta):
 
     requires = "rigid"
     conserves = frozenset({"orthogonality"})
+    code = _st.RKMK
+    driver = "run_rkmk"
 
-    def _step_impl(self, t, y, h):
-        A, B, C = self.A, self.B, self.C
-        s = len(B)
-        Q = y[6:15].reshape(3, 3)
-        z = np.concatenate([y[0:6], y[15:18]])  # R, V, ω
-        kz = np.empty((s, 9))
-        kth = np.empty((s, 3))
-        for i in range(s):
-            theta = h * (A[i, :i] @ kth[:i]) if i else np.zeros(3)
-            zi = z + h * (A[i, :i] @ kz[:i]) if i else z
-            Qi = Q @ exp_so3(theta) if i else Q
-            yi = rigid.pack_state(zi[0:3], zi[3:6], Qi, zi[6:9])
-            dy = self.fun(t + C[i] * h, yi)
-            kz[i, 0:6] = dy[0:6]
-            kz[i, 6:9] = dy[15:18]
-            kth[i] = dexpinv(-theta, zi[6:9])
-        theta = h * (B @ kth)
-        z_new = z + h * (B @ kz)
-        return rigid.pack_state(z_new[0:3], z_new[3:6], Q @ exp_so3(theta), z_new[6:9])
+    def step(self, system, state, h, controller=None):
+        z = state.z
+        s = len(self.B)
+        out = np.empty_like(z)
+        rkmk = _kernel_for(_st.rkmk_step, system)
+        rkmk(
+            system, self.A, self.B, self.C, state.t, z, float(h),
+            np.empty((s, z.size)), np.empty_like(z), np.empty((s, 3)), np.empty((3, 3)), out,
+        )  # fmt: skip
+        return SolverState(state.t + h, out), None
 
 
 @register

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-from typing import ClassVar
-
 import numpy as np
 
-from .base import Solver, register
+from ..kernels import steppers as _st
+from ..kernels import tableaux
+from .base import Solver, SolverState, _kernel_for, register
 
 __all__ = ["RK4", "ExplicitRungeKutta"]
 
@@ -14,22 +14,22 @@ __all__ = ["RK4", "ExplicitRungeKutta"]
 class ExplicitRungeKutta(Solver):
     """A fixed-step explicit Runge–Kutta method given by its tableau ``A``, ``B``, ``C``.
 
-    Stages ``k_i = f(t + C_i h, y + h Σ_j A_ij k_j)``, update ``y + h Σ_i B_i k_i``.
-    The tableau's consistency (``Σ B = 1``, ``Σ_j A_ij = C_i``, ``A`` strictly lower triangular)
-    is checked by the tests for every subclass.
+    Stages ``k_i = f(t + C_i h, y + h Σ_j A_ij k_j)``, update ``y + h Σ_i B_i k_i``
+    (:func:`poinsot.kernels.steppers.erk_step`). Subclass it with a new tableau to get a new
+    method: the tests check every registered tableau's consistency (``Σ B = 1``,
+    ``Σ_j A_ij = C_i``, ``A`` strictly lower triangular) and its convergence order.
     """
 
-    A: ClassVar[np.ndarray]
-    B: ClassVar[np.ndarray]
-    C: ClassVar[np.ndarray]
+    code = _st.ERK
+    driver = "run_erk"
 
-    def _step_impl(self, t, y, h):
-        A, B, C = self.A, self.B, self.C
-        k = np.empty((len(B), y.size))
-        for i in range(len(B)):
-            yi = y + h * (A[i, :i] @ k[:i]) if i else y
-            k[i] = self.fun(t + C[i] * h, yi)
-        return y + h * (B @ k)
+    def step(self, system, state, h, controller=None):
+        z = state.z
+        K = np.empty((len(self.B), z.size))
+        out = np.empty_like(z)
+        erk = _kernel_for(_st.erk_step, system)
+        erk(system, self.A, self.B, self.C, state.t, z, float(h), K, np.empty_like(z), out)
+        return SolverState(state.t + h, out), None
 
 
 @register
@@ -37,11 +37,20 @@ class RK4(ExplicitRungeKutta):
     """Classical fourth-order Runge–Kutta on the flat 18-component state, as the notebook does.
 
     It conserves nothing exactly: ``Q`` drifts off SO(3) and energy drifts, at O(h⁴) per unit
-    time; :class:`~poinsot.trajectory.Trajectory` reports both so the drift can be shown.
+    time; :class:`~poinsot.trajectory.Trajectory` reports both so the drift can be shown. The
+    compiled engine runs it with the stages unrolled
+    (:func:`poinsot.kernels.steppers.rk4_step`), equal to the tableau's step to round-off.
     """
 
     name = "rk4"
     order = 4
-    A = np.array([[0, 0, 0, 0], [0.5, 0, 0, 0], [0, 0.5, 0, 0], [0, 0, 1, 0]], dtype=float)
-    B = np.array([1, 2, 2, 1], dtype=float) / 6
-    C = np.array([0, 0.5, 0.5, 1], dtype=float)
+    code = _st.RK4
+    driver = "run_rk4"
+    A, B, C = tableaux.RK4_A, tableaux.RK4_B, tableaux.RK4_C
+
+    def step(self, system, state, h, controller=None):
+        z = state.z
+        out = np.empty_like(z)
+        rk4 = _kernel_for(_st.rk4_step, system)
+        rk4(system, state.t, z, float(h), np.empty((4, z.size)), np.empty_like(z), out)
+        return SolverState(state.t + h, out), None

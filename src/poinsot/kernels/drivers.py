@@ -183,7 +183,7 @@ def _run_fixed(
             splitting_step(system, t, cur, h, ytmp, E, P, nxt)
             nfev += 2
         if method != SPLITTING:  # the splitting projects itself
-            project(system, nxt)
+            project(system, t + h, nxt)
         cur, nxt = nxt, cur
         t = target if landing else t + h
         nsteps += 1
@@ -355,7 +355,7 @@ def run_adaptive(
             nrej += 1
         if status != RUNNING:
             break
-        if project(system, znew):
+        if project(system, t_new, znew):
             evaluate(system, t_new, znew, fnew)
             nfev += 1
         nsteps += 1
@@ -377,7 +377,7 @@ def run_adaptive(
                         nfev += DOP853_STAGES_EXTENDED - DOP853_STAGES - 1
                         dense = True
                     dop853_interpolate_into(Fd, z, (t_eval[k] - t) / h, sample)
-                    project(system, sample)
+                    project(system, t_eval[k], sample)
                     _save(DOP853, system, t_eval[k], sample, out_t, out_y, nout)
                 nout += 1
                 k += 1

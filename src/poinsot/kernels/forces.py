@@ -43,6 +43,7 @@ __all__ = [
     "central_gravity_potential",
     "central_gravity_wrench",
     "force_potential",
+    "force_potential_of",
     "force_wrench",
     "force_wrench_of",
     "gravity_potential",
@@ -387,6 +388,14 @@ def force_wrench(kind, params, body, t, y):
     P = params.reshape((1, params.shape[0]))
     w = force_wrench_of(kind, P, 0, body, t, y)
     return np.array([w[0], w[1], w[2]]), np.array([w[3], w[4], w[5]])
+
+
+@kernel
+def force_potential_of(kind, params, body, t, y):
+    """Potential energy of one lowered force (``params`` its row) at ``y`` (18,), for Python
+    callers."""
+    P = params.reshape((1, params.shape[0]))
+    return force_potential(kind, P, 0, body, t, y)
 
 
 @kernel

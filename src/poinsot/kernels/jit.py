@@ -36,7 +36,7 @@ import numba
 from numba.core.registry import CPUDispatcher
 from numba.extending import overload
 
-__all__ = ["generic", "jit", "kernel", "kernel_layer_stamp", "python_twin"]
+__all__ = ["accepts_sequences", "generic", "jit", "kernel", "kernel_layer_stamp", "python_twin"]
 
 _KERNELS = Path(__file__).resolve().parent
 
@@ -107,6 +107,24 @@ def kernel(fn=None, *, inline: bool = False):
     return wrap if fn is None else wrap(fn)
 
 
+def accepts_sequences(compiled):
+    """A Python entry to the compiled batched kernel ``compiled`` that first turns lists and
+    tuples into float arrays (numba cannot type a list that mixes ints and floats). Only for
+    kernels called from Python: compiled code calls the ``*_into`` kernels instead."""
+    import functools
+
+    import numpy as np
+
+    @functools.wraps(compiled.py_func)
+    def entry(*args):
+        return compiled(*(np.asarray(a, dtype=float) if isinstance(a, list | tuple) else a
+                          for a in args))  # fmt: skip
+
+    entry.__wrapped__ = compiled
+    entry.py_func = compiled.py_func
+    return entry
+
+
 def jit(fn, **options):
     """``numba.njit(fn, **options)`` of a kernel's Python source (tests, user code)."""
     return numba.njit(**options)(getattr(fn, "py_func", fn))
@@ -135,12 +153,26 @@ def generic(fn):
         f"        raise TypeError(type(system).__name__ + ' does not provide {fn.__name__}()')\n"
         f"    return method({rest})\n"
         f"def typer({args}):\n"
-        f"    impl = _impls.get(getattr(system, 'instance_class', None))\n"
-        f"    if impl is None:\n"
-        f"        return None\n"
-        f"    return getattr(impl, 'py_func', impl)\n"
+        f"    return _wrapper_for(getattr(system, 'instance_class', None))\n"
     )
-    namespace = {"_impls": impls}
+    wrappers: dict = {}
+
+    def wrapper_for(system_type):
+        # The overload must return a function of its own (not the kernel's source): numba
+        # caches what it compiles under the function's file and name, and the kernel compiled
+        # for an overload must not take the place of the kernel called from Python.
+        impl = impls.get(system_type)
+        if impl is None:
+            return None
+        if system_type not in wrappers:
+            name = f"_{fn.__name__}_for_{system_type.__name__}"
+            code = f"def {name}({args}):\n    return _impl({args})\n"
+            scope = {"_impl": impl}
+            exec(code, scope)
+            wrappers[system_type] = scope[name]
+        return wrappers[system_type]
+
+    namespace = {"_impls": impls, "_wrapper_for": wrapper_for}
     exec(source, namespace)  # the two functions need the contract's exact parameter names
     dispatcher = namespace[fn.__name__]
     dispatcher.__doc__ = fn.__doc__
@@ -158,7 +190,8 @@ def generic(fn):
         return deco
 
     dispatcher.register = register
-    overload(dispatcher, inline="always", jit_options=dict(KERNEL_OPTIONS))(namespace["typer"])
+    options = {k: v for k, v in KERNEL_OPTIONS.items() if k != "cache"}  # callers are cached
+    overload(dispatcher, inline="always", jit_options=options)(namespace["typer"])
     return dispatcher
 
 

@@ -41,6 +41,7 @@ __all__ = [
     "STATE_SIZE",
     "STATE_SLICES",
     "V_AT",
+    "body_vector",
     "pack_state",
     "unpack_state",
 ]
@@ -121,3 +122,25 @@ def unpack_state(y):
         y[..., s["Q"]].reshape(*y.shape[:-1], 3, 3),
         y[..., s["omega"]],
     )
+
+
+@kernel
+def body_vector(mass, moments, com_offset, inertia_com, pivot, has_pivot, rotor):
+    """The body parameter vector (BODY_SIZE,) from its parts (all in the principal frame of
+    the inertia about the reference point): ``mass``, ascending principal ``moments`` (3,),
+    ``com_offset`` (3,) the centre of mass from the reference point, ``inertia_com`` (3, 3)
+    about the centre of mass, ``pivot`` (3,) the fixed point in space (used when ``has_pivot``)
+    and the free-rotor ``rotor`` code. Inverse moments are 0 where a moment is 0."""
+    out = np.zeros(BODY_SIZE)
+    out[MASS] = mass
+    out[INV_MASS] = 1.0 / mass
+    for k in range(3):
+        out[MOMENTS + k] = moments[k]
+        out[INV_MOMENTS + k] = 1.0 / moments[k] if moments[k] != 0.0 else 0.0
+        out[COM_OFFSET + k] = com_offset[k]
+        out[PIVOT + k] = pivot[k]
+        for j in range(3):
+            out[INERTIA_COM + 3 * k + j] = inertia_com[k, j]
+    out[HAS_PIVOT] = 1.0 if has_pivot else 0.0
+    out[ROTOR] = rotor
+    return out

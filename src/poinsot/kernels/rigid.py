@@ -123,15 +123,17 @@ def euler_omega_dot(moments, omega, torque):
 def shift_torque_to_pivot(body, y, Fx, Fy, Fz, tx, ty, tz):
     """The torque about the reference point: with a pivot, ``τ_P = τ_G + c × Qᵀ F`` (``c`` the
     centre of mass seen from the pivot, body frame); unchanged for a free body. 3-tuple."""
-    if body[HAS_PIVOT] == 0.0:
-        return tx, ty, tz
-    c0 = body[COM_OFFSET]
-    c1 = body[COM_OFFSET + 1]
-    c2 = body[COM_OFFSET + 2]
-    b0 = y[Q_AT] * Fx + y[Q_AT + 3] * Fy + y[Q_AT + 6] * Fz  # Qᵀ F
-    b1 = y[Q_AT + 1] * Fx + y[Q_AT + 4] * Fy + y[Q_AT + 7] * Fz
-    b2 = y[Q_AT + 2] * Fx + y[Q_AT + 5] * Fy + y[Q_AT + 8] * Fz
-    return tx + c1 * b2 - c2 * b1, ty + c2 * b0 - c0 * b2, tz + c0 * b1 - c1 * b0
+    if body[HAS_PIVOT] != 0.0:
+        c0 = body[COM_OFFSET]
+        c1 = body[COM_OFFSET + 1]
+        c2 = body[COM_OFFSET + 2]
+        b0 = y[Q_AT] * Fx + y[Q_AT + 3] * Fy + y[Q_AT + 6] * Fz  # Qᵀ F
+        b1 = y[Q_AT + 1] * Fx + y[Q_AT + 4] * Fy + y[Q_AT + 7] * Fz
+        b2 = y[Q_AT + 2] * Fx + y[Q_AT + 5] * Fy + y[Q_AT + 8] * Fz
+        tx += c1 * b2 - c2 * b1
+        ty += c2 * b0 - c0 * b2
+        tz += c0 * b1 - c1 * b0
+    return tx, ty, tz
 
 
 @kernel(inline=True)

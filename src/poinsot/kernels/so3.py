@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-from .jit import kernel
+from .jit import accepts_sequences, kernel
 
 __all__ = [
     "axis_rotation",
@@ -81,6 +81,7 @@ def hat_into(w, out):
     out[2, 2] = 0.0
 
 
+@accepts_sequences
 @kernel
 def hat(w):
     """Skew matrices of ``w``: ``hat(w) @ v = w × v``. Shape (..., 3) → (..., 3, 3).
@@ -99,6 +100,7 @@ def hat(w):
     return out.reshape(w.shape[:-1] + (3, 3))
 
 
+@accepts_sequences
 @kernel
 def vee(B):
     """Vector of the skew part of ``B``, the inverse of :func:`hat`. (..., 3, 3) → (..., 3).
@@ -145,6 +147,7 @@ def exp_so3_into(x, y, z, out):
     out[2, 1] = b * y * z + a * x
 
 
+@accepts_sequences
 @kernel
 def exp_so3(w):
     """Rotation matrices ``exp(hat(w))``. Shape (..., 3) → (..., 3, 3).
@@ -167,6 +170,7 @@ def exp_so3(w):
     return out.reshape(w.shape[:-1] + (3, 3))
 
 
+@accepts_sequences
 @kernel
 def rodrigues(w):
     """``exp(hat(w))`` for one 3-vector (3,) → (3, 3); the same formula as :func:`exp_so3`."""
@@ -175,6 +179,7 @@ def rodrigues(w):
     return out
 
 
+@accepts_sequences
 @kernel
 def log_so3(R):
     """Rotation vectors ``w`` with ``exp_so3(w) = R`` and ``|w| ≤ π``. (..., 3, 3) → (..., 3)."""
@@ -212,6 +217,7 @@ def dexpinv3(u0, u1, u2, v0, v1, v2):
     return v0 - 0.5 * a0 + c * b0, v1 - 0.5 * a1 + c * b1, v2 - 0.5 * a2 + c * b2
 
 
+@accepts_sequences
 @kernel
 def dexpinv(u, v):
     """Inverse of the derivative of the exponential map on so(3), applied to ``v``.
@@ -265,6 +271,7 @@ def quat_multiply_into(p, q, out):
     out[3] = pw * qz + px * qy - py * qx + pz * qw
 
 
+@accepts_sequences
 @kernel
 def quat_multiply(p, q):
     """Hamilton products ``p ⊗ q`` (..., 4): equal shapes, or one of them a single (4,)."""
@@ -282,6 +289,7 @@ def quat_multiply(p, q):
     return out.reshape(shape)
 
 
+@accepts_sequences
 @kernel
 def quat_conjugate(q):
     """Conjugates ``(w, −x, −y, −z)`` (..., 4): the inverses of unit quaternions."""
@@ -294,6 +302,7 @@ def quat_conjugate(q):
     return out.reshape(q.shape)
 
 
+@accepts_sequences
 @kernel
 def quat_normalize(q):
     """Unit quaternions ``q/|q|`` (..., 4). Raises ``ValueError`` on a zero quaternion."""
@@ -323,6 +332,7 @@ def quat_to_matrix_into(q, out):
     out[2, 2] = 1.0 - 2.0 * (x * x + y * y)
 
 
+@accepts_sequences
 @kernel
 def quat_to_matrix(q):
     """Rotation matrices of unit quaternions (w, x, y, z). (..., 4) → (..., 3, 3)."""
@@ -334,6 +344,7 @@ def quat_to_matrix(q):
     return out.reshape(q.shape[:-1] + (3, 3))
 
 
+@accepts_sequences
 @kernel
 def quat_rotate(q, v):
     """Rotate vectors ``v`` (..., 3) by unit quaternions ``q`` (..., 4): ``q v q*``.
@@ -411,6 +422,7 @@ def matrix_to_quat_into(R, out):
     out[3] = z / n
 
 
+@accepts_sequences
 @kernel
 def matrix_to_quat(R):
     """Unit quaternions (w ≥ 0) of rotation matrices, by Shepperd's method.
@@ -441,6 +453,7 @@ def rotvec_to_quat_into(w, out):
     out[3] = s * w[2]
 
 
+@accepts_sequences
 @kernel
 def rotvec_to_quat(w):
     """Unit quaternions of rotation vectors (angle |w| about w/|w|). (..., 3) → (..., 4)."""
@@ -473,6 +486,7 @@ def quat_to_rotvec_into(q, out):
     out[2] = factor * z
 
 
+@accepts_sequences
 @kernel
 def quat_to_rotvec(q):
     """Rotation vectors (angle in [0, π]) of unit quaternions. (..., 4) → (..., 3)."""

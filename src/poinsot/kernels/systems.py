@@ -12,7 +12,8 @@ The contract (``y`` and ``out`` are float arrays of the system's state size):
 2. ``wrench(system, t, y) -> (Fx, Fy, Fz, τx, τy, τz)``: for rigid bodies, the total force
    (space frame) and torque about the reference point (body frame), used by the splitting
    integrator's kicks.
-3. ``project(system, y) -> bool``: put ``y`` back on the system's constraint manifold, in place,
+3. ``project(system, t, y) -> bool``: put ``y`` back on the system's constraint manifold at time
+   ``t``, in place,
    and say whether the system is constrained (a no-op returning False otherwise); the drivers
    call it after every step and recompute a cached derivative when it returns True.
 4. ``body_parameters(system)``: the body's parameter vector (:mod:`poinsot.kernels.layout`),
@@ -75,7 +76,7 @@ def wrench(system, t, y):
 
 
 @generic
-def project(system, y):
+def project(system, t, y):
     """Put ``y`` on the constraint manifold, in place; True when the system is constrained."""
 
 
@@ -116,7 +117,7 @@ def rigid_vector_field(system, t, y, out):
 
 @project.register(RigidSystem)
 @kernel(inline=True)
-def _rigid_project(system, y):
+def _rigid_project(system, t, y):
     project_onto_pivot(system.body, y)
     return system.body[HAS_PIVOT] != 0.0
 
@@ -150,7 +151,7 @@ def torque_free_vector_field(system, t, y, out):
 
 @project.register(TorqueFreeSystem)
 @kernel(inline=True)
-def _free_project(system, y):
+def _free_project(system, t, y):
     return False
 
 
