@@ -29,7 +29,7 @@ ALLOWED_IN_KERNELS = {
     "hashlib", "inspect", "types", "pathlib",
 }  # fmt: skip
 LIBRARY = {
-    "bodies", "shapes", "mesh", "rotation", "forces", "dynamics", "integrate", "trajectory",
+    "bodies", "mesh", "rotation", "forces", "dynamics", "integrate", "trajectory",
     "simulation", "torquefree", "elliptic", "lagrange", "models", "_validation", "_io",
 }  # fmt: skip
 PRESENTATION = {"plotting", "report"}

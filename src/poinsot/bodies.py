@@ -9,12 +9,12 @@ read-only.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Iterable
 from functools import cached_property
 
 import numpy as np
 
-from . import shapes
 from ._validation import (
     as_array,
     as_positive_array,
@@ -23,14 +23,21 @@ from ._validation import (
     as_vector3,
 )
 from .kernels import inertia as kin
+from .kernels import shapes
 
-__all__ = ["SYMMETRY_CLASSES", "RigidBody"]
+__all__ = ["SYMMETRY_CLASSES", "RigidBody", "UnphysicalInertiaWarning"]
 
-#: Relative tolerance (to the largest principal moment) used to accept inertia matrices and to
-#: classify symmetry.
+#: Relative tolerance (to the largest principal moment) used to accept inertia matrices typed in
+#: by hand (symmetry of the matrix, positive semi-definiteness, the triangle inequality).
 DEFAULT_RTOL = 1e-9
+#: Two principal moments closer than this, relative to the largest, are equal (one tolerance for
+#: every class: :mod:`poinsot.kernels.inertia`).
+SYMMETRY_RTOL = kin.SYMMETRY_RTOL
+SYMMETRY_CLASSES = kin.SYMMETRY_CLASSES
 
-SYMMETRY_CLASSES = ("asymmetric", "prolate", "oblate", "spherical")
+
+class UnphysicalInertiaWarning(UserWarning):
+    """Principal moments that no mass distribution has (accepted with ``allow_unphysical``)."""
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
@@ -39,7 +46,7 @@ def _readonly(a: np.ndarray) -> np.ndarray:
     return a
 
 
-def _check_inertia(inertia, name: str = "inertia") -> np.ndarray:
+def _check_inertia(inertia, name: str = "inertia", allow_unphysical: bool = False) -> np.ndarray:
     J = as_array(inertia, name, (3, 3))
     scale = max(float(np.max(np.abs(J))), np.finfo(float).tiny)
     asym = float(np.max(np.abs(J - J.T)))
@@ -54,11 +61,15 @@ def _check_inertia(inertia, name: str = "inertia") -> np.ndarray:
             f"{I1:.6g}, {I2:.6g}, {I3:.6g}"
         )
     if I1 + I2 < I3 - tol:
-        raise ValueError(
+        message = (
             f"`{name}`: principal moments must satisfy I1 + I2 ≥ I3 (no mass distribution has "
             f"one moment exceeding the sum of the others), found I1 + I2 = {I1 + I2:.6g} < "
             f"I3 = {I3:.6g}"
         )
+        if not allow_unphysical:
+            raise ValueError(message + " (allow_unphysical=True to study the equations anyway)")
+        warnings.warn(message + ": accepted with allow_unphysical", UnphysicalInertiaWarning,
+                      stacklevel=3)  # fmt: skip
     return J
 
 
@@ -80,6 +91,11 @@ class RigidBody:
         semi-definite, with principal moments satisfying ``I1 + I2 ≥ I3``.
     center_of_mass : array_like, shape (3,), optional
         Position ``R`` of the centre of mass in the reference frame.
+    allow_unphysical : bool
+        Accept principal moments that break the triangle inequality ``I1 + I2 ≥ I3``, with an
+        :class:`UnphysicalInertiaWarning`: Euler's equations stay well posed, and the standard
+        test problems of the literature use such moments (Hairer, Lubich & Wanner,
+        *Geometric Numerical Integration*, §IV.1: ``I = (2, 1, 2/3)``).
 
     Examples
     --------
@@ -92,9 +108,9 @@ class RigidBody:
     [0.333333, 0.333333, 0.0]
     """
 
-    def __init__(self, mass, inertia, center_of_mass=(0.0, 0.0, 0.0)):
+    def __init__(self, mass, inertia, center_of_mass=(0.0, 0.0, 0.0), *, allow_unphysical=False):
         self._mass = as_positive_scalar(mass, "mass")
-        self._inertia = _readonly(_check_inertia(inertia))
+        self._inertia = _readonly(_check_inertia(inertia, allow_unphysical=bool(allow_unphysical)))
         self._com = _readonly(as_vector3(center_of_mass, "center_of_mass"))
         self._particle_masses = None
         self._particle_offsets = None
@@ -321,21 +337,13 @@ class RigidBody:
     @property
     def is_degenerate(self) -> bool:
         """True when ``A`` is singular (I1 ≈ 0): all the mass lies on one line."""
-        I1, _, I3 = self.principal_moments
-        return bool(I1 <= DEFAULT_RTOL * I3 or I3 == 0)
+        return bool(kin.is_degenerate(self.principal_moments, kin.DEGENERATE_RTOL))
 
-    def classify_symmetry(self, rtol: float = DEFAULT_RTOL) -> str:
+    def classify_symmetry(self, rtol: float = SYMMETRY_RTOL) -> str:
         """``"spherical"`` (I1 = I3), ``"oblate"`` (I1 = I2 < I3), ``"prolate"`` (I1 < I2 = I3)
-        or ``"asymmetric"``, with moments equal when they differ by ≤ ``rtol · I3``."""
-        I1, I2, I3 = self.principal_moments
-        tol = rtol * I3
-        if I3 - I1 <= tol:
-            return "spherical"
-        if I2 - I1 <= tol:
-            return "oblate"
-        if I3 - I2 <= tol:
-            return "prolate"
-        return "asymmetric"
+        or ``"asymmetric"``, with moments equal when they differ by ≤ ``rtol · I3``
+        (:func:`poinsot.kernels.inertia.symmetry_code`)."""
+        return SYMMETRY_CLASSES[kin.symmetry_code(self.principal_moments, float(rtol))]
 
     @property
     def symmetry(self) -> str:

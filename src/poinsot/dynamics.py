@@ -30,6 +30,7 @@ from .kernels.forces import builtin_potential, builtin_wrench
 from .kernels.rigid import (
     project_onto_pivot,
     rigid_derivative,
+    rigid_motion_from_particles,
     rotor_code,
     shift_torque_to_pivot,
     states_from_principal,
@@ -336,14 +337,7 @@ def rigid_velocity_from_particles(body, velocities):
     if not body.has_particles:
         raise ValueError("particle velocities need a body built from particles")
     v = as_array(velocities, "particle_velocities", (body.n_particles, 3))
-    m = body.particle_masses
-    r = body.particle_positions
-    M = body.mass
-    Rc = body.center_of_mass
-    V = (m[:, None] * v).sum(0) / M
-    L = (m[:, None] * np.cross(r, v)).sum(0)
-    rhs = L - M * np.cross(Rc, V)
-    A = body.inertia
+    A = np.asarray(body.inertia)
     if body.is_degenerate:
         warnings.warn(
             "the body is degenerate (all mass on a line): its spin about that line is undefined; "
@@ -351,11 +345,16 @@ def rigid_velocity_from_particles(body, velocities):
             DegenerateBodyWarning,
             stacklevel=2,
         )
-        omega = np.linalg.pinv(A, rcond=1e-12, hermitian=True) @ rhs
+        A_inv = np.linalg.pinv(A, rcond=1e-12, hermitian=True)
     else:
-        omega = np.linalg.solve(A, rhs)
-    residual = v - (V + np.cross(omega, body.u))
-    norms = np.linalg.norm(residual, axis=1)
+        A_inv = np.linalg.inv(A)
+    V, omega, norms = rigid_motion_from_particles(
+        np.asarray(body.particle_masses),
+        np.asarray(body.particle_positions),
+        v,
+        np.asarray(body.center_of_mass),
+        A_inv,
+    )
     worst = int(np.argmax(norms))
     scale = max(float(np.max(np.linalg.norm(v, axis=1))), 1e-300)
     if norms[worst] > RIGIDITY_RTOL * scale + 1e-300:

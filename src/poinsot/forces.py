@@ -92,25 +92,35 @@ class ForceContext:
         self._r = self._v = None
 
     def point_position(self, offset_body):
-        """Space position of the body point at ``offset_body`` (3,) from the centre of mass."""
-        return self.R + self.Q @ offset_body
+        """Space position ``R + Q b`` of the body point at offset ``b`` (3,) from the centre of
+        mass."""
+        from .kernels.rigid import particle_positions
+
+        return particle_positions(self.R, self.Q, np.atleast_2d(offset_body).astype(float))[0]
 
     def point_velocity(self, offset_body):
         """Space velocity ``V + Q(ω × b)`` of the body point at offset ``b``."""
-        return self.V + self.Q @ np.cross(self.omega, offset_body)
+        from .kernels.rigid import particle_velocities
+
+        b = np.atleast_2d(offset_body).astype(float)
+        return particle_velocities(self.V, self.Q, self.omega, b)[0]
 
     @property
     def particle_positions(self):
         """``r_i = Q u_i + R``, shape (N, 3)."""
         if self._r is None:
-            self._r = self.body.u @ self.Q.T + self.R
+            from .kernels.rigid import particle_positions
+
+            self._r = particle_positions(self.R, self.Q, np.asarray(self.body.u))
         return self._r
 
     @property
     def particle_velocities(self):
         """``ṙ_i = Q(ω × u_i) + Ṙ``, shape (N, 3)."""
         if self._v is None:
-            self._v = np.cross(self.omega, self.body.u) @ self.Q.T + self.V
+            from .kernels.rigid import particle_velocities
+
+            self._v = particle_velocities(self.V, self.Q, self.omega, np.asarray(self.body.u))
         return self._v
 
     def state(self) -> np.ndarray:

@@ -37,10 +37,12 @@ def _torque_free(scenario):
 
 def summarize(scenario, traj, free=None) -> dict:
     """The numbers of a run, JSON-ready: body, invariants, torque-free analysis, diagnostics."""
+    from .kernels.rigid import angular_momentum_body, rotational_energy
+
     body = scenario.body
-    w0 = traj.omega[0]
-    k0 = 0.5 * float(w0 @ body.inertia @ w0)
-    a0 = float(np.linalg.norm(body.inertia @ w0))
+    w0 = np.ascontiguousarray(traj.omega[0])
+    k0 = float(rotational_energy(body.inertia, w0))
+    a0 = float(np.linalg.norm(angular_momentum_body(body.inertia, w0)))
     out = {
         "scenario": {
             "name": scenario.name,
@@ -180,6 +182,7 @@ def _figures(folder: Path, scenario, traj, free):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from .kernels.shapes import equivalent_box_half_extents
     from .plotting import (
         plot_attitude_frames,
         plot_center_of_mass_path,
@@ -187,7 +190,6 @@ def _figures(folder: Path, scenario, traj, free):
         plot_omega_series,
         plot_polhode_family,
     )
-    from .report import equivalent_box_half_extents
 
     def save(fig, name):
         with atomic_path(folder / name) as tmp:
@@ -197,19 +199,19 @@ def _figures(folder: Path, scenario, traj, free):
     save(plot_omega_series(traj), "omega.png")
     save(plot_conservation(traj), "conservation.png")
     save(plot_center_of_mass_path(traj), "center_of_mass.png")
-    half = equivalent_box_half_extents(scenario.body)
+    half = equivalent_box_half_extents(scenario.body.principal_moments, scenario.body.mass)
     QE = traj.Q @ scenario.body.principal_axes  # draw the box in principal axes
     save(plot_attitude_frames(QE, traj.t, half_extents=np.maximum(half, 1e-3)), "body.png")
     if free is not None:
+        from .kernels.rigid import rotational_energy
+
         energy = scenario.analysis.get("energy")
-        k = (
-            energy
-            if energy is not None
-            else 0.5 * float(traj.omega[0] @ scenario.body.inertia @ traj.omega[0])
+        k_traj = float(
+            rotational_energy(scenario.body.inertia, np.ascontiguousarray(traj.omega[0]))
         )
+        k = energy if energy is not None else k_traj
         if k > 0:
             fig = plot_polhode_family(free, k, levels=scenario.analysis.get("levels", 9))
-            k_traj = 0.5 * float(traj.omega[0] @ scenario.body.inertia @ traj.omega[0])
             if k_traj > 0:
                 path = traj.omega * np.sqrt(k / k_traj)
                 fig.axes[0].plot(*path.T, color="crimson", lw=2.5, label="ω(t) of this run")

@@ -29,11 +29,10 @@ def _plotly():
 
 def equivalent_box_half_extents(body) -> np.ndarray:
     """Half extents (along e1, e2, e3) of the uniform box with the body's mass and principal
-    moments: ``a² = 6 (I2 + I3 − I1)/M`` etc. (real by the triangle inequalities)."""
-    I1, I2, I3 = body.principal_moments
-    M = body.mass
-    sq = 6.0 / M * np.array([I2 + I3 - I1, I1 + I3 - I2, I1 + I2 - I3])
-    return 0.5 * np.sqrt(np.maximum(sq, 0.0))
+    moments (:func:`poinsot.kernels.shapes.equivalent_box_half_extents`)."""
+    from .kernels.shapes import equivalent_box_half_extents as half_extents
+
+    return half_extents(np.asarray(body.principal_moments), float(body.mass))
 
 
 def _box_lines(half):
@@ -180,7 +179,9 @@ def _polhode_figure(traj, go, free, energy, levels):
     from .plotting.interactive import polhode_family_figure
 
     w = traj.omega
-    k_traj = 0.5 * float(w[0] @ traj.body.inertia @ w[0])
+    from .kernels.rigid import rotational_energy
+
+    k_traj = float(rotational_energy(traj.body.inertia, np.ascontiguousarray(w[0])))
     k = energy if energy is not None else k_traj
     scale = np.sqrt(k / k_traj) if k_traj > 0 else 1.0
     fig = polhode_family_figure(free, k, levels=levels, omega=w * scale)

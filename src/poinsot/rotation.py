@@ -126,22 +126,6 @@ def rotvec_from_matrix(R) -> np.ndarray:
     return so3.log_so3(R)
 
 
-def _zxz_rate_matrix(theta, phi):
-    """B(θ, φ) with ``(p, q, r) = B (ψ̇, θ̇, φ̇)``, eq. (13)."""
-    st, ct = np.sin(theta), np.cos(theta)
-    sp, cp = np.sin(phi), np.cos(phi)
-    zero = np.zeros_like(theta)
-    one = np.ones_like(theta)
-    return np.stack(
-        [
-            np.stack([st * sp, cp, zero], -1),
-            np.stack([st * cp, -sp, zero], -1),
-            np.stack([ct, zero, one], -1),
-        ],
-        -2,
-    )
-
-
 def body_rates_from_euler(angles, rates) -> np.ndarray:
     """Body-frame angular velocity ``(p, q, r)`` from z-x-z Euler angles and their rates.
 
@@ -165,8 +149,11 @@ def body_rates_from_euler(angles, rates) -> np.ndarray:
     """
     a = as_array(angles, "angles", (*np.shape(angles)[:-1], 3))
     d = as_array(rates, "rates", (*np.shape(rates)[:-1], 3))
-    B = _zxz_rate_matrix(a[..., 1], a[..., 2])
-    return np.einsum("...ij,...j->...i", B, d)
+    if a.shape != d.shape:
+        raise ValueError(
+            f"`angles` and `rates` must have the same shape, found {a.shape}, {d.shape}"
+        )
+    return so3.zxz_body_rates(a, d)
 
 
 def euler_rates_from_body(angles, omega) -> np.ndarray:
@@ -178,12 +165,10 @@ def euler_rates_from_body(angles, omega) -> np.ndarray:
     """
     a = as_array(angles, "angles", (*np.shape(angles)[:-1], 3))
     w = as_array(omega, "omega", (*np.shape(omega)[:-1], 3))
-    theta, phi = a[..., 1], a[..., 2]
-    st = np.sin(theta)
-    if np.any(np.abs(st) < 1e-12):
+    if a.shape != w.shape:
+        raise ValueError(
+            f"`angles` and `omega` must have the same shape, found {a.shape}, {w.shape}"
+        )
+    if np.any(np.abs(np.sin(a[..., 1])) < 1e-12):
         raise ValueError("`angles`: Euler rates are undefined at θ = 0 or π (gimbal lock)")
-    p, q, r = w[..., 0], w[..., 1], w[..., 2]
-    psid = (p * np.sin(phi) + q * np.cos(phi)) / st
-    thetad = p * np.cos(phi) - q * np.sin(phi)
-    phid = r - psid * np.cos(theta)
-    return np.stack([psid, thetad, phid], -1)
+    return so3.zxz_angle_rates(a, w)

@@ -27,12 +27,16 @@ import numpy as np
 
 from . import elliptic
 from ._validation import as_array, as_vector3
-from .kernels.so3 import exp_so3, hat
+from .kernels import freebody
+from .kernels import inertia as kin_inertia
+from .kernels.rigid import angular_momentum_body, euler_omega_dot, rotational_energy
+from .kernels.so3 import exp_so3
 
 __all__ = ["FixedPointSet", "FreeRigidBody", "Polhode", "Stability"]
 
-#: Moments closer than this (relative to I3) are treated as equal (symmetric body).
-SYMMETRY_RTOL = 1e-12
+#: Moments closer than this (relative to I3) are treated as equal (symmetric body); the same
+#: tolerance as :attr:`poinsot.bodies.RigidBody.symmetry`.
+SYMMETRY_RTOL = kin_inertia.SYMMETRY_RTOL
 #: ω within this relative distance of the intermediate axis is taken as that fixed point.
 NEAR_UNSTABLE_AXIS = 1e-140
 
@@ -152,16 +156,8 @@ class FreeRigidBody:
             S[:, 2] = -S[:, 2]
         self._S = S  # sorted principal axes (columns) in body coordinates, right-handed
         self._I = self.moments[order]
-        I1, I2, I3 = self._I
-        tol = SYMMETRY_RTOL * I3
-        if I3 - I1 <= tol:
-            self.symmetry = "spherical"
-        elif I2 - I1 <= tol:
-            self.symmetry = "oblate"
-        elif I3 - I2 <= tol:
-            self.symmetry = "prolate"
-        else:
-            self.symmetry = "asymmetric"
+        code = kin_inertia.symmetry_code(self._I, SYMMETRY_RTOL)
+        self.symmetry = kin_inertia.SYMMETRY_CLASSES[code]
         self.inertia = body_axes @ np.diag(moments) @ body_axes.T
 
     @classmethod
@@ -206,8 +202,8 @@ class FreeRigidBody:
         (0.5, 1.0)
         """
         _, w = self._omega(omega, "omega")
-        I = self._I
-        return float(0.5 * np.sum(I * w * w)), float(np.linalg.norm(I * w))
+        k, a = freebody.invariants(self._I, w)
+        return float(k), float(a)
 
     def cone_coefficients(self, energy, momentum) -> np.ndarray:
         """Coefficients ``b_i = I_i (a²/(2k) − I_i)`` of the cone (32) ``Σ b_i ω_i² = 0``, along
@@ -218,8 +214,8 @@ class FreeRigidBody:
         >>> FreeRigidBody((1, 2, 3)).cone_coefficients(0.5, 2 ** 0.5).round(12).tolist()
         [1.0, 0.0, -3.0]
         """
-        D = self.check_feasible(energy, momentum)
-        return self._I * (D - self._I)
+        self.check_feasible(energy, momentum)
+        return freebody.cone_coefficients(self._I, float(energy), float(momentum))
 
     def cone_matrix(self, energy, momentum) -> np.ndarray:
         """The cone (32) as a quadratic form in the body frame: ``ωᵀ C ω = 0``, (3, 3)."""
@@ -243,9 +239,12 @@ class FreeRigidBody:
         return min(max(D, I1), I3)
 
     def euler_rhs(self, omega) -> np.ndarray:
-        """``ω̇`` from Euler's equation (20), in principal components (27)–(29)."""
+        """``ω̇`` from Euler's equation (20) in principal components (27)–(29), for ω (..., 3)
+        in the body frame."""
         w = np.asarray(omega, dtype=float)
-        return np.cross(w @ self.inertia.T, w) @ np.linalg.inv(self.inertia).T
+        S = self._S
+        w_sorted = w @ S
+        return euler_omega_dot(self._I, w_sorted, np.zeros_like(w_sorted)) @ S.T
 
     # ----------------------------------------------------------------- fixed points
     def fixed_points(self) -> list[FixedPointSet]:
@@ -286,8 +285,7 @@ class FreeRigidBody:
     def jacobian(self, omega) -> np.ndarray:
         """``∂ω̇/∂ω = A⁻¹(hat(Aω) − hat(ω) A)`` (3, 3), body frame."""
         w = as_vector3(omega, "omega")
-        A = self.inertia
-        return np.linalg.solve(A, hat(A @ w) - hat(w) @ A)
+        return freebody.euler_jacobian(np.ascontiguousarray(self.inertia), w)
 
     def stability(self, omega) -> Stability:
         """Linear stability of the fixed point ``omega`` (body frame); see :class:`Stability`."""
@@ -745,8 +743,9 @@ class FreeRigidBody:
         w = self.exact_omega(tr.omega[0], t)
         Q = self.exact_attitude(tr.omega[0], t, tr.Q[0])
         k0, a0 = self.invariants(tr.omega[0])
-        ks = 0.5 * np.einsum("ni,ij,nj->n", tr.omega, self.inertia, tr.omega)
-        As = np.linalg.norm(tr.omega @ self.inertia.T, axis=1)
+        omega = np.ascontiguousarray(tr.omega)
+        ks = rotational_energy(self.inertia, omega)
+        As = np.linalg.norm(angular_momentum_body(self.inertia, omega), axis=1)
         return {
             "omega": float(np.abs(tr.omega - w).max()),
             "attitude": float(np.abs(tr.Q - Q).max()),

@@ -159,7 +159,9 @@ class Trajectory:
 
     def positions(self):
         """Particle trajectories ``r_i = Q u_i + R``, shape (n, N, 3); needs a particle body."""
-        return np.einsum("nij,pj->npi", self.Q, self.body.u) + self.R[:, None, :]
+        return rigid.particle_trajectories(
+            self._c(self.R), self._c(self.Q), np.asarray(self.body.u)
+        )
 
     # ----------------------------------------------------------------- diagnostics
     @cached_property

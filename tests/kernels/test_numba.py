@@ -116,6 +116,30 @@ ARGS = {
     "rotate_pair_into": lambda: (1, 0.3, Y.copy()),
     "free_rotor_step_into": lambda: (BODY, Y.copy(), 0.01, np.zeros((3, 3)), np.zeros((3, 3))),
     "free_rotor_step": lambda: (MOMENTS, Y[15:18].copy(), Q, 0.01),
+    "particle_positions": lambda: (W3[0], Q, RNG.normal(size=(5, 3))),
+    "particle_velocities": lambda: (W3[0], Q, W3[1], RNG.normal(size=(5, 3))),
+    "particle_trajectories": lambda: (W3, np.stack([Q] * 4), RNG.normal(size=(5, 3))),
+    "rigid_motion_from_particles": lambda: (
+        RNG.uniform(1, 2, 5), RNG.normal(size=(5, 3)), RNG.normal(size=(5, 3)), np.zeros(3),
+        np.eye(3),
+    ),  # fmt: skip
+    "zxz_body_rates": lambda: (W3, W3[::-1].copy()),
+    "zxz_angle_rates": lambda: (W3 + np.array([0, 1.0, 0]), W3[::-1].copy()),
+    # freebody
+    "invariants": lambda: (MOMENTS, W3),
+    "energy_ellipsoid_semi_axes": lambda: (MOMENTS, 0.5),
+    "momentum_ellipsoid_semi_axes": lambda: (MOMENTS, 1.3),
+    "cone_coefficients": lambda: (MOMENTS, 0.5, 1.3),
+    "euler_jacobian": lambda: (np.diag(MOMENTS), W3[0]),
+    # shapes
+    "box_inertia": lambda: (2.0, np.array([1.0, 2.0, 3.0])),
+    "sphere_inertia": lambda: (2.0, 0.5),
+    "spherical_shell_inertia": lambda: (2.0, 0.5),
+    "cylinder_inertia": lambda: (2.0, 0.5, 3.0),
+    "ellipsoid_inertia": lambda: (2.0, np.array([1.0, 2.0, 3.0])),
+    "rod_inertia": lambda: (2.0, 3.0),
+    "cone_inertia": lambda: (2.0, 0.5, 3.0),
+    "equivalent_box_half_extents": lambda: (MOMENTS, 2.0),
     # elliptic
     "jacobi_agm_scalar": lambda: (0.7, 0.6, 0.4),
     "jacobi_near_one_scalar": lambda: (0.7, 1 - 1e-8, 1e-8),

@@ -54,8 +54,12 @@ __all__ = [
     "omega_dot_principal",
     "omega_space",
     "orthogonality_error",
+    "particle_positions",
+    "particle_trajectories",
+    "particle_velocities",
     "project_onto_pivot",
     "rigid_derivative",
+    "rigid_motion_from_particles",
     "rotate_pair_into",
     "rotational_energy",
     "rotor_code",
@@ -121,19 +125,16 @@ def euler_omega_dot(moments, omega, torque):
 # --------------------------------------------------------------------------- eqs (07)–(09)
 @kernel(inline=True)
 def shift_torque_to_pivot(body, y, Fx, Fy, Fz, tx, ty, tz):
-    """The torque about the reference point: with a pivot, ``τ_P = τ_G + c × Qᵀ F`` (``c`` the
-    centre of mass seen from the pivot, body frame); unchanged for a free body. 3-tuple."""
-    if body[HAS_PIVOT] != 0.0:
-        c0 = body[COM_OFFSET]
-        c1 = body[COM_OFFSET + 1]
-        c2 = body[COM_OFFSET + 2]
-        b0 = y[Q_AT] * Fx + y[Q_AT + 3] * Fy + y[Q_AT + 6] * Fz  # Qᵀ F
-        b1 = y[Q_AT + 1] * Fx + y[Q_AT + 4] * Fy + y[Q_AT + 7] * Fz
-        b2 = y[Q_AT + 2] * Fx + y[Q_AT + 5] * Fy + y[Q_AT + 8] * Fz
-        tx += c1 * b2 - c2 * b1
-        ty += c2 * b0 - c0 * b2
-        tz += c0 * b1 - c1 * b0
-    return tx, ty, tz
+    """The torque about the reference point, ``τ_P = τ_G + c × Qᵀ F`` (``c`` the centre of mass
+    seen from the reference point, body frame). A free body has ``c = 0``: no branch is needed.
+    Returns a 3-tuple."""
+    c0 = body[COM_OFFSET]
+    c1 = body[COM_OFFSET + 1]
+    c2 = body[COM_OFFSET + 2]
+    b0 = y[Q_AT] * Fx + y[Q_AT + 3] * Fy + y[Q_AT + 6] * Fz  # Qᵀ F
+    b1 = y[Q_AT + 1] * Fx + y[Q_AT + 4] * Fy + y[Q_AT + 7] * Fz
+    b2 = y[Q_AT + 2] * Fx + y[Q_AT + 5] * Fy + y[Q_AT + 8] * Fz
+    return tx + c1 * b2 - c2 * b1, ty + c2 * b0 - c0 * b2, tz + c0 * b1 - c1 * b0
 
 
 @kernel(inline=True)
@@ -483,3 +484,79 @@ def free_rotor_step(moments, pi, Q, h):
             z[Q_AT + 3 * k + j] = Q[k, j]
     free_rotor_step_into(body, z, h, np.empty((3, 3)), np.empty((3, 3)))
     return z[OMEGA_AT : OMEGA_AT + 3].copy(), z[Q_AT : Q_AT + 9].copy().reshape((3, 3))
+
+
+# --------------------------------------------------------------------------- particles
+@kernel
+def particle_positions(R, Q, u):
+    """Positions of the particles of a rigid motion, ``r_i = Q u_i + R`` (the rigidity theorem
+    of ``docs/theory.md`` §1). R (3,), Q (3, 3), offsets u (N, 3) → (N, 3)."""
+    out = np.empty((u.shape[0], 3))
+    for i in range(u.shape[0]):
+        for j in range(3):
+            out[i, j] = R[j] + Q[j, 0] * u[i, 0] + Q[j, 1] * u[i, 1] + Q[j, 2] * u[i, 2]
+    return out
+
+
+@kernel
+def particle_velocities(V, Q, omega, u):
+    """Velocities of the particles, ``ṙ_i = Q(ω × u_i) + Ṙ``. V (3,), Q (3, 3), ω (3,) body
+    frame, offsets u (N, 3) → (N, 3)."""
+    out = np.empty((u.shape[0], 3))
+    for i in range(u.shape[0]):
+        c0 = omega[1] * u[i, 2] - omega[2] * u[i, 1]
+        c1 = omega[2] * u[i, 0] - omega[0] * u[i, 2]
+        c2 = omega[0] * u[i, 1] - omega[1] * u[i, 0]
+        for j in range(3):
+            out[i, j] = V[j] + Q[j, 0] * c0 + Q[j, 1] * c1 + Q[j, 2] * c2
+    return out
+
+
+@kernel
+def particle_trajectories(R, Q, u):
+    """:func:`particle_positions` at every sample: R (n, 3), Q (n, 3, 3), u (N, 3) →
+    (n, N, 3)."""
+    out = np.empty((R.shape[0], u.shape[0], 3))
+    for k in range(R.shape[0]):
+        out[k] = particle_positions(R[k], Q[k], u)
+    return out
+
+
+@kernel
+def rigid_motion_from_particles(masses, positions, velocities, center, inertia_inv):
+    """The notebook's initial conditions from particle data (``docs/theory.md`` §1), at
+    ``Q(0) = I``: ``Ṙ(0) = Σ m_i ṙ_i / M`` and ``A ω(0) = L(0) − M R(0) × Ṙ(0)`` with
+    ``L(0) = Σ m_i r_i × ṙ_i`` (eq. (03)); ``inertia_inv`` is ``A⁻¹`` (a pseudo-inverse for a
+    degenerate body: the minimum-norm ω).
+
+    Returns ``(V (3,), ω (3,), residual (N,))``, the residual ``|ṙ_i − (Ṙ + ω × u_i)|`` that is
+    zero when the velocities are a rigid motion.
+    """
+    M = 0.0
+    P = np.zeros(3)
+    L = np.zeros(3)
+    for i in range(masses.shape[0]):
+        m = masses[i]
+        r = positions[i]
+        v = velocities[i]
+        M += m
+        for j in range(3):
+            P[j] += m * v[j]
+        L[0] += m * (r[1] * v[2] - r[2] * v[1])
+        L[1] += m * (r[2] * v[0] - r[0] * v[2])
+        L[2] += m * (r[0] * v[1] - r[1] * v[0])
+    V = P / M
+    rhs = np.empty(3)
+    rhs[0] = L[0] - M * (center[1] * V[2] - center[2] * V[1])
+    rhs[1] = L[1] - M * (center[2] * V[0] - center[0] * V[2])
+    rhs[2] = L[2] - M * (center[0] * V[1] - center[1] * V[0])
+    omega = inertia_inv @ rhs
+    u = positions - center
+    rigid = particle_velocities(V, np.eye(3), omega, u)
+    residual = np.empty(masses.shape[0])
+    for i in range(masses.shape[0]):
+        d = 0.0
+        for j in range(3):
+            d += (velocities[i, j] - rigid[i, j]) ** 2
+        residual[i] = math.sqrt(d)
+    return V, omega, residual

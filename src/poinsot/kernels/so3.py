@@ -52,6 +52,8 @@ __all__ = [
     "rotvec_to_quat",
     "rotvec_to_quat_into",
     "vee",
+    "zxz_angle_rates",
+    "zxz_body_rates",
 ]
 
 #: Below this angle the closed forms are replaced by Taylor series (errors ~θ^6 ≪ 1e-16).
@@ -496,3 +498,55 @@ def quat_to_rotvec(q):
     for i in range(items.shape[0]):
         quat_to_rotvec_into(items[i], out[i])
     return out.reshape(q.shape[:-1] + (3,))
+
+
+# --------------------------------------------------------------------------- Euler angles
+@accepts_sequences
+@kernel
+def zxz_body_rates(angles, rates):
+    """Body-frame angular velocity ``(p, q, r)`` from z-x-z Euler angles ``(ψ, θ, φ)`` and their
+    rates (paper eq. (13); the same form gives the carrier's ω_e from its angles, eq. (14))::
+
+        p = ψ̇ sin θ sin φ + θ̇ cos φ
+        q = ψ̇ sin θ cos φ − θ̇ sin φ
+        r = φ̇ + ψ̇ cos θ
+
+    ``angles``, ``rates`` (..., 3) → (..., 3).
+    """
+    angles = np.asarray(angles)
+    a = _items(angles, 3)
+    d = _items(np.asarray(rates), 3)
+    out = np.empty_like(a)
+    for i in range(a.shape[0]):
+        st = math.sin(a[i, 1])
+        ct = math.cos(a[i, 1])
+        sp = math.sin(a[i, 2])
+        cp = math.cos(a[i, 2])
+        out[i, 0] = d[i, 0] * st * sp + d[i, 1] * cp
+        out[i, 1] = d[i, 0] * st * cp - d[i, 1] * sp
+        out[i, 2] = d[i, 2] + d[i, 0] * ct
+    return out.reshape(angles.shape)
+
+
+@accepts_sequences
+@kernel
+def zxz_angle_rates(angles, omega):
+    """The inverse of :func:`zxz_body_rates`: ``(ψ̇, θ̇, φ̇)`` from body ``(p, q, r)``::
+
+        ψ̇ = (p sin φ + q cos φ)/sin θ,  θ̇ = p cos φ − q sin φ,  φ̇ = r − ψ̇ cos θ
+
+    Singular at θ = 0, π (sin θ = 0), where the result is infinite or NaN; callers check.
+    """
+    angles = np.asarray(angles)
+    a = _items(angles, 3)
+    w = _items(np.asarray(omega), 3)
+    out = np.empty_like(a)
+    for i in range(a.shape[0]):
+        st = math.sin(a[i, 1])
+        sp = math.sin(a[i, 2])
+        cp = math.cos(a[i, 2])
+        psid = (w[i, 0] * sp + w[i, 1] * cp) / st
+        out[i, 0] = psid
+        out[i, 1] = w[i, 0] * cp - w[i, 1] * sp
+        out[i, 2] = w[i, 2] - psid * math.cos(a[i, 1])
+    return out.reshape(angles.shape)

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..kernels.freebody import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
+
 __all__ = ["energy_ellipsoid_figure", "polhode_family_figure"]
 
 COLORS = {
@@ -66,7 +68,7 @@ def polhode_family_figure(body, energy=0.5, *, levels=9, omega=None, n=200):
     :class:`~poinsot.torquefree.FreeRigidBody`. Returns a plotly figure."""
     go = _go()
     k = float(energy)
-    semi = np.sqrt(2 * k / body.principal_moments)
+    semi = energy_ellipsoid_semi_axes(body.principal_moments, k)
     data = [_ellipsoid(go, semi, body._S, "#9ecae1", "energy ellipsoid")]
     shown = set()
     stable, unstable = [], []
@@ -123,8 +125,10 @@ def energy_ellipsoid_figure(body, energy, momentum):
     D = body.check_feasible(k, a)
     I = body.principal_moments
     data = [
-        _ellipsoid(go, np.sqrt(2 * k / I), body._S, "#9ecae1", "energy ellipsoid"),
-        _ellipsoid(go, a / I, body._S, "#a1d99b", "momentum ellipsoid", 0.15),
+        _ellipsoid(go, energy_ellipsoid_semi_axes(I, k), body._S, "#9ecae1", "energy ellipsoid"),
+        _ellipsoid(
+            go, momentum_ellipsoid_semi_axes(I, a), body._S, "#a1d99b", "momentum ellipsoid", 0.15
+        ),
     ]
     curves = _intersection(body, k, a)
     s = np.linspace(-1.35, 1.35, 25)

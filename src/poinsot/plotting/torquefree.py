@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._io import atomic_path
+from ..kernels.freebody import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
 
 __all__ = [
     "animate_tumbling",
@@ -82,7 +83,7 @@ def plot_energy_ellipsoid(
     I = body.principal_moments
     S = body._S
     k = float(energy)
-    semi = np.sqrt(2 * k / I)
+    semi = energy_ellipsoid_semi_axes(np.asarray(I, float), k)
     x, y, z = _ellipsoid_mesh(semi, S)
     ax.plot_surface(x, y, z, color="tab:blue", alpha=0.12, linewidth=0, label="energy ellipsoid")
     ax.plot_wireframe(x, y, z, color="tab:blue", alpha=0.15, linewidth=0.3, rstride=2, cstride=2)
@@ -92,7 +93,7 @@ def plot_energy_ellipsoid(
         D = body.check_feasible(k, a)
         title += f", a²/2k = {D:.4g}"
         if momentum_ellipsoid:
-            xm, ym, zm = _ellipsoid_mesh(a / I, S)
+            xm, ym, zm = _ellipsoid_mesh(momentum_ellipsoid_semi_axes(np.asarray(I, float), a), S)
             ax.plot_wireframe(
                 xm,
                 ym,
@@ -133,12 +134,11 @@ def plot_energy_ellipsoid(
 
 def _intersection(body, k, a):
     """Polhode curves with invariants (k, a): both branches, or the four separatrix arcs."""
-    I1, I2, I3 = body.principal_moments
-    if body.symmetry == "spherical":
-        from ..torquefree import Polhode  # noqa: F401 - every ω on the sphere is fixed
-
+    moments = np.asarray(body.principal_moments, dtype=float)
+    _, I2, I3 = moments
+    if body.symmetry == "spherical":  # every ω on the sphere is a fixed point
         theta = np.linspace(0, 2 * np.pi, 200)
-        r = np.sqrt(2 * k / I1)
+        r = float(energy_ellipsoid_semi_axes(moments, k)[0])
         return [np.column_stack([r * np.cos(theta), r * np.sin(theta), 0 * theta])]
     D = a * a / (2 * k)
     if body.symmetry == "asymmetric" and abs(D - I2) <= 1e-9 * I3:
@@ -146,7 +146,7 @@ def _intersection(body, k, a):
     for fp in body.fixed_points():  # a symmetric body's plane of fixed points: a whole circle
         if fp.kind == "plane" and abs(D - fp.moment) <= 1e-9 * I3:
             th = np.linspace(0, 2 * np.pi, 200)
-            r = np.sqrt(2 * k / fp.moment)
+            r = float(energy_ellipsoid_semi_axes(np.full(3, fp.moment), k)[0])
             return [
                 r * (np.outer(np.cos(th), fp.basis[:, 0]) + np.outer(np.sin(th), fp.basis[:, 1]))
             ]
@@ -159,7 +159,7 @@ def plot_polhode_family(body, energy=0.5, *, levels=9, ax=None, n=300):
     (green dots) and unstable ones (red crosses). Returns the figure."""
     fig, ax = _axes3d(ax)
     I = body.principal_moments
-    semi = np.sqrt(2 * float(energy) / I)
+    semi = energy_ellipsoid_semi_axes(np.asarray(I, float), float(energy))
     x, y, z = _ellipsoid_mesh(semi, body._S)
     ax.plot_surface(x, y, z, color="0.7", alpha=0.12, linewidth=0)
     seen = set()
@@ -187,7 +187,7 @@ def plot_polhode_family(body, energy=0.5, *, levels=9, ax=None, n=300):
         if fp.kind == "plane":
             e1, e2 = fp.basis[:, 0], fp.basis[:, 1]
             th = np.linspace(0, 2 * np.pi, 200)
-            r = np.sqrt(2 * float(energy) / fp.moment)
+            r = float(energy_ellipsoid_semi_axes(np.full(3, fp.moment), float(energy))[0])
             circ = r * (np.outer(np.cos(th), e1) + np.outer(np.sin(th), e2))
             ax.plot(*circ.T, color="red", lw=2.5, label="unstable plane of fixed points")
     ax.set_title(
