@@ -36,7 +36,7 @@ from .kernels.rigid import (
     states_from_principal,
     states_to_principal,
 )
-from .kernels.systems import RigidSystem, TorqueFreeSystem
+from .kernels.systems import RigidSystem, TorqueFreeSystem, UserForcesSystem
 
 __all__ = ["DegenerateBodyWarning", "RigidBodySystem", "rigid_velocity_from_particles"]
 
@@ -97,7 +97,10 @@ class RigidBodySystem:
         E = axes
         frame = BodyFrame(body.center_of_mass, E)
         builtin = [f for f in self.forces if f.compiled]
-        self.python_forces = tuple(f for f in self.forces if not f.compiled)
+        self.jitted_forces = tuple(f for f in self.forces if getattr(f, "jitted", False))
+        self.python_forces = tuple(
+            f for f in self.forces if not f.compiled and f not in self.jitted_forces
+        )
         self.force_kind = np.array([layout.FORCE_KINDS[f.kind] for f in builtin], dtype=np.int64)
         self.force_params = np.array([f.lower(frame) for f in builtin]).reshape(
             -1, layout.FORCE_PARAMS
@@ -167,13 +170,23 @@ class RigidBodySystem:
         """The named tuple of arrays the compiled engine integrates, from the initial
         body-frame state ``y0`` (which fixes where the pivot is in space)."""
         params = self.body_parameters(self.pivot_point(y0) if self.pivot is not None else None)
+        if self.jitted_forces:
+            return UserForcesSystem(
+                params,
+                self.force_kind,
+                self.force_params,
+                np.ascontiguousarray(self.principal_axes),
+                _sum_of(tuple(f.func for f in self.jitted_forces)),
+                np.zeros(layout.STATE_SIZE),
+            )
         if self.pivot is None and not len(self.force_kind):
             return TorqueFreeSystem(params)
         return RigidSystem(params, self.force_kind, self.force_params)
 
     def python_system(self, y0):
         """The same physics evaluated from Python, for the Python backend (Python forces)."""
-        return _PythonRigidSystem(self, self.compiled_system(y0))
+        params = self.body_parameters(self.pivot_point(y0) if self.pivot is not None else None)
+        return _PythonRigidSystem(self, RigidSystem(params, self.force_kind, self.force_params))
 
     # ----------------------------------------------------------------- body-frame evaluation
     def context(self, t, R, V, Q, omega) -> ForceContext:
@@ -209,7 +222,7 @@ class RigidBodySystem:
             return np.zeros(0)
         params = self.body_parameters(self.pivot_point(Y[0]) if self.pivot is not None else None)
         out = potential_energies(self.force_kind, self.force_params, params, t, self.to_internal(Y))
-        for f in self.python_forces:
+        for f in self.python_forces + self.jitted_forces:
             if f.has_potential:
                 for i in range(len(t)):
                     R, V, Q, w = layout.unpack_state(Y[i])
@@ -270,6 +283,27 @@ class RigidBodySystem:
         return layout.pack_state(R, V, Q, w)
 
 
+_SUMS: dict = {}
+
+
+def _sum_of(functions):
+    """One compiled function ``(t, y) → 6-tuple`` summing the user's compiled forces (the engine
+    then makes one plain call; memoised, so the same forces reuse one compiled engine)."""
+    if len(functions) == 1:
+        return functions[0]
+    if functions not in _SUMS:
+        import numba
+
+        names = [f"f{i}" for i in range(len(functions))]
+        lines = [f"    w{i} = {n}(t, y)" for i, n in enumerate(names)]
+        total = ", ".join(" + ".join(f"w{i}[{k}]" for i in range(len(functions))) for k in range(6))
+        source = "def total(t, y):\n" + "\n".join(lines) + f"\n    return ({total})\n"
+        scope = dict(zip(names, functions, strict=True))
+        exec(source, scope)  # a generated sum of a variable number of compiled callees
+        _SUMS[functions] = numba.njit(scope["total"])
+    return _SUMS[functions]
+
+
 class _PythonRigidSystem:
     """A rigid system evaluated from Python (the Python backend): the built-in forces through
     the compiled kernels, the user's Python forces through their callables, at the body-frame
@@ -281,7 +315,7 @@ class _PythonRigidSystem:
         self.data = data
         self.body = data.body
         self.axes = owner.principal_axes
-        self._forces = owner.python_forces
+        self._forces = owner.python_forces + owner.jitted_forces
 
     def state_size(self, y):
         return layout.STATE_SIZE

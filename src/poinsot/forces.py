@@ -483,19 +483,51 @@ class ParticleForce(Force):
         return F_i.sum(axis=0), np.cross(u, F_i @ ctx.Q).sum(axis=0)
 
 
+def _is_jitted(func) -> bool:
+    """True for a numba-compiled function (a dispatcher), without importing numba."""
+    return type(func).__name__ == "CPUDispatcher" and hasattr(func, "py_func")
+
+
 class CustomForce(Force):
-    """Any wrench from a callable ``func(ctx) → (F_space (3,), τ_body (3,))`` about the centre
-    of mass, ``ctx`` a :class:`ForceContext`; optionally with ``potential(ctx) → float``.
-    A Python callable: the slow path."""
+    """Any wrench, from your own function.
+
+    * A Python callable ``func(ctx) → (F_space (3,), τ_body (3,))`` about the centre of mass,
+      ``ctx`` a :class:`ForceContext`, optionally with ``potential(ctx) → float``: the slow
+      path (every right-hand side calls Python).
+    * A numba-compiled function ``func(t, y) → (Fx, Fy, Fz, τx, τy, τz)`` of the time and the
+      body-frame state ``y`` (18,) = ``[R, V, Q (row-major), ω]``
+      (:data:`poinsot.kernels.layout.STATE_SLICES`), the torque about the centre of mass in
+      the body frame, optionally with a compiled ``potential(t, y) → float``: the compiled
+      engine calls it directly. (Numba cannot cache code that holds your function, so such a
+      run compiles its engine once per process.)
+
+    Examples
+    --------
+    >>> import numba
+    >>> @numba.njit
+    ... def pull_up(t, y):
+    ...     return 0.0, 0.0, 2.0, 0.0, 0.0, 0.0
+    >>> CustomForce(pull_up, position_only=True).jitted
+    True
+    """
 
     def __init__(self, func, *, potential=None, position_only=False, name=None):
         if not callable(func):
             raise TypeError(f"`func` must be callable, found {type(func).__name__}")
+        if potential is not None and not callable(potential):
+            raise TypeError(f"`potential` must be callable, found {type(potential).__name__}")
+        jitted = _is_jitted(func)
+        if potential is not None and _is_jitted(potential) != jitted:
+            raise TypeError(
+                "`func` and `potential` must both be numba-compiled functions of (t, y), or both "
+                "Python callables of the force context"
+            )
         self._freeze(
             func=func,
             _potential=potential,
             has_potential=potential is not None,
             position_only=bool(position_only),
+            jitted=jitted,
             _name=name or getattr(func, "__name__", "CustomForce"),
         )
 
@@ -504,13 +536,21 @@ class CustomForce(Force):
         return self._name
 
     def python_wrench(self, ctx):
-        out = self.func(ctx)
-        if not isinstance(out, tuple | list) or len(out) != 2:
-            raise ForceError(f"force {self.name} must return a pair (force, torque)")
+        if self.jitted:
+            out = self.func(float(ctx.t), ctx.state())
+            if not isinstance(out, tuple) or len(out) != 6:
+                raise ForceError(f"force {self.name} must return (Fx, Fy, Fz, τx, τy, τz)")
+            out = (np.array(out[:3], dtype=float), np.array(out[3:], dtype=float))
+        else:
+            out = self.func(ctx)
+            if not isinstance(out, tuple | list) or len(out) != 2:
+                raise ForceError(f"force {self.name} must return a pair (force, torque)")
         return (
             _check_output(out[0], (3,), self, "force"),
             _check_output(out[1], (3,), self, "torque"),
         )
 
     def python_potential(self, ctx):
+        if self.jitted:
+            return float(self._potential(float(ctx.t), ctx.state()))
         return float(self._potential(ctx))

@@ -38,11 +38,13 @@ from .rigid import (
     project_onto_pivot,
     rigid_derivative,
     shift_torque_to_pivot,
+    state_from_principal_into,
 )
 
 __all__ = [
     "RigidSystem",
     "TorqueFreeSystem",
+    "UserForcesSystem",
     "body_parameters",
     "potential",
     "project",
@@ -59,6 +61,15 @@ __all__ = [
 #: parameters in its principal frame, ``force_kind`` (n,) int64 codes and ``force_params``
 #: (n, FORCE_PARAMS) lowered forces.
 RigidSystem = namedtuple("RigidSystem", ["body", "force_kind", "force_params"])
+#: A rigid body under built-in forces and the user's own compiled forces: ``axes`` (3, 3) the
+#: principal axes in body coordinates, ``user`` a numba-compiled function
+#: ``f(t, y_body) -> (Fx, Fy, Fz, τx, τy, τz)`` of the body-frame state (torque about the centre
+#: of mass, body frame; several forces are summed by one such function), ``work`` (18,) scratch
+#: space. It holds a compiled function, so numba cannot cache its engine: a process compiles
+#: it once.
+UserForcesSystem = namedtuple(
+    "UserForcesSystem", ["body", "force_kind", "force_params", "axes", "user", "work"]
+)
 #: A free body with no force: Euler's equation (20) and the free flight of its centre of mass.
 #: A type of its own so that its vector field is straight-line code (the fastest path).
 TorqueFreeSystem = namedtuple("TorqueFreeSystem", ["body"])
@@ -171,4 +182,55 @@ def _free_potential(system, t, y):
 @state_size.register(TorqueFreeSystem)
 @kernel(inline=True)
 def _rigid_state_size(system, y):
+    return STATE_SIZE
+
+
+# --------------------------------------------------------------------------- user forces
+@wrench.register(UserForcesSystem)
+@kernel
+def user_forces_wrench(system, t, y):
+    """The built-in forces plus the user's compiled ones, evaluated at the body-frame state
+    (their torques turned to the principal frame: ``τ_p = Eᵀ τ``), about the reference point."""
+    Fx, Fy, Fz, tx, ty, tz = builtin_wrench(
+        system.force_kind, system.force_params, system.body, t, y
+    )
+    yb = system.work
+    state_from_principal_into(system.axes, y, yb)
+    E = system.axes
+    w = system.user(t, yb)
+    Fx += w[0]
+    Fy += w[1]
+    Fz += w[2]
+    tx += E[0, 0] * w[3] + E[1, 0] * w[4] + E[2, 0] * w[5]
+    ty += E[0, 1] * w[3] + E[1, 1] * w[4] + E[2, 1] * w[5]
+    tz += E[0, 2] * w[3] + E[1, 2] * w[4] + E[2, 2] * w[5]
+    tx, ty, tz = shift_torque_to_pivot(system.body, y, Fx, Fy, Fz, tx, ty, tz)
+    return Fx, Fy, Fz, tx, ty, tz
+
+
+@vector_field.register(UserForcesSystem)
+@kernel
+def user_forces_vector_field(system, t, y, out):
+    """Eqs (07)–(09) under the built-in and the user's compiled forces. Not inlined: the engine
+    of this system cannot be cached, and one compiled call keeps its compilation short."""
+    Fx, Fy, Fz, tx, ty, tz = user_forces_wrench(system, t, y)
+    rigid_derivative(system.body, y, Fx, Fy, Fz, tx, ty, tz, out)
+
+
+@project.register(UserForcesSystem)
+@kernel(inline=True)
+def _user_project(system, t, y):
+    project_onto_pivot(system.body, y)
+    return system.body[HAS_PIVOT] != 0.0
+
+
+@body_parameters.register(UserForcesSystem)
+@kernel(inline=True)
+def _user_body_parameters(system):
+    return system.body
+
+
+@state_size.register(UserForcesSystem)
+@kernel(inline=True)
+def _user_state_size(system, y):
     return STATE_SIZE
