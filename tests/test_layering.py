@@ -25,13 +25,35 @@ import poinsot
 PACKAGE = Path(poinsot.__file__).parent
 KERNELS = PACKAGE / "kernels"
 ALLOWED_IN_KERNELS = {
-    "numpy", "numba", "math", "__future__", "typing", "functools", "importlib", "collections",
-    "hashlib", "inspect", "types", "pathlib",
-}  # fmt: skip
+    "numpy",
+    "numba",
+    "math",
+    "__future__",
+    "typing",
+    "functools",
+    "importlib",
+    "collections",
+    "hashlib",
+    "inspect",
+    "types",
+    "pathlib",
+}
 LIBRARY = {
-    "bodies", "mesh", "rotation", "forces", "dynamics", "integrate", "trajectory",
-    "simulation", "torquefree", "elliptic", "lagrange", "models", "_validation", "_io",
-}  # fmt: skip
+    "bodies",
+    "mesh",
+    "rotation",
+    "forces",
+    "dynamics",
+    "integrate",
+    "trajectory",
+    "simulation",
+    "torquefree",
+    "elliptic",
+    "lagrange",
+    "models",
+    "_validation",
+    "_io",
+}
 PRESENTATION = {"plotting", "report"}
 APPLICATION = {"scenario", "job", "cli", "__main__"}
 
@@ -114,8 +136,14 @@ def test_import_linter_contracts():
     if not (root / "pyproject.toml").exists():  # pragma: no cover - installed, not a checkout
         pytest.skip("the contracts live in the checkout's pyproject.toml")
     done = subprocess.run(
-        [sys.executable, "-c", "from importlinter.cli import lint_imports_command; "
-         "lint_imports_command()"],
-        cwd=root, capture_output=True, text=True, timeout=120,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-c",
+            "from importlinter.cli import lint_imports_command; lint_imports_command()",
+        ],
+        cwd=root,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert done.returncode == 0, done.stdout + done.stderr

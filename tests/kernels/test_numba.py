@@ -29,16 +29,19 @@ MODULES = sorted(m.name for m in pkgutil.iter_modules(kernels_pkg.__path__))
 MOMENTS = np.array([1.0, 2.0, 3.0])
 Q = np.array([[0.36, 0.48, -0.8], [-0.8, 0.6, 0.0], [0.48, 0.64, 0.6]])
 Y = np.concatenate([[0.1, -0.2, 0.3], [0.4, 0.1, -0.3], Q.ravel(), [0.3, -0.7, 1.1]])
-BODY = L.body_vector(2.0, MOMENTS, np.array([0.1, 0.0, -0.2]), np.diag([1.1, 1.9, 2.8]),
-                     np.zeros(3), True, -1.0)  # fmt: skip
+BODY = L.body_vector(
+    2.0, MOMENTS, np.array([0.1, 0.0, -0.2]), np.diag([1.1, 1.9, 2.8]), np.zeros(3), True, -1.0
+)
 FREE_BODY = L.body_vector(2.0, MOMENTS, np.zeros(3), np.diag(MOMENTS), np.zeros(3), False, -1.0)
 KINDS = np.array(list(L.FORCE_KINDS.values()), dtype=np.int64)
 PARAMS = RNG.uniform(0.2, 1.0, (len(KINDS), L.FORCE_PARAMS))
 PARAMS[1, 1:4] = [5.0, 4.0, -3.0]  # central gravity: its centre away from the body
 SYSTEM = RigidSystem(BODY, KINDS, PARAMS)
 FREE = TorqueFreeSystem(FREE_BODY)
-TETRA = (np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]),
-         np.array([[0, 2, 1], [0, 3, 2], [0, 1, 3], [1, 2, 3]]))  # fmt: skip
+TETRA = (
+    np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]),
+    np.array([[0, 2, 1], [0, 3, 2], [0, 1, 3], [1, 2, 3]]),
+)
 W3 = RNG.normal(size=(4, 3))
 QUATS = RNG.normal(size=(4, 4))
 QUATS /= np.linalg.norm(QUATS, axis=1, keepdims=True)
@@ -104,8 +107,14 @@ ARGS = {
     "kinetic_energy": lambda: (np.diag(MOMENTS), 2.0, W3, W3[::-1].copy()),
     "angular_momentum_body": lambda: (np.diag(MOMENTS), W3),
     "angular_momentum_com": lambda: (np.diag(MOMENTS), np.stack([Q] * 4), W3),
-    "angular_momentum": lambda: (np.diag(MOMENTS), 2.0, W3, W3[::-1].copy(), np.stack([Q] * 4),
-                                 W3),  # fmt: skip
+    "angular_momentum": lambda: (
+        np.diag(MOMENTS),
+        2.0,
+        W3,
+        W3[::-1].copy(),
+        np.stack([Q] * 4),
+        W3,
+    ),
     "omega_space": lambda: (np.stack([Q] * 4), W3),
     "orthogonality_error": lambda: (np.stack([Q] * 4),),
     "state_to_principal_into": lambda: (Q, Y, _out()),
@@ -120,9 +129,12 @@ ARGS = {
     "particle_velocities": lambda: (W3[0], Q, W3[1], RNG.normal(size=(5, 3))),
     "particle_trajectories": lambda: (W3, np.stack([Q] * 4), RNG.normal(size=(5, 3))),
     "rigid_motion_from_particles": lambda: (
-        RNG.uniform(1, 2, 5), RNG.normal(size=(5, 3)), RNG.normal(size=(5, 3)), np.zeros(3),
+        RNG.uniform(1, 2, 5),
+        RNG.normal(size=(5, 3)),
+        RNG.normal(size=(5, 3)),
+        np.zeros(3),
         np.eye(3),
-    ),  # fmt: skip
+    ),
     "zxz_body_rates": lambda: (W3, W3[::-1].copy()),
     "zxz_angle_rates": lambda: (W3 + np.array([0, 1.0, 0]), W3[::-1].copy()),
     # freebody
@@ -172,26 +184,55 @@ ARGS = {
     "torque_free_vector_field": lambda: (FREE, 0.5, Y, _out()),
     # steppers
     "evaluate": lambda: (SYSTEM, 0.5, Y, _out()),
-    "erk_step": lambda: (
-        SYSTEM, *_rk4_tableau(), 0.0, Y, 0.01, np.zeros((4, 18)), _out(), _out()
-    ),
+    "erk_step": lambda: (SYSTEM, *_rk4_tableau(), 0.0, Y, 0.01, np.zeros((4, 18)), _out(), _out()),
     "rk4_step": lambda: (SYSTEM, 0.0, Y, 0.01, np.zeros((4, 18)), _out(), _out()),
     "rkmk_step": lambda: (
-        SYSTEM, *_rk4_tableau(), 0.0, Y, 0.01, np.zeros((4, 18)), _out(), np.zeros((4, 3)),
-        np.zeros((3, 3)), _out(),
-    ),  # fmt: skip
+        SYSTEM,
+        *_rk4_tableau(),
+        0.0,
+        Y,
+        0.01,
+        np.zeros((4, 18)),
+        _out(),
+        np.zeros((4, 3)),
+        np.zeros((3, 3)),
+        _out(),
+    ),
     "splitting_step": lambda: (
-        FREE, 0.0, Y, 0.01, _out(), np.zeros((3, 3)), np.zeros((3, 3)), _out()
+        FREE,
+        0.0,
+        Y,
+        0.01,
+        _out(),
+        np.zeros((3, 3)),
+        np.zeros((3, 3)),
+        _out(),
     ),
     "solver_init_into": lambda: (3, SYSTEM, Y, _out()),
     "solver_output_into": lambda: (3, SYSTEM, Y, _out()),
-    "dop853_step": lambda: (SYSTEM, 0.0, Y, _rhs(Y), 0.01, np.zeros((16, 18)), _out(), _out(),
-                            _out()),  # fmt: skip
+    "dop853_step": lambda: (
+        SYSTEM,
+        0.0,
+        Y,
+        _rhs(Y),
+        0.01,
+        np.zeros((16, 18)),
+        _out(),
+        _out(),
+        _out(),
+    ),
     "dop853_error_norm": lambda: (RNG.normal(size=(16, 18)), 0.01, Y, Y + 1e-9, 1e-8, 1e-10),
     "dop853_dense_into": lambda: (
-        SYSTEM, 0.0, 0.01, Y, Y + 1e-3, _rhs(Y), RNG.normal(size=(16, 18)), _out(),
+        SYSTEM,
+        0.0,
+        0.01,
+        Y,
+        Y + 1e-3,
+        _rhs(Y),
+        RNG.normal(size=(16, 18)),
+        _out(),
         np.zeros((7, 18)),
-    ),  # fmt: skip
+    ),
     "dop853_interpolate_into": lambda: (RNG.normal(size=(7, 18)), Y, 0.3, _out()),
     "hermite_interpolate_into": lambda: (Y, _rhs(Y), Y + 0.01, _rhs(Y), 0.01, 0.4, _out()),
     "step_size_factor": lambda: (0.5, 7, False, CONTROL),
@@ -202,9 +243,19 @@ ARGS = {
     "run_rkmk": lambda: _fixed_driver_args(),
     "run_splitting": lambda: _fixed_driver_args(system=FREE),
     "run_adaptive": lambda: (
-        SYSTEM, np.array([0.0, 0.0]), Y.copy(), _out(), 0.1, CONTROL, np.array([0.05, 0.1]), 1,
-        np.zeros(2), np.zeros((2, 18)), np.zeros(6, dtype=np.int64), 10**6,
-    ),  # fmt: skip
+        SYSTEM,
+        np.array([0.0, 0.0]),
+        Y.copy(),
+        _out(),
+        0.1,
+        CONTROL,
+        np.array([0.05, 0.1]),
+        1,
+        np.zeros(2),
+        np.zeros((2, 18)),
+        np.zeros(6, dtype=np.int64),
+        10**6,
+    ),
 }
 
 
@@ -224,10 +275,19 @@ def _rhs(y):
 
 def _fixed_driver_args(system=SYSTEM):
     return (
-        system, *_rk4_tableau(), np.array([0.0, 0.0]), Y.copy(), 0.1, 0.01,
-        np.array([0.05, 0.1]), 1, np.zeros(2), np.zeros((2, 18)),
-        np.zeros(6, dtype=np.int64), 10**6,
-    )  # fmt: skip
+        system,
+        *_rk4_tableau(),
+        np.array([0.0, 0.0]),
+        Y.copy(),
+        0.1,
+        0.01,
+        np.array([0.05, 0.1]),
+        1,
+        np.zeros(2),
+        np.zeros((2, 18)),
+        np.zeros(6, dtype=np.int64),
+        10**6,
+    )
 
 
 #: Public names that are not compiled kernels, and why.
@@ -255,17 +315,44 @@ EXEMPT = {
     "accepts_sequences": "the decorator of the batched kernels' Python entries",
     "kernel_layer_stamp": "a hash of the kernel sources, for numba's cache",
 }
-for _name in ("GRAVITY", "CENTRAL_GRAVITY", "SPRING", "LINEAR_DRAG", "QUADRATIC_DRAG",
-              "POINT_FORCE", "TORQUE"):  # fmt: skip
+for _name in (
+    "GRAVITY",
+    "CENTRAL_GRAVITY",
+    "SPRING",
+    "LINEAR_DRAG",
+    "QUADRATIC_DRAG",
+    "POINT_FORCE",
+    "TORQUE",
+):
     EXEMPT[_name] = "a force-kind code"
 for _name in ("RK4", "ERK", "RKMK", "SPLITTING", "DOP853", "METHOD_CODES"):
     EXEMPT[_name] = "a method code"
-for _name in ("RTOL", "ATOL", "SAFETY", "MIN_FACTOR", "MAX_FACTOR", "MAX_STEP", "FIRST_STEP",
-              "CONTROL_SIZE"):  # fmt: skip
+for _name in (
+    "RTOL",
+    "ATOL",
+    "SAFETY",
+    "MIN_FACTOR",
+    "MAX_FACTOR",
+    "MAX_STEP",
+    "FIRST_STEP",
+    "CONTROL_SIZE",
+):
     EXEMPT[_name] = "an offset in the controller's parameter vector"
-for _name in ("RUNNING", "FINISHED", "NONFINITE", "STEP_TOO_SMALL", "OUTPUT_FULL", "STATUS",
-              "N_OUT", "NEXT_SAMPLE", "N_STEPS", "N_FEV", "N_REJECTED", "COUNTERS_SIZE",
-              "CLOCK_SIZE"):  # fmt: skip
+for _name in (
+    "RUNNING",
+    "FINISHED",
+    "NONFINITE",
+    "STEP_TOO_SMALL",
+    "OUTPUT_FULL",
+    "STATUS",
+    "N_OUT",
+    "NEXT_SAMPLE",
+    "N_STEPS",
+    "N_FEV",
+    "N_REJECTED",
+    "COUNTERS_SIZE",
+    "CLOCK_SIZE",
+):
     EXEMPT[_name] = "a driver status code or counter offset"
 for _name in importlib.import_module("poinsot.kernels.tableaux").__all__:
     EXEMPT[_name] = "a Butcher tableau (data)"
@@ -310,8 +397,9 @@ def _assert_same(a, b):
     elif a is None:
         assert b is None
     else:
-        np.testing.assert_allclose(np.asarray(a, float), np.asarray(b, float), rtol=1e-13,
-                                   atol=1e-15)  # fmt: skip
+        np.testing.assert_allclose(
+            np.asarray(a, float), np.asarray(b, float), rtol=1e-13, atol=1e-15
+        )
 
 
 def test_every_compiled_kernel_has_arguments_here():
