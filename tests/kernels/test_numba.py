@@ -302,6 +302,7 @@ EXEMPT = {
     "DEGENERATE_RTOL": "a tolerance",
     "RigidSystem": "a named tuple type (the system's data)",
     "TorqueFreeSystem": "a named tuple type (the system's data)",
+    "UserForcesSystem": "a named tuple type (the system's data)",
     "vector_field": "generic: compiled through the registered implementations tested here",
     "wrench": "generic: compiled through the registered implementations tested here",
     "project": "generic: compiled through the registered implementations tested here",
