@@ -353,6 +353,7 @@ for _name in (
     "N_REJECTED",
     "COUNTERS_SIZE",
     "CLOCK_SIZE",
+    "CHECK_EVERY",
 ):
     EXEMPT[_name] = "a driver status code or counter offset"
 for _name in importlib.import_module("poinsot.kernels.tableaux").__all__:

@@ -51,6 +51,7 @@ from .tableaux import (
 )
 
 __all__ = [
+    "CHECK_EVERY",
     "CLOCK_SIZE",
     "COUNTERS_SIZE",
     "FINISHED",
@@ -87,6 +88,10 @@ N_FEV = 4
 N_REJECTED = 5
 COUNTERS_SIZE = 6
 CLOCK_SIZE = 2
+#: Fixed-step drivers check the state for non-finite values every this many steps (and before
+#: saving a sample); a failure is then pinned to its exact step by replaying from the last
+#: verified state.
+CHECK_EVERY = 32
 
 
 @kernel(inline=True)
@@ -139,6 +144,7 @@ def _run_fixed(
     ytmp = np.empty(n)
     cur = z  # the two state buffers swap roles every step; ``z`` gets the last one at the end
     nxt = np.empty(n)
+    checkpoint = z.copy()  # the last state verified finite
     kth = np.empty((max(s, 1), 3))
     E = np.empty((3, 3))
     P = np.empty((3, 3))
@@ -162,6 +168,11 @@ def _run_fixed(
     if t >= t_end or (use_eval and k >= n_eval):
         status = FINISHED
     taken = 0
+    t_checked = t
+    nsteps_checked = nsteps
+    nfev_checked = nfev
+    exact = False  # replaying after a failure: check every step
+    unchecked = 0
     while status == RUNNING and taken < max_steps:
         if not use_eval and nout >= out_t.shape[0]:
             status = OUTPUT_FULL
@@ -188,11 +199,34 @@ def _run_fixed(
         t = target if landing else t + h
         nsteps += 1
         taken += 1
-        if not _finite(cur, n):
-            status = NONFINITE
-            break
+        unchecked += 1
+        # finiteness is checked every CHECK_EVERY steps and before anything is saved; a failure
+        # is then located exactly by replaying from the last verified state, step by step
+        tol = 1e-12 * max(1.0, abs(t))
+        saving = (
+            (k < n_eval and t_eval[k] <= t + tol)
+            if use_eval
+            else (nsteps % save_every == 0 or t >= t_end)
+        )
+        if exact or saving or t >= t_end or unchecked >= CHECK_EVERY or taken >= max_steps:
+            if not _finite(cur, n):
+                if exact:
+                    status = NONFINITE
+                    break
+                for idx in range(n):
+                    cur[idx] = checkpoint[idx]
+                t = t_checked
+                nsteps = nsteps_checked
+                nfev = nfev_checked
+                exact = True
+                continue
+            for idx in range(n):
+                checkpoint[idx] = cur[idx]
+            t_checked = t
+            nsteps_checked = nsteps
+            nfev_checked = nfev
+            unchecked = 0
         if use_eval:
-            tol = 1e-12 * max(1.0, abs(t))
             while k < n_eval and t_eval[k] <= t + tol:
                 _save(method, system, t_eval[k], cur, out_t, out_y, nout)
                 nout += 1
