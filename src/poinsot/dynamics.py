@@ -29,9 +29,9 @@ from .kernels import layout
 from .kernels.forces import builtin_potential, builtin_wrench
 from .kernels.rigid import (
     project_onto_pivot,
+    rigid_body_parameters,
     rigid_derivative,
     rigid_motion_from_particles,
-    rotor_code,
     shift_torque_to_pivot,
     states_from_principal,
     states_to_principal,
@@ -88,12 +88,21 @@ class RigidBodySystem:
             self.pivot = as_vector3(pivot, "pivot")
             self.c = body.center_of_mass - self.pivot
             self.inertia = body.inertia_about(self.pivot)
-        moments, axes = kin_inertia.principal_decomposition(self.inertia)
-        self.degenerate = bool(kin_inertia.is_degenerate(moments, kin_inertia.DEGENERATE_RTOL))
-        if self.degenerate:  # minimum-norm dynamics: no spin acceleration about the line
-            moments = np.where(moments <= kin_inertia.DEGENERATE_RTOL * moments[2], 0.0, moments)
-        self.principal_moments = moments
-        self.principal_axes = axes
+        if self.pivot is None:  # the body's own decomposition, computed once and cached
+            moments, axes = body.principal_moments, body.principal_axes
+        else:
+            moments, axes = kin_inertia.principal_decomposition(self.inertia)
+        self._body_params, degenerate = rigid_body_parameters(
+            float(body.mass),
+            np.ascontiguousarray(moments),
+            np.ascontiguousarray(axes),
+            self.c,
+            np.asarray(body.inertia),
+            self.pivot is not None,
+        )
+        self.degenerate = bool(degenerate)
+        self.principal_moments = self._body_params[layout.MOMENTS : layout.MOMENTS + 3].copy()
+        self.principal_axes = np.array(axes)
         E = axes
         frame = BodyFrame(body.center_of_mass, E)
         builtin = [f for f in self.forces if f.compiled]
@@ -104,15 +113,6 @@ class RigidBodySystem:
         self.force_kind = np.array([layout.FORCE_KINDS[f.kind] for f in builtin], dtype=np.int64)
         self.force_params = np.array([f.lower(frame) for f in builtin]).reshape(
             -1, layout.FORCE_PARAMS
-        )
-        self._body_params = layout.body_vector(
-            float(body.mass),
-            moments,
-            E.T @ self.c,
-            E.T @ np.asarray(body.inertia) @ E,
-            np.zeros(3),
-            self.pivot is not None,
-            float(rotor_code(moments, kin_inertia.SYMMETRY_RTOL)),
         )
 
     # ----------------------------------------------------------------- properties

@@ -128,6 +128,7 @@ ARGS = {
     "particle_positions": lambda: (W3[0], Q, RNG.normal(size=(5, 3))),
     "particle_velocities": lambda: (W3[0], Q, W3[1], RNG.normal(size=(5, 3))),
     "particle_trajectories": lambda: (W3, np.stack([Q] * 4), RNG.normal(size=(5, 3))),
+    "rigid_body_parameters": lambda: (2.0, MOMENTS, Q, np.array([0.1, 0, 0.2]), np.eye(3), True),
     "rigid_motion_from_particles": lambda: (
         RNG.uniform(1, 2, 5),
         RNG.normal(size=(5, 3)),

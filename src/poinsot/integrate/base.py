@@ -95,9 +95,11 @@ class Solver:
 
     def init(self, system, t0, y0) -> SolverState:
         """The solver's state at ``(t0, y0)`` (``y0`` in the system's own coordinates)."""
-        from ..kernels.steppers import solver_init_into
+        from ..kernels.steppers import SPLITTING, solver_init_into
 
         y0 = np.asarray(y0, dtype=float)
+        if self.code != SPLITTING:  # the solver's state is the system's state
+            return SolverState(float(t0), y0.copy())
         z = np.empty_like(y0)
         _kernel_for(solver_init_into, system)(self.code, system, y0, z)
         return SolverState(float(t0), z)

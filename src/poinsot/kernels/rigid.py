@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from .inertia import SYMMETRY_RTOL, symmetry_code
+from .inertia import DEGENERATE_RTOL, SYMMETRY_RTOL, is_degenerate, symmetry_code
 from .jit import kernel
 from .layout import (
     BODY_SIZE,
@@ -39,6 +39,7 @@ from .layout import (
     ROTOR,
     STATE_SIZE,
     V_AT,
+    body_vector,
 )
 from .so3 import exp_so3_into
 
@@ -58,6 +59,7 @@ __all__ = [
     "particle_trajectories",
     "particle_velocities",
     "project_onto_pivot",
+    "rigid_body_parameters",
     "rigid_derivative",
     "rigid_motion_from_particles",
     "rotate_pair_into",
@@ -393,6 +395,29 @@ def rotor_code(moments, rtol):
     if code == 1:
         return 0
     return 2
+
+
+@kernel
+def rigid_body_parameters(mass, moments, axes, com_offset, inertia_com, has_pivot):
+    """Everything the engine needs of a body, in one call: ``(parameters, degenerate)``.
+
+    ``moments`` (ascending) and ``axes`` (columns) are the principal decomposition of the
+    inertia about the reference point; ``com_offset`` (3,) the centre of mass from it and
+    ``inertia_com`` (3, 3) the inertia about the centre of mass, both in the body frame. A
+    moment below :data:`~poinsot.kernels.inertia.DEGENERATE_RTOL` times the largest (a body on a
+    line) is set to zero, so that its line has no angular acceleration (the minimum-norm
+    solution); the free-rotor flow is chosen by :func:`rotor_code`.
+    """
+    m = moments.copy()
+    degenerate = is_degenerate(m, DEGENERATE_RTOL)
+    if degenerate:
+        for k in range(3):
+            if m[k] <= DEGENERATE_RTOL * m[2]:
+                m[k] = 0.0
+    c = axes.T @ com_offset
+    A = axes.T @ inertia_com @ axes
+    params = body_vector(mass, m, c, A, np.zeros(3), has_pivot, float(rotor_code(m, SYMMETRY_RTOL)))
+    return params, degenerate
 
 
 @kernel(inline=True)
