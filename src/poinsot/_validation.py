@@ -8,6 +8,7 @@ a wrong shape is an error, never a reshaped array.
 
 from __future__ import annotations
 
+import math
 import numbers
 
 import numpy as np
@@ -44,13 +45,13 @@ def as_array(value, name: str, shape: tuple[int | None, ...], *, finite: bool = 
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
         raise TypeError(f"`{name}` must be numeric, found {type(value).__name__}") from exc
-    dims = ["N" if s is None else str(s) for s in shape]
-    expected = "(" + ", ".join(dims) + ("," if len(dims) == 1 else "") + ")"
     if arr.ndim != len(shape) or any(
         s is not None and n != s for s, n in zip(shape, arr.shape, strict=True)
     ):
+        dims = ["N" if s is None else str(s) for s in shape]
+        expected = "(" + ", ".join(dims) + ("," if len(dims) == 1 else "") + ")"
         raise ValueError(f"`{name}` must have shape {expected}, found shape {arr.shape}")
-    if finite and not np.all(np.isfinite(arr)):
+    if finite and not np.isfinite(arr).all():
         bad = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
         raise ValueError(
             f"`{name}{_fmt_index(bad)}` must be finite, found {arr[bad] if bad else arr.item()}"
@@ -65,6 +66,11 @@ def as_vector3(value, name: str) -> np.ndarray:
 
 def as_scalar(value, name: str) -> float:
     """A finite real number (bools refused)."""
+    if type(value) is float or type(value) is int:  # the common case, without NumPy
+        x = float(value)
+        if not math.isfinite(x):
+            raise ValueError(f"`{name}` must be finite, found {x}")
+        return x
     if isinstance(value, bool) or not isinstance(value, numbers.Real | np.ndarray):
         raise TypeError(f"`{name}` must be a real number, found {type(value).__name__}")
     arr = np.asarray(value, dtype=float)

@@ -23,7 +23,9 @@ class SimulationError(RuntimeError):
 
 
 def _check_t_span(t_span):
-    if isinstance(t_span, str) or np.ndim(t_span) != 1 or len(t_span) != 2:
+    if not (type(t_span) in (tuple, list) and len(t_span) == 2) and (
+        isinstance(t_span, str) or np.ndim(t_span) != 1 or len(t_span) != 2
+    ):
         raise ValueError(f"`t_span` must be a pair (t0, t1), found {t_span!r}")
     t0 = as_scalar(t_span[0], "t_span[0]")
     t1 = as_scalar(t_span[1], "t_span[1]")
@@ -137,7 +139,7 @@ def simulate(
     y0 = system.initial_state(omega0=omega0, Q0=Q0, R0=R0, V0=V0, omega_frame=omega_frame)
     if t_eval is not None:
         t_eval = as_array(t_eval, "t_eval", (None,))
-        if len(t_eval) and (np.any(np.diff(t_eval) <= 0)):
+        if len(t_eval) and (t_eval[1:] <= t_eval[:-1]).any():
             raise ValueError("`t_eval` must be strictly increasing")
         if len(t_eval) and (t_eval[0] < t0 or t_eval[-1] > t1):
             raise ValueError(f"`t_eval` must lie within t_span = ({t0}, {t1})")

@@ -52,6 +52,12 @@ class SolverState:
     f: np.ndarray | None = None
 
 
+def _drivers():
+    from ..kernels import drivers
+
+    return drivers
+
+
 def _kernel_for(fn, system):
     """The compiled kernel for a compiled system (a named tuple of arrays), its Python twin for
     a Python system."""
@@ -89,9 +95,7 @@ class Solver:
 
     def driver_function(self, system):
         """The compiled driver for a compiled system, or its Python twin for a Python one."""
-        from ..kernels import drivers
-
-        return _kernel_for(getattr(drivers, self.driver), system)
+        return _kernel_for(getattr(_drivers(), self.driver), system)
 
     def init(self, system, t0, y0) -> SolverState:
         """The solver's state at ``(t0, y0)`` (``y0`` in the system's own coordinates)."""

@@ -212,18 +212,18 @@ def integrate(
             success,
         )
 
+    if cls.adaptive:
+        args = (target, clock, z, f, t1, ctrl, times, saveat.every, out_t, out_y, counters)
+    else:
+        args = (target, solver.A, solver.B, solver.C, clock, z, t1, float(dt), times,
+                saveat.every, out_t, out_y, counters)  # fmt: skip
+    quiet = np.errstate(over="ignore", invalid="ignore", divide="ignore")
     while True:
-        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            if cls.adaptive:
-                status = driver(
-                    target, clock, z, f, t1, ctrl, times, saveat.every, out_t, out_y, counters,
-                    max_steps,
-                )  # fmt: skip
-            else:
-                status = driver(
-                    target, solver.A, solver.B, solver.C, clock, z, t1, float(dt), times,
-                    saveat.every, out_t, out_y, counters, max_steps,
-                )  # fmt: skip
+        if backend == "compiled":  # compiled code raises no floating-point warnings
+            status = driver(*args, max_steps)
+        else:
+            with quiet:
+                status = driver(*args, max_steps)
         if progress is not None:
             progress(float(clock[0]))
         if status == _drv.FINISHED:
@@ -231,6 +231,7 @@ def integrate(
         if status == _drv.OUTPUT_FULL:
             out_t = np.concatenate([out_t, np.empty(len(out_t))])
             out_y = np.concatenate([out_y, np.empty((len(out_y), n))])
+            args = (*args[:-3], out_t, out_y, counters)
             continue
         if status == _drv.NONFINITE:
             y_bad = z.copy()

@@ -168,65 +168,62 @@ def _run_fixed(
     if t >= t_end or (use_eval and k >= n_eval):
         status = FINISHED
     taken = 0
-    t_checked = t
-    nsteps_checked = nsteps
-    nfev_checked = nfev
-    exact = False  # replaying after a failure: check every step
-    unchecked = 0
+    per_step = 4 if method == RK4 else (2 if method == SPLITTING else s)
+    slack = dt * (1.0 + 1e-9)
+    exact = False
     while status == RUNNING and taken < max_steps:
         if not use_eval and nout >= out_t.shape[0]:
             status = OUTPUT_FULL
             break
+        # plan: ``run`` whole steps of dt, then (``lands``) one step onto the target; the run
+        # ends early at a finiteness check, at ``max_steps`` or at a ``save_every`` sample
         target = t_end if not use_eval else t_eval[k]
-        gap = target - t
-        landing = gap <= dt * (1.0 + 1e-9)
-        h = gap if landing else dt
-        if method == RK4:
-            rk4_step(system, t, cur, h, K, ytmp, nxt)
-            nfev += 4
-        elif method == ERK:
-            erk_step(system, A, B, C, t, cur, h, K, ytmp, nxt)
-            nfev += s
-        elif method == RKMK:
-            rkmk_step(system, A, B, C, t, cur, h, K, ytmp, kth, E, nxt)
-            nfev += s
-        else:
-            splitting_step(system, t, cur, h, ytmp, E, P, nxt)
-            nfev += 2
-        if method != SPLITTING:  # the splitting projects itself
-            project(system, t + h, nxt)
-        cur, nxt = nxt, cur
-        t = target if landing else t + h
-        nsteps += 1
-        taken += 1
-        unchecked += 1
-        # finiteness is checked every CHECK_EVERY steps and before anything is saved; a failure
-        # is then located exactly by replaying from the last verified state, step by step
-        tol = 1e-12 * max(1.0, abs(t))
-        saving = (
-            (k < n_eval and t_eval[k] <= t + tol)
-            if use_eval
-            else (nsteps % save_every == 0 or t >= t_end)
-        )
-        if exact or saving or t >= t_end or unchecked >= CHECK_EVERY or taken >= max_steps:
-            if not _finite(cur, n):
-                if exact:
-                    status = NONFINITE
-                    break
-                for idx in range(n):
-                    cur[idx] = checkpoint[idx]
-                t = t_checked
-                nsteps = nsteps_checked
-                nfev = nfev_checked
-                exact = True
-                continue
+        budget = min(1 if exact else CHECK_EVERY, max_steps - taken)
+        if not use_eval:
+            budget = min(budget, save_every - nsteps % save_every)
+        run = 0
+        tt = t
+        while run < budget and target - tt > slack:
+            tt += dt
+            run += 1
+        lands = run < budget
+        t_checked = t
+        for idx in range(n):
+            checkpoint[idx] = cur[idx]
+        # the hot loop: steps only (a single call site of the step)
+        for i in range(run + 1 if lands else run):
+            h = dt if i < run else target - t
+            if method == RK4:
+                rk4_step(system, t, cur, h, K, ytmp, nxt)
+            elif method == ERK:
+                erk_step(system, A, B, C, t, cur, h, K, ytmp, nxt)
+            elif method == RKMK:
+                rkmk_step(system, A, B, C, t, cur, h, K, ytmp, kth, E, nxt)
+            else:
+                splitting_step(system, t, cur, h, ytmp, E, P, nxt)
+            if method != SPLITTING:  # the splitting projects itself
+                project(system, t + h, nxt)
+            cur, nxt = nxt, cur
+            t = t + h if i < run else target
+        done = run + 1 if lands else run
+        if not _finite(cur, n):
+            if exact:  # a replayed single step: this is where it stopped being finite
+                nsteps += done
+                nfev += done * per_step
+                status = NONFINITE
+                break
+            # replay from the last verified state one checked step at a time, to report the
+            # exact step where the state stopped being finite
             for idx in range(n):
-                checkpoint[idx] = cur[idx]
-            t_checked = t
-            nsteps_checked = nsteps
-            nfev_checked = nfev
-            unchecked = 0
+                cur[idx] = checkpoint[idx]
+            t = t_checked
+            exact = True
+            continue
+        nsteps += done
+        taken += done
+        nfev += done * per_step
         if use_eval:
+            tol = 1e-12 * max(1.0, abs(t))
             while k < n_eval and t_eval[k] <= t + tol:
                 _save(method, system, t_eval[k], cur, out_t, out_y, nout)
                 nout += 1
