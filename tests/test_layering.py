@@ -37,6 +37,7 @@ ALLOWED_IN_KERNELS = {
     "inspect",
     "types",
     "pathlib",
+    "warnings",
 }
 LIBRARY = {
     "bodies",

@@ -28,10 +28,12 @@ from .kernels import inertia as kin_inertia
 from .kernels import layout
 from .kernels.forces import builtin_potential, builtin_wrench
 from .kernels.rigid import (
+    pivot_constrained,
     project_onto_pivot,
     rigid_body_parameters,
     rigid_derivative,
     rigid_motion_from_particles,
+    rigid_rates,
     shift_torque_to_pivot,
     states_from_principal,
     states_to_principal,
@@ -177,7 +179,7 @@ class RigidBodySystem:
                 self.force_params,
                 np.ascontiguousarray(self.principal_axes),
                 _sum_of(tuple(f.func for f in self.jitted_forces)),
-                np.zeros(layout.STATE_SIZE),
+                np.zeros((2, layout.STATE_SIZE)),
             )
         if self.pivot is None and not len(self.force_kind):
             return TorqueFreeSystem(params)
@@ -346,9 +348,19 @@ class _PythonRigidSystem:
         tx, ty, tz = shift_torque_to_pivot(self.body, y, Fx, Fy, Fz, tx, ty, tz)
         return Fx, Fy, Fz, tx, ty, tz
 
+    def lanes(self):
+        return 1
+
+    def rates(self, t, y, lane):
+        Fx, Fy, Fz, tx, ty, tz = self.wrench(t, np.asarray(y, dtype=float))
+        return rigid_rates(self.body, y, Fx, Fy, Fz, tx, ty, tz)
+
     def vector_field(self, t, y, out):
         Fx, Fy, Fz, tx, ty, tz = self.wrench(t, y)
         rigid_derivative(self.body, y, Fx, Fy, Fz, tx, ty, tz, out)
+
+    def constrain(self, t, y, lane):
+        return pivot_constrained(self.body, np.asarray(y, dtype=float))
 
     def project(self, t, y):
         project_onto_pivot(self.body, y)

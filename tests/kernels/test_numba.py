@@ -20,6 +20,7 @@ from numba.core.registry import CPUDispatcher
 import poinsot.kernels as kernels_pkg
 from poinsot.kernels import layout as L
 from poinsot.kernels.jit import jit, python_twin
+from poinsot.kernels.observers import NoObserver
 from poinsot.kernels.systems import RigidSystem, TorqueFreeSystem
 
 RNG = np.random.default_rng(7)
@@ -61,6 +62,8 @@ CONTROL = np.array([1e-8, 1e-10, 0.9, 0.2, 10.0, np.inf, 0.0])
 ARGS = {
     # layout
     "pack_state": lambda: (np.ones(3), np.ones(3), Q, np.ones(3)),
+    "load_state": lambda: (np.arange(36.0), 1, 2),
+    "store_state": lambda: (np.zeros(36), 1, 2, tuple(Y)),
     "body_vector": lambda: (2.0, MOMENTS, np.zeros(3), np.eye(3), np.zeros(3), False, -1.0),
     # so3
     "hat": lambda: (W3,),
@@ -101,6 +104,10 @@ ARGS = {
     "euler_omega_dot": lambda: (MOMENTS, W3, W3[::-1].copy()),
     "shift_torque_to_pivot": lambda: (BODY, Y, 1.0, 2.0, 3.0, 0.1, 0.2, 0.3),
     "free_rigid_derivative": lambda: (BODY, Y, 1.0, 2.0, 3.0, 0.1, 0.2, 0.3, _out()),
+    "free_rigid_rates": lambda: (BODY, Y, 1.0, 2.0, 3.0, 0.1, 0.2, 0.3),
+    "rigid_rates": lambda: (BODY, Y, 1.0, 2.0, 3.0, 0.1, 0.2, 0.3),
+    "attitude_rate": lambda: (*Q.ravel(), 0.3, -0.2, 0.5),
+    "pivot_constrained": lambda: (BODY, Y),
     "rigid_derivative": lambda: (BODY, Y, 1.0, 2.0, 3.0, 0.1, 0.2, 0.3, _out()),
     "project_onto_pivot": lambda: (BODY, Y.copy()),
     "rotational_energy": lambda: (np.diag(MOMENTS), W3),
@@ -181,12 +188,13 @@ ARGS = {
     # systems (the registered implementations of the generic functions)
     "rigid_wrench": lambda: (SYSTEM, 0.5, Y),
     "rigid_vector_field": lambda: (SYSTEM, 0.5, Y, _out()),
+    "rigid_rates_of": lambda: (BODY, KINDS, PARAMS, 0.5, Y),
     "rigid_potential": lambda: (SYSTEM, 0.5, Y),
     "torque_free_vector_field": lambda: (FREE, 0.5, Y, _out()),
     # steppers
     "evaluate": lambda: (SYSTEM, 0.5, Y, _out()),
     "erk_step": lambda: (SYSTEM, *_rk4_tableau(), 0.0, Y, 0.01, np.zeros((4, 18)), _out(), _out()),
-    "rk4_step": lambda: (SYSTEM, 0.0, Y, 0.01, np.zeros((4, 18)), _out(), _out()),
+    "rk4_tuple_step": lambda: (SYSTEM, 0.0, tuple(Y), 0.01, 0),
     "rkmk_step": lambda: (
         SYSTEM,
         *_rk4_tableau(),
@@ -245,6 +253,7 @@ ARGS = {
     "run_splitting": lambda: _fixed_driver_args(system=FREE),
     "run_adaptive": lambda: (
         SYSTEM,
+        NoObserver(0.0),
         np.array([0.0, 0.0]),
         Y.copy(),
         _out(),
@@ -277,6 +286,7 @@ def _rhs(y):
 def _fixed_driver_args(system=SYSTEM):
     return (
         system,
+        NoObserver(0.0),
         *_rk4_tableau(),
         np.array([0.0, 0.0]),
         Y.copy(),
@@ -304,6 +314,18 @@ EXEMPT = {
     "RigidSystem": "a named tuple type (the system's data)",
     "TorqueFreeSystem": "a named tuple type (the system's data)",
     "UserForcesSystem": "a named tuple type (the system's data)",
+    "TorqueFreeLanes": "a named tuple type (the system's data)",
+    "TorqueFreeLanesVaried": "a named tuple type (the system's data)",
+    "RigidLanes": "a named tuple type (the system's data)",
+    "NoObserver": "a named tuple type (an observer's data)",
+    "FlipObserver": "a named tuple type (an observer's data)",
+    "flip_observer": "builds a FlipObserver's arrays (NumPy)",
+    "observe": "generic: compiled through the drivers tested here",
+    "lanes": "generic: compiled through the registered implementations tested here",
+    "rates": "generic: compiled through the registered implementations tested here",
+    "constrain": "generic: compiled through the registered implementations tested here",
+    "tuple_axpy": "elementwise tuple arithmetic, generated for each length (tests/kernels)",
+    "tuple_rk4_combine": "elementwise tuple arithmetic, generated for each length",
     "vector_field": "generic: compiled through the registered implementations tested here",
     "wrench": "generic: compiled through the registered implementations tested here",
     "project": "generic: compiled through the registered implementations tested here",

@@ -100,12 +100,14 @@ def integrate(
     solver_options=None,
     progress=None,
     backend=None,
+    observer=None,
 ) -> IntegrationResult:
     """Integrate ``system`` from ``t_span[0]`` to ``t_span[1]`` from ``y0``.
 
     ``system`` is a :class:`~poinsot.dynamics.RigidBodySystem` (states in the body frame) or
     any object with ``rhs(t, y)``. Samples are kept at ``t_eval`` or, without it, at the start,
-    every ``save_every``-th step and the end (:class:`~poinsot.integrate.saveat.SaveAt`).
+    every ``save_every``-th step and the end (:class:`~poinsot.integrate.saveat.SaveAt`);
+    ``observer`` (:mod:`poinsot.kernels.observers`) records what it wants of every step.
     Fixed-step methods take steps of ``dt``; adaptive ones use ``rtol``, ``atol`` (``dt``: the
     first step; ``solver_options={"max_step": ...}``). ``backend`` is ``"compiled"`` (the
     default when every force is built-in) or ``"python"``. A non-finite state or a step size
@@ -212,10 +214,15 @@ def integrate(
             success,
         )
 
+    if observer is None:
+        from ..kernels.observers import NoObserver
+
+        observer = NoObserver(0.0)
     if cls.adaptive:
-        args = (target, clock, z, f, t1, ctrl, times, saveat.every, out_t, out_y, counters)
+        args = (target, observer, clock, z, f, t1, ctrl, times, saveat.every, out_t, out_y,
+                counters)  # fmt: skip
     else:
-        args = (target, solver.A, solver.B, solver.C, clock, z, t1, float(dt), times,
+        args = (target, observer, solver.A, solver.B, solver.C, clock, z, t1, float(dt), times,
                 saveat.every, out_t, out_y, counters)  # fmt: skip
     quiet = np.errstate(over="ignore", invalid="ignore", divide="ignore")
     while True:

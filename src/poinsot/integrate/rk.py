@@ -6,7 +6,7 @@ import numpy as np
 
 from ..kernels import steppers as _st
 from ..kernels import tableaux
-from .base import Solver, SolverState, _kernel_for, register
+from .base import Solver, SolverState, _drivers, _kernel_for, register
 
 __all__ = ["RK4", "ExplicitRungeKutta"]
 
@@ -48,9 +48,27 @@ class RK4(ExplicitRungeKutta):
     driver = "run_rk4"
     A, B, C = tableaux.RK4_A, tableaux.RK4_B, tableaux.RK4_C
 
+    def driver_function(self, system):
+        """Rigid bodies: RK4 in registers (:func:`~poinsot.kernels.steppers.rk4_tuple_step`);
+        any other system: the tableau's general step."""
+        if _is_rigid(system):
+            return super().driver_function(system)
+        return _kernel_for(_drivers().run_erk, system)
+
     def step(self, system, state, h, controller=None):
-        z = state.z
-        out = np.empty_like(z)
-        rk4 = _kernel_for(_st.rk4_step, system)
-        rk4(system, state.t, z, float(h), np.empty((4, z.size)), np.empty_like(z), out)
+        if not _is_rigid(system):
+            return super().step(system, state, h, controller)
+        from ..kernels.layout import load_state, store_state
+
+        step = _kernel_for(_st.rk4_tuple_step, system)
+        y = step(system, state.t, load_state(state.z, 0, 1), float(h), 0)
+        out = np.empty_like(state.z)
+        store_state(out, 0, 1, y)
         return SolverState(state.t + h, out), None
+
+
+def _is_rigid(system) -> bool:
+    """True for the rigid-body systems, which step in registers (a ``rates`` method)."""
+    from ..kernels.systems import rates
+
+    return type(system) in rates.impls or hasattr(system, "rates")

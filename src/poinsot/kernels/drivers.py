@@ -20,6 +20,8 @@ from __future__ import annotations
 import numpy as np
 
 from .jit import kernel
+from .layout import load_state, store_state
+from .observers import observe
 from .steppers import (
     ATOL,
     DOP853,
@@ -37,13 +39,13 @@ from .steppers import (
     erk_step,
     evaluate,
     initial_step_size,
-    rk4_step,
+    rk4_tuple_step,
     rkmk_step,
     solver_output_into,
     splitting_step,
     step_size_factor,
 )
-from .systems import project, state_size
+from .systems import constrain, lanes, project, state_size
 from .tableaux import (
     DOP853_INTERPOLATOR_POWER,
     DOP853_STAGES,
@@ -114,6 +116,7 @@ def _save(method, system, t, z, out_t, out_y, n):
 @kernel(inline=True)
 def _run_fixed(
     system,
+    observer,
     method,
     A,
     B,
@@ -139,6 +142,7 @@ def _run_fixed(
 
     """
     n = state_size(system, z)
+    L = lanes(system) if method == RK4 else 1  # any other system holds one body
     s = 4 if method == RK4 else B.shape[0]
     K = np.empty((max(s, 1), n))
     ytmp = np.empty(n)
@@ -193,16 +197,22 @@ def _run_fixed(
         # the hot loop: steps only (a single call site of the step)
         for i in range(run + 1 if lands else run):
             h = dt if i < run else target - t
-            if method == RK4:
-                rk4_step(system, t, cur, h, K, ytmp, nxt)
+            if method == RK4:  # in registers, member by member (the innermost loop)
+                for lane in range(L):
+                    y0 = load_state(cur, lane, L)
+                    y1 = constrain(system, t + h, rk4_tuple_step(system, t, y0, h, lane), lane)
+                    observe(observer, lane, t, y0, t + h, y1)
+                    store_state(nxt, lane, L, y1)
             elif method == ERK:
                 erk_step(system, A, B, C, t, cur, h, K, ytmp, nxt)
             elif method == RKMK:
                 rkmk_step(system, A, B, C, t, cur, h, K, ytmp, kth, E, nxt)
             else:
                 splitting_step(system, t, cur, h, ytmp, E, P, nxt)
-            if method != SPLITTING:  # the splitting projects itself
+            if method != SPLITTING and method != RK4:  # those project themselves
                 project(system, t + h, nxt)
+            if method != RK4:
+                observe(observer, 0, t, cur, t + h, nxt)
             cur, nxt = nxt, cur
             t = t + h if i < run else target
         done = run + 1 if lands else run
@@ -258,42 +268,154 @@ _FIXED_DOC = """Integrate with {what} from ``clock[0]`` to ``t_end``, resumably.
 
 @kernel
 def run_rk4(
-    system, A, B, C, clock, z, t_end, dt, t_eval, save_every, out_t, out_y, counters, max_steps
+    system,
+    observer,
+    A,
+    B,
+    C,
+    clock,
+    z,
+    t_end,
+    dt,
+    t_eval,
+    save_every,
+    out_t,
+    out_y,
+    counters,
+    max_steps,
 ):
     return _run_fixed(
-        system, RK4, A, B, C, clock, z, t_end, dt, t_eval, save_every, out_t, out_y,
-        counters, max_steps,
-    )  # fmt: skip
+        system,
+        observer,
+        RK4,
+        A,
+        B,
+        C,
+        clock,
+        z,
+        t_end,
+        dt,
+        t_eval,
+        save_every,
+        out_t,
+        out_y,
+        counters,
+        max_steps,
+    )
 
 
 @kernel
 def run_erk(
-    system, A, B, C, clock, z, t_end, dt, t_eval, save_every, out_t, out_y, counters, max_steps
+    system,
+    observer,
+    A,
+    B,
+    C,
+    clock,
+    z,
+    t_end,
+    dt,
+    t_eval,
+    save_every,
+    out_t,
+    out_y,
+    counters,
+    max_steps,
 ):
     return _run_fixed(
-        system, ERK, A, B, C, clock, z, t_end, dt, t_eval, save_every, out_t, out_y,
-        counters, max_steps,
-    )  # fmt: skip
+        system,
+        observer,
+        ERK,
+        A,
+        B,
+        C,
+        clock,
+        z,
+        t_end,
+        dt,
+        t_eval,
+        save_every,
+        out_t,
+        out_y,
+        counters,
+        max_steps,
+    )
 
 
 @kernel
 def run_rkmk(
-    system, A, B, C, clock, z, t_end, dt, t_eval, save_every, out_t, out_y, counters, max_steps
+    system,
+    observer,
+    A,
+    B,
+    C,
+    clock,
+    z,
+    t_end,
+    dt,
+    t_eval,
+    save_every,
+    out_t,
+    out_y,
+    counters,
+    max_steps,
 ):
     return _run_fixed(
-        system, RKMK, A, B, C, clock, z, t_end, dt, t_eval, save_every, out_t, out_y,
-        counters, max_steps,
-    )  # fmt: skip
+        system,
+        observer,
+        RKMK,
+        A,
+        B,
+        C,
+        clock,
+        z,
+        t_end,
+        dt,
+        t_eval,
+        save_every,
+        out_t,
+        out_y,
+        counters,
+        max_steps,
+    )
 
 
 @kernel
 def run_splitting(
-    system, A, B, C, clock, z, t_end, dt, t_eval, save_every, out_t, out_y, counters, max_steps
+    system,
+    observer,
+    A,
+    B,
+    C,
+    clock,
+    z,
+    t_end,
+    dt,
+    t_eval,
+    save_every,
+    out_t,
+    out_y,
+    counters,
+    max_steps,
 ):
     return _run_fixed(
-        system, SPLITTING, A, B, C, clock, z, t_end, dt, t_eval, save_every, out_t, out_y,
-        counters, max_steps,
-    )  # fmt: skip
+        system,
+        observer,
+        SPLITTING,
+        A,
+        B,
+        C,
+        clock,
+        z,
+        t_end,
+        dt,
+        t_eval,
+        save_every,
+        out_t,
+        out_y,
+        counters,
+        max_steps,
+    )
 
 
 run_rk4.__doc__ = _FIXED_DOC.format(what="classical RK4", tableau="ignored: RK4's own")
@@ -304,7 +426,19 @@ run_splitting.__doc__ = _FIXED_DOC.format(what="the splitting method", tableau="
 
 @kernel
 def run_adaptive(
-    system, clock, z, f, t_end, control, t_eval, save_every, out_t, out_y, counters, max_steps
+    system,
+    observer,
+    clock,
+    z,
+    f,
+    t_end,
+    control,
+    t_eval,
+    save_every,
+    out_t,
+    out_y,
+    counters,
+    max_steps,
 ):
     """Integrate with adaptive Dormand–Prince 8(5,3) from ``clock[0]`` to ``t_end``, resumably.
 
@@ -391,6 +525,7 @@ def run_adaptive(
             nfev += 1
         nsteps += 1
         taken += 1
+        observe(observer, 0, t, z, t_new, znew)
         if not _finite(znew, n):
             for idx in range(n):
                 z[idx] = znew[idx]

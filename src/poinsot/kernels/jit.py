@@ -29,12 +29,23 @@ from __future__ import annotations
 import hashlib
 import inspect
 import types
+import warnings
 from functools import cache
 from pathlib import Path
 
 import numba
 from numba.core.registry import CPUDispatcher
 from numba.extending import overload
+
+# numba's SSA pass runs a "pedantic" self-check after inlining (``inline="always"``) and warns
+# that a name assigned in both arms of an ``if`` is "not in scope"; the generated code is
+# correct (every such kernel is compared with its Python twin in tests/kernels/test_numba.py).
+# The check is about numba's own IR, not about the user's code, so poinsot silences exactly it.
+warnings.filterwarnings(
+    "ignore",
+    message=r"variable '.*' is not in scope",
+    category=numba.core.errors.NumbaIRAssumptionWarning,
+)
 
 __all__ = ["accepts_sequences", "generic", "jit", "kernel", "kernel_layer_stamp", "python_twin"]
 
@@ -131,29 +142,31 @@ def jit(fn, **options):
 
 
 def generic(fn):
-    """Declare ``fn(system, ...)`` generic over system types; see the module docstring.
+    """Declare ``fn(system, ...)`` generic over the type of its first argument (a system, or
+    another named tuple such as an observer); see the module docstring.
 
     Returns a plain function with the signature of ``fn`` (numba resolves overloads by the
-    function object, and matches signatures by name) and a ``register(system_type)`` decorator.
+    function object, and matches signatures by name) and a ``register(type)`` decorator.
     The body of ``fn`` is never run: it documents the contract.
     """
     params = list(inspect.signature(fn).parameters)
-    if not params or params[0] != "system":
-        raise TypeError(f"generic {fn.__name__}() must take `system` as its first argument")
+    if not params:
+        raise TypeError(f"generic {fn.__name__}() needs an argument to dispatch on")
+    first = params[0]
     impls: dict = {}
     args = ", ".join(params)
     rest = ", ".join(params[1:])
     source = (
         f"def {fn.__name__}({args}):\n"
-        f"    impl = _impls.get(type(system))\n"
+        f"    impl = _impls.get(type({first}))\n"
         f"    if impl is not None:\n"
         f"        return impl({args})\n"
-        f"    method = getattr(system, {fn.__name__!r}, None)\n"
+        f"    method = getattr({first}, {fn.__name__!r}, None)\n"
         f"    if method is None:\n"
-        f"        raise TypeError(type(system).__name__ + ' does not provide {fn.__name__}()')\n"
+        f"        raise TypeError(type({first}).__name__ + ' does not provide {fn.__name__}()')\n"
         f"    return method({rest})\n"
         f"def typer({args}):\n"
-        f"    return _wrapper_for(getattr(system, 'instance_class', None))\n"
+        f"    return _wrapper_for(getattr({first}, 'instance_class', None))\n"
     )
     wrappers: dict = {}
 

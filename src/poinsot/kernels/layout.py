@@ -42,7 +42,9 @@ __all__ = [
     "STATE_SLICES",
     "V_AT",
     "body_vector",
+    "load_state",
     "pack_state",
+    "store_state",
     "unpack_state",
 ]
 
@@ -144,3 +146,53 @@ def body_vector(mass, moments, com_offset, inertia_com, pivot, has_pivot, rotor)
     out[HAS_PIVOT] = 1.0 if has_pivot else 0.0
     out[ROTOR] = rotor
     return out
+
+
+@kernel(inline=True)
+def load_state(z, lane, lanes):
+    """The 18-component state of member ``lane`` of a chunk of ``lanes`` members stored
+    component-major (``z[c · lanes + lane]``; one body: ``lanes = 1``), as a tuple of scalars
+    (the fixed-step engine steps it in registers)."""
+    return (
+        z[0 * lanes + lane],
+        z[1 * lanes + lane],
+        z[2 * lanes + lane],
+        z[3 * lanes + lane],
+        z[4 * lanes + lane],
+        z[5 * lanes + lane],
+        z[6 * lanes + lane],
+        z[7 * lanes + lane],
+        z[8 * lanes + lane],
+        z[9 * lanes + lane],
+        z[10 * lanes + lane],
+        z[11 * lanes + lane],
+        z[12 * lanes + lane],
+        z[13 * lanes + lane],
+        z[14 * lanes + lane],
+        z[15 * lanes + lane],
+        z[16 * lanes + lane],
+        z[17 * lanes + lane],
+    )
+
+
+@kernel(inline=True)
+def store_state(z, lane, lanes, y):
+    """Write the 18-tuple ``y`` as member ``lane`` of a component-major chunk ``z``."""
+    z[0 * lanes + lane] = y[0]
+    z[1 * lanes + lane] = y[1]
+    z[2 * lanes + lane] = y[2]
+    z[3 * lanes + lane] = y[3]
+    z[4 * lanes + lane] = y[4]
+    z[5 * lanes + lane] = y[5]
+    z[6 * lanes + lane] = y[6]
+    z[7 * lanes + lane] = y[7]
+    z[8 * lanes + lane] = y[8]
+    z[9 * lanes + lane] = y[9]
+    z[10 * lanes + lane] = y[10]
+    z[11 * lanes + lane] = y[11]
+    z[12 * lanes + lane] = y[12]
+    z[13 * lanes + lane] = y[13]
+    z[14 * lanes + lane] = y[14]
+    z[15 * lanes + lane] = y[15]
+    z[16 * lanes + lane] = y[16]
+    z[17 * lanes + lane] = y[17]

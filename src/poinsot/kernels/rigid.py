@@ -40,6 +40,7 @@ from .layout import (
     STATE_SIZE,
     V_AT,
     body_vector,
+    store_state,
 )
 from .so3 import exp_so3_into
 
@@ -47,8 +48,10 @@ __all__ = [
     "angular_momentum",
     "angular_momentum_body",
     "angular_momentum_com",
+    "attitude_rate",
     "euler_omega_dot",
     "free_rigid_derivative",
+    "free_rigid_rates",
     "free_rotor_step",
     "free_rotor_step_into",
     "kinetic_energy",
@@ -58,10 +61,12 @@ __all__ = [
     "particle_positions",
     "particle_trajectories",
     "particle_velocities",
+    "pivot_constrained",
     "project_onto_pivot",
     "rigid_body_parameters",
     "rigid_derivative",
     "rigid_motion_from_particles",
+    "rigid_rates",
     "rotate_pair_into",
     "rotational_energy",
     "rotor_code",
@@ -140,55 +145,68 @@ def shift_torque_to_pivot(body, y, Fx, Fy, Fz, tx, ty, tz):
 
 
 @kernel(inline=True)
-def free_rigid_derivative(body, y, Fx, Fy, Fz, tx, ty, tz, out):
-    """``out = ẏ`` (18,) of a free body under the force ``F`` (space frame) and the torque
-    ``τ`` about its centre of mass (principal frame): eqs (07)–(09).
+def attitude_rate(q0, q1, q2, q3, q4, q5, q6, q7, q8, w0, w1, w2):
+    """``Q̇ = QΩ`` (09) for ``Q`` given row-major and ω in body (or principal) components:
+    row i of ``Q̇`` is ``q_i × ω``. Returns the 9-tuple of ``Q̇`` row-major."""
+    return (
+        q1 * w2 - q2 * w1,
+        q2 * w0 - q0 * w2,
+        q0 * w1 - q1 * w0,
+        q4 * w2 - q5 * w1,
+        q5 * w0 - q3 * w2,
+        q3 * w1 - q4 * w0,
+        q7 * w2 - q8 * w1,
+        q8 * w0 - q6 * w2,
+        q6 * w1 - q7 * w0,
+    )
+
+
+@kernel(inline=True)
+def free_rigid_rates(body, y, Fx, Fy, Fz, tx, ty, tz):
+    """``ẏ`` of a free body under the force ``F`` (space frame) and the torque ``τ`` about its
+    centre of mass (principal frame), eqs (07)–(09), as an 18-tuple; ``y`` is the state, an
+    array or a tuple.
 
     * (07) ``M R̈ = F``;
     * (08) ``ω̇`` from Euler's equation in principal components (27)–(29);
-    * (09) ``Q̇ = QΩ``: row i of ``Q̇`` is ``q_i × ω``.
-
-    Returns ``ω̇`` as a 3-tuple.
+    * (09) ``Q̇ = QΩ``.
     """
     w0 = y[OMEGA_AT]
     w1 = y[OMEGA_AT + 1]
     w2 = y[OMEGA_AT + 2]
-    for r in range(3):
-        a = y[Q_AT + 3 * r]
-        b = y[Q_AT + 3 * r + 1]
-        c = y[Q_AT + 3 * r + 2]
-        out[Q_AT + 3 * r] = b * w2 - c * w1
-        out[Q_AT + 3 * r + 1] = c * w0 - a * w2
-        out[Q_AT + 3 * r + 2] = a * w1 - b * w0
+    a = attitude_rate(
+        y[Q_AT], y[Q_AT + 1], y[Q_AT + 2], y[Q_AT + 3], y[Q_AT + 4], y[Q_AT + 5],
+        y[Q_AT + 6], y[Q_AT + 7], y[Q_AT + 8], w0, w1, w2,
+    )  # fmt: skip
     d0, d1, d2 = omega_dot_principal(
         body[MOMENTS], body[MOMENTS + 1], body[MOMENTS + 2],
         body[INV_MOMENTS], body[INV_MOMENTS + 1], body[INV_MOMENTS + 2],
         w0, w1, w2, tx, ty, tz,
     )  # fmt: skip
-    out[OMEGA_AT] = d0
-    out[OMEGA_AT + 1] = d1
-    out[OMEGA_AT + 2] = d2
-    inv_mass = body[INV_MASS]
-    out[R_AT] = y[V_AT]
-    out[R_AT + 1] = y[V_AT + 1]
-    out[R_AT + 2] = y[V_AT + 2]
-    out[V_AT] = Fx * inv_mass
-    out[V_AT + 1] = Fy * inv_mass
-    out[V_AT + 2] = Fz * inv_mass
-    return d0, d1, d2
+    m = body[INV_MASS]
+    return (
+        y[V_AT], y[V_AT + 1], y[V_AT + 2], Fx * m, Fy * m, Fz * m,
+        a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7], a[8], d0, d1, d2,
+    )  # fmt: skip
 
 
 @kernel(inline=True)
-def rigid_derivative(body, y, Fx, Fy, Fz, tx, ty, tz, out):
-    """``out = ẏ`` (18,) under the force ``F`` (space frame) and the torque ``τ`` about the
-    reference point (principal frame): :func:`free_rigid_derivative` for a free body; about a
-    pivot, ``R = P + Q c`` is slaved to the attitude and ``R̈ = Q (ω̇ × c + ω × (ω × c))``
-    (the pivot's reaction does the rest)."""
-    d0, d1, d2 = free_rigid_derivative(body, y, Fx, Fy, Fz, tx, ty, tz, out)
+def rigid_rates(body, y, Fx, Fy, Fz, tx, ty, tz):
+    """``ẏ`` (18-tuple) under the force ``F`` (space frame) and the torque ``τ`` about the
+    reference point (principal frame): :func:`free_rigid_rates` for a free body; about a pivot
+    ``R = P + Q c`` is slaved to the attitude and ``R̈ = Q (ω̇ × c + ω × (ω × c))`` (the
+    pivot's reaction does the rest)."""
+    r = free_rigid_rates(body, y, Fx, Fy, Fz, tx, ty, tz)
+    v0 = r[3]
+    v1 = r[4]
+    v2 = r[5]
     if body[HAS_PIVOT] != 0.0:
         w0 = y[OMEGA_AT]
         w1 = y[OMEGA_AT + 1]
         w2 = y[OMEGA_AT + 2]
+        d0 = r[OMEGA_AT]
+        d1 = r[OMEGA_AT + 1]
+        d2 = r[OMEGA_AT + 2]
         c0 = body[COM_OFFSET]
         c1 = body[COM_OFFSET + 1]
         c2 = body[COM_OFFSET + 2]
@@ -198,32 +216,69 @@ def rigid_derivative(body, y, Fx, Fy, Fz, tx, ty, tz, out):
         a0 = d1 * c2 - d2 * c1 + w1 * u2 - w2 * u1  # ω̇ × c + ω × (ω × c)
         a1 = d2 * c0 - d0 * c2 + w2 * u0 - w0 * u2
         a2 = d0 * c1 - d1 * c0 + w0 * u1 - w1 * u0
-        for k in range(3):
-            row = Q_AT + 3 * k
-            out[V_AT + k] = y[row] * a0 + y[row + 1] * a1 + y[row + 2] * a2
+        q = Q_AT
+        v0 = y[q] * a0 + y[q + 1] * a1 + y[q + 2] * a2
+        v1 = y[q + 3] * a0 + y[q + 4] * a1 + y[q + 5] * a2
+        v2 = y[q + 6] * a0 + y[q + 7] * a1 + y[q + 8] * a2
+    return (
+        r[0], r[1], r[2], v0, v1, v2,
+        r[6], r[7], r[8], r[9], r[10], r[11], r[12], r[13], r[14], r[15], r[16], r[17],
+    )  # fmt: skip
+
+
+@kernel(inline=True)
+def free_rigid_derivative(body, y, Fx, Fy, Fz, tx, ty, tz, out):
+    """``out = ẏ`` (18,) of a free body: :func:`free_rigid_rates` stored in an array."""
+    store_state(out, 0, 1, free_rigid_rates(body, y, Fx, Fy, Fz, tx, ty, tz))
+
+
+@kernel(inline=True)
+def rigid_derivative(body, y, Fx, Fy, Fz, tx, ty, tz, out):
+    """``out = ẏ`` (18,), free or about a pivot: :func:`rigid_rates` stored in an array."""
+    store_state(out, 0, 1, rigid_rates(body, y, Fx, Fy, Fz, tx, ty, tz))
+
+
+@kernel(inline=True)
+def pivot_constrained(body, y):
+    """The state (18-tuple) with ``R = P + Q c`` and ``V = Q (ω × c)`` reset from the attitude,
+    so that the pivot stays exactly fixed; ``y`` unchanged for a free body. ``y`` is an array
+    or a tuple."""
+    if body[HAS_PIVOT] != 0.0:
+        c0 = body[COM_OFFSET]
+        c1 = body[COM_OFFSET + 1]
+        c2 = body[COM_OFFSET + 2]
+        w0 = y[OMEGA_AT]
+        w1 = y[OMEGA_AT + 1]
+        w2 = y[OMEGA_AT + 2]
+        u0 = w1 * c2 - w2 * c1
+        u1 = w2 * c0 - w0 * c2
+        u2 = w0 * c1 - w1 * c0
+        q = Q_AT
+        R0 = body[PIVOT] + y[q] * c0 + y[q + 1] * c1 + y[q + 2] * c2
+        R1 = body[PIVOT + 1] + y[q + 3] * c0 + y[q + 4] * c1 + y[q + 5] * c2
+        R2 = body[PIVOT + 2] + y[q + 6] * c0 + y[q + 7] * c1 + y[q + 8] * c2
+        V0 = y[q] * u0 + y[q + 1] * u1 + y[q + 2] * u2
+        V1 = y[q + 3] * u0 + y[q + 4] * u1 + y[q + 5] * u2
+        V2 = y[q + 6] * u0 + y[q + 7] * u1 + y[q + 8] * u2
+    else:
+        # Both arms assign every name: numba's inliner keeps them in scope (no IR warnings).
+        R0 = y[R_AT]
+        R1 = y[R_AT + 1]
+        R2 = y[R_AT + 2]
+        V0 = y[V_AT]
+        V1 = y[V_AT + 1]
+        V2 = y[V_AT + 2]
+    return (
+        R0, R1, R2, V0, V1, V2,
+        y[6], y[7], y[8], y[9], y[10], y[11], y[12], y[13], y[14], y[15], y[16], y[17],
+    )  # fmt: skip
 
 
 @kernel(inline=True)
 def project_onto_pivot(body, y):
-    """With a pivot, reset ``R = P + Q c`` and ``V = Q (ω × c)`` from the attitude, in place,
-    so that the pivot stays exactly fixed (no-op for a free body)."""
-    if body[HAS_PIVOT] == 0.0:
-        return
-    c0 = body[COM_OFFSET]
-    c1 = body[COM_OFFSET + 1]
-    c2 = body[COM_OFFSET + 2]
-    w0 = y[OMEGA_AT]
-    w1 = y[OMEGA_AT + 1]
-    w2 = y[OMEGA_AT + 2]
-    u0 = w1 * c2 - w2 * c1
-    u1 = w2 * c0 - w0 * c2
-    u2 = w0 * c1 - w1 * c0
-    for k in range(3):
-        q0 = y[Q_AT + 3 * k]
-        q1 = y[Q_AT + 3 * k + 1]
-        q2 = y[Q_AT + 3 * k + 2]
-        y[R_AT + k] = body[PIVOT + k] + q0 * c0 + q1 * c1 + q2 * c2
-        y[V_AT + k] = q0 * u0 + q1 * u1 + q2 * u2
+    """With a pivot, reset ``R = P + Q c`` and ``V = Q (ω × c)`` of the array ``y`` in place
+    (:func:`pivot_constrained`); a free body's state is written back unchanged."""
+    store_state(y, 0, 1, pivot_constrained(body, y))
 
 
 # --------------------------------------------------------------------------- energy, momentum

@@ -13,14 +13,22 @@ The contract (``y`` and ``out`` are float arrays of the system's state size):
    (space frame) and torque about the reference point (body frame), used by the splitting
    integrator's kicks.
 3. ``project(system, t, y) -> bool``: put ``y`` back on the system's constraint manifold at time
-   ``t``, in place,
-   and say whether the system is constrained (a no-op returning False otherwise); the drivers
-   call it after every step and recompute a cached derivative when it returns True.
+   ``t``, in place, and say whether the system is constrained (a no-op returning False
+   otherwise); the drivers call it after every step and recompute a cached derivative when it
+   returns True.
 4. ``body_parameters(system)``: the body's parameter vector (:mod:`poinsot.kernels.layout`),
    for the steppers that use the body's structure (the free-rotor flows).
 5. ``state_size(system, y)``: the length of the state. A system whose size is fixed returns a
    compile-time constant, so the steppers' loops over the state are unrolled by the compiler
    (for the rigid body this alone makes a step 1.4× faster); others return ``y.shape[0]``.
+
+Rigid-body systems also step in registers (:func:`~poinsot.kernels.steppers.rk4_tuple_step`):
+
+6. ``lanes(system)``: how many bodies the system holds (1, or an ensemble chunk's members,
+   whose states are stored component-major: ``z[c · lanes + lane]``).
+7. ``rates(system, t, y, lane) -> 18-tuple``: ``ẏ`` of member ``lane`` at its state ``y`` (a
+   tuple), and ``constrain(system, t, y, lane) -> 18-tuple``: the state put back on the
+   constraint (the pivot), or unchanged.
 
 A Python object with methods of these names is a system too: the Python backend uses it to
 mix user callables with the compiled kernels (see :func:`poinsot.kernels.jit.python_twin`).
@@ -32,23 +40,31 @@ from collections import namedtuple
 
 from .forces import builtin_potential, builtin_wrench
 from .jit import generic, kernel
-from .layout import HAS_PIVOT, STATE_SIZE
+from .layout import HAS_PIVOT, STATE_SIZE, load_state, store_state
 from .rigid import (
-    free_rigid_derivative,
+    free_rigid_rates,
+    pivot_constrained,
     project_onto_pivot,
-    rigid_derivative,
+    rigid_rates,
     shift_torque_to_pivot,
     state_from_principal_into,
 )
 
 __all__ = [
+    "RigidLanes",
     "RigidSystem",
+    "TorqueFreeLanes",
+    "TorqueFreeLanesVaried",
     "TorqueFreeSystem",
     "UserForcesSystem",
     "body_parameters",
+    "constrain",
+    "lanes",
     "potential",
     "project",
+    "rates",
     "rigid_potential",
+    "rigid_rates_of",
     "rigid_vector_field",
     "rigid_wrench",
     "state_size",
@@ -64,15 +80,24 @@ RigidSystem = namedtuple("RigidSystem", ["body", "force_kind", "force_params"])
 #: A rigid body under built-in forces and the user's own compiled forces: ``axes`` (3, 3) the
 #: principal axes in body coordinates, ``user`` a numba-compiled function
 #: ``f(t, y_body) -> (Fx, Fy, Fz, τx, τy, τz)`` of the body-frame state (torque about the centre
-#: of mass, body frame; several forces are summed by one such function), ``work`` (18,) scratch
-#: space. It holds a compiled function, so numba cannot cache its engine: a process compiles
-#: it once.
+#: of mass, body frame; several forces are summed by one such function), ``work`` (2, 18)
+#: scratch space. It holds a compiled function, so numba cannot cache its engine: a process
+#: compiles it once.
 UserForcesSystem = namedtuple(
     "UserForcesSystem", ["body", "force_kind", "force_params", "axes", "user", "work"]
 )
 #: A free body with no force: Euler's equation (20) and the free flight of its centre of mass.
 #: A type of its own so that its vector field is straight-line code (the fastest path).
 TorqueFreeSystem = namedtuple("TorqueFreeSystem", ["body"])
+#: An ensemble chunk of ``lanes`` free bodies with no force and one body (BODY_SIZE,): the
+#: members differ only by their states, and the compiler vectorises the step across them.
+TorqueFreeLanes = namedtuple("TorqueFreeLanes", ["body", "lanes"])
+#: An ensemble chunk of free bodies with no force, each with its own inertia: ``bodies``
+#: (lanes, BODY_SIZE).
+TorqueFreeLanesVaried = namedtuple("TorqueFreeLanesVaried", ["bodies", "lanes"])
+#: An ensemble chunk of bodies under built-in forces, free or about a pivot: ``bodies``
+#: (lanes, BODY_SIZE), ``force_params`` (lanes, n, FORCE_PARAMS) lowered for each member.
+RigidLanes = namedtuple("RigidLanes", ["bodies", "force_kind", "force_params", "lanes"])
 
 
 @generic
@@ -106,24 +131,63 @@ def potential(system, t, y):
     """Potential energy of the system's forces at ``(t, y)``."""
 
 
+@generic
+def lanes(system):
+    """The number of bodies (members) the system holds."""
+
+
+@generic
+def rates(system, t, y, lane):
+    """``ẏ`` (18-tuple) of member ``lane`` at its state ``y`` (an 18-tuple)."""
+
+
+@generic
+def constrain(system, t, y, lane):
+    """Member ``lane``'s state ``y`` (an 18-tuple) put back on its constraint, or unchanged."""
+
+
+# --------------------------------------------------------------------------- one rigid body
+@kernel(inline=True)
+def rigid_wrench_of(body, force_kind, force_params, t, y):
+    """Total wrench of the lowered forces about the reference point (the pivot when there is
+    one: ``τ_P = τ_G + c × QᵀF``), for a state ``y`` (array or tuple)."""
+    Fx, Fy, Fz, tx, ty, tz = builtin_wrench(force_kind, force_params, body, t, y)
+    tx, ty, tz = shift_torque_to_pivot(body, y, Fx, Fy, Fz, tx, ty, tz)
+    return Fx, Fy, Fz, tx, ty, tz
+
+
+@kernel(inline=True)
+def rigid_rates_of(body, force_kind, force_params, t, y):
+    """Eqs (07)–(09) under the lowered forces: ``ẏ`` (18-tuple)."""
+    Fx, Fy, Fz, tx, ty, tz = rigid_wrench_of(body, force_kind, force_params, t, y)
+    return rigid_rates(body, y, Fx, Fy, Fz, tx, ty, tz)
+
+
 @wrench.register(RigidSystem)
 @kernel(inline=True)
 def rigid_wrench(system, t, y):
-    """Total wrench of the lowered forces about the reference point (the pivot when there is
-    one: ``τ_P = τ_G + c × QᵀF``): ``(Fx, Fy, Fz, τx, τy, τz)``."""
-    Fx, Fy, Fz, tx, ty, tz = builtin_wrench(
-        system.force_kind, system.force_params, system.body, t, y
-    )
-    tx, ty, tz = shift_torque_to_pivot(system.body, y, Fx, Fy, Fz, tx, ty, tz)
-    return Fx, Fy, Fz, tx, ty, tz
+    """Total wrench of the lowered forces about the reference point: a 6-tuple."""
+    return rigid_wrench_of(system.body, system.force_kind, system.force_params, t, y)
+
+
+@rates.register(RigidSystem)
+@kernel(inline=True)
+def _rigid_rates(system, t, y, lane):
+    return rigid_rates_of(system.body, system.force_kind, system.force_params, t, y)
 
 
 @vector_field.register(RigidSystem)
 @kernel(inline=True)
 def rigid_vector_field(system, t, y, out):
     """Eqs (07)–(09) under the lowered forces."""
-    Fx, Fy, Fz, tx, ty, tz = rigid_wrench(system, t, y)
-    rigid_derivative(system.body, y, Fx, Fy, Fz, tx, ty, tz, out)
+    store_state(out, 0, 1, rigid_rates_of(system.body, system.force_kind, system.force_params,
+                                          t, y))  # fmt: skip
+
+
+@constrain.register(RigidSystem)
+@kernel(inline=True)
+def _rigid_constrain(system, t, y, lane):
+    return pivot_constrained(system.body, y)
 
 
 @project.register(RigidSystem)
@@ -131,12 +195,6 @@ def rigid_vector_field(system, t, y, out):
 def _rigid_project(system, t, y):
     project_onto_pivot(system.body, y)
     return system.body[HAS_PIVOT] != 0.0
-
-
-@body_parameters.register(RigidSystem)
-@kernel(inline=True)
-def _rigid_body_parameters(system):
-    return system.body
 
 
 @potential.register(RigidSystem)
@@ -153,11 +211,23 @@ def _free_wrench(system, t, y):
     return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
 
 
+@rates.register(TorqueFreeSystem)
+@kernel(inline=True)
+def _free_rates(system, t, y, lane):
+    return free_rigid_rates(system.body, y, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
 @vector_field.register(TorqueFreeSystem)
 @kernel(inline=True)
 def torque_free_vector_field(system, t, y, out):
     """Eqs (19)–(21): ``M R̈ = 0``, ``A ω̇ + ω × Aω = 0``, ``Q̇ = QΩ``."""
-    free_rigid_derivative(system.body, y, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, out)
+    store_state(out, 0, 1, free_rigid_rates(system.body, y, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+
+
+@constrain.register(TorqueFreeSystem)
+@kernel(inline=True)
+def _free_constrain(system, t, y, lane):
+    return y
 
 
 @project.register(TorqueFreeSystem)
@@ -166,23 +236,10 @@ def _free_project(system, t, y):
     return False
 
 
-@body_parameters.register(TorqueFreeSystem)
-@kernel(inline=True)
-def _free_body_parameters(system):
-    return system.body
-
-
 @potential.register(TorqueFreeSystem)
 @kernel(inline=True)
 def _free_potential(system, t, y):
     return 0.0
-
-
-@state_size.register(RigidSystem)
-@state_size.register(TorqueFreeSystem)
-@kernel(inline=True)
-def _rigid_state_size(system, y):
-    return STATE_SIZE
 
 
 # --------------------------------------------------------------------------- user forces
@@ -194,8 +251,10 @@ def user_forces_wrench(system, t, y):
     Fx, Fy, Fz, tx, ty, tz = builtin_wrench(
         system.force_kind, system.force_params, system.body, t, y
     )
-    yb = system.work
-    state_from_principal_into(system.axes, y, yb)
+    yp = system.work[0]
+    store_state(yp, 0, 1, load_state(y, 0, 1))
+    yb = system.work[1]
+    state_from_principal_into(system.axes, yp, yb)
     E = system.axes
     w = system.user(t, yb)
     Fx += w[0]
@@ -208,13 +267,25 @@ def user_forces_wrench(system, t, y):
     return Fx, Fy, Fz, tx, ty, tz
 
 
-@vector_field.register(UserForcesSystem)
+@rates.register(UserForcesSystem)
 @kernel
-def user_forces_vector_field(system, t, y, out):
+def user_forces_rates(system, t, y, lane):
     """Eqs (07)–(09) under the built-in and the user's compiled forces. Not inlined: the engine
     of this system cannot be cached, and one compiled call keeps its compilation short."""
     Fx, Fy, Fz, tx, ty, tz = user_forces_wrench(system, t, y)
-    rigid_derivative(system.body, y, Fx, Fy, Fz, tx, ty, tz, out)
+    return rigid_rates(system.body, y, Fx, Fy, Fz, tx, ty, tz)
+
+
+@vector_field.register(UserForcesSystem)
+@kernel(inline=True)
+def _user_vector_field(system, t, y, out):
+    store_state(out, 0, 1, user_forces_rates(system, t, y, 0))
+
+
+@constrain.register(UserForcesSystem)
+@kernel(inline=True)
+def _user_constrain(system, t, y, lane):
+    return pivot_constrained(system.body, y)
 
 
 @project.register(UserForcesSystem)
@@ -224,13 +295,68 @@ def _user_project(system, t, y):
     return system.body[HAS_PIVOT] != 0.0
 
 
-@body_parameters.register(UserForcesSystem)
+# --------------------------------------------------------------------------- ensemble chunks
+@rates.register(TorqueFreeLanes)
 @kernel(inline=True)
-def _user_body_parameters(system):
-    return system.body
+def _free_lanes_rates(system, t, y, lane):
+    return free_rigid_rates(system.body, y, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
-@state_size.register(UserForcesSystem)
+@rates.register(TorqueFreeLanesVaried)
 @kernel(inline=True)
-def _user_state_size(system, y):
-    return STATE_SIZE
+def _free_varied_rates(system, t, y, lane):
+    return free_rigid_rates(system.bodies[lane], y, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+@rates.register(RigidLanes)
+@kernel(inline=True)
+def _rigid_lanes_rates(system, t, y, lane):
+    return rigid_rates_of(system.bodies[lane], system.force_kind, system.force_params[lane], t, y)
+
+
+@constrain.register(TorqueFreeLanes)
+@constrain.register(TorqueFreeLanesVaried)
+@kernel(inline=True)
+def _free_lanes_constrain(system, t, y, lane):
+    return y
+
+
+@constrain.register(RigidLanes)
+@kernel(inline=True)
+def _rigid_lanes_constrain(system, t, y, lane):
+    return pivot_constrained(system.bodies[lane], y)
+
+
+# --------------------------------------------------------------------------- shared answers
+for _type in (RigidSystem, TorqueFreeSystem, UserForcesSystem):
+
+    @body_parameters.register(_type)
+    @kernel(inline=True)
+    def _one_body_parameters(system):
+        return system.body
+
+    @lanes.register(_type)
+    @kernel(inline=True)
+    def _one_lane(system):
+        return 1
+
+
+for _type in (RigidSystem, TorqueFreeSystem, UserForcesSystem):
+
+    @state_size.register(_type)
+    @kernel(inline=True)
+    def _rigid_state_size(system, y):
+        return STATE_SIZE
+
+
+for _type in (TorqueFreeLanes, TorqueFreeLanesVaried, RigidLanes):
+
+    @lanes.register(_type)
+    @kernel(inline=True)
+    def _chunk_lanes(system):
+        return system.lanes
+
+    @state_size.register(_type)
+    @kernel(inline=True)
+    def _chunk_state_size(system, y):
+        return STATE_SIZE * system.lanes
