@@ -39,7 +39,7 @@ class RK4(ExplicitRungeKutta):
     It conserves nothing exactly: ``Q`` drifts off SO(3) and energy drifts, at O(h⁴) per unit
     time; :class:`~poinsot.trajectory.Trajectory` reports both so the drift can be shown. The
     compiled engine runs it with the stages unrolled
-    (:func:`poinsot.kernels.steppers.rk4_step`), equal to the tableau's step to round-off.
+    (:func:`poinsot.kernels.steppers.rk4_tuple_step`), equal to the tableau's step to round-off.
     """
 
     name = "rk4"
