@@ -16,7 +16,9 @@ import numpy as np
 __all__ = [
     "as_array",
     "as_positive_scalar",
+    "as_rotation_matrices",
     "as_rotation_matrix",
+    "as_vectors",
     "as_scalar",
     "as_vector3",
 ]
@@ -128,6 +130,70 @@ def as_rotation_matrix(value, name: str) -> np.ndarray:
         raise ValueError(
             f"`{name}` is not a rotation: needs RᵀR = I and det R = +1, "
             f"found max|RᵀR − I| = {orth:.3g} and det R = {det:.6g}"
+        )
+    u, _, vt = np.linalg.svd(arr)
+    return u @ vt
+
+
+def as_vectors(value, name: str, n: int | None = None, *, single_ok: bool = True) -> np.ndarray:
+    """Finite 3-vectors: ``(3,)`` (one, shared; returned as (1, 3) when ``single_ok``) or
+    ``(n, 3)`` (one per member). ``n = None`` accepts any number of rows. The message of a bad
+    entry names the member: ``"`omega0[7, 1]` must be finite"``."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"`{name}` must be numeric, found {type(value).__name__}") from exc
+    if arr.ndim == 1 and single_ok:
+        return as_array(arr, name, (3,))[None, :]
+    if arr.ndim != 2 or arr.shape[1] != 3 or (n is not None and arr.shape[0] != n):
+        rows = "N" if n is None else str(n)
+        one = "(3,) or " if single_ok else ""
+        raise ValueError(
+            f"`{name}` must have shape {one}({rows}, 3) (one row per member), found shape "
+            f"{arr.shape}"
+        )
+    return as_array(arr, name, (None, 3))
+
+
+def as_rotation_matrices(value, name: str, n: int | None = None) -> np.ndarray:
+    """Rotations as matrices (M, 3, 3), ``M = 1`` (one shared) or ``n``: from one matrix (3, 3)
+    or quaternion (4,), or one per member, (n, 3, 3) or (n, 4). Each is checked as in
+    :func:`as_rotation_matrix` and projected onto SO(3); a bad one is named by its member index
+    (``"`Q0[12]` is not a rotation: ..."``)."""
+    arr = np.asarray(value, dtype=float) if not isinstance(value, str) else None
+    if arr is not None and arr.shape in ((3, 3), (4,)):
+        return as_rotation_matrix(arr, name)[None]
+    if arr is None or arr.ndim not in (2, 3) or arr.shape[1:] not in ((3, 3), (4,)) or (
+        n is not None and arr.shape[0] != n
+    ):
+        rows = "N" if n is None else str(n)
+        shape = None if arr is None else arr.shape
+        raise ValueError(
+            f"`{name}` must be one rotation ((3, 3) matrix or (4,) quaternion) or one per member "
+            f"(({rows}, 3, 3) or ({rows}, 4)), found shape {shape}"
+        )
+    if not np.isfinite(arr).all():
+        bad = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
+        raise ValueError(f"`{name}{_fmt_index(bad)}` must be finite, found {arr[bad]}")
+    if arr.ndim == 2:  # quaternions
+        norms = np.linalg.norm(arr, axis=1)
+        bad = np.flatnonzero(np.abs(norms - 1.0) > ROTATION_TOLERANCE)
+        if len(bad):
+            i = int(bad[0])
+            raise ValueError(
+                f"`{name}[{i}]` is not a rotation: quaternion norm is {norms[i]:.9g}, not 1"
+            )
+        from .kernels.so3 import quat_to_matrix
+
+        return quat_to_matrix(arr / norms[:, None])
+    orth = np.abs(np.einsum("nki,nkj->nij", arr, arr) - np.eye(3)).max(axis=(1, 2))
+    det = np.linalg.det(arr)
+    bad = np.flatnonzero((orth > ROTATION_TOLERANCE) | (det <= 0))
+    if len(bad):
+        i = int(bad[0])
+        raise ValueError(
+            f"`{name}[{i}]` is not a rotation: needs RᵀR = I and det R = +1, found "
+            f"max|RᵀR − I| = {orth[i]:.3g} and det R = {det[i]:.6g}"
         )
     u, _, vt = np.linalg.svd(arr)
     return u @ vt

@@ -56,6 +56,22 @@ def _force_args():
     return (PARAMS, 2, BODY, 0.5, Y)
 
 
+def _regime():
+    from poinsot.kernels.torque_free import regime_into
+
+    out = np.zeros(18)
+    regime_into(MOMENTS, 0, 0.3, 1.0, 0.2, out)
+    return out
+
+
+def _attitude():
+    from poinsot.kernels.torque_free import attitude_setup_into
+
+    out = np.zeros(13)
+    attitude_setup_into(MOMENTS, _regime(), 0.3, 1.0, 0.2, Q, out)
+    return out
+
+
 CONTROL = np.array([1e-8, 1e-10, 0.9, 0.2, 10.0, np.inf, 0.0])
 
 # name -> callable returning the argument tuple (fresh arrays each call)
@@ -145,6 +161,7 @@ ARGS = {
     ),
     "zxz_body_rates": lambda: (W3, W3[::-1].copy()),
     "zxz_angle_rates": lambda: (W3 + np.array([0, 1.0, 0]), W3[::-1].copy()),
+    "zxz_matrix_into": lambda: (0.3, 1.1, -0.4, np.zeros((3, 3))),
     # freebody
     "invariants": lambda: (MOMENTS, W3),
     "energy_ellipsoid_semi_axes": lambda: (MOMENTS, 0.5),
@@ -166,6 +183,31 @@ ARGS = {
     "jacobi_sn_cn_dn_am": lambda: (np.linspace(0, 5, 7), 0.7, 0.3),
     "jacobi_reduced_scalar": lambda: (3.3, 0.7, 0.3, 2.0753631352924691),
     "jacobi_reduced": lambda: (np.linspace(-9, 9, 13), 0.7, 0.3, 2.0753631352924691),
+    "carlson_rf": lambda: (0.3, 0.7, 1.0),
+    "carlson_rj": lambda: (0.3, 0.7, 1.0, 2.5),
+    "carlson_rc1p": lambda: (-0.4,),
+    "ellipk_m1": lambda: (0.3,),
+    "ellipf_scalar": lambda: (4.0, 0.7, 0.3),
+    "ellippi_complete": lambda: (-0.6, 0.7, 0.3),
+    "ellippi_scalar": lambda: (-0.6, 4.0, 0.7, 0.3),
+    "first_kind_from_sn_cn": lambda: (0.6, -0.8, 0.7, 0.3),
+    "third_kind_separatrix": lambda: (-2.0, 1.5),
+    "third_kind_u_scalar": lambda: (-2.0, 5.5, 0.7, 0.3, 2.0753631352924691),
+    "third_kind_u": lambda: (-2.0, np.linspace(-9, 9, 7), 0.7, 0.3),
+    # torque_free
+    "regime_into": lambda: (MOMENTS, 0, 0.3, 1.0, 0.2, np.zeros(18)),
+    "omega_at": lambda: (MOMENTS, _regime(), 0.3, 1.0, 0.2, 2.5),
+    "period_of": lambda: (_regime(),),
+    "flip_interval_of": lambda: (_regime(),),
+    "periods": lambda: (_regime()[None, :],),
+    "flip_intervals": lambda: (_regime()[None, :],),
+    "attitude_setup_into": lambda: (MOMENTS, _regime(), 0.3, 1.0, 0.2, Q, np.zeros(13)),
+    "attitude_at_into": lambda: (
+        MOMENTS, _regime(), _attitude(), 0.3, 1.0, 0.2, Q, 2.5, np.zeros((3, 3)), np.zeros((3, 3))
+    ),
+    "regimes": lambda: (MOMENTS, np.eye(3), 0, W3),
+    "exact_omegas": lambda: (MOMENTS, np.eye(3), 0, W3, np.linspace(0, 3, 4)),
+    "exact_attitudes": lambda: (MOMENTS, np.eye(3), 0, W3, Q[None], np.linspace(0, 3, 4)),
     # forces
     "moment_about_center": lambda: (0.1, 0.2, 0.3, Y, 1.0, -1.0, 2.0),
     "gravity_wrench": _force_args,
@@ -381,6 +423,10 @@ for _name in (
     EXEMPT[_name] = "a driver status code or counter offset"
 for _name in importlib.import_module("poinsot.kernels.tableaux").__all__:
     EXEMPT[_name] = "a Butcher tableau (data)"
+for _module in ("torque_free", "elliptic"):
+    for _name in importlib.import_module(f"poinsot.kernels.{_module}").__all__:
+        if _name.isupper():
+            EXEMPT[_name] = "a regime case code, a row offset or a tolerance"
 
 
 def _public():

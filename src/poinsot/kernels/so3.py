@@ -54,6 +54,7 @@ __all__ = [
     "vee",
     "zxz_angle_rates",
     "zxz_body_rates",
+    "zxz_matrix_into",
 ]
 
 #: Below this angle the closed forms are replaced by Taylor series (errors ~θ^6 ≪ 1e-16).
@@ -501,6 +502,27 @@ def quat_to_rotvec(q):
 
 
 # --------------------------------------------------------------------------- Euler angles
+@kernel(inline=True)
+def zxz_matrix_into(psi, theta, phi, out):
+    """``out = Rz(ψ) Rx(θ) Rz(φ)`` (3, 3): the rotation of z-x-z Euler angles (intrinsic, as
+    ``scipy.spatial.transform.Rotation.from_euler("ZXZ", ...)``)."""
+    cps = math.cos(psi)
+    sps = math.sin(psi)
+    ct = math.cos(theta)
+    st = math.sin(theta)
+    cph = math.cos(phi)
+    sph = math.sin(phi)
+    out[0, 0] = cps * cph - sps * ct * sph
+    out[0, 1] = -cps * sph - sps * ct * cph
+    out[0, 2] = sps * st
+    out[1, 0] = sps * cph + cps * ct * sph
+    out[1, 1] = -sps * sph + cps * ct * cph
+    out[1, 2] = -cps * st
+    out[2, 0] = st * sph
+    out[2, 1] = st * cph
+    out[2, 2] = ct
+
+
 @accepts_sequences
 @kernel
 def zxz_body_rates(angles, rates):

@@ -1,0 +1,166 @@
+"""The torque-free body: its principal moments, frames, invariants (30)–(31), cone (32) and the
+feasibility condition (33) (``docs/theory.md`` §1, "Torque-free body").
+
+:class:`FreeRigidBody` gathers the concepts of this package: the exact solution
+(:mod:`~poinsot.torquefree.solution`), fixed points (:mod:`~poinsot.torquefree.stability`) and
+polhodes (:mod:`~poinsot.torquefree.polhodes`), each a part of its interface written in its own
+module.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from .._validation import as_array
+from ..kernels import freebody
+from ..kernels import inertia as kin_inertia
+from ..kernels.rigid import euler_omega_dot
+from .polhodes import PolhodeMixin
+from .solution import SolutionMixin
+from .stability import StabilityMixin
+
+__all__ = ["SYMMETRY_RTOL", "FreeRigidBody"]
+
+#: Moments closer than this (relative to I3) are treated as equal (symmetric body); the same
+#: tolerance as :attr:`poinsot.bodies.RigidBody.symmetry`.
+SYMMETRY_RTOL = kin_inertia.SYMMETRY_RTOL
+
+
+class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
+    """A torque-free rigid body given by its principal moments.
+
+    Parameters
+    ----------
+    moments : array_like (3,)
+        Principal moments along the body's x, y, z axes, in any order, all > 0, satisfying the
+        triangle inequalities (no moment exceeds the sum of the other two).
+    allow_unphysical : bool
+        Accept moments that break the triangle inequality, with a warning: Euler's equation is
+        still well posed (the source notebook's example (3, 3, 9) is such a case).
+
+    Examples
+    --------
+    The tennis-racket (Dzhanibekov) flip:
+
+    >>> import numpy as np
+    >>> body = FreeRigidBody((1.0, 2.0, 3.0))
+    >>> round(body.flip_interval((1e-3, 1.0, 1e-3)), 6)
+    27.530841
+    >>> w = body.exact_omega((1e-3, 1.0, 1e-3), [0.0, 27.530840553491])
+    >>> np.round(w[:, 1], 3).tolist()   # ω2 has flipped
+    [1.0, -1.0]
+
+    Many initial conditions at once, in compiled code:
+
+    >>> body.flip_interval([(1e-3, 1.0, 1e-3), (1e-2, 1.0, 1e-2)]).round(3).tolist()
+    [27.531, 19.553]
+    """
+
+    def __init__(self, moments, *, allow_unphysical: bool = False):
+        I = as_array(moments, "moments", (3,))
+        if np.any(I <= 0):
+            k = int(np.argmax(I <= 0))
+            raise ValueError(
+                f"`moments[{k}]` must be positive, found {I[k]} (a degenerate body, all mass on "
+                "a line, has no torque-free dynamics about that line)"
+            )
+        s = np.sort(I)
+        if s[0] + s[1] < s[2] * (1 - 1e-12):
+            message = (
+                "principal moments must satisfy I1 + I2 ≥ I3, found "
+                f"{s[0]:.6g} + {s[1]:.6g} < {s[2]:.6g}"
+            )
+            if not allow_unphysical:
+                raise ValueError(message + " (allow_unphysical=True to study the equation anyway)")
+            warnings.warn(message + ": no mass distribution has these moments", stacklevel=2)
+        self._setup(I, np.eye(3))
+
+    def _setup(self, moments, body_axes):
+        """``moments`` along the columns of ``body_axes`` (principal axes in body coordinates)."""
+        self.moments = np.array(moments, dtype=float)
+        order = np.argsort(self.moments, kind="stable")
+        S = body_axes[:, order].copy()
+        if np.linalg.det(S) < 0:
+            S[:, 2] = -S[:, 2]
+        self._S = np.ascontiguousarray(S)  # sorted principal axes (columns), right-handed
+        self._I = np.ascontiguousarray(self.moments[order])
+        self._symmetry_code = int(kin_inertia.symmetry_code(self._I, SYMMETRY_RTOL))
+        self.symmetry = kin_inertia.SYMMETRY_CLASSES[self._symmetry_code]
+        self.inertia = body_axes @ np.diag(moments) @ body_axes.T
+
+    @classmethod
+    def from_body(cls, body) -> FreeRigidBody:
+        """The torque-free motion of a :class:`~poinsot.bodies.RigidBody` about its centre of
+        mass; inputs and outputs are in the body's own frame."""
+        self = cls.__new__(cls)
+        if body.is_degenerate:
+            raise ValueError(
+                "`body` is degenerate (all mass on a line): its torque-free spin about that line "
+                "is undefined"
+            )
+        self._setup(body.principal_moments, body.principal_axes)
+        return self
+
+    def __repr__(self):
+        return f"FreeRigidBody(moments={self.moments.tolist()}, symmetry={self.symmetry!r})"
+
+    @property
+    def principal_moments(self) -> np.ndarray:
+        """Sorted moments ``(I1, I2, I3)``."""
+        return self._I.copy()
+
+    @property
+    def principal_axes(self) -> np.ndarray:
+        """The sorted principal axes (columns, body coordinates, right-handed), (3, 3)."""
+        return self._S.copy()
+
+    # ----------------------------------------------------------------- frames
+    def _to_sorted(self, omega):
+        return np.asarray(omega, dtype=float) @ self._S  # Sᵀ ω for row vectors
+
+    def _from_sorted(self, w):
+        return np.asarray(w) @ self._S.T
+
+    # ----------------------------------------------------------------- the cone
+    def cone_coefficients(self, energy, momentum) -> np.ndarray:
+        """Coefficients ``b_i = I_i (a²/(2k) − I_i)`` of the cone (32) ``Σ b_i ω_i² = 0``, along
+        the sorted principal axes e1, e2, e3 (erratum: ``a²/(2k)``, not ``a²/2·k``).
+
+        Examples
+        --------
+        >>> FreeRigidBody((1, 2, 3)).cone_coefficients(0.5, 2 ** 0.5).round(12).tolist()
+        [1.0, 0.0, -3.0]
+        """
+        self.check_feasible(energy, momentum)
+        return freebody.cone_coefficients(self._I, float(energy), float(momentum))
+
+    def cone_matrix(self, energy, momentum) -> np.ndarray:
+        """The cone (32) as a quadratic form in the body frame: ``ωᵀ C ω = 0``, (3, 3)."""
+        return self._S @ np.diag(self.cone_coefficients(energy, momentum)) @ self._S.T
+
+    def check_feasible(self, energy, momentum) -> float:
+        """Return ``D = a²/(2k)`` after checking condition (33) ``I1 ≤ a²/(2k) ≤ I3``."""
+        k = float(energy)
+        a = float(momentum)
+        if not (np.isfinite(k) and k > 0):
+            raise ValueError(f"`energy` must be a positive number, found {energy}")
+        if not (np.isfinite(a) and a >= 0):
+            raise ValueError(f"`momentum` must be a non-negative number, found {momentum}")
+        D = a * a / (2 * k)
+        I1, _, I3 = self._I
+        if D < I1 * (1 - 1e-12) or D > I3 * (1 + 1e-12):
+            raise ValueError(
+                "infeasible invariants: every motion has I1 ≤ a²/(2k) ≤ I3 (33), found "
+                f"I1 = {I1:.6g}, a²/(2k) = {D:.6g}, I3 = {I3:.6g}"
+            )
+        return min(max(D, I1), I3)
+
+    def euler_rhs(self, omega) -> np.ndarray:
+        """``ω̇`` from Euler's equation (20) in principal components (27)–(29), for ω (..., 3)
+        in the body frame."""
+        w = np.asarray(omega, dtype=float)
+        S = self._S
+        w_sorted = w @ S
+        return euler_omega_dot(self._I, w_sorted, np.zeros_like(w_sorted)) @ S.T

@@ -1,0 +1,186 @@
+"""The torque-free motion in closed form: ω(t), Q(t), periods, flips, families
+(``docs/theory.md`` §1, eqs (20)–(33); ``docs/torque_free.md``).
+
+Every method takes one initial condition ``omega0`` (3,) or many (N, 3) (body frame) and
+evaluates the closed form in the compiled kernels of :mod:`poinsot.kernels.torque_free`, so
+millions of exact solutions need no integrator. With one initial condition the result has the
+shapes of a single motion (``exact_omega``: (n, 3)) and undefined quantities raise; with many,
+a leading member axis is added (``(N, n, 3)``) and undefined quantities are NaN, so that one
+fixed point does not stop a sweep.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._validation import as_array, as_rotation_matrices, as_vectors
+from ..kernels import freebody
+from ..kernels import torque_free as tf
+from ..kernels.rigid import angular_momentum_body, rotational_energy
+
+__all__ = ["SolutionMixin"]
+
+
+class SolutionMixin:
+    """The exact solution of :class:`~poinsot.torquefree.FreeRigidBody` (a part of its
+    interface, in a module of its own)."""
+
+    # ----------------------------------------------------------------- inputs
+    def _initial(self, omega0, name="omega0"):
+        """``(W, single)``: body-frame ω (N, 3) and whether one (3,) was given."""
+        single = np.ndim(omega0) == 1
+        return np.ascontiguousarray(as_vectors(omega0, name)), single
+
+    @staticmethod
+    def _times(t):
+        if np.ndim(t):
+            return np.ascontiguousarray(as_array(t, "t", (None,)))
+        return as_array([t], "t", (1,))
+
+    def _regimes(self, W):
+        return tf.regimes(self._I, self._S, self._symmetry_code, W)
+
+    # ----------------------------------------------------------------- invariants
+    def invariants(self, omega):
+        """``(k, a)``: rotational kinetic energy ``2k = Σ I_i ω_i²`` (30) and ``a = |L|`` (31);
+        floats for one ω (3,), arrays (N,) for many (N, 3).
+
+        Examples
+        --------
+        >>> from poinsot import FreeRigidBody
+        >>> FreeRigidBody((1, 2, 3)).invariants((1, 0, 0))
+        (0.5, 1.0)
+        """
+        W, single = self._initial(omega, "omega")
+        k, a = freebody.invariants(self._I, W @ self._S)
+        return (float(k[0]), float(a[0])) if single else (k, a)
+
+    # ----------------------------------------------------------------- families and times
+    def classify(self, omega0):
+        """The polhode family of ``omega0``: ``"around e1"``, ``"around e3"``,
+        ``"separatrix"``, ``"fixed point"``, ``"symmetric"`` or ``"spherical"`` (an array of
+        names for (N, 3))."""
+        W, single = self._initial(omega0)
+        cases = self._regimes(W)[:, tf.CASE].astype(int)
+        names = np.array(tf.CASE_NAMES)[cases]
+        return str(names[0]) if single else names
+
+    def period(self, omega0):
+        """Period of ω(t): ``4K(m)/λ`` (three distinct moments), ``2π/|ν|`` (symmetric);
+        ``inf`` on the separatrix. At a fixed point, where ω is constant, one ``omega0`` raises
+        ``ValueError`` and an array gives NaN."""
+        W, single = self._initial(omega0)
+        regs = self._regimes(W)
+        out = tf.periods(regs)
+        if single and math.isnan(out[0]):
+            raise ValueError("`omega0` is a fixed point: ω(t) is constant and has no period")
+        return float(out[0]) if single else out
+
+    def flip_interval(self, omega0):
+        """Time between successive flips (sign changes of ω2) of the intermediate-axis motion:
+        ``2K(m)/λ`` — the tennis-racket / Dzhanibekov time; ``inf`` on the separatrix.
+
+        A flip is undefined for symmetric or spherical bodies (no intermediate axis) and at
+        fixed points (ω2 never changes sign): one ``omega0`` raises ``ValueError`` there, an
+        array gives NaN.
+        """
+        W, single = self._initial(omega0)
+        if self.symmetry != "asymmetric" and single:
+            raise ValueError(
+                f"flip_interval needs three distinct moments; this body is {self.symmetry}"
+            )
+        regs = self._regimes(W)
+        out = tf.flip_intervals(regs)
+        if single and math.isnan(out[0]):
+            raise ValueError("`omega0` is a fixed point: ω2 never changes sign, no flips")
+        return float(out[0]) if single else out
+
+    # ----------------------------------------------------------------- the motion
+    def exact_omega(self, omega0, t) -> np.ndarray:
+        """ω(t), body frame, from ``ω(0) = omega0``: the exact solution of (20); (n, 3) for
+        one ``omega0`` (3,), (N, n, 3) for many (N, 3).
+
+        Asymmetric bodies: Jacobi elliptic functions, ``a²/2k > I2`` (around e3):
+        ``ω = (α1 cn u, ±α2 sn u, ±α3 dn u)``; ``a²/2k < I2`` (around e1):
+        ``ω = (±α1 dn u, ±α2 sn u, α3 cn u)``; on the separatrix (m = 1) the same with
+        ``sn = tanh``, ``cn = dn = sech``. ``u = u0 + λt``; the parameter's complement
+        ``1 − m`` is formed without cancellation, so the solution stays accurate arbitrarily
+        close to the separatrix. Symmetric bodies: ``π = Aω`` turns about the symmetry axis at
+        the rate ``−ν``, ``ν = (1/I_s − 1/I⊥) π_s``. Spherical: ω constant.
+
+        Examples
+        --------
+        >>> from poinsot import FreeRigidBody
+        >>> body = FreeRigidBody((1.0, 2.0, 3.0))
+        >>> w = body.exact_omega([(1e-3, 1.0, 1e-3), (0.1, 1.0, 0.1)], [0.0, 5.0])
+        >>> w.shape
+        (2, 2, 3)
+        """
+        W, single = self._initial(omega0)
+        out = tf.exact_omegas(self._I, self._S, self._symmetry_code, W, self._times(t))
+        return out[0] if single else out
+
+    def exact_attitude(self, omega0, t, Q0=None) -> np.ndarray:
+        """Attitude ``Q(t)`` (body → space) of the torque-free motion from ``ω(0) = omega0``
+        and ``Q(0) = Q0`` (default identity; one rotation or one per member), exactly; (n, 3, 3)
+        for one ``omega0``, (N, n, 3, 3) for many.
+
+        Asymmetric bodies: z-x-z Euler angles ``(ψ, θ, φ)`` of the body relative to the
+        invariable frame (z along L), with pole the axis the polhode circles (e3, or e1 via the
+        right-handed relabelling ``(e3, −e2, e1)``); ``cos θ = π_pole/a``,
+        ``tan φ = π_1'/π_2'`` and
+        ``ψ(t) = a t/I_p + a (I_p − I_q)/(I_p I_q λ) [Π(n; am u | m) − Π(n; am u0 | m)]``
+        (evaluated as ``∫ du/(1 − n sn² u)`` in u, never through the amplitude, which rounds
+        to ±π/2 while the body lingers by its unstable axis),
+        ``n = −I_p (I2 − I1)/(I1 (I3 − I2))`` (pole e3; swap 1 ↔ 3 for pole e1), n < 0, so the
+        third-kind integral has no pole. Symmetric bodies:
+        ``Q(t) = exp(t L̂/I⊥) Q0 exp(ν t ê_s)``; fixed points: ``Q0 exp(Ω t)``.
+        """
+        W, single = self._initial(omega0)
+        Q = np.eye(3)[None] if Q0 is None else as_rotation_matrices(Q0, "Q0", len(W))
+        out = tf.exact_attitudes(
+            self._I, self._S, self._symmetry_code, W, np.ascontiguousarray(Q), self._times(t)
+        )
+        return out[0] if single else out
+
+    def describe(self, omega0) -> dict:
+        """A JSON-ready summary of the motion from ``omega0``: family, invariants, period,
+        flip interval (``"inf"`` on the separatrix; absent where undefined) and fixed points."""
+        k, a = self.invariants(omega0)
+        out = {
+            "family": self.classify(omega0),
+            "energy": k,
+            "momentum": a,
+            "fixed_points": [{"set": fp.label, "stable": fp.stable} for fp in self.fixed_points()],
+        }
+        for name, fn in (("period", self.period), ("flip_interval", self.flip_interval)):
+            try:
+                value = fn(omega0)
+            except ValueError:
+                continue
+            out[name] = value if math.isfinite(value) else "inf"
+        return out
+
+    # ----------------------------------------------------------------- oracle
+    def trajectory_error(self, trajectory) -> dict:
+        """Errors of a numerical torque-free :class:`~poinsot.trajectory.Trajectory` against
+        the exact solution from its first sample: max |Δω|, max |ΔQ|, relative energy and |L|
+        errors. The trajectory must be torque-free about its centre of mass."""
+        tr = trajectory
+        if getattr(tr.system, "pivot", None) is not None and np.any(tr.system.c):
+            raise ValueError("`trajectory` turns about a pivot away from its centre of mass")
+        t = tr.t - tr.t[0]
+        w = self.exact_omega(tr.omega[0], t)
+        Q = self.exact_attitude(tr.omega[0], t, tr.Q[0])
+        k0, a0 = self.invariants(tr.omega[0])
+        omega = np.ascontiguousarray(tr.omega)
+        ks = rotational_energy(self.inertia, omega)
+        As = np.linalg.norm(angular_momentum_body(self.inertia, omega), axis=1)
+        return {
+            "omega": float(np.abs(tr.omega - w).max()),
+            "attitude": float(np.abs(tr.Q - Q).max()),
+            "energy": float(np.abs(ks / k0 - 1).max()),
+            "momentum": float(np.abs(As / a0 - 1).max()),
+        }

@@ -1,0 +1,169 @@
+"""Fixed points of Euler's equation (20) and their stability (``docs/theory.md`` §1,
+"Stationary rotations", eqs (22)–(26)).
+
+A fixed point is an ω with ``ω × Aω = 0``: an eigenvector of the inertia. Three distinct
+moments give three axes (the intermediate one unstable, a saddle with growth rate σ); two equal
+moments a plane and an axis; three equal moments make every ω a fixed point. The linear
+stability comes from the eigenvalues of the Jacobian ``A⁻¹(hat(Aω) − hat(ω) A)``
+(:func:`poinsot.kernels.freebody.euler_jacobian`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validation import as_vector3
+from ..kernels import freebody
+from ..kernels.so3 import exp_so3
+
+__all__ = ["FixedPointSet", "Stability", "StabilityMixin"]
+
+
+@dataclass(frozen=True)
+class Stability:
+    """Linear stability of a fixed point ``ω*`` of Euler's equation.
+
+    Attributes
+    ----------
+    eigenvalues : ndarray (3,) complex
+        Of the Jacobian ``J = A⁻¹(hat(Aω*) − hat(ω*) A)``.
+    stable : bool
+        Lyapunov stability (for the axes of largest and smallest moment it follows from the
+        two conservation laws, not only from the linearisation).
+    kind : str
+        ``"center"`` (purely imaginary pair), ``"saddle"`` (real pair ±σ),
+        ``"degenerate"`` (all eigenvalues zero: a Jordan block, perturbations grow linearly in t,
+        as in the plane of fixed points of a symmetric body), or ``"trivial"`` (J = 0).
+    growth_rate : float
+        σ > 0 for a saddle (intermediate axis): ``σ = |ω| √((I2−I1)(I3−I2)/(I1 I3))``; else 0.
+    wobble_frequency : float
+        ν for a center: ``|ω| √((I2−I1)(I3−I1)/(I2 I3))`` about e1,
+        ``|ω| √((I3−I1)(I3−I2)/(I1 I2))`` about e3; else 0.
+    """
+
+    eigenvalues: np.ndarray
+    stable: bool
+    kind: str
+    growth_rate: float = 0.0
+    wobble_frequency: float = 0.0
+
+
+@dataclass(frozen=True)
+class FixedPointSet:
+    """A set of fixed points of Euler's equation: an axis, a plane, or every ω.
+
+    ``basis`` (3, d) spans it in the body frame (d = 1 axis, 2 plane, 3 all); ``moment`` is the
+    moment about it (for a plane, the repeated moment); ``stable`` as in :class:`Stability`.
+    """
+
+    kind: str
+    basis: np.ndarray
+    moment: float
+    stable: bool
+    label: str
+
+
+class StabilityMixin:
+    """The fixed points of :class:`~poinsot.torquefree.FreeRigidBody` (a part of its
+    interface, in a module of its own)."""
+
+    def fixed_points(self) -> list[FixedPointSet]:
+        """The fixed points of Euler's equation, by symmetry case, with their stability.
+
+        Three distinct moments: the three principal axes (e2 unstable). Two equal: the plane of
+        the repeated moment (unstable: a perturbation off the plane makes ω precess round it)
+        and the remaining axis (stable). All equal: every ω (stable: ω is constant).
+        """
+        S, I = self._S, self._I
+        if self.symmetry == "spherical":
+            return [FixedPointSet("all", S.copy(), float(I[0]), True, "every ω")]
+        if self.symmetry == "asymmetric":
+            return [
+                FixedPointSet("axis", S[:, [0]], float(I[0]), True, "e1 (smallest moment)"),
+                FixedPointSet("axis", S[:, [1]], float(I[1]), False, "e2 (intermediate)"),
+                FixedPointSet("axis", S[:, [2]], float(I[2]), True, "e3 (largest moment)"),
+            ]
+        if self.symmetry == "oblate":
+            return [
+                FixedPointSet("plane", S[:, [0, 1]], float(I[0]), False, "plane e1–e2"),
+                FixedPointSet("axis", S[:, [2]], float(I[2]), True, "e3 (symmetry axis)"),
+            ]
+        return [
+            FixedPointSet("axis", S[:, [0]], float(I[0]), True, "e1 (symmetry axis)"),
+            FixedPointSet("plane", S[:, [1, 2]], float(I[1]), False, "plane e2–e3"),
+        ]
+
+    def is_fixed_point(self, omega, rtol=1e-10) -> bool:
+        """True when ``ω × Aω = 0`` (ω is an eigenvector of A)."""
+        w = as_vector3(omega, "omega")
+        Aw = self.inertia @ w
+        return bool(
+            np.linalg.norm(np.cross(w, Aw))
+            <= rtol * max(np.linalg.norm(w) * np.linalg.norm(Aw), 1e-300)
+        )
+
+    def jacobian(self, omega) -> np.ndarray:
+        """``∂ω̇/∂ω = A⁻¹(hat(Aω) − hat(ω) A)`` (3, 3), body frame."""
+        w = as_vector3(omega, "omega")
+        return freebody.euler_jacobian(np.ascontiguousarray(self.inertia), w)
+
+    def stability(self, omega) -> Stability:
+        """Linear stability of the fixed point ``omega`` (body frame); see :class:`Stability`."""
+        w = as_vector3(omega, "omega")
+        if not self.is_fixed_point(w):
+            raise ValueError(f"`omega` = {w.tolist()} is not a fixed point: ω × Aω ≠ 0")
+        J = self.jacobian(w)
+        eig = np.linalg.eigvals(J)
+        speed = float(np.linalg.norm(w))
+        I1, I2, I3 = self._I
+        scale = max(speed * I3 / I1, 1e-300)
+        if np.abs(J).max() <= 1e-12 * scale:
+            return Stability(eig, True, "trivial")
+        if np.abs(eig).max() <= 1e-7 * scale:
+            return Stability(eig, False, "degenerate")
+        if np.abs(eig.real).max() > 1e-9 * scale:
+            sigma = speed * math.sqrt((I2 - I1) * (I3 - I2) / (I1 * I3))
+            return Stability(eig, False, "saddle", growth_rate=sigma)
+        ws = self._to_sorted(w)
+        if abs(ws[0]) >= abs(ws[2]):  # about e1
+            nu = speed * math.sqrt((I2 - I1) * (I3 - I1) / (I2 * I3))
+        else:
+            nu = speed * math.sqrt((I3 - I1) * (I3 - I2) / (I1 * I2))
+        if self.symmetry != "asymmetric":
+            nu = float(np.abs(eig.imag).max())
+        return Stability(eig, True, "center", wobble_frequency=nu)
+
+    def fixed_point_attitude(self, omega, t, Q0=None, *, method="rodrigues") -> np.ndarray:
+        """``Q(t) = Q0 exp(Ω t)`` at a fixed point (ω constant), (n, 3, 3).
+
+        ``method="rodrigues"`` uses Rodrigues' formula; ``"jordan"`` the notebook's real Jordan
+        form (22)–(23): ``Ω = P J Pᵀ`` with ``P = [u, v, ω/|ω|]`` orthonormal and
+        ``exp(J t)`` a plane rotation by ``|ω| t`` — an independent cross-check.
+        """
+        from .._validation import as_rotation_matrix
+
+        w = as_vector3(omega, "omega")
+        if not self.is_fixed_point(w):
+            raise ValueError(f"`omega` = {w.tolist()} is not a fixed point: ω × Aω ≠ 0")
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        Q0 = np.eye(3) if Q0 is None else as_rotation_matrix(Q0, "Q0")
+        if method == "rodrigues":
+            return Q0 @ exp_so3(t[:, None] * w)
+        if method != "jordan":
+            raise ValueError(f"`method` must be 'rodrigues' or 'jordan', found {method!r}")
+        speed = np.linalg.norm(w)
+        if speed == 0:
+            return np.broadcast_to(Q0, (len(t), 3, 3)).copy()
+        n = w / speed
+        u = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
+        u /= np.linalg.norm(u)
+        P = np.column_stack([u, np.cross(n, u), n])
+        c, s = np.cos(speed * t), np.sin(speed * t)
+        E = np.zeros((len(t), 3, 3))
+        E[:, 0, 0] = E[:, 1, 1] = c
+        E[:, 0, 1], E[:, 1, 0] = -s, s
+        E[:, 2, 2] = 1.0
+        return Q0 @ P @ E @ P.T
