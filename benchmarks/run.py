@@ -496,6 +496,10 @@ CASES = {
     "inertia": case_inertia,
     "lagrange": case_lagrange,
 }
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ensemble_cases import CASES as _ENSEMBLE_CASES  # noqa: E402
+
+CASES.update(_ENSEMBLE_CASES)
 
 
 def _fmt_time(s):

@@ -49,6 +49,7 @@ LIBRARY = {
     "trajectory",
     "simulation",
     "torquefree",
+    "ensemble",
     "elliptic",
     "lagrange",
     "models",

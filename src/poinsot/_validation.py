@@ -18,9 +18,10 @@ __all__ = [
     "as_positive_scalar",
     "as_rotation_matrices",
     "as_rotation_matrix",
-    "as_vectors",
+    "as_sample_times",
     "as_scalar",
     "as_vector3",
+    "as_vectors",
 ]
 
 #: Tolerance for accepting a user-given rotation matrix or quaternion (typed-in values such as
@@ -163,8 +164,11 @@ def as_rotation_matrices(value, name: str, n: int | None = None) -> np.ndarray:
     arr = np.asarray(value, dtype=float) if not isinstance(value, str) else None
     if arr is not None and arr.shape in ((3, 3), (4,)):
         return as_rotation_matrix(arr, name)[None]
-    if arr is None or arr.ndim not in (2, 3) or arr.shape[1:] not in ((3, 3), (4,)) or (
-        n is not None and arr.shape[0] != n
+    if (
+        arr is None
+        or arr.ndim not in (2, 3)
+        or arr.shape[1:] not in ((3, 3), (4,))
+        or (n is not None and arr.shape[0] != n)
     ):
         rows = "N" if n is None else str(n)
         shape = None if arr is None else arr.shape
@@ -197,3 +201,16 @@ def as_rotation_matrices(value, name: str, n: int | None = None) -> np.ndarray:
         )
     u, _, vt = np.linalg.svd(arr)
     return u @ vt
+
+
+def as_sample_times(t_eval, t0: float, t1: float, name: str = "t_eval") -> np.ndarray:
+    """Sample times (n,): finite, strictly increasing, within ``[t0, t1]``."""
+    t = as_array(t_eval, name, (None,))
+    if len(t) and (t[1:] <= t[:-1]).any():
+        k = int(np.argmax(t[1:] <= t[:-1])) + 1
+        raise ValueError(
+            f"`{name}` must be strictly increasing, found {name}[{k}] = {t[k]} after {t[k - 1]}"
+        )
+    if len(t) and (t[0] < t0 or t[-1] > t1):
+        raise ValueError(f"`{name}` must lie within t_span = ({t0}, {t1})")
+    return t

@@ -79,6 +79,25 @@ def _cmd_run(args):
         progress.close()
     if args.json:
         print(json.dumps(summary, indent=2))
+    elif "ensemble" in summary:
+        e = summary["ensemble"]
+        _say(
+            args,
+            f"  {e['members']} members ({summary['distribution']['description']}), "
+            f"{e['method']}: {e['succeeded']} finished in {e['wall_time_s']:.3g} s",
+        )
+        stats = e["statistics"]
+        if stats.get("first_flip", {}).get("count"):
+            f = stats["first_flip"]
+            spread = f"5–95 %: {f['p05']:.4g}–{f['p95']:.4g} s"
+            flipped = f["members_with_a_flip"]
+            _say(args, f"  first flip: median {f['median']:.4g} s ({spread}), {flipped} flipped")
+        if "flips_against_exact" in summary:
+            r = summary["flips_against_exact"]["relative_error"]
+            if r.get("count"):
+                rel = f"median relative error {r['median']:.2e}, max {r['max']:.2e}"
+                _say(args, f"  flip interval against the exact 2K(m)/λ: {rel}")
+        _say(args, f"  wrote {out}/ (summary.json, ensemble.nc, histograms, report.html)")
     elif "system" in summary:  # a constrained (Lagrangian) model
         i = summary["integration"]
         _say(

@@ -28,7 +28,9 @@ from .kernels import inertia as kin_inertia
 from .kernels import layout
 from .kernels.forces import builtin_potential, builtin_wrench
 from .kernels.rigid import (
+    initial_states,
     pivot_constrained,
+    pivot_point_of,
     project_onto_pivot,
     rigid_body_parameters,
     rigid_derivative,
@@ -158,8 +160,7 @@ class RigidBodySystem:
 
     def pivot_point(self, y) -> np.ndarray:
         """The fixed point ``P = R − Q c`` in space, from a body-frame state (with a pivot)."""
-        R, _, Q, _ = layout.unpack_state(np.asarray(y, dtype=float))
-        return R - Q @ self.c
+        return np.array(pivot_point_of(self._body_params, self.to_internal(y)))
 
     def body_parameters(self, pivot_point=None) -> np.ndarray:
         """The body's parameter vector for the engine, with the pivot held at ``pivot_point``."""
@@ -263,26 +264,33 @@ class RigidBodySystem:
             w = Q.T @ w
         elif omega_frame != "body":
             raise ValueError(f"`omega_frame` must be 'body' or 'space', found {omega_frame!r}")
-        if self.pivot is None:
-            R = np.array(self.body.center_of_mass) if R0 is None else as_vector3(R0, "R0")
-            V = np.zeros(3) if V0 is None else as_vector3(V0, "V0")
-        else:
-            if V0 is not None:
-                raise ValueError("`V0` must be omitted with a `pivot`: it follows from `omega0`")
-            R = self.pivot + Q @ self.c if R0 is None else as_vector3(R0, "R0")
-            V = Q @ np.cross(w, self.c)
-        if self.degenerate:
-            line = self.principal_axes[:, 0]
-            spin = float(w @ line)
-            if abs(spin) > 1e-12 * max(np.linalg.norm(w), 1e-300):
-                warnings.warn(
-                    "the body is degenerate (all mass on a line): its spin about that line is "
-                    f"undefined and is dropped (component {spin:.6g} of omega0)",
-                    DegenerateBodyWarning,
-                    stacklevel=3,
-                )
-                w = w - spin * line
-        return layout.pack_state(R, V, Q, w)
+        if self.pivot is not None and V0 is not None:
+            raise ValueError("`V0` must be omitted with a `pivot`: it follows from `omega0`")
+        line = self.degenerate_line()
+        spin = float(w @ line)
+        if abs(spin) > 1e-12 * max(np.linalg.norm(w), 1e-300):
+            warnings.warn(
+                "the body is degenerate (all mass on a line): its spin about that line is "
+                f"undefined and is dropped (component {spin:.6g} of omega0)",
+                DegenerateBodyWarning,
+                stacklevel=3,
+            )
+        none = np.zeros((0, 3))
+        return initial_states(
+            Q[None],
+            w[None],
+            none if R0 is None else as_vector3(R0, "R0")[None],
+            none if V0 is None else as_vector3(V0, "V0")[None],
+            np.asarray(self.body.center_of_mass, dtype=float),
+            self.c,
+            np.zeros(3) if self.pivot is None else self.pivot,
+            self.pivot is not None,
+            line,
+        )[0]
+
+    def degenerate_line(self) -> np.ndarray:
+        """The unit line of a degenerate body (all mass on it), zeros for any other body."""
+        return self.principal_axes[:, 0].copy() if self.degenerate else np.zeros(3)
 
 
 _SUMS: dict = {}

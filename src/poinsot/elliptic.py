@@ -65,9 +65,7 @@ def ellippi(n, phi, m, m1):
     (scalar or array): :func:`poinsot.kernels.elliptic.ellippi_scalar`."""
     _check_n(n)
     phi = np.asarray(phi, dtype=float)
-    values = [
-        _k.ellippi_scalar(float(n), float(p), float(m), float(m1)) for p in phi.reshape(-1)
-    ]
+    values = [_k.ellippi_scalar(float(n), float(p), float(m), float(m1)) for p in phi.reshape(-1)]
     return np.array(values).reshape(phi.shape) if phi.ndim else values[0]
 
 

@@ -13,7 +13,12 @@ import numpy as np
 
 from ._io import atomic_write_text
 
-__all__ = ["equivalent_box_half_extents", "write_lagrangian_report", "write_report"]
+__all__ = [
+    "equivalent_box_half_extents",
+    "write_ensemble_report",
+    "write_lagrangian_report",
+    "write_report",
+]
 
 MAX_FRAMES = 120
 
@@ -331,6 +336,65 @@ table.numbers td {{ font-family: ui-monospace, monospace; }}
 {"".join(f'<div class="plot">{p}</div>' for p in parts)}
 <h2>Numbers</h2>
 {_numbers_table(summary)}
+<script type="application/json" id="poinsot-summary">{html.escape(json.dumps(summary))}</script>
+</body></html>
+"""
+    atomic_write_text(path, page)
+
+
+def write_ensemble_report(path, summary: dict, images: dict) -> None:
+    """A self-contained HTML page of an ensemble run: what was run, the distributions of the
+    per-member statistics as a table, and the figures (``images``: caption → PNG bytes,
+    embedded), with the raw summary JSON. Needs nothing beyond the standard library."""
+    import base64
+
+    stats = summary.get("ensemble", {}).get("statistics", {})
+    rows = []
+    for name, entry in stats.items():
+        if not entry.get("count"):
+            continue
+        cells = "".join(f"<td>{entry[k]:.4g}</td>" for k in ("min", "p05", "median", "p95", "max"))
+        rows.append(
+            f"<tr><th>{html.escape(name)}</th><td>{entry['count']}</td>{cells}"
+            f"<td class='meaning'>{html.escape(entry.get('meaning', ''))}</td></tr>"
+        )
+    table = (
+        "<table class='numbers'><tr><th>statistic</th><th>members</th><th>min</th><th>5 %</th>"
+        "<th>median</th><th>95 %</th><th>max</th><th>meaning</th></tr>" + "".join(rows) + "</table>"
+    )
+    figures = "".join(
+        f"<figure><img alt='{html.escape(caption)}' src='data:image/png;base64,"
+        f"{base64.b64encode(png).decode()}'><figcaption>{html.escape(caption)}</figcaption>"
+        "</figure>"
+        for caption, png in images.items()
+    )
+    e = summary.get("ensemble", {})
+    scenario = summary.get("scenario", {})
+    title = html.escape(f"poinsot — {scenario.get('name', 'ensemble')}")
+    lead = html.escape(
+        f"{e.get('members')} members ({summary.get('distribution', {}).get('description', '')}), "
+        f"{e.get('method')}; {e.get('succeeded')} finished in {e.get('wall_time_s', 0):.3g} s."
+    )
+    page = f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>{title}</title>
+<style>
+body {{ font-family: system-ui, sans-serif; margin: 1.5em auto; max-width: 1200px;
+       color: #222; padding: 0 1em; }}
+h1 {{ font-size: 1.5em; }} img {{ max-width: 100%; }}
+table.numbers {{ border-collapse: collapse; font-size: 0.85em; }}
+table.numbers th {{ text-align: left; padding: 2px 12px 2px 0; font-weight: normal;
+                    color: #555; }}
+table.numbers td {{ font-family: ui-monospace, monospace; padding: 2px 10px 2px 0; }}
+table.numbers td.meaning {{ font-family: system-ui, sans-serif; color: #555; }}
+figcaption {{ color: #555; font-size: 0.9em; }}
+</style></head><body>
+<h1>{title}</h1>
+<p>{html.escape(scenario.get("description", ""))}</p>
+<p>{lead}</p>
+<h2>Per-member statistics</h2>
+{table}
+{figures}
+<p><a href="summary.json">summary.json</a> · <a href="ensemble.nc">ensemble.nc</a></p>
 <script type="application/json" id="poinsot-summary">{html.escape(json.dumps(summary))}</script>
 </body></html>
 """

@@ -353,10 +353,46 @@ class Scenario:
     outputs: dict = field(default_factory=dict)
     analysis: dict = field(default_factory=dict)
     source: str = "<built-in>"
+    ensemble: dict | None = None
 
     @property
     def t_eval(self):
         return np.linspace(self.t_span[0], self.t_span[1], self.samples)
+
+    def ensemble_omegas(self) -> np.ndarray:
+        """The ensemble's initial angular velocities (members, 3), drawn as ``[ensemble]``
+        states (body frame)."""
+        from .ensemble import sampling
+
+        e = self.ensemble
+        if e["distribution"] == "sphere":
+            return sampling.uniform_on_sphere(e["members"], e["speed"], e["seed"])
+        return sampling.gaussian(e["members"], e["mean"], e["std"], e["seed"])
+
+    def simulate_ensemble(self, progress=None):
+        """Run the ensemble of ``[ensemble]``: an :class:`~poinsot.ensemble.EnsembleResult`
+        sampled at the scenario's times (final states only with ``keep_states = false``)."""
+        from .ensemble import simulate_ensemble
+
+        e = self.ensemble
+        initial = {k: v for k, v in self.initial.items() if k in ("Q0", "R0", "V0")}
+        return simulate_ensemble(
+            self.body,
+            self.t_span,
+            omega0=self.ensemble_omegas(),
+            forces=self.forces,
+            pivot=self.pivot,
+            method=self.method,
+            dt=self.dt,
+            rtol=self.rtol,
+            atol=self.atol,
+            t_eval=self.t_eval if e["keep_states"] else None,
+            keep_states=e["keep_states"],
+            chunk_size=e["chunk_size"],
+            threads=e["threads"],
+            progress=progress,
+            **initial,
+        )
 
     def simulate(self, progress=None):
         """Run the simulation: a :class:`~poinsot.trajectory.Trajectory`."""
@@ -377,9 +413,11 @@ class Scenario:
         )
 
 
-def _initial(t: _Table, body, pivot):
+def _initial(t: _Table, body, pivot, omega_optional=False):
     out = {}
-    if t.has("particle_velocities"):
+    if omega_optional and not t.has("omega"):
+        pass
+    elif t.has("particle_velocities"):
         v = t.get("particle_velocities", "vectors3")
         if not body.has_particles or len(v) != body.n_particles:
             n = body.n_particles
@@ -573,10 +611,14 @@ def _parse(data: dict, source: str, base_dir: Path):
     body = build_body(bt, base_dir)
     pivot = bt.get("pivot", "vector3", None)
     forces = [build_force(f) for f in root.tables("forces")]
-    initial = _initial(root.table("initial"), body, pivot)
+    has_ensemble = root.has("ensemble")
+    initial = _initial(
+        root.table("initial", None if has_ensemble else _MISSING), body, pivot, has_ensemble
+    )
     method, dt, rtol, atol, _ = _integrator(root, METHOD_NAMES)
     t_span, samples = _time(root)
     outputs = _outputs(root)
+    ensemble = _ensemble(root.table("ensemble"), initial) if has_ensemble else None
     at = root.table("analysis", None)
     analysis = {
         "polhodes": at.get("polhodes", "bool", True),
@@ -602,9 +644,54 @@ def _parse(data: dict, source: str, base_dir: Path):
         outputs,
         analysis,
         source,
+        ensemble,
     )
     _check_physics(scenario)
     return scenario
+
+
+#: Largest ensemble a scenario may ask for (its per-member statistics fit in a few GB).
+MAX_MEMBERS = 10**8
+
+
+def _ensemble(et: _Table, initial: dict) -> dict:
+    """``[ensemble]``: how many members, their distribution of initial spins, the seed."""
+    from .ensemble.sampling import DISTRIBUTIONS
+
+    if "particle_velocities" in initial or initial.get("omega_frame", "body") != "body":
+        raise ScenarioError(
+            f"{et.where('distribution')}: an ensemble draws body-frame spins; "
+            "initial.particle_velocities and omega_frame = 'space' do not apply"
+        )
+    members = et.get("members", "int")
+    if members > MAX_MEMBERS:
+        raise ScenarioError(f"{et.where('members')}: at most {MAX_MEMBERS}, found {members}")
+    out = {
+        "members": members,
+        "seed": et.get("seed", "nonnegative", 0.0),
+        "distribution": et.get("distribution", "string", choices=DISTRIBUTIONS),
+        "keep_states": et.get("keep_states", "bool", False),
+        "chunk_size": et.get("chunk_size", "int", None),
+        "threads": et.get("threads", "int", None),
+    }
+    if out["seed"] != int(out["seed"]):
+        raise ScenarioError(f"{et.where('seed')}: expected an integer, found {out['seed']}")
+    out["seed"] = int(out["seed"])
+    if out["distribution"] == "sphere":
+        out["speed"] = et.get("speed", "positive")
+    else:
+        mean = initial.get("omega0")
+        out["mean"] = et.get("mean", "vector3", mean)
+        if out["mean"] is None:
+            raise ScenarioError(
+                f"{et.where('mean')}: required for a gaussian ensemble (or give initial.omega)"
+            )
+        std = et.get("std", "vector3")
+        if np.any(std < 0):
+            raise ScenarioError(f"{et.where('std')}: expected numbers ≥ 0, found {std.tolist()}")
+        out["std"] = std
+    et.finish()
+    return out
 
 
 def _check_physics(s: Scenario):
@@ -623,7 +710,7 @@ def _check_physics(s: Scenario):
         from .dynamics import RigidBodySystem
 
         system = RigidBodySystem(s.body, s.forces, s.pivot)
-        if "omega0" in s.initial:
+        if "omega0" in s.initial and s.ensemble is None:
             system.initial_state(
                 omega0=s.initial["omega0"],
                 Q0=s.initial.get("Q0"),

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import as_array, as_scalar
+from ._validation import as_sample_times, as_scalar
 from .dynamics import RigidBodySystem, rigid_velocity_from_particles
 from .integrate.base import get_solver
 from .integrate.driver import IntegrationError, integrate
@@ -138,11 +138,7 @@ def simulate(
         raise ValueError("`omega0` must be given (or `particle_velocities`)")
     y0 = system.initial_state(omega0=omega0, Q0=Q0, R0=R0, V0=V0, omega_frame=omega_frame)
     if t_eval is not None:
-        t_eval = as_array(t_eval, "t_eval", (None,))
-        if len(t_eval) and (t_eval[1:] <= t_eval[:-1]).any():
-            raise ValueError("`t_eval` must be strictly increasing")
-        if len(t_eval) and (t_eval[0] < t0 or t_eval[-1] > t1):
-            raise ValueError(f"`t_eval` must lie within t_span = ({t0}, {t1})")
+        t_eval = as_sample_times(t_eval, t0, t1)
     if not isinstance(save_every, int | np.integer) or save_every < 1:
         raise ValueError(f"`save_every` must be a positive integer, found {save_every!r}")
     if dt is not None:

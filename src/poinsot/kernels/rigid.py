@@ -48,20 +48,25 @@ __all__ = [
     "angular_momentum",
     "angular_momentum_body",
     "angular_momentum_com",
+    "angular_momentum_com_of",
     "attitude_rate",
     "euler_omega_dot",
     "free_rigid_derivative",
     "free_rigid_rates",
     "free_rotor_step",
     "free_rotor_step_into",
+    "initial_states",
     "kinetic_energy",
+    "kinetic_energy_of",
     "omega_dot_principal",
     "omega_space",
     "orthogonality_error",
+    "orthogonality_error_of",
     "particle_positions",
     "particle_trajectories",
     "particle_velocities",
     "pivot_constrained",
+    "pivot_point_of",
     "project_onto_pivot",
     "rigid_body_parameters",
     "rigid_derivative",
@@ -69,6 +74,7 @@ __all__ = [
     "rigid_rates",
     "rotate_pair_into",
     "rotational_energy",
+    "rotational_energy_of",
     "rotor_code",
     "shift_torque_to_pivot",
     "state_from_principal_into",
@@ -282,6 +288,58 @@ def project_onto_pivot(body, y):
 
 
 # --------------------------------------------------------------------------- energy, momentum
+@kernel(inline=True)
+def rotational_energy_of(inertia, w0, w1, w2):
+    """``½ ω·Aω`` of one ω (scalars); inertia (3, 3)."""
+    e = 0.0
+    for j in range(3):
+        wj = w0 if j == 0 else (w1 if j == 1 else w2)
+        e += wj * (inertia[j, 0] * w0 + inertia[j, 1] * w1 + inertia[j, 2] * w2)
+    return 0.5 * e
+
+
+@kernel(inline=True)
+def kinetic_energy_of(inertia, mass, y):
+    """Kinetic energy (12) of one body-frame state ``y`` (array or 18-tuple):
+    ``½ Aω·ω + ½ M |Ṙ|²``, inertia (3, 3) about the centre of mass."""
+    w = OMEGA_AT
+    v = V_AT
+    rot = rotational_energy_of(inertia, y[w], y[w + 1], y[w + 2])
+    return rot + 0.5 * mass * (y[v] ** 2 + y[v + 1] ** 2 + y[v + 2] ** 2)
+
+
+@kernel(inline=True)
+def angular_momentum_com_of(inertia, y):
+    """``Q A ω`` of one body-frame state ``y``: the angular momentum about the centre of mass,
+    space frame (the first term of eq. (03)); a 3-tuple."""
+    w0 = y[OMEGA_AT]
+    w1 = y[OMEGA_AT + 1]
+    w2 = y[OMEGA_AT + 2]
+    p0 = inertia[0, 0] * w0 + inertia[0, 1] * w1 + inertia[0, 2] * w2
+    p1 = inertia[1, 0] * w0 + inertia[1, 1] * w1 + inertia[1, 2] * w2
+    p2 = inertia[2, 0] * w0 + inertia[2, 1] * w1 + inertia[2, 2] * w2
+    q = Q_AT
+    return (
+        y[q] * p0 + y[q + 1] * p1 + y[q + 2] * p2,
+        y[q + 3] * p0 + y[q + 4] * p1 + y[q + 5] * p2,
+        y[q + 6] * p0 + y[q + 7] * p1 + y[q + 8] * p2,
+    )
+
+
+@kernel(inline=True)
+def orthogonality_error_of(y):
+    """``max |QᵀQ − I|`` of the attitude of one state ``y`` (array or 18-tuple)."""
+    worst = 0.0
+    q = Q_AT
+    for a in range(3):
+        for b in range(3):
+            s = y[q + a] * y[q + b] + y[q + 3 + a] * y[q + 3 + b] + y[q + 6 + a] * y[q + 6 + b]
+            if a == b:
+                s -= 1.0
+            worst = max(worst, abs(s))
+    return worst
+
+
 @kernel
 def _rows(a, k):
     return np.ascontiguousarray(np.asarray(a)).reshape((-1, k)).astype(np.float64)
@@ -295,11 +353,7 @@ def rotational_energy(inertia, omega):
     w = _rows(omega, 3)
     out = np.empty(w.shape[0])
     for i in range(w.shape[0]):
-        e = 0.0
-        for j in range(3):
-            for k in range(3):
-                e += w[i, j] * inertia[j, k] * w[i, k]
-        out[i] = 0.5 * e
+        out[i] = rotational_energy_of(inertia, w[i, 0], w[i, 1], w[i, 2])
     return out.reshape(omega.shape[:-1])
 
 
@@ -308,11 +362,15 @@ def kinetic_energy(inertia, mass, omega, V):
     """Kinetic energy, eq. (12): ``K = ½ Aω·ω + ½ M |Ṙ|²`` (erratum corrected: the notebook
     prints ``½ ω·ω``). inertia (3, 3) about the centre of mass, omega and V (..., 3) → (...)."""
     V = np.asarray(V)
-    rot = rotational_energy(inertia, omega).ravel()
+    w = _rows(omega, 3)
     v = _rows(V, 3)
     out = np.empty(v.shape[0])
+    y = np.zeros(STATE_SIZE)
     for i in range(v.shape[0]):
-        out[i] = rot[i] + 0.5 * mass * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
+        for k in range(3):
+            y[OMEGA_AT + k] = w[i, k]
+            y[V_AT + k] = v[i, k]
+        out[i] = kinetic_energy_of(inertia, mass, y)
     return out.reshape(V.shape[:-1])
 
 
@@ -333,11 +391,14 @@ def angular_momentum_body(inertia, omega):
 def angular_momentum_com(inertia, Q, omega):
     """Angular momentum about the centre of mass in the space frame, ``Q A ω`` (the first term
     of eq. (03)). Q (n, 3, 3), omega (n, 3) → (n, 3)."""
-    pi = angular_momentum_body(inertia, omega)
-    out = np.empty_like(pi)
-    for i in range(pi.shape[0]):
-        for j in range(3):
-            out[i, j] = Q[i, j, 0] * pi[i, 0] + Q[i, j, 1] * pi[i, 1] + Q[i, j, 2] * pi[i, 2]
+    out = np.empty((omega.shape[0], 3))
+    y = np.zeros(STATE_SIZE)
+    for i in range(omega.shape[0]):
+        for k in range(3):
+            y[OMEGA_AT + k] = omega[i, k]
+            for j in range(3):
+                y[Q_AT + 3 * k + j] = Q[i, k, j]
+        out[i, 0], out[i, 1], out[i, 2] = angular_momentum_com_of(inertia, y)
     return out
 
 
@@ -370,15 +431,75 @@ def orthogonality_error(Q):
     """``max |QᵀQ − I|`` per matrix: how far integration has taken Q off SO(3).
     Q (n, 3, 3) → (n,)."""
     out = np.empty(Q.shape[0])
+    y = np.zeros(STATE_SIZE)
     for i in range(Q.shape[0]):
-        worst = 0.0
-        for a in range(3):
-            for b in range(3):
-                s = Q[i, 0, a] * Q[i, 0, b] + Q[i, 1, a] * Q[i, 1, b] + Q[i, 2, a] * Q[i, 2, b]
-                if a == b:
-                    s -= 1.0
-                worst = max(worst, abs(s))
-        out[i] = worst
+        for r in range(3):
+            for k in range(3):
+                y[Q_AT + 3 * r + k] = Q[i, r, k]
+        out[i] = orthogonality_error_of(y)
+    return out
+
+
+@kernel
+def pivot_point_of(body, y):
+    """Where the pivot is in space for a state ``y`` of the engine (principal frame) of a body
+    with parameters ``body``: ``P = R − Q c`` (a 3-tuple)."""
+    c0 = body[COM_OFFSET]
+    c1 = body[COM_OFFSET + 1]
+    c2 = body[COM_OFFSET + 2]
+    q = Q_AT
+    return (
+        y[R_AT] - (y[q] * c0 + y[q + 1] * c1 + y[q + 2] * c2),
+        y[R_AT + 1] - (y[q + 3] * c0 + y[q + 4] * c1 + y[q + 5] * c2),
+        y[R_AT + 2] - (y[q + 6] * c0 + y[q + 7] * c1 + y[q + 8] * c2),
+    )
+
+
+@kernel
+def initial_states(Q, omega, R, V, com, c, pivot, has_pivot, line):
+    """Body-frame initial states (N, 18) of one body's motions, by the rules of
+    :func:`poinsot.simulate`: ``Q`` (1 or N, 3, 3) the attitudes, ``omega`` (N, 3) the body-frame
+    angular velocities; ``R`` and ``V`` (1 or N, 3, or 0 rows: the default).
+
+    Free body (``has_pivot`` false): ``R`` defaults to the centre of mass ``com``, ``V`` to 0.
+    About a pivot (the body point ``pivot``, ``c`` = centre of mass − pivot, body frame):
+    ``R`` defaults to ``pivot + Q c`` and ``V = Q (ω × c)`` follows from ω. A degenerate body
+    (all mass on the unit ``line``; zeros otherwise) loses its spin about the line, which is
+    undefined.
+    """
+    n = omega.shape[0]
+    out = np.empty((n, STATE_SIZE))
+    for i in range(n):
+        q = Q[i if Q.shape[0] > 1 else 0]
+        w0 = omega[i, 0]
+        w1 = omega[i, 1]
+        w2 = omega[i, 2]
+        spin = w0 * line[0] + w1 * line[1] + w2 * line[2]
+        w0 -= spin * line[0]
+        w1 -= spin * line[1]
+        w2 -= spin * line[2]
+        for k in range(3):
+            if R.shape[0] > 0:
+                out[i, R_AT + k] = R[i if R.shape[0] > 1 else 0, k]
+            elif has_pivot:
+                out[i, R_AT + k] = pivot[k] + q[k, 0] * c[0] + q[k, 1] * c[1] + q[k, 2] * c[2]
+            else:
+                out[i, R_AT + k] = com[k]
+        u0 = w1 * c[2] - w2 * c[1]
+        u1 = w2 * c[0] - w0 * c[2]
+        u2 = w0 * c[1] - w1 * c[0]
+        for k in range(3):
+            if has_pivot:
+                out[i, V_AT + k] = q[k, 0] * u0 + q[k, 1] * u1 + q[k, 2] * u2
+            elif V.shape[0] > 0:
+                out[i, V_AT + k] = V[i if V.shape[0] > 1 else 0, k]
+            else:
+                out[i, V_AT + k] = 0.0
+            for j in range(3):
+                out[i, Q_AT + 3 * k + j] = q[k, j]
+        out[i, OMEGA_AT] = w0
+        out[i, OMEGA_AT + 1] = w1
+        out[i, OMEGA_AT + 2] = w2
     return out
 
 

@@ -415,9 +415,21 @@ def attitude_at_into(I, reg, att, w0, w1, w2, Q0, t, R, out):
     zxz_matrix_into(psi, theta, phi, R)
     # out = P0 R B
     for r in range(3):
-        x0 = att[P0 + 3 * r] * R[0, 0] + att[P0 + 3 * r + 1] * R[1, 0] + att[P0 + 3 * r + 2] * R[2, 0]
-        x1 = att[P0 + 3 * r] * R[0, 1] + att[P0 + 3 * r + 1] * R[1, 1] + att[P0 + 3 * r + 2] * R[2, 1]
-        x2 = att[P0 + 3 * r] * R[0, 2] + att[P0 + 3 * r + 1] * R[1, 2] + att[P0 + 3 * r + 2] * R[2, 2]
+        x0 = (
+            att[P0 + 3 * r] * R[0, 0]
+            + att[P0 + 3 * r + 1] * R[1, 0]
+            + att[P0 + 3 * r + 2] * R[2, 0]
+        )
+        x1 = (
+            att[P0 + 3 * r] * R[0, 1]
+            + att[P0 + 3 * r + 1] * R[1, 1]
+            + att[P0 + 3 * r + 2] * R[2, 1]
+        )
+        x2 = (
+            att[P0 + 3 * r] * R[0, 2]
+            + att[P0 + 3 * r + 1] * R[1, 2]
+            + att[P0 + 3 * r + 2] * R[2, 2]
+        )
         if pole == 2.0:
             out[r, 0] = x0
             out[r, 1] = x1

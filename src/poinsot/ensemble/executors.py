@@ -1,0 +1,140 @@
+"""Where an ensemble's chunks run: this process's threads, or a Dask cluster; and the progress bar.
+
+Chunks are produced lazily and at most a few per worker are in flight, so the inputs of a huge
+ensemble are never all cut at once. Results are handed to ``absorb`` in the order they finish;
+each carries its member range, so the order does not matter.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections import deque
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+
+from .tasks import run_chunk
+
+__all__ = ["available_cpus", "check_client", "run_chunks"]
+
+#: Chunks in flight per worker.
+IN_FLIGHT = 2
+
+
+def available_cpus() -> int:
+    """The CPUs this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - macOS, Windows
+        return os.cpu_count() or 1
+
+
+def check_client(client):
+    """``client`` must be a ``dask.distributed.Client`` (Dask is imported only here)."""
+    try:
+        from distributed import Client
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ValueError(
+            "`client` needs dask.distributed, which is not installed (pip install "
+            "'poinsot[distributed]')"
+        ) from exc
+    if not isinstance(client, Client):
+        raise ValueError(
+            f"`client` must be a dask.distributed.Client, found {type(client).__name__}"
+        )
+    return client
+
+
+class _Progress:
+    """tqdm over members when wanted; a callable ``(done, total)``; or nothing."""
+
+    def __init__(self, progress, total, n_chunks):
+        self.callback = None
+        self.bar = None
+        self.done = 0
+        self.total = total
+        if callable(progress) and not isinstance(progress, bool):
+            self.callback = progress
+            return
+        if progress is None:
+            progress = n_chunks > 1 and sys.stderr.isatty()
+        elif not isinstance(progress, bool):
+            raise TypeError(f"`progress` must be a bool or a callable, found {progress!r}")
+        if progress:
+            try:
+                from tqdm.auto import tqdm
+            except ImportError:  # the optional extra is missing: stay silent
+                return
+            self.bar = tqdm(total=total, unit="member", unit_scale=True, desc="ensemble")
+
+    def update(self, k):
+        self.done += k
+        if self.bar is not None:
+            self.bar.update(k)
+        if self.callback is not None:
+            self.callback(self.done, self.total)
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.close()
+
+
+def run_chunks(spec, tasks, total, chunk, absorb, *, threads=None, client=None, progress=None):
+    """Run every :class:`~poinsot.ensemble.tasks.ChunkTask` of ``tasks`` (an iterator) and hand
+    each output to ``absorb``."""
+    n_chunks = -(-total // chunk)
+    bar = _Progress(progress, total, n_chunks)
+    try:
+        if client is not None:
+            _run_dask(check_client(client), spec, tasks, absorb, bar)
+            return
+        if threads is not None and (not isinstance(threads, int) or threads < 1):
+            raise ValueError(f"`threads` must be a positive integer, found {threads!r}")
+        workers = min(threads or available_cpus(), n_chunks)
+        if workers <= 1:
+            for task in tasks:
+                out = run_chunk(spec, task)
+                absorb(out)
+                bar.update(out.stop - out.start)
+            return
+        with ThreadPoolExecutor(workers) as pool:
+            _pump(lambda task: pool.submit(run_chunk, spec, task), tasks, workers, absorb, bar,
+                  lambda fs: wait(fs, return_when=FIRST_COMPLETED)[0])  # fmt: skip
+    finally:
+        bar.close()
+
+
+def _pump(submit, tasks, workers, absorb, bar, next_done):
+    """Keep ``IN_FLIGHT`` chunks per worker running; absorb each as it finishes."""
+    pending = set()
+    queue = deque()
+    for task in tasks:
+        pending.add(submit(task))
+        if len(pending) >= IN_FLIGHT * workers:
+            for fut in next_done(pending):
+                pending.discard(fut)
+                queue.append(fut)
+        while queue:
+            out = queue.popleft().result()
+            absorb(out)
+            bar.update(out.stop - out.start)
+    while pending:
+        for fut in next_done(pending):
+            pending.discard(fut)
+            out = fut.result()
+            absorb(out)
+            bar.update(out.stop - out.start)
+
+
+def _run_dask(client, spec, tasks, absorb, bar):
+    """Chunks on the cluster's workers: the spec is scattered once, each task travels as
+    arrays, the workers call the same compiled kernels."""
+    from distributed import wait as dask_wait
+
+    workers = max(1, len(client.scheduler_info().get("workers", {})))
+    [spec_future] = client.scatter([spec], broadcast=True)
+
+    def submit(task):
+        return client.submit(run_chunk, spec_future, task, pure=False)
+
+    _pump(submit, tasks, workers, absorb, bar,
+          lambda fs: dask_wait(list(fs), return_when="FIRST_COMPLETED").done)  # fmt: skip

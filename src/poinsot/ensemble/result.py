@@ -1,0 +1,350 @@
+"""The result of an ensemble run: samples, per-member statistics, summaries and exports."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..kernels.layout import STATE_SIZE, STATE_SLICES
+
+__all__ = ["EnsembleResult"]
+
+#: Status codes of the compiled drivers, as words.
+STATUS_NAMES = {1: "finished", 2: "non-finite state", 3: "step size too small", 0: "not run"}
+#: Per-member statistics that :meth:`EnsembleResult.summary` describes, with their meaning.
+STATISTICS = {
+    "energy_error": "max |E(t) − E(0)| / |E(0)| over the samples (E = K + U)",
+    "momentum_error": "max |L(t) − L(0)| / |L(0)|, L about the centre of mass, space frame",
+    "orthogonality_error": "max |QᵀQ − I| over the samples",
+    "first_flip": "time of the first sign change of ω on the intermediate principal axis",
+    "flip_count": "number of sign changes of ω on the intermediate principal axis",
+    "flip_interval": "mean time between flips, (last − first)/(count − 1)",
+}
+
+
+def _readonly(a):
+    a.flags.writeable = False
+    return a
+
+
+@dataclass
+class EnsembleResult:
+    """N motions sampled at the same times.
+
+    Attributes
+    ----------
+    t : (n,) sample times (only the end time when no ``t_eval`` was given).
+    state : (N, n, 18) body-frame states ``[R, V, Q, ω]`` (with ``keep_states=False`` only the
+        final ones are kept: ``final_state`` (N, 18)).
+    omega, Q, R, V, quaternion : views of ``state`` per quantity.
+    energy_error, momentum_error, orthogonality_error : (N,) per member, over the samples.
+    first_flip, last_flip : (N,) times of the first and last flips (NaN: none); flip_count (N,).
+    status : (N,) driver status codes (1: finished); success (N,) bool; nsteps, nfev (N,).
+    reductions : dict of the user reductions' results, name → (N, ...).
+    """
+
+    t: np.ndarray
+    method: str
+    final_state: np.ndarray
+    initial_state: np.ndarray
+    energy_error: np.ndarray
+    momentum_error: np.ndarray
+    orthogonality_error: np.ndarray
+    first_flip: np.ndarray
+    last_flip: np.ndarray
+    flip_count: np.ndarray
+    status: np.ndarray
+    nsteps: np.ndarray
+    nfev: np.ndarray
+    reductions: dict
+    body: object = None
+    member_moments: np.ndarray | None = None
+    flips_recorded: bool = True
+    _states: np.ndarray | None = None
+    wall_time: float = math.nan
+    options: dict = field(default_factory=dict)
+
+    # ----------------------------------------------------------------- assembly
+    @classmethod
+    def allocate(cls, spec, N, keep_states, body, members):
+        n = len(spec.t_eval)
+        states = np.empty((N, n, STATE_SIZE)) if keep_states else None
+        res = cls(
+            t=_readonly(spec.t_eval.copy()),
+            method=spec.method_name,
+            final_state=np.empty((N, STATE_SIZE)),
+            initial_state=np.empty((N, STATE_SIZE)),
+            energy_error=np.empty(N),
+            momentum_error=np.empty(N),
+            orthogonality_error=np.empty(N),
+            first_flip=np.empty(N),
+            last_flip=np.empty(N),
+            flip_count=np.empty(N, dtype=np.int64),
+            status=np.zeros(N, dtype=np.int64),
+            nsteps=np.zeros(N, dtype=np.int64),
+            nfev=np.zeros(N, dtype=np.int64),
+            reductions={},
+            body=body,
+            member_moments=None if members.inertia is None else members.inertia,
+            flips_recorded=spec.flips,
+            _states=states,
+            options={"dt": spec.dt, "t_span": (spec.t0, spec.t1), "kind": spec.kind},
+        )
+        res._N = N
+        return res
+
+    def absorb(self, out) -> None:
+        """Copy one chunk's output into place (called as chunks finish, in any order)."""
+        s = slice(out.start, out.stop)
+        if self._states is not None:
+            self._states[s] = out.Y
+        self.final_state[s] = out.Y[:, -1]
+        self.initial_state[s] = out.Y0
+        for name in ("energy", "momentum", "orthogonality"):
+            getattr(self, f"{name}_error")[s] = getattr(out, name)
+        self.first_flip[s] = out.first_flip
+        self.last_flip[s] = out.last_flip
+        self.flip_count[s] = out.flip_count
+        self.status[s] = out.status
+        self.nsteps[s] = out.nsteps
+        self.nfev[s] = out.nfev
+        for name, value in out.reductions.items():
+            if name not in self.reductions:
+                self.reductions[name] = np.empty((self._N, *value.shape[1:]), dtype=value.dtype)
+            self.reductions[name][s] = value
+
+    # ----------------------------------------------------------------- samples
+    def __len__(self):
+        return len(self.final_state)
+
+    def __repr__(self):
+        ok = int(self.success.sum())
+        return (
+            f"EnsembleResult(N={len(self)}, samples={len(self.t)}, method={self.method!r}, "
+            f"succeeded={ok}/{len(self)})"
+        )
+
+    @property
+    def state(self) -> np.ndarray:
+        """Body-frame states (N, n, 18)."""
+        if self._states is None:
+            raise AttributeError(
+                "this run kept only the final states (keep_states=False): use `final_state`, "
+                "`final_omega`, `final_Q` and the per-member statistics"
+            )
+        return self._states
+
+    def _block(self, name, states):
+        out = states[..., STATE_SLICES[name]]
+        return out.reshape(*states.shape[:-1], 3, 3) if name == "Q" else out
+
+    @property
+    def omega(self) -> np.ndarray:
+        """Body-frame angular velocity (N, n, 3)."""
+        return self._block("omega", self.state)
+
+    @property
+    def Q(self) -> np.ndarray:
+        """Attitude, body → space (N, n, 3, 3)."""
+        return self._block("Q", self.state)
+
+    @property
+    def R(self) -> np.ndarray:
+        """Centre of mass (N, n, 3)."""
+        return self._block("R", self.state)
+
+    @property
+    def V(self) -> np.ndarray:
+        """Its velocity (N, n, 3)."""
+        return self._block("V", self.state)
+
+    @property
+    def quaternion(self) -> np.ndarray:
+        """Attitude as unit quaternions (w, x, y, z), w ≥ 0 (N, n, 4)."""
+        from ..kernels.so3 import matrix_to_quat
+
+        return matrix_to_quat(np.ascontiguousarray(self.Q))
+
+    @property
+    def final_omega(self) -> np.ndarray:
+        """ω at the last sample (N, 3)."""
+        return self._block("omega", self.final_state)
+
+    @property
+    def final_Q(self) -> np.ndarray:
+        """Q at the last sample (N, 3, 3)."""
+        return self._block("Q", self.final_state)
+
+    # ----------------------------------------------------------------- per member
+    @property
+    def success(self) -> np.ndarray:
+        """True for members whose run finished (N,)."""
+        return self.status == 1
+
+    @property
+    def messages(self) -> np.ndarray:
+        """Each member's status in words (N,)."""
+        return np.array([STATUS_NAMES.get(int(s), str(s)) for s in self.status])
+
+    @property
+    def flip_interval(self) -> np.ndarray:
+        """Mean time between successive flips, ``(last − first)/(count − 1)`` (NaN with fewer
+        than two flips) (N,)."""
+        with np.errstate(invalid="ignore", divide="ignore"):
+            out = (self.last_flip - self.first_flip) / (self.flip_count - 1)
+        return np.where(self.flip_count >= 2, out, np.nan)
+
+    def statistic(self, name) -> np.ndarray:
+        """A per-member statistic by name (see :data:`STATISTICS`) or a user reduction."""
+        if name in STATISTICS:
+            return np.asarray(getattr(self, name), dtype=float)
+        if name in self.reductions:
+            return self.reductions[name]
+        raise ValueError(
+            f"`name` must be one of {sorted(STATISTICS) + sorted(self.reductions)}, found {name!r}"
+        )
+
+    # ----------------------------------------------------------------- final attitudes
+    def final_attitude_statistics(self) -> dict:
+        """The spread of the final attitudes: their chordal mean rotation (SciPy's
+        ``Rotation.mean``) and each member's angle from it, summarised."""
+        from scipy.spatial.transform import Rotation
+
+        ok = self.success
+        if not ok.any():
+            return {}
+        rot = Rotation.from_matrix(self.final_Q[ok])
+        mean = rot.mean()
+        angles = (mean.inv() * rot).magnitude()
+        return {
+            "mean_rotation_vector": mean.as_rotvec().tolist(),
+            "angle_from_mean": _describe(angles),
+        }
+
+    # ----------------------------------------------------------------- grading
+    def exact_errors(self) -> dict:
+        """Errors of every member against the exact torque-free solution from its initial
+        state (:class:`~poinsot.torquefree.FreeRigidBody`, vectorised): ``{"omega": (N,),
+        "attitude": (N,)}``, the largest ``|Δω|`` and ``|ΔQ|`` over the samples. Only for
+        torque-free runs without a pivot, with the states kept."""
+        from ..torquefree import FreeRigidBody
+
+        if self.options.get("kind") not in ("free", "free_varied"):
+            raise ValueError("exact errors need a torque-free ensemble (no forces, no pivot)")
+        t = self.t - self.options["t_span"][0]
+        W0 = self.initial_state[:, STATE_SLICES["omega"]]
+        Q0 = self._block("Q", self.initial_state)
+        omega, Q = self.omega, self.Q
+        d_omega = np.empty(len(self))
+        d_Q = np.empty(len(self))
+        if self.member_moments is None:
+            groups = [(FreeRigidBody.from_body(self.body), np.arange(len(self)))]
+        else:
+            groups = [(_free_body(J), np.array([i])) for i, J in enumerate(self.member_moments)]
+        for free, idx in groups:
+            w = free.exact_omega(W0[idx], t)
+            q = free.exact_attitude(W0[idx], t, Q0[idx])
+            d_omega[idx] = np.abs(omega[idx] - w).max(axis=(1, 2))
+            d_Q[idx] = np.abs(Q[idx] - q).max(axis=(1, 2, 3))
+        return {"omega": d_omega, "attitude": d_Q}
+
+    # ----------------------------------------------------------------- summaries
+    def summary(self) -> dict:
+        """A JSON-ready summary: the run, and for each statistic its distribution over the
+        members that finished (min, 5 %, median, 95 %, max, mean)."""
+        ok = self.success
+        out = {
+            "members": len(self),
+            "succeeded": int(ok.sum()),
+            "failed": {
+                STATUS_NAMES.get(int(s), str(s)): int((self.status == s).sum())
+                for s in np.unique(self.status[~ok])
+            },
+            "method": self.method,
+            "samples": len(self.t),
+            "t_span": list(self.options["t_span"]),
+            "dt": self.options["dt"] or None,
+            "wall_time_s": self.wall_time,
+            "steps_per_member": _describe(self.nsteps[ok].astype(float)),
+            "statistics": {},
+        }
+        for name, meaning in STATISTICS.items():
+            if name.startswith(("first_flip", "flip")) and not self.flips_recorded:
+                continue
+            values = self.statistic(name)[ok]
+            entry = {"meaning": meaning, **_describe(values)}
+            if name == "first_flip":
+                entry["members_with_a_flip"] = int(np.isfinite(values).sum())
+            out["statistics"][name] = entry
+        for name, value in self.reductions.items():
+            if value.ndim == 1 and np.issubdtype(value.dtype, np.number):
+                out["statistics"][name] = {"meaning": "user reduction", **_describe(value[ok])}
+        if ok.any():
+            out["final_attitude"] = self.final_attitude_statistics()
+        return out
+
+    # ----------------------------------------------------------------- exports
+    def to_xarray(self):
+        """An ``xarray.Dataset`` with dims ``member``, ``time``, ``component`` (and ``row``,
+        ``col`` for Q); per-member statistics on ``member``. Needs the ``xarray`` extra."""
+        try:
+            import xarray as xr
+        except ImportError as exc:  # pragma: no cover - depends on the environment
+            raise ImportError("to_xarray needs xarray: pip install 'poinsot[datasets]'") from exc
+        members = np.arange(len(self))
+        data = {}
+        if self._states is not None:
+            dims = ("member", "time", "component")
+            data["omega"] = (dims, self.omega, {"units": "rad/s", "frame": "body"})
+            data["R"] = (dims, self.R, {"units": "m"})
+            data["V"] = (dims, self.V, {"units": "m/s"})
+            data["Q"] = (("member", "time", "row", "col"), self.Q, {"units": "1"})
+        else:
+            data["final_omega"] = (("member", "component"), self.final_omega, {"units": "rad/s"})
+            data["final_Q"] = (("member", "row", "col"), self.final_Q, {"units": "1"})
+        units = {"first_flip": "s", "flip_interval": "s"}
+        for name, meaning in STATISTICS.items():
+            attrs = {"long_name": meaning, "units": units.get(name, "1")}
+            data[name] = (("member",), self.statistic(name), attrs)
+        data["status"] = (("member",), self.status)
+        data["nsteps"] = (("member",), self.nsteps)
+        for name, value in self.reductions.items():
+            extra = tuple(f"{name}_dim{k}" for k in range(1, value.ndim))
+            if value.ndim >= 2 and value.shape[1] == len(self.t):
+                extra = ("time", *extra[1:])
+            data[name] = (("member", *extra), value)
+        coords = {"member": members, "time": ("time", self.t, {"units": "s"}),
+                  "component": ["x", "y", "z"]}  # fmt: skip
+        if self._states is not None:
+            coords.update(row=[0, 1, 2], col=[0, 1, 2])
+        else:
+            coords.update(row=[0, 1, 2], col=[0, 1, 2])
+        return xr.Dataset(data, coords=coords, attrs={"method": self.method})
+
+
+def _describe(values) -> dict:
+    values = np.asarray(values, dtype=float)
+    finite = values[np.isfinite(values)]
+    if not len(finite):
+        return {"count": 0}
+    q = np.quantile(finite, [0.0, 0.05, 0.5, 0.95, 1.0])
+    return {
+        "count": len(finite),
+        "min": float(q[0]),
+        "p05": float(q[1]),
+        "median": float(q[2]),
+        "p95": float(q[3]),
+        "max": float(q[4]),
+        "mean": float(finite.mean()),
+    }
+
+
+def _free_body(inertia):
+    from ..torquefree import FreeRigidBody
+
+    moments, axes = np.linalg.eigh(inertia)
+    free = FreeRigidBody.__new__(FreeRigidBody)
+    free._setup(moments, axes)
+    return free

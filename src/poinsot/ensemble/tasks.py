@@ -1,0 +1,221 @@
+"""One chunk of an ensemble: what travels to a thread or a Dask worker, and what comes back.
+
+An :class:`EnsembleSpec` (shared by every chunk: the body's parameters, the lowered forces, the
+method's tableau, the sample times) and a :class:`ChunkTask` (the chunk's members) are plain
+arrays and numbers, so a chunk pickles cheaply; :func:`run_chunk` builds the chunk's template
+(:mod:`poinsot.kernels.systems`) and makes the compiled calls of
+:mod:`poinsot.kernels.ensemble`. It holds no physics.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["ChunkOutput", "ChunkSamples", "ChunkTask", "EnsembleSpec", "run_chunk"]
+
+
+@dataclass(frozen=True)
+class EnsembleSpec:
+    """What every chunk shares. ``kind`` is ``"free"`` (torque-free, one inertia),
+    ``"free_varied"`` (torque-free, an inertia per member) or ``"rigid"`` (built-in forces,
+    or a pivot)."""
+
+    kind: str
+    method_code: int
+    method_name: str
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    control: np.ndarray
+    t0: float
+    t1: float
+    dt: float
+    t_eval: np.ndarray
+    mass: float
+    com: np.ndarray
+    inertia: np.ndarray  # (1, 3, 3) the shared inertia about the centre of mass, body frame
+    c: np.ndarray  # centre of mass − reference point, body frame
+    pivot: np.ndarray
+    has_pivot: bool
+    body_params: np.ndarray  # (BODY_SIZE,) the shared body's parameters (pivot not placed)
+    axes: np.ndarray  # (1, 3, 3) its principal axes
+    force_kind: np.ndarray
+    force_params: np.ndarray  # (n_forces, FORCE_PARAMS) lowered in the shared principal frame
+    flips: bool
+    reductions: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class ChunkTask:
+    """Members ``start … stop − 1``: their initial conditions (rows per member, or one shared
+    row; ``R``/``V`` with no rows take the defaults), their inertias when they differ and their
+    lowered forces when those depend on each member's axes."""
+
+    start: int
+    stop: int
+    omega: np.ndarray
+    Q: np.ndarray
+    R: np.ndarray
+    V: np.ndarray
+    inertia: np.ndarray | None = None
+    force_params: np.ndarray | None = None
+
+
+@dataclass
+class ChunkOutput:
+    """What a chunk returns: samples ``Y`` (m, n, 18, body frame), initial states ``Y0``
+    (m, 18), per-member statistics and run counters, and the user reductions."""
+
+    start: int
+    stop: int
+    Y: np.ndarray
+    Y0: np.ndarray
+    energy: np.ndarray
+    momentum: np.ndarray
+    orthogonality: np.ndarray
+    first_flip: np.ndarray
+    last_flip: np.ndarray
+    flip_count: np.ndarray
+    status: np.ndarray
+    nsteps: np.ndarray
+    nfev: np.ndarray
+    reductions: dict
+
+
+@dataclass(frozen=True)
+class ChunkSamples:
+    """A chunk's samples as a user reduction sees them: ``members`` (m,) their indices,
+    ``t`` (n,), ``omega`` (m, n, 3) body frame, ``Q`` (m, n, 3, 3), ``R`` and ``V`` (m, n, 3)."""
+
+    members: np.ndarray
+    t: np.ndarray
+    omega: np.ndarray
+    Q: np.ndarray
+    R: np.ndarray
+    V: np.ndarray
+
+
+def _template(spec: EnsembleSpec, task: ChunkTask, Y0):
+    """The chunk's template system, its principal axes (1 or m, 3, 3), its inertias (1 or m,
+    3, 3) and its initial states in the principal frames."""
+    from ..kernels import ensemble as ke
+    from ..kernels import systems as ks
+
+    m = task.stop - task.start
+    if task.inertia is not None:
+        bodies, axes, _ = ke.member_bodies(spec.mass, task.inertia, spec.c, spec.has_pivot)
+        inertia = task.inertia
+    else:
+        bodies, axes, inertia = spec.body_params[None], spec.axes, spec.inertia
+    Z0, bodies = ke.principal_members(bodies, axes, Y0, spec.has_pivot)
+    if spec.kind == "free":
+        template = ks.TorqueFreeLanes(spec.body_params, m)
+    elif spec.kind == "free_varied":
+        template = ks.TorqueFreeLanesVaried(bodies, m)
+    else:
+        params = task.force_params
+        if params is None:
+            params = np.broadcast_to(spec.force_params, (m, *spec.force_params.shape))
+        template = ks.RigidLanes(bodies, spec.force_kind, np.ascontiguousarray(params), m)
+    return template, np.ascontiguousarray(axes), np.ascontiguousarray(inertia), Z0
+
+
+def run_chunk(spec: EnsembleSpec, task: ChunkTask) -> ChunkOutput:
+    """Integrate one chunk: a few compiled calls (initial states, the run, the statistics)."""
+    from ..kernels import ensemble as ke
+    from ..kernels import steppers as st
+    from ..kernels.observers import NoObserver, flip_observer
+    from ..kernels.rigid import initial_states
+
+    m = task.stop - task.start
+    n = len(spec.t_eval)
+    line = np.zeros(3)  # degenerate bodies are refused before any chunk runs
+    Y0 = initial_states(task.Q, task.omega, task.R, task.V, spec.com, spec.c, spec.pivot,
+                        spec.has_pivot, line)  # fmt: skip
+    template, axes, inertia, Z0 = _template(spec, task, Y0)
+    observer = flip_observer(m) if spec.flips else NoObserver(0.0)
+    Y = np.empty((m, n, 18))
+    status = np.zeros(m, dtype=np.int64)
+    nsteps = np.zeros(m, dtype=np.int64)
+    nfev = np.zeros(m, dtype=np.int64)
+    args = (axes, Z0, spec.t0, spec.t1)
+    outs = (Y, status, nsteps, nfev)
+    if spec.method_code == st.DOP853:
+        ke.chunk_dop853(template, observer, spec.control, *args, spec.t_eval, *outs)
+    else:
+        chunk = {st.RK4: ke.chunk_rk4, st.ERK: ke.chunk_erk, st.RKMK: ke.chunk_rkmk,
+                 st.SPLITTING: ke.chunk_splitting}[spec.method_code]  # fmt: skip
+        chunk(template, observer, spec.A, spec.B, spec.C, *args, spec.dt, spec.t_eval, *outs)
+    energy = np.empty(m)
+    momentum = np.empty(m)
+    orthogonality = np.empty(m)
+    ke.chunk_statistics(template, axes, inertia, spec.mass, spec.t0, Y0, spec.t_eval, Y, energy,
+                        momentum, orthogonality)  # fmt: skip
+    if spec.flips:
+        first, last, count = observer.first, observer.last, observer.count.astype(np.int64)
+    else:
+        first = last = np.full(m, np.nan)
+        count = np.full(m, -1, dtype=np.int64)
+    return ChunkOutput(
+        task.start, task.stop, Y, Y0, energy, momentum, orthogonality, first, last, count,
+        status, nsteps, nfev, _user_reductions(spec, task, Y),
+    )  # fmt: skip
+
+
+def _user_reductions(spec, task, Y) -> dict:
+    out = {}
+    if not spec.reductions:
+        return out
+    from ..kernels.layout import STATE_SLICES
+
+    def block(name):
+        return Y[..., STATE_SLICES[name]]
+
+    samples = ChunkSamples(
+        np.arange(task.start, task.stop),
+        spec.t_eval,
+        block("omega"),
+        block("Q").reshape(*Y.shape[:2], 3, 3),
+        block("R"),
+        block("V"),
+    )
+    for name, fn in spec.reductions.items():
+        if _is_compiled(fn):
+            out[name] = _evaluate_compiled(fn, spec.t_eval, Y)
+            continue
+        value = np.asarray(fn(samples))
+        if value.ndim == 0 or value.shape[0] != Y.shape[0]:
+            raise ValueError(
+                f"`reductions[{name!r}]` must return one row per member of the chunk "
+                f"({Y.shape[0]}), found shape {value.shape}"
+            )
+        out[name] = value
+    return out
+
+
+def _is_compiled(fn) -> bool:
+    return type(fn).__module__.startswith("numba") and hasattr(fn, "py_func")
+
+
+_EVALUATORS: dict = {}
+
+
+def _evaluate_compiled(fn, t, Y):
+    """``f(t_k, Y[i, k])`` for every member and sample, in one compiled loop (compiled once
+    per process for the user's function: it cannot be cached on disk)."""
+    import numba
+
+    loop = _EVALUATORS.get(fn)
+    if loop is None:
+
+        def evaluate(t, Y):
+            out = np.empty(Y.shape[:2])
+            for i in range(Y.shape[0]):
+                for k in range(Y.shape[1]):
+                    out[i, k] = fn(t[k], Y[i, k])
+            return out
+
+        loop = _EVALUATORS[fn] = numba.njit(nogil=True)(evaluate)
+    return loop(t, Y)

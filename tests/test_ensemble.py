@@ -1,0 +1,255 @@
+"""simulate_ensemble: every member equals a single-body simulate of it; chunking, threads and
+Dask change nothing; reductions equal the statistics of stored trajectories; bad input named.
+
+Independent routes: :func:`poinsot.simulate` one member at a time (the single-body engine),
+:class:`~poinsot.trajectory.Trajectory`'s own diagnostics, the exact torque-free solution
+(:class:`~poinsot.torquefree.FreeRigidBody`), and the exact flip interval.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from poinsot import RigidBody, simulate
+from poinsot.ensemble import STATISTICS, simulate_ensemble
+from poinsot.forces import Gravity, Spring
+from poinsot.torquefree import FreeRigidBody
+
+N = 13
+T_END = 2.0
+T_EVAL = np.linspace(0.0, T_END, 5)
+BODY = RigidBody(2.0, np.diag([1.0, 2.0, 3.0]), center_of_mass=(0.1, 0.2, 0.3))
+RNG = np.random.default_rng(42)
+W0 = RNG.normal(size=(N, 3))
+Q0 = Rotation.random(N, random_state=4).as_matrix()
+MOMENTS = RNG.uniform(1.0, 2.0, (N, 3))
+
+CASES = {
+    "free rk4": {"method": "rk4", "dt": 1e-2},
+    "free dop853": {"method": "dop853"},
+    "free splitting": {"method": "splitting", "dt": 1e-2},
+    "free rkmk4": {"method": "rkmk4", "dt": 1e-2},
+    "heavy top rk4": {"method": "rk4", "dt": 1e-2, "pivot": (0.0, 0.0, 0.0),
+                      "forces": [Gravity((0.0, 0.0, -9.8))]},  # fmt: skip
+    "spring dop853": {"method": "dop853", "forces": [Spring((0.5, 0, 0), (1, 1, 1), 3.0)]},
+    "own moments rk4": {"method": "rk4", "dt": 1e-2, "moments": MOMENTS},
+}
+
+
+def _single(case, i, t_eval=T_EVAL):
+    kw = dict(CASES[case])
+    moments = kw.pop("moments", None)
+    body = BODY if moments is None else RigidBody(2.0, np.diag(moments[i]), BODY.center_of_mass)
+    return simulate(body, (0, T_END), omega0=W0[i], Q0=Q0[i], t_eval=t_eval, **kw)
+
+
+def _ensemble(case, **extra):
+    kw = dict(CASES[case])
+    return simulate_ensemble(BODY, (0, T_END), omega0=W0, Q0=Q0, progress=False, **kw, **extra)
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_every_member_equals_a_single_simulate(case):
+    res = _ensemble(case, t_eval=T_EVAL, chunk_size=5, threads=2)
+    assert res.success.all() and res.state.shape == (N, len(T_EVAL), 18)
+    for i in (0, 6, N - 1):
+        tr = _single(case, i)
+        np.testing.assert_allclose(res.state[i], tr.state, rtol=0, atol=2e-15 * np.abs(tr.state).max())
+        # reductions equal the statistics of the stored trajectory
+        assert res.energy_error[i] == pytest.approx(np.abs(tr.energy_drift).max(), abs=1e-15)
+        assert res.momentum_error[i] == pytest.approx(tr.momentum_drift.max(), abs=1e-15)
+        assert res.orthogonality_error[i] == pytest.approx(tr.orthogonality_error.max(), abs=1e-16)
+        assert res.nsteps[i] == tr.nsteps
+
+
+@pytest.mark.parametrize("case", ["free rk4", "heavy top rk4", "free dop853"])
+def test_chunks_and_threads_change_nothing(case):
+    """Bit for bit: one chunk on one thread, small chunks on two threads, final-only."""
+    one = _ensemble(case, t_eval=T_EVAL, chunk_size=N, threads=1)
+    many = _ensemble(case, t_eval=T_EVAL, chunk_size=3, threads=2)
+    np.testing.assert_array_equal(one.state, many.state)
+    for name in STATISTICS:
+        np.testing.assert_array_equal(one.statistic(name), many.statistic(name))
+    final = _ensemble(case, chunk_size=4, threads=2)
+    np.testing.assert_array_equal(final.t, [T_END])
+    np.testing.assert_array_equal(final.state[:, 0], one.state[:, -1])
+
+
+def test_final_only_and_keep_states_false():
+    res = _ensemble("free rk4", keep_states=False)
+    assert res.final_state.shape == (N, 18)
+    with pytest.raises(AttributeError, match="keep_states=False"):
+        res.omega  # noqa: B018
+    tr = _single("free rk4", 3, t_eval=None)
+    np.testing.assert_array_equal(res.final_omega[3], tr.omega[-1])
+
+
+def test_flips_against_the_exact_flip_interval():
+    """Members near the intermediate axis flip every 2K(m)/λ (exact); RK4 at dt = 1e-3 finds
+    the flip times to O(dt²)."""
+    body = RigidBody(1.0, np.diag([1.0, 2.0, 3.0]))
+    free = FreeRigidBody((1.0, 2.0, 3.0))
+    rng = np.random.default_rng(0)
+    W = np.c_[rng.normal(0, 0.05, 40), np.ones(40), rng.normal(0, 0.05, 40)]
+    res = simulate_ensemble(body, (0, 60.0), omega0=W, dt=1e-3, progress=False)
+    exact = free.flip_interval(W)
+    ok = res.flip_count >= 3
+    assert ok.sum() > 30
+    np.testing.assert_allclose(res.flip_interval[ok], exact[ok], rtol=1e-5)
+    expected_count = np.floor((60.0 - res.first_flip) / exact) + 1
+    assert np.all(np.abs(res.flip_count - expected_count)[ok] <= 1)
+
+
+def test_grading_against_the_exact_solution():
+    res = simulate_ensemble(
+        BODY, (0, 5.0), omega0=W0, Q0=Q0, method="dop853", rtol=1e-12, atol=1e-14,
+        t_eval=np.linspace(0, 5, 11), progress=False,
+    )  # fmt: skip
+    err = res.exact_errors()
+    assert err["omega"].max() < 1e-9 and err["attitude"].max() < 1e-9
+    own = simulate_ensemble(
+        BODY, (0, 5.0), omega0=W0, moments=MOMENTS, method="rk4", dt=1e-2,
+        t_eval=np.linspace(0, 5, 11), progress=False,
+    )  # fmt: skip
+    err = own.exact_errors()
+    assert 1e-12 < err["omega"].max() < 1e-5  # RK4's O(dt⁴) error, measured
+
+
+def test_user_reductions_compiled_and_python():
+    import numba
+
+    @numba.njit
+    def spin_z(t, y):
+        return y[17]
+
+    def mean_speed(chunk):
+        return np.linalg.norm(chunk.omega, axis=2).mean(axis=1)
+
+    res = _ensemble(
+        "free rk4", t_eval=T_EVAL, chunk_size=4,
+        reductions={"spin_z": spin_z, "mean_speed": mean_speed},
+    )  # fmt: skip
+    np.testing.assert_array_equal(res.reductions["spin_z"], res.omega[:, :, 2])
+    np.testing.assert_allclose(
+        res.reductions["mean_speed"], np.linalg.norm(res.omega, axis=2).mean(axis=1)
+    )
+    assert "mean_speed" in res.summary()["statistics"]
+
+
+def test_summary_and_xarray():
+    res = _ensemble("free rk4", t_eval=T_EVAL)
+    summary = res.summary()
+    assert summary["members"] == N and summary["succeeded"] == N
+    assert summary["statistics"]["energy_error"]["max"] == pytest.approx(res.energy_error.max())
+    assert "angle_from_mean" in summary["final_attitude"]
+    ds = res.to_xarray()
+    assert ds["omega"].dims == ("member", "time", "component")
+    np.testing.assert_array_equal(ds["omega"].values, res.omega)
+    q = res.quaternion
+    assert q.shape == (N, len(T_EVAL), 4)
+    np.testing.assert_allclose(np.linalg.norm(q, axis=-1), 1.0, atol=1e-12)
+
+
+def test_progress_callback_counts_members():
+    seen = []
+    _ensemble("free rk4", chunk_size=4, threads=1, progress=lambda done, total: seen.append(done))
+    assert seen == [4, 8, 12, 13]
+
+
+def test_a_member_that_fails_gets_its_own_status():
+    """A member whose state overflows stops alone; its block-mates finish unchanged."""
+    W = W0.copy()
+    W[5] = [1e200, 1e200, 1e200]
+    res = simulate_ensemble(BODY, (0, 1.0), omega0=W, dt=1e-2, progress=False)
+    assert not res.success[5] and res.success[np.arange(N) != 5].all()
+    assert np.isnan(res.final_state[5]).all()
+    good = simulate_ensemble(BODY, (0, 1.0), omega0=W0, dt=1e-2, progress=False)
+    keep = np.arange(N) != 5
+    np.testing.assert_array_equal(res.final_state[keep], good.final_state[keep])
+    assert res.summary()["failed"] == {"non-finite state": 1}
+
+
+# --------------------------------------------------------------------------- Dask
+@pytest.fixture(scope="module")
+def dask_client():
+    distributed = pytest.importorskip("distributed")
+    cluster = distributed.LocalCluster(
+        processes=False, n_workers=2, threads_per_worker=1, dashboard_address=None
+    )
+    client = distributed.Client(cluster)
+    yield client
+    client.close(timeout=30)
+    cluster.close(timeout=30)
+
+
+@pytest.mark.parametrize("case", ["free rk4", "spring dop853"])
+def test_dask_is_bit_identical_to_the_local_run(dask_client, case):
+    local = _ensemble(case, t_eval=T_EVAL, chunk_size=4)
+    remote = _ensemble(case, t_eval=T_EVAL, chunk_size=4, client=dask_client)
+    np.testing.assert_array_equal(local.state, remote.state)
+    np.testing.assert_array_equal(local.energy_error, remote.energy_error)
+    np.testing.assert_array_equal(local.first_flip, remote.first_flip)
+
+
+# --------------------------------------------------------------------------- bad input
+@pytest.mark.parametrize(
+    ("kwargs", "error", "match"),
+    [
+        ({"omega0": np.ones((N, 2))}, ValueError, r"`omega0` must have shape \(N, 3\)"),
+        ({"omega0": np.ones(3)}, ValueError, r"`omega0` must have shape \(N, 3\)"),
+        ({"Q0": np.stack([np.eye(3)] * (N - 1))}, ValueError, rf"`Q0` .*\({N}, 3, 3\)"),
+        ({"R0": np.ones((N + 1, 3))}, ValueError, rf"`R0` must have shape \(3,\) or \({N}, 3\)"),
+        ({"moments": np.ones((N, 2))}, ValueError, rf"`moments` must have shape \({N}, 3\)"),
+        ({"inertia": np.ones((N, 3))}, ValueError, rf"`inertia` must have shape \({N}, 3, 3\)"),
+        ({"method": "rk4", "dt": None}, ValueError, r"'rk4' is fixed-step: `dt` must be given"),
+        ({"client": object()}, ValueError, r"`client` must be a dask.distributed.Client"),
+        ({"chunk_size": 0}, ValueError, r"`chunk_size` must be a positive integer"),
+        ({"threads": 0}, ValueError, r"`threads` must be a positive integer"),
+        ({"t_eval": [0.5, 0.2]}, ValueError, r"`t_eval` must be strictly increasing"),
+        ({"t_eval": []}, ValueError, r"`t_eval` must hold at least one time"),
+    ],
+)
+def test_bad_input_is_named(kwargs, error, match):
+    base = {"omega0": W0, "method": "rk4", "dt": 1e-2, "progress": False}
+    with pytest.raises(error, match=match):
+        simulate_ensemble(BODY, (0, 1.0), **{**base, **kwargs})
+
+
+def test_bad_member_entries_are_named_with_their_index():
+    W = W0.copy()
+    W[7, 2] = np.inf
+    with pytest.raises(ValueError, match=r"`omega0\[7\]\[2\]` must be finite"):
+        simulate_ensemble(BODY, (0, 1.0), omega0=W, dt=1e-2)
+    Q = Q0.copy()
+    Q[4] *= 1.5
+    with pytest.raises(ValueError, match=r"`Q0\[4\]` is not a rotation"):
+        simulate_ensemble(BODY, (0, 1.0), omega0=W0, Q0=Q, dt=1e-2)
+    q = np.tile([1.0, 0, 0, 0], (N, 1))
+    q[9] = [1.0, 1.0, 0, 0]
+    with pytest.raises(ValueError, match=r"`Q0\[9\]` is not a rotation: quaternion norm"):
+        simulate_ensemble(BODY, (0, 1.0), omega0=W0, Q0=q, dt=1e-2)
+    M = MOMENTS.copy()
+    M[11] = [1.0, 1.0, 5.0]
+    with pytest.raises(ValueError, match=r"`moments\[11\]`: principal moments must satisfy"):
+        simulate_ensemble(BODY, (0, 1.0), omega0=W0, moments=M, dt=1e-2)
+    J = np.stack([np.eye(3)] * N)
+    J[2, 0, 1] = 0.5
+    with pytest.raises(ValueError, match=r"`inertia\[2\]` must be symmetric"):
+        simulate_ensemble(BODY, (0, 1.0), omega0=W0, inertia=J, dt=1e-2)
+    M[11] = [0.0, 1.0, 1.0]
+    with pytest.raises(ValueError, match=r"`moments\[11\]` must be positive definite"):
+        simulate_ensemble(BODY, (0, 1.0), omega0=W0, moments=M, dt=1e-2)
+
+
+def test_python_forces_and_velocity_forces_refused():
+    from poinsot.forces import CustomForce, LinearDrag
+
+    custom = CustomForce(lambda ctx: (np.zeros(3), np.zeros(3)))
+    with pytest.raises(ValueError, match="`forces`: an ensemble runs built-in forces only"):
+        simulate_ensemble(BODY, (0, 1.0), omega0=W0, dt=1e-2, forces=[custom])
+    with pytest.raises(ValueError, match="'splitting' needs forces that depend only on"):
+        simulate_ensemble(
+            BODY, (0, 1.0), omega0=W0, dt=1e-2, method="splitting", forces=[LinearDrag(0.1)]
+        )
