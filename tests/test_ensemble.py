@@ -31,8 +31,12 @@ CASES = {
     "free dop853": {"method": "dop853"},
     "free splitting": {"method": "splitting", "dt": 1e-2},
     "free rkmk4": {"method": "rkmk4", "dt": 1e-2},
-    "heavy top rk4": {"method": "rk4", "dt": 1e-2, "pivot": (0.0, 0.0, 0.0),
-                      "forces": [Gravity((0.0, 0.0, -9.8))]},  # fmt: skip
+    "heavy top rk4": {
+        "method": "rk4",
+        "dt": 1e-2,
+        "pivot": (0.0, 0.0, 0.0),
+        "forces": [Gravity((0.0, 0.0, -9.8))],
+    },
     "spring dop853": {"method": "dop853", "forces": [Spring((0.5, 0, 0), (1, 1, 1), 3.0)]},
     "own moments rk4": {"method": "rk4", "dt": 1e-2, "moments": MOMENTS},
 }
@@ -56,7 +60,9 @@ def test_every_member_equals_a_single_simulate(case):
     assert res.success.all() and res.state.shape == (N, len(T_EVAL), 18)
     for i in (0, 6, N - 1):
         tr = _single(case, i)
-        np.testing.assert_allclose(res.state[i], tr.state, rtol=0, atol=2e-15 * np.abs(tr.state).max())
+        np.testing.assert_allclose(
+            res.state[i], tr.state, rtol=0, atol=2e-15 * np.abs(tr.state).max()
+        )
         # reductions equal the statistics of the stored trajectory
         assert res.energy_error[i] == pytest.approx(np.abs(tr.energy_drift).max(), abs=1e-15)
         assert res.momentum_error[i] == pytest.approx(tr.momentum_drift.max(), abs=1e-15)
@@ -81,7 +87,7 @@ def test_final_only_and_keep_states_false():
     res = _ensemble("free rk4", keep_states=False)
     assert res.final_state.shape == (N, 18)
     with pytest.raises(AttributeError, match="keep_states=False"):
-        res.omega  # noqa: B018
+        res.omega
     tr = _single("free rk4", 3, t_eval=None)
     np.testing.assert_array_equal(res.final_omega[3], tr.omega[-1])
 
@@ -104,15 +110,28 @@ def test_flips_against_the_exact_flip_interval():
 
 def test_grading_against_the_exact_solution():
     res = simulate_ensemble(
-        BODY, (0, 5.0), omega0=W0, Q0=Q0, method="dop853", rtol=1e-12, atol=1e-14,
-        t_eval=np.linspace(0, 5, 11), progress=False,
-    )  # fmt: skip
+        BODY,
+        (0, 5.0),
+        omega0=W0,
+        Q0=Q0,
+        method="dop853",
+        rtol=1e-12,
+        atol=1e-14,
+        t_eval=np.linspace(0, 5, 11),
+        progress=False,
+    )
     err = res.exact_errors()
     assert err["omega"].max() < 1e-9 and err["attitude"].max() < 1e-9
     own = simulate_ensemble(
-        BODY, (0, 5.0), omega0=W0, moments=MOMENTS, method="rk4", dt=1e-2,
-        t_eval=np.linspace(0, 5, 11), progress=False,
-    )  # fmt: skip
+        BODY,
+        (0, 5.0),
+        omega0=W0,
+        moments=MOMENTS,
+        method="rk4",
+        dt=1e-2,
+        t_eval=np.linspace(0, 5, 11),
+        progress=False,
+    )
     err = own.exact_errors()
     assert 1e-12 < err["omega"].max() < 1e-5  # RK4's O(dt⁴) error, measured
 
@@ -128,9 +147,11 @@ def test_user_reductions_compiled_and_python():
         return np.linalg.norm(chunk.omega, axis=2).mean(axis=1)
 
     res = _ensemble(
-        "free rk4", t_eval=T_EVAL, chunk_size=4,
+        "free rk4",
+        t_eval=T_EVAL,
+        chunk_size=4,
         reductions={"spin_z": spin_z, "mean_speed": mean_speed},
-    )  # fmt: skip
+    )
     np.testing.assert_array_equal(res.reductions["spin_z"], res.omega[:, :, 2])
     np.testing.assert_allclose(
         res.reductions["mean_speed"], np.linalg.norm(res.omega, axis=2).mean(axis=1)

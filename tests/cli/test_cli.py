@@ -161,6 +161,26 @@ samples = 5
             GOOD + '[[forces]]\ntype = "gravity"\ng = [0, 0]\n',
             r"forces\[0\]\.g: expected an array of 3 numbers",
         ),
+        (
+            GOOD + '[ensemble]\nmembers = 0\ndistribution = "sphere"\nspeed = 1.0\n',
+            r"ensemble\.members: expected a positive integer, found 0",
+        ),
+        (
+            GOOD + '[ensemble]\nmembers = 10\ndistribution = "uniform"\n',
+            r"ensemble\.distribution: expected one of 'sphere', 'gaussian'",
+        ),
+        (
+            GOOD + '[ensemble]\nmembers = 10\ndistribution = "sphere"\n',
+            r"ensemble\.speed: required key is missing",
+        ),
+        (
+            GOOD + '[ensemble]\nmembers = 10\ndistribution = "gaussian"\nstd = [0.1, -1, 0]\n',
+            r"ensemble\.std: expected numbers ≥ 0",
+        ),
+        (
+            GOOD + '[ensemble]\nmembers = 10\ndistribution = "sphere"\nspeed = 1\nsed = 3\n',
+            r"ensemble\.sed: unknown key.*seed",
+        ),
     ],
 )
 def test_malformed_scenarios_exit_2_naming_the_key(text, match, tmp_path, capsys):
@@ -363,3 +383,28 @@ def test_lagrangian_example_outputs_match_the_library(tmp_path):
     sol = mdl.simulate((0, 2), t_eval=np.linspace(0, 2, 201))
     np.testing.assert_allclose(data["multipliers"], sol.multipliers, rtol=1e-12)
     assert list(data["coordinates"]) == ["y1", "y2", "phi"]
+
+
+def test_ensemble_example_writes_statistics_against_the_exact_flips(tmp_path, capsys):
+    """The bundled Monte Carlo of Dzhanibekov flips: every member flips, and the measured
+    intervals agree with the exact 2K(m)/λ to RK4's accuracy (dt = 1e-3)."""
+    xr = pytest.importorskip("xarray")
+    out = tmp_path / "mc"
+    assert main(["run", "--example", "tennis-racket-ensemble", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "members" in text and "flip interval against the exact" in text
+    summary = json.loads((out / "summary.json").read_text())
+    e = summary["ensemble"]
+    assert e["members"] == e["succeeded"] == 2000
+    assert e["statistics"]["first_flip"]["members_with_a_flip"] == 2000
+    flips = summary["flips_against_exact"]
+    assert flips["members_compared"] > 1900
+    assert flips["relative_error"]["max"] < 1e-3
+    for name in ("histograms.png", "flip_intervals.png", "report.html", "ensemble.nc"):
+        assert (out / name).stat().st_size > 10_000, name
+    ds = xr.open_dataset(out / "ensemble.nc", engine="scipy")
+    assert ds.sizes["member"] == 2000
+    np.testing.assert_allclose(ds["omega0"].values[:, 1], 2 * np.pi)
+    ratio = ds["flip_interval"].values / ds["exact_flip_interval"].values - 1
+    assert np.nanmax(np.abs(ratio)) < 1e-3
+    ds.close()

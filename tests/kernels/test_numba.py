@@ -20,7 +20,7 @@ from numba.core.registry import CPUDispatcher
 import poinsot.kernels as kernels_pkg
 from poinsot.kernels import layout as L
 from poinsot.kernels.jit import jit, python_twin
-from poinsot.kernels.observers import NoObserver
+from poinsot.kernels.observers import NoObserver, flip_observer
 from poinsot.kernels.systems import RigidSystem, TorqueFreeSystem
 
 RNG = np.random.default_rng(7)
@@ -203,7 +203,16 @@ ARGS = {
     "flip_intervals": lambda: (_regime()[None, :],),
     "attitude_setup_into": lambda: (MOMENTS, _regime(), 0.3, 1.0, 0.2, Q, np.zeros(13)),
     "attitude_at_into": lambda: (
-        MOMENTS, _regime(), _attitude(), 0.3, 1.0, 0.2, Q, 2.5, np.zeros((3, 3)), np.zeros((3, 3))
+        MOMENTS,
+        _regime(),
+        _attitude(),
+        0.3,
+        1.0,
+        0.2,
+        Q,
+        2.5,
+        np.zeros((3, 3)),
+        np.zeros((3, 3)),
     ),
     "regimes": lambda: (MOMENTS, np.eye(3), 0, W3),
     "exact_omegas": lambda: (MOMENTS, np.eye(3), 0, W3, np.linspace(0, 3, 4)),
@@ -293,6 +302,58 @@ ARGS = {
     "run_erk": lambda: _fixed_driver_args(),
     "run_rkmk": lambda: _fixed_driver_args(),
     "run_splitting": lambda: _fixed_driver_args(system=FREE),
+    # rigid: per-state forms and initial states
+    "rotational_energy_of": lambda: (np.diag(MOMENTS), 0.3, -0.7, 1.1),
+    "kinetic_energy_of": lambda: (np.diag(MOMENTS), 2.0, Y),
+    "angular_momentum_com_of": lambda: (np.diag(MOMENTS), Y),
+    "orthogonality_error_of": lambda: (Y,),
+    "pivot_point_of": lambda: (BODY, Y),
+    "initial_states": lambda: (
+        Q[None],
+        W3,
+        np.zeros((0, 3)),
+        np.zeros((0, 3)),
+        np.ones(3),
+        np.array([0.1, 0, -0.2]),
+        np.zeros(3),
+        True,
+        np.zeros(3),
+    ),
+    # ensembles
+    "member_bodies": lambda: (
+        2.0,
+        np.stack([np.diag(MOMENTS), np.diag([1.5, 2.0, 3.0])]),
+        np.array([0.1, 0.0, -0.2]),
+        True,
+    ),
+    "principal_members": lambda: (np.stack([BODY, BODY]), Q[None], np.stack([Y, Y]), True),
+    "chunk_rk4": lambda: _chunk_args("rk4"),
+    "chunk_erk": lambda: _chunk_args("erk"),
+    "chunk_rkmk": lambda: _chunk_args("rkmk4"),
+    "chunk_splitting": lambda: _chunk_args("splitting"),
+    "chunk_dop853": lambda: (
+        _lanes(),
+        flip_observer(3),
+        CONTROL,
+        Q[None],
+        np.stack([Y] * 3),
+        0.0,
+        0.05,
+        np.array([0.02, 0.05]),
+        np.zeros((3, 2, 18)),
+        *_counters(3),
+    ),
+    "chunk_statistics": lambda: (
+        _lanes(),
+        Q[None],
+        np.diag(MOMENTS)[None],
+        2.0,
+        0.0,
+        np.stack([Y] * 3),
+        np.array([0.02, 0.05]),
+        np.stack([np.stack([Y, 1.01 * Y])] * 3),
+        *_counters(3, float),
+    ),
     "run_adaptive": lambda: (
         SYSTEM,
         NoObserver(0.0),
@@ -323,6 +384,40 @@ def _rhs(y):
     out = np.zeros(18)
     rigid_vector_field(SYSTEM, 0.0, y, out)
     return out
+
+
+def _lanes():
+    from poinsot.kernels.systems import RigidLanes
+
+    return RigidLanes(np.stack([BODY] * 3), KINDS[:1], np.stack([PARAMS[:1]] * 3), 3)
+
+
+def _counters(m, dtype=np.int64):
+    return tuple(np.zeros(m, dtype=dtype) for _ in range(3))
+
+
+def _chunk_args(method):
+    from poinsot.integrate import get_solver
+    from poinsot.kernels.observers import flip_observer
+    from poinsot.kernels.systems import TorqueFreeLanesVaried
+
+    solver = get_solver(method)
+    template = TorqueFreeLanesVaried(np.stack([FREE_BODY] * 3), 3) if method != "rk4" else _lanes()
+    return (
+        template,
+        flip_observer(3),
+        solver.A,
+        solver.B,
+        solver.C,
+        Q[None],
+        np.stack([Y] * 3),
+        0.0,
+        0.05,
+        0.01,
+        np.array([0.02, 0.05]),
+        np.zeros((3, 2, 18)),
+        *_counters(3),
+    )
 
 
 def _fixed_driver_args(system=SYSTEM):
@@ -366,6 +461,11 @@ EXEMPT = {
     "lanes": "generic: compiled through the registered implementations tested here",
     "rates": "generic: compiled through the registered implementations tested here",
     "constrain": "generic: compiled through the registered implementations tested here",
+    "member_system": "generic: compiled through the chunk kernels tested here",
+    "block_system": "generic: compiled through the chunk kernels tested here",
+    "member_observer": "generic: compiled through the chunk kernels tested here",
+    "block_observer": "generic: compiled through the chunk kernels tested here",
+    "BLOCK": "a block width",
     "tuple_axpy": "elementwise tuple arithmetic, generated for each length (tests/kernels)",
     "tuple_rk4_combine": "elementwise tuple arithmetic, generated for each length",
     "vector_field": "generic: compiled through the registered implementations tested here",

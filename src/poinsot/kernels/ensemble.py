@@ -210,15 +210,13 @@ def _no_member_observer(observer, i):
 @block_observer.register(FlipObserver)
 @kernel(inline=True)
 def _flip_block_observer(observer, i0, width):
-    j = i0 + width
-    return FlipObserver(observer.first[i0:j], observer.last[i0:j], observer.count[i0:j])
+    return FlipObserver(observer.first, observer.last, observer.count, i0)
 
 
 @member_observer.register(FlipObserver)
 @kernel(inline=True)
 def _flip_member_observer(observer, i):
-    j = i + 1
-    return FlipObserver(observer.first[i:j], observer.last[i:j], observer.count[i:j])
+    return FlipObserver(observer.first, observer.last, observer.count, i)
 
 
 # --------------------------------------------------------------------------- samples

@@ -23,13 +23,14 @@ __all__ = ["FlipObserver", "NoObserver", "flip_observer", "observe"]
 
 #: Records nothing.
 NoObserver = namedtuple("NoObserver", ["nothing"])
-#: Per member: ``first`` and ``last`` flip times (NaN before a flip) and ``count``.
-FlipObserver = namedtuple("FlipObserver", ["first", "last", "count"])
+#: Per member: ``first`` and ``last`` flip times (NaN before a flip) and ``count``; lane ``i``
+#: of the system observed is member ``i + offset`` (an ensemble's block of members).
+FlipObserver = namedtuple("FlipObserver", ["first", "last", "count", "offset"])
 
 
 def flip_observer(n: int):
     """A :data:`FlipObserver` for ``n`` members, with no flip recorded."""
-    return FlipObserver(np.full(n, np.nan), np.full(n, np.nan), np.zeros(n))
+    return FlipObserver(np.full(n, np.nan), np.full(n, np.nan), np.zeros(n), 0)
 
 
 @generic
@@ -51,8 +52,9 @@ def _observe_flips(observer, lane, t0, y0, t1, y1):
     b = y1[OMEGA_AT + 1]
     if (a < 0.0 and b >= 0.0) or (a > 0.0 and b <= 0.0):
         t = t0 + (t1 - t0) * a / (a - b)
-        if observer.count[lane] == 0.0:
-            observer.first[lane] = t
-        observer.last[lane] = t
-        observer.count[lane] += 1.0
+        k = lane + observer.offset
+        if observer.count[k] == 0.0:
+            observer.first[k] = t
+        observer.last[k] = t
+        observer.count[k] += 1.0
     return None
