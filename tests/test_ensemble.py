@@ -50,8 +50,8 @@ def _single(case, i, t_eval=T_EVAL):
 
 
 def _ensemble(case, **extra):
-    kw = dict(CASES[case])
-    return simulate_ensemble(BODY, (0, T_END), omega0=W0, Q0=Q0, progress=False, **kw, **extra)
+    kw = {"progress": False, **CASES[case], **extra}
+    return simulate_ensemble(BODY, (0, T_END), omega0=W0, Q0=Q0, **kw)
 
 
 @pytest.mark.parametrize("case", list(CASES))
@@ -64,9 +64,13 @@ def test_every_member_equals_a_single_simulate(case):
             res.state[i], tr.state, rtol=0, atol=2e-15 * np.abs(tr.state).max()
         )
         # reductions equal the statistics of the stored trajectory
-        assert res.energy_error[i] == pytest.approx(np.abs(tr.energy_drift).max(), abs=1e-15)
-        assert res.momentum_error[i] == pytest.approx(tr.momentum_drift.max(), abs=1e-15)
-        assert res.orthogonality_error[i] == pytest.approx(tr.orthogonality_error.max(), abs=1e-16)
+        assert res.energy_error[i] == pytest.approx(
+            np.abs(tr.energy_drift).max(), rel=1e-12, abs=1e-15
+        )
+        assert res.momentum_error[i] == pytest.approx(tr.momentum_drift.max(), rel=1e-12, abs=1e-15)
+        assert res.orthogonality_error[i] == pytest.approx(
+            tr.orthogonality_error.max(), rel=1e-12, abs=1e-16
+        )
         assert res.nsteps[i] == tr.nsteps
 
 
@@ -80,7 +84,9 @@ def test_chunks_and_threads_change_nothing(case):
         np.testing.assert_array_equal(one.statistic(name), many.statistic(name))
     final = _ensemble(case, chunk_size=4, threads=2)
     np.testing.assert_array_equal(final.t, [T_END])
-    np.testing.assert_array_equal(final.state[:, 0], one.state[:, -1])
+    # no intermediate samples to land on: other steps, the same end to round-off
+    scale = np.abs(one.state).max()
+    np.testing.assert_allclose(final.state[:, 0], one.state[:, -1], rtol=0, atol=1e-13 * scale)
 
 
 def test_final_only_and_keep_states_false():

@@ -401,7 +401,7 @@ def _chunk_args(method):
     from poinsot.kernels.observers import flip_observer
     from poinsot.kernels.systems import TorqueFreeLanesVaried
 
-    solver = get_solver(method)
+    solver = get_solver("rk4" if method == "erk" else method)  # ERK: RK4's tableau as data
     template = TorqueFreeLanesVaried(np.stack([FREE_BODY] * 3), 3) if method != "rk4" else _lanes()
     return (
         template,
