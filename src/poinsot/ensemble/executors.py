@@ -131,7 +131,7 @@ def _run_dask(client, spec, tasks, absorb, bar):
     from distributed import wait as dask_wait
 
     workers = max(1, len(client.scheduler_info().get("workers", {})))
-    [spec_future] = client.scatter([spec], broadcast=True)
+    [spec_future] = client.scatter([spec], broadcast=True, hash=False)  # a fresh key per run
 
     def submit(task):
         return client.submit(run_chunk, spec_future, task, pure=False)
