@@ -18,9 +18,9 @@ STATISTICS = {
     "energy_error": "max |E(t) − E(0)| / |E(0)| over the samples (E = K + U)",
     "momentum_error": "max |L(t) − L(0)| / |L(0)|, L about the centre of mass, space frame",
     "orthogonality_error": "max |QᵀQ − I| over the samples",
-    "first_flip": "time of the first sign change of ω on the intermediate principal axis",
+    "first_flip": "time of the first sign change of ω on the intermediate principal axis [s]",
     "flip_count": "number of sign changes of ω on the intermediate principal axis",
-    "flip_interval": "mean time between flips, (last − first)/(count − 1)",
+    "flip_interval": "mean time between flips, (last − first)/(count − 1) [s]",
 }
 
 

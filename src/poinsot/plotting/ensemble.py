@@ -22,6 +22,7 @@ def plot_ensemble_histograms(result, names=None, *, bins=40, fig=None):
     statistic with something to show). Errors are drawn on logarithmic bins; members with no
     value (no flip, an exact zero error) are counted in the title."""
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import NullFormatter
 
     if names is None:
         names = [n for n in LABELS if _values(result, n)[0].size]
@@ -45,6 +46,8 @@ def plot_ensemble_histograms(result, names=None, *, bins=40, fig=None):
                 lo, hi = np.log10(values.min()), np.log10(values.max())
                 edges = np.logspace(lo - 0.05, hi + 0.05, bins + 1)
                 ax.set_xscale("log")
+                if hi - lo > 1.0:  # label the decades only (minor labels would overlap)
+                    ax.xaxis.set_minor_formatter(NullFormatter())
             elif name == "flip_count":
                 edges = np.arange(values.min() - 0.5, values.max() + 1.5)
             else:
