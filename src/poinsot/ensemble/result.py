@@ -316,11 +316,7 @@ class EnsembleResult:
                 extra = ("time", *extra[1:])
             data[name] = (("member", *extra), value)
         coords = {"member": members, "time": ("time", self.t, {"units": "s"}),
-                  "component": ["x", "y", "z"]}  # fmt: skip
-        if self._states is not None:
-            coords.update(row=[0, 1, 2], col=[0, 1, 2])
-        else:
-            coords.update(row=[0, 1, 2], col=[0, 1, 2])
+                  "component": ["x", "y", "z"], "row": [0, 1, 2], "col": [0, 1, 2]}  # fmt: skip
         return xr.Dataset(data, coords=coords, attrs={"method": self.method})
 
 
