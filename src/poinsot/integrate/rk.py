@@ -69,6 +69,6 @@ class RK4(ExplicitRungeKutta):
 
 def _is_rigid(system) -> bool:
     """True for the rigid-body systems, which step in registers (a ``rates`` method)."""
-    from ..kernels.systems import rates
+    from ..kernels.systems import REGISTER_SYSTEMS
 
-    return type(system) in rates.impls or hasattr(system, "rates")
+    return type(system) in REGISTER_SYSTEMS or hasattr(system, "rates")

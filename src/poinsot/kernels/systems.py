@@ -41,6 +41,12 @@ from collections import namedtuple
 from .forces import builtin_potential, builtin_wrench
 from .jit import generic, kernel
 from .layout import HAS_PIVOT, STATE_SIZE, load_state, store_state
+from .relative import (
+    RELATIVE_STATE_SIZE,
+    absolute_state_of,
+    carrier_motion_ppoly,
+    relative_rates,
+)
 from .rigid import (
     free_rigid_rates,
     pivot_constrained,
@@ -51,6 +57,9 @@ from .rigid import (
 )
 
 __all__ = [
+    "REGISTER_SYSTEMS",
+    "RelativeSystem",
+    "RelativeUserSystem",
     "RigidLanes",
     "RigidSystem",
     "TorqueFreeLanes",
@@ -63,6 +72,8 @@ __all__ = [
     "potential",
     "project",
     "rates",
+    "relative_motion",
+    "relative_vector_field",
     "rigid_potential",
     "rigid_rates_of",
     "rigid_vector_field",
@@ -98,6 +109,22 @@ TorqueFreeLanesVaried = namedtuple("TorqueFreeLanesVaried", ["bodies", "lanes"])
 #: An ensemble chunk of bodies under built-in forces, free or about a pivot: ``bodies``
 #: (lanes, BODY_SIZE), ``force_params`` (lanes, n, FORCE_PARAMS) lowered for each member.
 RigidLanes = namedtuple("RigidLanes", ["bodies", "force_kind", "force_params", "lanes"])
+#: A body moving relative to a carrier frame (:mod:`poinsot.kernels.relative`) whose motion is
+#: piecewise polynomial (a constant is one piece): ``body`` (BODY_SIZE,) in its principal
+#: frame, ``inertia`` (3, 3) diag(A, B, C), the lowered forces, ``options`` (OPTIONS_SIZE,),
+#: ω_e as ``w_breaks`` (m + 1,), ``w_coeffs`` (k + 1, m, 3) and a_O as ``a_breaks``,
+#: ``a_coeffs`` (scipy's ``PPoly`` layout; carrier components). Cached like the rigid systems.
+RelativeSystem = namedtuple(
+    "RelativeSystem",
+    ["body", "inertia", "force_kind", "force_params", "options", "w_breaks", "w_coeffs",
+     "a_breaks", "a_coeffs"],
+)  # fmt: skip
+#: The same with the carrier's motion given by a compiled function ``carrier(t)`` → 9-tuple
+#: ``(ω_e, ε_e, a_O)`` (generated from SymPy expressions, or the user's own): numba cannot cache
+#: an engine that holds a function, so a process compiles it once per carrier.
+RelativeUserSystem = namedtuple(
+    "RelativeUserSystem", ["body", "inertia", "force_kind", "force_params", "options", "carrier"]
+)
 
 
 @generic
@@ -360,3 +387,86 @@ for _type in (TorqueFreeLanes, TorqueFreeLanesVaried, RigidLanes):
     @kernel(inline=True)
     def _chunk_state_size(system, y):
         return STATE_SIZE * system.lanes
+
+
+# --------------------------------------------------------------------------- relative motion
+@generic
+def relative_motion(system, t):
+    """The carrier's motion ``(ω_e, ε_e, a_O)`` (9-tuple, carrier components) at ``t``."""
+
+
+@relative_motion.register(RelativeSystem)
+@kernel(inline=True)
+def _ppoly_motion(system, t):
+    return carrier_motion_ppoly(system.w_breaks, system.w_coeffs, system.a_breaks,
+                                system.a_coeffs, t)  # fmt: skip
+
+
+@relative_motion.register(RelativeUserSystem)
+@kernel(inline=True)
+def _user_motion(system, t):
+    return system.carrier(t)
+
+
+@kernel(inline=True)
+def relative_vector_field(system, t, y, out):
+    """The compact relative Euler equation (11)–(12) with the carrier's kinematics
+    (:func:`~poinsot.kernels.relative.relative_rates`), the physical forces evaluated at the
+    absolute state."""
+    motion = relative_motion(system, t)
+    s = absolute_state_of(y, motion)
+    Fx, Fy, Fz, tx, ty, tz = builtin_wrench(system.force_kind, system.force_params,
+                                            system.body, t, s)  # fmt: skip
+    r = relative_rates(system.body, system.inertia, system.options, y, motion,
+                       Fx, Fy, Fz, tx, ty, tz)  # fmt: skip
+    for k in range(RELATIVE_STATE_SIZE):
+        out[k] = r[k]
+
+
+@kernel(inline=True)
+def _relative_potential(system, t, y):
+    s = absolute_state_of(y, relative_motion(system, t))
+    return builtin_potential(system.force_kind, system.force_params, system.body, t, s)
+
+
+@kernel(inline=True)
+def _relative_no_rates(system, t, y, lane):
+    # The rigid-only steps (RK4 in registers, RKMK, splitting) are compiled for every system
+    # type but never run for this one: the Python layer refuses those methods, and RK4 runs
+    # its tableau through the general step.
+    if lane >= 0:
+        raise TypeError("a relative-motion system is stepped by the general Runge-Kutta steps")
+    return y
+
+
+@kernel(inline=True)
+def _relative_no_wrench(system, t, y):
+    if t == t:
+        raise TypeError("a relative-motion system has no rigid-body wrench")
+    return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+
+
+@kernel(inline=True)
+def _relative_project(system, t, y):
+    return False
+
+
+@kernel(inline=True)
+def _relative_state_size(system, y):
+    return RELATIVE_STATE_SIZE
+
+
+for _type in (RelativeSystem, RelativeUserSystem):
+    vector_field.register(_type)(relative_vector_field)
+    potential.register(_type)(_relative_potential)
+    rates.register(_type)(_relative_no_rates)
+    constrain.register(_type)(_relative_no_rates)
+    wrench.register(_type)(_relative_no_wrench)
+    project.register(_type)(_relative_project)
+    state_size.register(_type)(_relative_state_size)
+    body_parameters.register(_type)(_one_body_parameters)
+    lanes.register(_type)(_one_lane)
+
+#: The system types that step in registers (RK4 on 18-tuples): the rigid bodies.
+REGISTER_SYSTEMS = (RigidSystem, TorqueFreeSystem, UserForcesSystem, TorqueFreeLanes,
+                    TorqueFreeLanesVaried, RigidLanes)  # fmt: skip

@@ -1,0 +1,354 @@
+"""``simulate_relative``: integrate a body's motion relative to a moving carrier frame, and the
+samples it returns (``docs/relative.md``; paper eqs (11)–(18))."""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+import numpy as np
+
+from .._validation import as_rotation_matrix, as_sample_times, as_scalar, as_vector3
+from ..integrate.base import get_solver
+from ..integrate.driver import IntegrationError, integrate
+from ..kernels import rigid as krig
+from ..kernels.relative import absolute_states
+from ..rotation import body_rates_from_euler, euler_from_matrix, euler_rates_from_body
+from ..simulation import SimulationError, _check_t_span
+from ..trajectory import Trajectory
+from .carrier import Carrier
+from .moments import coriolis_moment, transport_moment
+from .system import RELATIVE_SLICES, RelativeMotionSystem
+
+__all__ = ["RelativeTrajectory", "simulate_relative"]
+
+#: |sin θ| below this, z-x-z Euler angle rates are refused (gimbal lock at θ = 0, π).
+EULER_SINGULAR = 1e-6
+
+
+def _readonly(a):
+    a = np.asarray(a)
+    a.flags.writeable = False
+    return a
+
+
+def simulate_relative(
+    body,
+    t_span,
+    *,
+    omega_r0=None,
+    Q_r0=None,
+    carrier,
+    forces=(),
+    balance_transport=False,
+    hold_com=False,
+    euler_angles0=None,
+    euler_rates0=None,
+    r0=None,
+    v_r0=None,
+    Q_carrier0=None,
+    origin0=None,
+    origin_velocity0=None,
+    method="dop853",
+    dt=None,
+    rtol=None,
+    atol=None,
+    t_eval=None,
+    save_every=1,
+    progress=None,
+    backend=None,
+) -> RelativeTrajectory:
+    """Integrate a body's motion relative to a carrier frame: the compact relative Euler
+    equation (11) in principal components (12),
+
+    ``J ω̇_r = Jω_r × ω_r − J ε_e + Jω_e × ω_e + 2 ω_r × (J'ω_e) + M(F)``,
+
+    with ``Q̇_r = Q_r Ω_r``, the carrier's own kinematics and, unless ``hold_com``, the centre
+    of mass under the physical and the inertia forces relative to the carrier.
+
+    Parameters
+    ----------
+    body : RigidBody
+    t_span : (float, float)
+    omega_r0 : array_like (3,)
+        Angular velocity relative to the carrier, body components (or give ``euler_rates0``).
+    Q_r0 : (3, 3) matrix or (4,) quaternion, optional
+        Attitude relative to the carrier (body → carrier); identity by default (or give
+        ``euler_angles0``).
+    carrier : Carrier
+        The carrier's prescribed motion.
+    forces : sequence of Force
+        Physical forces (inertial frame), as for :func:`poinsot.simulate`.
+    balance_transport : bool
+        Add the physical moment ``M(F) = J ε_e − Jω_e × ω_e`` that cancels the transport
+        moment (case (16)): the relative rotational energy is then conserved (17).
+    hold_com : bool
+        Hold the centre of mass at its place in the carrier (a body mounted at its centre of
+        mass).
+    euler_angles0, euler_rates0 : array_like (3,), optional
+        The initial relative attitude and angular velocity as z-x-z Euler angles (ψ, θ, φ) and
+        their rates, eq. (13), instead of ``Q_r0`` and ``omega_r0``.
+    r0, v_r0 : array_like (3,), optional
+        The centre of mass relative to the carrier's origin and its velocity relative to the
+        carrier, carrier components; default: the body's own centre of mass, at rest.
+    Q_carrier0 : (3, 3) matrix or (4,) quaternion, optional
+        The carrier's initial attitude (identity by default; taken from the carrier when it
+        is given by Euler angles or an attitude).
+    origin0, origin_velocity0 : array_like (3,), optional
+        The carrier origin's initial position and velocity, inertial (default zero).
+    method, dt, rtol, atol, t_eval, save_every, progress, backend
+        As for :func:`poinsot.simulate`; the methods that need the rigid-body structure
+        (``"splitting"``, ``"rkmk4"``) are refused.
+
+    Returns
+    -------
+    RelativeTrajectory
+
+    Examples
+    --------
+    A body on a turntable that turns at 1 rad/s about its z axis, the body held still
+    relative to it: its absolute angular velocity is the turntable's.
+
+    >>> from poinsot import RigidBody
+    >>> from poinsot.relative import Carrier, simulate_relative
+    >>> body = RigidBody.box(1.0, (1.0, 2.0, 3.0))
+    >>> sol = simulate_relative(body, (0, 1), omega_r0=(0, 0, 0),
+    ...                         carrier=Carrier(omega_e=(0, 0, 1)), hold_com=True)
+    >>> sol.omega_absolute[-1].round(9).tolist()
+    [0.0, 0.0, 1.0]
+    """
+    t0, t1 = _check_t_span(t_span)
+    if not isinstance(carrier, Carrier):
+        raise TypeError(
+            f"`carrier` must be a poinsot.relative.Carrier, found {type(carrier).__name__}"
+        )
+    solver = get_solver(method)
+    if solver.requires == "rigid":
+        raise ValueError(
+            f"method {solver.name!r} needs the rigid-body structure; relative motion runs with "
+            "'dop853' or an explicit Runge–Kutta method such as 'rk4'"
+        )
+    if isinstance(forces, str) or not hasattr(forces, "__iter__"):
+        raise TypeError(f"`forces` must be a sequence of Force objects, found {forces!r}")
+    system = RelativeMotionSystem(body, carrier, forces, balance_transport=bool(balance_transport),
+                                  hold_com=bool(hold_com))  # fmt: skip
+    carrier.check(t0, t1)
+    if euler_angles0 is not None:
+        if Q_r0 is not None:
+            raise ValueError("give `Q_r0` or `euler_angles0`, not both")
+        from ..rotation import matrix_from_euler
+
+        angles = as_vector3(euler_angles0, "euler_angles0")
+        Q = matrix_from_euler(angles, "ZXZ")
+    else:
+        angles = None
+        Q = np.eye(3) if Q_r0 is None else as_rotation_matrix(Q_r0, "Q_r0")
+    if euler_rates0 is not None:
+        if omega_r0 is not None:
+            raise ValueError("give `omega_r0` or `euler_rates0`, not both")
+        if angles is None:
+            raise ValueError("`euler_rates0` needs `euler_angles0`")
+        w = body_rates_from_euler(angles, as_vector3(euler_rates0, "euler_rates0"))  # eq. (13)
+    elif omega_r0 is None:
+        raise ValueError("`omega_r0` must be given (or `euler_angles0` and `euler_rates0`)")
+    else:
+        w = as_vector3(omega_r0, "omega_r0")
+    Qc = carrier.initial_attitude(t0, Q_carrier0)
+    r = np.array(body.center_of_mass, dtype=float) if r0 is None else as_vector3(r0, "r0")
+    v = np.zeros(3) if v_r0 is None else as_vector3(v_r0, "v_r0")
+    if hold_com and v_r0 is not None and np.any(v != 0):
+        raise ValueError("`v_r0` must be zero (or omitted) with `hold_com`")
+    X = np.zeros(3) if origin0 is None else as_vector3(origin0, "origin0")
+    VO = (
+        np.zeros(3)
+        if origin_velocity0 is None
+        else as_vector3(origin_velocity0, "origin_velocity0")
+    )
+    y0 = np.concatenate([r, v, Q.ravel(), w, Qc.ravel(), X, VO])
+    if t_eval is not None:
+        t_eval = as_sample_times(t_eval, t0, t1)
+    if not isinstance(save_every, int | np.integer) or save_every < 1:
+        raise ValueError(f"`save_every` must be a positive integer, found {save_every!r}")
+    if dt is not None:
+        dt = as_scalar(dt, "dt")
+    _check_start(system, t0, y0)
+    try:
+        result = integrate(system, solver, (t0, t1), y0, t_eval=t_eval, dt=dt, rtol=rtol,
+                           atol=atol, save_every=int(save_every), progress=progress,
+                           backend=backend)  # fmt: skip
+    except IntegrationError as exc:
+        raise SimulationError(str(exc), RelativeTrajectory(exc.partial, system)) from exc
+    return RelativeTrajectory(result, system)
+
+
+def _check_start(system, t0, y0):
+    """The right-hand side at the start must be finite (a force undefined there, a carrier that
+    returns NaN), named before any step."""
+    with np.errstate(all="ignore"):
+        f = system.rhs(t0, y0)
+    for name, sl in RELATIVE_SLICES.items():
+        if not np.all(np.isfinite(f[sl])):
+            raise ValueError(
+                f"the relative motion is undefined at the initial state: non-finite rate of "
+                f"{name} (a force or the carrier's motion is not finite at t = {t0:g})"
+            )
+
+
+class RelativeTrajectory:
+    """Samples of a motion relative to a carrier frame, and the absolute motion they map to.
+
+    Attributes
+    ----------
+    t : ndarray (n,)
+    omega_r : ndarray (n, 3)
+        Angular velocity relative to the carrier, body components.
+    Q_r : ndarray (n, 3, 3)
+        Attitude relative to the carrier (body → carrier).
+    Q_carrier : ndarray (n, 3, 3)
+        The carrier's attitude (carrier → inertial).
+    r, v_r : ndarray (n, 3)
+        The centre of mass relative to the carrier's origin and its relative velocity
+        (carrier components).
+    origin, origin_velocity : ndarray (n, 3)
+        The carrier origin's position and velocity (inertial).
+    """
+
+    def __init__(self, result, system: RelativeMotionSystem):
+        self.t = _readonly(np.asarray(result.t, dtype=float))
+        self._y = _readonly(np.asarray(result.y, dtype=float).reshape(len(self.t), 33))
+        self.system = system
+        self.body = system.body
+        self.carrier = system.carrier
+        self.method = result.method
+        self.nfev = result.nfev
+        self.nsteps = result.nsteps
+        self.wall_time = result.wall_time
+        self.message = result.message
+        self.success = result.success
+        self.backend = result.backend
+        s = RELATIVE_SLICES
+        n = len(self.t)
+        self.r = self._y[:, s["r"]]
+        self.v_r = self._y[:, s["v_r"]]
+        self.Q_r = self._y[:, s["Q_r"]].reshape(n, 3, 3)
+        self.omega_r = self._y[:, s["omega_r"]]
+        self.Q_carrier = self._y[:, s["Q_carrier"]].reshape(n, 3, 3)
+        self.origin = self._y[:, s["origin"]]
+        self.origin_velocity = self._y[:, s["origin_velocity"]]
+
+    def __len__(self):
+        return len(self.t)
+
+    @property
+    def y(self) -> np.ndarray:
+        """The relative states (n, 33), body frame (layout: :data:`RELATIVE_SLICES`)."""
+        return self._y
+
+    # ----------------------------------------------------------------- the carrier
+    @cached_property
+    def carrier_motion(self) -> np.ndarray:
+        """``(ω_e, ε_e, a_O)`` at the samples (n, 9), carrier components."""
+        return _readonly(self.carrier.motions(self.t))
+
+    @cached_property
+    def omega_e(self) -> np.ndarray:
+        """ω_e projected on the body axes, ``Q_rᵀ ω_e`` (n, 3) (eq. (15))."""
+        return _readonly(np.einsum("nji,nj->ni", self.Q_r, self.carrier_motion[:, 0:3]))
+
+    @cached_property
+    def epsilon_e(self) -> np.ndarray:
+        """ε_e projected on the body axes (n, 3)."""
+        return _readonly(np.einsum("nji,nj->ni", self.Q_r, self.carrier_motion[:, 3:6]))
+
+    # ----------------------------------------------------------------- the absolute motion
+    @cached_property
+    def absolute_states(self) -> np.ndarray:
+        """The absolute body-frame states ``[R, V, Q, ω]`` (n, 18)."""
+        return _readonly(absolute_states(np.ascontiguousarray(self._y),
+                                          np.ascontiguousarray(self.carrier_motion)))  # fmt: skip
+
+    @property
+    def Q_absolute(self) -> np.ndarray:
+        """``Q_carrier @ Q_r`` (n, 3, 3): body → inertial."""
+        return self.absolute_states[:, 6:15].reshape(-1, 3, 3)
+
+    @property
+    def omega_absolute(self) -> np.ndarray:
+        """The absolute angular velocity in body components, ``ω_r + Q_rᵀ ω_e`` (n, 3)."""
+        return self.absolute_states[:, 15:18]
+
+    @property
+    def R_absolute(self) -> np.ndarray:
+        """The centre of mass in the inertial frame, ``X_O + Q_c r`` (n, 3)."""
+        return self.absolute_states[:, 0:3]
+
+    @property
+    def V_absolute(self) -> np.ndarray:
+        """Its inertial velocity, ``V_O + Q_c (v_r + ω_e × r)`` (n, 3)."""
+        return self.absolute_states[:, 3:6]
+
+    def to_trajectory(self) -> Trajectory:
+        """The absolute motion as a :class:`~poinsot.trajectory.Trajectory` (energies, momenta,
+        particles, figures, export), under the same physical forces."""
+        return Trajectory(self.t, self.absolute_states, self.system.rigid, method=self.method,
+                          nfev=self.nfev, nsteps=self.nsteps, wall_time=self.wall_time,
+                          message=self.message, success=self.success, backend=self.backend)  # fmt: skip
+
+    # ----------------------------------------------------------------- the inertia moments
+    @cached_property
+    def relative_energy(self) -> np.ndarray:
+        """The relative rotational energy ``½ ω_r·Jω_r`` (n,) (eq. (17): constant under the
+        balancing moment (16))."""
+        J = np.ascontiguousarray(self.body.inertia)
+        return _readonly(krig.rotational_energy(J, np.ascontiguousarray(self.omega_r)))
+
+    @cached_property
+    def transport_moment(self) -> np.ndarray:
+        """``M_e = −J ε_e + Jω_e × ω_e`` along the motion (n, 3), body components."""
+        return _readonly(transport_moment(self.body.inertia, self.omega_e, self.epsilon_e))
+
+    @cached_property
+    def coriolis_moment(self) -> np.ndarray:
+        """``M_c = 2 ω_r × (J'ω_e)`` along the motion (n, 3), body components."""
+        return _readonly(coriolis_moment(self.body.inertia, self.omega_r, self.omega_e))
+
+    def hodograph_ratio(self) -> float:
+        """``max |ω_r| / min |ω_r|`` over the samples; under the balancing moment it never
+        exceeds :meth:`hodograph_bound` (18)."""
+        n = np.linalg.norm(self.omega_r, axis=1)
+        return float(n.max() / n.min()) if n.min() > 0 else float("inf")
+
+    def hodograph_bound(self) -> float:
+        """``√(C/A)``, C and A the largest and smallest principal moments: the ratio of the
+        extreme semi-axes of the energy ellipsoid (17) on which ω_r moves under the balancing
+        moment, hence a bound on :meth:`hodograph_ratio` (eq. (18); the paper states an
+        equality, but a given motion need not reach the extreme semi-axes)."""
+        m = np.asarray(self.body.principal_moments)
+        return float(np.sqrt(m[2] / m[0])) if m[0] > 0 else float("inf")
+
+    # ----------------------------------------------------------------- Euler angles
+    def euler_angles(self) -> np.ndarray:
+        """The relative attitude as z-x-z Euler angles (ψ, θ, φ) (n, 3), radians."""
+        return euler_from_matrix(self.Q_r, "ZXZ")
+
+    def euler_rates(self) -> np.ndarray:
+        """``(ψ̇, θ̇, φ̇)`` (n, 3) from ω_r by inverting eq. (13).
+
+        Raises
+        ------
+        ValueError
+            When a sample lies at the gimbal lock (θ = 0 or π), where the rates are undefined;
+            the message names the first such time (use ``Q_r`` or ``omega_r`` there).
+        """
+        angles = self.euler_angles()
+        s = np.abs(np.sin(angles[:, 1]))
+        if np.any(s < EULER_SINGULAR):
+            i = int(np.argmax(s < EULER_SINGULAR))
+            raise ValueError(
+                f"z-x-z Euler angle rates are singular at θ = 0 or π (gimbal lock): θ = "
+                f"{angles[i, 1]:.3g} rad at t = {self.t[i]:.6g}; use `Q_r` and `omega_r` there"
+            )
+        return euler_rates_from_body(angles, self.omega_r)
+
+    def __repr__(self):
+        return (f"RelativeTrajectory({len(self.t)} samples, t = [{self.t[0]:g}, {self.t[-1]:g}], "
+                f"{self.method}, {self.carrier!r})")  # fmt: skip
