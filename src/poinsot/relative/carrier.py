@@ -9,8 +9,8 @@ attitude (``Ω_e = Q_cᵀ Q̇_c``) are derived exactly with SymPy.
 How the engine evaluates it:
 
 * constants and splines (SciPy ``PPoly`` and its subclasses ``CubicSpline``,
-  ``Akima1DInterpolator``, ``PchipInterpolator``, or a ``BSpline``) become piecewise polynomials: data for the cached
-  compiled engine, ``ε_e`` the exact derivative of the spline;
+  ``Akima1DInterpolator``, ``PchipInterpolator``, or a ``BSpline``) become piecewise
+  polynomials: data for the cached compiled engine, ``ε_e`` the exact derivative of the spline;
 * SymPy expressions (or text parsed by SymPy) become one generated compiled function of t
   (``ε_e`` by exact differentiation); a process compiles the engine once per such carrier;
 * numba-compiled callables run in the compiled engine; plain Python callables run on the Python
@@ -161,6 +161,21 @@ def _spline_ppoly(spline, name):
     keep = np.diff(x) > 0
     breaks = np.concatenate([x[:-1][keep], x[-1:]])
     return np.ascontiguousarray(breaks), np.ascontiguousarray(coeffs[:, keep, :]), (x[0], x[-1])
+
+
+def zxz_matrix(psi, theta, phi):
+    """``Rz(ψ) Rx(θ) Rz(φ)`` as a SymPy matrix (z-x-z Euler angles, as
+    :func:`poinsot.kernels.so3.zxz_matrix_into`)."""
+    sp = _sympy()
+    c, s = sp.cos, sp.sin
+
+    def Rz(a):
+        return sp.Matrix([[c(a), -s(a), 0], [s(a), c(a), 0], [0, 0, 1]])
+
+    def Rx(a):
+        return sp.Matrix([[1, 0, 0], [0, c(a), -s(a)], [0, s(a), c(a)]])
+
+    return Rz(psi) * Rx(theta) * Rz(phi)
 
 
 def _compile_motion(exprs, t):
@@ -338,13 +353,7 @@ class Carrier:
                 dpsi * sp.sin(theta) * sp.cos(phi) - dtheta * sp.sin(phi),
                 dphi + dpsi * sp.cos(theta),
             ]
-            Rz = lambda a: sp.Matrix(
-                [[sp.cos(a), -sp.sin(a), 0], [sp.sin(a), sp.cos(a), 0], [0, 0, 1]]
-            )
-            Rx = lambda a: sp.Matrix(
-                [[1, 0, 0], [0, sp.cos(a), -sp.sin(a)], [0, sp.sin(a), sp.cos(a)]]
-            )
-            return omega, Rz(psi) * Rx(theta) * Rz(phi)
+            return omega, zxz_matrix(psi, theta, phi)
         if quaternion is not None:
             w, x, y, z = _sympy_vector(quaternion, "quaternion", t, 4)
             Q = sp.Matrix([

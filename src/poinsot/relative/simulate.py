@@ -289,9 +289,18 @@ class RelativeTrajectory:
     def to_trajectory(self) -> Trajectory:
         """The absolute motion as a :class:`~poinsot.trajectory.Trajectory` (energies, momenta,
         particles, figures, export), under the same physical forces."""
-        return Trajectory(self.t, self.absolute_states, self.system.rigid, method=self.method,
-                          nfev=self.nfev, nsteps=self.nsteps, wall_time=self.wall_time,
-                          message=self.message, success=self.success, backend=self.backend)  # fmt: skip
+        return Trajectory(
+            self.t,
+            self.absolute_states,
+            self.system.rigid,
+            method=self.method,
+            nfev=self.nfev,
+            nsteps=self.nsteps,
+            wall_time=self.wall_time,
+            message=self.message,
+            success=self.success,
+            backend=self.backend,
+        )
 
     # ----------------------------------------------------------------- the inertia moments
     @cached_property

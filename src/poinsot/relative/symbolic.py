@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from .carrier import zxz_matrix
+
 __all__ = ["RelativeEquations", "relative_equations"]
 
 
@@ -96,8 +98,10 @@ def relative_equations(moments=None, *, carrier=None, torque=None, balance_trans
     Examples
     --------
     >>> eqs = relative_equations()
-    >>> print(eqs.equations[2].lhs)
-    C*(-sin(theta(t))*Derivative(psi(t), t)*Derivative(theta(t), t) + Derivative(phi(t), (t, 2)) + cos(theta(t))*Derivative(psi(t), (t, 2)))
+    >>> eqs.coordinates
+    (psi(t), theta(t), phi(t))
+    >>> print(eqs.omega_r[2])
+    cos(theta(t))*Derivative(psi(t), t) + Derivative(phi(t), t)
     """
     import sympy as sp
 
@@ -119,9 +123,7 @@ def relative_equations(moments=None, *, carrier=None, torque=None, balance_trans
     else:
         w_c = _vector(carrier, "omega_e", t)
         e_c = _vector(carrier, "epsilon_e", t)
-    Rz = lambda a: sp.Matrix([[sp.cos(a), -sp.sin(a), 0], [sp.sin(a), sp.cos(a), 0], [0, 0, 1]])  # noqa: E731
-    Rx = lambda a: sp.Matrix([[1, 0, 0], [0, sp.cos(a), -sp.sin(a)], [0, sp.sin(a), sp.cos(a)]])  # noqa: E731
-    Qr = Rz(psi) * Rx(theta) * Rz(phi)  # body → carrier
+    Qr = zxz_matrix(psi, theta, phi)  # body → carrier
     pe, qe, re = list(Qr.T * sp.Matrix(w_c))  # eq. (15)
     ex, ey, ez = list(Qr.T * sp.Matrix(e_c))
     Ap, Bp, Cp = (B + C - A) / 2, (C + A - B) / 2, (A + B - C) / 2

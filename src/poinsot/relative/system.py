@@ -91,16 +91,16 @@ class RelativeMotionSystem:
         Q_r and ω_r change)."""
         y = np.array(y, dtype=float)
         Y = np.atleast_2d(y).copy()
-        Y[:, : layout.STATE_SIZE] = states_to_principal(self.principal_axes,
-                                                        Y[:, : layout.STATE_SIZE].copy())  # fmt: skip
+        n = layout.STATE_SIZE
+        Y[:, :n] = states_to_principal(self.principal_axes, Y[:, :n].copy())
         return Y.reshape(y.shape)
 
     def from_internal(self, z) -> np.ndarray:
         """Relative states (or their derivatives) from the principal frame to the body frame."""
         z = np.array(z, dtype=float)
         Z = np.atleast_2d(z).copy()
-        Z[:, : layout.STATE_SIZE] = states_from_principal(self.principal_axes,
-                                                          Z[:, : layout.STATE_SIZE].copy())  # fmt: skip
+        n = layout.STATE_SIZE
+        Z[:, :n] = states_from_principal(self.principal_axes, Z[:, :n].copy())
         return Z.reshape(z.shape)
 
     # ----------------------------------------------------------------- engines
