@@ -52,6 +52,23 @@ def _out(n=18):
     return np.zeros(n)
 
 
+INERTIA = np.array([[2.0, 0.1, -0.2], [0.1, 3.0, 0.3], [-0.2, 0.3, 4.0]])
+Y33 = np.concatenate([Y, Q.T.ravel(), [1.0, 2.0, 3.0, -0.1, 0.2, 0.3]])
+
+
+def _ppoly():
+    """A cubic piecewise polynomial of ω_e on [0, 1, 2] and a constant a_O."""
+    wc = RNG.normal(size=(4, 2, 3))
+    return np.array([0.0, 1.0, 2.0]), wc, np.array([0.0, 1.0]), RNG.normal(size=(1, 1, 3))
+
+
+def _relative_system():
+    from poinsot.kernels.systems import RelativeSystem
+
+    return RelativeSystem(FREE_BODY, np.diag(MOMENTS), KINDS, PARAMS, np.array([0.0, 0.0]),
+                          *_ppoly())  # fmt: skip
+
+
 def _force_args():
     return (PARAMS, 2, BODY, 0.5, Y)
 
@@ -242,6 +259,23 @@ ARGS = {
     "rigid_rates_of": lambda: (BODY, KINDS, PARAMS, 0.5, Y),
     "rigid_potential": lambda: (SYSTEM, 0.5, Y),
     "torque_free_vector_field": lambda: (FREE, 0.5, Y, _out()),
+    "relative_vector_field": lambda: (_relative_system(), 0.5, Y33, _out(33)),
+    # relative motion
+    "transport_moment_of": lambda: (np.diag(MOMENTS), 0.3, -0.2, 0.5, 0.1, 0.4, -0.6),
+    "coriolis_moment_of": lambda: (INERTIA, 0.3, -0.2, 0.5, 0.1, 0.4, -0.6),
+    "coriolis_three_term_of": lambda: (INERTIA, 0.3, -0.2, 0.5, 0.1, 0.4, -0.6),
+    "transport_moment": lambda: (INERTIA, W3, W3[::-1].copy()),
+    "coriolis_moment": lambda: (INERTIA, W3, W3[::-1].copy()),
+    "coriolis_moment_three_term": lambda: (INERTIA, W3, W3[::-1].copy()),
+    "coriolis_moment_particles": lambda: (RNG.uniform(1, 2, 5), RNG.normal(size=(5, 3)), W3,
+                                          W3[::-1].copy()),  # fmt: skip
+    "planar_inertia_particles": lambda: (RNG.uniform(1, 2, 5), RNG.normal(size=(5, 3))),
+    "carrier_motion_ppoly": lambda: (*_ppoly(), 0.7),
+    "carrier_motions_ppoly": lambda: (*_ppoly(), np.array([-0.5, 0.2, 0.7, 3.0])),
+    "absolute_state_of": lambda: (Y33, tuple(RNG.normal(size=9))),
+    "absolute_states": lambda: (np.stack([Y33, Y33]), RNG.normal(size=(2, 9))),
+    "relative_rates": lambda: (FREE_BODY, np.diag(MOMENTS), np.array([0.0, 0.0]), Y33,
+                               tuple(RNG.normal(size=9)), 0.1, 0.2, -0.3, 0.4, -0.5, 0.6),  # fmt: skip
     # steppers
     "evaluate": lambda: (SYSTEM, 0.5, Y, _out()),
     "erk_step": lambda: (SYSTEM, *_rk4_tableau(), 0.0, Y, 0.01, np.zeros((4, 18)), _out(), _out()),
@@ -469,6 +503,18 @@ EXEMPT = {
     "tuple_axpy": "elementwise tuple arithmetic, generated for each length (tests/kernels)",
     "tuple_rk4_combine": "elementwise tuple arithmetic, generated for each length",
     "vector_field": "generic: compiled through the registered implementations tested here",
+    "relative_motion": "generic: compiled through the registered implementations tested here",
+    "RelativeSystem": "a system type (a named tuple)",
+    "RelativeUserSystem": "a system type (a named tuple)",
+    "REGISTER_SYSTEMS": "the system types that step in registers",
+    "RELATIVE_STATE_SIZE": "a layout size",
+    "CARRIER_Q_AT": "a state offset",
+    "ORIGIN_AT": "a state offset",
+    "ORIGIN_V_AT": "a state offset",
+    "MOTION_SIZE": "a layout size",
+    "BALANCE_TRANSPORT": "an offset in the options vector",
+    "HOLD_COM": "an offset in the options vector",
+    "OPTIONS_SIZE": "a layout size",
     "wrench": "generic: compiled through the registered implementations tested here",
     "project": "generic: compiled through the registered implementations tested here",
     "body_parameters": "generic: compiled through the registered implementations tested here",
