@@ -125,7 +125,7 @@ def test_textbook_values_of_the_moments():
     np.testing.assert_allclose(planar_inertia(J), np.diag([2.0, 0.0, 0.0]))
     # spinning about z relative to a carrier turning about x: M_c = 2 e3 × (2 e1) = 4 e2
     np.testing.assert_allclose(coriolis_moment(J, [0, 0, 1], [1, 0, 0]), [0, 4, 0])
-    semi, axes = planar_inertia_ellipsoid(np.diag([1.0, 2.0, 3.0]))  # J' = diag(2, 1, 0)
+    semi, _axes = planar_inertia_ellipsoid(np.diag([1.0, 2.0, 3.0]))  # J' = diag(2, 1, 0)
     np.testing.assert_allclose(np.sort(semi)[:2], [1 / np.sqrt(2), 1.0])
     assert np.isinf(semi).sum() == 1
 
@@ -322,7 +322,7 @@ def test_turntable_example_in_the_docstring_frame_conventions():
         (dict(), ValueError, "exactly one way"),
         (dict(omega_e=(0, 1)), ValueError, r"`omega_e` must have shape \(3,\)"),
         (dict(omega_e=(0, np.nan, 1)), ValueError, r"`omega_e\[1\]` must be finite"),
-        (dict(omega_e=["t", "2*x", 0]), ValueError, "time t only"),
+        (dict(omega_e=["t", "2*x", 0]), ValueError, "found x"),
         (dict(omega_e=["t", "sin(", 0]), ValueError, r"`omega_e\[1\]` is not an expression"),
         (dict(euler_angles=(0.1, 0.2, 0.3)), TypeError, "SymPy expressions"),
         (dict(omega_e=(0, 0, 1), origin_acceleration=(1, 2)), ValueError, "origin_acceleration"),

@@ -98,6 +98,13 @@ def _cmd_run(args):
                 rel = f"median relative error {r['median']:.2e}, max {r['max']:.2e}"
                 _say(args, f"  flip interval against the exact 2K(m)/λ: {rel}")
         _say(args, f"  wrote {out}/ (summary.json, ensemble.nc, histograms, report.html)")
+    elif "carrier" in summary:  # motion relative to a carrier
+        _say(args, f"  carrier: {summary['carrier']['description']}")
+        for name, (value, unit, _) in summary["table"].items():
+            shown = f"{value:.6g}" if isinstance(value, float) else str(value)
+            _say(args, f"  {name}: {shown} {unit}".rstrip())
+        _say(args, f"  wrote {out}/ (summary.json, relative.csv, relative.png, hodograph.png, "
+                   "report.html)")  # fmt: skip
     elif "system" in summary:  # a constrained (Lagrangian) model
         i = summary["integration"]
         _say(

@@ -346,8 +346,6 @@ def write_ensemble_report(path, summary: dict, images: dict) -> None:
     """A self-contained HTML page of an ensemble run: what was run, the distributions of the
     per-member statistics as a table, and the figures (``images``: caption → PNG bytes,
     embedded), with the raw summary JSON. Needs nothing beyond the standard library."""
-    import base64
-
     stats = summary.get("ensemble", {}).get("statistics", {})
     rows = []
     for name, entry in stats.items():
@@ -362,19 +360,30 @@ def write_ensemble_report(path, summary: dict, images: dict) -> None:
         "<table class='numbers'><tr><th>statistic</th><th>members</th><th>min</th><th>5 %</th>"
         "<th>median</th><th>95 %</th><th>max</th><th>meaning</th></tr>" + "".join(rows) + "</table>"
     )
+    e = summary.get("ensemble", {})
+    lead = (
+        f"{e.get('members')} members ({summary.get('distribution', {}).get('description', '')}), "
+        f"{e.get('method')}; {e.get('succeeded')} finished in {e.get('wall_time_s', 0):.3g} s."
+    )
+    _image_page(path, summary, lead, "<h2>Per-member statistics</h2>" + table, images,
+                ("summary.json", "ensemble.nc"))  # fmt: skip
+
+
+def _image_page(path, summary: dict, lead: str, body_html: str, images: dict, links) -> None:
+    """A self-contained HTML page: title, description, ``lead``, ``body_html`` (trusted markup
+    built here), the figures (``images``: caption → PNG bytes, embedded), links to the raw files
+    and the summary JSON. Needs nothing beyond the standard library."""
+    import base64
+
     figures = "".join(
         f"<figure><img alt='{html.escape(caption)}' src='data:image/png;base64,"
         f"{base64.b64encode(png).decode()}'><figcaption>{html.escape(caption)}</figcaption>"
         "</figure>"
         for caption, png in images.items()
     )
-    e = summary.get("ensemble", {})
     scenario = summary.get("scenario", {})
-    title = html.escape(f"poinsot — {scenario.get('name', 'ensemble')}")
-    lead = html.escape(
-        f"{e.get('members')} members ({summary.get('distribution', {}).get('description', '')}), "
-        f"{e.get('method')}; {e.get('succeeded')} finished in {e.get('wall_time_s', 0):.3g} s."
-    )
+    title = html.escape(f"poinsot — {scenario.get('name', 'run')}")
+    link_html = " · ".join(f'<a href="{html.escape(x)}">{html.escape(x)}</a>' for x in links)
     page = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>{title}</title>
 <style>
@@ -390,12 +399,30 @@ figcaption {{ color: #555; font-size: 0.9em; }}
 </style></head><body>
 <h1>{title}</h1>
 <p>{html.escape(scenario.get("description", ""))}</p>
-<p>{lead}</p>
-<h2>Per-member statistics</h2>
-{table}
+<p>{html.escape(lead)}</p>
+{body_html}
 {figures}
-<p><a href="summary.json">summary.json</a> · <a href="ensemble.nc">ensemble.nc</a></p>
+<p>{link_html}</p>
 <script type="application/json" id="poinsot-summary">{html.escape(json.dumps(summary))}</script>
 </body></html>
 """
     atomic_write_text(path, page)
+
+
+def write_relative_report(path, summary: dict, images: dict) -> None:
+    """A self-contained HTML page of a motion relative to a carrier: the carrier, the numbers
+    (with units and meanings) and the figures (``images``: caption → PNG bytes)."""
+    rows = []
+    for name, (value, unit, meaning) in summary.get("table", {}).items():
+        shown = f"{value:.6g}" if isinstance(value, float) else html.escape(str(value))
+        rows.append(
+            f"<tr><th>{html.escape(name)}</th><td>{shown}</td><td>{html.escape(unit)}</td>"
+            f"<td class='meaning'>{html.escape(meaning)}</td></tr>"
+        )
+    table = (
+        "<h2>Numbers</h2><table class='numbers'><tr><th>quantity</th><th>value</th>"
+        "<th>unit</th><th>meaning</th></tr>" + "".join(rows) + "</table>"
+    )
+    c = summary.get("carrier", {})
+    lead = f"Carrier: {c.get('description', '')}. " + summary.get("lead", "")
+    _image_page(path, summary, lead, table, images, ("summary.json", "relative.csv"))

@@ -138,6 +138,17 @@ def _convert(value, kind, where, choices=None):
             what = f"an array of {n} numbers" if n else "an array of numbers"
             raise ScenarioError(f"{where}: expected {what}, found {_show(value)}")
         return np.array([_number(v, f"{where}[{i}]") for i, v in enumerate(value)])
+    if kind == "expressions3":  # numbers, or expressions in t as strings
+        if not isinstance(value, list) or len(value) != 3:
+            raise ScenarioError(f"{where}: expected an array of 3 numbers or expressions in t, "
+                                f"found {_show(value)}")  # fmt: skip
+        out = []
+        for i, v in enumerate(value):
+            if isinstance(v, str):
+                out.append(v)
+            else:
+                out.append(_number(v, f"{where}[{i}]"))
+        return out
     if kind == "matrix3":
         if not isinstance(value, list) or len(value) != 3:
             raise ScenarioError(f"{where}: expected a 3×3 array, found {_show(value)}")
@@ -354,6 +365,7 @@ class Scenario:
     analysis: dict = field(default_factory=dict)
     source: str = "<built-in>"
     ensemble: dict | None = None
+    carrier: dict | None = None
 
     @property
     def t_eval(self):
@@ -395,7 +407,10 @@ class Scenario:
         )
 
     def simulate(self, progress=None):
-        """Run the simulation: a :class:`~poinsot.trajectory.Trajectory`."""
+        """Run the simulation: a :class:`~poinsot.trajectory.Trajectory`, or with
+        ``[carrier]`` a :class:`~poinsot.relative.RelativeTrajectory`."""
+        if self.carrier is not None:
+            return self.simulate_relative(progress)
         from .simulation import simulate
 
         return simulate(
@@ -411,6 +426,83 @@ class Scenario:
             progress=progress,
             **self.initial,
         )
+
+    def simulate_relative(self, progress=None):
+        """Run the motion relative to ``[carrier]``: the initial state is relative to the
+        carrier (``omega`` = ω_r, body frame; ``orientation`` = Q_r; ``position``, ``velocity``
+        relative to the carrier's origin)."""
+        from .relative import simulate_relative
+
+        c = self.carrier
+        i = self.initial
+        return simulate_relative(
+            self.body,
+            self.t_span,
+            omega_r0=i["omega0"],
+            Q_r0=i.get("Q0"),
+            r0=i.get("R0"),
+            v_r0=i.get("V0"),
+            carrier=c["carrier"],
+            forces=self.forces,
+            balance_transport=c["balance_transport"],
+            hold_com=c["hold_com"],
+            method=self.method,
+            dt=self.dt,
+            rtol=self.rtol,
+            atol=self.atol,
+            t_eval=self.t_eval,
+            progress=progress,
+        )
+
+
+#: The ways ``[carrier]`` may give the carrier's rotation (``docs/scenarios.md``).
+CARRIER_ROTATIONS = ("omega_e", "euler_angles")
+
+
+def _expressions(t: _Table, key):
+    """Three numbers or expressions in t (strings) of ``[carrier]``."""
+    value = t.get(key, "expressions3", None)
+    return value
+
+
+def _carrier(ct: _Table, initial: dict, pivot) -> dict:
+    """``[carrier]``: the carrier's rotation (``omega_e`` or ``euler_angles``, numbers or
+    expressions in t), ``origin_acceleration``, ``balance_transport``, ``hold_com``."""
+    from .relative import Carrier
+
+    given = [k for k in CARRIER_ROTATIONS if ct.has(k)]
+    if len(given) != 1:
+        raise ScenarioError(
+            f"{ct.where(CARRIER_ROTATIONS[0])}: give the carrier's rotation as exactly one of "
+            f"{', '.join(CARRIER_ROTATIONS)}, found {', '.join(given) or 'none'}"
+        )
+    key = given[0]
+    rotation = _expressions(ct, key)
+    accel = _expressions(ct, "origin_acceleration")
+    options = {
+        "balance_transport": ct.get("balance_transport", "bool", False),
+        "hold_com": ct.get("hold_com", "bool", False),
+    }
+    ct.finish()
+    if pivot is not None:
+        raise ScenarioError(
+            f"{ct.where(key)}: a body with a pivot cannot move relative to a carrier"
+        )
+    if initial.get("omega_frame", "body") != "body" or "particle_velocities" in initial:
+        raise ScenarioError(
+            "initial: with [carrier], give omega (relative to the carrier, body frame)"
+        )
+    if options["hold_com"] and "V0" in initial and np.any(initial["V0"] != 0):
+        raise ScenarioError("initial.velocity: must be zero with carrier.hold_com")
+    import sympy as sp
+
+    t = sp.Symbol("t", real=True)
+    try:
+        carrier = Carrier(**{key: rotation}, origin_acceleration=accel, t=t, name="carrier")
+    except (ValueError, TypeError) as exc:
+        raise ScenarioError(f"{ct.where(key)}: {exc}") from None
+    return {"carrier": carrier, "given": key, "rotation": rotation, "origin_acceleration": accel,
+            **options}  # fmt: skip
 
 
 def _initial(t: _Table, body, pivot, omega_optional=False):
@@ -619,6 +711,14 @@ def _parse(data: dict, source: str, base_dir: Path):
     t_span, samples = _time(root)
     outputs = _outputs(root)
     ensemble = _ensemble(root.table("ensemble"), initial) if has_ensemble else None
+    carrier = _carrier(root.table("carrier"), initial, pivot) if root.has("carrier") else None
+    if carrier is not None and has_ensemble:
+        raise ScenarioError("carrier: an ensemble of relative motions is not supported yet")
+    if carrier is not None and method in ("rkmk4", "splitting"):
+        raise ScenarioError(
+            f"integrator.method: {method!r} needs the rigid-body structure; relative motion "
+            "([carrier]) runs with 'dop853' or 'rk4'"
+        )
     at = root.table("analysis", None)
     analysis = {
         "polhodes": at.get("polhodes", "bool", True),
@@ -645,6 +745,7 @@ def _parse(data: dict, source: str, base_dir: Path):
         analysis,
         source,
         ensemble,
+        carrier,
     )
     _check_physics(scenario)
     return scenario

@@ -81,6 +81,42 @@ def _classify(value, name):
     )
 
 
+#: Names text expressions may use (text is checked before SymPy reads it: SymPy's parser
+#: evaluates Python, so arbitrary text from a scenario file must never reach it).
+TEXT_NAMES = frozenset(
+    "t pi E sin cos tan asin acos atan atan2 sinh cosh tanh exp log sqrt Abs sign Min Max".split()
+)
+_TEXT_MAX = 2000
+
+
+def _parse_text(text, where, t):
+    """A SymPy expression from text that uses only numbers, ``t``, arithmetic and
+    :data:`TEXT_NAMES`."""
+    import re
+
+    sp = _sympy()
+    if len(text) > _TEXT_MAX:
+        raise ValueError(f"`{where}` is longer than {_TEXT_MAX} characters")
+    bad = re.sub(r"[0-9A-Za-z_.+\-*/^(), \t]", "", text)
+    if bad:
+        raise ValueError(f"`{where}` contains characters an expression may not use: {bad[:10]!r}")
+    names = set(re.findall(r"[A-Za-z_][A-Za-z_0-9]*", text))
+    names -= {n for n in names if re.fullmatch(r"e[0-9]*", n)}  # exponents such as 1e-3
+    unknown = names - TEXT_NAMES
+    if unknown:
+        allowed = ", ".join(sorted(TEXT_NAMES - {"t"}))
+        raise ValueError(
+            f"`{where}` may use t, numbers, + - * / ^ ( ) and {allowed}; "
+            f"found {', '.join(sorted(unknown))}"
+        )
+    if text.count("(") != text.count(")") or len(text) - len(text.lstrip("(")) > 50:
+        raise ValueError(f"`{where}` is not an expression SymPy can read: {text!r}")
+    try:
+        return sp.sympify(text.replace("^", "**"), locals={"t": t})
+    except (sp.SympifyError, SyntaxError, TypeError, ValueError, RecursionError) as exc:
+        raise ValueError(f"`{where}` is not an expression SymPy can read: {text!r}") from exc
+
+
 def _sympy_vector(value, name, t, size=3):
     """A list of ``size`` SymPy expressions in the time symbol ``t`` (text is parsed)."""
     sp = _sympy()
@@ -95,10 +131,13 @@ def _sympy_vector(value, name, t, size=3):
     out = []
     for i, item in enumerate(items):
         where = f"{name}[{i}]" if size > 1 else name
-        try:
-            expr = sp.sympify(item, locals={"t": t}) if isinstance(item, str) else sp.sympify(item)
-        except (sp.SympifyError, SyntaxError, TypeError) as exc:
-            raise ValueError(f"`{where}` is not an expression SymPy can read: {item!r}") from exc
+        if isinstance(item, str):
+            expr = _parse_text(item, where, t)
+        else:
+            try:
+                expr = sp.sympify(item)
+            except (sp.SympifyError, SyntaxError, TypeError) as exc:
+                raise ValueError(f"`{where}` is not a SymPy expression: {item!r}") from exc
         if not isinstance(expr, sp.Expr):
             raise ValueError(f"`{where}` must be a scalar expression, found {expr!r}")
         extra = expr.free_symbols - {t}
