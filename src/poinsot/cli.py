@@ -103,8 +103,7 @@ def _cmd_run(args):
         for name, (value, unit, _) in summary["table"].items():
             shown = f"{value:.6g}" if isinstance(value, float) else str(value)
             _say(args, f"  {name}: {shown} {unit}".rstrip())
-        _say(args, f"  wrote {out}/ (summary.json, relative.csv, relative.png, hodograph.png, "
-                   "report.html)")  # fmt: skip
+        _say(args, f"  wrote {out}/ (summary.json, relative.csv, figures, report.html)")
     elif "system" in summary:  # a constrained (Lagrangian) model
         i = summary["integration"]
         _say(

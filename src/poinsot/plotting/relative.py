@@ -24,9 +24,10 @@ def _plt():
 
 
 def plot_relative_motion(sol, *, title=None):
-    """Four panels over time: ω_r (body components), the carrier's ω_e (carrier components),
-    the relative rotational energy ½ ω_r·Jω_r, and the magnitudes of the transport and
-    Coriolis inertia moments. Returns the figure.
+    """Panels over time: ω_r (body components), the carrier's ω_e (carrier components), the
+    relative rotational energy ½ ω_r·Jω_r, the magnitudes of the transport and Coriolis inertia
+    moments, and the direction of the body's axis of largest moment C in the carrier's axes
+    (where a spin axis points relative to the vehicle). Returns the figure.
 
     Examples
     --------
@@ -39,8 +40,18 @@ def plot_relative_motion(sol, *, title=None):
     ['ω_r (rad/s), body axes', 'ω_e (rad/s), carrier axes']
     """
     plt = _plt()
-    fig, axes = plt.subplots(2, 2, figsize=(11, 7), sharex=True, constrained_layout=True)
+    fig = plt.figure(figsize=(11, 9.5), constrained_layout=True)
+    grid = fig.add_gridspec(3, 2)
+    axes = np.array([[fig.add_subplot(grid[i, j]) for j in range(2)] for i in range(2)])
+    bottom = fig.add_subplot(grid[2, :], sharex=axes[0, 0])
     t = sol.t
+    axis_c = np.einsum("nij,j->ni", sol.Q_r, np.asarray(sol.body.principal_axes)[:, 2])
+    for k, name in enumerate("xyz"):
+        bottom.plot(t, axis_c[:, k], label=f"carrier {name}")
+    bottom.set_ylabel("axis of C, carrier axes (1)")
+    bottom.set_xlabel("t (s)")
+    bottom.set_title("the body's axis of largest moment C seen from the carrier (unit vector)",
+                     fontsize=9)  # fmt: skip
     for k, name in enumerate("xyz"):
         axes[0, 0].plot(t, sol.omega_r[:, k], label=f"ω_r,{name}")
         axes[0, 1].plot(t, sol.carrier_motion[:, k], label=f"ω_e,{name}")
@@ -61,7 +72,7 @@ def plot_relative_motion(sol, *, title=None):
                     label="|M_e| transport" + (" (balanced)" if balanced else ""))  # fmt: skip
     axes[1, 1].plot(t, np.linalg.norm(sol.coriolis_moment, axis=1), label="|M_c| Coriolis")
     axes[1, 1].set_ylabel("inertia moment (N·m)")
-    for ax in axes.ravel():
+    for ax in [*axes.ravel(), bottom]:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8, loc="best")
         ax.ticklabel_format(axis="y", style="plain", useOffset=False)

@@ -374,6 +374,16 @@ class Carrier:
             self.kind = "ppoly"
         if sym or self.given != "omega_e":
             self.t_symbol = _time_symbol(sym, t)
+        self._polynomial = None
+        if (
+            self.kind == "function"
+            and self.given == "omega_e"
+            and kind_w == "sympy"
+            and (kind_a in (None, "constant", "sympy"))
+        ):
+            self._polynomial = self._as_polynomials(omega_e, origin_acceleration, kind_a)
+            if self._polynomial is not None:  # data for the cached engine, still exact
+                self.kind = "ppoly"
         self._build(omega_e, epsilon_e, euler_angles, rotation, quaternion, origin_acceleration,
                     kind_w, kind_a)  # fmt: skip
 
@@ -407,10 +417,43 @@ class Carrier:
         W = Q.T * Q.diff(t)  # Ω_e = Q_cᵀ Q̇_c, skew for a rotation
         return [W[2, 1], W[0, 2], W[1, 0]], Q
 
+    def _as_polynomials(self, omega_e, accel, kind_a):
+        """ω_e and a_O as one polynomial piece each (exact, for the cached engine) when every
+        expression is a polynomial in t; else None."""
+        sp = _sympy()
+        t = self.t_symbol
+        w = _sympy_vector(omega_e, "omega_e", t)
+        if accel is None:
+            a = [sp.Integer(0)] * 3
+        elif kind_a == "constant":
+            a = [sp.Float(v) for v in as_vector3(accel, "origin_acceleration")]
+        else:
+            a = _sympy_vector(accel, "origin_acceleration", t)
+        blocks = []
+        for exprs in (w, a):
+            try:
+                polys = [sp.Poly(e, t) for e in exprs]
+            except sp.PolynomialError:
+                return None
+            if any(not all(c.is_number for c in p.all_coeffs()) for p in polys):
+                return None
+            k = max(p.degree() for p in polys)
+            c = np.zeros((max(k, 0) + 1, 1, 3))
+            for j, p in enumerate(polys):
+                coeffs = [float(x) for x in p.all_coeffs()]
+                c[c.shape[0] - len(coeffs) :, 0, j] = coeffs
+            blocks.append((np.array([0.0, 1.0]), c))
+        self.expressions = {"omega_e": w, "epsilon_e": [sp.diff(e, t) for e in w],
+                            "origin_acceleration": a}  # fmt: skip
+        return blocks[0][0], blocks[0][1], blocks[1][0], blocks[1][1]
+
     def _build(self, omega_e, epsilon_e, euler_angles, rotation, quaternion, accel, kind_w,
                kind_a):  # fmt: skip
         sp = _sympy() if self.t_symbol is not None else None
         self._python = None
+        if self.kind == "ppoly" and self._polynomial is not None:
+            self.ppoly = self._polynomial
+            return
         if self.kind == "ppoly":
             if kind_w == "spline":
                 wb, wc, self.domain = _spline_ppoly(omega_e, "omega_e")

@@ -59,10 +59,10 @@ class RelativeEquations:
 def _vector(carrier, key, t):
     import sympy as sp
 
-    if carrier.kind == "ppoly" and carrier.ppoly[1].shape[:2] == (1, 1):  # a constant
-        index = {"omega_e": slice(0, 3), "epsilon_e": slice(3, 6)}[key]
-        return [sp.Float(v) for v in carrier.motion(0.0)[index]]
     expressions = getattr(carrier, "expressions", None)
+    if expressions is None and carrier.kind == "ppoly" and carrier.ppoly[1].shape[:2] == (1, 1):
+        index = {"omega_e": slice(0, 3), "epsilon_e": slice(3, 6)}[key]  # a constant
+        return [sp.Float(v) for v in carrier.motion(0.0)[index]]
     if expressions is None:
         raise ValueError(
             "`carrier` must be given by constants, SymPy expressions, Euler angles or an attitude "
