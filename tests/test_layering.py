@@ -50,6 +50,7 @@ LIBRARY = {
     "simulation",
     "torquefree",
     "ensemble",
+    "relative",
     "elliptic",
     "lagrange",
     "models",
