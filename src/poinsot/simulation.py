@@ -137,12 +137,7 @@ def simulate(
     elif omega0 is None:
         raise ValueError("`omega0` must be given (or `particle_velocities`)")
     y0 = system.initial_state(omega0=omega0, Q0=Q0, R0=R0, V0=V0, omega_frame=omega_frame)
-    if t_eval is not None:
-        t_eval = as_sample_times(t_eval, t0, t1)
-    if not isinstance(save_every, int | np.integer) or save_every < 1:
-        raise ValueError(f"`save_every` must be a positive integer, found {save_every!r}")
-    if dt is not None:
-        dt = as_scalar(dt, "dt")
+    t_eval, save_every, dt = _check_sampling(t_eval, t0, t1, save_every, dt)
     _check_forces_at_start(system, t0, y0)
     try:
         result = integrate(
@@ -161,6 +156,18 @@ def simulate(
     except IntegrationError as exc:
         raise SimulationError(str(exc), _trajectory(exc.partial, system)) from exc
     return _trajectory(result, system)
+
+
+def _check_sampling(t_eval, t0, t1, save_every, dt):
+    """``t_eval`` (checked sample times or None), ``save_every`` (int) and ``dt`` (or None),
+    validated for any simulation entry point."""
+    if t_eval is not None:
+        t_eval = as_sample_times(t_eval, t0, t1)
+    if not isinstance(save_every, int | np.integer) or save_every < 1:
+        raise ValueError(f"`save_every` must be a positive integer, found {save_every!r}")
+    if dt is not None:
+        dt = as_scalar(dt, "dt")
+    return t_eval, int(save_every), dt
 
 
 def _check_forces_at_start(system, t0, y0):

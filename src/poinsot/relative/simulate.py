@@ -7,13 +7,13 @@ from functools import cached_property
 
 import numpy as np
 
-from .._validation import as_rotation_matrix, as_sample_times, as_scalar, as_vector3
+from .._validation import as_rotation_matrix, as_vector3
 from ..integrate.base import get_solver
 from ..integrate.driver import IntegrationError, integrate
 from ..kernels import rigid as krig
 from ..kernels.relative import absolute_states
 from ..rotation import body_rates_from_euler, euler_from_matrix, euler_rates_from_body
-from ..simulation import SimulationError, _check_t_span
+from ..simulation import SimulationError, _check_sampling, _check_t_span
 from ..trajectory import Trajectory
 from .carrier import Carrier
 from .moments import coriolis_moment, transport_moment
@@ -164,12 +164,7 @@ def simulate_relative(
         else as_vector3(origin_velocity0, "origin_velocity0")
     )
     y0 = np.concatenate([r, v, Q.ravel(), w, Qc.ravel(), X, VO])
-    if t_eval is not None:
-        t_eval = as_sample_times(t_eval, t0, t1)
-    if not isinstance(save_every, int | np.integer) or save_every < 1:
-        raise ValueError(f"`save_every` must be a positive integer, found {save_every!r}")
-    if dt is not None:
-        dt = as_scalar(dt, "dt")
+    t_eval, save_every, dt = _check_sampling(t_eval, t0, t1, save_every, dt)
     _check_start(system, t0, y0)
     try:
         result = integrate(system, solver, (t0, t1), y0, t_eval=t_eval, dt=dt, rtol=rtol,
