@@ -139,7 +139,8 @@ def balancing_moment(J, omega_e, epsilon_e) -> np.ndarray:
     >>> balancing_moment(np.eye(3), [0, 0, 1], [0, 0, 2]).tolist()
     [0.0, 0.0, 2.0]
     """
-    return -transport_moment(J, omega_e, epsilon_e)
+    # 0.0 − M_e rather than −M_e, so that a zero component prints as 0.0, not −0.0
+    return 0.0 - transport_moment(J, omega_e, epsilon_e)
 
 
 def coriolis_moment(J, omega_r, omega_e) -> np.ndarray:
