@@ -1,16 +1,84 @@
-"""Atomic file writes: a temporary file in the target folder, then ``os.replace``.
+"""Writing files and folders so that nothing is lost and nothing is left half-written.
 
-An interrupted write (Ctrl-C, a crash) leaves either the old file or the new one, never half.
+* :func:`atomic_path` / :func:`atomic_write_text`: one file, through a temporary file in the
+  target folder and ``os.replace``. An interrupted write leaves the old file or the new one.
+* :class:`OutputFolder`: a whole output folder. The files are written into a hidden
+  ``.NAME.partial-*`` folder beside the target and moved into place only when complete. A
+  manifest (``.poinsot-manifest.json``) lists what poinsot wrote; ``force`` replaces only a
+  folder that carries one, and in a folder that also holds the user's files it replaces only
+  poinsot's. Everything is checked before the work starts: a path that is not a folder, a
+  folder that is not writable, a disk without room, a folder that poinsot did not write.
+* Outputs follow the user's umask (``tempfile`` alone would leave 0600 files in 0700 folders).
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
+import json
 import os
+import re
+import shutil
+import socket
 import tempfile
+import time
+import warnings
 from pathlib import Path
 
-__all__ = ["atomic_path", "atomic_write_text"]
+__all__ = [
+    "MANIFEST",
+    "OutputError",
+    "OutputExistsError",
+    "OutputFolder",
+    "PoinsotWarning",
+    "atomic_path",
+    "atomic_write_text",
+    "safe_name",
+]
+
+#: The file that marks a folder as poinsot's output and lists what poinsot wrote in it.
+MANIFEST = ".poinsot-manifest.json"
+#: The file inside a ``.partial-*`` folder naming the process that writes it.
+PARTIAL_MARKER = ".poinsot-partial"
+#: Longest name a scenario contributes to a path.
+MAX_NAME = 100
+
+
+class PoinsotWarning(UserWarning):
+    """Something the user should know that did not stop the run (``--quiet`` hides it)."""
+
+
+class OutputError(ValueError):
+    """An output path poinsot will not or cannot write to; the message says why."""
+
+
+class OutputExistsError(OutputError, FileExistsError):
+    """The output folder exists and ``force`` was not given."""
+
+
+def _umask() -> int:
+    mask = os.umask(0o022)  # read it: os.umask has no getter
+    os.umask(mask)
+    return mask
+
+
+def _follow_umask(path: Path, folder: bool = False) -> None:
+    os.chmod(path, (0o777 if folder else 0o666) & ~_umask())
+
+
+def safe_name(name: str, fallback: str = "scenario") -> str:
+    """``name`` as one safe path component: letters, digits, ``._-`` and ``+``; anything else
+    becomes ``-``; no leading dot or dash, at most :data:`MAX_NAME` characters; ``fallback``
+    when nothing is left (``""``, ``".."``, ``"/"``).
+
+    Examples
+    --------
+    >>> safe_name("../../home/me/victim"), safe_name(""), safe_name("Tennis racket (1)")
+    ('home-me-victim', 'scenario', 'Tennis-racket-1')
+    """
+    text = re.sub(r"[^A-Za-z0-9._+-]+", "-", str(name))
+    text = text.strip(".-")[:MAX_NAME].strip(".-")
+    return text or fallback
 
 
 @contextlib.contextmanager
@@ -24,6 +92,7 @@ def atomic_path(path, suffix: str | None = None):
     os.close(fd)
     try:
         yield Path(tmp)
+        _follow_umask(Path(tmp))
         os.replace(tmp, path)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
@@ -35,3 +104,221 @@ def atomic_write_text(path, text: str) -> None:
     """Write ``text`` (UTF-8) to ``path`` atomically."""
     with atomic_path(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
+
+
+def _read_manifest(folder: Path) -> dict | None:
+    try:
+        data = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    if not isinstance(data, dict) or not isinstance(data.get("files"), list):
+        return None
+    data["files"] = [f for f in data["files"] if isinstance(f, str) and f == Path(f).name]
+    return data
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # someone else's live process
+        return True
+    return True
+
+
+def _existing_ancestor(path: Path) -> Path:
+    for p in (path, *path.parents):
+        if p.exists() or p.is_symlink():
+            return p
+    return Path(path.anchor or ".")
+
+
+class OutputFolder:
+    """The folder ``out`` that a command writes, checked now, written atomically later.
+
+    Parameters
+    ----------
+    out : path
+    force : bool
+        Replace an existing output folder, which must be poinsot's (it has a manifest) or empty.
+    command : str
+        What writes it (recorded in the manifest).
+    needs_bytes : int
+        A rough size of the output, checked against the free space of the disk.
+
+    Raises
+    ------
+    OutputExistsError
+        ``out`` exists and ``force`` is false.
+    OutputError
+        ``out`` is not a folder, is a folder poinsot did not write, holds the current
+        folder, is not writable or the disk has no room.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> target = pathlib.Path(tempfile.mkdtemp()) / "run"
+    >>> folder = OutputFolder(target, command="doctest")
+    >>> with folder.writing() as work:
+    ...     _ = (work / "a.txt").write_text("hello")
+    >>> sorted(p.name for p in target.iterdir())
+    ['.poinsot-manifest.json', 'a.txt']
+    """
+
+    def __init__(self, out, *, force: bool = False, command: str = "run", needs_bytes: int = 0):
+        self.out = Path(out)
+        self.force = bool(force)
+        self.command = command
+        self.needs_bytes = int(needs_bytes)
+        self.in_place = False  # replace poinsot's files one by one instead of the whole folder
+        self.check()
+
+    # ----------------------------------------------------------------- checks before the work
+    def check(self) -> None:
+        """Everything that can be checked before the work starts (see the class)."""
+        out = self.out
+        if out.is_symlink() and not out.exists():
+            raise OutputError(f"{out}: a broken symbolic link, not a folder")
+        if out.exists():
+            if not out.is_dir():
+                raise OutputError(f"{out}: exists and is not a folder")
+            if not self.force:
+                raise OutputExistsError(f"{out}: output folder exists (use --force to replace it)")
+            resolved, cwd = out.resolve(), Path.cwd().resolve()
+            entries = [p.name for p in out.iterdir()]
+            manifest = _read_manifest(out)
+            if manifest is None and entries:
+                raise OutputError(
+                    f"{out}: not a folder that poinsot wrote (it has no {MANIFEST}), so --force "
+                    "will not replace it; choose a new --out folder or empty this one yourself"
+                )
+            ours = set(manifest["files"]) | {MANIFEST} if manifest else set()
+            self.in_place = (
+                out.is_symlink()
+                or resolved == cwd
+                or resolved in cwd.parents
+                or not set(entries) <= ours
+                or not entries
+            )
+        parent = _existing_ancestor(out.parent if not out.exists() else out)
+        if not parent.is_dir():
+            raise OutputError(f"{out}: cannot create it: {parent} is not a folder")
+        if not os.access(parent, os.W_OK | os.X_OK):
+            raise OutputError(f"{out}: cannot write: {parent} is read-only or not yours")
+        if self.needs_bytes:
+            free = shutil.disk_usage(parent).free
+            if free < self.needs_bytes:
+                raise OutputError(
+                    f"{out}: not enough disk space: the output needs about "
+                    f"{self.needs_bytes / 1e6:.3g} MB and {free / 1e6:.3g} MB are free"
+                )
+        self.clean_stale()
+
+    def clean_stale(self) -> list[Path]:
+        """Remove the ``.*.partial-*`` folders that killed runs left beside ``out`` (a process
+        of this machine that no longer exists), and warn about those that cannot be judged.
+        Returns the removed paths."""
+        parent = self.out.parent
+        removed = []
+        if not parent.is_dir():
+            return removed
+        host = socket.gethostname()
+        for p in parent.glob(".*.partial-*"):
+            if not p.is_dir() or p.is_symlink():
+                continue
+            try:
+                pid_text, _, where = (p / PARTIAL_MARKER).read_text().partition("@")
+                pid = int(pid_text)
+            except (OSError, ValueError):
+                warnings.warn(
+                    f"{p}: an unfinished output folder, not poinsot's to remove; left alone",
+                    PoinsotWarning,
+                    stacklevel=2,
+                )
+                continue
+            if where.strip() != host or _alive(pid):
+                continue  # a run in progress, or on another machine
+            shutil.rmtree(p, ignore_errors=True)
+            removed.append(p)
+            warnings.warn(
+                f"removed {p}: the unfinished output of an interrupted run (process {pid})",
+                PoinsotWarning,
+                stacklevel=2,
+            )
+        return removed
+
+    # ----------------------------------------------------------------- the work
+    @contextlib.contextmanager
+    def writing(self):
+        """Yield a fresh hidden folder to write into; on success its files become ``out``'s.
+        On any exception (``KeyboardInterrupt`` included) it is removed and ``out`` is as
+        it was."""
+        out = self.out
+        out.parent.mkdir(parents=True, exist_ok=True)
+        work = Path(
+            tempfile.mkdtemp(prefix=f".{safe_name(out.name, 'out')}.partial-", dir=out.parent)
+        )
+        try:
+            _follow_umask(work, folder=True)
+            (work / PARTIAL_MARKER).write_text(f"{os.getpid()}@{socket.gethostname()}")
+            yield work
+            (work / PARTIAL_MARKER).unlink()
+            files = sorted(p.name for p in work.iterdir())
+            manifest = {
+                "written_by": "poinsot",
+                "version": _version(),
+                "command": self.command,
+                "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+                "files": files,
+            }
+            atomic_write_text(work / MANIFEST, json.dumps(manifest, indent=2))
+            self._commit(work, files)
+        except BaseException:
+            shutil.rmtree(work, ignore_errors=True)
+            raise
+
+    def _commit(self, work: Path, files: list[str]) -> None:
+        out = self.out
+        if not out.exists():
+            work.rename(out)
+            return
+        if not self.force:  # it appeared while we worked
+            raise OutputExistsError(f"{out}: output folder appeared meanwhile (use --force)")
+        old = _read_manifest(out)
+        if old is None and any(out.iterdir()):
+            raise OutputError(f"{out}: not a folder that poinsot wrote; left as it was")
+        ours = set(old["files"]) if old else set()
+        if not self.in_place:
+            aside = out.with_name(f".{safe_name(out.name, 'out')}.old-{time.time_ns()}")
+            out.rename(aside)
+            work.rename(out)
+            shutil.rmtree(aside, ignore_errors=True)
+            return
+        clash = [f for f in files if (out / f).exists() and f not in ours and f != MANIFEST]
+        if clash:
+            raise OutputError(
+                f"{out}: {clash[0]} exists and poinsot did not write it; nothing was replaced"
+            )
+        for f in sorted(ours - set(files)):
+            with contextlib.suppress(FileNotFoundError, IsADirectoryError):
+                (out / f).unlink()
+        for f in files:
+            if f != MANIFEST:
+                os.replace(work / f, out / f)
+        os.replace(work / MANIFEST, out / MANIFEST)  # last: the folder is complete
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def _version() -> str:
+    try:
+        from importlib.metadata import version
+
+        return version("poinsot")
+    except Exception:  # pragma: no cover - an uninstalled checkout
+        return "unknown"
+
+
+def is_disk_full(exc: BaseException) -> bool:
+    """Whether ``exc`` is the operating system's "no space left" (or quota) error."""
+    return isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT)

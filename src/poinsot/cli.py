@@ -5,8 +5,10 @@
     poinsot inertia BODY [--mass M | --density RHO] [--json]
     poinsot polhodes --moments I1 I2 I3 [--energy K] [--omega0 W1 W2 W3] [--out DIR] [--json]
 
-Exit codes: 0 success; 2 bad input (the message on stderr names the file and the key);
-1 numerical failure (with the diagnostic); 130 interrupted (nothing half-written is left).
+Exit codes: 0 success; 2 bad input (the message on stderr names the file and the key) or an
+output folder that cannot or may not be written; 1 numerical failure (with the diagnostic) or a
+disk that filled while writing; 130 interrupted (Ctrl-C), 143 terminated (SIGTERM): in all
+failures nothing half-written is left. 141: stdout was closed early (``--json | head``).
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from pathlib import Path
 __all__ = ["main"]
 
 EXIT_OK, EXIT_NUMERICAL, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+EXIT_TERMINATED, EXIT_BROKEN_PIPE = 143, 141
 DEFAULT_EXAMPLE = "notebook"
 
 
@@ -61,6 +64,7 @@ def _say(args, *text):
 
 
 def _cmd_run(args):
+    from ._io import safe_name
     from .job import run_scenario
     from .scenario import load_example, load_scenario
 
@@ -70,7 +74,7 @@ def _cmd_run(args):
         scenario = load_scenario(Path(args.scenario))
     else:
         scenario = load_example(args.example or DEFAULT_EXAMPLE)
-    out = Path(args.out) if args.out else Path("poinsot-out") / scenario.name
+    out = Path(args.out) if args.out else Path("poinsot-out") / safe_name(scenario.name)
     _say(args, f"poinsot: {scenario.name} — {scenario.description}")
     progress = _Progress(*scenario.t_span, enabled=not args.quiet)
     try:
@@ -201,8 +205,6 @@ def _cmd_inertia(args):
 
 
 def _cmd_polhodes(args):
-    import math
-
     import numpy as np
 
     from .torquefree import FreeRigidBody
@@ -229,10 +231,32 @@ def _cmd_polhodes(args):
     energy = 0.5 if energy is None else energy
     if not energy > 0:
         raise _BadInput(f"--energy: expected a positive number, found {energy}")
+    from ._io import OutputFolder
+
     out = Path(args.out) if args.out else Path("poinsot-out") / "polhodes"
-    if out.exists() and not args.force:
-        raise _BadInput(f"{out}: output folder exists (use --force to replace it)")
+    folder = OutputFolder(out, force=args.force, command="polhodes", needs_bytes=12_000_000)
+    with folder.writing() as work:
+        _write_polhodes(work, args, free, energy, result)
+    if args.json:
+        print(json.dumps(result, indent=2))
+    else:
+        _say(args, f"principal moments {', '.join(f'{x:.6g}' for x in I)} ({free.symmetry})")
+        for fp in result["fixed_points"]:
+            _say(args, f"  fixed points {fp['set']}: {'stable' if fp['stable'] else 'unstable'}")
+        for key in ("family", "energy", "momentum", "period", "flip_interval"):
+            if key in result:
+                _say(args, f"  {key}: {result[key]}")
+        _say(args, f"  wrote {out}/")
+    return EXIT_OK
+
+
+def _write_polhodes(out: Path, args, free, energy, result):
+    """polhodes.png (+ energy_ellipsoid.png with --omega0), their HTML versions when plotly is
+    installed, and polhodes.json, into the folder ``out``."""
+    import math
+
     import matplotlib
+    import numpy as np
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -240,9 +264,9 @@ def _cmd_polhodes(args):
     from ._io import atomic_path, atomic_write_text
     from .plotting import plot_energy_ellipsoid, plot_polhode_family
 
-    out.mkdir(parents=True, exist_ok=True)
     fig = plot_polhode_family(free, energy)
     if args.omega0 is not None:
+        w0 = np.array(args.omega0, dtype=float)
         scale = math.sqrt(energy / result["energy"])
         t = np.linspace(
             0,
@@ -278,17 +302,6 @@ def _cmd_polhodes(args):
         except ImportError:  # pragma: no cover
             pass
     atomic_write_text(out / "polhodes.json", json.dumps(result, indent=2))
-    if args.json:
-        print(json.dumps(result, indent=2))
-    else:
-        _say(args, f"principal moments {', '.join(f'{x:.6g}' for x in I)} ({free.symmetry})")
-        for fp in result["fixed_points"]:
-            _say(args, f"  fixed points {fp['set']}: {'stable' if fp['stable'] else 'unstable'}")
-        for key in ("family", "energy", "momentum", "period", "flip_interval"):
-            if key in result:
-                _say(args, f"  {key}: {result[key]}")
-        _say(args, f"  wrote {out}/")
-    return EXIT_OK
 
 
 class _BadInput(ValueError):
@@ -383,28 +396,82 @@ def _parser():
     return p
 
 
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where the program is so that the same clean-up as Ctrl-C runs."""
+
+
+def _on_sigterm(signum, frame):
+    raise _Terminated
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"poinsot: warning: {message}", file=sys.stderr)
+
+
 def main(argv=None) -> int:
     """Entry point of the ``poinsot`` console script; returns the exit code."""
-    from .job import OutputExistsError
-    from .scenario import ScenarioError
-    from .simulation import SimulationError
+    import signal
+    import threading
+    import warnings
 
     parser = _parser()
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_help()
         return EXIT_BAD_INPUT
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
-        return args.func(args)
-    except (ScenarioError, _BadInput, OutputExistsError) as exc:
+        with warnings.catch_warnings():
+            if getattr(args, "quiet", False):
+                warnings.simplefilter("ignore")
+            else:
+                warnings.showwarning = _show_warning
+            return _dispatch(args)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _dispatch(args) -> int:
+    from ._io import OutputError, is_disk_full
+    from .scenario import ScenarioError
+    from .simulation import SimulationError
+
+    try:
+        code = args.func(args)
+        sys.stdout.flush()  # here, so that a closed pipe is met inside this try
+        return code
+    except (ScenarioError, _BadInput, OutputError) as exc:
         print(f"poinsot: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except SimulationError as exc:
         print(f"poinsot: numerical failure: {exc}", file=sys.stderr)
         return EXIT_NUMERICAL
+    except _Terminated:
+        print("poinsot: terminated; no partial output was left", file=sys.stderr)
+        return EXIT_TERMINATED
     except KeyboardInterrupt:
         print("poinsot: interrupted; no partial output was left", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except BrokenPipeError:  # `poinsot ... --json | head`: the reader left; say nothing more
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return EXIT_BROKEN_PIPE
+    except MemoryError:
+        print("poinsot: error: out of memory; ask for fewer samples or members", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except OSError as exc:
+        where = f"{exc.filename}: " if exc.filename else ""
+        if is_disk_full(exc):
+            print(f"poinsot: error: {where}the disk is full; no partial output was left",
+                  file=sys.stderr)  # fmt: skip
+            return EXIT_NUMERICAL
+        print(f"poinsot: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
 
 
 if __name__ == "__main__":  # pragma: no cover

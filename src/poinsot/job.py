@@ -1,27 +1,30 @@
 """Running a scenario end to end: simulate, analyse, and write data, figures and the report.
 
-Everything is written into a fresh temporary folder beside the target and moved into place only
-when complete, so an interrupted run (Ctrl-C, a crash) never leaves a half-written output folder;
-an existing folder is replaced only with ``force=True``.
+Everything is written through :class:`~poinsot._io.OutputFolder`: into a hidden folder beside
+the target, moved into place only when complete, so an interrupted run (Ctrl-C, SIGTERM, a
+crash) never leaves a half-written output folder. The target is checked before the simulation
+starts; an existing folder is replaced only with ``force=True`` and only if poinsot wrote it.
 """
 
 from __future__ import annotations
 
 import json
-import shutil
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
-from ._io import atomic_path, atomic_write_text
+from ._io import OutputError, OutputExistsError, OutputFolder, atomic_path, atomic_write_text
 
-__all__ = ["OutputExistsError", "run_scenario", "summarize"]
+__all__ = ["OutputError", "OutputExistsError", "run_scenario", "summarize"]
 
 
-class OutputExistsError(FileExistsError):
-    """The output folder exists and ``force`` was not given."""
+def estimated_output_bytes(scenario) -> int:
+    """A generous estimate of what a run writes, checked against the free disk space: figures
+    and a self-contained report (~10 MB) plus the sampled data."""
+    ensemble = getattr(scenario, "ensemble", None)
+    rows = ensemble["members"] if ensemble is not None else scenario.samples
+    return 10_000_000 + 2_000 * int(rows)
 
 
 def _torque_free(scenario):
@@ -222,16 +225,18 @@ def _figures(folder: Path, scenario, traj, free):
 def run_scenario(scenario, out, *, force=False, progress=None, report=True) -> dict:
     """Simulate ``scenario`` and write its outputs to the folder ``out``; return the summary.
 
-    Raises :class:`OutputExistsError` if ``out`` exists and ``force`` is false (checked before
-    any work), and :class:`~poinsot.simulation.SimulationError` on a numerical failure.
+    Raises :class:`OutputExistsError` if ``out`` exists and ``force`` is false,
+    :class:`OutputError` if ``out`` cannot or may not be written (both checked before any
+    work; see :class:`~poinsot._io.OutputFolder`), and
+    :class:`~poinsot.simulation.SimulationError` on a numerical failure.
     """
-    out = Path(out)
-    if out.exists() and not force:
-        raise OutputExistsError(f"{out}: output folder exists (use --force to replace it)")
+    folder = OutputFolder(
+        out, force=force, command="run", needs_bytes=estimated_output_bytes(scenario)
+    )
     if getattr(scenario, "ensemble", None) is not None:
-        return _run_ensemble(scenario, out, report=report)
+        return _run_ensemble(scenario, folder, report=report)
     if getattr(scenario, "carrier", None) is not None:
-        return _run_relative(scenario, out, progress=progress, report=report)
+        return _run_relative(scenario, folder, progress=progress, report=report)
     start = time.perf_counter()
     traj = scenario.simulate(progress=progress)
     sim_time = time.perf_counter() - start
@@ -242,9 +247,7 @@ def run_scenario(scenario, out, *, force=False, progress=None, report=True) -> d
     summary = (
         summarize_lagrangian(scenario, traj) if lagrangian else summarize(scenario, traj, free)
     )
-    out.parent.mkdir(parents=True, exist_ok=True)
-    work = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
-    try:
+    with folder.writing() as work:
         if lagrangian:
             _write_lagrangian(work, scenario, traj, summary, report)
         elif scenario.outputs.get("data", True):
@@ -271,21 +274,7 @@ def run_scenario(scenario, out, *, force=False, progress=None, report=True) -> d
             )
         summary["timings"] = {"simulation_s": sim_time, "total_s": time.perf_counter() - start}
         atomic_write_text(work / "summary.json", json.dumps(_jsonable(summary), indent=2))
-        _move_into_place(work, out)
-    except BaseException:
-        shutil.rmtree(work, ignore_errors=True)
-        raise
     return summary
-
-
-def _move_into_place(work: Path, out: Path):
-    if out.exists():
-        old = out.with_name(f".{out.name}.old-{int(time.time() * 1e6)}")
-        out.rename(old)
-        work.rename(out)
-        shutil.rmtree(old, ignore_errors=True)
-    else:
-        work.rename(out)
 
 
 # --------------------------------------------------------------------------- ensembles
@@ -343,16 +332,14 @@ def _ensemble_free_body(scenario):
     return free if free.symmetry == "asymmetric" else None
 
 
-def _run_ensemble(scenario, out: Path, *, report=True) -> dict:
+def _run_ensemble(scenario, folder: OutputFolder, *, report=True) -> dict:
     """Run ``[ensemble]`` and write summary.json, ensemble.nc, histograms and report.html."""
     start = time.perf_counter()
     res = scenario.simulate_ensemble(progress=None)
     sim_time = time.perf_counter() - start
     free = _ensemble_free_body(scenario)
     summary = summarize_ensemble(scenario, res, free)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    work = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
-    try:
+    with folder.writing() as work:
         images = {}
         if scenario.outputs.get("data", True):
             _write_ensemble_dataset(work / "ensemble.nc", res, free)
@@ -364,10 +351,6 @@ def _run_ensemble(scenario, out: Path, *, report=True) -> dict:
             write_ensemble_report(work / "report.html", summary, images)
         summary["timings"] = {"simulation_s": sim_time, "total_s": time.perf_counter() - start}
         atomic_write_text(work / "summary.json", json.dumps(_jsonable(summary), indent=2))
-        _move_into_place(work, out)
-    except BaseException:
-        shutil.rmtree(work, ignore_errors=True)
-        raise
     return summary
 
 
@@ -538,7 +521,7 @@ def _relative_csv(path: Path, sol):
         np.savetxt(tmp, np.hstack(cols), delimiter=",", header=header, comments="", fmt="%.17g")
 
 
-def _run_relative(scenario, out: Path, *, progress=None, report=True) -> dict:
+def _run_relative(scenario, folder: OutputFolder, *, progress=None, report=True) -> dict:
     """Run a scenario with ``[carrier]``; write summary.json, relative.csv, relative.png,
     hodograph.png and report.html (atomically, as :func:`run_scenario`)."""
     import io
@@ -547,9 +530,7 @@ def _run_relative(scenario, out: Path, *, progress=None, report=True) -> dict:
     sol = scenario.simulate(progress=progress)
     sim_time = time.perf_counter() - start
     summary = summarize_relative(scenario, sol)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    work = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
-    try:
+    with folder.writing() as work:
         if scenario.outputs.get("data", True):
             _relative_csv(work / "relative.csv", sol)
         images = {}
@@ -592,8 +573,4 @@ def _run_relative(scenario, out: Path, *, progress=None, report=True) -> dict:
             write_relative_report(work / "report.html", summary, images)
         summary["timings"] = {"simulation_s": sim_time, "total_s": time.perf_counter() - start}
         atomic_write_text(work / "summary.json", json.dumps(_jsonable(summary), indent=2))
-        _move_into_place(work, out)
-    except BaseException:
-        shutil.rmtree(work, ignore_errors=True)
-        raise
     return summary
