@@ -278,7 +278,7 @@ def test_constructor_bad_input(args, match):
     [
         (np.diag([1.0, 1, -1]), r"not a rotation: needs RᵀR = I and det R = \+1"),
         (2 * np.eye(3), "not a rotation"),
-        ([1.0, 0, 0, 0.5], "quaternion norm is 1.118"),
+        ([1.0, 0, 0, 0.5], "quaternion .* has norm 1.118"),
         ([1.0, 0, 0], r"`orientation` must be a 3×3 rotation matrix or a unit quaternion"),
     ],
 )

@@ -44,10 +44,7 @@ def as_array(value, name: str, shape: tuple[int | None, ...], *, finite: bool = 
         If the shape differs or (with ``finite``) an entry is NaN or infinite; the message
         names ``name`` and the first offending index.
     """
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"`{name}` must be numeric, found {type(value).__name__}") from exc
+    arr = _real_array(value, name)
     if arr.ndim != len(shape) or any(
         s is not None and n != s for s, n in zip(shape, arr.shape, strict=True)
     ):
@@ -60,6 +57,33 @@ def as_array(value, name: str, shape: tuple[int | None, ...], *, finite: bool = 
             f"`{name}{_fmt_index(bad)}` must be finite, found {arr[bad] if bad else arr.item()}"
         )
     return arr
+
+
+def _real_array(value, name: str) -> np.ndarray:
+    """``value`` as a float array, or a TypeError naming ``name``: complex numbers (whose
+    imaginary part NumPy would drop with only a warning), ragged lists, strings, dicts and
+    other objects are refused."""
+    if isinstance(value, str | bytes | dict | set):
+        raise TypeError(f"`{name}` must be numeric, found {type(value).__name__}")
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError):  # a ragged list
+        raise ValueError(f"`{name}` must be a regular array of numbers, found a ragged "
+                         "list (rows of different lengths)") from None  # fmt: skip
+    if np.iscomplexobj(raw) or (
+        raw.dtype == object and any(isinstance(v, complex) for v in raw.flat)
+    ):
+        raise TypeError(f"`{name}` must be real, found complex values")
+    if raw.dtype.kind in "biuf":
+        return raw.astype(float, copy=False) if raw.dtype.kind != "b" else _no_bools(name)
+    try:
+        return np.asarray(raw, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"`{name}` must be numeric, found {type(value).__name__}") from None
+
+
+def _no_bools(name):
+    raise TypeError(f"`{name}` must be numeric, found booleans")
 
 
 def as_vector3(value, name: str) -> np.ndarray:
@@ -76,7 +100,7 @@ def as_scalar(value, name: str) -> float:
         return x
     if isinstance(value, bool) or not isinstance(value, numbers.Real | np.ndarray):
         raise TypeError(f"`{name}` must be a real number, found {type(value).__name__}")
-    arr = np.asarray(value, dtype=float)
+    arr = _real_array(value, name)
     if arr.ndim != 0:
         raise ValueError(f"`{name}` must be a scalar, found shape {arr.shape}")
     x = float(arr)
@@ -102,26 +126,43 @@ def as_positive_array(value, name: str, shape: tuple[int | None, ...]) -> np.nda
     return arr
 
 
-def as_rotation_matrix(value, name: str) -> np.ndarray:
-    """A rotation given as a 3×3 matrix or a scalar-first unit quaternion (w, x, y, z).
+_QUAT_ORDER = {True: "(w, x, y, z), scalar first", False: "(x, y, z, w), scalar last"}
+
+
+def _rotation_input(value, name: str, scalar_first: bool = True) -> np.ndarray:
+    """An array from a rotation input: a ``scipy.spatial.transform.Rotation`` (one or many,
+    as matrices), or numbers; quaternions come back scalar-first."""
+    if type(value).__name__ == "Rotation" and hasattr(value, "as_matrix"):
+        return np.asarray(value.as_matrix(), dtype=float)
+    arr = _real_array(value, name)
+    if not scalar_first and arr.ndim in (1, 2) and arr.shape[-1] == 4:
+        arr = np.roll(arr, 1, axis=-1)  # (x, y, z, w) → (w, x, y, z)
+    return arr
+
+
+def as_rotation_matrix(value, name: str, scalar_first: bool = True) -> np.ndarray:
+    """A rotation given as a 3×3 matrix, a ``scipy.spatial.transform.Rotation``, or a unit
+    quaternion: scalar-first (w, x, y, z) unless ``scalar_first=False`` (SciPy's order).
 
     Input within :data:`ROTATION_TOLERANCE` of a rotation is accepted and projected exactly onto
     SO(3) (quaternion normalised; matrix replaced by its orthogonal polar factor). Anything else
     (a reflection, a shear, a quaternion of the wrong norm) is refused.
     """
-    arr = np.asarray(value, dtype=float) if not isinstance(value, str) else None
-    if arr is None or arr.shape not in ((3, 3), (4,)):
-        shape = None if arr is None else arr.shape
+    arr = _rotation_input(value, name, scalar_first)
+    if arr.shape not in ((3, 3), (4,)):
         raise ValueError(
-            f"`{name}` must be a 3×3 rotation matrix or a unit quaternion (w, x, y, z), "
-            f"found shape {shape}"
+            f"`{name}` must be a 3×3 rotation matrix or a unit quaternion "
+            f"{_QUAT_ORDER[scalar_first]}, found shape {arr.shape}"
         )
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"`{name}` must be finite, found {arr.tolist()}")
     if arr.shape == (4,):
         norm = float(np.linalg.norm(arr))
         if abs(norm - 1.0) > ROTATION_TOLERANCE:
-            raise ValueError(f"`{name}` is not a rotation: quaternion norm is {norm:.9g}, not 1")
+            raise ValueError(
+                f"`{name}` is not a rotation: the quaternion {_QUAT_ORDER[True]} has norm "
+                f"{norm:.9g}, not 1"
+            )
         from .kernels.so3 import quat_to_matrix
 
         return quat_to_matrix(arr / norm)
@@ -140,10 +181,7 @@ def as_vectors(value, name: str, n: int | None = None, *, single_ok: bool = True
     """Finite 3-vectors: ``(3,)`` (one, shared; returned as (1, 3) when ``single_ok``) or
     ``(n, 3)`` (one per member). ``n = None`` accepts any number of rows. The message of a bad
     entry names the member: ``"`omega0[7, 1]` must be finite"``."""
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"`{name}` must be numeric, found {type(value).__name__}") from exc
+    arr = _real_array(value, name)
     if arr.ndim == 1 and single_ok:
         return as_array(arr, name, (3,))[None, :]
     if arr.ndim != 2 or arr.shape[1] != 3 or (n is not None and arr.shape[0] != n):
@@ -156,25 +194,26 @@ def as_vectors(value, name: str, n: int | None = None, *, single_ok: bool = True
     return as_array(arr, name, (None, 3))
 
 
-def as_rotation_matrices(value, name: str, n: int | None = None) -> np.ndarray:
+def as_rotation_matrices(
+    value, name: str, n: int | None = None, scalar_first: bool = True
+) -> np.ndarray:
     """Rotations as matrices (M, 3, 3), ``M = 1`` (one shared) or ``n``: from one matrix (3, 3)
     or quaternion (4,), or one per member, (n, 3, 3) or (n, 4). Each is checked as in
     :func:`as_rotation_matrix` and projected onto SO(3); a bad one is named by its member index
     (``"`Q0[12]` is not a rotation: ..."``)."""
-    arr = np.asarray(value, dtype=float) if not isinstance(value, str) else None
-    if arr is not None and arr.shape in ((3, 3), (4,)):
+    arr = _rotation_input(value, name, scalar_first)
+    if arr.shape in ((3, 3), (4,)):
         return as_rotation_matrix(arr, name)[None]
     if (
-        arr is None
-        or arr.ndim not in (2, 3)
+        arr.ndim not in (2, 3)
         or arr.shape[1:] not in ((3, 3), (4,))
         or (n is not None and arr.shape[0] != n)
     ):
         rows = "N" if n is None else str(n)
-        shape = None if arr is None else arr.shape
         raise ValueError(
-            f"`{name}` must be one rotation ((3, 3) matrix or (4,) quaternion) or one per member "
-            f"(({rows}, 3, 3) or ({rows}, 4)), found shape {shape}"
+            f"`{name}` must be one rotation ((3, 3) matrix or (4,) quaternion "
+            f"{_QUAT_ORDER[scalar_first]}) or one per member (({rows}, 3, 3) or ({rows}, 4)), "
+            f"found shape {arr.shape}"
         )
     if not np.isfinite(arr).all():
         bad = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
@@ -185,7 +224,8 @@ def as_rotation_matrices(value, name: str, n: int | None = None) -> np.ndarray:
         if len(bad):
             i = int(bad[0])
             raise ValueError(
-                f"`{name}[{i}]` is not a rotation: quaternion norm is {norms[i]:.9g}, not 1"
+                f"`{name}[{i}]` is not a rotation: the quaternion {_QUAT_ORDER[True]} has norm "
+                f"{norms[i]:.9g}, not 1"
             )
         from .kernels.so3 import quat_to_matrix
 
@@ -206,6 +246,8 @@ def as_rotation_matrices(value, name: str, n: int | None = None) -> np.ndarray:
 def as_sample_times(t_eval, t0: float, t1: float, name: str = "t_eval") -> np.ndarray:
     """Sample times (n,): finite, strictly increasing, within ``[t0, t1]``."""
     t = as_array(t_eval, name, (None,))
+    if not len(t):
+        raise ValueError(f"`{name}` must hold at least one time, found an empty array")
     if len(t) and (t[1:] <= t[:-1]).any():
         k = int(np.argmax(t[1:] <= t[:-1])) + 1
         raise ValueError(

@@ -118,9 +118,18 @@ class RigidBody:
     # ----------------------------------------------------------------- constructors
     @classmethod
     def _build(cls, mass, inertia, com, particle_masses=None, offsets=None) -> RigidBody:
+        with np.errstate(over="ignore", invalid="ignore"):
+            inertia = 0.5 * (inertia + inertia.T)
+        if not (np.isfinite(mass) and np.isfinite(inertia).all() and np.isfinite(com).all()):
+            raise ValueError(
+                "the body's mass properties overflow double precision (mass "
+                f"{float(mass):.3g}, inertia finite: {bool(np.isfinite(inertia).all())}, centre "
+                "of mass finite: "
+                f"{bool(np.isfinite(com).all())}); choose units that keep them below ~1e300"
+            )
         body = cls.__new__(cls)
         body._mass = float(mass)
-        body._inertia = _readonly(0.5 * (inertia + inertia.T))
+        body._inertia = _readonly(inertia)
         body._com = _readonly(com)
         body._particle_masses = None if particle_masses is None else _readonly(particle_masses)
         body._particle_offsets = None if offsets is None else _readonly(offsets)
@@ -143,9 +152,10 @@ class RigidBody:
             raise ValueError(
                 f"`masses` and `positions` must have the same length, found {len(m)} and {len(r)}"
             )
-        com = kin.center_of_mass(m, r)
-        u = r - com
-        return cls._build(m.sum(), kin.particle_inertia(m, u), com, m, u)
+        with np.errstate(over="ignore", invalid="ignore"):  # overflow is refused by _build
+            com = kin.center_of_mass(m, r)
+            u = r - com
+            return cls._build(m.sum(), kin.particle_inertia(m, u), com, m, u)
 
     @classmethod
     def _primitive(cls, mass, inertia_local, position, orientation) -> RigidBody:

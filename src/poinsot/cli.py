@@ -183,7 +183,7 @@ def _cmd_inertia(args):
 
         try:
             body = RigidBody.from_mesh(path, mass=args.mass, density=args.density)
-        except (ValueError, TypeError) as exc:
+        except (ValueError, TypeError, ImportError) as exc:
             raise _BadInput(f"{path}: {exc}") from None
     info = body.mass_properties()
     if args.json:

@@ -38,6 +38,26 @@ def _torque_free(scenario):
     return FreeRigidBody.from_body(scenario.body)
 
 
+def _within_range(free, scenario, traj):
+    """``free``, or None (with a warning) when the run's energy puts its polhodes outside the
+    double range (moments near 1e300): the torque-free figures are then left out."""
+    from .kernels.rigid import rotational_energy
+
+    k = float(rotational_energy(scenario.body.inertia, np.ascontiguousarray(traj.omega[0])))
+    try:
+        if k > 0:
+            free.check_energy_range(k)
+    except ValueError as exc:
+        import warnings
+
+        from ._io import PoinsotWarning
+
+        warnings.warn(f"torque-free analysis and polhodes left out: {exc}", PoinsotWarning,
+                      stacklevel=3)  # fmt: skip
+        return None
+    return free
+
+
 def summarize(scenario, traj, free=None) -> dict:
     """The numbers of a run, JSON-ready: body, invariants, torque-free analysis, diagnostics."""
     from .kernels.rigid import angular_momentum_body, rotational_energy
@@ -204,7 +224,8 @@ def _figures(folder: Path, scenario, traj, free):
     save(plot_center_of_mass_path(traj), "center_of_mass.png")
     half = equivalent_box_half_extents(scenario.body.principal_moments, scenario.body.mass)
     QE = traj.Q @ scenario.body.principal_axes  # draw the box in principal axes
-    save(plot_attitude_frames(QE, traj.t, half_extents=np.maximum(half, 1e-3)), "body.png")
+    half = np.maximum(half, 1e-3 * half.max())  # a flat body is drawn as a thin box
+    save(plot_attitude_frames(QE, traj.t, half_extents=half), "body.png")
     if free is not None:
         from .kernels.rigid import rotational_energy
 
@@ -244,6 +265,8 @@ def run_scenario(scenario, out, *, force=False, progress=None, report=True) -> d
 
     lagrangian = isinstance(scenario, LagrangianScenario)
     free = None if lagrangian else _torque_free(scenario)
+    if free is not None:
+        free = _within_range(free, scenario, traj)
     summary = (
         summarize_lagrangian(scenario, traj) if lagrangian else summarize(scenario, traj, free)
     )

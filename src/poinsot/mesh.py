@@ -30,13 +30,22 @@ def load_mesh_arrays(mesh) -> tuple[np.ndarray, np.ndarray]:
             raise ImportError(
                 "reading mesh files needs trimesh: pip install 'poinsot[mesh]'"
             ) from exc
+        unreadable = f"`mesh`: {path!r} is not a readable triangle mesh (STL, OBJ or PLY)"
         try:
-            loaded = trimesh.load(path, force="mesh")
+            # unprocessed first, so that non-finite vertices are seen before trimesh drops them
+            loaded = trimesh.load(path, force="mesh", process=False)
+        except ImportError:  # trimesh met bytes it tried to read as text in another encoding
+            raise ValueError(unreadable) from None
         except Exception as exc:
-            raise ValueError(f"`mesh`: could not read {path!r} as a triangle mesh: {exc}") from exc
+            raise ValueError(f"{unreadable}: {exc}") from None
+        faces = getattr(loaded, "faces", None)
+        if faces is None or len(faces) == 0:
+            raise ValueError(f"{unreadable}: no triangles found")
+        _checked(np.asarray(loaded.vertices, float), np.asarray(faces, np.int64))
+        loaded.merge_vertices()  # STL repeats each corner per triangle
         return np.asarray(loaded.vertices, float), np.asarray(loaded.faces, np.int64)
     if hasattr(mesh, "vertices") and hasattr(mesh, "faces"):
-        return np.asarray(mesh.vertices, float), np.asarray(mesh.faces, np.int64)
+        return _checked(np.asarray(mesh.vertices, float), np.asarray(mesh.faces, np.int64))
     if isinstance(mesh, tuple | list) and len(mesh) == 2:
         vertices = np.asarray(mesh[0], dtype=float)
         faces = np.asarray(mesh[1])
@@ -46,16 +55,23 @@ def load_mesh_arrays(mesh) -> tuple[np.ndarray, np.ndarray]:
             raise ValueError(
                 f"`mesh` faces must be integers of shape (F, 3), found {faces.dtype} {faces.shape}"
             )
-        if not np.all(np.isfinite(vertices)):
-            bad = int(np.argwhere(~np.isfinite(vertices))[0, 0])
-            raise ValueError(f"`mesh` vertices[{bad}] must be finite")
-        if faces.size and (faces.min() < 0 or faces.max() >= len(vertices)):
-            raise ValueError(f"`mesh` faces index vertices outside 0..{len(vertices) - 1}")
-        return vertices, faces.astype(np.int64)
+        return _checked(vertices, faces.astype(np.int64))
     raise TypeError(
         "`mesh` must be a file path, a trimesh.Trimesh or a (vertices, faces) pair, "
         f"found {type(mesh).__name__}"
     )
+
+
+def _checked(vertices, faces):
+    """Finite vertices and faces that index them, whatever the mesh came from."""
+    if not np.all(np.isfinite(vertices)):
+        bad = int(np.argwhere(~np.isfinite(vertices))[0, 0])
+        raise ValueError(
+            f"`mesh` has non-finite vertices: vertices[{bad}] = {vertices[bad].tolist()}"
+        )
+    if faces.size and (faces.min() < 0 or faces.max() >= len(vertices)):
+        raise ValueError(f"`mesh` faces index vertices outside 0..{len(vertices) - 1}")
+    return vertices, faces
 
 
 def check_closed_oriented(faces: np.ndarray) -> None:

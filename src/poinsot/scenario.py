@@ -54,14 +54,24 @@ class _Table:
         self.used.add(key)
         if key not in self.data:
             if default is _MISSING:
+                self._typo_of(key)
                 raise ScenarioError(f"{self.where(key)}: required key is missing")
             return default
         return _convert(self.data[key], kind, self.where(key), **kw)
+
+    def _typo_of(self, key):
+        """A required ``key`` is missing: if an unknown key in the table looks like it, the typo
+        is the error to report (``initial.omgea: unknown key; did you mean 'omega'?``)."""
+        unknown = [k for k in self.data if k not in self.used and k != key]
+        near = difflib.get_close_matches(key, unknown, n=1, cutoff=0.6)
+        if near:
+            raise ScenarioError(f"{self.where(near[0])}: unknown key; did you mean {key!r}?")
 
     def table(self, key, default=_MISSING):
         self.used.add(key)
         if key not in self.data:
             if default is _MISSING:
+                self._typo_of(key)
                 raise ScenarioError(f"{self.where(key)}: required table is missing")
             return _Table({}, self.where(key)) if default is None else default
         return _Table(self.data[key], self.where(key))
@@ -209,8 +219,16 @@ def _orientation(t: _Table):
         raise ScenarioError(f"{where}: {str(exc).replace('`orientation` ', '')}") from None
 
 
-def build_body(t: _Table, base_dir: Path):
-    """The :class:`~poinsot.bodies.RigidBody` described by a ``[body]`` table."""
+#: Limits on sizes a scenario may ask for, so that a typo is refused up front rather than met
+#: as a MemoryError: particles of a grid, samples of a run, contour levels of a figure.
+MAX_PARTICLES = 10**7
+MAX_SAMPLES = 10**7
+MAX_LEVELS = 200
+
+
+def build_body(t: _Table, base_dir: Path, part: bool = False):
+    """The :class:`~poinsot.bodies.RigidBody` described by a ``[body]`` table (``part``: one of
+    ``[[body.parts]]``, where a pivot has no meaning)."""
     from .bodies import RigidBody
 
     kind = t.get(
@@ -235,6 +253,11 @@ def build_body(t: _Table, base_dir: Path):
                 raise ScenarioError(
                     f"{t.where('counts')}: expected three positive integers, "
                     f"found {counts.tolist()}"
+                )
+            if float(np.prod(counts)) > MAX_PARTICLES:
+                raise ScenarioError(
+                    f"{t.where('counts')}: at most {MAX_PARTICLES:.0e} particles in all, found "
+                    f"{' × '.join(f'{c:.0f}' for c in counts)}"
                 )
             total = t.get("total_mass", "positive")
             axes = [np.linspace(lower[k], upper[k], int(counts[k])) for k in range(3)]
@@ -262,12 +285,15 @@ def build_body(t: _Table, base_dir: Path):
                 path = base_dir / path
             mass = t.get("mass", "positive", None)
             density = t.get("density", "positive", None)
-            body = RigidBody.from_mesh(path, mass=mass, density=density)
+            try:
+                body = RigidBody.from_mesh(path, mass=mass, density=density)
+            except ImportError as exc:
+                raise ScenarioError(f"{t.where('path')}: {exc}") from None
         elif kind == "composite":
             parts = t.tables("parts")
             if not parts:
                 raise ScenarioError(f"{t.where('parts')}: expected at least one part")
-            body = RigidBody.compose([build_body(p, base_dir) for p in parts])
+            body = RigidBody.compose([build_body(p, base_dir, part=True) for p in parts])
         else:  # mass_properties
             body = RigidBody(
                 t.get("mass", "positive"),
@@ -278,7 +304,12 @@ def build_body(t: _Table, base_dir: Path):
         raise
     except (ValueError, TypeError) as exc:
         raise ScenarioError(f"{t.path}: {exc}") from None
-    t.finish({"pivot"})
+    if part and t.has("pivot"):
+        raise ScenarioError(
+            f"{t.where('pivot')}: a pivot belongs to the whole body: give it in [body], "
+            "not in one of its parts"
+        )
+    t.finish(set() if part else {"pivot"})
     return body
 
 
@@ -599,6 +630,8 @@ def _integrator(root: _Table, methods, extra: dict | None = None):
     method = it.get("method", "string", "dop853", choices=methods)
     dt = it.get("dt", "positive", None)
     rtol = it.get("rtol", "positive", None)
+    if rtol is not None and not rtol < 1:
+        raise ScenarioError(f"{it.where('rtol')}: expected a number in (0, 1), found {rtol}")
     atol = it.get("atol", "positive", None)
     more = {
         key: it.get(key, kind, default, choices=choices)
@@ -618,9 +651,18 @@ def _time(root: _Table):
         raise ScenarioError(
             f"{tt.where('span')}: expected [start, end] with end > start, found {span.tolist()}"
         )
+    if not math.isfinite(float(span[1]) - float(span[0])):
+        raise ScenarioError(
+            f"{tt.where('span')}: its length end − start overflows, found {span.tolist()}"
+        )
     samples = tt.get("samples", "int", 201)
     if samples < 2:
         raise ScenarioError(f"{tt.where('samples')}: expected at least 2, found {samples}")
+    if samples > MAX_SAMPLES:
+        raise ScenarioError(
+            f"{tt.where('samples')}: at most {MAX_SAMPLES:.0e} (the samples must fit in "
+            f"memory), found {samples}"
+        )
     tt.finish()
     return (float(span[0]), float(span[1])), samples
 
@@ -726,6 +768,10 @@ def _parse(data: dict, source: str, base_dir: Path):
         "momentum": at.get("momentum", "nonnegative", None),
         "levels": at.get("levels", "int", 9),
     }
+    if analysis["levels"] > MAX_LEVELS:
+        raise ScenarioError(
+            f"{at.where('levels')}: at most {MAX_LEVELS} polhodes, found {analysis['levels']}"
+        )
     at.finish()
     root.finish()
     scenario = Scenario(
@@ -798,6 +844,13 @@ def _ensemble(et: _Table, initial: dict) -> dict:
 def _check_physics(s: Scenario):
     """Refuse what cannot run: infeasible torque-free invariants, a bad initial state."""
     energy, momentum = s.analysis["energy"], s.analysis["momentum"]
+    if energy is not None and not s.body.is_degenerate:
+        from .torquefree import FreeRigidBody
+
+        try:
+            FreeRigidBody.from_body(s.body).check_energy_range(energy)
+        except ValueError as exc:
+            raise ScenarioError(f"analysis.energy: {exc}") from None
     if momentum is not None:
         if energy is None:
             raise ScenarioError("analysis.momentum: needs analysis.energy as well")
@@ -807,43 +860,97 @@ def _check_physics(s: Scenario):
             FreeRigidBody.from_body(s.body).check_feasible(energy, momentum)
         except ValueError as exc:
             raise ScenarioError(f"analysis.momentum: {exc}") from None
-    try:
-        from .dynamics import RigidBodySystem
+    import re
 
+    from .dynamics import RigidBodySystem, rigid_velocity_from_particles
+    from .integrate.base import get_solver
+    from .integrate.driver import check_solver_fits
+    from .simulation import _check_forces_at_start
+
+    try:
         system = RigidBodySystem(s.body, s.forces, s.pivot)
-        if "omega0" in s.initial and s.ensemble is None:
-            system.initial_state(
-                omega0=s.initial["omega0"],
-                Q0=s.initial.get("Q0"),
-                R0=s.initial.get("R0"),
-                V0=s.initial.get("V0"),
-                omega_frame=s.initial.get("omega_frame", "body"),
+    except (ValueError, TypeError) as exc:
+        raise ScenarioError(f"body: {exc}") from None
+    if s.carrier is None:
+        try:
+            check_solver_fits(get_solver(s.method), system)
+        except ValueError as exc:
+            raise ScenarioError(f"integrator.method: {exc}") from None
+    initial = dict(s.initial)
+    if "particle_velocities" in initial:
+        try:
+            initial["V0"], initial["omega0"] = rigid_velocity_from_particles(
+                s.body, initial.pop("particle_velocities")
             )
+        except ValueError as exc:
+            raise ScenarioError(f"initial.particle_velocities: {exc}") from None
+        if s.pivot is not None:
+            initial["V0"] = None
+    if "omega0" not in initial or s.ensemble is not None:
+        return
+    try:
+        y0 = system.initial_state(
+            omega0=initial["omega0"],
+            Q0=initial.get("Q0"),
+            R0=initial.get("R0"),
+            V0=initial.get("V0"),
+            omega_frame=initial.get("omega_frame", "body"),
+        )
     except (ValueError, TypeError) as exc:
         raise ScenarioError(f"initial: {exc}") from None
+    if s.carrier is None:  # a relative motion checks its own start (in the carrier's frame)
+        try:
+            _check_forces_at_start(system, s.t_span[0], y0)
+        except ValueError as exc:
+            m = re.match(r"`forces\[(\d+)\]` \((.*?)\) (.*)", str(exc), re.S)
+            raise ScenarioError(
+                f"forces[{m.group(1)}]: {m.group(2)} {m.group(3)}" if m else f"forces: {exc}"
+            ) from None
 
 
 def load_scenario(source) -> Scenario:
-    """Read and validate a scenario from a path (``.toml``) or from TOML text."""
+    """Read and validate a scenario from a path (``.toml``), from TOML text or from bytes
+    (UTF-8, a byte-order mark allowed). Anything wrong raises :class:`ScenarioError` naming
+    the file and the key."""
     if isinstance(source, Path) or (
         isinstance(source, str) and source.endswith(".toml") and "\n" not in source
     ):
         path = Path(source)
         try:
-            text = path.read_text(encoding="utf-8")
+            raw = path.read_bytes()
         except OSError as exc:
             raise ScenarioError(f"{path}: cannot read: {exc.strerror}") from None
         label, base = str(path), path.parent
+        text = _decode(raw, label)
+    elif isinstance(source, bytes | bytearray):
+        label, base = "<bytes>", Path.cwd()
+        text = _decode(bytes(source), label)
     else:
         text, label, base = str(source), "<built-in>", Path.cwd()
+    text = text.removeprefix("\ufeff")  # a byte-order mark, as some editors write
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"{label}: TOML syntax error: {exc}") from None
+    except RecursionError:
+        raise ScenarioError(f"{label}: arrays or tables are nested too deeply") from None
     try:
         return _parse(data, label, base)
     except ScenarioError as exc:
         raise ScenarioError(f"{label}: {exc}") from None
+    except RecursionError:
+        raise ScenarioError(f"{label}: arrays or tables are nested too deeply") from None
+
+
+def _decode(raw: bytes, label: str) -> str:
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        raise ScenarioError(
+            f"{label}: not UTF-8 text: byte 0x{raw[exc.start]:02x} at line {line} (save the "
+            "file as UTF-8)"
+        ) from None
 
 
 # --------------------------------------------------------------------------- examples

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import as_sample_times, as_scalar
+from ._validation import _rotation_input, as_positive_scalar, as_sample_times, as_scalar
 from .dynamics import RigidBodySystem, rigid_velocity_from_particles
 from .integrate.base import get_solver
 from .integrate.driver import IntegrationError, integrate
@@ -54,6 +54,7 @@ def simulate(
     save_every=1,
     progress=None,
     backend=None,
+    scalar_first=True,
 ) -> Trajectory:
     """Integrate the motion of ``body`` under ``forces``: eqs (07) ``M R̈ = F``,
     (08) ``A ω̇ + ω × Aω = Σ u_i × Qᵀ F_i`` and (09) ``Q̇ = QΩ``.
@@ -66,8 +67,9 @@ def simulate(
     omega0 : array_like (3,)
         Initial angular velocity, in the body frame (or the space frame with
         ``omega_frame="space"``). Omit it when giving ``particle_velocities``.
-    Q0 : (3, 3) matrix or (4,) quaternion (w, x, y, z), optional
-        Initial attitude; identity by default.
+    Q0 : (3, 3) matrix, (4,) quaternion or ``scipy.spatial.transform.Rotation``, optional
+        Initial attitude; identity by default. A quaternion is read scalar-first (w, x, y, z)
+        unless ``scalar_first=False`` (SciPy's (x, y, z, w)).
     R0, V0 : array_like (3,), optional
         Initial centre of mass (default: the body's) and its velocity (default: zero).
     forces : sequence of :class:`~poinsot.forces.Force`
@@ -136,8 +138,11 @@ def simulate(
             V0 = None
     elif omega0 is None:
         raise ValueError("`omega0` must be given (or `particle_velocities`)")
+    if Q0 is not None:  # a Rotation, or SciPy's quaternion order, as an array (checked below)
+        Q0 = _rotation_input(Q0, "Q0", scalar_first)
     y0 = system.initial_state(omega0=omega0, Q0=Q0, R0=R0, V0=V0, omega_frame=omega_frame)
     t_eval, save_every, dt = _check_sampling(t_eval, t0, t1, save_every, dt)
+    rtol, atol = _check_tolerances(rtol, atol)
     _check_forces_at_start(system, t0, y0)
     try:
         result = integrate(
@@ -166,8 +171,20 @@ def _check_sampling(t_eval, t0, t1, save_every, dt):
     if not isinstance(save_every, int | np.integer) or save_every < 1:
         raise ValueError(f"`save_every` must be a positive integer, found {save_every!r}")
     if dt is not None:
-        dt = as_scalar(dt, "dt")
+        dt = as_positive_scalar(dt, "dt")
     return t_eval, int(save_every), dt
+
+
+def _check_tolerances(rtol, atol):
+    """``(rtol, atol)``: each None (the method's default) or a real number, ``0 < rtol < 1``
+    and ``atol > 0`` (a zero tolerance would stall an adaptive method at its first step)."""
+    if rtol is not None:
+        rtol = as_positive_scalar(rtol, "rtol")
+        if not rtol < 1:
+            raise ValueError(f"`rtol` must be below 1 (a relative error), found {rtol}")
+    if atol is not None:
+        atol = as_positive_scalar(atol, "atol")
+    return rtol, atol
 
 
 def _check_forces_at_start(system, t0, y0):
@@ -175,12 +192,13 @@ def _check_forces_at_start(system, t0, y0):
     undefined there (central gravity at its centre), is refused before any step, named."""
     R, V, Q, w = unpack_state(y0)
     ctx = system.context(t0, R, V, Q, w)
-    for f in system.forces:
-        F, tau = f.wrench(ctx)
+    for i, f in enumerate(system.forces):
+        with np.errstate(all="ignore"):
+            F, tau = f.wrench(ctx)
         if not (np.all(np.isfinite(F)) and np.all(np.isfinite(tau))):
             raise ValueError(
-                f"force {f.name} is undefined at the initial state (non-finite wrench; e.g. a "
-                "body at the centre of a central gravity field)"
+                f"`forces[{i}]` ({f.name}) is undefined at the initial state (non-finite "
+                "wrench; e.g. a body at the centre of a central gravity field)"
             )
 
 

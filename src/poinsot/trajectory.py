@@ -207,7 +207,9 @@ class Trajectory:
         """Relative change of the spatial angular momentum about the centre of mass,
         ``|L(t) − L(0)| / |L(0)|`` (n,): zero for a torque-free body."""
         L = self.angular_momentum_com
-        return _readonly(np.linalg.norm(L - L[0], axis=1) / (np.linalg.norm(L[0]) or 1.0))
+        scale = float(np.abs(L[0]).max()) or 1.0  # so that |L|² cannot overflow near 1e300
+        dL = np.linalg.norm((L - L[0]) / scale, axis=1)
+        return _readonly(dL / (np.linalg.norm(L[0] / scale) or 1.0))
 
     def diagnostics(self) -> dict:
         """Largest orthogonality, rigidity, energy and momentum errors over the run."""

@@ -21,8 +21,9 @@ from .._validation import as_rotation_matrices, as_sample_times, as_scalar, as_v
 from ..dynamics import RigidBodySystem
 from ..forces import BodyFrame
 from ..integrate.base import get_solver
+from ..integrate.driver import check_solver_fits
 from ..kernels import layout
-from ..simulation import _check_t_span
+from ..simulation import _check_t_span, _check_tolerances
 from .executors import run_chunks
 from .result import EnsembleResult
 from .tasks import ChunkTask, EnsembleSpec
@@ -227,12 +228,7 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
             "`forces`: an ensemble runs built-in forces only (Gravity, CentralGravity, Spring, "
             f"LinearDrag, QuadraticDrag, PointForce, Torque); these are user callables: {names}"
         )
-    if getattr(solver, "needs_position_only_forces", False) and not system.position_only:
-        bad = [f.name for f in system.forces if not f.position_only]
-        raise ValueError(
-            f"method {solver.name!r} needs forces that depend only on time, position and "
-            f"attitude (kicks); these depend on velocities: {', '.join(bad)}"
-        )
+    check_solver_fits(solver, system)
     omega = as_vectors(omega0, "omega0", single_ok=False)
     N = len(omega)
     if N == 0:
@@ -248,6 +244,7 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
             "`body` is degenerate (all mass on a line): the spin of its members about that "
             "line is undefined; give each member a full inertia (`moments` or `inertia`)"
         )
+    rtol, atol = _check_tolerances(rtol, atol)
     if solver.adaptive:
         from ..integrate.control import StepSizeController
         from ..integrate.dop853 import DEFAULT_ATOL, DEFAULT_RTOL

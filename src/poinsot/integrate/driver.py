@@ -86,6 +86,21 @@ def _describe_nonfinite(slices, t, y) -> str:
     return f"non-finite {', '.join(bad) or 'state'} at t = {t:.9g}"
 
 
+def check_solver_fits(cls, system) -> None:
+    """Refuse a method that cannot integrate ``system``: one that needs the rigid-body
+    structure, or a splitting method with velocity-dependent forces (it takes kicks)."""
+    rigid = hasattr(system, "compiled_system")
+    if not rigid and cls.requires == "rigid":
+        raise ValueError(f"method {cls.name!r} needs a rigid-body system")
+    if rigid and getattr(cls, "needs_position_only_forces", False):
+        bad = [f.name for f in system.forces if not f.position_only]
+        if bad:
+            raise ValueError(
+                f"method {cls.name!r} needs forces that depend only on time, position and "
+                f"attitude (kicks); these depend on velocities: {', '.join(bad)}"
+            )
+
+
 def integrate(
     system,
     method,
@@ -123,16 +138,8 @@ def integrate(
     t0, t1 = float(t_span[0]), float(t_span[1])
     if not t1 > t0:
         raise ValueError(f"`t_span` must increase, found t0 = {t0}, t1 = {t1}")
+    check_solver_fits(cls, system)
     rigid = hasattr(system, "compiled_system")
-    if not rigid and cls.requires == "rigid":
-        raise ValueError(f"method {cls.name!r} needs a rigid-body system")
-    if rigid and getattr(cls, "needs_position_only_forces", False):
-        bad = [f.name for f in system.forces if not f.position_only]
-        if bad:
-            raise ValueError(
-                f"method {cls.name!r} needs forces that depend only on time, position and "
-                f"attitude (kicks); these depend on velocities: {', '.join(bad)}"
-            )
     if cls.adaptive:
         from .dop853 import DEFAULT_ATOL, DEFAULT_RTOL
 

@@ -43,8 +43,9 @@ class Linearization:
 
 def _numeric(system, params):
     from .numeric import _numeric as build
+    from .numeric import as_params
 
-    return build(system, {} if params is None else dict(params))
+    return build(system, as_params(params, system))
 
 
 def equilibria(system, params=None, *, bounds=None, starts=None, t=0.0, tol=1e-10):

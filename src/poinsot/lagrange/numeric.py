@@ -243,6 +243,29 @@ def _keyed(values, system, name, allow_missing):
     return out
 
 
+def as_params(params, system) -> dict:
+    """``{symbol: float}`` from ``params`` given by symbol or by name (``{"g": 9.81}``);
+    unknown names and non-numbers are refused, named."""
+    if params is None:
+        return {}
+    if not isinstance(params, dict):
+        raise TypeError(
+            "`params` must be a dict {parameter: value} (symbols or their names), found "
+            f"{type(params).__name__}"
+        )
+    by_name = {str(p): p for p in system.parameters}
+    out = {}
+    for key, value in params.items():
+        symbol = by_name.get(key) if isinstance(key, str) else key
+        if symbol is None:
+            raise ValueError(
+                f"`params`: {key!r} is not a parameter of the system (parameters: "
+                f"{', '.join(by_name) or 'none'})"
+            )
+        out[symbol] = as_scalar(value, f"params[{key}]")
+    return out
+
+
 def consistent_initial_state(system, num, t0, q0, qd0, guess=None, tol=1e-9):
     """Complete and check ``q0``, ``qd0`` (arrays with NaN where omitted) against the
     constraints: omitted coordinates solve ``g(q) = 0`` by Newton from ``guess`` (default 0),
@@ -292,6 +315,16 @@ def consistent_initial_state(system, num, t0, q0, qd0, guess=None, tol=1e-9):
             )
     elif free_v.any():
         qd[free_v] = 0.0
+    try:  # the equations of motion must be solvable here
+        qdd, _ = num.accelerations(t0, q, qd)
+    except np.linalg.LinAlgError:
+        qdd = np.array([np.nan])
+    if not np.isfinite(qdd).all():
+        raise ValueError(
+            "the equations of motion cannot be solved at the initial state: the mass matrix "
+            "(with the constraint Jacobian) is singular — zero masses or inertia, or a "
+            "coordinate that does not enter the kinetic energy"
+        )
     return q, qd
 
 
@@ -333,7 +366,7 @@ def simulate(
     """
     from ..integrate.base import get_solver
     from ..integrate.driver import IntegrationError, integrate
-    from ..simulation import SimulationError, _check_t_span
+    from ..simulation import SimulationError, _check_sampling, _check_t_span, _check_tolerances
 
     t0, t1 = _check_t_span(t_span)
     if stabilization not in ("baumgarte", "projection", None):
@@ -346,7 +379,9 @@ def simulate(
             f"method {solver.name!r} integrates rigid bodies; use 'dop853' or "
             "'rk4' for Lagrangian systems"
         )
-    params = {} if params is None else dict(params)
+    params = as_params(params, system)
+    t_eval, _, dt = _check_sampling(t_eval, t0, t1, 1, dt)
+    rtol, atol = _check_tolerances(rtol, atol)
     num = _numeric(system, params)
     q_init = _keyed(q0, system, "q0", allow_missing=system.n_holonomic > 0)
     qd_init = _keyed(qd0, system, "qd0", allow_missing=True)

@@ -41,6 +41,21 @@ class PointMass:
             raise ValueError(f"`position` must be a 3-vector, found shape {self.position.shape}")
 
 
+def _as_zero_form(expr, name):
+    """A constraint as one expression ``e`` meaning ``e = 0``: an equation ``Eq(lhs, rhs)``
+    becomes ``lhs − rhs``; anything SymPy cannot read is refused, named."""
+    sp = _sympy()
+    if isinstance(expr, sp.Equality):
+        return expr.lhs - expr.rhs
+    try:
+        e = sp.sympify(expr)
+    except (sp.SympifyError, TypeError, ValueError):
+        raise TypeError(f"`{name}` must be a SymPy expression, found {expr!r}") from None
+    if isinstance(e, sp.logic.boolalg.Boolean) or not isinstance(e, sp.Expr):
+        raise TypeError(f"`{name}` must be an expression (= 0) or an Eq, found {e}")
+    return e
+
+
 class LagrangianSystem:
     """A mechanical system in generalized coordinates, with constraints and applied forces.
 
@@ -96,6 +111,11 @@ class LagrangianSystem:
     ):
         sp = _sympy()
         self.t = sp.Symbol("t")
+        if isinstance(coordinates, str | bytes) or not hasattr(coordinates, "__iter__"):
+            raise TypeError(
+                "`coordinates` must be a sequence of functions of time (dynamicsymbols), found "
+                f"{type(coordinates).__name__}"
+            )
         self.coordinates = list(coordinates)
         if not self.coordinates:
             raise ValueError("`coordinates` must hold at least one generalized coordinate")
@@ -119,8 +139,10 @@ class LagrangianSystem:
                 raise ValueError("give `lagrangian`, `kinetic` (with `potential`) or `bodies`")
             lagrangian = T - self.potential
         self.lagrangian = sp.sympify(lagrangian)
-        self.holonomic = [sp.sympify(g) for g in holonomic]
-        self.nonholonomic = [sp.sympify(a) for a in nonholonomic]
+        self.holonomic = [_as_zero_form(g, f"holonomic[{i}]") for i, g in enumerate(holonomic)]
+        self.nonholonomic = [
+            _as_zero_form(a, f"nonholonomic[{i}]") for i, a in enumerate(nonholonomic)
+        ]
         self._check_constraints()
         self.generalized_forces = self._generalized_forces(forces)
 

@@ -13,7 +13,7 @@ from ..integrate.driver import IntegrationError, integrate
 from ..kernels import rigid as krig
 from ..kernels.relative import absolute_states
 from ..rotation import body_rates_from_euler, euler_from_matrix, euler_rates_from_body
-from ..simulation import SimulationError, _check_sampling, _check_t_span
+from ..simulation import SimulationError, _check_sampling, _check_t_span, _check_tolerances
 from ..trajectory import Trajectory
 from .carrier import Carrier
 from .moments import coriolis_moment, transport_moment
@@ -165,6 +165,7 @@ def simulate_relative(
     )
     y0 = np.concatenate([r, v, Q.ravel(), w, Qc.ravel(), X, VO])
     t_eval, save_every, dt = _check_sampling(t_eval, t0, t1, save_every, dt)
+    rtol, atol = _check_tolerances(rtol, atol)
     _check_start(system, t0, y0)
     try:
         result = integrate(system, solver, (t0, t1), y0, t_eval=t_eval, dt=dt, rtol=rtol,

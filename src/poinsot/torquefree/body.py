@@ -9,6 +9,7 @@ module.
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -86,6 +87,10 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
             S[:, 2] = -S[:, 2]
         self._S = np.ascontiguousarray(S)  # sorted principal axes (columns), right-handed
         self._I = np.ascontiguousarray(self.moments[order])
+        # the closed forms run on moments scaled by a power of two (exactly) to I3 ~ 1: they
+        # hold products such as I1 I2 I3, which would leave the double range for moments
+        # beyond 1e±103; times and ω are unchanged by this scaling (ω̇ = −I⁻¹(ω × Iω))
+        self._In = np.ldexp(self._I, -int(np.frexp(self._I[2])[1]))
         self._symmetry_code = int(kin_inertia.symmetry_code(self._I, SYMMETRY_RTOL))
         self.symmetry = kin_inertia.SYMMETRY_CLASSES[self._symmetry_code]
         self.inertia = body_axes @ np.diag(moments) @ body_axes.T
@@ -148,7 +153,8 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
             raise ValueError(f"`energy` must be a positive number, found {energy}")
         if not (np.isfinite(a) and a >= 0):
             raise ValueError(f"`momentum` must be a non-negative number, found {momentum}")
-        D = a * a / (2 * k)
+        self.check_energy_range(k)
+        D = (a / math.sqrt(2 * k)) ** 2
         I1, _, I3 = self._I
         if D < I1 * (1 - 1e-12) or D > I3 * (1 + 1e-12):
             raise ValueError(
@@ -156,6 +162,20 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
                 f"I1 = {I1:.6g}, a²/(2k) = {D:.6g}, I3 = {I3:.6g}"
             )
         return min(max(D, I1), I3)
+
+    def check_energy_range(self, energy) -> float:
+        """Refuse an energy whose polhodes leave the double range: the ellipsoid's points
+        ``ω = √(2k/I)`` and momenta ``a = √(2kI)`` must stay finite and nonzero."""
+        k = float(energy)
+        I1, I3 = self._I[0], self._I[2]
+        with np.errstate(over="ignore", under="ignore"):
+            values = (2 * k * I3, 2 * k / I1, 2 * k * I1, 2 * k / I3)
+        if not all(np.isfinite(v) and v > 1e-300 for v in values):
+            raise ValueError(
+                f"`energy` = {k:.3g} with moments {I1:.3g} … {I3:.3g} is out of range: 2k·I3 and "
+                "2k/I1 must lie within 1e-300 … 1e308 (choose other units)"
+            )
+        return k
 
     def euler_rhs(self, omega) -> np.ndarray:
         """``ω̇`` from Euler's equation (20) in principal components (27)–(29), for ω (..., 3)

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validation import as_vector3
+from .._validation import as_positive_scalar, as_vector3
 from ..kernels import torque_free as tf
 
 __all__ = ["Polhode", "PolhodeMixin"]
@@ -98,7 +98,7 @@ class PolhodeMixin:
         done exactly): ``levels`` values of a²/2k strictly between I1 and I3, on both branches,
         the separatrix arcs (asymmetric bodies) and the fixed points."""
         I1, I2, I3 = self._I
-        k = float(energy)
+        k = self.check_energy_range(as_positive_scalar(energy, "energy"))
         out = []
         if self.symmetry == "spherical":
             return [Polhode(np.zeros((0, 3)), "spherical", k, math.sqrt(2 * k * I1), math.inf)]

@@ -40,7 +40,7 @@ class SolutionMixin:
         return as_array([t], "t", (1,))
 
     def _regimes(self, W):
-        return tf.regimes(self._I, self._S, self._symmetry_code, W)
+        return tf.regimes(self._In, self._S, self._symmetry_code, W)
 
     # ----------------------------------------------------------------- invariants
     def invariants(self, omega):
@@ -54,7 +54,8 @@ class SolutionMixin:
         (0.5, 1.0)
         """
         W, single = self._initial(omega, "omega")
-        k, a = freebody.invariants(self._I, W @ self._S)
+        with np.errstate(over="ignore"):  # beyond ~1e308 they are inf: not representable
+            k, a = freebody.invariants(self._I, W @ self._S)
         return (float(k[0]), float(a[0])) if single else (k, a)
 
     # ----------------------------------------------------------------- families and times
@@ -119,7 +120,7 @@ class SolutionMixin:
         (2, 2, 3)
         """
         W, single = self._initial(omega0)
-        out = tf.exact_omegas(self._I, self._S, self._symmetry_code, W, self._times(t))
+        out = tf.exact_omegas(self._In, self._S, self._symmetry_code, W, self._times(t))
         return out[0] if single else out
 
     def exact_attitude(self, omega0, t, Q0=None) -> np.ndarray:
@@ -141,7 +142,7 @@ class SolutionMixin:
         W, single = self._initial(omega0)
         Q = np.eye(3)[None] if Q0 is None else as_rotation_matrices(Q0, "Q0", len(W))
         out = tf.exact_attitudes(
-            self._I, self._S, self._symmetry_code, W, np.ascontiguousarray(Q), self._times(t)
+            self._In, self._S, self._symmetry_code, W, np.ascontiguousarray(Q), self._times(t)
         )
         return out[0] if single else out
 

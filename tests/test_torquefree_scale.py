@@ -1,0 +1,54 @@
+"""The torque-free analysis is scale-free (issue 12, §3): under ω → sω and I → s'I, for s, s'
+from 1e-150 to 1e150, the family is the same, times scale as 1/s, ω(t/s) as s and Q(t/s) not at
+all. Reference: Euler's equation A ω̇ = Aω × ω is homogeneous of degree 1 in A and 2 in ω."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from poinsot import FreeRigidBody
+
+exponents = st.integers(-150, 150)
+directions = st.tuples(*[st.floats(-1, 1, allow_nan=False) for _ in range(3)]).filter(
+    lambda v: np.linalg.norm(v) > 0.1
+)
+shapes = st.sampled_from([(1.0, 2.0, 3.0), (1.0, 1.0, 2.0), (2.0, 2.0, 1.0), (1.3, 1.7, 2.9)])
+
+
+@settings(max_examples=60, deadline=None)
+@given(shapes, directions, exponents, exponents)
+def test_covariant_under_scaling_of_omega_and_moments(moments, direction, e_omega, e_moments):
+    s, sI = 10.0**e_omega, 10.0**e_moments
+    w = np.array(direction)
+    ref = FreeRigidBody(moments)
+    body = FreeRigidBody(np.array(moments) * sI)
+    family = ref.classify(w)
+    assert body.classify(w * s) == family
+    t = np.array([0.0, 0.7, 3.1])
+    np.testing.assert_allclose(body.exact_omega(w * s, t / s) / s, ref.exact_omega(w, t),
+                               rtol=1e-9, atol=1e-12)  # fmt: skip
+    np.testing.assert_allclose(body.exact_attitude(w * s, t / s), ref.exact_attitude(w, t),
+                               atol=1e-9)  # fmt: skip
+    if family not in ("fixed point", "spherical", "separatrix"):
+        assert body.period(w * s) * s == pytest.approx(ref.period(w), rel=1e-12)
+
+
+@pytest.mark.parametrize("speed", [1e-12, 1e-9, 1e-8, 1e-7, 1.0])
+def test_a_slow_symmetric_spin_is_not_a_fixed_point(speed):
+    """A symmetric body spinning at 1e-9 rad/s precesses like one at 1 rad/s, slowed down."""
+    body = FreeRigidBody((1.0, 1.0, 2.0))
+    w = np.array([0.3, 0.0, 1.0]) * speed
+    assert body.classify(w) == "symmetric"
+    t = np.array([0.0, 2.0]) / speed
+    np.testing.assert_allclose(body.exact_attitude(w, t), body.exact_attitude(w / speed,
+                               t * speed), atol=1e-12)  # fmt: skip
+
+
+def test_energy_out_of_the_double_range_is_refused_with_the_range():
+    body = FreeRigidBody((1.0, 2.0, 3.0))
+    with pytest.raises(ValueError, match=r"out of range: 2k·I3 and 2k/I1 must lie within"):
+        body.polhode_family(1e308)
+    assert len(body.polhode_family(1e300)) > 0
