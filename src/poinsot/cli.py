@@ -231,6 +231,10 @@ def _cmd_polhodes(args):
     energy = 0.5 if energy is None else energy
     if not energy > 0:
         raise _BadInput(f"--energy: expected a positive number, found {energy}")
+    try:
+        free.check_energy_range(energy)
+    except ValueError as exc:
+        raise _BadInput(f"--energy: {exc}") from None
     from ._io import OutputFolder
 
     out = Path(args.out) if args.out else Path("poinsot-out") / "polhodes"
