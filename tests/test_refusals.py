@@ -13,18 +13,9 @@ from hypothesis import strategies as st
 
 from poinsot import RigidBody, simulate
 from poinsot.scenario import ScenarioError, load_scenario
+from scenario_texts import BOX_SCENARIO
 
-BASE = """name = "t"
-[body]
-type = "box"
-mass = 1.0
-size = [1.0, 2.0, 3.0]
-[initial]
-omega = [0.0, 1.0, 0.1]
-[time]
-span = [0.0, 1.0]
-samples = 5
-"""
+BASE = BOX_SCENARIO
 BOX = 'type = "box"\nmass = 1.0\nsize = [1.0, 2.0, 3.0]'
 
 

@@ -15,6 +15,7 @@ import pytest
 
 from poinsot.cli import main
 from poinsot.scenario import list_examples
+from scenario_texts import BOX_SCENARIO
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -101,18 +102,7 @@ def test_json_output(tmp_path, capsys):
     assert summary["torque_free"]["flip_interval"] == pytest.approx(3.3357687, abs=1e-6)
 
 
-GOOD = """
-name = "t"
-[body]
-type = "box"
-mass = 1.0
-size = [1.0, 2.0, 3.0]
-[initial]
-omega = [0.0, 1.0, 0.1]
-[time]
-span = [0.0, 1.0]
-samples = 5
-"""
+GOOD = "\n" + BOX_SCENARIO
 
 
 @pytest.mark.parametrize(

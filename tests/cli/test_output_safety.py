@@ -17,22 +17,11 @@ import pytest
 
 from poinsot._io import MANIFEST, OutputError, OutputExistsError, OutputFolder, safe_name
 from poinsot.cli import main
+from scenario_texts import BOX_SCENARIO
 
-FAST = """
-name = "{name}"
-[body]
-type = "box"
-mass = 1.0
-size = [1.0, 2.0, 3.0]
-[initial]
-omega = [0.0, 1.0, 0.1]
-[time]
-span = [0.0, 1.0]
-samples = 5
-[output]
-figures = false
-report = false
-"""
+FAST = BOX_SCENARIO.replace('name = "t"', 'name = "{name}"') + (
+    "[output]\nfigures = false\nreport = false\n"
+)
 
 
 def _scenario(tmp_path, name="t", extra=""):
