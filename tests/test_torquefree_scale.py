@@ -15,9 +15,7 @@ exponents = st.integers(-150, 150)
 # components 0 or ≥ 1e-6 in size, so that s·ω stays a normal number (the kernels flush
 # subnormals to zero) over the whole range of s
 component = st.one_of(st.just(0.0), st.floats(1e-6, 1.0), st.floats(-1.0, -1e-6))
-directions = st.tuples(component, component, component).filter(
-    lambda v: np.linalg.norm(v) > 0.1
-)
+directions = st.tuples(component, component, component).filter(lambda v: np.linalg.norm(v) > 0.1)
 shapes = st.sampled_from([(1.0, 2.0, 3.0), (1.0, 1.0, 2.0), (2.0, 2.0, 1.0), (1.3, 1.7, 2.9)])
 
 

@@ -205,6 +205,8 @@ def _cmd_inertia(args):
 
 
 def _cmd_polhodes(args):
+    import math
+
     import numpy as np
 
     from .torquefree import FreeRigidBody
@@ -227,7 +229,12 @@ def _cmd_polhodes(args):
         result["omega0"] = w0.tolist()
         result.update(free.describe(w0))
         k = result["energy"]
-        energy = energy if energy is not None else k
+        if energy is not None and not math.isclose(energy, k, rel_tol=1e-9):
+            raise _BadInput(
+                f"--energy {energy:g} conflicts with --omega0, whose energy is {k:.10g}: give "
+                "one of them (the ellipsoid is drawn at the energy of ω0)"
+            )
+        energy = k
     energy = 0.5 if energy is None else energy
     if not energy > 0:
         raise _BadInput(f"--energy: expected a positive number, found {energy}")
@@ -257,7 +264,6 @@ def _cmd_polhodes(args):
 def _write_polhodes(out: Path, args, free, energy, result):
     """polhodes.png (+ energy_ellipsoid.png with --omega0), their HTML versions when plotly is
     installed, and polhodes.json, into the folder ``out``."""
-    import math
 
     import matplotlib
     import numpy as np
@@ -269,9 +275,8 @@ def _write_polhodes(out: Path, args, free, energy, result):
     from .plotting import plot_energy_ellipsoid, plot_polhode_family
 
     fig = plot_polhode_family(free, energy)
-    if args.omega0 is not None:
+    if args.omega0 is not None:  # ω0 fixes the energy: its ω(t) lies on this very ellipsoid
         w0 = np.array(args.omega0, dtype=float)
-        scale = math.sqrt(energy / result["energy"])
         t = np.linspace(
             0,
             min(free.period(w0), 200.0)
@@ -279,7 +284,7 @@ def _write_polhodes(out: Path, args, free, energy, result):
             else 50.0,
             400,
         )
-        path = free.exact_omega(w0, t) * scale
+        path = free.exact_omega(w0, t)
         fig.axes[0].plot(*path.T, color="crimson", lw=3, label="ω(t) from ω0")
         fig.axes[0].legend(loc="upper left", fontsize=8)
     with atomic_path(out / "polhodes.png") as tmp:
@@ -383,7 +388,8 @@ def _parser():
         "--energy",
         type=float,
         metavar="K",
-        help="rotational kinetic energy k of the ellipsoid (default: that of --omega0, else 0.5)",
+        help="rotational kinetic energy k of the ellipsoid (default 0.5; with --omega0 it is "
+        "that of ω0, and a different --energy is refused)",
     )
     pol.add_argument(
         "--omega0",

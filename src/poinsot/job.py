@@ -233,14 +233,20 @@ def _figures(folder: Path, scenario, traj, free):
         k_traj = float(
             rotational_energy(scenario.body.inertia, np.ascontiguousarray(traj.omega[0]))
         )
-        k = energy if energy is not None else k_traj
-        if k > 0:
-            fig = plot_polhode_family(free, k, levels=scenario.analysis.get("levels", 9))
-            if k_traj > 0:
-                path = traj.omega * np.sqrt(k / k_traj)
-                fig.axes[0].plot(*path.T, color="crimson", lw=2.5, label="ω(t) of this run")
-                fig.axes[0].legend(loc="upper left", fontsize=8)
+        levels = scenario.analysis.get("levels", 9)
+        if k_traj > 0:  # the run's ω(t) on its own energy ellipsoid, with the family there
+            fig = plot_polhode_family(free, k_traj, levels=levels)
+            ax = fig.axes[0]
+            ax.plot(*traj.omega.T, color="crimson", lw=2.5, label="ω(t) of this run")
+            ax.set_title(f"This run's ω(t) (rad/s, body frame) on its energy ellipsoid, "
+                         f"k = {k_traj:.4g} J\nwith the polhodes at that energy")  # fmt: skip
+            ax.legend(loc="upper left", fontsize=8)
             save(fig, "polhodes.png")
+        if energy is not None and not np.isclose(energy, k_traj, rtol=1e-12):
+            fig = plot_polhode_family(free, energy, levels=levels)  # [analysis] energy's sweep
+            fig.axes[0].set_title(f"The polhode family at k = {energy:g} J ([analysis] energy), "
+                                  "not this run's energy")  # fmt: skip
+            save(fig, "polhodes_sweep.png")
 
 
 def run_scenario(scenario, out, *, force=False, progress=None, report=True) -> dict:

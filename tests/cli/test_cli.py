@@ -398,3 +398,46 @@ def test_ensemble_example_writes_statistics_against_the_exact_flips(tmp_path, ca
     ratio = ds["flip_interval"].values / ds["exact_flip_interval"].values - 1
     assert np.nanmax(np.abs(ratio)) < 1e-3
     ds.close()
+
+
+def test_polhodes_refuses_conflicting_energy_and_honours_omega0(tmp_path, capsys):
+    """--energy and --omega0 that disagree are refused; with --omega0 alone the figure's
+    ellipsoid is the energy of ω0, the value polhodes.json reports (issue 12/13)."""
+    base = ["polhodes", "--moments", "1", "2", "3", "--omega0", "1", "1", "1"]
+    assert main([*base, "--energy", "1", "--out", str(tmp_path / "a")]) == 2
+    assert "--energy 1 conflicts with --omega0, whose energy is 3" in capsys.readouterr().err
+    assert not (tmp_path / "a").exists()
+    assert main([*base, "--energy", "3", "--out", str(tmp_path / "b"), "--quiet"]) == 0
+    assert json.loads((tmp_path / "b" / "polhodes.json").read_text())["energy"] == 3.0
+
+
+def test_run_draws_the_runs_own_energy_and_the_sweep_apart(tmp_path):
+    """polhodes.png: ω(t) unscaled on the run's own ellipsoid; the [analysis] energy's sweep
+    is a separate, titled polhodes_sweep.png (the notebook example: k = 12.5 against 0.5)."""
+    import matplotlib.pyplot as plt
+
+    import poinsot.job as job
+
+    titles = {}
+    real_save = plt.Figure.savefig
+
+    def spy(fig, fname, *args, **kwargs):
+        titles[Path(fname).name] = (fig.axes[0].get_title(), fig)
+        return real_save(fig, fname, *args, **kwargs)
+
+    from poinsot.scenario import load_example
+
+    scenario = load_example("notebook")
+    scenario.outputs["report"] = False
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(plt.Figure, "savefig", spy)
+        job.run_scenario(scenario, tmp_path / "o")
+    # atomic writes save to ".polhodes.png.XXXX.png" first
+    shown = {".".join(k.lstrip(".").split(".")[:2]): v for k, v in titles.items()}
+    title, fig = shown["polhodes.png"]
+    assert "k = 12.5 J" in title
+    run_line = next(ln for ln in fig.axes[0].lines if ln.get_label() == "ω(t) of this run")
+    data = np.load(tmp_path / "o" / "trajectory.npz")
+    np.testing.assert_allclose(np.array(run_line.get_data_3d()).T, data["omega"], rtol=1e-15)
+    assert "k = 0.5 J" in shown["polhodes_sweep.png"][0]
+    assert (tmp_path / "o" / "polhodes_sweep.png").exists()

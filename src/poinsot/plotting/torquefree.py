@@ -52,9 +52,9 @@ def _equal_3d(ax, radius):
     for setter in (ax.set_xlim, ax.set_ylim, ax.set_zlim):
         setter(-radius, radius)
     ax.set_box_aspect((1, 1, 1))
-    ax.set_xlabel("ω₁")
-    ax.set_ylabel("ω₂")
-    ax.set_zlabel("ω₃")
+    ax.set_xlabel("ω₁ (rad/s)")
+    ax.set_ylabel("ω₂ (rad/s)")
+    ax.set_zlabel("ω₃ (rad/s)")
 
 
 def _ellipsoid_mesh(semi_axes, axes, n=40):
