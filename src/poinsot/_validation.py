@@ -74,16 +74,14 @@ def _real_array(value, name: str) -> np.ndarray:
         raw.dtype == object and any(isinstance(v, complex) for v in raw.flat)
     ):
         raise TypeError(f"`{name}` must be real, found complex values")
-    if raw.dtype.kind in "biuf":
-        return raw.astype(float, copy=False) if raw.dtype.kind != "b" else _no_bools(name)
+    if raw.dtype.kind == "b":
+        raise TypeError(f"`{name}` must be numeric, found booleans")
+    if raw.dtype.kind in "iuf":
+        return raw.astype(float, copy=False)
     try:
         return np.asarray(raw, dtype=float)
     except (TypeError, ValueError):
         raise TypeError(f"`{name}` must be numeric, found {type(value).__name__}") from None
-
-
-def _no_bools(name):
-    raise TypeError(f"`{name}` must be numeric, found booleans")
 
 
 def as_vector3(value, name: str) -> np.ndarray:
@@ -140,19 +138,19 @@ def _rotation_input(value, name: str, scalar_first: bool = True) -> np.ndarray:
     return arr
 
 
-def as_rotation_matrix(value, name: str, scalar_first: bool = True) -> np.ndarray:
-    """A rotation given as a 3×3 matrix, a ``scipy.spatial.transform.Rotation``, or a unit
-    quaternion: scalar-first (w, x, y, z) unless ``scalar_first=False`` (SciPy's order).
+def as_rotation_matrix(value, name: str) -> np.ndarray:
+    """A rotation given as a 3×3 matrix, a ``scipy.spatial.transform.Rotation``, or a
+    scalar-first unit quaternion (w, x, y, z) (:func:`_rotation_input` reads SciPy's order).
 
     Input within :data:`ROTATION_TOLERANCE` of a rotation is accepted and projected exactly onto
     SO(3) (quaternion normalised; matrix replaced by its orthogonal polar factor). Anything else
     (a reflection, a shear, a quaternion of the wrong norm) is refused.
     """
-    arr = _rotation_input(value, name, scalar_first)
+    arr = _rotation_input(value, name)
     if arr.shape not in ((3, 3), (4,)):
         raise ValueError(
-            f"`{name}` must be a 3×3 rotation matrix or a unit quaternion "
-            f"{_QUAT_ORDER[scalar_first]}, found shape {arr.shape}"
+            f"`{name}` must be a 3×3 rotation matrix or a unit quaternion {_QUAT_ORDER[True]}, "
+            f"found shape {arr.shape}"
         )
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"`{name}` must be finite, found {arr.tolist()}")
@@ -194,14 +192,12 @@ def as_vectors(value, name: str, n: int | None = None, *, single_ok: bool = True
     return as_array(arr, name, (None, 3))
 
 
-def as_rotation_matrices(
-    value, name: str, n: int | None = None, scalar_first: bool = True
-) -> np.ndarray:
+def as_rotation_matrices(value, name: str, n: int | None = None) -> np.ndarray:
     """Rotations as matrices (M, 3, 3), ``M = 1`` (one shared) or ``n``: from one matrix (3, 3)
     or quaternion (4,), or one per member, (n, 3, 3) or (n, 4). Each is checked as in
     :func:`as_rotation_matrix` and projected onto SO(3); a bad one is named by its member index
     (``"`Q0[12]` is not a rotation: ..."``)."""
-    arr = _rotation_input(value, name, scalar_first)
+    arr = _rotation_input(value, name)
     if arr.shape in ((3, 3), (4,)):
         return as_rotation_matrix(arr, name)[None]
     if (
@@ -212,7 +208,7 @@ def as_rotation_matrices(
         rows = "N" if n is None else str(n)
         raise ValueError(
             f"`{name}` must be one rotation ((3, 3) matrix or (4,) quaternion "
-            f"{_QUAT_ORDER[scalar_first]}) or one per member (({rows}, 3, 3) or ({rows}, 4)), "
+            f"{_QUAT_ORDER[True]}) or one per member (({rows}, 3, 3) or ({rows}, 4)), "
             f"found shape {arr.shape}"
         )
     if not np.isfinite(arr).all():
@@ -248,11 +244,11 @@ def as_sample_times(t_eval, t0: float, t1: float, name: str = "t_eval") -> np.nd
     t = as_array(t_eval, name, (None,))
     if not len(t):
         raise ValueError(f"`{name}` must hold at least one time, found an empty array")
-    if len(t) and (t[1:] <= t[:-1]).any():
+    if (t[1:] <= t[:-1]).any():
         k = int(np.argmax(t[1:] <= t[:-1])) + 1
         raise ValueError(
             f"`{name}` must be strictly increasing, found {name}[{k}] = {t[k]} after {t[k - 1]}"
         )
-    if len(t) and (t[0] < t0 or t[-1] > t1):
+    if t[0] < t0 or t[-1] > t1:
         raise ValueError(f"`{name}` must lie within t_span = ({t0}, {t1})")
     return t

@@ -860,12 +860,10 @@ def _check_physics(s: Scenario):
             FreeRigidBody.from_body(s.body).check_feasible(energy, momentum)
         except ValueError as exc:
             raise ScenarioError(f"analysis.momentum: {exc}") from None
-    import re
-
-    from .dynamics import RigidBodySystem, rigid_velocity_from_particles
+    from .dynamics import RigidBodySystem
     from .integrate.base import get_solver
     from .integrate.driver import check_solver_fits
-    from .simulation import _check_forces_at_start
+    from .simulation import ForceUndefinedError, _check_forces_at_start, initial_velocities
 
     try:
         system = RigidBodySystem(s.body, s.forces, s.pivot)
@@ -879,13 +877,11 @@ def _check_physics(s: Scenario):
     initial = dict(s.initial)
     if "particle_velocities" in initial:
         try:
-            initial["V0"], initial["omega0"] = rigid_velocity_from_particles(
-                s.body, initial.pop("particle_velocities")
+            initial["V0"], initial["omega0"] = initial_velocities(
+                s.body, initial.pop("particle_velocities"), s.pivot
             )
         except ValueError as exc:
             raise ScenarioError(f"initial.particle_velocities: {exc}") from None
-        if s.pivot is not None:
-            initial["V0"] = None
     if "omega0" not in initial or s.ensemble is not None:
         return
     try:
@@ -901,11 +897,8 @@ def _check_physics(s: Scenario):
     if s.carrier is None:  # a relative motion checks its own start (in the carrier's frame)
         try:
             _check_forces_at_start(system, s.t_span[0], y0)
-        except ValueError as exc:
-            m = re.match(r"`forces\[(\d+)\]` \((.*?)\) (.*)", str(exc), re.S)
-            raise ScenarioError(
-                f"forces[{m.group(1)}]: {m.group(2)} {m.group(3)}" if m else f"forces: {exc}"
-            ) from None
+        except ForceUndefinedError as exc:
+            raise ScenarioError(f"forces[{exc.index}]: {exc.force_name} {exc.reason}") from None
 
 
 def load_scenario(source) -> Scenario:

@@ -133,9 +133,7 @@ def simulate(
             raise ValueError("give `particle_velocities` or `omega0`/`V0`, not both")
         if Q0 is not None:
             raise ValueError("`particle_velocities` assume the reference attitude: omit `Q0`")
-        V0, omega0 = rigid_velocity_from_particles(body, particle_velocities)
-        if pivot is not None:
-            V0 = None
+        V0, omega0 = initial_velocities(body, particle_velocities, pivot)
     elif omega0 is None:
         raise ValueError("`omega0` must be given (or `particle_velocities`)")
     if Q0 is not None:  # a Rotation, or SciPy's quaternion order, as an array (checked below)
@@ -175,6 +173,29 @@ def _check_sampling(t_eval, t0, t1, save_every, dt):
     return t_eval, int(save_every), dt
 
 
+class ForceUndefinedError(ValueError):
+    """A force whose wrench is not finite at the initial state; ``index`` is its place in
+    ``forces``."""
+
+    def __init__(self, index: int, name: str):
+        self.index, self.force_name = index, name
+        super().__init__(
+            f"`forces[{index}]` ({name}) is undefined at the initial state (non-finite wrench; "
+            "e.g. a body at the centre of a central gravity field)"
+        )
+
+    @property
+    def reason(self) -> str:
+        return str(self).split(") ", 1)[1]
+
+
+def initial_velocities(body, particle_velocities, pivot):
+    """``(V0, omega0)`` of a body given by its particles' velocities (``V0`` None about a
+    pivot, where it follows from ω)."""
+    V0, omega0 = rigid_velocity_from_particles(body, particle_velocities)
+    return (None if pivot is not None else V0), omega0
+
+
 def _check_tolerances(rtol, atol):
     """``(rtol, atol)``: each None (the method's default) or a real number, ``0 < rtol < 1``
     and ``atol > 0`` (a zero tolerance would stall an adaptive method at its first step)."""
@@ -196,10 +217,7 @@ def _check_forces_at_start(system, t0, y0):
         with np.errstate(all="ignore"):
             F, tau = f.wrench(ctx)
         if not (np.all(np.isfinite(F)) and np.all(np.isfinite(tau))):
-            raise ValueError(
-                f"`forces[{i}]` ({f.name}) is undefined at the initial state (non-finite "
-                "wrench; e.g. a body at the centre of a central gravity field)"
-            )
+            raise ForceUndefinedError(i, f.name)
 
 
 def _trajectory(result, system) -> Trajectory:
