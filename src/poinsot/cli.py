@@ -1,7 +1,7 @@
 """The ``poinsot`` command line.
 
     poinsot run [SCENARIO.toml] [--example NAME] [--out DIR] [--force] [--quiet] [--json]
-    poinsot examples
+    poinsot examples [--show NAME]
     poinsot inertia BODY [--mass M | --density RHO] [--json]
     poinsot polhodes --moments I1 I2 I3 [--energy K] [--omega0 W1 W2 W3] [--out DIR] [--json]
 
@@ -15,9 +15,12 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import time
 from pathlib import Path
+
+from . import __version__
 
 __all__ = ["main"]
 
@@ -74,7 +77,7 @@ def _cmd_run(args):
         scenario = load_scenario(Path(args.scenario))
     else:
         scenario = load_example(args.example or DEFAULT_EXAMPLE)
-    out = Path(args.out) if args.out else Path("poinsot-out") / safe_name(scenario.name)
+    out = _output_folder(args, safe_name(scenario.name))
     _say(args, f"poinsot: {scenario.name} — {scenario.description}")
     progress = _Progress(*scenario.t_span, enabled=not args.quiet)
     try:
@@ -126,29 +129,78 @@ def _cmd_run(args):
         )
         _say(args, f"  wrote {out}/ (summary.json, solution.npz/.csv, solution.png, report.html)")
     else:
-        d = summary["integration"]["diagnostics"]
+        i = summary["integration"]
+        d = i["diagnostics"]
         _say(
             args,
-            f"  body: mass {summary['body']['mass']:.6g}, principal moments "
-            + ", ".join(f"{x:.6g}" for x in summary["body"]["principal_moments"]),
+            f"  body: mass {summary['body']['mass']:.6g} kg, principal moments "
+            + ", ".join(f"{x:.6g}" for x in summary["body"]["principal_moments"])
+            + " kg·m²",
         )
+        step = f"dt = {scenario.dt:g} s, " if scenario.dt is not None else ""
         _say(
             args,
-            f"  integrated t ∈ [{scenario.t_span[0]:g}, {scenario.t_span[1]:g}] with "
-            f"{summary['integration']['method']} ({summary['integration']['nsteps']} "
-            f"steps): energy drift {d['energy_drift']:.2e}, |QᵀQ − I| "
+            f"  integrated t ∈ [{scenario.t_span[0]:g}, {scenario.t_span[1]:g}] s with "
+            f"{i['method']} ({step}{i['nsteps']} steps); max |QᵀQ − I| "
             f"{d['orthogonality_error']:.2e}",
         )
+        kept = [
+            (v["symbol"], v["max_relative_change"])
+            for v in d["invariants"].values()
+            if v["expected_conserved"]
+        ]
+        if kept:
+            changes = ", ".join(f"{s} {c:.2e}" for s, c in kept)
+            _say(args, f"  conserved by this problem, largest relative change: {changes}")
+        else:
+            _say(args, "  nothing is conserved by this problem (its forces do work)")
         if "torque_free" in summary:
             tf = summary["torque_free"]
             _say(args, f"  torque-free motion: polhode family {tf['family']!r}")
+            if "exact_solution_error" in tf:
+                e = tf["exact_solution_error"]
+                _say(
+                    args,
+                    f"  against the exact solution: max |ω − ω_exact| {e['omega']:.2e} "
+                    f"rad/s, max |Q − Q_exact| {e['attitude']:.2e}",
+                )
+        if "method_comparison" in summary:
+            other = {
+                m: v
+                for m, v in summary["method_comparison"].items()
+                if m not in ("exact", i["method"])
+            }
+            for m, v in other.items():
+                _say(
+                    args,
+                    f"  {m} at the same step: max |QᵀQ − I| {v['orthogonality']:.2e}, "
+                    f"max |Q − Q_exact| {v['attitude']:.2e} (methods.png)",
+                )
         _say(args, f"  wrote {out}/ (summary.json, trajectory.npz/.csv, figures, report.html)")
     return EXIT_OK
 
 
-def _cmd_examples(args):
-    from .scenario import list_examples
+def _output_folder(args, name: str) -> Path:
+    """``--out`` as given; without it ``./poinsot-out/NAME``, or when that exists (and no
+    ``--force``) its first free sibling ``NAME-2``, ``NAME-3``, … so that a command can be
+    run twice. The folder used is printed by the command."""
+    if args.out:
+        return Path(args.out)
+    base = Path("poinsot-out") / name
+    if args.force or not os.path.lexists(base):
+        return base
+    n = 2
+    while os.path.lexists(base.with_name(f"{name}-{n}")):
+        n += 1
+    return base.with_name(f"{name}-{n}")
 
+
+def _cmd_examples(args):
+    from .scenario import example_text, list_examples
+
+    if args.show:
+        sys.stdout.write(example_text(args.show))
+        return EXIT_OK
     for name, description in list_examples().items():
         print(f"{name:20s} {description}")
     return EXIT_OK
@@ -244,7 +296,7 @@ def _cmd_polhodes(args):
         raise _BadInput(f"--energy: {exc}") from None
     from ._io import OutputFolder
 
-    out = Path(args.out) if args.out else Path("poinsot-out") / "polhodes"
+    out = _output_folder(args, "polhodes")
     folder = OutputFolder(out, force=args.force, command="polhodes", needs_bytes=12_000_000)
     with folder.writing() as work:
         _write_polhodes(work, args, free, energy, result)
@@ -323,6 +375,7 @@ def _parser():
         description="Dynamics of rigid bodies and constrained mechanical systems.",
         epilog="Exit codes: 0 success, 2 bad input, 1 numerical failure, 130 interrupted.",
     )
+    p.add_argument("--version", action="version", version=f"poinsot {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
 
     run = sub.add_parser(
@@ -352,7 +405,13 @@ def _parser():
     run.add_argument("--json", action="store_true", help="print the summary as JSON on stdout")
     run.set_defaults(func=_cmd_run)
 
-    ex = sub.add_parser("examples", help="list the bundled example scenarios")
+    ex = sub.add_parser(
+        "examples",
+        help="list the bundled example scenarios",
+        description="List the bundled example scenarios; with --show NAME print one as a "
+        "starting template (`poinsot examples --show heavy-top > mine.toml`).",
+    )
+    ex.add_argument("--show", metavar="NAME", help="print the scenario file of example NAME")
     ex.set_defaults(func=_cmd_examples, quiet=False)
 
     inertia = sub.add_parser(

@@ -180,43 +180,70 @@ def _body_figure(traj, go):
     return fig
 
 
-def _polhode_figure(traj, go, free, energy, levels):
+def _polhode_figure(traj, go, free, levels):
+    """The run's own ω(t), unscaled, on its own energy ellipsoid with the polhodes there."""
+    from .kernels.rigid import rotational_energy
     from .plotting.interactive import polhode_family_figure
 
     w = traj.omega
-    from .kernels.rigid import rotational_energy
-
-    k_traj = float(rotational_energy(traj.body.inertia, np.ascontiguousarray(w[0])))
-    k = energy if energy is not None else k_traj
-    scale = np.sqrt(k / k_traj) if k_traj > 0 else 1.0
-    fig = polhode_family_figure(free, k, levels=levels, omega=w * scale)
-    if abs(scale - 1) > 1e-9:
-        fig.data[-1].name = "ω(t) of this run (scaled to this ellipsoid)"
-    fig.update_layout(title=f"ω on the energy ellipsoid (k = {k:.4g}) with the polhode family")
+    k = float(rotational_energy(traj.body.inertia, np.ascontiguousarray(w[0])))
+    fig = polhode_family_figure(free, k, levels=levels, omega=w)
+    fig.update_layout(
+        title=f"This run's ω(t) on its energy ellipsoid (k = {k:.4g} J), with the polhodes "
+        "at that energy; ω in rad/s, body frame"
+    )
     return fig
 
 
 def _series_figure(traj, go):
+    """ω(t), and the relative change of what this problem conserves (integration error)."""
     from plotly.subplots import make_subplots
 
-    fig = make_subplots(
-        rows=1,
-        cols=2,
-        subplot_titles=("Angular velocity (body frame)", "Conservation (relative drift)"),
+    kept = [i for i in traj.invariants if i.conserved]
+    lost = [i for i in traj.invariants if not i.conserved]
+    right = (
+        "Conserved by this problem: relative change (integration error)"
+        if kept
+        else "Total energy: not conserved here (forces do work)"
     )
+    fig = make_subplots(rows=1, cols=2, subplot_titles=("Angular velocity (body frame)", right))
     for i, name in enumerate(("ω₁", "ω₂", "ω₃")):
-        fig.add_trace(go.Scatter(x=traj.t, y=traj.omega[:, i], name=name), row=1, col=1)
+        fig.add_trace(
+            go.Scatter(x=traj.t, y=traj.omega[:, i], name=name, legendgroup="w"), row=1, col=1
+        )
     tiny = 1e-17
+    for inv in kept:
+        fig.add_trace(
+            go.Scatter(
+                x=traj.t,
+                y=inv.change + tiny,
+                legendgroup="c",
+                name=f"{inv.symbol} [{inv.unit}]: {inv.name}",
+            ),
+            row=1,
+            col=2,
+        )
     fig.add_trace(
-        go.Scatter(x=traj.t, y=np.abs(traj.energy_drift) + tiny, name="energy"), row=1, col=2
+        go.Scatter(
+            x=traj.t,
+            y=traj.orthogonality_error + tiny,
+            legendgroup="c",
+            name="max |QᵀQ − I| (distance from a rotation)",
+        ),
+        row=1,
+        col=2,
     )
-    fig.add_trace(go.Scatter(x=traj.t, y=traj.momentum_drift + tiny, name="|ΔL|/|L|"), row=1, col=2)
-    fig.add_trace(
-        go.Scatter(x=traj.t, y=traj.orthogonality_error + tiny, name="|QᵀQ − I|"), row=1, col=2
-    )
-    fig.update_yaxes(type="log", row=1, col=2)
+    if kept:
+        fig.update_yaxes(type="log", title_text="|x(t) − x(0)| / |x(0)|", row=1, col=2)
+    else:
+        E = traj.total_energy
+        fig.add_trace(go.Scatter(x=traj.t, y=E - E[0], name="E(t) − E(0) [J]"), row=1, col=2)
+        fig.update_yaxes(title_text="J (energy), 1 (|QᵀQ − I|)", row=1, col=2)
+    fig.update_yaxes(title_text="ω [rad/s]", row=1, col=1)
     fig.update_xaxes(title_text="t [s]")
-    fig.update_layout(height=420)
+    note = ("Not conserved here: " + "; ".join(f"{i.symbol} ({i.reason})" for i in lost)
+            if lost else "")  # fmt: skip
+    fig.update_layout(height=460, legend={"orientation": "h", "y": -0.25}, title=note or None)
     return fig
 
 
@@ -242,12 +269,54 @@ def _numbers_table(summary: dict) -> str:
     return "<table class='numbers'>" + "".join(rows) + "</table>"
 
 
-def write_report(path, traj, summary: dict, *, free=None, energy=None, levels=7) -> None:
-    """Write the interactive report for ``traj`` to ``path`` (atomically)."""
+def _comparison_figure(t, errors, go):
+    """The plotly twin of :func:`poinsot.plotting.plot_method_comparison`."""
+    from plotly.subplots import make_subplots
+
+    from .plotting.trajectory import COMPARISON_PANELS
+
+    fig = make_subplots(rows=1, cols=3, subplot_titles=[p[1] for p in COMPARISON_PANELS])
+    tiny = 1e-17
+    for col, (key, _, ylabel) in enumerate(COMPARISON_PANELS, start=1):
+        for n, (label, rows) in enumerate(errors.items()):
+            if key in rows:
+                fig.add_trace(
+                    go.Scatter(
+                        x=t,
+                        y=np.asarray(rows[key]) + tiny,
+                        name=label,
+                        legendgroup=label,
+                        showlegend=col == 1,
+                        line={
+                            "color": _COLORS[n % len(_COLORS)],
+                            "dash": "dash" if label.startswith("exact") else "solid",
+                        },
+                    ),
+                    row=1,
+                    col=col,
+                )
+        fig.update_yaxes(type="log", title_text=ylabel, row=1, col=col)
+    fig.update_xaxes(title_text="t [s]")
+    fig.update_layout(
+        height=430,
+        title="Integrators against the exact torque-free solution, same step",
+        legend={"orientation": "h", "y": -0.25},
+    )
+    return fig
+
+
+_COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd")
+
+
+def write_report(path, traj, summary: dict, *, free=None, levels=7, comparison=None) -> None:
+    """Write the interactive report for ``traj`` to ``path`` (atomically); ``comparison``:
+    the per-sample errors of :func:`poinsot.job.compare_methods`, drawn second."""
     go, pio = _plotly()
     figures = [_body_figure(traj, go)]
-    if free is not None:
-        figures.append(_polhode_figure(traj, go, free, energy, levels))
+    if comparison is not None:
+        figures.append(_comparison_figure(traj.t, comparison, go))
+    if free is not None and np.any(traj.omega[0]):
+        figures.append(_polhode_figure(traj, go, free, levels))
     figures.append(_series_figure(traj, go))
     _write_page(path, figures, summary, pio)
 
@@ -333,6 +402,7 @@ table.numbers td {{ font-family: ui-monospace, monospace; }}
 </style></head><body>
 <h1>{title}</h1>
 <p>{html.escape(summary.get("scenario", {}).get("description", ""))}</p>
+{f'<p class="lead">{html.escape(summary["lead"])}</p>' if summary.get("lead") else ""}
 {"".join(f'<div class="plot">{p}</div>' for p in parts)}
 <h2>Numbers</h2>
 {_numbers_table(summary)}

@@ -22,6 +22,7 @@ __all__ = [
     "LagrangianScenario",
     "Scenario",
     "ScenarioError",
+    "example_text",
     "list_examples",
     "load_example",
     "load_scenario",
@@ -437,9 +438,10 @@ class Scenario:
             **initial,
         )
 
-    def simulate(self, progress=None):
+    def simulate(self, progress=None, *, method=None):
         """Run the simulation: a :class:`~poinsot.trajectory.Trajectory`, or with
-        ``[carrier]`` a :class:`~poinsot.relative.RelativeTrajectory`."""
+        ``[carrier]`` a :class:`~poinsot.relative.RelativeTrajectory`. ``method`` replaces the
+        scenario's integrator (same step or tolerances), to compare methods on one problem."""
         if self.carrier is not None:
             return self.simulate_relative(progress)
         from .simulation import simulate
@@ -449,7 +451,7 @@ class Scenario:
             self.t_span,
             forces=self.forces,
             pivot=self.pivot,
-            method=self.method,
+            method=method or self.method,
             dt=self.dt,
             rtol=self.rtol,
             atol=self.atol,
@@ -961,14 +963,18 @@ def list_examples() -> dict[str, str]:
     return out
 
 
-def load_example(name: str) -> Scenario:
-    """A bundled example scenario by name (see :func:`list_examples`)."""
+def example_text(name: str) -> str:
+    """The TOML text of a bundled example scenario, a starting template for your own."""
     names = list_examples()
     if name not in names:
         near = difflib.get_close_matches(name, list(names), n=1)
         hint = f" (did you mean {near[0]!r}?)" if near else ""
         raise ScenarioError(f"no example named {name!r}{hint}; available: {', '.join(names)}")
-    entry = _example_files() / f"{name}.toml"
-    scenario = load_scenario(entry.read_text(encoding="utf-8"))
+    return (_example_files() / f"{name}.toml").read_text(encoding="utf-8")
+
+
+def load_example(name: str) -> Scenario:
+    """A bundled example scenario by name (see :func:`list_examples`)."""
+    scenario = load_scenario(example_text(name))
     scenario.source = f"example:{name}"
     return scenario

@@ -197,6 +197,15 @@ class Trajectory:
         return _readonly(np.abs(sigma - 1).max(axis=1) * diameter)
 
     @cached_property
+    def invariants(self):
+        """The quantities this problem conserves (and the notable ones it does not), as
+        :class:`~poinsot.conservation.Invariant` objects: total energy, then the momenta its
+        forces and constraint leave constant (:func:`poinsot.conservation.invariants_of`)."""
+        from .conservation import invariants_of
+
+        return tuple(invariants_of(self))
+
+    @cached_property
     def energy_drift(self):
         """Relative change of total energy ``(E(t) − E(0))/|E(0)|`` (n,) (absolute if E(0)=0)."""
         E = self.total_energy
@@ -205,7 +214,9 @@ class Trajectory:
     @cached_property
     def momentum_drift(self):
         """Relative change of the spatial angular momentum about the centre of mass,
-        ``|L(t) − L(0)| / |L(0)|`` (n,): zero for a torque-free body."""
+        ``|L(t) − L(0)| / |L(0)|`` (n,): zero for a torque-free body, and physics, not error,
+        when a force has a torque about the centre of mass (see :attr:`invariants` for what
+        the problem conserves)."""
         L = self.angular_momentum_com
         scale = float(np.abs(L[0]).max()) or 1.0  # so that |L|² cannot overflow near 1e300
         dL = np.linalg.norm((L - L[0]) / scale, axis=1)
@@ -219,6 +230,7 @@ class Trajectory:
             "energy_drift": float(np.abs(self.energy_drift).max()),
             "momentum_drift": float(self.momentum_drift.max()),
             "energy_conserved_by_model": self.is_conservative,
+            "invariants": {i.name: i.describe() for i in self.invariants},
         }
 
     def summary(self) -> dict:

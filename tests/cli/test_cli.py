@@ -75,10 +75,37 @@ def test_run_without_arguments_in_an_empty_folder(tmp_path):
     data = np.load(out / "trajectory.npz")
     # the scenario's grid lists the particles in another order: sums round differently
     np.testing.assert_allclose(data["omega"], traj.omega, rtol=1e-12, atol=1e-14)
-    # an existing folder is not overwritten without --force
+    # the README's command runs twice: the second run writes to a fresh sibling and says so
+    before = out.stat().st_mtime_ns
     again = _poinsot("run", cwd=tmp_path)
+    assert again.returncode == 0 and "wrote poinsot-out/notebook-2/" in again.stdout
+    assert (tmp_path / "poinsot-out" / "notebook-2" / "summary.json").is_file()
+    assert out.stat().st_mtime_ns == before  # the first run's folder is untouched
+    assert _poinsot("run", "--quiet", cwd=tmp_path).returncode == 0
+    assert (tmp_path / "poinsot-out" / "notebook-3").is_dir()
+    # an explicit --out keeps the rule: an existing folder is not overwritten without --force
+    again = _poinsot("run", "--out", str(out), cwd=tmp_path)
     assert again.returncode == 2 and "output folder exists" in again.stderr
     assert _poinsot("run", "--force", "--quiet", cwd=tmp_path).returncode == 0
+    assert not (tmp_path / "poinsot-out" / "notebook-4").exists()
+
+
+def test_version_and_module_entry_point(tmp_path):
+    from poinsot import __version__
+
+    done = subprocess.run([sys.executable, "-m", "poinsot", "--version"], capture_output=True,
+                          text=True, cwd=tmp_path)  # fmt: skip
+    assert done.returncode == 0 and done.stdout.strip() == f"poinsot {__version__}"
+
+
+def test_examples_show_prints_a_loadable_template(tmp_path, capsys):
+    from poinsot.scenario import load_scenario
+
+    assert main(["examples", "--show", "heavy-top"]) == 0
+    text = capsys.readouterr().out
+    assert load_scenario(text).name == "heavy-top"
+    assert main(["examples", "--show", "heavy-topp"]) == 2
+    assert "did you mean 'heavy-top'" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("name", sorted(list_examples()))

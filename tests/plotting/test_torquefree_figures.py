@@ -88,7 +88,7 @@ def test_omega_and_frames_and_animation(tmp_path):
     np.testing.assert_array_equal(fig.axes[0].get_lines()[0].get_ydata(), w[:, 0])
     Q = BODY.exact_attitude((0.01, 0.2, 0.01), t)
     fig = plot_attitude_frames(Q, t)
-    assert len(fig.axes) == 5 and fig.axes[-1].get_title() == "t = 10"
+    assert len(fig.axes) == 5 and fig.axes[-1].get_title() == "t = 10 s"
     fig.savefig(tmp_path / "frames.png")
     assert (tmp_path / "frames.png").stat().st_size > 5000
     for name in ("tumble.gif", "tumble.html"):

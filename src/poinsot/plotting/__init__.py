@@ -11,7 +11,12 @@ from .torquefree import (
     plot_omega,
     plot_polhode_family,
 )
-from .trajectory import plot_center_of_mass_path, plot_conservation, plot_omega_series
+from .trajectory import (
+    plot_center_of_mass_path,
+    plot_conservation,
+    plot_method_comparison,
+    plot_omega_series,
+)
 
 __all__ = [
     "animate_tumbling",
@@ -19,6 +24,7 @@ __all__ = [
     "plot_center_of_mass_path",
     "plot_conservation",
     "plot_energy_ellipsoid",
+    "plot_method_comparison",
     "plot_omega",
     "plot_omega_series",
     "plot_polhode_family",

@@ -233,7 +233,9 @@ def _box_edges(half):
 def plot_attitude_frames(Q, t=None, *, indices=None, axes=None, half_extents=(0.3, 0.5, 0.8)):
     """The body (a box with the given half extents, along its e1, e2, e3) and its axes at a few
     instants, one 3D panel each: attitudes ``Q`` (n, 3, 3). ``indices`` picks the samples
-    (default: five evenly spaced); ``axes`` a sequence of 3D axes to draw into."""
+    (default: five evenly spaced); ``axes`` a sequence of 3D axes to draw into. The axes are
+    scaled to the body: the limits are the box's circumscribed radius (its arrows, 1.3 half
+    extents long, included), the same in every panel, so the body fills them at any size."""
     plt = _plt()
     Q = np.asarray(Q)
     idx = np.linspace(0, len(Q) - 1, 5).astype(int) if indices is None else np.asarray(indices)
@@ -243,20 +245,22 @@ def plot_attitude_frames(Q, t=None, *, indices=None, axes=None, half_extents=(0.
     fig = axes[0].figure
     corners, edges = _box_edges(np.asarray(half_extents))
     colors = ("tab:red", "tab:green", "tab:blue")
-    r = 1.0
+    half = np.asarray(half_extents, dtype=float)
+    arrows = 1.3 * np.maximum(half, 0.3 * half.max())  # a thin axis still gets a visible arrow
+    r = 1.02 * max(float(np.linalg.norm(half)), float(arrows.max()))
     for ax, i in zip(axes, idx, strict=True):
         pts = corners @ Q[i].T
         for a, b in edges:
             ax.plot(*np.array([pts[a], pts[b]]).T, color="0.3", lw=1)
         for k in range(3):
-            ax.quiver(0, 0, 0, *(Q[i][:, k] * r), color=colors[k], lw=2)
+            ax.quiver(0, 0, 0, *(Q[i][:, k] * arrows[k]), color=colors[k], lw=2)
         for setter in (ax.set_xlim, ax.set_ylim, ax.set_zlim):
             setter(-r, r)
         ax.set_box_aspect((1, 1, 1))
         ax.set_axis_off()
         if t is not None:
-            ax.set_title(f"t = {t[i]:.3g}", fontsize=10)
-    fig.suptitle("Body attitude (red e₁, green e₂, blue e₃)")
+            ax.set_title(f"t = {t[i]:.3g} s", fontsize=10)
+    fig.suptitle(f"Body attitude (red e₁, green e₂, blue e₃); panels ±{r:.3g} m")
     return fig
 
 

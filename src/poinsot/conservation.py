@@ -1,0 +1,311 @@
+"""The constants of the motion of a rigid-body problem, and their values along a trajectory.
+
+Which quantities a problem conserves follows from its forces and its constraint, not from
+the integrator (``docs/theory.md``, "Conservation laws"):
+
+* **total energy** ``E = K + U`` (eq. (12) plus the potentials) when every force is
+  conservative (:attr:`poinsot.forces.Force.conservative`);
+* **angular momentum about the centre of mass** ``L_G = Q A ω`` (the first term of eq. (03)),
+  as a spatial vector and as its length ``|L_G|``, when no force has a torque about the centre
+  of mass: no force, or uniform gravity on a free body (or on a body held at its centre of
+  mass). The rotational energy ``½ ω·Aω`` (eq. (30)) is then conserved by itself;
+* **linear momentum** ``M Ṙ`` of a free body with no force at all;
+* **angular momentum about a fixed pivot** ``L_P = Q A ω + M (R − P) × Ṙ`` (eq. (03) about
+  ``P``) with no force; with uniform gravity only its **vertical component** ``L_P·ĝ``
+  (the torque of gravity about the pivot is horizontal) and, for a **symmetric top** (two
+  equal moments about the pivot, the centre of mass on the third axis ``e₃``), also
+  ``L_P·e₃ = I₃ ω₃`` (Euler–Lagrange top);
+* **angular momentum about the attracting centre** (orbit plus spin) under one
+  :class:`~poinsot.forces.CentralGravity`, whose force and gravity-gradient torque derive
+  from one potential that is invariant under rotations about the centre.
+
+Every value is computed by the kernels of :mod:`poinsot.kernels.rigid`; this module only
+decides which of them the problem conserves and says why.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .kernels import rigid
+
+__all__ = ["Invariant", "invariants_of"]
+
+#: Two moments about the pivot are equal (a symmetric top) when they differ by at most this
+#: fraction of the largest: looser than the body's symmetry class, since the moments about a
+#: pivot come through the parallel-axis shift and carry its rounding.
+TOP_RTOL = 1e-9
+
+
+@dataclass(frozen=True)
+class Invariant:
+    """One quantity of a motion, with whether the problem conserves it.
+
+    Attributes
+    ----------
+    name : str
+        What it is, in words ("total energy", "L about the pivot · vertical").
+    symbol : str
+        A short label for legends ("E", "L_P·ĝ").
+    unit : str
+        SI unit of the values ("J", "kg·m²/s").
+    values : ndarray, shape (n,) or (n, 3)
+        The quantity at each sample (vectors in the space frame).
+    conserved : bool
+        True when the problem conserves it (whatever the integrator does).
+    reason : str
+        Why it is (or is not) conserved.
+    scale : float
+        The size its change is measured against (``|value(0)|``, or a natural scale of the
+        problem when that is zero).
+    """
+
+    name: str
+    symbol: str
+    unit: str
+    values: np.ndarray
+    conserved: bool
+    reason: str
+    scale: float
+
+    @property
+    def change(self) -> np.ndarray:
+        """Relative change ``|x(t) − x(0)| / scale`` per sample (n,): the integrator's error
+        when :attr:`conserved`, the physics otherwise."""
+        v = np.asarray(self.values, dtype=float)
+        d = (v - v[0]) / (self.scale or 1.0)
+        return np.abs(d) if d.ndim == 1 else np.linalg.norm(d, axis=1)
+
+    def describe(self) -> dict:
+        """JSON-ready: unit, initial value, largest relative change, whether it is conserved
+        and why."""
+        v0 = np.asarray(self.values[0], dtype=float)
+        return {
+            "symbol": self.symbol,
+            "unit": self.unit,
+            "initial": v0.tolist() if v0.ndim else float(v0),
+            "max_relative_change": float(self.change.max()),
+            "expected_conserved": self.conserved,
+            "reason": self.reason,
+        }
+
+
+def _norm_scale(v0):
+    """The scale of a vector quantity: ``|v(0)|`` without overflow near 1e300."""
+    m = float(np.abs(v0).max())
+    return m * float(np.linalg.norm(v0 / m)) if m > 0 else 0.0
+
+
+def _symmetry_axis(system):
+    """The body-frame unit axis ``e₃`` of a symmetric top about the pivot (two equal moments
+    about the pivot and the centre of mass on the third axis), or None."""
+    m = np.asarray(system.principal_moments, float)
+    axes = np.asarray(system.principal_axes, float)
+    tol = TOP_RTOL * m[2]
+    if m[2] - m[0] <= tol:  # spherical about the pivot: any axis through the c.o.m. will do
+        c = np.asarray(system.c, float)
+        return c / np.linalg.norm(c) if np.any(c) else None
+    if m[1] - m[0] <= tol:
+        axis = axes[:, 2]
+    elif m[2] - m[1] <= tol:
+        axis = axes[:, 0]
+    else:
+        return None
+    c = np.asarray(system.c, float)
+    off = np.linalg.norm(np.cross(c, axis))
+    return axis if off <= 1e-9 * max(np.linalg.norm(c), 1e-300) or not np.any(c) else None
+
+
+def invariants_of(traj) -> list[Invariant]:
+    """The quantities of ``traj``'s problem worth watching, conserved ones first.
+
+    Parameters
+    ----------
+    traj : poinsot.trajectory.Trajectory
+
+    Returns
+    -------
+    list of Invariant
+        Total energy always (marked not conserved when a force does work); then, by the rules
+        of the module docstring, the momenta the problem conserves.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot import Gravity, RigidBody, simulate
+    >>> top = RigidBody.cylinder(1.0, 0.1, 0.2, position=(0, 0, 0.1))
+    >>> traj = simulate(top, (0, 1), omega0=(0.5, 0, 30), pivot=(0, 0, 0),
+    ...                 Q0=[0.96, 0.28, 0, 0], forces=[Gravity((0, 0, -9.8))])
+    >>> [i.symbol for i in invariants_of(traj) if i.conserved]
+    ['E', 'L_P·ĝ', 'L_P·e₃']
+    """
+    from .forces import CentralGravity, Gravity
+
+    system = traj.system
+    forces = system.forces
+    A = np.asarray(traj.body.inertia, float)
+    M = float(traj.body.mass)
+    R, V, Q, w = (np.ascontiguousarray(a) for a in (traj.R, traj.V, traj.Q, traj.omega))
+    out = []
+    conservative = system.conservative
+    E = np.asarray(traj.total_energy)
+    out.append(
+        Invariant(
+            "total energy",
+            "E",
+            "J",
+            E,
+            conservative,
+            "every force has a potential and none dissipates"
+            if conservative
+            else "a force does work that no potential accounts for (drag, a torque, damping)",
+            float(abs(E[0])) or float(np.abs(traj.kinetic_energy).max()),
+        )
+    )
+    uniform = [f for f in forces if isinstance(f, Gravity)]
+    only_gravity = len(uniform) == len(forces)
+    g = sum((f.g for f in uniform), np.zeros(3))
+    pivot = system.pivot
+    at_com = pivot is None or not np.any(system.c)
+    if only_gravity and at_com:  # no torque about the centre of mass
+        L = rigid.angular_momentum_com(A, Q, w)
+        why = "no force has a torque about the centre of mass" + (
+            " (uniform gravity acts at it)" if uniform else ""
+        )
+        scale = _norm_scale(L[0])
+        out.append(
+            Invariant(
+                "angular momentum about the centre of mass (space frame)",
+                "L_G",
+                "kg·m²/s",
+                L,
+                True,
+                why,
+                scale,
+            )
+        )
+        out.append(
+            Invariant(
+                "|angular momentum| about the centre of mass",
+                "|L_G|",
+                "kg·m²/s",
+                np.linalg.norm(L, axis=1),
+                True,
+                why,
+                scale,
+            )
+        )
+        k = rigid.rotational_energy(A, w)
+        out.append(
+            Invariant(
+                "rotational energy ½ ω·Aω",
+                "K_rot",
+                "J",
+                k,
+                True,
+                why,
+                float(k[0]) or float(np.abs(E[0])) or 1.0,
+            )
+        )
+        if pivot is None and not forces:
+            P = M * V
+            out.append(
+                Invariant(
+                    "linear momentum M Ṙ",
+                    "p",
+                    "kg·m/s",
+                    P,
+                    True,
+                    "no force acts",
+                    _norm_scale(P[0]) or M * float(np.abs(R).max() or 1.0),
+                )
+            )
+        return out
+    if pivot is not None and only_gravity:
+        point = system.pivot_point(traj.state[0])
+        L = rigid.angular_momentum(A, M, R - point, V, Q, w)
+        scale = _norm_scale(L[0])
+        if not uniform or not np.any(g):
+            out.append(
+                Invariant(
+                    "angular momentum about the pivot (space frame)",
+                    "L_P",
+                    "kg·m²/s",
+                    L,
+                    True,
+                    "no force acts; the pivot's reaction has no moment about it",
+                    scale,
+                )
+            )
+            return out
+        down = g / np.linalg.norm(g)
+        out.append(
+            Invariant(
+                "angular momentum about the pivot · vertical",
+                "L_P·ĝ",
+                "kg·m²/s",
+                L @ down,
+                True,
+                "gravity's torque about the pivot is horizontal",
+                scale,
+            )
+        )
+        axis = _symmetry_axis(system)
+        if axis is not None:
+            Lb = np.einsum("nji,nj->ni", Q, L)  # body components Qᵀ L_P
+            out.append(
+                Invariant(
+                    "angular momentum about the pivot · symmetry axis",
+                    "L_P·e₃",
+                    "kg·m²/s",
+                    Lb @ axis,
+                    True,
+                    "symmetric top: gravity's torque about the pivot is perpendicular to e₃",
+                    scale,
+                )
+            )
+        out.append(
+            Invariant(
+                "angular momentum about the pivot (space frame)",
+                "L_P",
+                "kg·m²/s",
+                L,
+                False,
+                "gravity has a torque about the pivot",
+                scale,
+            )
+        )
+        return out
+    central = [f for f in forces if isinstance(f, CentralGravity)]
+    if pivot is None and forces and len(central) == len(forces):
+        centres = {tuple(f.center) for f in central}
+        if len(centres) == 1:
+            point = np.array(next(iter(centres)))
+            L = rigid.angular_momentum(A, M, R - point, V, Q, w)
+            out.append(
+                Invariant(
+                    "angular momentum about the attracting centre (orbit + spin)",
+                    "L_O",
+                    "kg·m²/s",
+                    L,
+                    True,
+                    "the potential is invariant under rotations about the centre",
+                    _norm_scale(L[0]),
+                )
+            )
+            return out
+    L = rigid.angular_momentum_com(A, Q, w)
+    out.append(
+        Invariant(
+            "angular momentum about the centre of mass (space frame)",
+            "L_G",
+            "kg·m²/s",
+            L,
+            False,
+            "a force has a torque about the centre of mass",
+            _norm_scale(L[0]),
+        )
+    )
+    return out
