@@ -81,7 +81,9 @@ def _cmd_run(args):
     _say(args, f"poinsot: {scenario.name} — {scenario.description}")
     progress = _Progress(*scenario.t_span, enabled=not args.quiet)
     try:
-        summary = run_scenario(scenario, out, force=args.force, progress=progress)
+        summary = run_scenario(
+            scenario, out, force=args.force, progress=progress, plotlyjs=args.plotly_js
+        )
     finally:
         progress.close()
     if args.json:
@@ -308,14 +310,14 @@ def _cmd_polhodes(args):
             _say(args, f"  fixed points {fp['set']}: {'stable' if fp['stable'] else 'unstable'}")
         for key in ("family", "energy", "momentum", "period", "flip_interval"):
             if key in result:
-                _say(args, f"  {key}: {result[key]}")
+                _say(args, f"  {key}: {result[key]} {result['units'].get(key, '')}".rstrip())
         _say(args, f"  wrote {out}/")
     return EXIT_OK
 
 
 def _write_polhodes(out: Path, args, free, energy, result):
-    """polhodes.png (+ energy_ellipsoid.png with --omega0), their HTML versions when plotly is
-    installed, and polhodes.json, into the folder ``out``."""
+    """polhodes.png (+ energy_ellipsoid.png with --omega0), one interactive report.html of
+    both when plotly is installed, and polhodes.json (with units), into the folder ``out``."""
 
     import matplotlib
     import numpy as np
@@ -347,21 +349,21 @@ def _write_polhodes(out: Path, args, free, energy, result):
         with atomic_path(out / "energy_ellipsoid.png") as tmp:
             fig.savefig(tmp, dpi=110, format="png")
         plt.close(fig)
-    try:  # the interactive versions, when plotly is installed
+    try:  # one interactive page with both figures and the numbers, when plotly is installed
         from .plotting.interactive import energy_ellipsoid_figure, polhode_family_figure
+        from .report import write_figures_page
     except ImportError:  # pragma: no cover - depends on the environment
         pass
     else:
-        try:
-            html_figs = [polhode_family_figure(free, energy)]
-            if args.omega0 is not None:
-                html_figs.append(
-                    energy_ellipsoid_figure(free, result["energy"], result["momentum"])
-                )
-            for name, f in zip(("polhodes.html", "energy_ellipsoid.html"), html_figs, strict=False):
-                atomic_write_text(out / name, f.to_html(include_plotlyjs=True))
-        except ImportError:  # pragma: no cover
-            pass
+        figures = [polhode_family_figure(free, energy)]
+        if args.omega0 is not None:
+            figures.append(energy_ellipsoid_figure(free, result["energy"], result["momentum"]))
+        about = "Torque-free analysis: fixed points, invariants and the energy ellipsoid"
+        page = {**result, "scenario": {"name": "polhodes", "description": about}}
+        write_figures_page(out / "report.html", figures, page, plotlyjs=args.plotly_js)
+    from .numbers import units_of
+
+    result["units"] = units_of(result)
     atomic_write_text(out / "polhodes.json", json.dumps(result, indent=2))
 
 
@@ -401,6 +403,14 @@ def _parser():
         "--out", metavar="DIR", help="output folder (default ./poinsot-out/<scenario-name>/)"
     )
     run.add_argument("--force", action="store_true", help="replace the output folder if it exists")
+    run.add_argument(
+        "--plotly-js",
+        choices=("inline", "cdn", "shared"),
+        default="inline",
+        help="how report.html gets plotly.js: inline (default; self-contained, ~5 MB), cdn "
+        "(small, loads it from cdn.plot.ly) or shared (writes plotly-VERSION.min.js once "
+        "beside the output folder, e.g. in poinsot-out/, for all the reports there)",
+    )
     run.add_argument("--quiet", action="store_true", help="print nothing but errors")
     run.add_argument("--json", action="store_true", help="print the summary as JSON on stdout")
     run.set_defaults(func=_cmd_run)
@@ -433,7 +443,8 @@ def _parser():
         help="torque-free analysis and polhode figures",
         description="Fixed points, stability, invariants, period and flip "
         "interval of the torque-free body, and its polhodes drawn on the energy "
-        "ellipsoid (polhodes.png; with --omega0 also energy_ellipsoid.png).",
+        "ellipsoid (polhodes.png; with --omega0 also energy_ellipsoid.png), one "
+        "interactive report.html of both, and polhodes.json.",
     )
     pol.add_argument(
         "--moments",
@@ -459,6 +470,8 @@ def _parser():
     )
     pol.add_argument("--out", metavar="DIR", help="output folder (default ./poinsot-out/polhodes/)")
     pol.add_argument("--force", action="store_true", help="replace the output folder's files")
+    pol.add_argument("--plotly-js", choices=("inline", "cdn", "shared"), default="inline",
+                     help="how report.html gets plotly.js (as for `poinsot run`)")  # fmt: skip
     pol.add_argument("--quiet", action="store_true", help="print nothing but errors")
     pol.add_argument("--json", action="store_true", help="print the analysis as JSON")
     pol.set_defaults(func=_cmd_polhodes)

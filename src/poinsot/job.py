@@ -108,28 +108,49 @@ def _jsonable(obj):
     return obj
 
 
+def _coordinate_units(sol):
+    """``{name: unit}`` of the coordinates and ``{name_dot: unit/s}`` of their speeds."""
+    units = {}
+    for q in sol.coordinates:
+        name, unit = str(q).replace("(t)", ""), sol.system.unit_of(q)
+        units[name] = unit
+        units[f"{name}_dot"] = f"{unit}/s" if unit else "1/s"
+    return units
+
+
 def summarize_lagrangian(scenario, sol) -> dict:
-    """The numbers of a Lagrangian run, JSON-ready."""
+    """The numbers of a Lagrangian run, JSON-ready, with a ``units`` map, the reactions as
+    named forces and what the system conserves."""
+    from sympy.physics.vector.printing import vsprint  # q̇ printed as q'
+
     system = sol.system
+    model = scenario.model
+    names = [str(q).replace("(t)", "") for q in sol.coordinates]
     e0 = sol.energy[0]
+    reactions = model.reaction_values(sol)
+    invariants = sol.invariants
     out = {
         "scenario": {
             "name": scenario.name,
             "description": scenario.description,
             "source": scenario.source,
-            "model": scenario.model.name,
+            "model": model.name,
         },
         "system": {
-            "coordinates": [str(q) for q in system.coordinates],
-            "holonomic_constraints": [str(g) for g in system.holonomic],
-            "nonholonomic_constraints": [str(a) for a in system.nonholonomic],
+            "coordinates": names,
+            "holonomic_constraints": [vsprint(g) for g in system.holonomic],
+            "nonholonomic_constraints": [vsprint(a) for a in system.nonholonomic],
             "parameters": {str(k): float(v) for k, v in scenario.params.items()},
         },
-        "initial": {"q": sol.q[0].tolist(), "qd": sol.qd[0].tolist()},
+        "initial": {
+            "q": dict(zip(names, sol.q[0].tolist(), strict=True)),
+            "qd": dict(zip(names, sol.qd[0].tolist(), strict=True)),
+            "energy_h_J": float(e0),
+        },
         "final": {
             "t": float(sol.t[-1]),
-            "q": sol.q[-1].tolist(),
-            "qd": sol.qd[-1].tolist(),
+            "q": dict(zip(names, sol.q[-1].tolist(), strict=True)),
+            "qd": dict(zip(names, sol.qd[-1].tolist(), strict=True)),
             "multipliers": sol.multipliers[-1].tolist(),
         },
         "integration": {
@@ -145,18 +166,39 @@ def summarize_lagrangian(scenario, sol) -> dict:
             if sol.constraint_velocity_residual.size
             else 0.0,
         },
+        "conserved": {i.name: i.describe() for i in invariants},
+        "reactions": {
+            name: {
+                "unit": unit,
+                "meaning": meaning,
+                "initial": float(v[0]),
+                "min": float(v.min()),
+                "max": float(v.max()),
+            }
+            for name, (v, unit, meaning) in reactions.items()
+        },
         "multipliers": {
             "min": sol.multipliers.min(axis=0).tolist(),
             "max": sol.multipliers.max(axis=0).tolist(),
         }
         if sol.multipliers.size
         else {},
+        "units": {
+            "t": "s",
+            **_coordinate_units(sol),
+            "energy_h": "J",
+            "energy_drift": "1 (relative)",
+            "max_constraint_residual": "the constraints' own units",
+            **{name: unit for name, (_, unit, _) in reactions.items()},
+        },
     }
     return _jsonable(out)
 
 
-def _write_lagrangian(work: Path, scenario, sol, summary, report):
+def _write_lagrangian(work: Path, scenario, sol, summary, report, plotlyjs="inline"):
     names = [str(q).replace("(t)", "") for q in sol.coordinates]
+    model = scenario.model
+    reactions = model.reaction_values(sol)
     if scenario.outputs.get("data", True):
         with atomic_path(work / "solution.npz", suffix=".npz") as tmp, open(tmp, "wb") as fh:
             np.savez_compressed(
@@ -170,15 +212,27 @@ def _write_lagrangian(work: Path, scenario, sol, summary, report):
                 constraint_velocity_residual=sol.constraint_velocity_residual,
                 energy=sol.energy,
                 coordinates=np.array(names),
+                units=np.array(json.dumps(summary["units"])),
             )
+        units = _coordinate_units(sol)
         header = (
-            ["t"]
-            + names
-            + [f"{n}_dot" for n in names]
+            ["t [s]"]
+            + [f"{n} [{units[n]}]" if units[n] else n for n in names]
+            + [f"{n}_dot [{units[n + '_dot']}]" for n in names]
             + [f"lambda{k + 1}" for k in range(sol.multipliers.shape[1])]
-            + ["energy"]
+            + [f"{n} [{u}]" for n, (_, u, _) in reactions.items()]
+            + ["energy_h [J]"]
         )
-        table = np.column_stack([sol.t, sol.q, sol.qd, sol.multipliers, sol.energy])
+        table = np.column_stack(
+            [
+                sol.t,
+                sol.q,
+                sol.qd,
+                sol.multipliers,
+                *[v for v, _, _ in reactions.values()],
+                sol.energy,
+            ]
+        )
         with atomic_path(work / "solution.csv") as tmp:
             np.savetxt(tmp, table, delimiter=",", header=",".join(header), comments="", fmt="%.17g")
     if scenario.outputs.get("figures", True):
@@ -187,16 +241,20 @@ def _write_lagrangian(work: Path, scenario, sol, summary, report):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        from .plotting.lagrange import plot_lagrangian_solution
+        from .plotting.lagrange import plot_lagrangian_solution, plot_mechanism_frames
 
-        fig = plot_lagrangian_solution(sol, title=scenario.model.description)
-        with atomic_path(work / "solution.png") as tmp:
-            fig.savefig(tmp, dpi=110, format="png")
-        plt.close(fig)
+        for fig, name in (
+            (plot_lagrangian_solution(sol, model=model, title=model.description), "solution.png"),
+            (plot_mechanism_frames(model, sol), "mechanism.png"),
+        ):
+            with atomic_path(work / name) as tmp:
+                fig.savefig(tmp, dpi=110, format="png")
+            plt.close(fig)
     if report and scenario.outputs.get("report", True):
         from .report import write_lagrangian_report
 
-        write_lagrangian_report(work / "report.html", sol, summary)
+        write_lagrangian_report(work / "report.html", sol, summary, model=model,
+                                plotlyjs=plotlyjs)  # fmt: skip
 
 
 def _figures(folder: Path, scenario, traj, free, comparison=None):
@@ -325,13 +383,16 @@ def comparison_lead(table: dict, dt: float) -> str:
     )
 
 
-def run_scenario(scenario, out, *, force=False, progress=None, report=True) -> dict:
+def run_scenario(
+    scenario, out, *, force=False, progress=None, report=True, plotlyjs="inline"
+) -> dict:
     """Simulate ``scenario`` and write its outputs to the folder ``out``; return the summary.
 
     Raises :class:`OutputExistsError` if ``out`` exists and ``force`` is false,
     :class:`OutputError` if ``out`` cannot or may not be written (both checked before any
     work; see :class:`~poinsot._io.OutputFolder`), and
-    :class:`~poinsot.simulation.SimulationError` on a numerical failure.
+    :class:`~poinsot.simulation.SimulationError` on a numerical failure. ``plotlyjs``: how the
+    report gets plotly.js (:data:`poinsot.report.PLOTLYJS_MODES`).
     """
     folder = OutputFolder(
         out, force=force, command="run", needs_bytes=estimated_output_bytes(scenario)
@@ -353,12 +414,13 @@ def run_scenario(scenario, out, *, force=False, progress=None, report=True) -> d
         summarize_lagrangian(scenario, traj) if lagrangian else summarize(scenario, traj, free)
     )
     comparison = None if lagrangian else compare_methods(scenario, traj, free)
+    _add_units(summary)
     if comparison is not None:
         summary["method_comparison"] = comparison[1]
         summary["lead"] = comparison_lead(comparison[1], scenario.dt)
     with folder.writing() as work:
         if lagrangian:
-            _write_lagrangian(work, scenario, traj, summary, report)
+            _write_lagrangian(work, scenario, traj, summary, report, plotlyjs)
         elif scenario.outputs.get("data", True):
             traj.to_npz(work / "trajectory.npz")
             traj.to_csv(work / "trajectory.csv")
@@ -380,10 +442,20 @@ def run_scenario(scenario, out, *, force=False, progress=None, report=True) -> d
                 summary,
                 free=free,
                 comparison=None if comparison is None else comparison[0],
+                plotlyjs=plotlyjs,
             )
         summary["timings"] = {"simulation_s": sim_time, "total_s": time.perf_counter() - start}
+        _add_units(summary)
         atomic_write_text(work / "summary.json", json.dumps(_jsonable(summary), indent=2))
     return summary
+
+
+def _add_units(summary: dict) -> None:
+    """``summary["units"]``: the unit of every number, by key path (:mod:`poinsot.numbers`),
+    plus the per-quantity units the summary already carries."""
+    from .numbers import units_of
+
+    summary["units"] = {**summary.get("units", {}), **units_of(summary)}
 
 
 # --------------------------------------------------------------------------- ensembles

@@ -27,9 +27,35 @@ __all__ = [
 
 @dataclass
 class Model:
-    """A canonical system with defaults: ``system``, ``symbols`` (name → SymPy symbol or
-    coordinate), ``params`` ({symbol: value}), ``q0``, ``qd0`` ({coordinate: value}),
-    ``description``."""
+    """A canonical system with defaults and the geometry to draw it.
+
+    Attributes
+    ----------
+    system : LagrangianSystem
+        With its coordinates' units (``system.units``).
+    symbols : dict
+        Name → SymPy symbol or coordinate.
+    params, q0, qd0 : dict
+        ``{symbol: value}``, ``{coordinate: value}``.
+    reactions : dict
+        The multipliers as the physical forces they are: ``name → (expression, unit,
+        meaning)``, the expression in ``system.lam_vec``, the coordinates and the parameters
+        (e.g. the rod tension ``T = −2 λ l``).
+    points : dict
+        ``name → (x, y, z)`` SymPy expressions in the coordinates, t and the parameters [m]:
+        the mechanism's moving points (bobs, the cart, a disk's rim).
+        Points named with a ``#`` (a rim's vertices, a string's end) are drawn without a
+        marker or label.
+    links : tuple
+        ``(a, b)`` pairs of point names drawn as rods, strings or rims.
+    trail : str or None
+        A point whose whole path is drawn (the contact point of a rolling disk).
+    outline : dict
+        ``name → [(x, y, z), …]`` fixed polylines in the parameters (a rail, the hoop, the
+        ground) [m].
+    view : str
+        ``"xy"`` (a planar mechanism, y up) or ``"3d"``.
+    """
 
     name: str
     description: str
@@ -39,6 +65,37 @@ class Model:
     q0: dict
     qd0: dict = field(default_factory=dict)
     guess: dict = field(default_factory=dict)
+    reactions: dict = field(default_factory=dict)
+    points: dict = field(default_factory=dict)
+    links: tuple = ()
+    outline: dict = field(default_factory=dict)
+    view: str = "xy"
+    trail: str | None = None
+
+    def positions(self, sol):
+        """The mechanism's :attr:`points` along a solution: ``(names, array (n_samples,
+        n_points, 3))`` [m], evaluated at the solution's parameters."""
+        names = list(self.points)
+        exprs = [c for p in self.points.values() for c in p]
+        return names, sol.evaluate(exprs).reshape(len(sol.t), len(names), 3)
+
+    def outlines(self, params=None) -> dict:
+        """:attr:`outline` as numbers: ``name → array (k, 3)`` [m]."""
+        import numpy as np
+        import sympy as sp
+
+        values = {**self.params, **(params or {})}
+        return {
+            name: np.array([[float(sp.sympify(c).subs(values)) for c in p] for p in pts])
+            for name, pts in self.outline.items()
+        }
+
+    def reaction_values(self, sol) -> dict:
+        """:attr:`reactions` along a solution: ``name → (values (n_samples,), unit, meaning)``."""
+        return {
+            name: (sol.evaluate(expr), unit, meaning)
+            for name, (expr, unit, meaning) in self.reactions.items()
+        }
 
     def simulate(self, t_span, **kwargs):
         """``system.simulate`` with the model's defaults (any of them overridable)."""
@@ -75,6 +132,22 @@ def _sp():
     return sp, dynamicsymbols
 
 
+def _ring(name, center, u, v, radius, k=24):
+    """Points and links of a circle (a rim, a hoop) drawn as a ``k``-gon: ``center + radius
+    (cos s u + sin s v)``. The vertices are named ``{name}#0``, ``{name}#1``, … (a ``#`` marks
+    a vertex drawn without a marker); ``{name}#0`` is at ``s = 0``, so a spoke drawn to it
+    shows the turning."""
+    sp, _ = _sp()
+    points = {}
+    for i in range(k):
+        s = 2 * sp.pi * i / k
+        points[f"{name}#{i}"] = tuple(
+            center[j] + radius * (sp.cos(s) * u[j] + sp.sin(s) * v[j]) for j in range(3)
+        )
+    links = tuple((f"{name}#{i}", f"{name}#{(i + 1) % k}") for i in range(k))
+    return points, links
+
+
 def pendulum_polar(theta0=1.0471975511965976) -> Model:
     """Simple pendulum in its angle θ from the downward vertical (a minimal coordinate):
     ``L = ½ m l² θ̇² + m g l cos θ``."""
@@ -87,11 +160,13 @@ def pendulum_polar(theta0=1.0471975511965976) -> Model:
     return Model(
         "pendulum-polar",
         "Simple pendulum in its angle (minimal coordinate)",
-        LagrangianSystem([theta], L),
+        LagrangianSystem([theta], L, units={theta: "rad"}),
         {"theta": theta, "m": m, "g": g, "l": l},
         {m: 1.0, g: 9.81, l: 1.0},
         {theta: theta0},
         {theta: 0.0},
+        points={"pivot": (0, 0, 0), "bob": (l * sp.sin(theta), -l * sp.cos(theta), 0)},
+        links=(("pivot", "bob"),),
     )
 
 
@@ -109,6 +184,7 @@ def pendulum_cartesian(theta0=1.0471975511965976) -> Model:
         kinetic=m * (x.diff() ** 2 + y.diff() ** 2) / 2,
         potential=m * g * y,
         holonomic=[x**2 + y**2 - l**2],
+        units={x: "m", y: "m"},
     )
     import math
 
@@ -121,6 +197,15 @@ def pendulum_cartesian(theta0=1.0471975511965976) -> Model:
         {m: 1.0, g: 9.81, l: 1.0},
         {x: math.sin(theta0), y: -math.cos(theta0)},
         {x: 0.0, y: 0.0},
+        reactions={
+            "rod tension T": (
+                -2 * system.lam_vec[0] * l,
+                "N",
+                "T = −2λl: the rod pulls the bob toward the pivot when T > 0",
+            )
+        },
+        points={"pivot": (0, 0, 0), "bob": (x, y, 0)},
+        links=(("pivot", "bob"),),
     )
 
 
@@ -137,6 +222,7 @@ def double_pendulum() -> Model:
         [t1, t2],
         bodies=[PointMass(m1, [x1, y1, 0]), PointMass(m2, [x2, y2, 0])],
         potential=m1 * g * y1 + m2 * g * y2,
+        units={t1: "rad", t2: "rad"},
     )
     return Model(
         "double-pendulum",
@@ -146,6 +232,9 @@ def double_pendulum() -> Model:
         {m1: 1.0, m2: 1.0, l1: 1.0, l2: 1.0, g: 9.81},
         {t1: 2.0, t2: 1.0},
         {t1: 0.0, t2: 0.0},
+        points={"pivot": (0, 0, 0), "bob 1": (x1, y1, 0), "bob 2": (x2, y2, 0)},
+        links=(("pivot", "bob 1"), ("bob 1", "bob 2")),
+        trail="bob 2",
     )
 
 
@@ -160,11 +249,18 @@ def spherical_pendulum() -> Model:
     return Model(
         "spherical-pendulum",
         "Spherical pendulum (conical motions, precessing orbits)",
-        LagrangianSystem([th, ph], L),
+        LagrangianSystem([th, ph], L, units={th: "rad", ph: "rad"}),
         {"theta": th, "phi": ph, "m": m, "g": g, "l": l},
         {m: 1.0, g: 9.81, l: 1.0},
         {th: 0.8, ph: 0.0},
         {th: 0.0, ph: 2.0},
+        points={
+            "pivot": (0, 0, 0),
+            "bob": (l * sp.sin(th) * sp.cos(ph), l * sp.sin(th) * sp.sin(ph), -l * sp.cos(th)),
+        },
+        links=(("pivot", "bob"),),
+        view="3d",
+        trail="bob",
     )
 
 
@@ -175,17 +271,32 @@ def bead_on_rotating_hoop() -> Model:
     sp, ds = _sp()
     th = ds("theta")
     m, R, w, g = sp.symbols("m R omega g", positive=True)
+    t = sp.Symbol("t")
+    turn = (sp.cos(w * t), sp.sin(w * t), 0)  # the hoop's plane turns about z at ω
+    hoop, hoop_links = _ring("hoop", (0, 0, 0), turn, (0, 0, 1), R)
     L = m * R**2 * (th.diff() ** 2 + w**2 * sp.sin(th) ** 2) / 2 + m * g * R * sp.cos(th)
     from .lagrange import LagrangianSystem
 
     return Model(
         "bead-on-hoop",
         "Bead on a rotating hoop: a pitchfork bifurcation at ω² = g/R",
-        LagrangianSystem([th], L),
+        LagrangianSystem([th], L, units={th: "rad"}),
         {"theta": th, "m": m, "R": R, "omega": w, "g": g},
         {m: 1.0, R: 1.0, w: 5.0, g: 9.81},
         {th: 0.3},
         {th: 0.0},
+        points={
+            "bead": (
+                R * sp.sin(th) * sp.cos(w * t),
+                R * sp.sin(th) * sp.sin(w * t),
+                -R * sp.cos(th),
+            ),
+            **hoop,
+        },
+        links=hoop_links,
+        outline={"axis of rotation": [(0, 0, -1.3 * R), (0, 0, 1.3 * R)]},
+        view="3d",
+        trail="bead",
     )
 
 
@@ -202,8 +313,15 @@ def atwood_machine() -> Model:
     from .lagrange import LagrangianSystem
 
     system = LagrangianSystem(
-        [y1, y2, ph], kinetic=T, potential=U, holonomic=[y1 + y2 - c, r * ph + y1]
+        [y1, y2, ph],
+        kinetic=T,
+        potential=U,
+        holonomic=[y1 + y2 - c, r * ph + y1],
+        units={y1: "m", y2: "m", ph: "rad"},
     )
+    lam1, lam2 = system.lam_vec
+    drop = 2.5  # drawn: the masses hang this far below the pulley's centre at y = 0
+    rim, rim_links = _ring("rim", (0, 0, 0), (1, 0, 0), (0, 1, 0), r, k=16)
     return Model(
         "atwood",
         "Atwood machine with pulley inertia; tensions from the multipliers",
@@ -212,6 +330,20 @@ def atwood_machine() -> Model:
         {m1: 3.0, m2: 2.0, I: 0.05, r: 0.1, g: 9.81, c: 0.0},
         {y1: 0.0},
         {y1: 0.0},
+        reactions={
+            "tension T1 (string on mass 1)": (lam1 + lam2, "N", "T1 = λ1 + λ2"),
+            "tension T2 (string on mass 2)": (lam1, "N", "T2 = λ1"),
+        },
+        points={
+            "mass 1": (-r, y1 - drop, 0),
+            "mass 2": (r, y2 - drop, 0),
+            "pulley": (0, 0, 0),
+            "#left": (-r, 0, 0),
+            "#right": (r, 0, 0),
+            "#spoke": (r * sp.cos(ph), r * sp.sin(ph), 0),
+            **rim,
+        },
+        links=(("#left", "mass 1"), ("#right", "mass 2"), ("pulley", "#spoke"), *rim_links),
     )
 
 
@@ -224,7 +356,12 @@ def pendulum_on_cart() -> Model:
 
     bob = PointMass(m, [x + l * sp.sin(th), -l * sp.cos(th), 0])
     cart = PointMass(M, [x, 0, 0])
-    system = LagrangianSystem([x, th], bodies=[cart, bob], potential=-m * g * l * sp.cos(th))
+    system = LagrangianSystem(
+        [x, th],
+        bodies=[cart, bob],
+        potential=-m * g * l * sp.cos(th),
+        units={x: "m", th: "rad"},
+    )
     return Model(
         "pendulum-on-cart",
         "Pendulum on a free cart (momentum along the rail conserved)",
@@ -233,6 +370,9 @@ def pendulum_on_cart() -> Model:
         {M: 2.0, m: 1.0, l: 1.0, g: 9.81},
         {x: 0.0, th: 1.0},
         {x: 0.0, th: 0.0},
+        points={"cart": (x, 0, 0), "bob": (x + l * sp.sin(th), -l * sp.cos(th), 0)},
+        links=(("cart", "bob"),),
+        outline={"rail": [(-2 * l, 0, 0), (2 * l, 0, 0)]},
     )
 
 
@@ -253,7 +393,14 @@ def rolling_disk() -> Model:
         [x, y, ph, th],
         kinetic=T,
         nonholonomic=[x.diff() - R * th.diff() * sp.cos(ph), y.diff() - R * th.diff() * sp.sin(ph)],
+        units={x: "m", y: "m", ph: "rad", th: "rad"},
     )
+    lam1, lam2 = system.lam_vec
+    heading = (sp.cos(ph), sp.sin(ph), 0)
+    centre = (x, y, R)
+    rim, rim_links = _ring("rim", centre, heading, (0, 0, 1), R)
+    mark = tuple(centre[j] - R * (sp.sin(th) * heading[j] + sp.cos(th) * int(j == 2))
+                 for j in range(3))  # fmt: skip
     return Model(
         "rolling-disk",
         "Vertical disk rolling without slipping (non-holonomic)",
@@ -262,6 +409,14 @@ def rolling_disk() -> Model:
         {m: 1.0, R: 0.5},
         {x: 0.0, y: 0.0, ph: 0.0, th: 0.0},
         {ph: 0.8, th: 4.0},
+        reactions={
+            "friction F_x": (lam1, "N", "horizontal contact force along x"),
+            "friction F_y": (lam2, "N", "horizontal contact force along y"),
+        },
+        points={"contact": (x, y, 0), "centre": centre, "#mark": mark, **rim},
+        links=(("centre", "#mark"), ("centre", "contact"), *rim_links),
+        view="3d",
+        trail="contact",
     )
 
 
@@ -278,17 +433,28 @@ def heavy_symmetric_top() -> Model:
     )
     from .lagrange import LagrangianSystem
 
+    # body axes: columns of Rz(ψ) Rx(θ) Rz(φ); the rim of radius √(2C/M) (a disc with that C)
+    Rz = lambda a: sp.Matrix([[sp.cos(a), -sp.sin(a), 0], [sp.sin(a), sp.cos(a), 0], [0, 0, 1]])  # noqa: E731
+    Rx = sp.Matrix([[1, 0, 0], [0, sp.cos(th), -sp.sin(th)], [0, sp.sin(th), sp.cos(th)]])
+    axes = Rz(psi) * Rx * Rz(ph)
+    com = tuple(l * axes[:, 2])
+    rim, rim_links = _ring("rim", com, tuple(axes[:, 0]), tuple(axes[:, 1]),
+                           sp.sqrt(2 * C / M), k=16)  # fmt: skip
     # a cylinder of mass 1, radius 0.3, height 0.2, tip 0.5 below its centre of mass
     A_val = 1.0 * (3 * 0.3**2 + 0.2**2) / 12 + 1.0 * 0.5**2
     C_val = 0.5 * 1.0 * 0.3**2
     return Model(
         "heavy-top-euler",
         "Heavy symmetric top in Euler angles",
-        LagrangianSystem([psi, th, ph], L),
+        LagrangianSystem([psi, th, ph], L, units={psi: "rad", th: "rad", ph: "rad"}),
         {"psi": psi, "theta": th, "phi": ph, "A": A, "C": C, "M": M, "g": g, "l": l},
         {A: A_val, C: C_val, M: 1.0, g: 9.81, l: 0.5},
         {psi: 0.0, th: 0.6, ph: 0.0},
         {psi: 0.0, th: 0.0, ph: 100.0},
+        points={"tip": (0, 0, 0), "centre of mass": com, **rim},
+        links=(("tip", "centre of mass"), ("centre of mass", "rim#0"), *rim_links),
+        view="3d",
+        trail="centre of mass",
     )
 
 

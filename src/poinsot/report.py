@@ -1,7 +1,9 @@
 """A self-contained interactive HTML report of a run (needs the ``report`` extra: plotly).
 
-One page, plotly.js inlined (opens with no network): the body tumbling in 3D (animated), ω on
-the energy ellipsoid with the polhode family, the time series, and the numbers.
+One page, plotly.js inlined by default (opens with no network; see :data:`PLOTLYJS_MODES` for
+the smaller choices): the body tumbling in 3D (animated), ω on the energy ellipsoid with the
+polhode family, the time series, and the numbers, grouped, named and with units
+(:mod:`poinsot.numbers`).
 """
 
 from __future__ import annotations
@@ -14,8 +16,10 @@ import numpy as np
 from ._io import atomic_write_text
 
 __all__ = [
+    "PLOTLYJS_MODES",
     "equivalent_box_half_extents",
     "write_ensemble_report",
+    "write_figures_page",
     "write_lagrangian_report",
     "write_report",
 ]
@@ -137,7 +141,15 @@ def _body_figure(traj, go):
         title=f"Body attitude {where} (animated; red e₁, green e₂, blue e₃)",
         scene={**axes, "aspectmode": "cube"},
         height=560,
-        updatemenus=[
+        **_animation_controls(fig.frames),
+    )
+    return fig
+
+
+def _animation_controls(frames) -> dict:
+    """Play/pause buttons and a time slider for a plotly figure's ``frames`` (named by t)."""
+    return {
+        "updatemenus": [
             {
                 "type": "buttons",
                 "showactive": False,
@@ -160,9 +172,9 @@ def _body_figure(traj, go):
                 ],
             }
         ],
-        sliders=[
+        "sliders": [
             {
-                "currentvalue": {"prefix": "t = "},
+                "currentvalue": {"prefix": "t [s] = "},
                 "steps": [
                     {
                         "label": f.name,
@@ -172,12 +184,11 @@ def _body_figure(traj, go):
                             {"mode": "immediate", "frame": {"duration": 0, "redraw": True}},
                         ],
                     }
-                    for f in fig.frames
+                    for f in frames
                 ],
             }
         ],
-    )
-    return fig
+    }
 
 
 def _polhode_figure(traj, go, free, levels):
@@ -234,7 +245,9 @@ def _series_figure(traj, go):
         col=2,
     )
     if kept:
-        fig.update_yaxes(type="log", title_text="|x(t) − x(0)| / |x(0)|", row=1, col=2)
+        fig.update_yaxes(
+            type="log", title_text="relative change |x(t) − x(0)| / scale", row=1, col=2
+        )
     else:
         E = traj.total_energy
         fig.add_trace(go.Scatter(x=traj.t, y=E - E[0], name="E(t) − E(0) [J]"), row=1, col=2)
@@ -245,28 +258,6 @@ def _series_figure(traj, go):
             if lost else "")  # fmt: skip
     fig.update_layout(height=460, legend={"orientation": "h", "y": -0.25}, title=note or None)
     return fig
-
-
-def _numbers_table(summary: dict) -> str:
-    def fmt(v):
-        if isinstance(v, float):
-            return f"{v:.6g}"
-        if isinstance(v, list):
-            return "[" + ", ".join(fmt(x) for x in v) + "]"
-        return html.escape(str(v))
-
-    rows = []
-
-    def walk(prefix, obj):
-        for key, value in obj.items():
-            name = f"{prefix}{key}"
-            if isinstance(value, dict):
-                walk(name + ".", value)
-            else:
-                rows.append(f"<tr><th>{html.escape(name)}</th><td>{fmt(value)}</td></tr>")
-
-    walk("", summary)
-    return "<table class='numbers'>" + "".join(rows) + "</table>"
 
 
 def _comparison_figure(t, errors, go):
@@ -308,9 +299,12 @@ def _comparison_figure(t, errors, go):
 _COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd")
 
 
-def write_report(path, traj, summary: dict, *, free=None, levels=7, comparison=None) -> None:
+def write_report(
+    path, traj, summary: dict, *, free=None, levels=7, comparison=None, plotlyjs="inline"
+) -> None:
     """Write the interactive report for ``traj`` to ``path`` (atomically); ``comparison``:
-    the per-sample errors of :func:`poinsot.job.compare_methods`, drawn second."""
+    the per-sample errors of :func:`poinsot.job.compare_methods`, drawn second; ``plotlyjs``:
+    one of :data:`PLOTLYJS_MODES`."""
     go, pio = _plotly()
     figures = [_body_figure(traj, go)]
     if comparison is not None:
@@ -318,98 +312,179 @@ def write_report(path, traj, summary: dict, *, free=None, levels=7, comparison=N
     if free is not None and np.any(traj.omega[0]):
         figures.append(_polhode_figure(traj, go, free, levels))
     figures.append(_series_figure(traj, go))
-    _write_page(path, figures, summary, pio)
+    _write_page(path, figures, summary, pio, plotlyjs=plotlyjs)
 
 
-def write_lagrangian_report(path, sol, summary: dict) -> None:
-    """The interactive report of a Lagrangian run: coordinates, multipliers and generalized
-    constraint forces, residuals and energy, and the numbers."""
-    go, pio = _plotly()
+def _mechanism_figure(model, sol, go):
+    """The mechanism animated from the model's geometry (points, links, outlines), with a
+    slider and a play button; metres on equal axes."""
+    names, P = model.positions(sol)
+    index = {n: k for k, n in enumerate(names)}
+    step = max(1, len(sol.t) // MAX_FRAMES)
+    idx = np.arange(0, len(sol.t), step)
+    three = model.view == "3d"
+    Scatter = go.Scatter3d if three else go.Scatter
+    ends = [k for k, n in enumerate(names) if "#" not in n]  # '#' points get no marker
+
+    def coords(pts):
+        keys = ("x", "y", "z") if three else ("x", "y")
+        return {k: pts[:, j] for j, k in enumerate(keys)}
+
+    def segments(i):
+        xs = []
+        for a, b in model.links:
+            xs += [P[i, index[a]], P[i, index[b]], np.full(3, np.nan)]
+        return np.array(xs) if xs else np.zeros((0, 3))
+
+    def traces(i):
+        return [
+            Scatter(**coords(segments(i)), mode="lines", line={"color": "#1f3f99", "width": 4},
+                    name="links", connectgaps=False),
+            Scatter(**coords(P[i, ends]), mode="markers+text", text=[names[k] for k in ends],
+                    textposition="top center", marker={"size": 8, "color": "#d62728"},
+                    name="points"),
+        ]  # fmt: skip
+
+    static = [
+        Scatter(**coords(pts), mode="lines", line={"color": "#999", "dash": "dash"}, name=name)
+        for name, pts in model.outlines(sol.params).items()
+    ]
+    if model.trail is not None:
+        static.append(Scatter(**coords(P[:, index[model.trail]]), mode="lines",
+                              line={"color": "#e0a040", "width": 2},
+                              name=f"path of the {model.trail}"))  # fmt: skip
+    fig = go.Figure(
+        data=traces(idx[0]) + static,
+        frames=[go.Frame(data=traces(i), name=f"{sol.t[i]:.3g}", traces=[0, 1]) for i in idx],
+    )
+    everything = np.concatenate([P.reshape(-1, 3), *model.outlines(sol.params).values()])
+    lo, hi = np.nanmin(everything, 0), np.nanmax(everything, 0)
+    mid, half = (lo + hi) / 2, max(float((hi - lo).max()) / 2, 1e-3) * 1.1
+    ranges = {c: [mid[j] - half, mid[j] + half] for j, c in enumerate("xyz")}
+    title = f"{model.description} (animated)"
+    if three:
+        fig.update_layout(scene={**{f"{c}axis": {"range": ranges[c], "title": f"{c} [m]"}
+                                    for c in "xyz"}, "aspectmode": "cube"})  # fmt: skip
+    else:
+        fig.update_xaxes(range=ranges["x"], title_text="x [m]")
+        fig.update_yaxes(range=ranges["y"], title_text="y [m]", scaleanchor="x", scaleratio=1)
+    fig.update_layout(title=title, height=560, **_animation_controls(fig.frames))
+    return fig
+
+
+def _panels_figure(panels, go, title=None):
+    """Plotly subplots of :func:`poinsot.plotting.lagrange.lagrangian_panels`, two per row,
+    each with its own legend group."""
     from plotly.subplots import make_subplots
 
-    names = [str(q).replace("(t)", "") for q in sol.coordinates]
-    fig = make_subplots(
-        rows=2,
-        cols=2,
-        subplot_titles=(
-            "Generalized coordinates",
-            "Multipliers λ (eq. 6.60 sign)",
-            "Constraint residuals",
-            "Energy h − h(0)",
-        ),
-    )
-    for j, n in enumerate(names):
-        fig.add_trace(go.Scatter(x=sol.t, y=sol.q[:, j], name=n), row=1, col=1)
-    for k in range(sol.multipliers.shape[1]):
-        fig.add_trace(go.Scatter(x=sol.t, y=sol.multipliers[:, k], name=f"λ{k + 1}"), row=1, col=2)
-    tiny = 1e-18
-    if sol.constraint_residual.size:
-        fig.add_trace(
-            go.Scatter(
-                x=sol.t, y=np.abs(sol.constraint_residual).max(axis=1) + tiny, name="|g(q)|"
-            ),
-            row=2,
-            col=1,
-        )
-    if sol.constraint_velocity_residual.size:
-        fig.add_trace(
-            go.Scatter(
-                x=sol.t,
-                y=np.abs(sol.constraint_velocity_residual).max(axis=1) + tiny,
-                name="|G q̇ + b|",
-            ),
-            row=2,
-            col=1,
-        )
-    fig.update_yaxes(type="log", row=2, col=1)
-    fig.add_trace(go.Scatter(x=sol.t, y=sol.energy - sol.energy[0], name="h − h(0)"), row=2, col=2)
-    fig.update_xaxes(title_text="t [s]", row=2)
-    fig.update_layout(height=720)
-    forces = go.Figure(
-        [
-            go.Scatter(x=sol.t, y=sol.constraint_forces[:, j], name=f"on {n}")
-            for j, n in enumerate(names)
-        ]
-    )
-    forces.update_layout(
-        title="Generalized constraint forces Σ λ_k ∂g_k/∂q_j", height=400, xaxis_title="t [s]"
-    )
-    _write_page(path, [fig, forces], summary, pio)
+    rows = (len(panels) + 1) // 2
+    fig = make_subplots(rows=rows, cols=2, subplot_titles=[p[0] for p in panels],
+                        vertical_spacing=0.12 / max(rows - 1, 1) + 0.06)  # fmt: skip
+    for n, (_, ylabel, log, curves) in enumerate(panels):
+        row, col = n // 2 + 1, n % 2 + 1
+        for label, x, y in curves:
+            fig.add_trace(go.Scatter(x=x, y=y, name=label, legendgroup=f"panel{n}",
+                                     legendgrouptitle_text=panels[n][0] if label == curves[0][0]
+                                     else None), row=row, col=col)  # fmt: skip
+        fig.update_yaxes(title_text=ylabel, type="log" if log else "linear", row=row, col=col)
+        fig.update_xaxes(title_text="t [s]", row=row, col=col)
+    fig.update_layout(height=330 * rows + 80, title=title, legend={"groupclick": "toggleitem"})
+    return fig
 
 
-def _write_page(path, figures, summary, pio):
-    parts = [
-        pio.to_html(
-            f,
-            full_html=False,
-            include_plotlyjs=(i == 0),
-            auto_play=False,
-            div_id=f"poinsot-plot-{i}",
-        )
-        for i, f in enumerate(figures)
-    ]
+def write_lagrangian_report(path, sol, summary: dict, *, model=None, plotlyjs="inline") -> None:
+    """The interactive report of a Lagrangian run: the mechanism animated (with ``model``, a
+    :class:`~poinsot.models.Model`), the coordinates by unit, the reactions as named forces,
+    the residuals, what the system conserves, and the numbers."""
+    go, pio = _plotly()
+    from .plotting.lagrange import lagrangian_panels
+
+    figures = []
+    if model is not None and model.points:
+        figures.append(_mechanism_figure(model, sol, go))
+    figures.append(_panels_figure(lagrangian_panels(sol, model), go))
+    _write_page(path, figures, summary, pio, plotlyjs=plotlyjs)
+
+
+#: How a plotly report gets plotly.js: ``"inline"`` (self-contained, ~4.8 MB, the default),
+#: ``"cdn"`` (a ``<script>`` from cdn.plot.ly: small, needs the network) or ``"shared"`` (one
+#: ``plotly-VERSION.min.js`` written once beside the output folders, e.g. in ``poinsot-out/``,
+#: and referenced by every report there).
+PLOTLYJS_MODES = ("inline", "cdn", "shared")
+
+
+def _shared_plotlyjs(folder) -> str:
+    """Write ``plotly-VERSION.min.js`` into ``folder`` unless it is already there with the
+    same content (a different file of that name is refused, never replaced); its name."""
+    from pathlib import Path
+
+    import plotly
+    from plotly.offline import get_plotlyjs
+
+    name = f"plotly-{plotly.__version__}.min.js"
+    target = Path(folder) / name
+    text = get_plotlyjs()
+    if target.exists():
+        if target.read_text(encoding="utf-8", errors="replace") != text:
+            raise OSError(f"{target} exists and is not plotly.js {plotly.__version__}: "
+                          "move it away or use --plotly-js inline")  # fmt: skip
+        return name
+    atomic_write_text(target, text)
+    return name
+
+
+def _write_page(path, figures, summary, pio, *, plotlyjs="inline"):
+    from pathlib import Path
+
+    from .numbers import numbers_html
+
+    if plotlyjs not in PLOTLYJS_MODES:
+        raise ValueError(f"`plotlyjs` must be one of {PLOTLYJS_MODES}, found {plotlyjs!r}")
+    head = ""
+    include = plotlyjs == "inline" or ("cdn" if plotlyjs == "cdn" else False)
+    if plotlyjs == "shared":  # the page sits in OUT/; the script one level up, beside OUT
+        name = _shared_plotlyjs(Path(path).parent.parent)
+        head = f'<script src="../{html.escape(name)}"></script>'
+    parts = []
+    for i, f in enumerate(figures):
+        f.update_xaxes(exponentformat="power")  # 10⁻⁶, never SI prefixes (1µ) on numbers
+        f.update_yaxes(exponentformat="power")
+        f.update_scenes(xaxis_exponentformat="power", yaxis_exponentformat="power",
+                        zaxis_exponentformat="power")  # fmt: skip
+        parts.append(pio.to_html(f, full_html=False, include_plotlyjs=include if i == 0 else False,
+                                 auto_play=False, div_id=f"poinsot-plot-{i}"))  # fmt: skip
     title = html.escape(f"poinsot — {summary.get('scenario', {}).get('name', 'run')}")
+    lead = summary.get("lead")
     page = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>{title}</title>
+<meta name="viewport" content="width=device-width, initial-scale=1">{head}
 <style>
 body {{ font-family: system-ui, sans-serif; margin: 1.5em auto; max-width: 1200px;
-       color: #222; }}
-h1 {{ font-size: 1.5em; }} .plot {{ margin: 1em 0; }}
-table.numbers {{ border-collapse: collapse; font-size: 0.85em; }}
-table.numbers th {{ text-align: left; padding: 2px 12px 2px 0; font-weight: normal;
-                    color: #555; }}
-table.numbers td {{ font-family: ui-monospace, monospace; }}
+       color: #222; padding: 0 1em; }}
+h1 {{ font-size: 1.5em; }} .plot {{ margin: 1em 0; }} p.lead {{ font-size: 1.05em; }}
+h3 {{ font-size: 1em; margin: 1.2em 0 0.3em; }}
+table.numbers {{ border-collapse: collapse; font-size: 0.88em; }}
+table.numbers th {{ text-align: left; padding: 2px 16px 2px 0; font-weight: normal;
+                    color: #444; }}
+table.numbers td {{ font-family: ui-monospace, monospace; padding: 2px 12px 2px 0; }}
+table.numbers td.unit {{ font-family: system-ui, sans-serif; color: #666; }}
 </style></head><body>
 <h1>{title}</h1>
 <p>{html.escape(summary.get("scenario", {}).get("description", ""))}</p>
-{f'<p class="lead">{html.escape(summary["lead"])}</p>' if summary.get("lead") else ""}
+{f'<p class="lead">{html.escape(lead)}</p>' if lead else ""}
 {"".join(f'<div class="plot">{p}</div>' for p in parts)}
 <h2>Numbers</h2>
-{_numbers_table(summary)}
+{numbers_html(summary)}
 <script type="application/json" id="poinsot-summary">{html.escape(json.dumps(summary))}</script>
 </body></html>
 """
     atomic_write_text(path, page)
+
+
+def write_figures_page(path, figures, summary: dict, *, plotlyjs="inline") -> None:
+    """A page of plotly ``figures`` with the summary's numbers (e.g. ``poinsot polhodes``)."""
+    _, pio = _plotly()
+    _write_page(path, figures, summary, pio, plotlyjs=plotlyjs)
 
 
 def write_ensemble_report(path, summary: dict, images: dict) -> None:

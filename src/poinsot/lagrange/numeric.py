@@ -36,6 +36,7 @@ class _Numeric:
         import sympy as sp
 
         self.system = system
+        self.params = dict(params)
         n = system.n_coordinates
         qs = sp.symbols(f"q0:{n}")
         vs = sp.symbols(f"qd0:{n}")
@@ -183,6 +184,7 @@ class LagrangianSolution:
     def __init__(self, system, t, y, num, *, method, nfev, stabilization):
         n = system.n_coordinates
         self.system = system
+        self.params = dict(num.params)
         self.coordinates = list(system.coordinates)
         self.t = np.asarray(t, dtype=float)
         self.q = np.asarray(y)[:, :n]
@@ -206,6 +208,57 @@ class LagrangianSolution:
                 self.constraint_residual[i] = pos
                 self.constraint_velocity_residual[i] = vel
             self.energy[i] = float(num.energy(qi, qdi, ti))
+
+    def evaluate(self, expr):
+        """A SymPy expression (or a sequence of them) in the coordinates, their speeds, t, the
+        multipliers :attr:`~poinsot.lagrange.LagrangianSystem.lam_vec` and the parameters, at
+        every sample: array (n_samples,) (or (n_samples, k)). One vectorised ``lambdify``.
+
+        Examples
+        --------
+        >>> from poinsot.models import pendulum_cartesian
+        >>> model = pendulum_cartesian()
+        >>> sol = model.simulate((0, 1), t_eval=[0, 0.5, 1])
+        >>> x, y = model.system.coordinates
+        >>> bool(abs(sol.evaluate(x**2 + y**2) - 1).max() < 1e-6)
+        True
+        """
+        import sympy as sp
+
+        system = self.system
+        many = not isinstance(expr, sp.Basic)
+        exprs = list(expr) if many else [expr]
+        n, m = system.n_coordinates, system.n_constraints
+        qs, vs = sp.symbols(f"q0:{n}"), sp.symbols(f"qd0:{n}")
+        ls = sp.symbols(f"lam0:{m}") if m else ()
+        plain = {
+            **dict(zip(system.speeds, vs, strict=True)),
+            **dict(zip(system.coordinates, qs, strict=True)),
+            **dict(zip(list(system.lam_vec), ls, strict=True)),
+        }
+        body = [sp.sympify(e).subs(plain).subs(self.params) for e in exprs]
+        fn = sp.lambdify((system.t, qs, vs, ls), body, modules="numpy", cse=True)
+        cols = fn(self.t, self.q.T, self.qd.T, self.multipliers.T)
+        out = np.column_stack([np.broadcast_to(np.asarray(c, float), self.t.shape) for c in cols])
+        return out if many else out[:, 0]
+
+    @property
+    def invariants(self):
+        """The system's :meth:`~poinsot.lagrange.LagrangianSystem.constants_of_motion` along
+        this motion, as :class:`~poinsot.conservation.Invariant` objects (all conserved by
+        the problem; their change is integration error)."""
+        import sympy as sp
+
+        from ..conservation import Invariant
+
+        out = []
+        for name, symbol, unit, expr, reason in self.system.constants_of_motion():
+            values = self.evaluate(expr)
+            terms = sp.Add.make_args(sp.expand(expr))
+            size = np.abs(self.evaluate(terms)).sum(axis=1).max()  # when x(0) = 0
+            scale = float(abs(values[0])) or float(size) or 1.0
+            out.append(Invariant(name, symbol, unit, values, True, reason, scale))
+        return out
 
     def __getitem__(self, coordinate):
         """The samples (n_samples,) of one coordinate: ``sol[x]``."""

@@ -78,6 +78,9 @@ class LagrangianSystem:
     forces : sequence
         Applied forces not in the potential: ``(point, force)`` pairs of 3-vectors (converted by
         ``Q_j = F · ∂r/∂q_j``, (6.61)), or mappings ``{coordinate: generalized force}``.
+    units : dict, optional
+        ``{coordinate: unit}``, e.g. ``{x: "m", theta: "rad"}``, for labels, tables and the
+        units of the conjugate momenta. Coordinates not given are shown without a unit.
 
     Examples
     --------
@@ -108,6 +111,7 @@ class LagrangianSystem:
         holonomic=(),
         nonholonomic=(),
         forces=(),
+        units=None,
     ):
         sp = _sympy()
         self.t = sp.Symbol("t")
@@ -145,6 +149,23 @@ class LagrangianSystem:
         ]
         self._check_constraints()
         self.generalized_forces = self._generalized_forces(forces)
+        self.units = self._units(units)
+
+    def _units(self, units):
+        if units is None:
+            return {}
+        if not isinstance(units, Mapping):
+            raise TypeError(f"`units` must be a dict {{coordinate: unit}}, found {units!r}")
+        for q, u in units.items():
+            if q not in self.coordinates:
+                raise ValueError(f"`units`: {q} is not one of the coordinates")
+            if not isinstance(u, str):
+                raise TypeError(f"`units[{q}]` must be a string such as 'm' or 'rad'")
+        return dict(units)
+
+    def unit_of(self, coordinate) -> str:
+        """The unit of a coordinate ("" when not given)."""
+        return self.units.get(coordinate, "")
 
     # ----------------------------------------------------------------- construction
     def _bodies_kinetic(self, bodies):
@@ -382,6 +403,49 @@ class LagrangianSystem:
         """The Jacobi integral ``h = Σ q̇_j ∂L/∂q̇_j − L`` (= T + U for natural systems)."""
         return sum(v * self.lagrangian.diff(v) for v in self.speeds) - self.lagrangian
 
+    def constants_of_motion(self):
+        """The first integrals this system has by its form, with the reason for each:
+        ``[(name, symbol, unit, expression, reason)]`` (SymPy expressions in q, q̇, t).
+
+        * the Jacobi integral ``h = Σ q̇ ∂L/∂q̇ − L`` when ``L`` has no explicit t, no applied
+          force acts and every constraint is scleronomic (no explicit t, ``b = 0``), so the
+          reactions do no work (``Σ λ_k G_kj q̇_j = −λ·b = 0``);
+        * the conjugate momentum ``p_j = ∂L/∂q̇_j`` of a cyclic coordinate (``∂L/∂q_j = 0``)
+          on which neither an applied force nor a constraint reaction acts (column j of G and
+          ``Q_j`` zero): ``ṗ_j = ∂L/∂q_j + Σ λ_k G_kj + Q_j = 0``.
+
+        Examples
+        --------
+        >>> from poinsot.models import pendulum_on_cart
+        >>> [c[1] for c in pendulum_on_cart().system.constants_of_motion()]
+        ['h', 'p_x']
+        """
+        sp = _sympy()
+        out = []
+        L = self.lagrangian
+        t = self.t
+        explicit = _explicit_time_derivative(L, self.coordinates, self.speeds, t) != 0
+        forced = any(sp.simplify(Q) != 0 for Q in self.generalized_forces)
+        rheonomic = any(sp.simplify(b) != 0 for b in self.constraint_rhs) or any(
+            _explicit_time_derivative(e, self.coordinates, self.speeds, t) != 0
+            for e in self.constraint_jacobian
+        )
+        if not (explicit or forced or rheonomic):
+            out.append(("energy (Jacobi integral h = Σ q̇ ∂L/∂q̇ − L)", "h", "J",
+                        self.energy_function, "L has no explicit t, no applied force, and the "
+                        "constraints are fixed in time"))  # fmt: skip
+        G = self.constraint_jacobian
+        for j, (q, v) in enumerate(zip(self.coordinates, self.speeds, strict=True)):
+            cyclic = _holding_speeds(L, self.coordinates, self.speeds, q) == 0
+            free = all(sp.simplify(G[k, j]) == 0 for k in range(G.rows))
+            if cyclic and free and sp.simplify(self.generalized_forces[j]) == 0:
+                name = str(q).replace("(t)", "")
+                unit = {"m": "kg·m/s", "rad": "kg·m²/s"}.get(self.unit_of(q), "")
+                out.append((f"momentum conjugate to {name}, ∂L/∂{name}̇", f"p_{name}", unit,
+                            sp.simplify(L.diff(v)), f"{name} is cyclic and no force or "
+                            "constraint acts along it"))  # fmt: skip
+        return out
+
     @property
     def parameters(self):
         """Free symbols other than t (to be given numbers at ``simulate`` time), sorted."""
@@ -421,6 +485,15 @@ class LagrangianSystem:
         from .linear import linearize
 
         return linearize(self, equilibrium, params=params, **kwargs)
+
+
+def _holding_speeds(expr, coordinates, speeds, q):
+    """``∂expr/∂q`` holding the speeds fixed (``q̇`` contains ``q`` in SymPy)."""
+    sp = _sympy()
+    vs = sp.symbols(f"_v0:{len(speeds)}")
+    forward = dict(zip(speeds, vs, strict=True))
+    d = sp.simplify(expr.subs(forward).diff(q))
+    return d.subs(dict(zip(vs, speeds, strict=True)))
 
 
 def _explicit_time_derivative(expr, coordinates, speeds, t):

@@ -51,7 +51,7 @@ def plot_conservation(traj, *, axes=None):
     if kept:
         for inv in kept:
             ax.semilogy(traj.t, inv.change + tiny, label=f"{inv.symbol} [{inv.unit}]: {inv.name}")
-        ax.set_ylabel("relative change |x(t) − x(0)| / |x(0)|")
+        ax.set_ylabel("relative change |x(t) − x(0)| / scale")
         title = "Conserved by this problem: the plotted change is integration error"
         ax.legend(fontsize=7, loc="lower right")
     else:
