@@ -334,9 +334,11 @@ def test_exports(tmp_path, notebook_body):
     np.testing.assert_array_equal(data["Q"], tr.Q)
     np.testing.assert_array_equal(data["total_energy"], tr.total_energy)
     tr.to_csv(tmp_path / "t.csv")
-    table = np.genfromtxt(tmp_path / "t.csv", delimiter=",", names=True)
-    np.testing.assert_array_equal(table["omega_y"], tr.omega[:, 1])
-    np.testing.assert_array_equal(table["R_z"], tr.R[:, 2])
+    header = (tmp_path / "t.csv").read_text().splitlines()[0].split(",")
+    table = np.loadtxt(tmp_path / "t.csv", delimiter=",", skiprows=1)
+    np.testing.assert_array_equal(table[:, header.index("omega_y [rad/s]")], tr.omega[:, 1])
+    np.testing.assert_array_equal(table[:, header.index("R_z [m]")], tr.R[:, 2])
+    assert header[0] == "t [s]" and header[-1] == "total_energy [J]"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["t.csv", "t.npz"]  # no temp files
     positions = tr.positions()
     assert positions.shape == (5, 27, 3)

@@ -58,8 +58,7 @@ def _body_figure(traj, go):
     E = body.principal_axes
     half = np.maximum(equivalent_box_half_extents(body), 1e-3 * max(1.0, body.mass))
     corners, edges = _box_lines(half)
-    step = max(1, len(traj.t) // MAX_FRAMES)
-    idx = np.arange(0, len(traj.t), step)
+    idx = _frame_indices(len(traj.t))
     particles = body.u if body.has_particles else None
 
     # the body about its centre of mass (or about its fixed pivot): translation has its own plot
@@ -128,7 +127,7 @@ def _body_figure(traj, go):
         return out
 
     fig = go.Figure(
-        data=traces(idx[0]), frames=[go.Frame(data=traces(i), name=f"{traj.t[i]:.3g}") for i in idx]
+        data=traces(idx[0]), frames=[go.Frame(data=traces(i), name=str(i)) for i in idx]
     )
     reach = 1.4 * float(np.max(half)) + (
         float(np.linalg.norm(traj.system.c)) if pivot is not None else 0.0
@@ -141,13 +140,19 @@ def _body_figure(traj, go):
         title=f"Body attitude {where} (animated; red e₁, green e₂, blue e₃)",
         scene={**axes, "aspectmode": "cube"},
         height=560,
-        **_animation_controls(fig.frames),
+        **_animation_controls(fig.frames, traj.t[idx]),
     )
     return fig
 
 
-def _animation_controls(frames) -> dict:
-    """Play/pause buttons and a time slider for a plotly figure's ``frames`` (named by t)."""
+def _frame_indices(n: int):
+    """At most :data:`MAX_FRAMES` sample indices, evenly spread, first and last included."""
+    return np.unique(np.linspace(0, n - 1, min(n, MAX_FRAMES)).round().astype(int))
+
+
+def _animation_controls(frames, times) -> dict:
+    """Play/pause buttons and a time slider for a plotly figure's ``frames`` (named by their
+    index, so that equal rounded times cannot collide), labelled by ``times`` [s]."""
     return {
         "updatemenus": [
             {
@@ -177,14 +182,14 @@ def _animation_controls(frames) -> dict:
                 "currentvalue": {"prefix": "t [s] = "},
                 "steps": [
                     {
-                        "label": f.name,
+                        "label": f"{t:.4g}",
                         "method": "animate",
                         "args": [
                             [f.name],
                             {"mode": "immediate", "frame": {"duration": 0, "redraw": True}},
                         ],
                     }
-                    for f in frames
+                    for f, t in zip(frames, times, strict=True)
                 ],
             }
         ],
@@ -320,8 +325,7 @@ def _mechanism_figure(model, sol, go):
     slider and a play button; metres on equal axes."""
     names, P = model.positions(sol)
     index = {n: k for k, n in enumerate(names)}
-    step = max(1, len(sol.t) // MAX_FRAMES)
-    idx = np.arange(0, len(sol.t), step)
+    idx = _frame_indices(len(sol.t))
     three = model.view == "3d"
     Scatter = go.Scatter3d if three else go.Scatter
     ends = [k for k, n in enumerate(names) if "#" not in n]  # '#' points get no marker
@@ -355,7 +359,7 @@ def _mechanism_figure(model, sol, go):
                               name=f"path of the {model.trail}"))  # fmt: skip
     fig = go.Figure(
         data=traces(idx[0]) + static,
-        frames=[go.Frame(data=traces(i), name=f"{sol.t[i]:.3g}", traces=[0, 1]) for i in idx],
+        frames=[go.Frame(data=traces(i), name=str(i), traces=[0, 1]) for i in idx],
     )
     everything = np.concatenate([P.reshape(-1, 3), *model.outlines(sol.params).values()])
     lo, hi = np.nanmin(everything, 0), np.nanmax(everything, 0)
@@ -368,7 +372,7 @@ def _mechanism_figure(model, sol, go):
     else:
         fig.update_xaxes(range=ranges["x"], title_text="x [m]")
         fig.update_yaxes(range=ranges["y"], title_text="y [m]", scaleanchor="x", scaleratio=1)
-    fig.update_layout(title=title, height=560, **_animation_controls(fig.frames))
+    fig.update_layout(title=title, height=560, **_animation_controls(fig.frames, sol.t[idx]))
     return fig
 
 

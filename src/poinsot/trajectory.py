@@ -252,14 +252,15 @@ class Trajectory:
         }
 
     # ----------------------------------------------------------------- export
+    #: CSV header: each column's name and SI unit ("1": dimensionless).
     _COLUMNS = (
-        ["t"]
-        + [f"R_{c}" for c in "xyz"]
-        + [f"V_{c}" for c in "xyz"]
-        + [f"Q_{i}{j}" for i in range(1, 4) for j in range(1, 4)]
-        + [f"omega_{c}" for c in "xyz"]
-        + [f"q_{c}" for c in "wxyz"]
-        + ["kinetic_energy", "potential_energy", "total_energy"]
+        ["t [s]"]
+        + [f"R_{c} [m]" for c in "xyz"]
+        + [f"V_{c} [m/s]" for c in "xyz"]
+        + [f"Q_{i}{j} [1]" for i in range(1, 4) for j in range(1, 4)]
+        + [f"omega_{c} [rad/s]" for c in "xyz"]
+        + [f"q_{c} [1]" for c in "wxyz"]
+        + ["kinetic_energy [J]", "potential_energy [J]", "total_energy [J]"]
     )
 
     def _table(self):
@@ -295,7 +296,8 @@ class Trajectory:
             )
 
     def to_csv(self, path) -> None:
-        """Write one row per sample (t, R, V, Q, ω, quaternion, energies) to CSV, atomically."""
+        """Write one row per sample (t, R, V, Q, ω, quaternion, energies) to CSV, atomically;
+        the header gives each column's unit (``omega_x [rad/s]``; ``[1]`` dimensionless)."""
         with atomic_path(path) as tmp:
             np.savetxt(
                 tmp,

@@ -322,6 +322,7 @@ def test_report_in_a_headless_browser(tmp_path):
             pytest.fail("CI must install Chromium (.ci/run) for the report test")
         pytest.skip("no Chromium on this machine")
     assert main(["run", "--example", "tennis-racket", "--out", str(tmp_path / "r"), "--quiet"]) == 0
+    assert main(["run", "--example", "atwood", "--out", str(tmp_path / "a"), "--quiet"]) == 0
     page = (tmp_path / "r" / "report.html").as_uri()
     flags = [
         browser,
@@ -349,6 +350,15 @@ def test_report_in_a_headless_browser(tmp_path):
         assert f'id="poinsot-plot-{i}"' in dom
     assert dom.count('class="main-svg"') >= 3
     assert "gl-container" in dom  # WebGL scenes were created
+    assert dom.count('class="slider-container"') == 1 and "updatemenu-container" in dom
+    mechanism = (tmp_path / "a" / "report.html").as_uri()
+    res = subprocess.run([*flags, "--dump-dom", mechanism], capture_output=True, text=True,
+                         timeout=180)  # fmt: skip
+    errors = [line for line in res.stderr.splitlines()
+              if ":CONSOLE" in line and ("Uncaught" in line or "Error" in line)]  # fmt: skip
+    assert not errors, errors
+    assert res.stdout.count('class="slider-container"') == 1  # the mechanism's slider, play
+    assert "updatemenu-container" in res.stdout and "mass 1" in res.stdout
     import matplotlib.image as mpimg
 
     img = mpimg.imread(shot)[..., :3]
@@ -468,3 +478,78 @@ def test_run_draws_the_runs_own_energy_and_the_sweep_apart(tmp_path):
     np.testing.assert_allclose(np.array(run_line.get_data_3d()).T, data["omega"], rtol=1e-15)
     assert "k = 0.5 J" in shown["polhodes_sweep.png"][0]
     assert (tmp_path / "o" / "polhodes_sweep.png").exists()
+
+
+def test_mechanism_animation_has_a_frame_per_slider_step(tmp_path):
+    plotly = pytest.importorskip("plotly.graph_objects")
+    from poinsot import models
+    from poinsot.report import MAX_FRAMES, _mechanism_figure
+
+    model = models.pendulum_on_cart()
+    sol = model.simulate((0, 4), t_eval=np.linspace(0, 4, 401))
+    fig = _mechanism_figure(model, sol, plotly)
+    steps = fig.layout.sliders[0].steps
+    assert len(fig.frames) == len(steps) == MAX_FRAMES
+    assert [s.args[0][0] for s in steps] == [f.name for f in fig.frames]
+    assert steps[0].label == "0" and steps[-1].label == "4"  # t [s], first and last sample
+    assert {b.label for b in fig.layout.updatemenus[0].buttons} == {"▶ play", "⏸ pause"}
+    _, P = model.positions(sol)
+    first = fig.frames[0].data[1]  # the named points at t = 0
+    np.testing.assert_allclose(first.x, P[0, :, 0])
+    assert fig.layout.xaxis.title.text == "x [m]" and fig.layout.yaxis.scaleanchor == "x"
+
+
+def test_units_in_summary_and_csv_headers(tmp_path):
+    assert main(["run", "--example", "atwood", "--out", str(tmp_path / "a"), "--quiet"]) == 0
+    summary = json.loads((tmp_path / "a" / "summary.json").read_text())
+    units = summary["units"]
+    assert units["y1"] == "m" and units["phi_dot"] == "rad/s" and units["t"] == "s"
+    assert units["tension T1 (string on mass 1)"] == "N"
+    assert summary["reactions"]["tension T2 (string on mass 2)"]["unit"] == "N"
+    header = (tmp_path / "a" / "solution.csv").read_text().splitlines()[0].split(",")
+    assert header[:4] == ["t [s]", "y1 [m]", "y2 [m]", "phi [rad]"]
+    assert "tension T1 (string on mass 1) [N]" in header and header[-1] == "energy_h [J]"
+    assert main(["run", "--example", "heavy-top", "--out", str(tmp_path / "h"), "--quiet"]) == 0
+    summary = json.loads((tmp_path / "h" / "summary.json").read_text())
+    units = summary["units"]
+    assert units["body.mass"] == "kg" and units["initial.omega"] == "rad/s"
+    assert units["integration.diagnostics.orthogonality_error"] == "1"
+    invariants = summary["integration"]["diagnostics"]["invariants"]
+    assert {v["symbol"]: v["unit"] for v in invariants.values()}["L_P·ĝ"] == "kg·m²/s"
+    header = (tmp_path / "h" / "trajectory.csv").read_text().splitlines()[0].split(",")
+    assert "omega_x [rad/s]" in header and "R_z [m]" in header
+
+
+def test_report_numbers_are_grouped_with_units(tmp_path):
+    from poinsot.numbers import rows_of
+
+    assert main(["run", "--example", "notebook", "--out", str(tmp_path / "n"), "--quiet"]) == 0
+    summary = json.loads((tmp_path / "n" / "summary.json").read_text())
+    rows = rows_of(summary)
+    groups = list(dict.fromkeys(r[0] for r in rows))
+    assert groups[:4] == ["Body", "Initial state", "Invariants", "Torque-free motion"]
+    by_name = {r[1]: r for r in rows}
+    assert by_name["mass"][2:] == (10.0, "kg")
+    assert by_name["period of ω(t)"][3] == "s"
+    assert not any("a2_over_2k" in r[1] for r in rows)  # human names, not keys
+    page = (tmp_path / "n" / "report.html").read_text()
+    assert "<h3>Accuracy</h3>" in page and "href='summary.json'" in page
+    assert "RK4 leaves SO(3)" in page.split("poinsot-plot-0")[0]  # stated before the figures
+
+
+def test_shared_plotlyjs_is_written_once_beside_the_reports(tmp_path):
+    import plotly
+
+    out = tmp_path / "runs"
+    for name in ("tennis-racket", "pendulum-on-cart"):
+        args = ["run", "--example", name, "--out", str(out / name), "--quiet",
+                "--plotly-js", "shared"]  # fmt: skip
+        assert main(args) == 0
+    js = out / f"plotly-{plotly.__version__}.min.js"
+    assert js.is_file()
+    for name in ("tennis-racket", "pendulum-on-cart"):
+        page = (out / name / "report.html").read_text()
+        assert f'src="../{js.name}"' in page and len(page) < 2_000_000
+    js.write_text("not plotly")  # someone else's file of that name is never replaced
+    args = ["run", "--example", "atwood", "--out", str(out / "a"), "--plotly-js", "shared"]
+    assert main(args) == 2 and js.read_text() == "not plotly"
