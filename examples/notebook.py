@@ -1,6 +1,6 @@
 """The source notebook ("Movimiento de un cuerpo rígido"), reproduced with poinsot, in order.
 
-Every computation of the notebook, in English, with the errata of THEORY.md corrected (each one
+Every computation of the notebook, in English, with the errata of docs/theory.md corrected (each one
 noted where it matters), and the 3D figures the notebook could not render. Run it with
 
     python examples/notebook.py [OUTPUT_DIR]

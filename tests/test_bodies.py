@@ -10,7 +10,7 @@ from poinsot.kernels.so3 import exp_so3, matrix_to_quat
 
 
 def test_notebook_worked_example():
-    # THEORY.md §1 worked example (with the erratum e3 = (0,0,1), not (0,0,1)/√2).
+    # docs/theory.md §1 worked example (with the erratum e3 = (0,0,1), not (0,0,1)/√2).
     body = RigidBody.from_particles([1, 1, 1], [[0, 0, 0], [1, 0, 0], [0, 1, 0]])
     np.testing.assert_allclose(body.center_of_mass, [1 / 3, 1 / 3, 0], atol=1e-15)
     np.testing.assert_allclose(
@@ -28,7 +28,7 @@ def test_notebook_worked_example():
 
 
 def test_notebook_27_particle_body(notebook_body):
-    # THEORY.md §1: principal moments 25/3, 50/3, 65/3.
+    # docs/theory.md §1: principal moments 25/3, 50/3, 65/3.
     np.testing.assert_allclose(
         notebook_body.principal_moments, [25 / 3, 50 / 3, 65 / 3], rtol=1e-12
     )

@@ -23,7 +23,7 @@ NOTEBOOK_T = np.linspace(0, 20, 101)
 
 
 def test_notebook_gravity_run(notebook_body):
-    # THEORY.md §1: ω(0) = (0, 1, 1), R(0) = Ṙ(0) = 0... here R(0) is the body's centre of mass
+    # docs/theory.md §1: ω(0) = (0, 1, 1), R(0) = Ṙ(0) = 0... here R(0) is the body's centre of mass
     tr = simulate(
         notebook_body,
         (0, 20),

@@ -1,4 +1,4 @@
-"""Rigid bodies and their mass properties (THEORY.md §1, eqs (04), (10)–(15)).
+"""Rigid bodies and their mass properties (docs/theory.md §1, eqs (04), (10)–(15)).
 
 A :class:`RigidBody` is its mass, centre of mass and inertia operator about the centre of mass,
 expressed in the reference frame in which it was built (the body frame at ``Q = I``). Bodies
@@ -99,7 +99,7 @@ class RigidBody:
 
     Examples
     --------
-    The notebook's worked example, three unit masses (THEORY.md §1):
+    The notebook's worked example, three unit masses (docs/theory.md §1):
 
     >>> body = RigidBody.from_particles([1, 1, 1], [[0, 0, 0], [1, 0, 0], [0, 1, 0]])
     >>> body.principal_moments.round(6).tolist()

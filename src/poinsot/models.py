@@ -108,7 +108,7 @@ class Model:
 
 
 def notebook_body():
-    """The source notebook's reference body (THEORY.md §1): 27 equal particles at
+    """The source notebook's reference body (docs/theory.md §1): 27 equal particles at
     ``(a i, b j, c k)``, ``i, j, k ∈ {0, ½, 1}``, ``(a, b, c) = (1, 2, 3)``, total mass 10.
     Principal moments 25/3, 50/3, 65/3.
 

@@ -111,7 +111,7 @@ def simulate(
 
     Examples
     --------
-    The notebook's 27-particle body falling under gravity (THEORY.md §1):
+    The notebook's 27-particle body falling under gravity (docs/theory.md §1):
 
     >>> import numpy as np
     >>> from poinsot import RigidBody, simulate

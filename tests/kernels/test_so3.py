@@ -24,7 +24,7 @@ def test_hat_vee(w, v):
     np.testing.assert_allclose(so3.hat(w) @ v, np.cross(w, v), atol=1e-14)
     np.testing.assert_allclose(so3.vee(so3.hat(w)), w, atol=0)
     B = so3.hat(w)
-    # THEORY.md §1: b = (−B23, B13, −B12) (1-based)
+    # docs/theory.md §1: b = (−B23, B13, −B12) (1-based)
     np.testing.assert_allclose(so3.vee(B), [-B[1, 2], B[0, 2], -B[0, 1]])
 
 

@@ -1,4 +1,4 @@
-"""Constrained systems in Lagrangian mechanics (THEORY.md §3).
+"""Constrained systems in Lagrangian mechanics (docs/theory.md §3).
 
 :class:`LagrangianSystem` derives the equations of motion with multipliers symbolically (SymPy);
 ``system.simulate`` integrates them with poinsot's integrators and reports multipliers,

@@ -1,4 +1,4 @@
-"""Lagrangian systems with constraints, symbolically (THEORY.md §3, eqs (6.49)–(6.61)).
+"""Lagrangian systems with constraints, symbolically (docs/theory.md §3, eqs (6.49)–(6.61)).
 
 Sign convention for the multipliers (fixed here once and for all: SymPy's ``LagrangesMethod``
 leaves the sign to the way constraints are entered — sympy issue #30215 — and stores
