@@ -1,7 +1,7 @@
 """The ``poinsot`` command line.
 
     poinsot run [SCENARIO.toml] [--example NAME] [--out DIR] [--force] [--quiet] [--json]
-    poinsot examples [--show NAME]
+    poinsot examples [--show NAME | --reference]
     poinsot inertia BODY [--mass M | --density RHO] [--json]
     poinsot polhodes --moments I1 I2 I3 [--energy K] [--omega0 W1 W2 W3] [--out DIR] [--json]
 
@@ -202,6 +202,11 @@ def _cmd_examples(args):
 
     if args.show:
         sys.stdout.write(example_text(args.show))
+        return EXIT_OK
+    if args.reference:
+        from .scenario_reference import render_reference
+
+        print(render_reference())
         return EXIT_OK
     for name, description in list_examples().items():
         print(f"{name:20s} {description}")
@@ -422,6 +427,8 @@ def _parser():
         "starting template (`poinsot examples --show heavy-top > mine.toml`).",
     )
     ex.add_argument("--show", metavar="NAME", help="print the scenario file of example NAME")
+    ex.add_argument("--reference", action="store_true",
+                    help="print the reference of every scenario key (Markdown)")  # fmt: skip
     ex.set_defaults(func=_cmd_examples, quiet=False)
 
     inertia = sub.add_parser(

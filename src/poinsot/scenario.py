@@ -35,6 +35,12 @@ class ScenarioError(ValueError):
     """A scenario that cannot run; ``str()`` starts with the file and the key path."""
 
 
+#: While not None, every key the validator reads is appended here as
+#: ``(table path, variant, key, kind, default, choices)``: the scenario schema, recorded from
+#: the validator itself (:mod:`poinsot.scenario_reference` renders it).
+_SCHEMA_RECORDER: list | None = None
+
+
 class _Table:
     """A TOML table being read: typed getters, key paths in errors, unknown keys refused."""
 
@@ -44,6 +50,11 @@ class _Table:
         self.data = data
         self.path = path
         self.used: set[str] = set()
+        self.variant = None  # the value of its "type" key, once read
+
+    def _record(self, key, kind, default=_MISSING, choices=None):
+        if _SCHEMA_RECORDER is not None:
+            _SCHEMA_RECORDER.append((self.path, self.variant, key, kind, default, choices))
 
     def where(self, key):
         return f"{self.path}.{key}" if self.path else key
@@ -53,12 +64,16 @@ class _Table:
 
     def get(self, key, kind, default=_MISSING, **kw):
         self.used.add(key)
+        self._record(key, kind, default, kw.get("choices"))
         if key not in self.data:
             if default is _MISSING:
                 self._typo_of(key)
                 raise ScenarioError(f"{self.where(key)}: required key is missing")
             return default
-        return _convert(self.data[key], kind, self.where(key), **kw)
+        value = _convert(self.data[key], kind, self.where(key), **kw)
+        if key == "type":
+            self.variant = value
+        return value
 
     def _typo_of(self, key):
         """A required ``key`` is missing: if an unknown key in the table looks like it, the typo
@@ -70,6 +85,7 @@ class _Table:
 
     def table(self, key, default=_MISSING):
         self.used.add(key)
+        self._record(key, "table", default)
         if key not in self.data:
             if default is _MISSING:
                 self._typo_of(key)
@@ -79,6 +95,7 @@ class _Table:
 
     def tables(self, key):
         self.used.add(key)
+        self._record(key, "tables", ())
         items = self.data.get(key, [])
         if not isinstance(items, list):
             raise ScenarioError(
@@ -189,6 +206,7 @@ BODY_TYPES = ("particles", "particle_grid", *PRIMITIVES, "mesh", "composite", "m
 def _orientation(t: _Table):
     """``orientation``: a quaternion [w, x, y, z], a 3×3 matrix, or a table
     ``{euler = [..], seq = "ZXZ", degrees = false}``."""
+    t._record("orientation", "orientation", None)
     if not t.has("orientation"):
         t.used.add("orientation")
         return None

@@ -1,7 +1,8 @@
 """Memory layouts shared by every module: the rigid-body state, the body's parameters as the
 compiled engine reads them, and the lowered forces.
 
-The state of one body is the flat 18-vector of the source notebook (docs/theory.md §1, eqs (07)–(09))::
+The state of one body is the flat 18-vector of the source notebook (``docs/theory.md`` §1,
+eqs (07)–(09))::
 
     y = [R (3), V (3), Q (9, row-major), ω (3)]
 
