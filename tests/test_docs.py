@@ -76,3 +76,41 @@ def test_linked_pages_exist(path):
         base = ROOT if target.startswith("docs/") else path.parent
         assert (base / target).is_file(), (path.name, target)
     assert "THEORY.md" not in text and "../shared" not in text
+
+
+@pytest.mark.parametrize("page", sorted((ROOT / "docs" / "tutorials").glob("*.md")))
+def test_tutorial_code_runs(page, tmp_path, monkeypatch):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    monkeypatch.chdir(tmp_path)
+    blocks = re.findall(r"```python\n(.*?)```", page.read_text(encoding="utf-8"), re.S)
+    assert blocks, page.name
+    namespace: dict = {}
+    for block in blocks:
+        exec(compile(block, str(page), "exec"), namespace)  # our own docs
+
+
+def test_sphinx_builds_the_api_reference_without_warnings(tmp_path):
+    """The API reference and the pages build with warnings as errors (``-W``)."""
+    import os
+    import subprocess
+    import sys
+
+    try:
+        import myst_parser  # noqa: F401
+        import sphinx  # noqa: F401
+    except ImportError:
+        if os.environ.get("CI"):
+            pytest.fail("CI must install the docs tools (the test extra has sphinx)")
+        pytest.skip("sphinx is not installed")
+    done = subprocess.run(
+        [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html",
+         str(ROOT / "docs"), str(tmp_path / "html")],
+        capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-3000:]
+    api = (tmp_path / "html" / "api.html").read_text(encoding="utf-8")
+    for name in ("simulate", "FreeRigidBody", "LagrangianSystem", "simulate_relative",
+                 "invariants_of"):  # fmt: skip
+        assert 'id="poinsot.' in api and name in api

@@ -15,7 +15,7 @@ __all__ = [
 
 
 def plot_omega_series(traj, *, ax=None):
-    """ω (body frame) and |ω| against time."""
+    """ω (body frame) and ``|ω|`` against time."""
     plt = _plt()
     if ax is None:
         _, ax = plt.subplots(figsize=(8, 3.8))

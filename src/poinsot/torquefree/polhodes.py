@@ -26,7 +26,7 @@ class Polhode:
 
     ``points`` (n, 3); ``family`` is ``"around e1"``, ``"around e3"``, ``"separatrix"``,
     ``"fixed point"``, ``"symmetric"`` (a circle of a symmetric body) or ``"spherical"``;
-    ``energy`` k (``2k = Σ I ω²``), ``momentum`` a = |L|, ``period`` of ω(t) (inf on the
+    ``energy`` k (``2k = Σ I ω²``), ``momentum`` a = ``|L|``, ``period`` of ω(t) (inf on the
     separatrix), ``t`` the times of the points from ``omega0``.
     """
 
