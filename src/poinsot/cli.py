@@ -124,12 +124,18 @@ def _cmd_run(args):
         )
         _say(
             args,
-            f"  integrated with {i['method']} (stabilization {i['stabilization']}): "
-            f"energy drift {i['energy_drift']:.2e}, max |g| "
-            f"{i['max_constraint_residual']:.2e}, max |G q̇ + b| "
-            f"{i['max_velocity_residual']:.2e}",
+            f"  integrated t ∈ [{scenario.t_span[0]:g}, {scenario.t_span[1]:g}] s with "
+            f"{i['method']} (stabilization {i['stabilization']}): max |g| "
+            f"{i['max_constraint_residual']:.2e}, max |G q̇ + b| {i['max_velocity_residual']:.2e}",
         )
-        _say(args, f"  wrote {out}/ (summary.json, solution.npz/.csv, solution.png, report.html)")
+        kept = [(v["symbol"], v["max_relative_change"]) for v in summary["conserved"].values()]
+        if kept:
+            changes = ", ".join(f"{sym} {c:.2e}" for sym, c in kept)
+            _say(args, f"  conserved by this system, largest relative change: {changes}")
+        for name, v in summary["reactions"].items():
+            _say(args, f"  {name}: {v['min']:.6g} … {v['max']:.6g} {v['unit']}")
+        _say(args, f"  wrote {out}/ (summary.json, solution.npz/.csv, solution.png, "
+                   "mechanism.png, report.html)")  # fmt: skip
     else:
         i = summary["integration"]
         d = i["diagnostics"]

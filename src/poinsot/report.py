@@ -212,57 +212,55 @@ def _polhode_figure(traj, go, free, levels):
 
 
 def _series_figure(traj, go):
-    """ω(t), and the relative change of what this problem conserves (integration error)."""
+    """ω(t); the relative change of what this problem conserves (integration error), or the
+    energy in joules when it conserves nothing; the distance of the attitude from SO(3)."""
     from plotly.subplots import make_subplots
 
     kept = [i for i in traj.invariants if i.conserved]
     lost = [i for i in traj.invariants if not i.conserved]
-    right = (
-        "Conserved by this problem: relative change (integration error)"
-        if kept
-        else "Total energy: not conserved here (forces do work)"
-    )
-    fig = make_subplots(rows=1, cols=2, subplot_titles=("Angular velocity (body frame)", right))
+    middle = ("Conserved by this problem: relative change" if kept
+              else "Total energy: not conserved here (forces do work)")  # fmt: skip
+    fig = make_subplots(rows=1, cols=3, subplot_titles=(
+        "Angular velocity (body frame)", middle, "Attitude: distance from a rotation"))  # fmt: skip
     for i, name in enumerate(("ω₁", "ω₂", "ω₃")):
-        fig.add_trace(
-            go.Scatter(x=traj.t, y=traj.omega[:, i], name=name, legendgroup="w"), row=1, col=1
-        )
+        fig.add_trace(go.Scatter(x=traj.t, y=traj.omega[:, i], name=name), row=1, col=1)
     tiny = 1e-17
-    for inv in kept:
-        fig.add_trace(
-            go.Scatter(
-                x=traj.t,
-                y=inv.change + tiny,
-                legendgroup="c",
-                name=f"{inv.symbol} [{inv.unit}]: {inv.name}",
-            ),
-            row=1,
-            col=2,
-        )
-    fig.add_trace(
-        go.Scatter(
-            x=traj.t,
-            y=traj.orthogonality_error + tiny,
-            legendgroup="c",
-            name="max |QᵀQ − I| (distance from a rotation)",
-        ),
-        row=1,
-        col=2,
-    )
     if kept:
-        fig.update_yaxes(
-            type="log", title_text="relative change |x(t) − x(0)| / scale", row=1, col=2
-        )
+        for inv in kept:
+            fig.add_trace(go.Scatter(x=traj.t, y=inv.change + tiny,
+                                     name=f"{inv.symbol} [{inv.unit}]"), row=1, col=2)  # fmt: skip
+        fig.update_yaxes(type="log", title_text="relative change |x(t) − x(0)| / scale",
+                         row=1, col=2)  # fmt: skip
     else:
         E = traj.total_energy
-        fig.add_trace(go.Scatter(x=traj.t, y=E - E[0], name="E(t) − E(0) [J]"), row=1, col=2)
-        fig.update_yaxes(title_text="J (energy), 1 (|QᵀQ − I|)", row=1, col=2)
+        fig.add_trace(go.Scatter(x=traj.t, y=E - E[0], name="E(t) − E(0)"), row=1, col=2)
+        fig.update_yaxes(title_text="E(t) − E(0) [J]", row=1, col=2)
+    fig.add_trace(go.Scatter(x=traj.t, y=traj.orthogonality_error + tiny,
+                             name="max |QᵀQ − I|"), row=1, col=3)  # fmt: skip
+    fig.update_yaxes(type="log", title_text="max |QᵀQ − I| (dimensionless)", row=1, col=3)
     fig.update_yaxes(title_text="ω [rad/s]", row=1, col=1)
     fig.update_xaxes(title_text="t [s]")
     note = ("Not conserved here: " + "; ".join(f"{i.symbol} ({i.reason})" for i in lost)
-            if lost else "")  # fmt: skip
-    fig.update_layout(height=460, legend={"orientation": "h", "y": -0.25}, title=note or None)
+            if lost else None)  # fmt: skip
+    fig.update_layout(height=440, title=note)
+    _legend_per_subplot(fig)
     return fig
+
+
+def _legend_per_subplot(fig) -> None:
+    """Give each subplot its own legend, inside its top-right corner (plotly's ``legend2``…),
+    instead of one legend for the whole figure."""
+    by_axes = {}
+    for trace in fig.data:
+        by_axes.setdefault((trace.xaxis or "x", trace.yaxis or "y"), []).append(trace)
+    for n, ((xa, ya), traces) in enumerate(by_axes.items()):
+        name = "legend" if n == 0 else f"legend{n + 1}"
+        xdom = fig.layout[f"xaxis{xa[1:]}"].domain or (0, 1)
+        ydom = fig.layout[f"yaxis{ya[1:]}"].domain or (0, 1)
+        for trace in traces:
+            trace.legend = name
+        fig.layout[name] = {"x": xdom[1], "y": ydom[1], "xanchor": "right", "yanchor": "top",
+                            "bgcolor": "rgba(255,255,255,0.75)", "font": {"size": 10}}  # fmt: skip
 
 
 def _comparison_figure(t, errors, go):
@@ -276,28 +274,15 @@ def _comparison_figure(t, errors, go):
     for col, (key, _, ylabel) in enumerate(COMPARISON_PANELS, start=1):
         for n, (label, rows) in enumerate(errors.items()):
             if key in rows:
-                fig.add_trace(
-                    go.Scatter(
-                        x=t,
-                        y=np.asarray(rows[key]) + tiny,
-                        name=label,
-                        legendgroup=label,
-                        showlegend=col == 1,
-                        line={
-                            "color": _COLORS[n % len(_COLORS)],
-                            "dash": "dash" if label.startswith("exact") else "solid",
-                        },
-                    ),
-                    row=1,
-                    col=col,
-                )
+                dash = "dash" if label.startswith("exact") else "solid"
+                line = {"color": _COLORS[n % len(_COLORS)], "dash": dash}
+                trace = go.Scatter(x=t, y=np.asarray(rows[key]) + tiny, name=label, line=line)
+                fig.add_trace(trace, row=1, col=col)
         fig.update_yaxes(type="log", title_text=ylabel, row=1, col=col)
     fig.update_xaxes(title_text="t [s]")
-    fig.update_layout(
-        height=430,
-        title="Integrators against the exact torque-free solution, same step",
-        legend={"orientation": "h", "y": -0.25},
-    )
+    fig.update_layout(height=430, title="Integrators against the exact torque-free solution, "
+                      "same step")  # fmt: skip
+    _legend_per_subplot(fig)
     return fig
 
 
@@ -340,13 +325,16 @@ def _mechanism_figure(model, sol, go):
             xs += [P[i, index[a]], P[i, index[b]], np.full(3, np.nan)]
         return np.array(xs) if xs else np.zeros((0, 3))
 
+    # labels left of the points left of centre, right of the others: neighbours do not overlap
+    centre = P[0, ends, 0].mean()
+    sides = ["middle left" if P[0, k, 0] < centre - 1e-12 else "middle right" for k in ends]
+
     def traces(i):
         return [
             Scatter(**coords(segments(i)), mode="lines", line={"color": "#1f3f99", "width": 4},
                     name="links", connectgaps=False),
             Scatter(**coords(P[i, ends]), mode="markers+text", text=[names[k] for k in ends],
-                    textposition="top center", marker={"size": 8, "color": "#d62728"},
-                    name="points"),
+                    textposition=sides, marker={"size": 8, "color": "#d62728"}, name="points"),
         ]  # fmt: skip
 
     static = [
@@ -378,7 +366,7 @@ def _mechanism_figure(model, sol, go):
 
 def _panels_figure(panels, go, title=None):
     """Plotly subplots of :func:`poinsot.plotting.lagrange.lagrangian_panels`, two per row,
-    each with its own legend group."""
+    each with its own legend."""
     from plotly.subplots import make_subplots
 
     rows = (len(panels) + 1) // 2
@@ -387,12 +375,11 @@ def _panels_figure(panels, go, title=None):
     for n, (_, ylabel, log, curves) in enumerate(panels):
         row, col = n // 2 + 1, n % 2 + 1
         for label, x, y in curves:
-            fig.add_trace(go.Scatter(x=x, y=y, name=label, legendgroup=f"panel{n}",
-                                     legendgrouptitle_text=panels[n][0] if label == curves[0][0]
-                                     else None), row=row, col=col)  # fmt: skip
+            fig.add_trace(go.Scatter(x=x, y=y, name=label), row=row, col=col)
         fig.update_yaxes(title_text=ylabel, type="log" if log else "linear", row=row, col=col)
         fig.update_xaxes(title_text="t [s]", row=row, col=col)
-    fig.update_layout(height=330 * rows + 80, title=title, legend={"groupclick": "toggleitem"})
+    fig.update_layout(height=330 * rows + 80, title=title)
+    _legend_per_subplot(fig)
     return fig
 
 

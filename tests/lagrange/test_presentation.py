@@ -116,5 +116,5 @@ def test_panels_show_only_what_the_system_has():
     assert by_title["Generalized coordinates: angles"][1] == "angle [rad]"
     pc = models.pendulum_cartesian()
     reactions = [p for p in lagrangian_panels(pc.simulate((0, 1)), pc) if "reactions" in p[0]]
-    assert reactions and reactions[0][1] == "[N]"
+    assert reactions and reactions[0][1] == "force [N]"
     assert reactions[0][3][0][0].startswith("rod tension T")

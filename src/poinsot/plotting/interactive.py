@@ -20,6 +20,11 @@ COLORS = {
 }
 
 
+#: 3D axes of angular velocity, principal (body) frame.
+_OMEGA_SCENE = {"aspectmode": "data", "xaxis_title": "ω₁ [rad/s]", "yaxis_title": "ω₂ [rad/s]",
+                "zaxis_title": "ω₃ [rad/s]"}  # fmt: skip
+
+
 def _go():
     try:
         import plotly.graph_objects as go
@@ -108,9 +113,9 @@ def polhode_family_figure(body, energy=0.5, *, levels=9, omega=None, n=200):
         )
     fig = go.Figure(data=data)
     fig.update_layout(
-        title=f"Polhodes on the energy ellipsoid, k = {k:.4g}",
+        title=f"Polhodes on the energy ellipsoid, k = {k:.4g} J",
         height=600,
-        scene={"aspectmode": "data", "xaxis_title": "ω₁", "yaxis_title": "ω₂", "zaxis_title": "ω₃"},
+        scene=_OMEGA_SCENE,
     )
     return fig
 
@@ -163,8 +168,8 @@ def energy_ellipsoid_figure(body, energy, momentum):
         )
     fig = go.Figure(data=data)
     fig.update_layout(
-        title=f"Energy ellipsoid ∩ cone, k = {k:.4g}, a²/2k = {D:.4g}",
+        title=f"Energy ellipsoid ∩ cone, k = {k:.4g} J, a²/2k = {D:.4g} kg·m²",
         height=600,
-        scene={"aspectmode": "data"},
+        scene=_OMEGA_SCENE,
     )
     return fig

@@ -46,7 +46,7 @@ def lagrangian_panels(sol, model=None) -> list:
         panels.append(
             (
                 "Constraint reactions (from the multipliers)",
-                " / ".join(f"[{u}]" for u in sorted(units)),
+                ("force [N]" if units == {"N"} else " / ".join(f"[{u}]" for u in sorted(units))),
                 False,
                 [(f"{n}: {meaning}", t, v) for n, (v, _, meaning) in reactions.items()],
             )
