@@ -46,3 +46,13 @@ from hypothesis import settings  # noqa: E402
 
 settings.register_profile("poinsot", deadline=None)
 settings.load_profile("poinsot")
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    """Every test's matplotlib figures are closed after it (figures are tested, then freed)."""
+    yield
+    import sys
+
+    if "matplotlib.pyplot" in sys.modules:
+        sys.modules["matplotlib.pyplot"].close("all")

@@ -56,9 +56,10 @@ LIBRARY = {
     "models",
     "_validation",
     "_io",
+    "conservation",
 }
-PRESENTATION = {"plotting", "report"}
-APPLICATION = {"scenario", "job", "cli", "__main__"}
+PRESENTATION = {"plotting", "report", "numbers"}
+APPLICATION = {"scenario", "scenario_reference", "job", "cli", "__main__"}
 
 
 def _imports(path: Path):

@@ -315,18 +315,20 @@ class Trajectory:
         except ImportError as exc:  # pragma: no cover - depends on the environment
             raise ImportError("to_xarray needs xarray: pip install 'poinsot[xarray]'") from exc
         vec = ("time", "axis")
-        return xr.Dataset(
+        ds = xr.Dataset(
             {
-                "R": (vec, self.R),
-                "V": (vec, self.V),
-                "Q": (("time", "row", "col"), self.Q),
-                "omega": (vec, self.omega),
-                "omega_space": (vec, self.omega_space),
-                "quaternion": (("time", "component"), self.quaternion),
-                "angular_momentum": (vec, self.angular_momentum),
-                "kinetic_energy": ("time", self.kinetic_energy),
-                "total_energy": ("time", self.total_energy),
+                "R": (vec, self.R, {"units": "m"}),
+                "V": (vec, self.V, {"units": "m/s"}),
+                "Q": (("time", "row", "col"), self.Q, {"units": "1"}),
+                "omega": (vec, self.omega, {"units": "rad/s", "frame": "body"}),
+                "omega_space": (vec, self.omega_space, {"units": "rad/s", "frame": "space"}),
+                "quaternion": (("time", "component"), self.quaternion, {"units": "1"}),
+                "angular_momentum": (vec, self.angular_momentum, {"units": "kg m2/s"}),
+                "kinetic_energy": ("time", self.kinetic_energy, {"units": "J"}),
+                "total_energy": ("time", self.total_energy, {"units": "J"}),
             },
             coords={"time": self.t, "axis": list("xyz"), "component": list("wxyz")},
             attrs={"method": self.method, "summary": json.dumps(self.summary())},
         )
+        ds["time"].attrs["units"] = "s"
+        return ds
