@@ -9,7 +9,7 @@ space of the constraint manifold (null space of the constraint Jacobian).
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -18,20 +18,36 @@ __all__ = ["Linearization", "equilibria", "linearize"]
 
 @dataclass(frozen=True)
 class Linearization:
-    """A linearisation about an equilibrium.
+    """A linearisation about an equilibrium or a steady motion.
 
     Attributes
     ----------
     equilibrium : dict {coordinate: value}
+        The operating point's coordinates (``speeds`` its velocities, zero at rest).
     matrix : ndarray (d, d)
-        The linear map of the first-order system on the constraint manifold's tangent space
-        (d = 2n − m_holonomic − m).
+        ``A``: the linear map of the first-order system ``δẋ = A δx + B δu`` on the tangent
+        space of the constraint manifold (d = 2n − m_holonomic − m).
     eigenvalues : ndarray (d,) complex
     frequencies : ndarray
         Natural frequencies in rad/s: the distinct positive imaginary parts of the eigenvalues.
     stable : bool
-        Linear stability: no eigenvalue with positive real part (beyond round-off); undamped
-        oscillations (centres) count as stable.
+        True when :attr:`verdict` is ``"spectrally stable"``.
+    speeds : dict {coordinate: value}
+        The operating point's velocities.
+    input_matrix : ndarray (d, k)
+        ``B``, one column per input of ``system.inputs`` (k = 0 without inputs).
+    verdict : str
+        ``"unstable"`` (an eigenvalue with positive real part), ``"secular growth"`` (no such
+        eigenvalue, but a zero eigenvalue whose Jordan block grows linearly in time: a free
+        cart drifting, a skate turning), or ``"spectrally stable"`` (every eigenvalue on or
+        left of the imaginary axis, the zero ones semisimple). Spectral stability is what the
+        linearisation can tell; nonlinear terms decide centres.
+    ignorable : tuple
+        Coordinates the equations do not depend on at this point (cyclic: the azimuth of a
+        conical pendulum, the position of a free cart).
+    reduced_verdict : str
+        The verdict with the ignorable coordinates' positions left out: their drift (a phase,
+        a translation) is neutral, so this is the stability of the steady motion itself.
     """
 
     equilibrium: dict
@@ -39,6 +55,26 @@ class Linearization:
     eigenvalues: np.ndarray
     frequencies: np.ndarray
     stable: bool
+    speeds: dict = field(default_factory=dict)
+    input_matrix: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    verdict: str = ""
+    ignorable: tuple = ()
+    reduced_verdict: str = ""
+
+
+def _verdict(A, eig, scale):
+    """Classify the spectrum of ``A`` (see :attr:`Linearization.verdict`)."""
+    if np.any(eig.real > 1e-6 * scale):
+        return "unstable"
+    zero = np.abs(eig) <= 1e-7 * scale
+    k = int(zero.sum())
+    if k:
+        # geometric multiplicity of 0: dimension of the null space of A
+        s = np.linalg.svd(A, compute_uv=False)
+        nullity = int(np.sum(s <= 1e-7 * scale))
+        if nullity < k:
+            return "secular growth"
+    return "spectrally stable"
 
 
 def _numeric(system, params):
@@ -113,40 +149,105 @@ def _null_space(A, n):
     return vt[rank:].T
 
 
-def linearize(system, equilibrium, params=None, *, t=0.0):
-    """Linearise about ``equilibrium`` ({coordinate: value}, q̇ = 0): eigenvalues, natural
-    frequencies (rad/s) and stability; see :class:`Linearization`."""
-    from .numeric import _ODE
+def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0.0):
+    """Linearise about an equilibrium or a steady motion.
+
+    Parameters
+    ----------
+    equilibrium : dict {coordinate: value}
+        The operating point's coordinates.
+    speeds : dict {coordinate: value}, optional
+        Its velocities (default zero: an equilibrium). With speeds the point must be a steady
+        motion: the accelerations vanish there (a spinning top's steady precession, a disk
+        rolling upright).
+    inputs : dict {input: number}, optional
+        The inputs' values at the operating point (every input of ``system.inputs``).
+
+    Returns
+    -------
+    Linearization
+        ``A`` (:attr:`~Linearization.matrix`) and ``B`` (:attr:`~Linearization.input_matrix`)
+        of ``δẋ = A δx + B δu`` on the constraint manifold, by central differences of the
+        compiled equations, with eigenvalues, frequencies and the stability verdict.
+    """
+    from .numeric import _ODE, input_function
 
     num = _numeric(system, params)
     n, m, nh = system.n_coordinates, num.m, num.n_hol
-    q0 = np.empty(n)
+    q0, v0 = np.empty(n), np.zeros(n)
     for i, q in enumerate(system.coordinates):
         if q not in equilibrium:
             raise ValueError(f"`equilibrium` must give every coordinate: missing {q}")
         q0[i] = float(equilibrium[q])
-    ode = _ODE(num, None, (0.0, 0.0))
-    y0 = np.concatenate([q0, np.zeros(n)])
-    f0 = ode.rhs(t, y0)
+    for q, value in (speeds or {}).items():
+        if q not in system.coordinates:
+            raise ValueError(f"`speeds`: {q} is not a coordinate of the system")
+        v0[system.coordinates.index(q)] = float(value)
+    k = len(system.inputs)
+    u_of = input_function(inputs, system)
+    u0 = u_of(t, q0, v0) if u_of is not None else np.zeros(0)
+
+    def rhs_at(y, u):
+        bound = num.bound((lambda tt, qq, vv: u) if k else None)
+        return _ODE(bound, None, (0.0, 0.0)).rhs(t, y)
+
+    y0 = np.concatenate([q0, v0])
+    f0 = rhs_at(y0, u0)
+    what = "a steady motion" if np.any(v0) else "an equilibrium"
     if np.max(np.abs(f0[n:])) > 1e-8 * (1 + np.max(np.abs(f0))):
         raise ValueError(
-            f"`equilibrium` is not an equilibrium: accelerations {np.round(f0[n:], 10).tolist()}"
+            f"the operating point is not {what}: accelerations {np.round(f0[n:], 10).tolist()}"
         )
     J = np.empty((2 * n, 2 * n))
     for j in range(2 * n):
         h = 1e-6 * (1 + abs(y0[j]))
         e = np.zeros(2 * n)
         e[j] = h
-        J[:, j] = (ode.rhs(t, y0 + e) - ode.rhs(t, y0 - e)) / (2 * h)
-    G = num.mat(num.G, q0, np.zeros(n), t, (m, n)) if m else np.zeros((0, n))
-    Nq = _null_space(G[:nh], n)
-    Nv = _null_space(G, n)
-    T = np.zeros((2 * n, Nq.shape[1] + Nv.shape[1]))
-    T[:n, : Nq.shape[1]] = Nq
-    T[n:, Nq.shape[1] :] = Nv
-    A = np.linalg.pinv(T) @ J @ T
+        J[:, j] = (rhs_at(y0 + e, u0) - rhs_at(y0 - e, u0)) / (2 * h)
+    Bfull = np.empty((2 * n, k))
+    for j in range(k):
+        h = 1e-6 * (1 + abs(u0[j]))
+        e = np.zeros(k)
+        e[j] = h
+        Bfull[:, j] = (rhs_at(y0, u0 + e) - rhs_at(y0, u0 - e)) / (2 * h)
+    G = num.mat(num.G, q0, v0, t, (m, n)) if m else np.zeros((0, n))
+    A, B = _on_manifold(J, Bfull, G, nh, np.arange(n))
     eig = np.linalg.eigvals(A)
-    scale = max(1.0, float(np.abs(eig).max()))
+    scale = max(1.0, float(np.abs(eig).max()), float(np.abs(A).max()))
     freqs = np.unique(np.round(eig.imag[eig.imag > 1e-9 * scale], 10))
-    stable = bool(np.all(eig.real <= 1e-6 * scale))
-    return Linearization(dict(equilibrium), A, eig, freqs, stable)
+    verdict = _verdict(A, eig, scale)
+    jscale = max(1.0, float(np.abs(J).max()))
+    ignorable = [j for j in range(n) if np.abs(J[:, j]).max() <= 1e-9 * jscale
+                 and not np.any(G[:nh, j])]  # fmt: skip
+    reduced = verdict
+    if ignorable:
+        keep = np.array([j for j in range(n) if j not in ignorable])
+        rows = np.concatenate([keep, np.arange(n, 2 * n)])
+        Ar, _ = _on_manifold(J[np.ix_(rows, rows)], Bfull[rows], G, nh, keep)
+        reduced = _verdict(Ar, np.linalg.eigvals(Ar), scale) if Ar.size else "spectrally stable"
+    return Linearization(
+        dict(equilibrium),
+        A,
+        eig,
+        freqs,
+        verdict == "spectrally stable",
+        {q: float(v) for q, v in zip(system.coordinates, v0, strict=True)},
+        B,
+        verdict,
+        tuple(system.coordinates[j] for j in ignorable),
+        reduced,
+    )
+
+
+def _on_manifold(J, B, G, nh, positions):
+    """``(A, B)`` restricted to the tangent space of the constraints: positions along the null
+    space of the holonomic rows of ``G`` (columns ``positions``), velocities along that of
+    all of ``G``."""
+    n = G.shape[1]
+    Nq = _null_space(G[:nh][:, positions], len(positions))
+    Nv = _null_space(G, n)
+    T = np.zeros((len(positions) + n, Nq.shape[1] + Nv.shape[1]))
+    T[: len(positions), : Nq.shape[1]] = Nq
+    T[len(positions) :, Nq.shape[1] :] = Nv
+    Tp = np.linalg.pinv(T)
+    return Tp @ J @ T, Tp @ B

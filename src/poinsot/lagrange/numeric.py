@@ -40,10 +40,13 @@ class _Numeric:
         n = system.n_coordinates
         qs = sp.symbols(f"q0:{n}")
         vs = sp.symbols(f"qd0:{n}")
+        us = sp.symbols(f"u0:{len(system.inputs)}")
         t = system.t
+        self.u_of = None  # bound per simulation: (t, q, q̇) → input values (k,)
         to_plain = {
             **dict(zip(system.speeds, vs, strict=True)),
             **dict(zip(system.coordinates, qs, strict=True)),
+            **dict(zip(system.inputs, us, strict=True)),
         }
 
         def plain(expr):
@@ -60,7 +63,7 @@ class _Numeric:
             raise ValueError(
                 f"`params` must give a number for every parameter: missing {', '.join(missing)}"
             )
-        args = (qs, vs, t)
+        args = (qs, vs, t, us)
         lam = lambda expr: sp.lambdify(args, plain(expr), modules="numpy", cse=True)  # noqa: E731
         self.M = lam(system.mass_matrix)
         self.f = lam(system.forcing)
@@ -74,7 +77,16 @@ class _Numeric:
         self.energy = lam(system.energy_function)
 
     def mat(self, fn, q, qd, t, shape):
-        return np.asarray(fn(q, qd, t), dtype=float).reshape(shape)
+        u = self.u_of(t, q, qd) if self.u_of is not None else ()
+        return np.asarray(fn(q, qd, t, u), dtype=float).reshape(shape)
+
+    def bound(self, u_of):
+        """A copy evaluating the system's inputs with ``u_of(t, q, q̇) → (k,)``."""
+        import copy
+
+        out = copy.copy(self)
+        out.u_of = u_of
+        return out
 
     def accelerations(self, t, q, qd, stab=None):
         """``(q̈, λ)`` from the index-1 system; ``stab`` (m,) is added to ``−γ``."""
@@ -185,6 +197,15 @@ class LagrangianSolution:
         n = system.n_coordinates
         self.system = system
         self.params = dict(num.params)
+        #: values of the system's inputs at each sample (n_samples, k)
+        self.inputs = np.array(
+            [
+                num.u_of(ti, qi, qdi)
+                for ti, qi, qdi in zip(t, np.asarray(y)[:, :n], np.asarray(y)[:, n:], strict=True)
+            ]
+            if num.u_of is not None
+            else np.zeros((len(t), 0))
+        ).reshape(len(t), len(system.inputs))
         self.coordinates = list(system.coordinates)
         self.t = np.asarray(t, dtype=float)
         self.q = np.asarray(y)[:, :n]
@@ -207,7 +228,7 @@ class LagrangianSolution:
                 pos, vel = num.residuals(ti, qi, qdi)
                 self.constraint_residual[i] = pos
                 self.constraint_velocity_residual[i] = vel
-            self.energy[i] = float(num.energy(qi, qdi, ti))
+            self.energy[i] = float(num.mat(num.energy, qi, qdi, ti, ()))
 
     def evaluate(self, expr):
         """A SymPy expression (or a sequence of them) in the coordinates, their speeds, t, the
@@ -231,14 +252,16 @@ class LagrangianSolution:
         n, m = system.n_coordinates, system.n_constraints
         qs, vs = sp.symbols(f"q0:{n}"), sp.symbols(f"qd0:{n}")
         ls = sp.symbols(f"lam0:{m}") if m else ()
+        us = sp.symbols(f"u0:{len(system.inputs)}")
         plain = {
             **dict(zip(system.speeds, vs, strict=True)),
             **dict(zip(system.coordinates, qs, strict=True)),
             **dict(zip(list(system.lam_vec), ls, strict=True)),
+            **dict(zip(system.inputs, us, strict=True)),
         }
         body = [sp.sympify(e).subs(plain).subs(self.params) for e in exprs]
-        fn = sp.lambdify((system.t, qs, vs, ls), body, modules="numpy", cse=True)
-        cols = fn(self.t, self.q.T, self.qd.T, self.multipliers.T)
+        fn = sp.lambdify((system.t, qs, vs, ls, us), body, modules="numpy", cse=True)
+        cols = fn(self.t, self.q.T, self.qd.T, self.multipliers.T, self.inputs.T)
         out = np.column_stack([np.broadcast_to(np.asarray(c, float), self.t.shape) for c in cols])
         return out if many else out[:, 0]
 
@@ -319,6 +342,55 @@ def as_params(params, system) -> dict:
     return out
 
 
+def input_function(inputs, system):
+    """``(t, q, q̇) → values (k,)`` of the system's inputs from ``inputs`` ({input: number,
+    f(t) or f(t, q, q̇)}, by function or name), or None for a system without inputs; missing,
+    unknown and ill-typed inputs are refused, named."""
+    import inspect
+
+    names = list(system.inputs)
+    if inputs is not None and not isinstance(inputs, dict):
+        raise TypeError(f"`inputs` must be a dict {{input: value}}, found {type(inputs).__name__}")
+    if not names:
+        if inputs:
+            raise ValueError("`inputs`: the system has no inputs (functions of t that are "
+                             "neither coordinates nor parameters)")  # fmt: skip
+        return None
+    by_name = {str(u).replace("(t)", ""): u for u in names}
+    given = {}
+    for key, value in (inputs or {}).items():
+        u = by_name.get(key) if isinstance(key, str) else key
+        if u not in names:
+            raise ValueError(f"`inputs`: {key!r} is not an input of the system (inputs: "
+                             f"{', '.join(by_name)})")  # fmt: skip
+        given[u] = value
+    missing = [str(u) for u in names if u not in given]
+    if missing:
+        raise ValueError(
+            f"`inputs` must give every input of the system: missing {', '.join(missing)} "
+            "(a number, a function of t, or a function of (t, q, qd))"
+        )
+    funcs = []
+    for u in names:
+        value, label = given[u], f"inputs[{str(u).replace('(t)', '')}]"
+        if callable(value):
+            try:
+                arity = len(inspect.signature(value).parameters)
+            except (TypeError, ValueError):
+                arity = 1
+            if arity not in (1, 3):
+                raise TypeError(f"`{label}` must take (t) or (t, q, qd), found {arity} parameters")
+            funcs.append((lambda f: lambda t, q, qd: f(t))(value) if arity == 1 else value)
+        else:
+            c = as_scalar(value, label)
+            funcs.append(lambda t, q, qd, c=c: c)
+
+    def u_of(t, q, qd):
+        return np.array([float(f(t, q, qd)) for f in funcs])
+
+    return u_of
+
+
 def consistent_initial_state(system, num, t0, q0, qd0, guess=None, tol=1e-9):
     """Complete and check ``q0``, ``qd0`` (arrays with NaN where omitted) against the
     constraints: omitted coordinates solve ``g(q) = 0`` by Newton from ``guess`` (default 0),
@@ -396,6 +468,7 @@ def simulate(
     stabilization="baumgarte",
     baumgarte=DEFAULT_BAUMGARTE,
     guess=None,
+    inputs=None,
 ) -> LagrangianSolution:
     """Integrate the equations of motion of ``system``.
 
@@ -416,6 +489,10 @@ def simulate(
     stabilization : {"baumgarte", "projection", None}
     baumgarte : (alpha, beta)
         Baumgarte gains in s⁻¹ (default (10, 10): critically damped).
+    inputs : dict {input: value}, optional
+        A value for every specified input of the system (``system.inputs``, by function or
+        name): a number, a function of ``t``, or a function of ``(t, q, q̇)`` (feedback; ``q``
+        and ``q̇`` arrays in the order of the coordinates). A missing input is refused, named.
     """
     from ..integrate.base import get_solver
     from ..integrate.driver import IntegrationError, integrate
@@ -436,6 +513,9 @@ def simulate(
     t_eval, _, dt = _check_sampling(t_eval, t0, t1, 1, dt)
     rtol, atol = _check_tolerances(rtol, atol)
     num = _numeric(system, params)
+    u_of = input_function(inputs, system)
+    if u_of is not None:
+        num = num.bound(u_of)
     q_init = _keyed(q0, system, "q0", allow_missing=system.n_holonomic > 0)
     qd_init = _keyed(qd0, system, "qd0", allow_missing=True)
     guess_arr = _keyed(guess, system, "guess", allow_missing=True) if guess else None

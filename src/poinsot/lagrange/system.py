@@ -150,6 +150,43 @@ class LagrangianSystem:
         self._check_constraints()
         self.generalized_forces = self._generalized_forces(forces)
         self.units = self._units(units)
+        self._check_inputs()
+
+    @cached_property
+    def inputs(self) -> list:
+        """Specified inputs: functions of t in the equations that are neither coordinates nor
+        parameters (SymPy ``dynamicsymbols`` such as a driving force ``F(t)``), sorted by name.
+        ``simulate(..., inputs={F: ...})`` gives each a number, a function of t, or a function
+        of ``(t, q, q̇)`` (feedback); ``linearize`` returns their matrix B.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> from sympy.physics.mechanics import dynamicsymbols
+        >>> x, F = dynamicsymbols("x F")
+        >>> cart = LagrangianSystem([x], kinetic=x.diff() ** 2 / 2, forces=[{x: F}])
+        >>> cart.inputs
+        [F(t)]
+        """
+        sp = _sympy()
+        exprs = [self.lagrangian, *self.holonomic, *self.nonholonomic, *self.generalized_forces]
+        found = set()
+        for e in exprs:
+            for f in sp.sympify(e).atoms(sp.core.function.AppliedUndef):
+                if f.args == (self.t,) and f not in self.coordinates:
+                    found.add(f)
+        return sorted(found, key=str)
+
+    def _check_inputs(self):
+        sp = _sympy()
+        exprs = [self.lagrangian, *self.holonomic, *self.nonholonomic, *self.generalized_forces]
+        for e in exprs:
+            for d in sp.sympify(e).atoms(sp.Derivative):
+                if d.expr in self.inputs:
+                    raise ValueError(
+                        f"the input {d.expr} appears differentiated ({d}): give its derivative "
+                        "as an input of its own"
+                    )
 
     def _units(self, units):
         if units is None:
@@ -481,7 +518,8 @@ class LagrangianSystem:
         return equilibria(self, params=params, **kwargs)
 
     def linearize(self, equilibrium, params=None, **kwargs):
-        """Linearisation about an equilibrium; see :func:`poinsot.lagrange.linear.linearize`."""
+        """Linearisation about an equilibrium or a steady motion (``speeds=``), with the input
+        matrix B; see :func:`poinsot.lagrange.linear.linearize`."""
         from .linear import linearize
 
         return linearize(self, equilibrium, params=params, **kwargs)

@@ -1,0 +1,134 @@
+"""Specified inputs (constant, f(t), feedback f(t, q, q̇), missing) and the linearisation
+about steady motions with its input matrix B and stability verdict, checked against closed
+forms and SymPy's own Linearizer."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+from sympy.physics.mechanics import LagrangesMethod, dynamicsymbols
+
+from poinsot import models
+from poinsot.lagrange import LagrangianSystem
+
+t = dynamicsymbols._t
+
+
+@pytest.fixture(scope="module")
+def cart():
+    """A cart of mass m pushed by a force F(t) on a spring k: m ẍ = −k x + F."""
+    x, F = dynamicsymbols("x F")
+    m, k = sp.symbols("m k", positive=True)
+    system = LagrangianSystem([x], kinetic=m * x.diff() ** 2 / 2, potential=k * x**2 / 2,
+                              forces=[{x: F}], units={x: "m"})  # fmt: skip
+    return system, x, F
+
+
+def test_inputs_are_found_and_a_missing_one_is_named(cart):
+    system, x, F = cart
+    assert system.inputs == [F] and [str(p) for p in system.parameters] == ["k", "m"]
+    with pytest.raises(ValueError, match=r"`inputs` must give every input.*missing F\(t\)"):
+        system.simulate((0, 1), q0={x: 0}, params={"m": 1, "k": 1})
+    with pytest.raises(ValueError, match=r"`inputs`: 'G' is not an input of the system"):
+        system.simulate((0, 1), q0={x: 0}, params={"m": 1, "k": 1}, inputs={"F": 1, "G": 2})
+    with pytest.raises(TypeError, match=r"`inputs\[F\]` must take \(t\) or \(t, q, qd\)"):
+        system.simulate((0, 1), q0={x: 0}, params={"m": 1, "k": 1},
+                        inputs={"F": lambda t, q: 0})  # fmt: skip
+
+
+def test_constant_and_time_inputs_match_closed_forms(cart):
+    system, x, F = cart
+    t_eval = np.linspace(0, 3, 31)
+    # constant force F0 on a spring from rest: x = F0/k (1 − cos ωt)
+    sol = system.simulate((0, 3), q0={x: 0}, params={"m": 2, "k": 8}, inputs={F: 4.0},
+                          t_eval=t_eval)  # fmt: skip
+    np.testing.assert_allclose(sol.q[:, 0], 0.5 * (1 - np.cos(2 * t_eval)), atol=1e-9)
+    np.testing.assert_allclose(sol.inputs[:, 0], 4.0)
+    # resonant forcing F = sin 2t with ω = 2: x = (sin ωt − ωt cos ωt)/(2 m ω²)
+    sol = system.simulate((0, 3), q0={x: 0}, params={"m": 2, "k": 8},
+                          inputs={"F": lambda s: np.sin(2 * s)}, t_eval=t_eval)  # fmt: skip
+    exact = (np.sin(2 * t_eval) - 2 * t_eval * np.cos(2 * t_eval)) / (2 * 2 * 4)
+    np.testing.assert_allclose(sol.q[:, 0], exact, atol=1e-9)
+
+
+def test_feedback_input_is_a_damper(cart):
+    system, x, F = cart
+    c = 0.4  # F = −c ẋ: a damped oscillator, x = e^{−ζωt}(cos ω_d t + ζω/ω_d sin ω_d t)
+    t_eval = np.linspace(0, 5, 51)
+    sol = system.simulate((0, 5), q0={x: 1}, params={"m": 1, "k": 4},
+                          inputs={F: lambda s, q, qd: -c * qd[0]}, t_eval=t_eval)  # fmt: skip
+    w, zeta = 2.0, c / (2 * 2.0)
+    wd = w * np.sqrt(1 - zeta**2)
+    exact = np.exp(-zeta * w * t_eval) * (np.cos(wd * t_eval) + zeta * w / wd * np.sin(wd * t_eval))
+    np.testing.assert_allclose(sol.q[:, 0], exact, atol=1e-8)
+    # the energy h is no constant of the motion with an input acting
+    assert [s for _, s, *_ in system.constants_of_motion()] == []
+
+
+def test_linearize_gives_the_input_matrix(cart):
+    system, x, F = cart
+    lin = system.linearize({x: 0.0}, params={"m": 2, "k": 8}, inputs={F: 0.0})
+    np.testing.assert_allclose(lin.matrix, [[0, 1], [-4, 0]], atol=1e-6)
+    np.testing.assert_allclose(lin.input_matrix, [[0], [0.5]], atol=1e-8)  # 1/m
+    assert lin.verdict == "spectrally stable" and lin.frequencies[0] == pytest.approx(2.0)
+
+
+def test_free_cart_has_secular_growth_not_stability():
+    mdl = models.pendulum_on_cart()
+    s = mdl.symbols
+    lin = mdl.system.linearize({s["x"]: 0.0, s["theta"]: 0.0}, params=mdl.params)
+    assert lin.verdict == "secular growth" and not lin.stable
+    assert lin.ignorable == (s["x"],) and lin.reduced_verdict == "spectrally stable"
+    top = mdl.system.linearize({s["x"]: 0.0, s["theta"]: np.pi}, params=mdl.params)
+    assert top.verdict == "unstable" and top.reduced_verdict == "unstable"
+
+
+def test_conical_pendulum_is_a_stable_steady_motion():
+    # small oscillations about a conical motion at θ0: Ω² = φ̇² (1 + 3 cos² θ0), φ̇² = g/(l cos θ0)
+    # (Landau & Lifshitz, Mechanics, §14 problem 1)
+    mdl = models.spherical_pendulum()
+    s = mdl.symbols
+    th0 = 0.6
+    w = np.sqrt(9.81 / np.cos(th0))
+    lin = mdl.system.linearize({s["theta"]: th0, s["phi"]: 0.0}, params=mdl.params,
+                               speeds={s["phi"]: w})  # fmt: skip
+    assert lin.frequencies[0] == pytest.approx(w * np.sqrt(1 + 3 * np.cos(th0) ** 2), rel=1e-7)
+    assert lin.reduced_verdict == "spectrally stable" and lin.ignorable == (s["phi"],)
+    with pytest.raises(ValueError, match="not a steady motion: accelerations"):
+        mdl.system.linearize({s["theta"]: th0, s["phi"]: 0.0}, params=mdl.params,
+                             speeds={s["phi"]: 1.0})  # fmt: skip
+
+
+def _sympy_eigenvalues(L, coords, op):
+    lm = LagrangesMethod(L, coords)
+    lm.form_lagranges_equations()
+    speeds = [q.diff(t) for q in coords]
+    point = {**op, **{q.diff(t, 2): 0 for q in coords}}
+    A, _, _ = lm.linearize(q_ind=coords, qd_ind=speeds, op_point=point, A_and_B=True)
+    return _sorted(np.linalg.eigvals(np.array(A.evalf(), dtype=float)))
+
+
+def _sorted(ev):
+    """Eigenvalues in a fixed order, insensitive to round-off in their real parts."""
+    ev = np.asarray(ev, dtype=complex)
+    return ev[np.lexsort((np.round(ev.imag, 6), np.round(ev.real, 6)))]
+
+
+@pytest.mark.parametrize("w3", [100.0, 50.0])
+def test_heavy_top_steady_precession_agrees_with_sympy_linearizer(w3):
+    mdl = models.heavy_symmetric_top()
+    p = {str(k): v for k, v in mdl.params.items()}
+    th0 = 0.6
+    # steady precession Ω: A cos θ0 Ω² − C ω3 Ω + M g l = 0 (Goldstein §5.7), the slow root
+    Om = min(np.roots([p["A"] * np.cos(th0), -p["C"] * w3, p["M"] * p["g"] * p["l"]]), key=abs)
+    phid = w3 - Om * np.cos(th0)
+    psi, th, ph = mdl.system.coordinates
+    lin = mdl.system.linearize({psi: 0.0, th: th0, ph: 0.0}, params=mdl.params,
+                               speeds={psi: Om, ph: phid})  # fmt: skip
+    L = mdl.system.lagrangian.subs(mdl.params)
+    ref = _sympy_eigenvalues(L, [psi, th, ph], {psi: 0, th: th0, ph: 0, psi.diff(t): Om,
+                                                th.diff(t): 0, ph.diff(t): phid})  # fmt: skip
+    np.testing.assert_allclose(_sorted(lin.eigenvalues), ref, atol=1e-5)
+    assert lin.reduced_verdict == "spectrally stable"
+    assert set(lin.ignorable) == {psi, ph}
