@@ -16,6 +16,7 @@ __all__ = [
     "bead_on_rotating_hoop",
     "double_pendulum",
     "heavy_symmetric_top",
+    "knife_edge",
     "notebook_body",
     "pendulum_cartesian",
     "pendulum_on_cart",
@@ -420,6 +421,47 @@ def rolling_disk() -> Model:
     )
 
 
+def knife_edge() -> Model:
+    """A knife edge (a skate) on a plane inclined at α: contact point (x, y) with x down the
+    slope, heading φ of the blade, and the non-holonomic constraint that the contact point
+    moves along the blade, ``ẋ sin φ − ẏ cos φ = 0`` (Bloch, *Nonholonomic Mechanics and
+    Control*, §1.6). Turning at a constant rate ω it never slides down: ``x = g sin α sin² ωt
+    / (2ω²)`` stays bounded while y drifts across the slope. Across the slope (φ = ±π/2) it
+    rests: the constraint's reaction ``λ = ∓ m g sin α`` balances gravity."""
+    sp, ds = _sp()
+    x, y, ph = ds("x y phi")
+    m, g, alpha, I = sp.symbols("m g alpha I", positive=True)
+    from .lagrange import LagrangianSystem
+
+    system = LagrangianSystem(
+        [x, y, ph],
+        kinetic=m * (x.diff() ** 2 + y.diff() ** 2) / 2 + I * ph.diff() ** 2 / 2,
+        potential=-m * g * sp.sin(alpha) * x,
+        nonholonomic=[x.diff() * sp.sin(ph) - y.diff() * sp.cos(ph)],
+        units={x: "m", y: "m", ph: "rad"},
+    )
+    (lam,) = system.lam_vec
+    half = 0.1  # the blade's half length in m, for drawing (it does not enter the dynamics)
+    return Model(
+        "knife-edge",
+        "Knife edge on an incline (non-holonomic): it crosses the slope, or rests across it",
+        system,
+        {"x": x, "y": y, "phi": ph, "m": m, "g": g, "alpha": alpha, "I": I},
+        {m: 1.0, g: 9.81, alpha: 0.3, I: 0.1},
+        {x: 0.0, y: 0.0, ph: 0.3},
+        {x: 0.0, y: 0.0, ph: 2.0},
+        reactions={"sideways reaction on the blade": (lam, "N", "λ: the force across the blade")},
+        points={
+            "contact": (x, y, 0),
+            "#heel": (x - half * sp.cos(ph), y - half * sp.sin(ph), 0),
+            "#toe": (x + half * sp.cos(ph), y + half * sp.sin(ph), 0),
+        },
+        links=(("#heel", "#toe"),),
+        trail="contact",
+        view="xy",
+    )
+
+
 def heavy_symmetric_top() -> Model:
     """Heavy symmetric top on a fixed tip in z-x-z Euler angles (ψ, θ, φ):
     ``L = ½ A (θ̇² + ψ̇² sin² θ) + ½ C (φ̇ + ψ̇ cos θ)² − M g l cos θ`` (A, C about the tip)."""
@@ -467,5 +509,6 @@ MODELS = {
     "atwood": atwood_machine,
     "pendulum-on-cart": pendulum_on_cart,
     "rolling-disk": rolling_disk,
+    "knife-edge": knife_edge,
     "heavy-top-euler": heavy_symmetric_top,
 }

@@ -132,3 +132,35 @@ def test_heavy_top_steady_precession_agrees_with_sympy_linearizer(w3):
     np.testing.assert_allclose(_sorted(lin.eigenvalues), ref, atol=1e-5)
     assert lin.reduced_verdict == "spectrally stable"
     assert set(lin.ignorable) == {psi, ph}
+
+
+def test_knife_edge_rests_across_the_slope_held_by_its_reaction():
+    mdl = models.knife_edge()
+    s = mdl.symbols
+    p = {str(k): v for k, v in mdl.params.items()}
+    eqs = mdl.system.equilibria(params=mdl.params)
+    assert [round(e[s["phi"]], 9) for e in eqs] == [round(-np.pi / 2, 9), round(np.pi / 2, 9)]
+    weight = p["m"] * p["g"] * np.sin(p["alpha"])
+    for e in eqs:
+        assert set(e.free) == {s["x"], s["y"]}  # it rests anywhere on the plane
+        ((name, lam),) = e.reactions.items()
+        assert name == "sin(phi)*x' - cos(phi)*y'"
+        assert lam == pytest.approx(-weight * np.sin(e[s["phi"]]), rel=1e-9)  # λ sin φ = −mg sin α
+    # started there at rest, it stays put; the sideways reaction carries the weight
+    sol = mdl.simulate((0, 3), q0=dict(eqs[1]), qd0={s["x"]: 0, s["y"]: 0, s["phi"]: 0},
+                       t_eval=np.linspace(0, 3, 31))  # fmt: skip
+    assert np.abs(sol.q - sol.q[0]).max() < 1e-12
+    np.testing.assert_allclose(sol.multipliers[:, 0], -weight, rtol=1e-9)
+
+
+def test_knife_edge_turning_never_slides_down():
+    # φ = ωt: x = g sin α sin² ωt / (2ω²), y = g sin α (t − sin 2ωt / 2ω) / (2ω)
+    mdl = models.knife_edge()
+    s = mdl.symbols
+    w, ga = 2.0, 9.81 * np.sin(0.3)
+    t_eval = np.linspace(0, 6, 61)
+    sol = mdl.simulate((0, 6), q0={s["x"]: 0, s["y"]: 0, s["phi"]: 0},
+                       qd0={s["x"]: 0, s["y"]: 0, s["phi"]: w}, t_eval=t_eval)  # fmt: skip
+    np.testing.assert_allclose(sol[s["x"]], ga * np.sin(w * t_eval) ** 2 / (2 * w**2), atol=1e-8)
+    exact_y = ga * (t_eval - np.sin(2 * w * t_eval) / (2 * w)) / (2 * w)
+    np.testing.assert_allclose(sol[s["y"]], exact_y, atol=1e-8)

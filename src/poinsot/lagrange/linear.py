@@ -1,9 +1,10 @@
 """Equilibria of a Lagrangian system and its linearisation about them.
 
-Equilibria solve ``f(q, 0, t0) + G_hᵀ λ = 0`` and ``g(q, t0) = 0`` (q̇ = 0) by Newton's method
-(``scipy.optimize.root``) from many starting points; the linearisation is the Jacobian of the
-first-order equations of motion at ``(q*, 0)`` by central differences, restricted to the tangent
-space of the constraint manifold (null space of the constraint Jacobian).
+Equilibria solve ``f(q, 0, t0) + Gᵀ λ = 0`` (all constraints, non-holonomic included) and
+``g(q, t0) = 0`` (q̇ = 0) by Newton's method or least squares from many starting points; the
+linearisation is the Jacobian of the first-order equations of motion at an equilibrium or a
+steady motion by central differences, restricted to the tangent space of the constraint
+manifold (null space of the constraint Jacobian).
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Linearization", "equilibria", "linearize"]
+__all__ = ["Equilibrium", "Linearization", "equilibria", "linearize"]
 
 
 @dataclass(frozen=True)
@@ -84,8 +85,31 @@ def _numeric(system, params):
     return build(system, as_params(params, system))
 
 
-def equilibria(system, params=None, *, bounds=None, starts=None, t=0.0, tol=1e-10):
-    """Equilibria of ``system``: a list of ``{coordinate: value}`` (duplicates removed).
+class Equilibrium(dict):
+    """An equilibrium ``{coordinate: value}`` (a dict), with what holds it there.
+
+    Attributes
+    ----------
+    reactions : dict {str: float}
+        The multiplier of each constraint (holonomic and non-holonomic, by its expression),
+        sign of eq. (6.60): ``Σ_k λ_k G_kj`` is the generalized reaction that balances the
+        applied forces. A non-holonomic constraint can hold a system at rest (the knife edge
+        across a slope).
+    free : tuple
+        Coordinates on which nothing depends: the equilibrium holds at any value of them (the
+        value given is where the search started).
+    """
+
+    reactions: dict
+    free: tuple
+
+
+def equilibria(system, params=None, *, bounds=None, starts=None, t=0.0, tol=1e-10, inputs=None):
+    """Equilibria of ``system``: a list of :class:`Equilibrium` (duplicates removed).
+
+    At rest the applied forces must be balanced by the reactions of *all* constraints,
+    holonomic and non-holonomic: ``f(q, 0) + Gᵀ λ = 0`` with ``g(q) = 0``; the non-holonomic
+    multipliers are unknowns too, so such a system may rest where a holonomic one could not.
 
     Parameters
     ----------
@@ -95,11 +119,18 @@ def equilibria(system, params=None, *, bounds=None, starts=None, t=0.0, tol=1e-1
     starts : int, optional
         Starting points per coordinate (default 13 for one coordinate, 7 for two, else 150
         random points in the box).
+    inputs : dict {input: number}, optional
+        Constant values of the system's inputs.
     """
-    from scipy.optimize import root
+    from scipy.optimize import least_squares, root
+
+    from .numeric import input_function
 
     num = _numeric(system, params)
-    n, nh = system.n_coordinates, system.n_holonomic
+    u_of = input_function(inputs, system)
+    if u_of is not None:
+        num = num.bound(u_of)
+    n, nh, m = system.n_coordinates, system.n_holonomic, system.n_constraints
     zeros = np.zeros(n)
     lo = np.full(n, -np.pi)
     hi = np.full(n, np.pi)
@@ -108,37 +139,71 @@ def equilibria(system, params=None, *, bounds=None, starts=None, t=0.0, tol=1e-1
             raise ValueError(f"`bounds`: {q} is not a coordinate of the system")
         lo[system.coordinates.index(q)], hi[system.coordinates.index(q)] = a, b
 
+    def parts(q):
+        f = num.mat(num.f, q, zeros, t, (n,))
+        G = num.mat(num.G, q, zeros, t, (m, n)) if m else np.zeros((0, n))
+        g = num.mat(num.g, q, zeros, t, (nh,)) if nh else np.zeros(0)
+        return f, G, g
+
     def residual(x):
         q, lam = x[:n], x[n:]
-        f = num.mat(num.f, q, zeros, t, (n,))
-        if not nh:
-            return f
-        G = num.mat(num.G, q, zeros, t, (num.m, n))[:nh]
-        g = num.mat(num.g, q, zeros, t, (nh,))
+        f, G, g = parts(q)
         return np.concatenate([f + G.T @ lam, g])
 
+    # coordinates nothing depends on (a position on a plane, a heading): held where they start
+    rng = np.random.default_rng(1)
+    probe = rng.uniform(lo, hi)
+    base = np.concatenate([c.ravel() for c in parts(probe)])
+    free = []
+    for j in range(n):
+        shifted = probe.copy()
+        shifted[j] += 0.37
+        if np.allclose(np.concatenate([c.ravel() for c in parts(shifted)]), base, atol=1e-12):
+            free.append(j)
+    solve = [j for j in range(n) if j not in free]
     if n <= 2:
         k = starts or (13 if n == 1 else 7)
         grid = [np.linspace(lo[i], hi[i], k) for i in range(n)]
         points = [np.array(p) for p in itertools.product(*grid)]
     else:
-        rng = np.random.default_rng(0)
         points = list(rng.uniform(lo, hi, size=(starts or 150, n)))
     found = []
     for p in points:
-        x0 = np.concatenate([p, np.zeros(nh)])
+        p = p.copy()
+        p[free] = np.clip(0.0, lo[free], hi[free])
+
+        def reduced(z, p=p):
+            q = p.copy()
+            q[solve] = z[: len(solve)]
+            return residual(np.concatenate([q, z[len(solve) :]]))
+
+        z0 = np.concatenate([p[solve], np.zeros(m)])
         with np.errstate(all="ignore"):
-            sol = root(residual, x0, method="hybr", tol=1e-14)
-        if not np.all(np.isfinite(sol.x)):
+            if len(solve) + m == n - len(free) + nh:  # square: Newton
+                z = root(reduced, z0, method="hybr", tol=1e-14).x
+            else:  # more multipliers than holonomic rows: least squares
+                z = least_squares(reduced, z0, xtol=1e-15, ftol=1e-15, gtol=1e-15).x
+        if not np.all(np.isfinite(z)):
             continue
-        r = residual(sol.x)
-        if np.max(np.abs(r)) > tol * (1 + np.max(np.abs(sol.x))):
+        r = reduced(z)
+        if np.max(np.abs(r)) > tol * (1 + np.max(np.abs(z))):
             continue
-        q = sol.x[:n]
-        if not any(np.max(np.abs(q - f)) < 1e-7 * (1 + np.max(np.abs(q))) for f in found):
-            found.append(q)
-    found.sort(key=lambda q: tuple(np.round(q, 9)))
-    return [dict(zip(system.coordinates, map(float, q), strict=True)) for q in found]
+        q = p.copy()
+        q[solve] = z[: len(solve)]
+        lam = z[len(solve) :]
+        if not any(np.max(np.abs(q - f[0])) < 1e-7 * (1 + np.max(np.abs(q))) for f in found):
+            found.append((q, lam))
+    found.sort(key=lambda ql: tuple(np.round(ql[0], 9)))
+    from sympy.physics.vector.printing import vsprint  # q̇ printed as q'
+
+    names = [vsprint(g) for g in [*system.holonomic, *system.nonholonomic]]
+    out = []
+    for q, lam in found:
+        eq = Equilibrium(zip(system.coordinates, map(float, q), strict=True))
+        eq.reactions = dict(zip(names, map(float, lam), strict=True))
+        eq.free = tuple(system.coordinates[j] for j in free)
+        out.append(eq)
+    return out
 
 
 def _null_space(A, n):
