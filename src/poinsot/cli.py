@@ -134,6 +134,8 @@ def _cmd_run(args):
             _say(args, f"  conserved by this system, largest relative change: {changes}")
         for name, v in summary["reactions"].items():
             _say(args, f"  {name}: {v['min']:.6g} … {v['max']:.6g} {v['unit']}")
+        for r in summary.get("releases", []):
+            _say(args, f"  released at t = {r['t']:.10g} s: {r['constraint']} ≥ 0 let go")
         _say(args, f"  wrote {out}/ (summary.json, solution.npz/.csv, solution.png, "
                    "mechanism.png, report.html)")  # fmt: skip
     else:

@@ -159,14 +159,18 @@ def summarize_lagrangian(scenario, sol) -> dict:
             "nfev": int(sol.nfev),
             "samples": len(sol.t),
             "energy_drift": float(np.abs(sol.energy - e0).max() / (abs(e0) or 1.0)),
-            "max_constraint_residual": float(np.abs(sol.constraint_residual).max())
+            "max_constraint_residual": float(np.nanmax(np.abs(sol.constraint_residual)))
             if sol.constraint_residual.size
             else 0.0,
-            "max_velocity_residual": float(np.abs(sol.constraint_velocity_residual).max())
+            "max_velocity_residual": float(np.nanmax(np.abs(sol.constraint_velocity_residual)))
             if sol.constraint_velocity_residual.size
             else 0.0,
         },
         "conserved": {i.name: i.describe() for i in invariants},
+        "releases": [
+            {"t": t, "constraint": constraint, "meaning": "a one-sided constraint let go"}
+            for t, constraint, _ in getattr(sol, "releases", ())
+        ],
         "reactions": {
             name: {
                 "unit": unit,

@@ -22,6 +22,7 @@ __all__ = [
     "pendulum_on_cart",
     "pendulum_polar",
     "rolling_disk",
+    "sliding_ladder",
     "spherical_pendulum",
 ]
 
@@ -462,6 +463,49 @@ def knife_edge() -> Model:
     )
 
 
+def sliding_ladder() -> Model:
+    """A ladder (uniform rod of mass m, length L) sliding on a frictionless floor against a
+    frictionless wall: centre (x_c, y_c), angle θ from the wall. The floor is a constraint,
+    the wall a one-sided one (``x_top ≥ 0``), which lets go when its reaction vanishes: from
+    rest at θ0, at ``cos θ = ⅔ cos θ0`` (the top has fallen to ⅔ of its height; Kleppner &
+    Kolenkow, problem 7.9). After that the ladder slides with the floor alone."""
+    sp, ds = _sp()
+    xc, yc, th = ds("x_c y_c theta")
+    m, g, L = sp.symbols("m g L", positive=True)
+    from .lagrange import LagrangianSystem
+
+    system = LagrangianSystem(
+        [xc, yc, th],
+        kinetic=m * (xc.diff() ** 2 + yc.diff() ** 2) / 2 + m * L**2 / 12 * th.diff() ** 2 / 2,
+        potential=m * g * yc,
+        holonomic=[yc - L / 2 * sp.cos(th)],
+        unilateral=[xc - L / 2 * sp.sin(th)],
+        units={xc: "m", yc: "m", th: "rad"},
+    )
+    floor, wall = system.lam_vec
+    return Model(
+        "sliding-ladder",
+        "Ladder sliding down a wall: the wall lets go at cos θ = ⅔ cos θ0",
+        system,
+        {"x_c": xc, "y_c": yc, "theta": th, "m": m, "g": g, "L": L},
+        {m: 1.0, g: 9.81, L: 2.0},
+        {th: 0.3},
+        {th: 0.0},
+        guess={xc: 0.3, yc: 1.0},
+        reactions={
+            "floor reaction N_floor": (floor, "N", "upward push of the floor on the foot"),
+            "wall reaction N_wall": (wall, "N", "push of the wall on the top; zero once released"),
+        },
+        points={
+            "top": (xc - L / 2 * sp.sin(th), yc + L / 2 * sp.cos(th), 0),
+            "foot": (xc + L / 2 * sp.sin(th), yc - L / 2 * sp.cos(th), 0),
+        },
+        links=(("top", "foot"),),
+        outline={"wall": [(0, 0, 0), (0, 1.1 * L, 0)], "floor": [(0, 0, 0), (1.6 * L, 0, 0)]},
+        trail="top",
+    )
+
+
 def heavy_symmetric_top() -> Model:
     """Heavy symmetric top on a fixed tip in z-x-z Euler angles (ψ, θ, φ):
     ``L = ½ A (θ̇² + ψ̇² sin² θ) + ½ C (φ̇ + ψ̇ cos θ)² − M g l cos θ`` (A, C about the tip)."""
@@ -510,5 +554,6 @@ MODELS = {
     "pendulum-on-cart": pendulum_on_cart,
     "rolling-disk": rolling_disk,
     "knife-edge": knife_edge,
+    "sliding-ladder": sliding_ladder,
     "heavy-top-euler": heavy_symmetric_top,
 }

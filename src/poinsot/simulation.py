@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from ._validation import _rotation_input, as_positive_scalar, as_sample_times, as_scalar
@@ -55,6 +57,8 @@ def simulate(
     progress=None,
     backend=None,
     scalar_first=True,
+    events=None,
+    event_resolution=2001,
 ) -> Trajectory:
     """Integrate the motion of ``body`` under ``forces``: eqs (07) ``M R̈ = F``,
     (08) ``A ω̇ + ω × Aω = Σ u_i × Qᵀ F_i`` and (09) ``Q̇ = QΩ``.
@@ -98,6 +102,13 @@ def simulate(
         in one compiled call; ``"python"`` runs the same steps from Python and is used for
         forces given by Python callables (:class:`~poinsot.forces.ParticleForce`,
         :class:`~poinsot.forces.CustomForce`, callables of t): the slow path.
+    events : callable or sequence of callables, optional
+        Functions ``g(t, y)`` of the flat body-frame state ``y`` (18,) = ``[R, V, Q
+        (row-major), ω]`` whose zeros are located, as in :func:`scipy.integrate.solve_ivp`
+        (attributes ``terminal`` and ``direction``): ``traj.t_events``, ``traj.y_events``. A
+        terminal event ends the run there (:mod:`poinsot.integrate.events`).
+    event_resolution : int
+        Grid points on which events are detected before they are located exactly.
 
     Returns
     -------
@@ -142,6 +153,9 @@ def simulate(
     t_eval, save_every, dt = _check_sampling(t_eval, t0, t1, save_every, dt)
     rtol, atol = _check_tolerances(rtol, atol)
     _check_forces_at_start(system, t0, y0)
+    if events is not None:
+        return _simulate_events(system, solver, t0, t1, y0, t_eval, dt, rtol, atol, backend,
+                                events, event_resolution)  # fmt: skip
     try:
         result = integrate(
             system,
@@ -159,6 +173,38 @@ def simulate(
     except IntegrationError as exc:
         raise SimulationError(str(exc), _trajectory(exc.partial, system)) from exc
     return _trajectory(result, system)
+
+
+def _simulate_events(system, solver, t0, t1, y0, t_eval, dt, rtol, atol, backend, events,
+                     resolution) -> Trajectory:  # fmt: skip
+    """:func:`simulate` watching ``events``: the run restarted from grid states to locate
+    their zeros (:func:`poinsot.integrate.events.integrate_with_events`)."""
+    from .integrate.events import integrate_with_events
+
+    times = np.linspace(t0, t1, 201) if t_eval is None else t_eval
+    stats = {"nfev": 0, "nsteps": 0, "backend": "", "method": ""}
+
+    def segment(ta, ya, tb, tt):
+        if tb <= ta:
+            return np.repeat(np.asarray(ya, float)[None], len(tt), axis=0)
+        try:
+            out = integrate(system, solver, (ta, tb), ya, t_eval=tt, dt=dt, rtol=rtol,
+                            atol=atol, backend=backend)  # fmt: skip
+        except IntegrationError as exc:
+            raise SimulationError(str(exc), _trajectory(exc.partial, system)) from exc
+        stats["nfev"] += out.nfev
+        stats["nsteps"] += out.nsteps
+        stats["backend"], stats["method"] = out.backend, out.method
+        return out.y
+
+    start = time.perf_counter()
+    t, y, log = integrate_with_events(segment, events, t0, y0, t1, times, resolution=resolution)
+    traj = Trajectory(t, y, system, method=stats["method"], nfev=stats["nfev"],
+                      nsteps=stats["nsteps"], wall_time=time.perf_counter() - start,
+                      message="terminal event" if log.terminated_by is not None else "finished",
+                      backend=stats["backend"])  # fmt: skip
+    traj.t_events, traj.y_events = log.t_events, log.y_events
+    return traj
 
 
 def _check_sampling(t_eval, t0, t1, save_every, dt):

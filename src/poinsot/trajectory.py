@@ -35,7 +35,12 @@ class Trajectory:
         Angular velocity in the body frame.
     method, nfev, nsteps, wall_time
         How it was computed.
+    t_events, y_events : list of ndarray
+        With ``simulate(..., events=)``: per event, the times and states of its zeros.
     """
+
+    t_events: tuple = ()
+    y_events: tuple = ()
 
     def __init__(
         self,

@@ -187,13 +187,23 @@ class LagrangianSolution:
     multipliers : (n_samples, n_constraints), holonomic first, sign as in (6.60)
     constraint_forces : (n_samples, n_coordinates): ``Σ_k λ_k G_kj`` (generalized; for Cartesian
         coordinates of a point, the physical reaction force on it)
-    constraint_residual : (n_samples, n_holonomic): g(q, t)
-    constraint_velocity_residual : (n_samples, n_constraints): G q̇ + b
+    constraint_residual : (n_samples, n_holonomic): g(q, t) (NaN for a released one-sided
+        constraint, whose g is then a gap, not an error)
+    constraint_velocity_residual : (n_samples, n_constraints): G q̇ + b (NaN likewise)
     energy : (n_samples,): the Jacobi integral ``h = Σ q̇ ∂L/∂q̇ − L``
     accelerations : (n_samples, n_coordinates)
+    t_events, y_events : lists, one array per event (runs with ``events=``)
+    releases : list of (t, constraint, state)
+        The one-sided constraints that let go, when, and the state ``[q, q̇]`` then (their
+        multipliers are zero after).
     """
 
-    def __init__(self, system, t, y, num, *, method, nfev, stabilization):
+    t_events: tuple = ()
+    y_events: tuple = ()
+    releases: tuple = ()
+    terminated = False
+
+    def __init__(self, system, t, y, num, *, method, nfev, stabilization, phases=None):
         n = system.n_coordinates
         self.system = system
         self.params = dict(num.params)
@@ -218,14 +228,26 @@ class LagrangianSolution:
         self.constraint_residual = np.zeros((len(self.t), nh))
         self.constraint_velocity_residual = np.zeros((len(self.t), m))
         self.energy = np.zeros(len(self.t))
+        phases = phases or [(self.t[0] if len(self.t) else 0.0, num, list(range(nh)))]
+        starts = np.array([p[0] for p in phases])
         for i, (ti, qi, qdi) in enumerate(zip(self.t, self.q, self.qd, strict=True)):
-            qdd, lam = num.accelerations(ti, qi, qdi)  # physical λ: no stabilisation term
+            _, pnum, rows = phases[max(int(np.searchsorted(starts, ti, side="right")) - 1, 0)]
+            qdd, lam = pnum.accelerations(ti, qi, qdi)  # physical λ: no stabilisation term
             self.accelerations[i] = qdd
-            self.multipliers[i] = lam
+            if pnum is num:
+                self.multipliers[i] = lam
+            else:  # a phase after releases: its multipliers, zero for the released constraints
+                self.multipliers[i, rows] = lam[: len(rows)]
+                self.multipliers[i, nh:] = lam[len(rows) :]
+                lam = self.multipliers[i]
             if m:
                 G = num.mat(num.G, qi, qdi, ti, (m, n))
                 self.constraint_forces[i] = G.T @ lam
                 pos, vel = num.residuals(ti, qi, qdi)
+                if pnum is not num:  # a released constraint has no residual, only a gap
+                    gone = [k for k in range(nh) if k not in rows]
+                    pos[gone] = np.nan
+                    vel[gone] = np.nan
                 self.constraint_residual[i] = pos
                 self.constraint_velocity_residual[i] = vel
             self.energy[i] = float(num.mat(num.energy, qi, qdi, ti, ()))
@@ -469,6 +491,8 @@ def simulate(
     baumgarte=DEFAULT_BAUMGARTE,
     guess=None,
     inputs=None,
+    events=None,
+    event_resolution=2001,
 ) -> LagrangianSolution:
     """Integrate the equations of motion of ``system``.
 
@@ -493,6 +517,14 @@ def simulate(
         A value for every specified input of the system (``system.inputs``, by function or
         name): a number, a function of ``t``, or a function of ``(t, q, q̇)`` (feedback; ``q``
         and ``q̇`` arrays in the order of the coordinates). A missing input is refused, named.
+    events : callable or sequence of callables, optional
+        Functions ``g(t, y)`` of the state ``y = [q, q̇]`` whose zeros are located, as in
+        :func:`scipy.integrate.solve_ivp` (attributes ``terminal`` and ``direction``); found
+        in ``sol.t_events``, ``sol.y_events``. A terminal event ends the run there.
+    event_resolution : int
+        Grid points on which events, and the release of one-sided constraints
+        (``system.unilateral``), are detected before they are located to the integrator's
+        accuracy (:mod:`poinsot.integrate.events`); ``sol.releases`` lists the releases.
     """
     from ..integrate.base import get_solver
     from ..integrate.driver import IntegrationError, integrate
@@ -520,23 +552,89 @@ def simulate(
     qd_init = _keyed(qd0, system, "qd0", allow_missing=True)
     guess_arr = _keyed(guess, system, "guess", allow_missing=True) if guess else None
     q_init, qd_init = consistent_initial_state(system, num, t0, q_init, qd_init, guess_arr)
-    ode = _ODE(num, stabilization, tuple(float(x) for x in baumgarte))
+    gains = tuple(float(x) for x in baumgarte)
     if t_eval is None:
         t_eval = np.linspace(t0, t1, 201)
     adaptive = solver.adaptive
-    try:
-        out = integrate(
-            ode,
-            solver,
-            (t0, t1),
-            np.concatenate([q_init, qd_init]),
-            t_eval=t_eval,
-            dt=dt,
-            rtol=rtol if adaptive else None,
-            atol=atol if adaptive else None,
-        )
-    except IntegrationError as exc:
-        raise SimulationError(str(exc), None) from exc
-    return LagrangianSolution(
-        system, out.t, out.y, num, method=out.method, nfev=out.nfev, stabilization=stabilization
-    )
+
+    def run(ode, ta, ya, tb, times):
+        if tb <= ta:
+            return np.repeat(np.asarray(ya, dtype=float)[None], len(times), axis=0)
+        try:
+            tol = {"rtol": rtol, "atol": atol} if adaptive else {}
+            out = integrate(ode, solver, (ta, tb), ya, t_eval=times, dt=dt, **tol)
+        except IntegrationError as exc:
+            raise SimulationError(str(exc), None) from exc
+        run.nfev += out.nfev
+        run.method = out.method
+        return out.y
+
+    run.nfev, run.method = 0, solver.name
+    y_init = np.concatenate([q_init, qd_init])
+    if not events and not system.unilateral:  # one run, no event to watch
+        out_y = run(_ODE(num, stabilization, gains), t0, y_init, t1, t_eval)
+        return LagrangianSolution(system, t_eval, out_y, num, method=run.method, nfev=run.nfev,
+                                  stabilization=stabilization)  # fmt: skip
+    times = np.asarray(t_eval, float)
+    return _simulate_phases(system, num, params, u_of, run, stabilization, gains, y_init,
+                            t0, t1, times, events, event_resolution)  # fmt: skip
+
+
+def _simulate_phases(system, num, params, u_of, run, stabilization, gains, y0, t0, t1, t_eval,
+                     events, resolution):  # fmt: skip
+    """The run as phases between releases of one-sided constraints: in each, the user's
+    events and a "release" event per active one-sided constraint (its multiplier falling
+    through zero) are watched; at a release the run goes on with the system without it."""
+    from ..integrate.events import integrate_with_events, normalize_events
+
+    user = normalize_events(events)
+    n_user = len(user)
+    t_all, y_all, phases = [], [], []
+    t_events = [[] for _ in user]
+    y_events = [[] for _ in user]
+    releases = []
+    active = system  # the system of this phase
+    labels = list(range(system.n_holonomic))  # this phase's holonomic rows → the original's
+    ta, ya, stop = t0, y0, False
+    while True:
+        anum = _numeric(active, params)
+        if u_of is not None:
+            anum = anum.bound(u_of)
+        ode = _ODE(anum, stabilization, gains)
+        watch = [g for g, _, _ in user]
+        for k in active.unilateral:
+
+            def release(t, y, k=k, anum=anum, n=active.n_coordinates):
+                return anum.accelerations(t, y[:n], y[n:])[1][k]
+
+            release.terminal, release.direction = True, -1
+            watch.append(release)
+        times = t_eval[(t_eval >= ta) & (t_eval <= t1)]
+        t, y, log = integrate_with_events(
+            lambda a, ya_, b, tt, ode=ode: run(ode, a, ya_, b, tt), watch, ta, ya, t1, times,
+            resolution=resolution)  # fmt: skip
+        for k in range(n_user):
+            t_events[k] += list(log.t_events[k])
+            y_events[k] += list(log.y_events[k])
+        phases.append((ta, anum, list(labels)))
+        if log.terminated_by is None or log.terminated_by < n_user:  # the end, or a user's stop
+            t_all.append(t)
+            y_all.append(y)
+            stop = log.terminated_by is not None
+            break
+        index = active.unilateral[log.terminated_by - n_user]  # a one-sided constraint lets go
+        releases.append((float(t[-1]), str(active.holonomic[index]), y[-1].copy()))
+        t_all.append(t[:-1])  # the release instant is not a requested sample
+        y_all.append(y[:-1])
+        ta, ya = float(t[-1]), y[-1]
+        active = active.released(index)
+        labels.pop(index)
+    t_out = np.concatenate(t_all)
+    y_out = np.vstack(y_all)
+    sol = LagrangianSolution(system, t_out, y_out, num, method=run.method, nfev=run.nfev,
+                             stabilization=stabilization, phases=phases)  # fmt: skip
+    sol.t_events = [np.array(v) for v in t_events]
+    sol.y_events = [np.array(v).reshape(len(v), -1) for v in y_events]
+    sol.releases = releases
+    sol.terminated = stop
+    return sol

@@ -81,6 +81,11 @@ class LagrangianSystem:
     units : dict, optional
         ``{coordinate: unit}``, e.g. ``{x: "m", theta: "rad"}``, for labels, tables and the
         units of the conjugate momenta. Coordinates not given are shown without a unit.
+    unilateral : sequence of expressions
+        One-sided holonomic constraints ``g(q, t) ≥ 0`` (a wall, a floor): enforced as
+        ``g = 0`` while their multiplier λ ≥ 0 (the reaction ``λ ∇g`` pushes into ``g > 0``),
+        released for the rest of the run when λ falls through zero (``simulate`` locates
+        that instant). Listed after the holonomic constraints; no impacts on re-contact.
 
     Examples
     --------
@@ -112,6 +117,7 @@ class LagrangianSystem:
         nonholonomic=(),
         forces=(),
         units=None,
+        unilateral=(),
     ):
         sp = _sympy()
         self.t = sp.Symbol("t")
@@ -144,6 +150,10 @@ class LagrangianSystem:
             lagrangian = T - self.potential
         self.lagrangian = sp.sympify(lagrangian)
         self.holonomic = [_as_zero_form(g, f"holonomic[{i}]") for i, g in enumerate(holonomic)]
+        one_sided = [_as_zero_form(g, f"unilateral[{i}]") for i, g in enumerate(unilateral)]
+        #: indices (in ``holonomic``) of the one-sided constraints
+        self.unilateral = tuple(range(len(self.holonomic), len(self.holonomic) + len(one_sided)))
+        self.holonomic += one_sided
         self.nonholonomic = [
             _as_zero_form(a, f"nonholonomic[{i}]") for i, a in enumerate(nonholonomic)
         ]
@@ -199,6 +209,23 @@ class LagrangianSystem:
             if not isinstance(u, str):
                 raise TypeError(f"`units[{q}]` must be a string such as 'm' or 'rad'")
         return dict(units)
+
+    def released(self, index: int) -> LagrangianSystem:
+        """This system without its holonomic constraint ``index`` (a one-sided constraint
+        that has let go): same Lagrangian, forces, units and other constraints."""
+        keep = [g for i, g in enumerate(self.holonomic) if i != index]
+        forces = [{q: Q} for q, Q in zip(self.coordinates, self.generalized_forces, strict=True)
+                  if Q != 0]  # fmt: skip
+        out = LagrangianSystem(
+            self.coordinates,
+            self.lagrangian,
+            holonomic=[g for i, g in enumerate(keep) if i + (i >= index) not in self.unilateral],
+            unilateral=[g for i, g in enumerate(keep) if i + (i >= index) in self.unilateral],
+            nonholonomic=self.nonholonomic,
+            forces=forces,
+            units=self.units,
+        )
+        return out
 
     def unit_of(self, coordinate) -> str:
         """The unit of a coordinate ("" when not given)."""

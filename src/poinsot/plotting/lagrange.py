@@ -64,10 +64,10 @@ def lagrangian_panels(sol, model=None) -> list:
     residuals = []
     if sol.constraint_residual.shape[1]:
         residuals.append(("max |g(q)| (holonomic)", t,
-                          np.abs(sol.constraint_residual).max(axis=1) + tiny))  # fmt: skip
+                          np.nanmax(np.abs(sol.constraint_residual), axis=1) + tiny))  # fmt: skip
     if sol.constraint_velocity_residual.shape[1]:
-        residuals.append(("max |G q̇ + b| (velocity level)", t,
-                          np.abs(sol.constraint_velocity_residual).max(axis=1) + tiny))  # fmt: skip
+        vel = np.nanmax(np.abs(sol.constraint_velocity_residual), axis=1) + tiny
+        residuals.append(("max |G q̇ + b| (velocity level)", t, vel))
     if residuals:
         panels.append((f"Constraint residuals (stabilization: {sol.stabilization})",
                        "residual (the constraints' units)", True, residuals))  # fmt: skip

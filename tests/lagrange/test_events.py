@@ -1,0 +1,89 @@
+"""Events (solve_ivp's contract) on Lagrangian and rigid-body runs, and one-sided
+constraints that let go when their reaction vanishes, against closed forms."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from poinsot import Gravity, RigidBody, models, simulate
+from poinsot.integrate.events import integrate_with_events
+
+
+def test_sliding_ladder_leaves_the_wall_at_two_thirds_of_its_height():
+    # from rest at θ0 (from the wall), the wall's reaction vanishes at cos θ = ⅔ cos θ0
+    # (Kleppner & Kolenkow, An Introduction to Mechanics, problem 7.9)
+    mdl = models.sliding_ladder()
+    s = mdl.symbols
+    for th0 in (0.3, 0.7):
+        sol = mdl.simulate((0, 0.85), q0={s["theta"]: th0}, t_eval=np.linspace(0, 0.85, 86))
+        ((t_r, constraint, state),) = sol.releases
+        assert "x_c" in constraint
+        assert np.cos(state[2]) == pytest.approx(2 / 3 * np.cos(th0), rel=1e-8)
+        after = sol.t > t_r
+        wall = list(mdl.reactions).index("wall reaction N_wall")
+        assert np.all(sol.multipliers[after, wall] == 0)
+        assert np.all(sol.multipliers[~after, wall] >= -1e-9)  # it pushed until it let go
+        # no horizontal force after the release: ẋ_c stays what it was
+        np.testing.assert_allclose(sol.qd[after, 0], state[3], rtol=1e-8)
+        gap = sol.q[after, 0] - np.sin(sol.q[after, 2])  # x_top = x_c − (L/2) sin θ, L = 2
+        assert np.all(gap > 0)  # the top moves away from the wall
+        assert np.all(np.isnan(sol.constraint_residual[after, 1]))
+
+
+def test_lagrangian_events_terminal_and_directional():
+    mdl = models.pendulum_polar()
+    s = mdl.symbols
+    th0 = 0.3
+
+    def through_bottom(t, y):
+        return y[0]
+
+    through_bottom.direction = -1  # falling through θ = 0 only
+
+    def stop_at_turn(t, y):
+        return y[1]
+
+    stop_at_turn.terminal = True
+    stop_at_turn.direction = 1  # θ̇ rising through zero: the far turning point
+
+    sol = mdl.simulate((0, 10), q0={s["theta"]: th0}, t_eval=np.linspace(0, 10, 101),
+                       events=[through_bottom, stop_at_turn])  # fmt: skip
+    # the bob passes the bottom going left at T/4 and turns at T/2; T by the elliptic integral
+    from scipy.special import ellipk
+
+    T = 4 * ellipk(np.sin(th0 / 2) ** 2) / np.sqrt(9.81)
+    np.testing.assert_allclose(sol.t_events[0], [T / 4], rtol=1e-8)
+    np.testing.assert_allclose(sol.t_events[1], [T / 2], rtol=1e-8)
+    assert sol.terminated and sol.t[-1] == pytest.approx(T / 2, rel=1e-10)
+    assert sol.q[-1, 0] == pytest.approx(-th0, rel=1e-7)
+
+
+def test_rigid_body_events_ballistic_landing_and_refusals():
+    body = RigidBody.box(1.0, (0.2, 0.2, 0.2))
+
+    def ground(t, y):
+        return y[2]  # R_z
+
+    ground.terminal, ground.direction = True, -1
+    tr = simulate(body, (0, 5), omega0=(0, 0, 1), R0=(0, 0, 10), V0=(0, 0, 5),
+                  forces=[Gravity((0, 0, -9.81))], events=ground)  # fmt: skip
+    t_land = (5 + np.sqrt(25 + 2 * 9.81 * 10)) / 9.81
+    np.testing.assert_allclose(tr.t_events[0], [t_land], rtol=1e-12)
+    assert tr.t[-1] == pytest.approx(t_land) and abs(tr.R[-1, 2]) < 1e-9
+    with pytest.raises(TypeError, match=r"`events\[0\]` must be a function g\(t, y\)"):
+        simulate(body, (0, 1), omega0=(0, 0, 1), events=[3])
+
+
+def test_non_terminal_events_count_every_crossing():
+    # t ↦ sin t on a trivial segment: zeros at π, 2π, 3π
+    def segment(ta, ya, tb, times):
+        return np.array([[np.sin(t)] for t in times])
+
+    def g(t, y):
+        return y[0]
+
+    t, _, log = integrate_with_events(segment, g, 0.0, [0.0], 10.0, np.linspace(0, 10, 11),
+                                      resolution=101)  # fmt: skip
+    np.testing.assert_allclose(log.t_events[0], [np.pi, 2 * np.pi, 3 * np.pi], rtol=1e-12)
+    assert log.terminated_by is None and len(t) == 11
