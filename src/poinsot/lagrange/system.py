@@ -81,6 +81,11 @@ class LagrangianSystem:
     units : dict, optional
         ``{coordinate: unit}``, e.g. ``{x: "m", theta: "rad"}``, for labels, tables and the
         units of the conjugate momenta. Coordinates not given are shown without a unit.
+    frame : sympy.physics.vector.ReferenceFrame, optional
+        The inertial frame, when ``bodies`` holds SymPy ``Particle``/``RigidBody`` objects or
+        ``forces`` holds SymPy loads: ``(Point, Vector)`` forces and ``(ReferenceFrame,
+        Vector)`` torques, turned into generalized forces by their partial velocities
+        (``Q_j = F · ∂v_P/∂q̇_j``, ``T · ∂ω_B/∂q̇_j``; (6.61)). See also :meth:`from_sympy`.
     unilateral : sequence of expressions
         One-sided holonomic constraints ``g(q, t) ≥ 0`` (a wall, a floor): enforced as
         ``g = 0`` while their multiplier λ ≥ 0 (the reaction ``λ ∇g`` pushes into ``g > 0``),
@@ -118,8 +123,10 @@ class LagrangianSystem:
         forces=(),
         units=None,
         unilateral=(),
+        frame=None,
     ):
         sp = _sympy()
+        self.frame = frame
         self.t = sp.Symbol("t")
         if isinstance(coordinates, str | bytes) or not hasattr(coordinates, "__iter__"):
             raise TypeError(
@@ -224,6 +231,7 @@ class LagrangianSystem:
             nonholonomic=self.nonholonomic,
             forces=forces,
             units=self.units,
+            frame=self.frame,
         )
         return out
 
@@ -240,6 +248,14 @@ class LagrangianSystem:
                 v = item.position.diff(self.t)
                 T += item.mass * (v.T * v)[0] / 2
                 continue
+            if _is_sympy_body(item):  # a sympy.physics.mechanics Particle or RigidBody
+                if self.frame is None:
+                    raise ValueError(
+                        f"`bodies[{i}]` is a SymPy {type(item).__name__}: give the inertial "
+                        "`frame` (a ReferenceFrame) its velocities are taken in"
+                    )
+                T += item.kinetic_energy(self.frame)
+                continue
             try:
                 body, position, orientation = item
             except (TypeError, ValueError):
@@ -252,8 +268,10 @@ class LagrangianSystem:
             if R.shape != (3, 1) or Q.shape != (3, 3):
                 raise ValueError(f"`bodies[{i}]`: position must be 3×1 and orientation 3×3")
             v = R.diff(self.t)
-            W = sp.simplify(Q.T * Q.diff(self.t))
-            w = sp.Matrix([W[2, 1], W[0, 2], W[1, 0]])
+            # ω (body frame) = vee(Qᵀ Q̇): only its three entries, each expanded and
+            # trigsimp'ed (simplifying the whole 3×3 product took seconds for Euler angles)
+            W = Q.T * Q.diff(self.t)
+            w = sp.Matrix([sp.trigsimp(sp.expand(W[i, j])) for i, j in ((2, 1), (0, 2), (1, 0))])
             A = sp.Matrix(body.inertia.tolist())
             T += body.mass * (v.T * v)[0] / 2 + (w.T * A * w)[0] / 2
         return T
@@ -317,6 +335,9 @@ class LagrangianSystem:
                         raise ValueError(f"`forces[{i}]`: {q} is not one of the coordinates")
                     Q[self.coordinates.index(q)] += sp.sympify(value)
                 continue
+            if _is_sympy_load(item):
+                Q += self._sympy_load(item, i)
+                continue
             try:
                 point, force = item
             except (TypeError, ValueError):
@@ -331,6 +352,69 @@ class LagrangianSystem:
             for j, q in enumerate(self.coordinates):  # Q_j = F · ∂r/∂q_j  (6.61)
                 Q[j] += (F.T * r.diff(q))[0]
         return Q
+
+    def _sympy_load(self, item, i):
+        """Generalized force (n × 1) of a SymPy load: a force at a Point, a torque on a
+        ReferenceFrame (or a sympy.physics.mechanics Force/Torque), by partial velocities."""
+        sp = _sympy()
+        from sympy.physics.vector import Point, ReferenceFrame
+
+        if self.frame is None:
+            raise ValueError(f"`forces[{i}]` is a SymPy load: give the inertial `frame`")
+        where, vector = (item.location, item.vector) if hasattr(item, "location") else item
+        if isinstance(where, Point):
+            velocity = where.vel(self.frame)
+        elif isinstance(where, ReferenceFrame):
+            velocity = where.ang_vel_in(self.frame)
+        else:  # pragma: no cover - guarded by _is_sympy_load
+            raise TypeError(f"`forces[{i}]`: expected a Point or a ReferenceFrame")
+        return sp.Matrix([vector.dot(velocity.diff(v, self.frame)) for v in self.speeds])
+
+    @classmethod
+    def from_sympy(cls, model, *, units=None):
+        """A :class:`LagrangianSystem` from a SymPy mechanics model: a ``LagrangesMethod``
+        (its Lagrangian, coordinates, constraints and loads) or a ``System`` (its bodies,
+        loads, coordinates and constraints; potential energies set on its bodies).
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> from sympy.physics.mechanics import (LagrangesMethod, Lagrangian, Particle, Point,
+        ...                                      ReferenceFrame, dynamicsymbols)
+        >>> q = dynamicsymbols("q")
+        >>> m, k = sp.symbols("m k", positive=True)
+        >>> N = ReferenceFrame("N"); O = Point("O"); P = O.locatenew("P", q * N.x)
+        >>> O.set_vel(N, 0); P.set_vel(N, q.diff() * N.x)
+        >>> bob = Particle("bob", P, m); bob.potential_energy = k * q**2 / 2
+        >>> lm = LagrangesMethod(Lagrangian(N, bob), [q], frame=N)
+        >>> LagrangianSystem.from_sympy(lm).mass_matrix
+        Matrix([[m]])
+        """
+        from sympy.physics.mechanics import LagrangesMethod
+
+        sp = _sympy()
+        if isinstance(model, LagrangesMethod):
+            hol = list(model._hol_coneqs)
+            nonhol = list(model.coneqs[len(hol) :])
+            return cls(list(model.q), model._L[0], holonomic=hol, nonholonomic=nonhol,
+                       forces=list(model._forcelist or ()), frame=model.inertial,
+                       units=units)  # fmt: skip
+        try:
+            from sympy.physics.mechanics import System
+        except ImportError:  # pragma: no cover - SymPy < 1.13
+            System = ()
+        if isinstance(model, System):
+            coords = list(model.q)
+            potential = sum((getattr(b, "potential_energy", 0) for b in model.bodies),
+                            sp.Integer(0))  # fmt: skip
+            return cls(coords, bodies=list(model.bodies), potential=potential,
+                       holonomic=list(model.holonomic_constraints),
+                       nonholonomic=list(model.nonholonomic_constraints),
+                       forces=list(model.loads), frame=model.frame, units=units)  # fmt: skip
+        raise TypeError(
+            "`model` must be a sympy.physics.mechanics LagrangesMethod or System, found "
+            f"{type(model).__name__}"
+        )
 
     # ----------------------------------------------------------------- sizes
     @property
@@ -550,6 +634,22 @@ class LagrangianSystem:
         from .linear import linearize
 
         return linearize(self, equilibrium, params=params, **kwargs)
+
+
+def _is_sympy_body(item) -> bool:
+    from sympy.physics.mechanics import Particle, RigidBody
+
+    return isinstance(item, Particle | RigidBody)
+
+
+def _is_sympy_load(item) -> bool:
+    from sympy.physics.vector import Point, ReferenceFrame, Vector
+
+    if hasattr(item, "location") and hasattr(item, "vector"):  # mechanics Force / Torque
+        return True
+    if not (isinstance(item, tuple | list) and len(item) == 2):
+        return False
+    return isinstance(item[0], Point | ReferenceFrame) and isinstance(item[1], Vector)
 
 
 def _holding_speeds(expr, coordinates, speeds, q):
