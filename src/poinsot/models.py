@@ -21,6 +21,7 @@ __all__ = [
     "pendulum_cartesian",
     "pendulum_on_cart",
     "pendulum_polar",
+    "rolling_coin",
     "rolling_disk",
     "sliding_ladder",
     "spherical_pendulum",
@@ -506,6 +507,62 @@ def sliding_ladder() -> Model:
     )
 
 
+def rolling_coin() -> Model:
+    """A thin uniform disc (a coin) of mass m and radius r rolling without slipping on a
+    plane, free to lean: contact point (x, y), heading ψ, lean θ from the vertical, spin φ,
+    with the two non-holonomic rolling constraints (the disc's material point at the contact
+    is at rest). Upright rolling at spin rate Ω is stable exactly when Ω² > g/(3r); the lean
+    then wobbles at ``ω² = (4/5)(3Ω² − g/r)`` (Greenwood, *Advanced Dynamics*, §6.3)."""
+    sp, ds = _sp()
+    from sympy.physics.mechanics import Point, ReferenceFrame, RigidBody, inertia
+
+    x, y, psi, th, ph = ds("x y psi theta phi")
+    m, r, g = sp.symbols("m r g", positive=True)
+    N = ReferenceFrame("N")
+    Yf = N.orientnew("Y", "Axis", [psi, N.z])  # heading
+    Lf = Yf.orientnew("L", "Axis", [th, Yf.x])  # lean; the disc's plane holds L.x and L.z
+    Rf = Lf.orientnew("R", "Axis", [ph, Lf.y])  # spin about the axle L.y
+    O = Point("O")
+    O.set_vel(N, 0)
+    C = O.locatenew("C", x * N.x + y * N.y)
+    C.set_vel(N, x.diff() * N.x + y.diff() * N.y)
+    D = C.locatenew("D", r * Lf.z)
+    D.set_vel(N, D.pos_from(O).dt(N))
+    disc = RigidBody("disc", D, Rf, m, (inertia(Lf, m * r**2 / 4, m * r**2 / 2, m * r**2 / 4), D))
+    slip = D.vel(N) + Rf.ang_vel_in(N).cross(-r * Lf.z)  # velocity of the contact material point
+    from .lagrange import LagrangianSystem
+
+    system = LagrangianSystem(
+        [x, y, psi, th, ph],
+        bodies=[disc],
+        potential=m * g * r * sp.cos(th),
+        nonholonomic=[slip.dot(N.x), slip.dot(N.y)],
+        frame=N,
+        units={x: "m", y: "m", psi: "rad", th: "rad", ph: "rad"},
+    )
+    lam1, lam2 = system.lam_vec
+    centre = tuple(D.pos_from(O).to_matrix(N))
+    u, v = tuple(Rf.x.to_matrix(N)), tuple(Rf.z.to_matrix(N))
+    rim, rim_links = _ring("rim", centre, u, v, r)
+    return Model(
+        "rolling-coin",
+        "Coin rolling on a table: stable upright above the spin rate √(g/3r)",
+        system,
+        {"x": x, "y": y, "psi": psi, "theta": th, "phi": ph, "m": m, "r": r, "g": g},
+        {m: 0.01, r: 0.02, g: 9.81},
+        {x: 0.0, y: 0.0, psi: 0.0, th: 0.1, ph: 0.0},
+        {psi: 0.0, th: 0.0, ph: 25.0},
+        reactions={
+            "friction F_x": (lam1, "N", "tangential contact force along x"),
+            "friction F_y": (lam2, "N", "tangential contact force along y"),
+        },
+        points={"contact": (x, y, 0), "centre": centre, **rim},
+        links=(("centre", "rim#0"), ("centre", "contact"), *rim_links),
+        view="3d",
+        trail="contact",
+    )
+
+
 def heavy_symmetric_top() -> Model:
     """Heavy symmetric top on a fixed tip in z-x-z Euler angles (ψ, θ, φ):
     ``L = ½ A (θ̇² + ψ̇² sin² θ) + ½ C (φ̇ + ψ̇ cos θ)² − M g l cos θ`` (A, C about the tip)."""
@@ -553,6 +610,7 @@ MODELS = {
     "atwood": atwood_machine,
     "pendulum-on-cart": pendulum_on_cart,
     "rolling-disk": rolling_disk,
+    "rolling-coin": rolling_coin,
     "knife-edge": knife_edge,
     "sliding-ladder": sliding_ladder,
     "heavy-top-euler": heavy_symmetric_top,

@@ -164,3 +164,37 @@ def test_knife_edge_turning_never_slides_down():
     np.testing.assert_allclose(sol[s["x"]], ga * np.sin(w * t_eval) ** 2 / (2 * w**2), atol=1e-8)
     exact_y = ga * (t_eval - np.sin(2 * w * t_eval) / (2 * w)) / (2 * w)
     np.testing.assert_allclose(sol[s["y"]], exact_y, atol=1e-8)
+
+
+def _upright_rolling(mdl, spin):
+    """The operating point of upright rolling at spin rate ``spin``, with the contact speeds
+    that the rolling constraints require."""
+    s = mdl.symbols
+    point = {s[k]: 0.0 for k in ("x", "y", "psi", "theta", "phi")}
+    vx, vy = sp.symbols("v_x v_y")
+    rates = {s["x"].diff(): vx, s["y"].diff(): vy, s["psi"].diff(): 0, s["theta"].diff(): 0,
+             s["phi"].diff(): spin}  # fmt: skip
+    rows = [sp.sympify(c).subs(rates).subs(point).subs(mdl.params) for c in mdl.system.nonholonomic]
+    v = sp.solve(rows, [vx, vy])
+    return point, {s["x"]: float(v[vx]), s["y"]: float(v[vy]), s["phi"]: spin}
+
+
+def test_rolling_coin_is_stable_upright_exactly_above_the_critical_spin():
+    # thin disc: the lean obeys θ̈ = (4/5)(g/r − 3Ω²) θ, so upright rolling is stable for
+    # Ω² > g/(3r) and wobbles at ω² = (4/5)(3Ω² − g/r) (Greenwood, Advanced Dynamics, §6.3)
+    mdl = models.rolling_coin()
+    p = {str(k): v for k, v in mdl.params.items()}
+    g_r = p["g"] / p["r"]
+    critical = np.sqrt(g_r / 3)
+    for ratio in (0.5, 0.99, 1.01, 2.0):
+        spin = ratio * critical
+        point, speeds = _upright_rolling(mdl, spin)
+        lin = mdl.system.linearize(point, params=mdl.params, speeds=speeds)
+        rate2 = 0.8 * (3 * spin**2 - g_r)
+        if ratio < 1:
+            assert lin.reduced_verdict == "unstable"
+            assert np.max(lin.eigenvalues.real) == pytest.approx(np.sqrt(-rate2), rel=1e-6)
+        else:
+            assert lin.reduced_verdict == "spectrally stable"
+            assert lin.frequencies.max() == pytest.approx(np.sqrt(rate2), rel=1e-6)
+        assert {str(q) for q in lin.ignorable} >= {"x(t)", "y(t)", "phi(t)"}
