@@ -151,7 +151,8 @@ def plot_mechanism_frames(model, sol, *, frames=6, ax=None):
         ax.grid(alpha=0.3)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.set_title(f"{model.description}\nthe mechanism at {frames} instants (darker = later)", fontsize=9)  # fmt: skip
+    title = f"{model.description}\nthe mechanism at {frames} instants (darker = later)"
+    ax.set_title(title, fontsize=9)
     if model.outline or model.trail:
         ax.legend(fontsize=7, loc="upper right")
     return ax.figure
