@@ -39,3 +39,12 @@ def test_notebook_reproduction(tmp_path, capsys):
         "tumbling.gif",
     ):
         assert (tmp_path / name).stat().st_size > 5000, name
+
+
+def test_events_example(capsys):
+    result = _load("events").main()
+    measured, exact = result["flips"]
+    np.testing.assert_allclose(measured, 2 * exact, rtol=1e-7)  # two flips per ω₂ period
+    ((_, _, state),) = result["ladder"].releases
+    assert np.cos(state[2]) == pytest.approx(2 / 3 * np.cos(0.3), rel=1e-8)
+    assert "lets go" in capsys.readouterr().out
