@@ -486,6 +486,49 @@ def case_lagrange(repeat):
     ]
 
 
+def case_euler_body(repeat):
+    """Deriving M and f of a rigid body given by z-x-z Euler angles: poinsot from the attitude
+    matrix Q(ψ, θ, φ), SymPy's LagrangesMethod from its frames (the issue's 13 s vs 2 s)."""
+    import sympy as sp
+    from sympy.physics.mechanics import (
+        LagrangesMethod,
+        Lagrangian,
+        Point,
+        ReferenceFrame,
+        RigidBody,
+        dynamicsymbols,
+        inertia,
+    )
+
+    from poinsot import RigidBody as Body
+    from poinsot.lagrange import LagrangianSystem
+
+    psi, th, ph = dynamicsymbols("psi theta phi")
+    N = ReferenceFrame("N")
+    B = N.orientnew("B", "Body", [psi, th, ph], "ZXZ")
+    body = Body(1.0, np.diag([1.0, 2.0, 3.0]))
+
+    def ours():
+        system = LagrangianSystem([psi, th, ph], bodies=[(body, [0, 0, 0], N.dcm(B))])
+        return system.mass_matrix, system.forcing
+
+    def peer():
+        O = Point("O")
+        O.set_vel(N, 0)
+        rb = RigidBody("rb", O, B, sp.Integer(1), (inertia(B, 1, 2, 3), O))
+        lm = LagrangesMethod(Lagrangian(N, rb), [psi, th, ph], frame=N)
+        lm.form_lagranges_equations()
+        return lm.mass_matrix, lm.forcing
+
+    reps = max(3, repeat // 2)
+    t_ours, (M, _) = timed(ours, reps)
+    t_peer, (Mp, _) = timed(peer, reps)
+    at = {psi: 0.3, th: 0.7, ph: -0.2}
+    diff = float(np.abs(np.array((M - Mp).subs(at), float)).max())
+    return [row("Euler-angle rigid body: derive M and f", "LagrangianSystem", t_ours,
+                "SymPy LagrangesMethod", t_peer, None, diff)]  # fmt: skip
+
+
 CASES = {
     "rk4": case_rk4_vs_mujoco,
     "dop853": case_dop853_vs_scipy,
@@ -495,6 +538,7 @@ CASES = {
     "exact_omega": case_exact_omega,
     "inertia": case_inertia,
     "lagrange": case_lagrange,
+    "euler_body": case_euler_body,
 }
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ensemble_cases import CASES as _ENSEMBLE_CASES  # noqa: E402

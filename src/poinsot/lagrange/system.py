@@ -268,10 +268,11 @@ class LagrangianSystem:
             if R.shape != (3, 1) or Q.shape != (3, 3):
                 raise ValueError(f"`bodies[{i}]`: position must be 3×1 and orientation 3×3")
             v = R.diff(self.t)
-            # ω (body frame) = vee(Qᵀ Q̇): only its three entries, each expanded and
-            # trigsimp'ed (simplifying the whole 3×3 product took seconds for Euler angles)
+            # ω (body frame) = vee(Qᵀ Q̇): only its three entries, reduced by sin² = 1 − cos²
+            # and expanded (exact, and milliseconds where simplify() took seconds for Euler
+            # angles)
             W = Q.T * Q.diff(self.t)
-            w = sp.Matrix([sp.trigsimp(sp.expand(W[i, j])) for i, j in ((2, 1), (0, 2), (1, 0))])
+            w = sp.Matrix([_pythagorean(W[i, j]) for i, j in ((2, 1), (0, 2), (1, 0))])
             A = sp.Matrix(body.inertia.tolist())
             T += body.mass * (v.T * v)[0] / 2 + (w.T * A * w)[0] / 2
         return T
@@ -434,11 +435,22 @@ class LagrangianSystem:
     def mass_matrix(self):
         """``M = ∂²L/∂q̇∂q̇`` (n × n), SymPy."""
         sp = _sympy()
+        p = self._momenta
         return sp.Matrix(
-            self.n_coordinates,
-            self.n_coordinates,
-            lambda i, j: self.lagrangian.diff(self.speeds[i]).diff(self.speeds[j]),
+            self.n_coordinates, self.n_coordinates, lambda i, j: p[i].diff(self.speeds[j])
         )
+
+    @cached_property
+    def _momenta(self):
+        """``p_j = ∂L/∂q̇_j``, computed once for the mass matrix, the forcing and the
+        constants of the motion."""
+        return [self.lagrangian.diff(v) for v in self.speeds]
+
+    @cached_property
+    def _explicitly_timed(self) -> bool:
+        """Whether L depends on t other than through q and q̇."""
+        return _explicit_time_derivative(self.lagrangian, self.coordinates, self.speeds,
+                                         self.t) != 0  # fmt: skip
 
     @cached_property
     def forcing(self):
@@ -447,13 +459,12 @@ class LagrangianSystem:
         sp = _sympy()
         t = self.t
         rows = []
-        for j, qd in enumerate(self.speeds):
-            p = self.lagrangian.diff(qd)
+        for j, p in enumerate(self._momenta):
             expr = self.lagrangian.diff(self.coordinates[j]) - sum(
                 p.diff(q) * v for q, v in zip(self.coordinates, self.speeds, strict=True)
             )
-            # explicit time dependence of ∂L/∂q̇_j (not through q, q̇)
-            expr -= _explicit_time_derivative(p, self.coordinates, self.speeds, t)
+            if self._explicitly_timed:  # explicit time dependence of ∂L/∂q̇_j
+                expr -= _explicit_time_derivative(p, self.coordinates, self.speeds, t)
             rows.append(expr + self.generalized_forces[j])
         return sp.Matrix(rows)
 
@@ -572,7 +583,7 @@ class LagrangianSystem:
         out = []
         L = self.lagrangian
         t = self.t
-        explicit = _explicit_time_derivative(L, self.coordinates, self.speeds, t) != 0
+        explicit = self._explicitly_timed
         forced = any(sp.simplify(Q) != 0 for Q in self.generalized_forces)
         rheonomic = any(sp.simplify(b) != 0 for b in self.constraint_rhs) or any(
             _explicit_time_derivative(e, self.coordinates, self.speeds, t) != 0
@@ -634,6 +645,15 @@ class LagrangianSystem:
         from .linear import linearize
 
         return linearize(self, equilibrium, params=params, **kwargs)
+
+
+def _pythagorean(expr):
+    """``expr`` expanded with every ``sin(a)²`` replaced by ``1 − cos(a)²``: the identity
+    that collapses the products of elementary rotations (exact)."""
+    sp = _sympy()
+    e = sp.expand(expr)
+    squares = {s**2: 1 - sp.cos(s.args[0]) ** 2 for s in e.atoms(sp.sin)}
+    return sp.expand(e.subs(squares)) if squares else e
 
 
 def _is_sympy_body(item) -> bool:
