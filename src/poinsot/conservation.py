@@ -73,10 +73,13 @@ class Invariant:
     @property
     def change(self) -> np.ndarray:
         """Relative change ``|x(t) − x(0)| / scale`` per sample (n,): the integrator's error
-        when :attr:`conserved`, the physics otherwise."""
+        when :attr:`conserved`, the physics otherwise. Divided before subtracting, so values
+        near the double range do not overflow; a value that is itself infinite gives NaN."""
         v = np.asarray(self.values, dtype=float)
-        d = (v - v[0]) / (self.scale or 1.0)
-        return np.abs(d) if d.ndim == 1 else np.linalg.norm(d, axis=1)
+        scale = self.scale if np.isfinite(self.scale) and self.scale else 1.0
+        with np.errstate(invalid="ignore", over="ignore"):
+            d = v / scale - v[0] / scale
+            return np.abs(d) if d.ndim == 1 else _row_norms(d)
 
     def describe(self) -> dict:
         """JSON-ready: unit, initial value, largest relative change, whether it is conserved
@@ -92,10 +95,14 @@ class Invariant:
         }
 
 
+def _row_norms(V):
+    """``|V_i|`` per row (n,), without overflow near the double range (``hypot``)."""
+    return np.hypot.reduce(np.asarray(V, dtype=float), axis=1)
+
+
 def _norm_scale(v0):
     """The scale of a vector quantity: ``|v(0)|`` without overflow near 1e300."""
-    m = float(np.abs(v0).max())
-    return m * float(np.linalg.norm(v0 / m)) if m > 0 else 0.0
+    return float(np.hypot.reduce(np.asarray(v0, dtype=float)))
 
 
 def _symmetry_axis(system):
@@ -191,7 +198,7 @@ def invariants_of(traj) -> list[Invariant]:
                 "|angular momentum| about the centre of mass",
                 "|L_G|",
                 "kg·m²/s",
-                np.linalg.norm(L, axis=1),
+                _row_norms(L),
                 True,
                 why,
                 scale,

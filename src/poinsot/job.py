@@ -65,7 +65,7 @@ def summarize(scenario, traj, free=None) -> dict:
     body = scenario.body
     w0 = np.ascontiguousarray(traj.omega[0])
     k0 = float(rotational_energy(body.inertia, w0))
-    a0 = float(np.linalg.norm(angular_momentum_body(body.inertia, w0)))
+    a0 = float(np.hypot.reduce(angular_momentum_body(body.inertia, w0)))  # no overflow
     out = {
         "scenario": {
             "name": scenario.name,
