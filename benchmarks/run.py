@@ -544,9 +544,11 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ensemble_cases import CASES as _ENSEMBLE_CASES  # noqa: E402
 
 CASES.update(_ENSEMBLE_CASES)
+from lagrange_cases import CASES as _LAGRANGE_CASES  # noqa: E402
 from relative_cases import CASES as _RELATIVE_CASES  # noqa: E402
 
 CASES.update(_RELATIVE_CASES)
+CASES.update(_LAGRANGE_CASES)
 
 
 def _fmt_time(s):

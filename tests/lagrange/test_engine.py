@@ -57,3 +57,20 @@ def test_compiled_engine_takes_inputs_and_refuses_unknown_engines():
     np.testing.assert_allclose(sol.q[:, 0], 0.5 * (1 - np.cos(2 * t)), atol=1e-9)
     with pytest.raises(ValueError, match="`engine` must be 'numpy' or 'compiled'"):
         spring.simulate((0, 3), engine="cython", **kw)
+
+
+def test_a_new_process_loads_the_compiled_module_from_the_disk_cache(tmp_path):
+    import os
+    import subprocess
+    import sys
+
+    code = ("import numpy as np; from poinsot import models; m = models.atwood_machine(); "
+            "s = m.simulate((0, 1), t_eval=np.linspace(0, 1, 5), engine='compiled'); "
+            "print(repr(float(s.q[-1, 0])))")  # fmt: skip
+    env = {**os.environ, "POINSOT_CACHE_DIR": str(tmp_path)}
+    runs = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
+                           timeout=300) for _ in range(2)]  # fmt: skip
+    for done in runs:
+        assert done.returncode == 0, done.stderr[-2000:]
+    assert runs[0].stdout == runs[1].stdout  # the second run loads the first one's cache
+    assert list((tmp_path / "lagrange").glob("__pycache__/*.nbi"))  # numba's cache index

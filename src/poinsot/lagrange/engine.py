@@ -25,6 +25,7 @@ from __future__ import annotations
 import hashlib
 import importlib.util
 import os
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -194,9 +195,14 @@ def compile_system(system) -> CompiledSystem:
         tmp = path.with_suffix(f".{os.getpid()}.tmp")
         tmp.write_text(source, encoding="utf-8")
         os.replace(tmp, path)  # atomic: a concurrent process reads a whole file or none
-    spec = importlib.util.spec_from_file_location(f"poinsot_lagrange_{key}", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    name = f"poinsot_lagrange_{key}"
+    module = sys.modules.get(name)
+    if module is None:
+        spec = importlib.util.spec_from_file_location(name, path)
+        module = importlib.util.module_from_spec(spec)
+        # registered before it runs: numba's disk cache finds its functions' module by name
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
     out = CompiledSystem(module, system.parameters, system.inputs, path)
     system.__dict__[_ATTR] = out
     return out
