@@ -75,18 +75,11 @@ def _source(system) -> str:
     from sympy.printing.pycode import PythonCodePrinter
 
     n, m, nh = system.n_coordinates, system.n_constraints, system.n_holonomic
-    qs, vs = sp.symbols(f"q0:{n}"), sp.symbols(f"v0:{n}")
     params, inputs = system.parameters, system.inputs
-    ps, us = sp.symbols(f"p0:{len(params)}"), sp.symbols(f"u0:{len(inputs)}")
-    speeds = dict(zip(system.speeds, vs, strict=True))  # first: q̇ contains q
-    rest = {
-        **dict(zip(system.coordinates, qs, strict=True)),
-        **dict(zip(inputs, us, strict=True)),
-        **dict(zip(params, ps, strict=True)),
-    }
+    to_p = dict(zip(params, sp.symbols(f"p0:{len(params)}"), strict=True))
 
     def plain(e):
-        return sp.sympify(e).subs(speeds).subs(rest)
+        return system.plain.of(e).subs(to_p)
 
     blocks = [
         ("M", [(i, j) for i in range(n) for j in range(n)], list(system.mass_matrix)),

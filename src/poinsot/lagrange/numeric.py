@@ -37,33 +37,24 @@ class _Numeric:
 
         self.system = system
         self.params = dict(params)
-        n = system.n_coordinates
-        qs = sp.symbols(f"q0:{n}")
-        vs = sp.symbols(f"qd0:{n}")
-        us = sp.symbols(f"u0:{len(system.inputs)}")
+        names = system.plain
         t = system.t
         self.u_of = None  # bound per simulation: (t, q, q̇) → input values (k,)
-        to_plain = {
-            **dict(zip(system.speeds, vs, strict=True)),
-            **dict(zip(system.coordinates, qs, strict=True)),
-            **dict(zip(system.inputs, us, strict=True)),
-        }
 
         def plain(expr):
-            # speeds first: q̇ contains q
             e = (
                 sp.Matrix(expr)
                 if not isinstance(expr, sp.Basic) or hasattr(expr, "shape")
                 else expr
             )
-            return e.subs(to_plain).subs(params)
+            return names.of(e).subs(params)
 
         missing = [str(p) for p in system.parameters if p not in params]
         if missing:
             raise ValueError(
                 f"`params` must give a number for every parameter: missing {', '.join(missing)}"
             )
-        args = (qs, vs, t, us)
+        args = (names.q, names.v, t, names.u)
         lam = lambda expr: sp.lambdify(args, plain(expr), modules="numpy", cse=True)  # noqa: E731
         self.M = lam(system.mass_matrix)
         self.f = lam(system.forcing)
@@ -282,18 +273,10 @@ class LagrangianSolution:
         system = self.system
         many = not isinstance(expr, sp.Basic)
         exprs = list(expr) if many else [expr]
-        n, m = system.n_coordinates, system.n_constraints
-        qs, vs = sp.symbols(f"q0:{n}"), sp.symbols(f"qd0:{n}")
-        ls = sp.symbols(f"lam0:{m}") if m else ()
-        us = sp.symbols(f"u0:{len(system.inputs)}")
-        plain = {
-            **dict(zip(system.speeds, vs, strict=True)),
-            **dict(zip(system.coordinates, qs, strict=True)),
-            **dict(zip(list(system.lam_vec), ls, strict=True)),
-            **dict(zip(system.inputs, us, strict=True)),
-        }
-        body = [sp.sympify(e).subs(plain).subs(self.params) for e in exprs]
-        fn = sp.lambdify((system.t, qs, vs, ls, us), body, modules="numpy", cse=True)
+        names = system.plain
+        body = [names.of(e).subs(self.params) for e in exprs]
+        fn = sp.lambdify((system.t, names.q, names.v, names.lam, names.u), body, modules="numpy",
+                         cse=True)  # fmt: skip
         cols = fn(self.t, self.q.T, self.qd.T, self.multipliers.T, self.inputs.T)
         out = np.column_stack([np.broadcast_to(np.asarray(c, float), self.t.shape) for c in cols])
         return out if many else out[:, 0]

@@ -235,6 +235,30 @@ class LagrangianSystem:
         )
         return out
 
+    @cached_property
+    def plain(self):
+        """Plain SymPy symbols for the numeric side: ``q`` (q0…), ``v`` (v0…, the speeds),
+        ``u`` (u0…, the inputs) and ``lam`` (lam0…, the multipliers), and ``of(expr)``,
+        the expression in them (speeds replaced first: ``q̇`` contains ``q``). One place
+        for the substitution that lambdify, the generated engine and ``evaluate`` share."""
+        from types import SimpleNamespace
+
+        sp = _sympy()
+        n, m = self.n_coordinates, self.n_constraints
+        q, v = sp.symbols(f"q0:{n}"), sp.symbols(f"v0:{n}")
+        u, lam = sp.symbols(f"u0:{len(self.inputs)}"), sp.symbols(f"lam0:{m}")
+        speeds = dict(zip(self.speeds, v, strict=True))
+        rest = {
+            **dict(zip(self.coordinates, q, strict=True)),
+            **dict(zip(self.inputs, u, strict=True)),
+            **dict(zip(list(self.lam_vec), lam, strict=True)),
+        }
+
+        def of(expr):
+            return sp.sympify(expr).subs(speeds).subs(rest)
+
+        return SimpleNamespace(q=q, v=v, u=u, lam=lam, of=of)
+
     def unit_of(self, coordinate) -> str:
         """The unit of a coordinate ("" when not given)."""
         return self.units.get(coordinate, "")
