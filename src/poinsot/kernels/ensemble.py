@@ -54,6 +54,8 @@ from .rigid import (
 )
 from .steppers import DOP853, ERK, RKMK, SPLITTING, solver_init_into
 from .systems import (
+    NativeLanes,
+    NativeSystem,
     RigidLanes,
     RigidSystem,
     TorqueFreeLanes,
@@ -68,6 +70,8 @@ __all__ = [
     "block_system",
     "chunk_dop853",
     "chunk_erk",
+    "chunk_states_dop853",
+    "chunk_states_erk",
     "chunk_rk4",
     "chunk_rkmk",
     "chunk_splitting",
@@ -160,6 +164,13 @@ def _varied_member(template, i):
 @kernel(inline=True)
 def _rigid_member(template, i):
     return RigidSystem(template.bodies[i], template.force_kind, template.force_params[i])
+
+
+@member_system.register(NativeLanes)
+@kernel(inline=True)
+def _native_member(template, i):
+    return NativeSystem(template.rhs, template.project, template.P[i], template.U[i],
+                        template.gains)  # fmt: skip
 
 
 @block_system.register(TorqueFreeLanes)
@@ -377,6 +388,63 @@ def chunk_dop853(template, observer, control, axes, Z0, t0, t1, t_eval, Y, statu
         st = run_adaptive(system, obs, clock, z, f, t1, control, t_eval, 2**62, out_t, out_y,
                           counters, 2**62)  # fmt: skip
         _member_finish(axes, i, st, counters, out_y, Y, status, nsteps, nfev)
+
+
+# --------------------------------------------------------------------------- any state
+# Chunks of systems whose state is a plain vector of any length (the generated models of
+# :mod:`poinsot.kernels.native`): ``Z0`` (m, d) the initial states, ``Y`` (m, n, d) the samples
+# at ``t_eval`` as they are; a member that fails gets NaN samples and its status.
+@kernel(inline=True)
+def _states_member_finish(i, st, counters, out_y, Y, status, nsteps, nfev):
+    status[i] = st
+    nsteps[i] = counters[N_STEPS]
+    nfev[i] = counters[N_FEV]
+    for k in range(Y.shape[1]):
+        for c in range(Y.shape[2]):
+            Y[i, k, c] = out_y[k, c] if st == FINISHED else np.nan
+
+
+@kernel
+def chunk_states_erk(template, observer, A, B, C, Z0, t0, t1, dt, t_eval, Y, status, nsteps,
+                     nfev):  # fmt: skip
+    """The chunk's members one at a time with the explicit Runge–Kutta tableau ``A, B, C``."""
+    d = Z0.shape[1]
+    z = np.empty(d)
+    out_t = np.empty(t_eval.shape[0])
+    out_y = np.empty((t_eval.shape[0], d))
+    clock = np.zeros(CLOCK_SIZE)
+    counters = np.zeros(COUNTERS_SIZE, dtype=np.int64)
+    for i in range(Z0.shape[0]):
+        system = member_system(template, i)
+        z[:] = Z0[i]
+        clock[0] = t0
+        clock[1] = 0.0
+        counters[:] = 0
+        st = run_erk(system, observer, A, B, C, clock, z, t1, dt, t_eval, 2**62, out_t, out_y,
+                     counters, 2**62)  # fmt: skip
+        _states_member_finish(i, st, counters, out_y, Y, status, nsteps, nfev)
+
+
+@kernel
+def chunk_states_dop853(template, observer, control, Z0, t0, t1, t_eval, Y, status, nsteps,
+                        nfev):  # fmt: skip
+    """The chunk's members one at a time with adaptive DOP853, each with its own step sizes."""
+    d = Z0.shape[1]
+    z = np.empty(d)
+    f = np.empty(d)
+    out_t = np.empty(t_eval.shape[0])
+    out_y = np.empty((t_eval.shape[0], d))
+    clock = np.zeros(CLOCK_SIZE)
+    counters = np.zeros(COUNTERS_SIZE, dtype=np.int64)
+    for i in range(Z0.shape[0]):
+        system = member_system(template, i)
+        z[:] = Z0[i]
+        clock[0] = t0
+        clock[1] = 0.0
+        counters[:] = 0
+        st = run_adaptive(system, observer, clock, z, f, t1, control, t_eval, 2**62, out_t,
+                          out_y, counters, 2**62)  # fmt: skip
+        _states_member_finish(i, st, counters, out_y, Y, status, nsteps, nfev)
 
 
 # --------------------------------------------------------------------------- reductions

@@ -41,6 +41,7 @@ from collections import namedtuple
 from .forces import builtin_potential, builtin_wrench
 from .jit import generic, kernel
 from .layout import HAS_PIVOT, STATE_SIZE, load_state, store_state
+from .native import call_project, call_rhs
 from .relative import (
     RELATIVE_STATE_SIZE,
     absolute_state_of,
@@ -67,8 +68,11 @@ __all__ = [
     "TorqueFreeSystem",
     "UserForcesSystem",
     "body_parameters",
+    "NativeLanes",
+    "NativeSystem",
     "constrain",
     "lanes",
+    "native_vector_field",
     "potential",
     "project",
     "rates",
@@ -125,6 +129,15 @@ RelativeSystem = namedtuple(
 RelativeUserSystem = namedtuple(
     "RelativeUserSystem", ["body", "inertia", "force_kind", "force_params", "options", "carrier"]
 )
+#: A system whose vector field is generated and compiled per model (a Lagrangian model of
+#: :mod:`poinsot.lagrange.engine`), called through the addresses of its entry points
+#: (:mod:`poinsot.kernels.native`): ``rhs`` and ``project`` (int64; ``project`` 0 for none),
+#: the model's parameters ``p`` (k,) and inputs ``u`` (j,), and ``gains`` (2,) the constraint
+#: stabilisation's (α, β). One type for every model: the drivers compiled for it are cached.
+NativeSystem = namedtuple("NativeSystem", ["rhs", "project", "p", "u", "gains"])
+#: An ensemble chunk of one generated model: member ``i`` has the parameters ``P[i]`` and the
+#: inputs ``U[i]`` (``P`` (m, k), ``U`` (m, j)).
+NativeLanes = namedtuple("NativeLanes", ["rhs", "project", "P", "U", "gains"])
 
 
 @generic
@@ -466,6 +479,60 @@ for _type in (RelativeSystem, RelativeUserSystem):
     state_size.register(_type)(_relative_state_size)
     body_parameters.register(_type)(_one_body_parameters)
     lanes.register(_type)(_one_lane)
+
+
+# --------------------------------------------------------------------------- native (generated)
+@vector_field.register(NativeSystem)
+@kernel(inline=True)
+def native_vector_field(system, t, y, out):
+    """The model's generated ``rhs`` (:func:`~poinsot.kernels.native.call_rhs`)."""
+    call_rhs(system.rhs, t, y, system.p, system.u, system.gains[0], system.gains[1], out)
+
+
+@project.register(NativeSystem)
+@kernel(inline=True)
+def _native_project(system, t, y):
+    if system.project == 0:
+        return False
+    return call_project(system.project, t, y, system.p, system.u) != 0
+
+
+@kernel(inline=True)
+def _native_state_size(system, y):
+    return y.shape[0]
+
+
+@kernel(inline=True)
+def _native_no_rates(system, t, y, lane):
+    if lane >= 0:  # never run: see _relative_no_rates
+        raise TypeError("a generated system is stepped by the general Runge-Kutta steps")
+    return y
+
+
+@kernel(inline=True)
+def _native_no_wrench(system, t, y):
+    if t == t:
+        raise TypeError("a generated system has no rigid-body wrench")
+    return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+
+
+@kernel(inline=True)
+def _native_no_potential(system, t, y):
+    return 0.0
+
+
+@kernel(inline=True)
+def _native_body_parameters(system):
+    return system.gains  # a float vector for the rigid-only branches, which never run
+
+
+state_size.register(NativeSystem)(_native_state_size)
+rates.register(NativeSystem)(_native_no_rates)
+constrain.register(NativeSystem)(_native_no_rates)
+wrench.register(NativeSystem)(_native_no_wrench)
+potential.register(NativeSystem)(_native_no_potential)
+body_parameters.register(NativeSystem)(_native_body_parameters)
+lanes.register(NativeSystem)(_one_lane)
 
 #: The system types that step in registers (RK4 on 18-tuples): the rigid bodies.
 REGISTER_SYSTEMS = (RigidSystem, TorqueFreeSystem, UserForcesSystem, TorqueFreeLanes,

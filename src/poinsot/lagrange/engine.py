@@ -69,6 +69,43 @@ class CompiledSystem:
             )
         return np.array([float(params[s]) for s in self.parameters])
 
+    def native_system(self, p, u, gains=(0.0, 0.0), projection=False):
+        """The :data:`~poinsot.kernels.systems.NativeSystem` the compiled drivers step: this
+        module's entry points by address, the parameters ``p`` (k,), the inputs ``u`` (j,)
+        (constants), the Baumgarte ``gains`` (α, β) and, with ``projection``, the projection
+        onto the constraints after every step."""
+        from ..kernels.systems import NativeSystem
+
+        m = self.module
+        return NativeSystem(m.rhs_c.address, m.project_c.address if projection else 0,
+                            _floats(p), _floats(u), _floats(gains))  # fmt: skip
+
+    def native_lanes(self, P, U, gains=(0.0, 0.0), projection=False):
+        """The ensemble template (:data:`~poinsot.kernels.systems.NativeLanes`) of members
+        with the parameters ``P`` (m, k) and the inputs ``U`` (m, j)."""
+        from ..kernels.systems import NativeLanes
+
+        m = self.module
+        return NativeLanes(m.rhs_c.address, m.project_c.address if projection else 0,
+                           _floats(P), _floats(U), _floats(gains))  # fmt: skip
+
+    def samples(self, t, y, p, u) -> dict:
+        """Accelerations ``qdd``, physical multipliers ``lam``, generalized constraint forces
+        ``constraint_forces`` (``Gᵀλ``), residuals ``g`` and ``velocity_residual`` (``Gq̇ + b``)
+        and the Jacobi integral ``energy`` at samples ``t`` (S,), ``y`` (S, 2n), inputs ``u``
+        (S, j): one compiled loop."""
+        mod = self.module
+        S, n, m, nh = len(t), mod.N, mod.MC, mod.NH
+        out = {"qdd": np.empty((S, n)), "lam": np.empty((S, m)),
+               "constraint_forces": np.empty((S, n)), "g": np.empty((S, nh)),
+               "velocity_residual": np.empty((S, m)), "energy": np.empty(S)}  # fmt: skip
+        mod.samples(_floats(t), _floats(y), _floats(p), _floats(u), *out.values())
+        return out
+
+
+def _floats(a) -> np.ndarray:
+    return np.ascontiguousarray(a, dtype=float)
+
 
 def _source(system) -> str:
     import sympy as sp
@@ -98,9 +135,9 @@ def _source(system) -> str:
         "import math",
         "",
         "import numpy as np",
-        "from numba import njit",
+        "from numba import carray, cfunc, njit, types",
         "",
-        f"N, MC, NH = {n}, {m}, {nh}",
+        f"N, MC, NH, NP, NU = {n}, {m}, {nh}, {len(params)}, {len(inputs)}",
         "",
         "",
         "@njit(cache=True)",
@@ -128,8 +165,8 @@ def _source(system) -> str:
         "    b = np.empty(MC)",
         "    gamma = np.empty(MC)",
         "    g = np.empty(NH)",
-        "    evaluate(q, qd, t, p, u, M, f, G, b, gamma, g)",
-        "    return M, f, G, b, gamma, g",
+        "    h = evaluate(q, qd, t, p, u, M, f, G, b, gamma, g)",
+        "    return M, f, G, b, gamma, g, h",
         "",
         "",
         "@njit(cache=True)",
@@ -148,26 +185,89 @@ def _source(system) -> str:
         "",
         "",
         "@njit(cache=True)",
+        "def _solve_or_nan(M, f, G, rhs2):",
+        "    # a singular system gives NaN (the driver names it), never an exception: the rhs is",
+        "    # called through a C entry point, which cannot raise",
+        "    try:",
+        "        return _solve(M, f, G, rhs2)",
+        "    except Exception:",
+        "        return np.full(N, np.nan), np.full(MC, np.nan)",
+        "",
+        "",
+        "@njit(cache=True)",
         "def rhs(t, y, p, u, alpha, beta, out):",
         "    q = y[:N]",
         "    qd = y[N:]",
-        "    M, f, G, b, gamma, g = _parts(q, qd, t, p, u)",
-        "    rhs2 = -gamma.copy()",
+        "    M, f, G, b, gamma, g, h = _parts(q, qd, t, p, u)",
+        "    rhs2 = -gamma",
         "    if MC:",
         "        vel = G @ qd + b",
         "        for i in range(MC):",
         "            rhs2[i] -= 2.0 * alpha * vel[i]",
         "            if i < NH:",
         "                rhs2[i] -= beta * beta * g[i]",
-        "    qdd, _ = _solve(M, f, G, rhs2)",
+        "    qdd, _ = _solve_or_nan(M, f, G, rhs2)",
         "    out[:N] = qd",
         "    out[N:] = qdd",
         "",
         "",
         "@njit(cache=True)",
         "def accelerations(t, q, qd, p, u):",
-        "    M, f, G, b, gamma, g = _parts(q, qd, t, p, u)",
+        "    M, f, G, b, gamma, g, h = _parts(q, qd, t, p, u)",
         "    return _solve(M, f, G, -gamma)",
+        "",
+        "",
+        "@njit(cache=True)",
+        "def project(t, y, p, u):",
+        "    # the nearest consistent state: Gauss-Newton on g(q) = 0 (minimum-norm corrections),",
+        "    # then qd <- qd - pinv(G) (G qd + b); as _Numeric.project of the NumPy path",
+        "    if MC == 0:",
+        "        return 0",
+        "    q = y[:N]",
+        "    qd = y[N:]",
+        "    for _ in range(20 if NH else 0):",
+        "        M, f, G, b, gamma, g, h = _parts(q, qd, t, p, u)",
+        "        if np.max(np.abs(g)) <= 1e-13 * (1.0 + np.max(np.abs(q))):",
+        "            break",
+        "        q -= np.linalg.lstsq(G[:NH], g)[0]",
+        "    M, f, G, b, gamma, g, h = _parts(q, qd, t, p, u)",
+        "    qd -= np.linalg.lstsq(G, G @ qd + b)[0]",
+        "    return 1",
+        "",
+        "",
+        "@njit(cache=True)",
+        "def samples(T, Y, p, U, qdd, lam, cf, res, vres, energy):",
+        "    # every sample's accelerations, physical multipliers, generalized constraint forces,",
+        "    # residuals and energy, in one compiled loop",
+        "    for i in range(T.shape[0]):",
+        "        q = Y[i, :N]",
+        "        qd = Y[i, N:]",
+        "        M, f, G, b, gamma, g, h = _parts(q, qd, T[i], p, U[i])",
+        "        a, lm = _solve_or_nan(M, f, G, -gamma)",
+        "        qdd[i] = a",
+        "        lam[i] = lm",
+        "        if MC:",
+        "            cf[i] = G.T @ lm",
+        "            vres[i] = G @ qd + b",
+        "        else:",
+        "            cf[i] = 0.0",
+        "        res[i] = g",
+        "        energy[i] = h",
+        "",
+        "",
+        "_F8 = types.float64",
+        "_P8 = types.CPointer(types.float64)",
+        "",
+        "",
+        "@cfunc(types.void(_F8, _P8, _P8, _P8, _F8, _F8, _P8), cache=True)",
+        "def rhs_c(t, y, p, u, alpha, beta, out):",
+        "    rhs(t, carray(y, (2 * N,)), carray(p, (NP,)), carray(u, (NU,)), alpha, beta,",
+        "        carray(out, (2 * N,)))",
+        "",
+        "",
+        "@cfunc(types.int64(_F8, _P8, _P8, _P8), cache=True)",
+        "def project_c(t, y, p, u):",
+        "    return project(t, carray(y, (2 * N,)), carray(p, (NP,)), carray(u, (NU,)))",
         "",
     ]
     return "\n".join(lines)

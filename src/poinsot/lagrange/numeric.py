@@ -42,12 +42,10 @@ class _Numeric:
         self.u_of = None  # bound per simulation: (t, q, q̇) → input values (k,)
 
         def plain(expr):
-            e = (
-                sp.Matrix(expr)
-                if not isinstance(expr, sp.Basic) or hasattr(expr, "shape")
-                else expr
-            )
-            return names.of(e).subs(params)
+            # a flat list of entries (row-major): one function serves a sample and, with
+            # arrays of samples, all of them at once (:meth:`batch`)
+            entries = list(sp.Matrix(expr)) if hasattr(expr, "shape") else [expr]
+            return [names.of(e).subs(params) for e in entries]
 
         missing = [str(p) for p in system.parameters if p not in params]
         if missing:
@@ -70,6 +68,37 @@ class _Numeric:
     def mat(self, fn, q, qd, t, shape):
         u = self.u_of(t, q, qd) if self.u_of is not None else ()
         return np.asarray(fn(q, qd, t, u), dtype=float).reshape(shape)
+
+    def batch(self, t, q, qd, u) -> dict:
+        """:meth:`accelerations` (physical multipliers), ``Gᵀλ``, :meth:`residuals` and the
+        energy at every sample at once: ``t`` (S,), ``q``, ``qd`` (S, n), inputs ``u`` (S, j);
+        the keys of :meth:`poinsot.lagrange.engine.CompiledSystem.samples`. Vectorised: each
+        lambdified function is called once with arrays, and the KKT systems are solved as a
+        stack."""
+        S, n, m = len(t), q.shape[1], self.m
+        args = (q.T, qd.T, np.asarray(t, float), np.asarray(u, float).reshape(S, -1).T)
+
+        def ev(fn, *shape):
+            cols = [np.broadcast_to(np.asarray(c, dtype=float), (S,)) for c in fn(*args)]
+            return (np.stack(cols, axis=-1) if cols else np.zeros((S, 0))).reshape(S, *shape)
+
+        M, f = ev(self.M, n, n), ev(self.f, n)
+        if m:
+            G, gamma = ev(self.G, m, n), ev(self.gamma, m)
+            K = np.zeros((S, n + m, n + m))
+            K[:, :n, :n] = M
+            K[:, :n, n:] = -np.swapaxes(G, 1, 2)
+            K[:, n:, :n] = G
+            x = _solve_stack(K, np.concatenate([f, -gamma], axis=1))
+            qdd, lam = x[:, :n], x[:, n:]
+            forces = np.einsum("skj,sk->sj", G, lam)
+            vel = np.einsum("skj,sj->sk", G, qd) + ev(self.b, m)
+            pos = ev(self.g, self.n_hol) if self.n_hol else np.zeros((S, 0))
+        else:
+            qdd, lam = _solve_stack(M, f), np.zeros((S, 0))
+            forces, vel, pos = np.zeros((S, n)), np.zeros((S, 0)), np.zeros((S, 0))
+        return {"qdd": qdd, "lam": lam, "constraint_forces": forces, "g": pos,
+                "velocity_residual": vel, "energy": ev(self.energy)}  # fmt: skip
 
     def bound(self, u_of):
         """A copy evaluating the system's inputs with ``u_of(t, q, q̇) → (k,)``."""
@@ -126,6 +155,20 @@ class _Numeric:
         return q, qd
 
 
+def _solve_stack(K, r):
+    """``K[s] x[s] = r[s]`` for every s; NaN rows where K[s] is singular."""
+    try:
+        return np.linalg.solve(K, r[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        out = np.full(r.shape, np.nan)
+        for s in range(len(K)):
+            try:
+                out[s] = np.linalg.solve(K[s], r[s])
+            except np.linalg.LinAlgError:
+                pass
+        return out
+
+
 def _numeric(system, params):
     key = tuple(sorted((str(k), float(v)) for k, v in params.items()))
     cache = system.__dict__.setdefault(_CACHE_ATTR, {})
@@ -179,6 +222,56 @@ class _ODE:
         return project
 
 
+class _NativeODE(_ODE):
+    """The system stepped by the compiled drivers through the generated module's entry points
+    (:data:`~poinsot.kernels.systems.NativeSystem`): no Python runs per step. Inputs are
+    constants here (callables are evaluated per step by :class:`_ODE`)."""
+
+    forces = ()
+    python_forces = ()
+    compiled = True  # every step in compiled code
+
+    def __init__(self, num, stabilization, baumgarte, engine, u):
+        super().__init__(num, stabilization, baumgarte, engine)
+        self.engine = engine
+        self._u = np.ascontiguousarray(u, dtype=float)
+        self._projection = stabilization == "projection" and num.m > 0
+
+    def compiled_system(self, y0):
+        return self.engine.native_system(self._p, self._u, self._gains, self._projection)
+
+    def python_system(self, y0):
+        return _NativePython(self)
+
+    def to_internal(self, y):
+        return np.array(y, dtype=float)
+
+    from_internal = to_internal
+
+
+class _NativePython:
+    """The same generated functions called from Python, step by step (``backend="python"``:
+    the reference the compiled drivers are tested against)."""
+
+    def __init__(self, ode):
+        self.ode, self.mod = ode, ode.engine.module
+
+    def vector_field(self, t, y, out):
+        a, b = self.ode._gains
+        self.mod.rhs(float(t), np.ascontiguousarray(y), self.ode._p, self.ode._u, float(a),
+                     float(b), out)  # fmt: skip
+
+    def project(self, t, y):
+        return bool(self.ode._projection and self.mod.project(float(t), y, self.ode._p,
+                                                               self.ode._u))  # fmt: skip
+
+    def state_size(self, y):
+        return y.shape[0]
+
+    def body_parameters(self):  # pragma: no cover - the rigid-only steps are refused
+        raise TypeError("a Lagrangian system has no rigid-body parameters")
+
+
 class LagrangianSolution:
     """Samples of a Lagrangian motion.
 
@@ -205,19 +298,21 @@ class LagrangianSolution:
     releases: tuple = ()
     terminated = False
 
-    def __init__(self, system, t, y, num, *, method, nfev, stabilization, phases=None):
+    def __init__(self, system, t, y, num, *, method, nfev, stabilization, phases=None,
+                 engine=None):  # fmt: skip
         n = system.n_coordinates
         self.system = system
         self.params = dict(num.params)
         #: values of the system's inputs at each sample (n_samples, k)
-        self.inputs = np.array(
-            [
-                num.u_of(ti, qi, qdi)
-                for ti, qi, qdi in zip(t, np.asarray(y)[:, :n], np.asarray(y)[:, n:], strict=True)
-            ]
-            if num.u_of is not None
-            else np.zeros((len(t), 0))
-        ).reshape(len(t), len(system.inputs))
+        constant = getattr(num.u_of, "constant", None)
+        if num.u_of is None:
+            self.inputs = np.zeros((len(t), 0))
+        elif constant is not None:
+            self.inputs = np.tile(constant, (len(t), 1))
+        else:  # the user's functions, sample by sample
+            rows = zip(t, np.asarray(y)[:, :n], np.asarray(y)[:, n:], strict=True)
+            self.inputs = np.array([num.u_of(ti, qi, qdi) for ti, qi, qdi in rows])
+        self.inputs = self.inputs.reshape(len(t), len(system.inputs))
         self.coordinates = list(system.coordinates)
         self.t = np.asarray(t, dtype=float)
         self.q = np.asarray(y)[:, :n]
@@ -232,27 +327,40 @@ class LagrangianSolution:
         self.energy = np.zeros(len(self.t))
         phases = phases or [(self.t[0] if len(self.t) else 0.0, num, list(range(nh)))]
         starts = np.array([p[0] for p in phases])
-        for i, (ti, qi, qdi) in enumerate(zip(self.t, self.q, self.qd, strict=True)):
-            _, pnum, rows = phases[max(int(np.searchsorted(starts, ti, side="right")) - 1, 0)]
-            qdd, lam = pnum.accelerations(ti, qi, qdi)  # physical λ: no stabilisation term
-            self.accelerations[i] = qdd
+        which = np.maximum(np.searchsorted(starts, self.t, side="right") - 1, 0)
+        y = np.asarray(y, dtype=float)
+        for k, (_, pnum, rows) in enumerate(phases):
+            at = np.nonzero(which == k)[0]
+            if not len(at):
+                continue
+            if engine is not None and pnum is num:  # the generated module: one compiled loop
+                out = engine.samples(self.t[at], y[at], engine.parameter_vector(self.params),
+                                     self.inputs[at])  # fmt: skip
+            else:
+                out = pnum.batch(self.t[at], self.q[at], self.qd[at], self.inputs[at])
+            self.accelerations[at] = out["qdd"]
+            self.energy[at] = out["energy"]
             if pnum is num:
-                self.multipliers[i] = lam
-            else:  # a phase after releases: its multipliers, zero for the released constraints
-                self.multipliers[i, rows] = lam[: len(rows)]
-                self.multipliers[i, nh:] = lam[len(rows) :]
-                lam = self.multipliers[i]
-            if m:
-                G = num.mat(num.G, qi, qdi, ti, (m, n))
-                self.constraint_forces[i] = G.T @ lam
-                pos, vel = num.residuals(ti, qi, qdi)
-                if pnum is not num:  # a released constraint has no residual, only a gap
-                    gone = [k for k in range(nh) if k not in rows]
-                    pos[gone] = np.nan
-                    vel[gone] = np.nan
-                self.constraint_residual[i] = pos
-                self.constraint_velocity_residual[i] = vel
-            self.energy[i] = float(num.mat(num.energy, qi, qdi, ti, ()))
+                self.multipliers[at] = out["lam"]
+                self.constraint_forces[at] = out["constraint_forces"]
+                self.constraint_residual[at] = out["g"]
+                self.constraint_velocity_residual[at] = out["velocity_residual"]
+                continue
+            # a phase after releases: its multipliers, zero for the released constraints; the
+            # original system's residuals, NaN for a released constraint (a gap, not an error)
+            lam = np.zeros((len(at), m))
+            lam[:, rows] = out["lam"][:, : len(rows)]
+            lam[:, nh:] = out["lam"][:, len(rows) :]
+            self.multipliers[at] = lam
+            full = num.batch(self.t[at], self.q[at], self.qd[at], self.inputs[at])
+            G = _jacobians(num, self.t[at], self.q[at], self.qd[at], self.inputs[at])
+            self.constraint_forces[at] = np.einsum("skj,sk->sj", G, lam)
+            gone = [i for i in range(nh) if i not in rows]
+            pos, vel = full["g"].copy(), full["velocity_residual"].copy()
+            pos[:, gone] = np.nan
+            vel[:, gone] = np.nan
+            self.constraint_residual[at] = pos
+            self.constraint_velocity_residual[at] = vel
 
     def evaluate(self, expr):
         """A SymPy expression (or a sequence of them) in the coordinates, their speeds, t, the
@@ -308,6 +416,14 @@ class LagrangianSolution:
             f"LagrangianSolution(n={len(self.t)}, coordinates={self.coordinates}, "
             f"method={self.method!r}, stabilization={self.stabilization!r})"
         )
+
+
+def _jacobians(num, t, q, qd, u):
+    """``G`` (S, m, n) at every sample (vectorised)."""
+    S, n = q.shape
+    cols = num.G(q.T, qd.T, np.asarray(t, float), np.asarray(u, float).reshape(S, -1).T)
+    cols = [np.broadcast_to(np.asarray(c, dtype=float), (S,)) for c in cols]
+    return np.stack(cols, axis=-1).reshape(S, num.m, n)
 
 
 def _keyed(values, system, name, allow_missing):
@@ -386,7 +502,7 @@ def input_function(inputs, system):
             f"`inputs` must give every input of the system: missing {', '.join(missing)} "
             "(a number, a function of t, or a function of (t, q, qd))"
         )
-    funcs = []
+    funcs, constants = [], []
     for u in names:
         value, label = given[u], f"inputs[{str(u).replace('(t)', '')}]"
         if callable(value):
@@ -400,10 +516,13 @@ def input_function(inputs, system):
         else:
             c = as_scalar(value, label)
             funcs.append(lambda t, q, qd, c=c: c)
+            constants.append(c)
 
     def u_of(t, q, qd):
         return np.array([float(f(t, q, qd)) for f in funcs])
 
+    #: the values when every input is a constant (the compiled drivers take them), else None
+    u_of.constant = np.array(constants) if len(constants) == len(names) else None
     return u_of
 
 
@@ -581,9 +700,16 @@ def simulate(
             from .engine import compile_system
 
             compiled = compile_system(system)
-        out_y = run(_ODE(num, stabilization, gains, compiled), t0, y_init, t1, t_eval)
+            constant = np.zeros(0) if u_of is None else u_of.constant
+            if constant is not None:  # every step in compiled code
+                ode = _NativeODE(num, stabilization, gains, compiled, constant)
+            else:  # the generated rhs, called per step with the user's input functions
+                ode = _ODE(num, stabilization, gains, compiled)
+        else:
+            ode = _ODE(num, stabilization, gains)
+        out_y = run(ode, t0, y_init, t1, t_eval)
         return LagrangianSolution(system, t_eval, out_y, num, method=run.method, nfev=run.nfev,
-                                  stabilization=stabilization)  # fmt: skip
+                                  stabilization=stabilization, engine=compiled)  # fmt: skip
     times = np.asarray(t_eval, float)
     return _simulate_phases(system, num, params, u_of, run, stabilization, gains, y_init,
                             t0, t1, times, events, event_resolution)  # fmt: skip
