@@ -116,7 +116,7 @@ def _source(system) -> str:
     to_p = dict(zip(params, sp.symbols(f"p0:{len(params)}"), strict=True))
 
     def plain(e):
-        return system.plain.of(e).subs(to_p)
+        return system.plain.of(e).xreplace(to_p)
 
     blocks = [
         ("M", [(i, j) for i in range(n) for j in range(n)], list(system.mass_matrix)),

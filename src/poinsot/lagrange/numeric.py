@@ -41,11 +41,13 @@ class _Numeric:
         t = system.t
         self.u_of = None  # bound per simulation: (t, q, q̇) → input values (k,)
 
+        values = {k: sp.Float(v) for k, v in params.items()}
+
         def plain(expr):
             # a flat list of entries (row-major): one function serves a sample and, with
             # arrays of samples, all of them at once (:meth:`batch`)
             entries = list(sp.Matrix(expr)) if hasattr(expr, "shape") else [expr]
-            return [names.of(e).subs(params) for e in entries]
+            return [names.of(e).xreplace(values) for e in entries]
 
         missing = [str(p) for p in system.parameters if p not in params]
         if missing:
@@ -76,7 +78,7 @@ class _Numeric:
         lambdified function is called once with arrays, and the KKT systems are solved as a
         stack."""
         S, n, m = len(t), q.shape[1], self.m
-        args = (q.T, qd.T, np.asarray(t, float), np.asarray(u, float).reshape(S, -1).T)
+        args = (q.T, qd.T, np.asarray(t, float), np.asarray(u, float).T)
 
         def ev(fn, *shape):
             cols = [np.broadcast_to(np.asarray(c, dtype=float), (S,)) for c in fn(*args)]
@@ -153,6 +155,38 @@ class _Numeric:
             r = G @ qd + self.mat(self.b, q, qd, t, (self.m,))
             qd = qd - np.linalg.lstsq(G, r, rcond=None)[0]
         return q, qd
+
+
+class _EngineNumeric(_Numeric):
+    """The interface of :class:`_Numeric` on a system's generated, compiled module
+    (:mod:`poinsot.lagrange.engine`): the same functions of ``(q, q̇, t, u)`` without
+    ``lambdify``, and :meth:`batch` as one compiled loop."""
+
+    def __init__(self, system, params: dict, engine):
+        self.system = system
+        self.params = dict(params)
+        self.engine = engine
+        self.u_of = None
+        self.m = system.n_constraints
+        self.n_hol = system.n_holonomic
+        self._p = engine.parameter_vector(params)
+        parts = engine.module._parts
+
+        def part(k):
+            def fn(q, qd, t, u):
+                return parts(_floats(q), _floats(qd), float(t), self._p, _floats(u))[k]
+
+            return fn
+
+        self.M, self.f, self.G, self.b, self.gamma, self.g, self.energy = map(part, range(7))
+
+    def batch(self, t, q, qd, u) -> dict:
+        y = np.concatenate([q, qd], axis=1)
+        return self.engine.samples(t, y, self._p, np.asarray(u, float))
+
+
+def _floats(a):
+    return np.ascontiguousarray(a, dtype=float)
 
 
 def _solve_stack(K, r):
@@ -298,8 +332,7 @@ class LagrangianSolution:
     releases: tuple = ()
     terminated = False
 
-    def __init__(self, system, t, y, num, *, method, nfev, stabilization, phases=None,
-                 engine=None):  # fmt: skip
+    def __init__(self, system, t, y, num, *, method, nfev, stabilization, phases=None):
         n = system.n_coordinates
         self.system = system
         self.params = dict(num.params)
@@ -333,11 +366,7 @@ class LagrangianSolution:
             at = np.nonzero(which == k)[0]
             if not len(at):
                 continue
-            if engine is not None and pnum is num:  # the generated module: one compiled loop
-                out = engine.samples(self.t[at], y[at], engine.parameter_vector(self.params),
-                                     self.inputs[at])  # fmt: skip
-            else:
-                out = pnum.batch(self.t[at], self.q[at], self.qd[at], self.inputs[at])
+            out = pnum.batch(self.t[at], self.q[at], self.qd[at], self.inputs[at])
             self.accelerations[at] = out["qdd"]
             self.energy[at] = out["energy"]
             if pnum is num:
@@ -382,7 +411,8 @@ class LagrangianSolution:
         many = not isinstance(expr, sp.Basic)
         exprs = list(expr) if many else [expr]
         names = system.plain
-        body = [names.of(e).subs(self.params) for e in exprs]
+        values = {k: sp.Float(v) for k, v in self.params.items()}
+        body = [names.of(e).xreplace(values) for e in exprs]
         fn = sp.lambdify((system.t, names.q, names.v, names.lam, names.u), body, modules="numpy",
                          cse=True)  # fmt: skip
         cols = fn(self.t, self.q.T, self.qd.T, self.multipliers.T, self.inputs.T)
@@ -421,7 +451,7 @@ class LagrangianSolution:
 def _jacobians(num, t, q, qd, u):
     """``G`` (S, m, n) at every sample (vectorised)."""
     S, n = q.shape
-    cols = num.G(q.T, qd.T, np.asarray(t, float), np.asarray(u, float).reshape(S, -1).T)
+    cols = num.G(q.T, qd.T, np.asarray(t, float), np.asarray(u, float).T)
     cols = [np.broadcast_to(np.asarray(c, dtype=float), (S,)) for c in cols]
     return np.stack(cols, axis=-1).reshape(S, num.m, n)
 
@@ -667,7 +697,14 @@ def simulate(
     params = as_params(params, system)
     t_eval, _, dt = _check_sampling(t_eval, t0, t1, 1, dt)
     rtol, atol = _check_tolerances(rtol, atol)
-    num = _numeric(system, params)
+    if engine == "compiled" and not events and not system.unilateral:
+        from .engine import compile_system
+
+        compiled = compile_system(system)
+        num = _EngineNumeric(system, params, compiled)
+    else:
+        compiled = None
+        num = _numeric(system, params)
     u_of = input_function(inputs, system)
     if u_of is not None:
         num = num.bound(u_of)
@@ -695,11 +732,7 @@ def simulate(
     run.nfev, run.method = 0, solver.name
     y_init = np.concatenate([q_init, qd_init])
     if not events and not system.unilateral:  # one run, no event to watch
-        compiled = None
-        if engine == "compiled":
-            from .engine import compile_system
-
-            compiled = compile_system(system)
+        if compiled is not None:
             constant = np.zeros(0) if u_of is None else u_of.constant
             if constant is not None:  # every step in compiled code
                 ode = _NativeODE(num, stabilization, gains, compiled, constant)
@@ -709,7 +742,7 @@ def simulate(
             ode = _ODE(num, stabilization, gains)
         out_y = run(ode, t0, y_init, t1, t_eval)
         return LagrangianSolution(system, t_eval, out_y, num, method=run.method, nfev=run.nfev,
-                                  stabilization=stabilization, engine=compiled)  # fmt: skip
+                                  stabilization=stabilization)  # fmt: skip
     times = np.asarray(t_eval, float)
     return _simulate_phases(system, num, params, u_of, run, stabilization, gains, y_init,
                             t0, t1, times, events, event_resolution)  # fmt: skip

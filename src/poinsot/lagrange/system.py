@@ -247,15 +247,17 @@ class LagrangianSystem:
         n, m = self.n_coordinates, self.n_constraints
         q, v = sp.symbols(f"q0:{n}"), sp.symbols(f"v0:{n}")
         u, lam = sp.symbols(f"u0:{len(self.inputs)}"), sp.symbols(f"lam0:{m}")
-        speeds = dict(zip(self.speeds, v, strict=True))
-        rest = {
+        to = {
+            **dict(zip(self.speeds, v, strict=True)),
             **dict(zip(self.coordinates, q, strict=True)),
             **dict(zip(self.inputs, u, strict=True)),
             **dict(zip(list(self.lam_vec), lam, strict=True)),
         }
 
         def of(expr):
-            return sp.sympify(expr).subs(speeds).subs(rest)
+            # one simultaneous, structural replacement, top-down (q̇ is matched before the q
+            # inside it); ``subs`` would take 100× longer on large equations of motion
+            return sp.sympify(expr).xreplace(to)
 
         return SimpleNamespace(q=q, v=v, u=u, lam=lam, of=of)
 
@@ -459,16 +461,35 @@ class LagrangianSystem:
     def mass_matrix(self):
         """``M = ∂²L/∂q̇∂q̇`` (n × n), SymPy."""
         sp = _sympy()
-        p = self._momenta
-        return sp.Matrix(
-            self.n_coordinates, self.n_coordinates, lambda i, j: p[i].diff(self.speeds[j])
-        )
+        _, v, _, p, back = self._derivation
+        n = self.n_coordinates
+        return sp.Matrix(n, n, lambda i, j: p[i].diff(v[j]).xreplace(back))
+
+    @cached_property
+    def _derivation(self):
+        """``(q, v, L, p, back)``: the Lagrangian in plain symbols (``Dummy`` coordinates q
+        and speeds v, so that no user symbol can collide), its momenta ``p_j = ∂L/∂v_j`` and
+        the map ``back`` to the time functions. SymPy differentiates plain symbols about 10×
+        faster than functions of t and their derivatives: every derivative of the equations
+        of motion is taken here, and the results are mapped back."""
+        sp = _sympy()
+        n = self.n_coordinates
+        q = [sp.Dummy(f"q{i}") for i in range(n)]
+        v = [sp.Dummy(f"v{i}") for i in range(n)]
+        # one simultaneous replacement, top-down: q̇ (which contains q) is matched first
+        to = {**dict(zip(self.speeds, v, strict=True)), **dict(zip(self.coordinates, q,
+                                                                    strict=True))}  # fmt: skip
+        L = sp.sympify(self.lagrangian).xreplace(to)
+        back = {**dict(zip(v, self.speeds, strict=True)), **dict(zip(q, self.coordinates,
+                                                                      strict=True))}  # fmt: skip
+        return q, v, L, [L.diff(vj) for vj in v], back
 
     @cached_property
     def _momenta(self):
         """``p_j = ∂L/∂q̇_j``, computed once for the mass matrix, the forcing and the
         constants of the motion."""
-        return [self.lagrangian.diff(v) for v in self.speeds]
+        _, _, _, p, back = self._derivation
+        return [pj.xreplace(back) for pj in p]
 
     @cached_property
     def _explicitly_timed(self) -> bool:
@@ -482,13 +503,14 @@ class LagrangianSystem:
         ``f_j = ∂L/∂q_j − Σ_k ∂²L/∂q̇_j∂q_k q̇_k − ∂²L/∂q̇_j∂t + Q_j``."""
         sp = _sympy()
         t = self.t
+        q, v, L, p, back = self._derivation
         rows = []
-        for j, p in enumerate(self._momenta):
-            expr = self.lagrangian.diff(self.coordinates[j]) - sum(
-                p.diff(q) * v for q, v in zip(self.coordinates, self.speeds, strict=True)
-            )
+        for j, pj in enumerate(p):
+            expr = (L.diff(q[j]) - sum(pj.diff(qk) * vk for qk, vk in zip(q, v, strict=True)))
+            expr = expr.xreplace(back)
             if self._explicitly_timed:  # explicit time dependence of ∂L/∂q̇_j
-                expr -= _explicit_time_derivative(p, self.coordinates, self.speeds, t)
+                expr -= _explicit_time_derivative(self._momenta[j], self.coordinates,
+                                                  self.speeds, t)  # fmt: skip
             rows.append(expr + self.generalized_forces[j])
         return sp.Matrix(rows)
 
@@ -584,7 +606,8 @@ class LagrangianSystem:
     @cached_property
     def energy_function(self):
         """The Jacobi integral ``h = Σ q̇_j ∂L/∂q̇_j − L`` (= T + U for natural systems)."""
-        return sum(v * self.lagrangian.diff(v) for v in self.speeds) - self.lagrangian
+        _, v, L, p, back = self._derivation  # the momenta, once
+        return (sum(vj * pj for vj, pj in zip(v, p, strict=True)) - L).xreplace(back)
 
     def constants_of_motion(self):
         """The first integrals this system has by its form, with the reason for each:
