@@ -56,7 +56,7 @@ def case_lagrange_engine(repeat):
 
     rows = []
     rng = np.random.default_rng(0)
-    for n in (1, 2, 5):
+    for n in (1, 2, 5, 10):
         kane = n_link_pendulum_on_cart(n, cart_force=False, joint_torques=False)
         consts = sorted((kane.mass_matrix_full.free_symbols | kane.forcing_full.free_symbols)
                         - {sp.Symbol("t")}, key=str)  # fmt: skip
@@ -86,7 +86,7 @@ def case_lagrange_engine(repeat):
             pydy[generator] = (f, pv, setup)
         ref = pydy["cython"][0](y, 0.0, pydy["cython"][1])
         err = float(np.abs(out - ref).max())
-        calls = 20000 if n < 5 else 5000
+        calls = 20000 if n < 5 else 2000
         rhs, u0 = compiled.module.rhs, np.zeros(0)
 
         def ours(rhs=rhs, y=y, pvec=pvec, u0=u0, out=out):
@@ -101,4 +101,145 @@ def case_lagrange_engine(repeat):
     return rows
 
 
-CASES = {"lagrange_engine": case_lagrange_engine}
+def _rolling_disc_kane():
+    """SymPy's rolling disc by Kane's method, in poinsot's ``rolling-coin`` coordinates
+    (contact x, y, heading ψ, lean θ, spin φ; speeds u = q̇, u_x and u_y dependent through the
+    rolling constraints)."""
+    import sympy as sp
+    from sympy.physics.mechanics import (
+        KanesMethod,
+        Point,
+        ReferenceFrame,
+        RigidBody,
+        dynamicsymbols,
+        inertia,
+    )
+
+    q = dynamicsymbols("x y psi theta phi")
+    u = dynamicsymbols("u_x u_y u_psi u_theta u_phi")
+    x, y, psi, th, ph = q
+    m, r, g = sp.symbols("m r g", positive=True)
+    N = ReferenceFrame("N")
+    Yf = N.orientnew("Y", "Axis", [psi, N.z])
+    Lf = Yf.orientnew("L", "Axis", [th, Yf.x])
+    Rf = Lf.orientnew("R", "Axis", [ph, Lf.y])
+    O = Point("O")
+    O.set_vel(N, 0)
+    C = O.locatenew("C", x * N.x + y * N.y)
+    C.set_vel(N, u[0] * N.x + u[1] * N.y)
+    D = C.locatenew("D", r * Lf.z)
+    to_u = dict(zip([qi.diff() for qi in q], u, strict=True))
+    D.set_vel(N, D.pos_from(O).dt(N).subs(to_u))
+    Rf.set_ang_vel(N, Rf.ang_vel_in(N).subs(to_u))
+    disc = RigidBody("disc", D, Rf, m, (inertia(Lf, m * r**2 / 4, m * r**2 / 2, m * r**2 / 4), D))
+    slip = D.vel(N) + Rf.ang_vel_in(N).cross(-r * Lf.z)
+    kane = KanesMethod(N, q_ind=q, u_ind=u[2:], u_dependent=u[:2],
+                       kd_eqs=[qi.diff() - ui for qi, ui in zip(q, u, strict=True)],
+                       velocity_constraints=[slip.dot(N.x), slip.dot(N.y)])  # fmt: skip
+    kane.kanes_equations([disc], [(D, -m * g * N.z)])
+    return kane, (m, r, g)
+
+
+def case_lagrange_integrate(repeat):
+    """Integration of [0, 10] at rtol 1e-8 (101 samples): poinsot's compiled engine stepped
+    by its compiled DOP853 against PyDy's ``System.integrate`` (SciPy's ``odeint``, LSODA) on
+    the cython-generated right-hand side; errors at t = 10 against poinsot at rtol 1e-12. Also
+    the set-up: derivation and code generation, cold (a new cache folder: numba compiles) and
+    warm (the generated module on disk), against SymPy's Kane derivation and PyDy's cython
+    code generation."""
+    try:
+        from pydy.system import System
+    except ImportError:
+        return [{"case": "n-link pendulum on a cart", "note": "pydy missing: pip install pydy"}]
+    import os
+    import tempfile
+
+    import sympy as sp
+    from run import row, timed
+    from sympy.physics.mechanics.models import n_link_pendulum_on_cart
+
+    from poinsot import models
+    from poinsot.lagrange.engine import compile_system
+
+    times = np.linspace(0, 10, 101)
+    tol = {"rtol": 1e-8, "atol": 1e-8}
+    rows = []
+    rng = np.random.default_rng(1)
+    for n in (1, 2, 5, 10, "disc"):
+        with tempfile.TemporaryDirectory() as cold:
+            old = os.environ.get("POINSOT_CACHE_DIR")
+            os.environ["POINSOT_CACHE_DIR"] = cold
+            start = time.perf_counter()
+            if n == "disc":
+                mdl = models.rolling_coin()
+                system, p_ours = mdl.system, dict(mdl.params)
+                q0, qd0 = dict(mdl.q0), dict(mdl.qd0)
+                qd0.pop(mdl.symbols["x"], None)
+                qd0.pop(mdl.symbols["y"], None)
+            else:
+                system, q, m, l, g = _n_link_lagrangian(n)
+                p_ours = {**{m[i]: 1.0 for i in range(n + 1)}, **{l[i]: 1.0 for i in range(n)},
+                          g: 9.81}  # fmt: skip
+                # near the hanging equilibrium (q_i = π: SymPy's links point along +y, up),
+                # so that the motion is regular and the errors at t = 10 mean something
+                angles = np.pi + rng.uniform(-0.3, 0.3, n + 1)
+                angles[0] = 0.0  # the cart
+                q0 = {qi: float(v) for qi, v in zip(q, angles, strict=True)}
+                qd0 = {qi: 0.0 for qi in q}
+
+            def ours(system=system, p_ours=p_ours, q0=q0, qd0=qd0, rtol=1e-8, atol=1e-8):
+                return system.simulate((0, 10), q0=q0, qd0=qd0, params=p_ours, t_eval=times,
+                                       rtol=rtol, atol=atol, engine="compiled")  # fmt: skip
+
+            compile_system(system)
+            ours()
+            setup_cold = time.perf_counter() - start
+            if old is None:
+                del os.environ["POINSOT_CACHE_DIR"]
+            else:
+                os.environ["POINSOT_CACHE_DIR"] = old
+        start = time.perf_counter()  # warm: derive and generate again, load the cached module
+        if n == "disc":
+            system = models.rolling_coin().system
+        else:
+            system = _n_link_lagrangian(n)[0]
+        compile_system(system)
+        setup_warm = time.perf_counter() - start
+        t_ours, sol = timed(ours, repeat)
+        ref = ours(rtol=1e-12, atol=1e-12)
+        start = time.perf_counter()
+        if n == "disc":
+            kane, (m_, r_, g_) = _rolling_disc_kane()
+            constants = {m_: p_ours[mdl.symbols["m"]], r_: p_ours[mdl.symbols["r"]],
+                         g_: p_ours[mdl.symbols["g"]]}  # fmt: skip
+            # PyDy's speeds: the independent ones (ψ̇, θ̇, φ̇), then the dependent ones (ẋ, ẏ)
+            order = [2, 3, 4, 0, 1]
+        else:
+            kane = n_link_pendulum_on_cart(n, cart_force=False, joint_torques=False)
+            constants = {sp.Symbol(f"m{i}"): 1.0 for i in range(n + 1)}
+            constants.update({sp.Symbol(f"l{i}"): 1.0 for i in range(n)})
+            constants[sp.Symbol("g")] = 9.81
+            order = list(range(n + 1))
+        peer = System(kane, constants=constants, times=times)
+        peer.initial_conditions = {
+            **dict(zip(kane.q, sol.q[0], strict=True)),
+            **{kane.u[k]: sol.qd[0][order[k]] for k in range(len(kane.u))},
+        }
+        peer.generate_ode_function(generator="cython")
+        peer_setup = time.perf_counter() - start
+        t_peer, xs = timed(lambda peer=peer: peer.integrate(**tol), repeat)
+        nq = len(kane.q)
+        err_ours = float(np.abs(sol.q[-1] - ref.q[-1]).max())
+        err_peer = float(np.abs(xs[-1, :nq] - ref.q[-1]).max())
+        name = "rolling disc" if n == "disc" else f"{n}-link pendulum on a cart"
+        rows.append(row(f"{name}: integrate [0, 10] at rtol 1e-8", "compiled engine, dop853",
+                        t_ours, "PyDy System.integrate (odeint, cython)", t_peer, err_ours,
+                        err_peer, note=f"{sol.nfev} rhs evaluations"))  # fmt: skip
+        rows.append(row(f"{name}: derivation + code generation", "LagrangianSystem + "
+                        "compile_system (warm cache)", setup_warm, "KanesMethod + PyDy cython",
+                        peer_setup, None, None,
+                        note=f"cold cache (numba compiles): {setup_cold:.2f} s"))  # fmt: skip
+    return rows
+
+
+CASES = {"lagrange_engine": case_lagrange_engine, "lagrange_integrate": case_lagrange_integrate}

@@ -652,7 +652,7 @@ class LagrangianSystem:
                             "constraint acts along it"))  # fmt: skip
         return out
 
-    @property
+    @cached_property
     def parameters(self):
         """Free symbols other than t (to be given numbers at ``simulate`` time), sorted."""
         sp = _sympy()
