@@ -27,6 +27,7 @@ KERNELS = PACKAGE / "kernels"
 ALLOWED_IN_KERNELS = {
     "numpy",
     "numba",
+    "llvmlite",  # numba's own code generator: calls by address (kernels/native.py)
     "math",
     "__future__",
     "typing",

@@ -9,6 +9,7 @@ A new kernel without arguments here fails the test.
 from __future__ import annotations
 
 import copy
+import functools
 import importlib
 import pkgutil
 import types
@@ -67,6 +68,45 @@ def _relative_system():
 
     return RelativeSystem(FREE_BODY, np.diag(MOMENTS), KINDS, PARAMS, np.array([0.0, 0.0]),
                           *_ppoly())  # fmt: skip
+
+
+@functools.cache
+def _native_engine():
+    """A generated model (the pendulum in its angle), compiled in a folder of its own."""
+    import os
+    import tempfile
+
+    from poinsot.lagrange.engine import compile_system
+    from poinsot.models import pendulum_polar
+
+    old = os.environ.get("POINSOT_CACHE_DIR")
+    os.environ["POINSOT_CACHE_DIR"] = tempfile.mkdtemp(prefix="poinsot-native-")
+    try:
+        return compile_system(pendulum_polar().system)  # parameters g, l, m
+    finally:
+        if old is None:
+            del os.environ["POINSOT_CACHE_DIR"]
+        else:
+            os.environ["POINSOT_CACHE_DIR"] = old
+
+
+def _native_system():
+    return _native_engine().native_system(np.array([9.81, 1.0, 1.0]), np.zeros(0), (10.0, 10.0))
+
+
+def _native_chunk(method):
+    from poinsot.integrate import get_solver
+
+    template = _native_engine().native_lanes(np.array([[9.81, 1.0, 1.0], [9.81, 2.0, 1.0]]),
+                                             np.zeros((2, 0)))  # fmt: skip
+    Z0 = np.array([[0.3, 0.0], [1.0, -0.5]])
+    times = np.array([0.0, 0.02, 0.05])
+    out = (np.zeros((2, 3, 2)), *_counters(2))
+    if method == "dop853":
+        return (template, NoObserver(0.0), CONTROL, Z0, 0.0, 0.05, times, *out)
+    solver = get_solver("rk4")
+    return (template, NoObserver(0.0), solver.A, solver.B, solver.C, Z0, 0.0, 0.05, 0.01, times,
+            *out)  # fmt: skip
 
 
 def _force_args():
@@ -260,6 +300,12 @@ ARGS = {
     "rigid_potential": lambda: (SYSTEM, 0.5, Y),
     "torque_free_vector_field": lambda: (FREE, 0.5, Y, _out()),
     "relative_vector_field": lambda: (_relative_system(), 0.5, Y33, _out(33)),
+    "native_vector_field": lambda: (_native_system(), 0.5, np.array([0.4, -0.3]), _out(2)),
+    # generated models: ensembles of any state size; small linear systems
+    "chunk_states_dop853": lambda: _native_chunk("dop853"),
+    "chunk_states_erk": lambda: _native_chunk("erk"),
+    "solve_augmented": lambda: (np.array([[0.0, 2.0, 1.0, 4.0], [1.0, 1.0, 0.0, 3.0],
+                                          [2.0, 0.0, 5.0, 1.0]]), 3),  # fmt: skip
     # relative motion
     "transport_moment_of": lambda: (np.diag(MOMENTS), 0.3, -0.2, 0.5, 0.1, 0.4, -0.6),
     "coriolis_moment_of": lambda: (INERTIA, 0.3, -0.2, 0.5, 0.1, 0.4, -0.6),
@@ -498,6 +544,12 @@ EXEMPT = {
     "SYMMETRY_RTOL": "a tolerance",
     "DEGENERATE_RTOL": "a tolerance",
     "RigidSystem": "a named tuple type (the system's data)",
+    "NativeSystem": "a named tuple type (the system's data)",
+    "NativeLanes": "a named tuple type (the system's data)",
+    "native_vector_field": "calls generated code by address, which Python cannot: compared "
+    "with the generated module's own rhs in tests/lagrange/test_engine.py",
+    "call_rhs": "an intrinsic (typed in compiled code only; run by native_vector_field)",
+    "call_project": "an intrinsic (typed in compiled code only; run by the chunks' projection)",
     "TorqueFreeSystem": "a named tuple type (the system's data)",
     "UserForcesSystem": "a named tuple type (the system's data)",
     "TorqueFreeLanes": "a named tuple type (the system's data)",

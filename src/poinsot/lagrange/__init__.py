@@ -2,15 +2,19 @@
 
 :class:`LagrangianSystem` derives the equations of motion with multipliers symbolically (SymPy);
 ``system.simulate`` integrates them with poinsot's integrators and reports multipliers,
-generalized constraint forces, constraint residuals and energy; ``system.equilibria`` and
-``system.linearize`` give equilibria, natural frequencies and stability.
+generalized constraint forces, constraint residuals and energy (``engine="compiled"``: a
+generated, numba-compiled module stepped by the compiled drivers); ``system.simulate_ensemble``
+runs parameter ensembles; ``system.equilibria`` and ``system.linearize`` give equilibria,
+natural frequencies and stability.
 """
 
+from .ensemble import LagrangianEnsemble, simulate_ensemble
 from .linear import Linearization, equilibria, linearize
 from .numeric import LagrangianSolution, simulate
 from .system import LagrangianSystem, PointMass
 
 __all__ = [
+    "LagrangianEnsemble",
     "LagrangianSolution",
     "LagrangianSystem",
     "Linearization",
@@ -18,4 +22,5 @@ __all__ = [
     "equilibria",
     "linearize",
     "simulate",
+    "simulate_ensemble",
 ]

@@ -680,6 +680,13 @@ class LagrangianSystem:
 
         return simulate(self, t_span, q0=q0, qd0=qd0, params=params, **kwargs)
 
+    def simulate_ensemble(self, t_span, *, q0, qd0=None, params=None, **kwargs):
+        """Integrate N members (parameter sets × initial states) in compiled calls; see
+        :func:`poinsot.lagrange.ensemble.simulate_ensemble`."""
+        from .ensemble import simulate_ensemble
+
+        return simulate_ensemble(self, t_span, q0=q0, qd0=qd0, params=params, **kwargs)
+
     def equilibria(self, params=None, **kwargs):
         """Equilibria ``{coordinate: value}``; see :func:`poinsot.lagrange.linear.equilibria`."""
         from .linear import equilibria

@@ -1,0 +1,322 @@
+"""Parameter ensembles of a Lagrangian system: N parameter sets × initial states in compiled
+calls, like the rigid-body ensembles (``docs/lagrange.md``, "Ensembles").
+
+The system is generated and compiled once (:mod:`poinsot.lagrange.engine`); every member is
+the same compiled function with its own parameter vector, inputs and initial state. Members
+are cut into chunks, and a chunk runs in one call of
+:func:`~poinsot.kernels.ensemble.chunk_states_dop853` (or ``chunk_states_erk``) on the
+compiled drivers, chunks in parallel on threads (the kernels release the GIL). No Python runs
+per member or per step: Python checks shapes, builds the arrays and collects the results.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validation import as_scalar
+from .numeric import DEFAULT_BAUMGARTE
+
+__all__ = ["LagrangianEnsemble", "simulate_ensemble"]
+
+
+def _column(value, where):
+    """A number or a 1-D array of numbers, as a float array (1,) or (N,)."""
+    if isinstance(value, np.ndarray | list | tuple):
+        a = np.asarray(value)
+        if a.ndim != 1 or a.size == 0:
+            raise ValueError(f"`{where}` must be a number or a 1-D array of numbers, found "
+                             f"shape {a.shape}")  # fmt: skip
+        if not np.issubdtype(a.dtype, np.number) or np.iscomplexobj(a):
+            raise TypeError(f"`{where}` must hold real numbers, found {a.dtype}")
+        a = a.astype(float)
+        bad = np.nonzero(~np.isfinite(a))[0]
+        if len(bad):
+            raise ValueError(f"`{where}[{bad[0]}]` must be finite, found {a[bad[0]]}")
+        return a
+    return np.array([as_scalar(value, where)])
+
+
+def _by_key(values, keys, name, required):
+    """``{key: column}`` for a dict given by key or by name; unknown keys refused, named."""
+    if values is None:
+        values = {}
+    if not isinstance(values, dict):
+        raise TypeError(f"`{name}` must be a dict, found {type(values).__name__}")
+    by_name = {str(k).replace("(t)", ""): k for k in keys}
+    out = {}
+    for key, value in values.items():
+        k = by_name.get(key) if isinstance(key, str) else key
+        if k not in keys:
+            raise ValueError(f"`{name}`: {key!r} is not one of {', '.join(by_name) or 'none'}")
+        if callable(value):
+            raise TypeError(f"`{name}[{key}]`: an ensemble takes numbers (one or one per "
+                            "member), not functions")  # fmt: skip
+        out[k] = _column(value, f"{name}[{key}]")
+    missing = [str(k).replace("(t)", "") for k in keys if k not in out]
+    if required and missing:
+        raise ValueError(f"`{name}` must give every {required}: missing {', '.join(missing)}")
+    return out
+
+
+def _members(columns) -> int:
+    sizes = {len(c) for c in columns.values()} - {1}
+    if len(sizes) > 1:
+        lengths = ", ".join(f"{k}: {len(c)}" for k, c in columns.items() if len(c) > 1)
+        raise ValueError(f"the per-member arrays must have one length, found {lengths}")
+    return sizes.pop() if sizes else 1
+
+
+class LagrangianEnsemble:
+    """The members of a parameter ensemble, sampled at common times.
+
+    Attributes
+    ----------
+    t : (S,) sample times
+    q, qd : (N, S, n) coordinates and velocities (NaN for a member whose run failed)
+    parameters : dict {symbol: (N,)} every member's parameter values
+    inputs : dict {input: (N,)} every member's (constant) input values
+    status : (N,) int, the driver's status (1: finished; 2: non-finite state; 3: step too small)
+    nfev, nsteps : (N,) int
+    """
+
+    def __init__(self, system, engine, t, Y, P, U, status, nsteps, nfev, method, stabilization):
+        n = system.n_coordinates
+        self.system, self.engine = system, engine
+        self.coordinates = list(system.coordinates)
+        self.t = t
+        self.q, self.qd = Y[:, :, :n], Y[:, :, n:]
+        self._P, self._U = P, U
+        self.parameters = {s: P[:, i] for i, s in enumerate(engine.parameters)}
+        self.inputs = {s: U[:, i] for i, s in enumerate(engine.inputs)}
+        self.status, self.nsteps, self.nfev = status, nsteps, nfev
+        self.method, self.stabilization = method, stabilization
+
+    def __len__(self):
+        return self.q.shape[0]
+
+    @property
+    def success(self) -> np.ndarray:
+        """(N,) bool: the members whose run finished."""
+        from ..kernels.drivers import FINISHED
+
+        return self.status == FINISHED
+
+    def samples(self, i: int) -> dict:
+        """Member ``i``'s accelerations, multipliers (``lam``), generalized constraint forces,
+        residuals and energy at every sample (one compiled loop; see
+        :meth:`poinsot.lagrange.engine.CompiledSystem.samples`)."""
+        i = int(i)
+        if not -len(self) <= i < len(self):
+            raise IndexError(f"member {i} of an ensemble of {len(self)}")
+        y = np.concatenate([self.q[i], self.qd[i]], axis=1)
+        U = np.repeat(self._U[i][None], len(self.t), axis=0)
+        return self.engine.samples(self.t, y, self._P[i], U)
+
+    @property
+    def energy(self) -> np.ndarray:
+        """(N, S): every member's Jacobi integral ``h`` at every sample."""
+        return np.array([self.samples(i)["energy"] for i in range(len(self))])
+
+    def __getitem__(self, coordinate):
+        """(N, S): one coordinate of every member: ``ens[x]``."""
+        return self.q[:, :, self.coordinates.index(coordinate)]
+
+    def __repr__(self):
+        return (f"LagrangianEnsemble(members={len(self)}, samples={len(self.t)}, "
+                f"coordinates={self.coordinates}, method={self.method!r})")  # fmt: skip
+
+
+def simulate_ensemble(
+    system,
+    t_span,
+    *,
+    q0,
+    qd0=None,
+    params=None,
+    inputs=None,
+    method="dop853",
+    dt=None,
+    rtol=1e-10,
+    atol=1e-12,
+    t_eval=None,
+    stabilization="baumgarte",
+    baumgarte=DEFAULT_BAUMGARTE,
+    threads=None,
+    chunk_size=None,
+    tol=1e-9,
+) -> LagrangianEnsemble:
+    """Integrate N members of ``system``, each with its own parameters, inputs and initial
+    state, with the compiled engine.
+
+    Parameters
+    ----------
+    system : LagrangianSystem
+    t_span : (t0, t1)
+    q0, qd0 : dict {coordinate: number or (N,) array}
+        Every member's initial state, by coordinate (or its name). As for ``simulate``,
+        dependent coordinates and velocities of a constrained system may be omitted and are
+        solved for, member by member (a set-up cost); omitted velocities of an unconstrained
+        system are zero. The states must satisfy the constraints (checked for every member in
+        one compiled loop; the first violation is refused with its member index).
+    params : dict {parameter: number or (N,) array}
+        Every parameter of the system; a number is shared by all members.
+    inputs : dict {input: number or (N,) array}, optional
+        Constant inputs (a function of time runs with :meth:`LagrangianSystem.simulate`).
+    method, dt, rtol, atol, t_eval, stabilization, baumgarte
+        As for :func:`poinsot.lagrange.numeric.simulate` (``"projection"`` included);
+        ``t_eval`` defaults to 201 samples.
+    threads : int, optional
+        Chunks run on this many threads (default: the CPUs available).
+    chunk_size : int, optional
+        Members per chunk (default: the members spread over the threads, 1000 at most).
+    tol : float
+        Largest relative constraint residual accepted in an initial state.
+
+    Returns
+    -------
+    LagrangianEnsemble
+
+    Examples
+    --------
+    Pendulums of three lengths released from 0.01 rad: after a quarter of the small-amplitude
+    period of the middle one, ``(π/2)√(l/g)``, it passes the bottom, the shorter one is already
+    on the other side and the longer one still on its way.
+
+    >>> import numpy as np
+    >>> from poinsot.models import pendulum_polar
+    >>> model = pendulum_polar()
+    >>> th, l, g = (model.symbols[k] for k in ("theta", "l", "g"))
+    >>> quarter = np.pi / 2 * np.sqrt(1.0 / model.params[g])
+    >>> ens = model.system.simulate_ensemble(
+    ...     (0, quarter), q0={th: 0.01}, params={**model.params, l: [0.5, 1.0, 2.0]})
+    >>> np.sign(ens[th][:, -1].round(5)).tolist()
+    [-1.0, 0.0, 1.0]
+    """
+    from concurrent.futures import ThreadPoolExecutor
+
+    from ..ensemble.executors import available_cpus
+    from ..integrate.base import get_solver
+    from ..integrate.control import StepSizeController
+    from ..kernels import ensemble as kens
+    from ..kernels.observers import NoObserver
+    from ..simulation import _check_sampling, _check_t_span, _check_tolerances
+    from .engine import compile_system
+
+    t0, t1 = _check_t_span(t_span)
+    if stabilization not in ("baumgarte", "projection", None):
+        raise ValueError(
+            f"`stabilization` must be 'baumgarte', 'projection' or None, found {stabilization!r}"
+        )
+    solver = get_solver(method)
+    if solver.requires != "ode":
+        raise ValueError(f"method {solver.name!r} integrates rigid bodies; use 'dop853' or "
+                         "'rk4' for Lagrangian systems")  # fmt: skip
+    t_eval, _, dt = _check_sampling(t_eval, t0, t1, 1, dt)
+    rtol, atol = _check_tolerances(rtol, atol)
+    if not solver.adaptive and dt is None:
+        raise ValueError(f"method {solver.name!r} is fixed-step: `dt` must be given")
+    times = np.linspace(t0, t1, 201) if t_eval is None else np.asarray(t_eval, dtype=float)
+    if threads is not None and (not isinstance(threads, int) or threads < 1):
+        raise ValueError(f"`threads` must be a positive integer, found {threads!r}")
+    if chunk_size is not None and (not isinstance(chunk_size, int) or chunk_size < 1):
+        raise ValueError(f"`chunk_size` must be a positive integer, found {chunk_size!r}")
+
+    n, m = system.n_coordinates, system.n_constraints
+    P_cols = _by_key(params, system.parameters, "params", "parameter")
+    U_cols = _by_key(inputs, system.inputs, "inputs", "input")
+    Q_cols = _by_key(q0, system.coordinates, "q0", None if system.n_holonomic else "coordinate")
+    V_cols = _by_key(qd0, system.coordinates, "qd0", None)
+    N = _members({**P_cols, **U_cols, **Q_cols, **V_cols})
+
+    def table(keys, cols, default=None):
+        out = np.empty((N, len(keys)))
+        for j, k in enumerate(keys):
+            out[:, j] = cols[k] if k in cols else default
+        return out
+
+    engine = compile_system(system)
+    P = table(engine.parameters, P_cols)
+    U = table(engine.inputs, U_cols)
+    Z0 = np.concatenate([table(system.coordinates, Q_cols, np.nan),
+                         table(system.coordinates, V_cols, 0.0 if not m else np.nan)],
+                        axis=1)  # fmt: skip
+    if np.isnan(Z0).any():
+        _complete_states(system, engine, t0, Z0, P, U, tol)
+    _check_consistent(engine, t0, Z0, P, U, tol)
+
+    gains = tuple(float(x) for x in baumgarte) if stabilization == "baumgarte" else (0.0, 0.0)
+    projection = stabilization == "projection" and m > 0
+    Y = np.empty((N, len(times), 2 * n))
+    status = np.zeros(N, dtype=np.int64)
+    nsteps = np.zeros(N, dtype=np.int64)
+    nfev = np.zeros(N, dtype=np.int64)
+    workers = threads or available_cpus()
+    chunk = chunk_size or max(1, min(1000, -(-N // workers)))
+    observer = NoObserver(0.0)
+    if solver.adaptive:
+        control = StepSizeController(rtol, atol).as_array()
+    else:
+        steps = solver()
+
+    def run(i0):
+        i1 = min(i0 + chunk, N)
+        template = engine.native_lanes(P[i0:i1], U[i0:i1], gains, projection)
+        out = (Y[i0:i1], status[i0:i1], nsteps[i0:i1], nfev[i0:i1])
+        if solver.adaptive:
+            kens.chunk_states_dop853(template, observer, control, Z0[i0:i1], t0, t1, times,
+                                     *out)  # fmt: skip
+        else:
+            kens.chunk_states_erk(template, observer, steps.A, steps.B, steps.C, Z0[i0:i1],
+                                  t0, t1, float(dt), times, *out)  # fmt: skip
+
+    starts = range(0, N, chunk)
+    if workers == 1 or len(starts) == 1:
+        for i0 in starts:
+            run(i0)
+    else:
+        with ThreadPoolExecutor(min(workers, len(starts))) as pool:
+            list(pool.map(run, starts))
+    return LagrangianEnsemble(system, engine, times, Y, P, U, status, nsteps, nfev,
+                              solver.name, stabilization)  # fmt: skip
+
+
+def _complete_states(system, engine, t0, Z0, P, U, tol):
+    """Solve every member's omitted coordinates and velocities from the constraints, in place
+    (:func:`~poinsot.lagrange.numeric.consistent_initial_state` on the compiled module, member
+    by member: a set-up cost in Python, none per step)."""
+    from .numeric import _EngineNumeric, consistent_initial_state
+
+    n = system.n_coordinates
+    for i in range(len(Z0)):
+        num = _EngineNumeric(system, dict(zip(engine.parameters, P[i], strict=True)), engine)
+        constant = U[i]
+        num.u_of = lambda t, q, qd, c=constant: c
+        try:
+            q, qd = consistent_initial_state(system, num, t0, Z0[i, :n].copy(),
+                                             Z0[i, n:].copy(), tol=tol)  # fmt: skip
+        except ValueError as exc:
+            raise ValueError(f"member {i}: {exc}") from None
+        Z0[i, :n], Z0[i, n:] = q, qd
+
+
+def _check_consistent(engine, t0, Z0, P, U, tol):
+    """Refuse the first member whose initial state violates the constraints (or whose
+    equations cannot be solved there), naming it; one compiled loop over the members."""
+    N = len(Z0)
+    pos, vel, solvable = np.empty(N), np.empty(N), np.empty(N, dtype=np.bool_)
+    engine.module.starts(float(t0), Z0, P, U, pos, vel, solvable)
+    n = engine.module.N
+    scale_q = 1 + np.max(np.abs(Z0[:, :n]), axis=1)
+    scale_v = 1 + np.max(np.abs(Z0[:, n:]), axis=1)
+    for bad, what, value in ((pos > tol * scale_q, "holonomic constraints are violated by "
+                              "max |g(q0)|", pos),
+                             (vel > tol * scale_v, "velocity constraints are violated by "
+                              "max |G q̇0 + b|", vel)):  # fmt: skip
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise ValueError(f"member {i}: inconsistent initial state, the {what} = "
+                             f"{value[i]:.3g}")  # fmt: skip
+    if not solvable.all():
+        i = int(np.argmin(solvable))
+        raise ValueError(f"member {i}: the equations of motion cannot be solved at the initial "
+                         "state (a singular mass matrix: zero masses or inertia?)")  # fmt: skip
