@@ -32,8 +32,7 @@ __all__ = ["call_project", "call_rhs"]
 
 def _float_arrays(*arrays) -> bool:
     return all(
-        isinstance(a, types.Array) and a.dtype == types.float64 and a.layout == "C"
-        for a in arrays
+        isinstance(a, types.Array) and a.dtype == types.float64 and a.layout == "C" for a in arrays
     )
 
 

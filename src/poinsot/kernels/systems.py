@@ -59,6 +59,8 @@ from .rigid import (
 
 __all__ = [
     "REGISTER_SYSTEMS",
+    "NativeLanes",
+    "NativeSystem",
     "RelativeSystem",
     "RelativeUserSystem",
     "RigidLanes",
@@ -68,8 +70,6 @@ __all__ = [
     "TorqueFreeSystem",
     "UserForcesSystem",
     "body_parameters",
-    "NativeLanes",
-    "NativeSystem",
     "constrain",
     "lanes",
     "native_vector_field",

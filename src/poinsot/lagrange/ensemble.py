@@ -61,7 +61,8 @@ def _by_key(values, keys, name, required):
 def _members(columns) -> int:
     sizes = {len(c) for c in columns.values()} - {1}
     if len(sizes) > 1:
-        lengths = ", ".join(f"{k}: {len(c)}" for k, c in columns.items() if len(c) > 1)
+        lengths = ", ".join(f"{str(k).replace('(t)', '')}: {len(c)}"
+                            for k, c in columns.items() if len(c) > 1)  # fmt: skip
         raise ValueError(f"the per-member arrays must have one length, found {lengths}")
     return sizes.pop() if sizes else 1
 

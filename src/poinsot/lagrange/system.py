@@ -506,7 +506,7 @@ class LagrangianSystem:
         q, v, L, p, back = self._derivation
         rows = []
         for j, pj in enumerate(p):
-            expr = (L.diff(q[j]) - sum(pj.diff(qk) * vk for qk, vk in zip(q, v, strict=True)))
+            expr = L.diff(q[j]) - sum(pj.diff(qk) * vk for qk, vk in zip(q, v, strict=True))
             expr = expr.xreplace(back)
             if self._explicitly_timed:  # explicit time dependence of ∂L/∂q̇_j
                 expr -= _explicit_time_derivative(self._momenta[j], self.coordinates,

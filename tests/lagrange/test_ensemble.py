@@ -1,0 +1,127 @@
+"""Parameter ensembles of Lagrangian systems: every member is the single run with its own
+parameters (same compiled driver), whatever the chunking or threads; closed forms across the
+members; clear refusals."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from poinsot import models
+
+
+@pytest.fixture(autouse=True)
+def _cache(tmp_path_factory, monkeypatch):
+    monkeypatch.setenv("POINSOT_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "engine"))
+
+
+def test_members_are_the_single_runs_whatever_the_chunks():
+    mdl = models.pendulum_on_cart()
+    s = mdl.symbols
+    masses = np.array([0.5, 1.0, 2.0, 4.0, 8.0])
+    angles = np.linspace(0.2, 1.4, 5)
+    t = np.linspace(0, 2, 11)
+    kw = {"qd0": mdl.qd0, "t_eval": t}
+    params = {**mdl.params, s["M"]: masses}
+    ens = mdl.system.simulate_ensemble((0, 2), q0={s["x"]: 0.0, s["theta"]: angles},
+                                       params=params, **kw)  # fmt: skip
+    assert ens.success.all() and ens.q.shape == (5, 11, 2) and len(ens) == 5
+    for i in (0, 4):
+        one = mdl.simulate((0, 2), q0={s["x"]: 0.0, s["theta"]: angles[i]}, t_eval=t,
+                           params={**mdl.params, s["M"]: masses[i]}, engine="compiled")  # fmt: skip
+        assert np.array_equal(ens.q[i], one.q)  # the same compiled driver, the same steps
+        np.testing.assert_allclose(ens.energy[i], one.energy, rtol=1e-14)
+    for threads, chunk in ((1, None), (2, 1), (2, 3)):
+        other = mdl.system.simulate_ensemble((0, 2), q0={"x": 0.0, "theta": angles},
+                                             params=params, threads=threads, chunk_size=chunk,
+                                             **kw)  # fmt: skip
+        assert np.array_equal(other.q, ens.q)
+    np.testing.assert_array_equal(ens.parameters[s["M"]], masses)
+
+
+def test_small_oscillation_periods_across_lengths():
+    """θ(t) = θ0 cos(√(g/l) t) for small θ0: every member against its closed form."""
+    mdl = models.pendulum_polar()
+    th, l, g = (mdl.symbols[k] for k in ("theta", "l", "g"))
+    lengths = np.linspace(0.2, 3.0, 40)
+    t = np.linspace(0, 3, 31)
+    ens = mdl.system.simulate_ensemble((0, 3), q0={th: 1e-4}, t_eval=t,
+                                       params={**mdl.params, l: lengths})  # fmt: skip
+    exact = 1e-4 * np.cos(np.sqrt(mdl.params[g] / lengths)[:, None] * t)
+    np.testing.assert_allclose(ens[th], exact, atol=1e-11)  # amplitude correction ~ θ0³
+
+
+def test_constrained_members_solve_their_dependent_coordinates_and_keep_the_constraints():
+    """The Atwood machine with per-member masses: dependent coordinates and velocities solved
+    for each member; the acceleration a = (m1 − m2) g / (m1 + m2 + I/r²) in closed form, and the
+    multipliers the tensions of the single runs."""
+    mdl = models.atwood_machine()
+    s, p = mdl.symbols, mdl.params
+    m1 = np.array([1.0, 2.0, 3.0])
+    ens = mdl.system.simulate_ensemble((0, 1), q0={s["y1"]: 0.0}, params={**p, s["m1"]: m1},
+                                       stabilization="projection", t_eval=[0, 1])  # fmt: skip
+    assert ens.success.all()
+    for i in range(3):
+        one = mdl.simulate((0, 1), params={**p, s["m1"]: m1[i]}, t_eval=[0, 1],
+                           stabilization="projection", engine="compiled")  # fmt: skip
+        np.testing.assert_allclose(ens.q[i], one.q, rtol=1e-12, atol=1e-14)
+        np.testing.assert_allclose(ens.samples(i)["lam"], one.multipliers, rtol=1e-12)
+        res = ens.samples(i)["g"]
+        assert np.abs(res).max() < 1e-12
+
+
+def test_fixed_step_ensembles_and_failed_members():
+    """RK4 members; a member whose run becomes non-finite gets NaN samples and its status,
+    its neighbours their own results."""
+    from poinsot.kernels.drivers import FINISHED, NONFINITE
+
+    mdl = models.pendulum_polar()
+    th, g, l, m = (mdl.symbols[k] for k in ("theta", "g", "l", "m"))
+    # member 1: θ̈ = −(g/l) sin θ with g/l = 1e310 overflows once θ leaves 0
+    params = {g: [9.81, 1e160, 9.81], l: [1.0, 1e-150, 1.0], m: 1.0}
+    ens = mdl.system.simulate_ensemble((0, 1), q0={th: [0.1, 0.0, 0.3]}, qd0={th: [0, 1, 0]},
+                                       method="rk4", dt=1e-3, t_eval=[0, 1],
+                                       params=params)  # fmt: skip
+    assert ens.status.tolist() == [FINISHED, NONFINITE, FINISHED]
+    assert np.isnan(ens.q[1]).all() and np.isfinite(ens.q[[0, 2]]).all()
+    one = mdl.simulate((0, 1), q0={th: 0.3}, method="rk4", dt=1e-3, t_eval=[0, 1],
+                       engine="compiled")  # fmt: skip
+    assert np.array_equal(ens.q[2], one.q)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "match"),
+    [
+        (
+            {"params": {"l": [1.0, 2.0]}, "q0": {"theta": [0.1, 0.2, 0.3]}},
+            ValueError,
+            "one length, found l: 2, theta: 3",
+        ),
+        ({"params": {"zeta": 1.0}}, ValueError, r"`params`: 'zeta' is not one of g, l, m"),
+        ({"params": {"l": 1.0}}, ValueError, "`params` must give every parameter: missing g, m"),
+        ({"params": {"l": [[1.0]]}}, ValueError, r"`params\[l\]` must be a number or a 1-D"),
+        ({"params": {"l": [1.0, np.nan]}}, ValueError, r"`params\[l\]\[1\]` must be finite"),
+        ({"q0": {"theta": lambda t: t}}, TypeError, "takes numbers"),
+        ({"q0": {"phi": 0.1}}, ValueError, r"`q0`: 'phi' is not one of theta"),
+        ({"params": {"m": [1.0, 0.0]}}, ValueError, "member 1: the equations of motion cannot"),
+        ({"threads": 0}, ValueError, "`threads` must be a positive integer"),
+        ({"method": "rk4"}, ValueError, "`dt` must be given"),
+        ({"method": "splitting"}, ValueError, "integrates rigid bodies"),
+    ],
+)
+def test_bad_input_is_refused_named(kwargs, error, match):
+    mdl = models.pendulum_polar()
+    base = {"q0": {"theta": 0.1}, "params": {"g": 9.81, "l": 1.0, "m": 1.0}}
+    given = kwargs.pop("params", {})
+    params = {"l": 1.0} if "missing" in match else {**base["params"], **given}
+    call = {**base, "params": params, **kwargs}
+    with pytest.raises(error, match=match):
+        mdl.system.simulate_ensemble((0, 1), **call)
+
+
+def test_an_inconsistent_member_is_named():
+    mdl = models.pendulum_cartesian()
+    x, y = mdl.symbols["x"], mdl.symbols["y"]
+    with pytest.raises(ValueError, match="member 2: inconsistent initial conditions"):
+        mdl.system.simulate_ensemble((0, 1), q0={x: [0.0, 0.6, 0.9], y: [-1.0, -0.8, -0.9]},
+                                     params=mdl.params)  # fmt: skip
