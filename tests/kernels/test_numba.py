@@ -307,7 +307,7 @@ ARGS = {
     "solve_augmented": lambda: (
         np.array([[0.0, 2.0, 1.0, 4.0], [1.0, 1.0, 0.0, 3.0], [2.0, 0.0, 5.0, 1.0]]),
         3,
-    ),  # fmt: skip
+    ),
     # relative motion
     "transport_moment_of": lambda: (np.diag(MOMENTS), 0.3, -0.2, 0.5, 0.1, 0.4, -0.6),
     "coriolis_moment_of": lambda: (INERTIA, 0.3, -0.2, 0.5, 0.1, 0.4, -0.6),
