@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from poinsot.kernels.linalg import solve_augmented
+from poinsot.kernels.linalg import solve_augmented, solve_spd_augmented
 
 
 def _system(seed, n):
@@ -55,3 +55,22 @@ def test_singular_or_non_finite_is_reported(bad):
     assert not solve_augmented(K, 2)
     K = np.array([[bad, 0.0, 1.0], [0.0, bad, 1.0]])
     assert not solve_augmented(K, 2)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**31), st.integers(1, 14), st.sampled_from([1e-150, 1.0, 1e150]))
+def test_cholesky_equals_lapack_on_mass_matrices(seed, n, s):
+    """A mass matrix is symmetric positive definite: Cholesky gives LAPACK's solution, at any
+    scale, reading only the lower triangle."""
+    rng = np.random.default_rng(seed)
+    B = rng.normal(size=(n, n))
+    M = s * (B @ B.T + n * np.eye(n))
+    b = s * rng.normal(size=n)
+    K = np.column_stack([np.tril(M), b])  # the upper triangle is never read
+    assert solve_spd_augmented(K, n)
+    np.testing.assert_allclose(K[:, n], np.linalg.solve(M, b), rtol=1e-10, atol=1e-12)
+
+
+def test_cholesky_refuses_an_indefinite_matrix():
+    K = np.array([[1.0, 2.0, 1.0], [2.0, 1.0, 1.0]])  # eigenvalues 3 and −1
+    assert not solve_spd_augmented(K, 2)

@@ -304,6 +304,7 @@ ARGS = {
     # generated models: ensembles of any state size; small linear systems
     "chunk_states_dop853": lambda: _native_chunk("dop853"),
     "chunk_states_erk": lambda: _native_chunk("erk"),
+    "solve_spd_augmented": lambda: (np.array([[4.0, 2.0, 2.0], [2.0, 3.0, 5.0]]), 2),
     "solve_augmented": lambda: (
         np.array([[0.0, 2.0, 1.0, 4.0], [1.0, 1.0, 0.0, 3.0], [2.0, 0.0, 5.0, 1.0]]),
         3,

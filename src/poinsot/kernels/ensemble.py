@@ -404,22 +404,31 @@ def _states_member_finish(i, st, counters, out_y, Y, status, nsteps, nfev):
             Y[i, k, c] = out_y[k, c] if st == FINISHED else np.nan
 
 
+@kernel(inline=True)
+def _states_workspace(d, n):
+    """The state ``z`` (d,), its derivative, the samples ``out_t`` (n,), ``out_y`` (n, d), the
+    clock and the counters of one member's run."""
+    return (np.empty(d), np.empty(d), np.empty(n), np.empty((n, d)), np.zeros(CLOCK_SIZE),
+            np.zeros(COUNTERS_SIZE, dtype=np.int64))  # fmt: skip
+
+
+@kernel(inline=True)
+def _states_member_start(template, Z0, i, t0, z, clock, counters):
+    for c in range(z.shape[0]):
+        z[c] = Z0[i, c]
+    clock[0] = t0
+    clock[1] = 0.0
+    counters[:] = 0
+    return member_system(template, i)
+
+
 @kernel
 def chunk_states_erk(template, observer, A, B, C, Z0, t0, t1, dt, t_eval, Y, status, nsteps,
                      nfev):  # fmt: skip
     """The chunk's members one at a time with the explicit Runge–Kutta tableau ``A, B, C``."""
-    d = Z0.shape[1]
-    z = np.empty(d)
-    out_t = np.empty(t_eval.shape[0])
-    out_y = np.empty((t_eval.shape[0], d))
-    clock = np.zeros(CLOCK_SIZE)
-    counters = np.zeros(COUNTERS_SIZE, dtype=np.int64)
+    z, _, out_t, out_y, clock, counters = _states_workspace(Z0.shape[1], t_eval.shape[0])
     for i in range(Z0.shape[0]):
-        system = member_system(template, i)
-        z[:] = Z0[i]
-        clock[0] = t0
-        clock[1] = 0.0
-        counters[:] = 0
+        system = _states_member_start(template, Z0, i, t0, z, clock, counters)
         st = run_erk(system, observer, A, B, C, clock, z, t1, dt, t_eval, 2**62, out_t, out_y,
                      counters, 2**62)  # fmt: skip
         _states_member_finish(i, st, counters, out_y, Y, status, nsteps, nfev)
@@ -429,19 +438,9 @@ def chunk_states_erk(template, observer, A, B, C, Z0, t0, t1, dt, t_eval, Y, sta
 def chunk_states_dop853(template, observer, control, Z0, t0, t1, t_eval, Y, status, nsteps,
                         nfev):  # fmt: skip
     """The chunk's members one at a time with adaptive DOP853, each with its own step sizes."""
-    d = Z0.shape[1]
-    z = np.empty(d)
-    f = np.empty(d)
-    out_t = np.empty(t_eval.shape[0])
-    out_y = np.empty((t_eval.shape[0], d))
-    clock = np.zeros(CLOCK_SIZE)
-    counters = np.zeros(COUNTERS_SIZE, dtype=np.int64)
+    z, f, out_t, out_y, clock, counters = _states_workspace(Z0.shape[1], t_eval.shape[0])
     for i in range(Z0.shape[0]):
-        system = member_system(template, i)
-        z[:] = Z0[i]
-        clock[0] = t0
-        clock[1] = 0.0
-        counters[:] = 0
+        system = _states_member_start(template, Z0, i, t0, z, clock, counters)
         st = run_adaptive(system, observer, clock, z, f, t1, control, t_eval, 2**62, out_t,
                           out_y, counters, 2**62)  # fmt: skip
         _states_member_finish(i, st, counters, out_y, Y, status, nsteps, nfev)

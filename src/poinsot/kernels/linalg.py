@@ -10,9 +10,11 @@ stays the reference it is tested against (``tests/kernels/test_linalg.py``).
 
 from __future__ import annotations
 
+import numpy as np
+
 from .jit import kernel
 
-__all__ = ["solve_augmented"]
+__all__ = ["solve_augmented", "solve_spd_augmented"]
 
 
 @kernel
@@ -66,4 +68,51 @@ def solve_augmented(A, n):
         for j in range(k + 1, n):
             s -= A[k, j] * A[j, n]
         A[k, n] = s / A[k, k]
+    return True
+
+
+@kernel
+def solve_spd_augmented(A, n):
+    """Solve ``A[:n, :n] x = A[:n, n]`` for a symmetric positive definite matrix (a mass
+    matrix) in place by Cholesky's factorisation ``A = L Lᵀ`` (Golub & Van Loan, alg. 4.2.1),
+    half the work of :func:`solve_augmented`: ``x`` overwrites ``A[:n, n]``, ``L`` the lower
+    triangle; only the lower triangle of the matrix is read.
+
+    Returns
+    -------
+    bool
+        False when the matrix is not (numerically) positive definite or not finite; ``A`` is
+        then partly overwritten.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = np.array([[4.0, 2.0, 2.0], [2.0, 3.0, 5.0]])   # [[4, 2], [2, 3]] x = [2, 5]
+    >>> bool(solve_spd_augmented(A, 2)), A[:, 2].round(12).tolist()
+    (True, [-0.5, 2.0])
+    """
+    for j in range(n):
+        d = A[j, j]
+        for k in range(j):
+            d -= A[j, k] * A[j, k]
+        if not (d > 0.0 and d < 1e308):
+            return False
+        d = np.sqrt(d)
+        A[j, j] = d
+        inv = 1.0 / d
+        for i in range(j + 1, n):
+            s = A[i, j]
+            for k in range(j):
+                s -= A[i, k] * A[j, k]
+            A[i, j] = s * inv
+    for i in range(n):  # L z = b
+        s = A[i, n]
+        for k in range(i):
+            s -= A[i, k] * A[k, n]
+        A[i, n] = s / A[i, i]
+    for i in range(n - 1, -1, -1):  # Lᵀ x = z
+        s = A[i, n]
+        for k in range(i + 1, n):
+            s -= A[k, i] * A[k, n]
+        A[i, n] = s / A[i, i]
     return True

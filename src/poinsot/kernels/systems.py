@@ -443,19 +443,19 @@ def _relative_potential(system, t, y):
 
 
 @kernel(inline=True)
-def _relative_no_rates(system, t, y, lane):
+def _general_no_rates(system, t, y, lane):
     # The rigid-only steps (RK4 in registers, RKMK, splitting) are compiled for every system
-    # type but never run for this one: the Python layer refuses those methods, and RK4 runs
-    # its tableau through the general step.
+    # type but never run for the general ones (relative motion, generated models): the Python
+    # layer refuses those methods, and RK4 runs its tableau through the general step.
     if lane >= 0:
-        raise TypeError("a relative-motion system is stepped by the general Runge-Kutta steps")
+        raise TypeError("this system is stepped by the general Runge-Kutta steps")
     return y
 
 
 @kernel(inline=True)
-def _relative_no_wrench(system, t, y):
+def _general_no_wrench(system, t, y):
     if t == t:
-        raise TypeError("a relative-motion system has no rigid-body wrench")
+        raise TypeError("this system has no rigid-body wrench")
     return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
 
 
@@ -472,9 +472,9 @@ def _relative_state_size(system, y):
 for _type in (RelativeSystem, RelativeUserSystem):
     vector_field.register(_type)(relative_vector_field)
     potential.register(_type)(_relative_potential)
-    rates.register(_type)(_relative_no_rates)
-    constrain.register(_type)(_relative_no_rates)
-    wrench.register(_type)(_relative_no_wrench)
+    rates.register(_type)(_general_no_rates)
+    constrain.register(_type)(_general_no_rates)
+    wrench.register(_type)(_general_no_wrench)
     project.register(_type)(_relative_project)
     state_size.register(_type)(_relative_state_size)
     body_parameters.register(_type)(_one_body_parameters)
@@ -503,20 +503,6 @@ def _native_state_size(system, y):
 
 
 @kernel(inline=True)
-def _native_no_rates(system, t, y, lane):
-    if lane >= 0:  # never run: see _relative_no_rates
-        raise TypeError("a generated system is stepped by the general Runge-Kutta steps")
-    return y
-
-
-@kernel(inline=True)
-def _native_no_wrench(system, t, y):
-    if t == t:
-        raise TypeError("a generated system has no rigid-body wrench")
-    return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-
-
-@kernel(inline=True)
 def _native_no_potential(system, t, y):
     return 0.0
 
@@ -527,9 +513,9 @@ def _native_body_parameters(system):
 
 
 state_size.register(NativeSystem)(_native_state_size)
-rates.register(NativeSystem)(_native_no_rates)
-constrain.register(NativeSystem)(_native_no_rates)
-wrench.register(NativeSystem)(_native_no_wrench)
+rates.register(NativeSystem)(_general_no_rates)
+constrain.register(NativeSystem)(_general_no_rates)
+wrench.register(NativeSystem)(_general_no_wrench)
 potential.register(NativeSystem)(_native_no_potential)
 body_parameters.register(NativeSystem)(_native_body_parameters)
 lanes.register(NativeSystem)(_one_lane)

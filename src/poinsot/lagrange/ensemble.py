@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import as_scalar
-from .numeric import DEFAULT_BAUMGARTE
+from .numeric import DEFAULT_BAUMGARTE, check_run_options
 
 __all__ = ["LagrangianEnsemble", "simulate_ensemble"]
 
@@ -196,7 +196,6 @@ def simulate_ensemble(
     from concurrent.futures import ThreadPoolExecutor
 
     from ..ensemble.executors import available_cpus
-    from ..integrate.base import get_solver
     from ..integrate.control import StepSizeController
     from ..kernels import ensemble as kens
     from ..kernels.observers import NoObserver
@@ -204,14 +203,7 @@ def simulate_ensemble(
     from .engine import compile_system
 
     t0, t1 = _check_t_span(t_span)
-    if stabilization not in ("baumgarte", "projection", None):
-        raise ValueError(
-            f"`stabilization` must be 'baumgarte', 'projection' or None, found {stabilization!r}"
-        )
-    solver = get_solver(method)
-    if solver.requires != "ode":
-        raise ValueError(f"method {solver.name!r} integrates rigid bodies; use 'dop853' or "
-                         "'rk4' for Lagrangian systems")  # fmt: skip
+    solver = check_run_options(method, stabilization)
     t_eval, _, dt = _check_sampling(t_eval, t0, t1, 1, dt)
     rtol, atol = _check_tolerances(rtol, atol)
     if not solver.adaptive and dt is None:

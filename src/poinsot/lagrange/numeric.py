@@ -465,13 +465,18 @@ def _keyed(values, system, name, allow_missing):
         raise TypeError(
             f"`{name}` must be a dict {{coordinate: value}}, found {type(values).__name__}"
         )
+    index = {c: i for i, c in enumerate(system.coordinates)}  # hashing: no SymPy comparison
     for key, value in values.items():
-        if key not in system.coordinates:
+        i = index.get(key)
+        if i is None:
             raise ValueError(
                 f"`{name}`: {key} is not a coordinate of the system "
                 f"(coordinates: {system.coordinates})"
             )
-        out[system.coordinates.index(key)] = as_scalar(value, f"{name}[{key}]")
+        if type(value) is float and np.isfinite(value):  # the common case, without a label
+            out[i] = value
+        else:
+            out[i] = as_scalar(value, f"{name}[{key}]")
     if not allow_missing and np.any(np.isnan(out)):
         missing = [str(system.coordinates[i]) for i in np.nonzero(np.isnan(out))[0]]
         raise ValueError(
@@ -618,6 +623,23 @@ def consistent_initial_state(system, num, t0, q0, qd0, guess=None, tol=1e-9):
     return q, qd
 
 
+def check_run_options(method, stabilization):
+    """The solver class of ``method`` (one for general ODEs), with ``stabilization`` checked."""
+    from ..integrate.base import get_solver
+
+    if stabilization not in ("baumgarte", "projection", None):
+        raise ValueError(
+            f"`stabilization` must be 'baumgarte', 'projection' or None, found {stabilization!r}"
+        )
+    solver = get_solver(method)
+    if solver.requires != "ode":
+        raise ValueError(
+            f"method {solver.name!r} integrates rigid bodies; use 'dop853' or "
+            "'rk4' for Lagrangian systems"
+        )
+    return solver
+
+
 def simulate(
     system,
     t_span,
@@ -677,23 +699,13 @@ def simulate(
         seconds of compilation the first time a system is seen (cached on disk), and one
         compilation for every parameter set of a sweep.
     """
-    from ..integrate.base import get_solver
     from ..integrate.driver import IntegrationError, integrate
     from ..simulation import SimulationError, _check_sampling, _check_t_span, _check_tolerances
 
     t0, t1 = _check_t_span(t_span)
     if engine not in ("numpy", "compiled"):
         raise ValueError(f"`engine` must be 'numpy' or 'compiled', found {engine!r}")
-    if stabilization not in ("baumgarte", "projection", None):
-        raise ValueError(
-            f"`stabilization` must be 'baumgarte', 'projection' or None, found {stabilization!r}"
-        )
-    solver = get_solver(method)
-    if solver.requires != "ode":
-        raise ValueError(
-            f"method {solver.name!r} integrates rigid bodies; use 'dop853' or "
-            "'rk4' for Lagrangian systems"
-        )
+    solver = check_run_options(method, stabilization)
     params = as_params(params, system)
     t_eval, _, dt = _check_sampling(t_eval, t0, t1, 1, dt)
     rtol, atol = _check_tolerances(rtol, atol)
