@@ -101,45 +101,6 @@ def case_lagrange_engine(repeat):
     return rows
 
 
-def _rolling_disc_kane():
-    """SymPy's rolling disc by Kane's method, in poinsot's ``rolling-coin`` coordinates
-    (contact x, y, heading ψ, lean θ, spin φ; speeds u = q̇, u_x and u_y dependent through the
-    rolling constraints)."""
-    import sympy as sp
-    from sympy.physics.mechanics import (
-        KanesMethod,
-        Point,
-        ReferenceFrame,
-        RigidBody,
-        dynamicsymbols,
-        inertia,
-    )
-
-    q = dynamicsymbols("x y psi theta phi")
-    u = dynamicsymbols("u_x u_y u_psi u_theta u_phi")
-    x, y, psi, th, ph = q
-    m, r, g = sp.symbols("m r g", positive=True)
-    N = ReferenceFrame("N")
-    Yf = N.orientnew("Y", "Axis", [psi, N.z])
-    Lf = Yf.orientnew("L", "Axis", [th, Yf.x])
-    Rf = Lf.orientnew("R", "Axis", [ph, Lf.y])
-    O = Point("O")
-    O.set_vel(N, 0)
-    C = O.locatenew("C", x * N.x + y * N.y)
-    C.set_vel(N, u[0] * N.x + u[1] * N.y)
-    D = C.locatenew("D", r * Lf.z)
-    to_u = dict(zip([qi.diff() for qi in q], u, strict=True))
-    D.set_vel(N, D.pos_from(O).dt(N).subs(to_u))
-    Rf.set_ang_vel(N, Rf.ang_vel_in(N).subs(to_u))
-    disc = RigidBody("disc", D, Rf, m, (inertia(Lf, m * r**2 / 4, m * r**2 / 2, m * r**2 / 4), D))
-    slip = D.vel(N) + Rf.ang_vel_in(N).cross(-r * Lf.z)
-    kane = KanesMethod(N, q_ind=q, u_ind=u[2:], u_dependent=u[:2],
-                       kd_eqs=[qi.diff() - ui for qi, ui in zip(q, u, strict=True)],
-                       velocity_constraints=[slip.dot(N.x), slip.dot(N.y)])  # fmt: skip
-    kane.kanes_equations([disc], [(D, -m * g * N.z)])
-    return kane, (m, r, g)
-
-
 def case_lagrange_integrate(repeat):
     """Integration of [0, 10] at rtol 1e-8 (101 samples): poinsot's compiled engine stepped
     by its compiled DOP853 against PyDy's ``System.integrate`` (SciPy's ``odeint``, LSODA) on
@@ -209,7 +170,7 @@ def case_lagrange_integrate(repeat):
         ref = ours(rtol=1e-12, atol=1e-12)
         start = time.perf_counter()
         if n == "disc":
-            kane, (m_, r_, g_) = _rolling_disc_kane()
+            kane, (m_, r_, g_) = models.rolling_coin_kane()
             constants = {m_: p_ours[mdl.symbols["m"]], r_: p_ours[mdl.symbols["r"]],
                          g_: p_ours[mdl.symbols["g"]]}  # fmt: skip
             # PyDy's speeds: the independent ones (ψ̇, θ̇, φ̇), then the dependent ones (ẋ, ẏ)

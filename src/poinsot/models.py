@@ -22,6 +22,7 @@ __all__ = [
     "pendulum_on_cart",
     "pendulum_polar",
     "rolling_coin",
+    "rolling_coin_kane",
     "rolling_disk",
     "sliding_ladder",
     "spherical_pendulum",
@@ -561,6 +562,47 @@ def rolling_coin() -> Model:
         view="3d",
         trail="contact",
     )
+
+
+def rolling_coin_kane():
+    """The disc of :func:`rolling_coin` by SymPy's Kane's method, for comparisons with a peer's
+    formulation (SymPy's ``Linearizer``, PyDy): a ``KanesMethod`` with its equations formed, and
+    the symbols ``(m, r, g)``. The same coordinates (contact x, y, heading ψ, lean θ, spin φ);
+    the speeds are u = q̇, in the order (u_ψ, u_θ, u_φ) independent, then (u_x, u_y) dependent
+    through the rolling constraints."""
+    sp, _ = _sp()
+    from sympy.physics.mechanics import (
+        KanesMethod,
+        Point,
+        ReferenceFrame,
+        RigidBody,
+        dynamicsymbols,
+        inertia,
+    )
+
+    q = dynamicsymbols("x y psi theta phi")
+    u = dynamicsymbols("u_x u_y u_psi u_theta u_phi")
+    x, y, psi, th, ph = q
+    m, r, g = sp.symbols("m r g", positive=True)
+    N = ReferenceFrame("N")
+    Yf = N.orientnew("Y", "Axis", [psi, N.z])
+    Lf = Yf.orientnew("L", "Axis", [th, Yf.x])
+    Rf = Lf.orientnew("R", "Axis", [ph, Lf.y])
+    O = Point("O")
+    O.set_vel(N, 0)
+    C = O.locatenew("C", x * N.x + y * N.y)
+    C.set_vel(N, u[0] * N.x + u[1] * N.y)
+    D = C.locatenew("D", r * Lf.z)
+    to_u = dict(zip([qi.diff() for qi in q], u, strict=True))
+    D.set_vel(N, D.pos_from(O).dt(N).subs(to_u))
+    Rf.set_ang_vel(N, Rf.ang_vel_in(N).subs(to_u))
+    disc = RigidBody("disc", D, Rf, m, (inertia(Lf, m * r**2 / 4, m * r**2 / 2, m * r**2 / 4), D))
+    slip = D.vel(N) + Rf.ang_vel_in(N).cross(-r * Lf.z)
+    kane = KanesMethod(N, q_ind=q, u_ind=u[2:], u_dependent=u[:2],
+                       kd_eqs=[qi.diff() - ui for qi, ui in zip(q, u, strict=True)],
+                       velocity_constraints=[slip.dot(N.x), slip.dot(N.y)])  # fmt: skip
+    kane.kanes_equations([disc], [(D, -m * g * N.z)])
+    return kane, (m, r, g)
 
 
 def heavy_symmetric_top() -> Model:

@@ -198,3 +198,26 @@ def test_rolling_coin_is_stable_upright_exactly_above_the_critical_spin():
             assert lin.reduced_verdict == "spectrally stable"
             assert lin.frequencies.max() == pytest.approx(np.sqrt(rate2), rel=1e-6)
         assert {str(q) for q in lin.ignorable} >= {"x(t)", "y(t)", "phi(t)"}
+
+
+@pytest.mark.parametrize("ratio", [0.5, 0.9, 1.1, 2.0])
+def test_rolling_coin_critical_spin_agrees_with_sympy_linearizer(ratio):
+    """The same disc by SymPy's Kane's method, linearised by SymPy's ``Linearizer`` about
+    upright rolling (the dependent contact speeds from the rolling constraints): the lean's
+    eigenvalues, real below the critical spin √(g/3r) and imaginary above, equal ours."""
+    mdl = models.rolling_coin()
+    p = {str(k): v for k, v in mdl.params.items()}
+    spin = ratio * np.sqrt(p["g"] / p["r"] / 3)
+    point, speeds = _upright_rolling(mdl, spin)
+    ours = mdl.system.linearize(point, params=mdl.params, speeds=speeds).eigenvalues
+    kane, (m, r, g) = models.rolling_coin_kane()
+    u_psi, u_th, u_ph, u_x, u_y = kane.u
+    op = {**dict.fromkeys(kane.q, 0.0), u_psi: 0.0, u_th: 0.0, u_ph: spin,
+          u_x: speeds[mdl.symbols["x"]], u_y: speeds[mdl.symbols["y"]]}  # fmt: skip
+    A, _, _ = kane.linearize(op_point=[op, {u.diff(t): 0 for u in kane.u}], A_and_B=True)
+    A = A.subs({m: p["m"], r: p["r"], g: p["g"]})
+    theirs = np.linalg.eigvals(np.array(A.evalf(), dtype=float))
+    for part in (np.real, np.imag):  # the lean's pair: the only non-zero eigenvalues
+        np.testing.assert_allclose(np.sort(part(ours))[[0, -1]], np.sort(part(theirs))[[0, -1]],
+                                   rtol=1e-9, atol=1e-9)  # fmt: skip
+    assert np.abs(theirs).max() > 1.0
