@@ -468,14 +468,15 @@ class LagrangianSystem:
     @cached_property
     def _derivation(self):
         """``(q, v, L, p, back)``: the Lagrangian in plain symbols (``Dummy`` coordinates q
-        and speeds v, so that no user symbol can collide), its momenta ``p_j = ∂L/∂v_j`` and
+        and speeds v, so that no user symbol can collide; real, as they are, which spares SymPy
+        assumption queries: 20 % of the derivation), its momenta ``p_j = ∂L/∂v_j`` and
         the map ``back`` to the time functions. SymPy differentiates plain symbols about 10×
         faster than functions of t and their derivatives: every derivative of the equations
         of motion is taken here, and the results are mapped back."""
         sp = _sympy()
         n = self.n_coordinates
-        q = [sp.Dummy(f"q{i}") for i in range(n)]
-        v = [sp.Dummy(f"v{i}") for i in range(n)]
+        q = [sp.Dummy(f"q{i}", real=True) for i in range(n)]
+        v = [sp.Dummy(f"v{i}", real=True) for i in range(n)]
         # one simultaneous replacement, top-down: q̇ (which contains q) is matched first
         to = {**dict(zip(self.speeds, v, strict=True)), **dict(zip(self.coordinates, q,
                                                                     strict=True))}  # fmt: skip
