@@ -116,12 +116,14 @@ def test_a_compiled_run_calls_no_python_per_step(monkeypatch):
     assert fast.nfev == slow.nfev
 
 
-def test_one_compilation_serves_a_parameter_sweep(monkeypatch):
+def test_one_compilation_serves_a_parameter_sweep(monkeypatch, tmp_path):
     """Counted: one generated source (one derivation, one code generation) and no lambdify
     for a sweep of compiled runs and ensembles over the parameters."""
     import sympy
 
     from poinsot.lagrange import engine as engine_module
+
+    monkeypatch.setenv("POINSOT_CACHE_DIR", str(tmp_path))  # a model never seen
 
     mdl = models.pendulum_on_cart()
     s = mdl.symbols
@@ -190,3 +192,21 @@ def test_a_new_process_loads_the_compiled_module_from_the_disk_cache(tmp_path):
         assert done.returncode == 0, done.stderr[-2000:]
     assert runs[0].stdout == runs[1].stdout  # the second run loads the first one's cache
     assert list((tmp_path / "lagrange").glob("__pycache__/*.nbi"))  # numba's cache index
+
+
+def test_a_model_seen_before_is_not_derived_again(tmp_path, monkeypatch):
+    """A second system object of the same model (a new script run) finds the generated module
+    by the model's hash: its equations of motion are not derived; a changed model is."""
+    from poinsot.lagrange import engine as engine_module
+
+    monkeypatch.setenv("POINSOT_CACHE_DIR", str(tmp_path))
+    first = models.double_pendulum().system
+    path = compile_system(first).path
+    calls = []
+    source = engine_module._source
+    monkeypatch.setattr(engine_module, "_source", lambda s: calls.append(s) or source(s))
+    again = models.double_pendulum().system
+    assert compile_system(again).path == path and calls == []
+    assert "mass_matrix" not in again.__dict__ and "forcing" not in again.__dict__
+    other = models.pendulum_polar().system  # another model: derived and generated
+    assert compile_system(other).path != path and calls == [other]

@@ -292,21 +292,49 @@ def _source(system) -> str:
     return "\n".join(lines)
 
 
+def _model_key(system) -> str:
+    """A hash of everything the generated source depends on: the model as given (coordinates,
+    Lagrangian, constraints, generalized forces, parameters, inputs, by ``srepr``), this
+    module's own code, the kernel layer and SymPy's version. It finds a model's generated
+    module without deriving its equations again."""
+    import sympy as sp
+
+    from ..kernels.jit import kernel_layer_stamp
+
+    digest = hashlib.sha256(Path(__file__).read_bytes())
+    digest.update(f"{kernel_layer_stamp()} {sp.__version__}".encode())
+    model = (system.coordinates, system.lagrangian, system.holonomic, system.nonholonomic,
+             list(system.generalized_forces), system.parameters, system.inputs)  # fmt: skip
+    digest.update(sp.srepr(model).encode())
+    return digest.hexdigest()[:20]
+
+
+def _write_atomically(path: Path, text: str) -> None:
+    tmp = path.with_suffix(f".{os.getpid()}.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)  # atomic: a concurrent process reads a whole file or none
+
+
 def compile_system(system) -> CompiledSystem:
     """The :class:`CompiledSystem` of ``system``: generated once per system object (kept on
-    it) and, by the hash of its source, once per machine (the cache folder)."""
+    it) and once per machine (the cache folder). A model seen before is found by
+    :func:`_model_key` — its equations are then not derived again — and its module by the
+    hash of its source."""
     done = system.__dict__.get(_ATTR)
     if done is not None:
         return done
-    source = _source(system)
-    key = hashlib.sha256(source.encode()).hexdigest()[:20]
     folder = cache_dir()
     folder.mkdir(parents=True, exist_ok=True)
+    index = folder / f"model_{_model_key(system)}.txt"
+    key = index.read_text(encoding="utf-8").strip() if index.exists() else ""
     path = folder / f"lagrange_{key}.py"
-    if not path.exists() or path.read_text(encoding="utf-8") != source:
-        tmp = path.with_suffix(f".{os.getpid()}.tmp")
-        tmp.write_text(source, encoding="utf-8")
-        os.replace(tmp, path)  # atomic: a concurrent process reads a whole file or none
+    if not key or not path.exists():
+        source = _source(system)
+        key = hashlib.sha256(source.encode()).hexdigest()[:20]
+        path = folder / f"lagrange_{key}.py"
+        if not path.exists() or path.read_text(encoding="utf-8") != source:
+            _write_atomically(path, source)
+        _write_atomically(index, key)
     name = f"poinsot_lagrange_{key}"
     module = sys.modules.get(name)
     if module is None:
