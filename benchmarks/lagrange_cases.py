@@ -156,20 +156,21 @@ def case_lagrange_integrate(repeat):
             compile_system(system)
             ours()
             setup_cold = time.perf_counter() - start
+
+            def fresh(n=n):
+                return models.rolling_coin().system if n == "disc" else _n_link_lagrangian(n)[0]
+
+            start = time.perf_counter()  # derivation and code generation alone
+            engine_module._source(fresh())
+            derive_generate = time.perf_counter() - start
+            start = time.perf_counter()  # a model seen before: found by its hash, loaded
+            compile_system(fresh())
+            setup_warm = time.perf_counter() - start
             if old is None:
                 del os.environ["POINSOT_CACHE_DIR"]
             else:
                 os.environ["POINSOT_CACHE_DIR"] = old
 
-        def fresh(n=n):
-            return models.rolling_coin().system if n == "disc" else _n_link_lagrangian(n)[0]
-
-        start = time.perf_counter()  # derivation and code generation alone (no compilation)
-        engine_module._source(fresh())
-        derive_generate = time.perf_counter() - start
-        start = time.perf_counter()  # a model seen before: found by its hash, module loaded
-        compile_system(fresh())
-        setup_warm = time.perf_counter() - start
         t_ours, sol = timed(ours, repeat)
         ref = ours(rtol=1e-12, atol=1e-12)
         start = time.perf_counter()
