@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import as_scalar
+from .engine import _floats
 
 __all__ = ["LagrangianSolution", "simulate"]
 
@@ -185,10 +186,6 @@ class _EngineNumeric(_Numeric):
         return self.engine.samples(t, y, self._p, np.asarray(u, float))
 
 
-def _floats(a):
-    return np.ascontiguousarray(a, dtype=float)
-
-
 def _solve_stack(K, r):
     """``K[s] x[s] = r[s]`` for every s; NaN rows where K[s] is singular."""
     try:
@@ -214,15 +211,15 @@ def _numeric(system, params):
 class _ODE:
     """The first-order system ``y = [q, q̇]`` seen by poinsot's integrators."""
 
-    def __init__(self, num, stabilization, baumgarte, compiled=None):
+    def __init__(self, num, stabilization, baumgarte, engine=None):
         self.num = num
         self.n = num.system.n_coordinates
         self.stabilization = stabilization
         self.alpha, self.beta = baumgarte
         self.state_slices = {"q": slice(0, self.n), "qd": slice(self.n, 2 * self.n)}
-        self.compiled = compiled  # a CompiledSystem: the generated, numba-compiled rhs
-        if compiled is not None:
-            self._p = compiled.parameter_vector(num.params)
+        self.engine = engine  # a CompiledSystem: the generated, numba-compiled rhs
+        if engine is not None:
+            self._p = engine.parameter_vector(num.params)
             self._gains = (self.alpha, self.beta) if stabilization == "baumgarte" else (0, 0)
             self._no_inputs = np.zeros(0)
 
@@ -236,10 +233,10 @@ class _ODE:
 
     def rhs(self, t, y):
         q, qd = y[: self.n], y[self.n :]
-        if self.compiled is not None:
+        if self.engine is not None:
             out = np.empty(2 * self.n)
             u = self.num.u_of(t, q, qd) if self.num.u_of is not None else self._no_inputs
-            self.compiled.module.rhs(t, np.ascontiguousarray(y, dtype=float), self._p, u,
+            self.engine.module.rhs(t, np.ascontiguousarray(y, dtype=float), self._p, u,
                                      float(self._gains[0]), float(self._gains[1]), out)  # fmt: skip
             return out
         qdd, _ = self.num.accelerations(t, q, qd, self.stab(t, q, qd))
@@ -267,7 +264,6 @@ class _NativeODE(_ODE):
 
     def __init__(self, num, stabilization, baumgarte, engine, u):
         super().__init__(num, stabilization, baumgarte, engine)
-        self.engine = engine
         self._u = np.ascontiguousarray(u, dtype=float)
         self._projection = stabilization == "projection" and num.m > 0
 
