@@ -6,6 +6,8 @@
 //!
 //! One module per concept; equation numbers refer to `docs/theory.md`.
 
+pub mod so3;
+
 pub mod version {
     /// The crate's version, for `poinsot._core.__version__`.
     pub const VERSION: &str = env!("CARGO_PKG_VERSION");
