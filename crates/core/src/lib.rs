@@ -6,6 +6,7 @@
 //!
 //! One module per concept; equation numbers refer to `docs/theory.md`.
 
+pub mod invariants;
 pub mod so3;
 
 pub mod version {
