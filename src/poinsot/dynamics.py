@@ -186,6 +186,35 @@ class RigidBodySystem:
             return TorqueFreeSystem(params)
         return RigidSystem(params, self.force_kind, self.force_params)
 
+    def native(self, y0):
+        """What the compiled core's engine reads, from the initial body-frame state ``y0``
+        (which fixes where the pivot is in space): ``(body parameters, force kinds, force
+        parameters, principal axes, user)``, ``user`` None when every force is built-in, else
+        a callable ``(t, y_body) → (Fx, Fy, Fz, τx, τy, τz)`` summing the other forces (called
+        back from the core: the slow path)."""
+        params = self.body_parameters(self.pivot_point(y0) if self.pivot is not None else None)
+        user = None
+        others = self.python_forces + self.jitted_forces
+        if others:
+            body = self.body
+
+            def user(t, y):
+                ctx = ForceContext(body, t, y[0:3], y[3:6], y[6:15].reshape(3, 3), y[15:18])
+                F = np.zeros(3)
+                tau = np.zeros(3)
+                for f in others:
+                    Fi, ti = f.python_wrench(ctx)
+                    F = F + Fi
+                    tau = tau + ti
+                return (*F.tolist(), *tau.tolist())
+
+        kinds = np.ascontiguousarray(self.force_kind, dtype=np.int64)
+        params_f = np.ascontiguousarray(self.force_params, dtype=float).reshape(
+            -1, layout.FORCE_PARAMS
+        )
+        axes = np.ascontiguousarray(self.principal_axes, dtype=float)
+        return np.ascontiguousarray(params, dtype=float), kinds, params_f, axes, user
+
     def python_system(self, y0):
         """The same physics evaluated from Python, for the Python backend (Python forces)."""
         params = self.body_parameters(self.pivot_point(y0) if self.pivot is not None else None)

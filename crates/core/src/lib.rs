@@ -4,10 +4,29 @@
 //! The Python package `poinsot` calls these through the bindings crate (`poinsot._core`);
 //! Python classes hold no physics.
 //!
-//! One module per concept; equation numbers refer to `docs/theory.md`.
+//! One module per concept; equation numbers refer to `docs/theory.md`:
+//!
+//! * the data: [`layout`] (state, body parameters), [`so3`], [`invariants`];
+//! * the physics: [`forces`], [`rigid`] (eqs (07)–(09), the free-rotor flows);
+//! * the contract between models and integrators: [`system`], with the rigid-body systems in
+//!   [`systems`];
+//! * the integrators: [`tableaux`] (as data), [`steppers`] (pure steps), [`observers`] and
+//!   [`drivers`] (time loops).
 
+// Index loops mirror the equations (sums over components and stages) in this crate.
+#![allow(clippy::needless_range_loop)]
+
+pub mod drivers;
+pub mod forces;
 pub mod invariants;
+pub mod layout;
+pub mod observers;
+pub mod rigid;
 pub mod so3;
+pub mod steppers;
+pub mod system;
+pub mod systems;
+pub mod tableaux;
 
 pub mod version {
     /// The crate's version, for `poinsot._core.__version__`.

@@ -1,10 +1,33 @@
 //! `poinsot._core`: thin bindings of `poinsot-core`. Arguments are checked here (names in the
 //! errors), the GIL is released around every computation, and nothing here holds physics.
 
+#![allow(clippy::needless_range_loop, clippy::type_complexity)]
+
 use pyo3::prelude::*;
+
+mod engine;
+mod rigid;
 
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", poinsot_core::version::VERSION)?;
+    engine::register(m)?;
+    for (name, status) in [
+        ("RUNNING", poinsot_core::drivers::Status::Running),
+        ("FINISHED", poinsot_core::drivers::Status::Finished),
+        ("NONFINITE", poinsot_core::drivers::Status::NonFinite),
+        (
+            "STEP_TOO_SMALL",
+            poinsot_core::drivers::Status::StepTooSmall,
+        ),
+        ("OUTPUT_FULL", poinsot_core::drivers::Status::OutputFull),
+        (
+            "CALLBACK_FAILED",
+            poinsot_core::drivers::Status::CallbackFailed,
+        ),
+    ] {
+        m.add(name, status as i64)?;
+    }
+    rigid::register(m)?;
     Ok(())
 }

@@ -87,6 +87,8 @@ class Solver:
     conserves: ClassVar[frozenset[str]] = frozenset()
     requires: ClassVar[str] = "ode"
     code: ClassVar[int] = -1
+    #: The compiled core's step: "rk4", "erk", "rkmk", "splitting" or "dop853".
+    kind: ClassVar[str] = ""
     driver: ClassVar[str] = ""
     #: tableau (ExplicitRungeKutta and its relatives); empty arrays for the others
     A: ClassVar[np.ndarray] = np.zeros((0, 0))

@@ -37,6 +37,7 @@ class DOP853(Solver):
     error_order = 7
     adaptive = True
     code = _st.DOP853
+    kind = "dop853"
     driver = "run_adaptive"
     A = tableaux.DOP853_A[: tableaux.DOP853_STAGES, : tableaux.DOP853_STAGES]
     B = tableaux.DOP853_B

@@ -16,7 +16,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..kernels import drivers as _drv
 from .base import Solver, get_solver
 from .control import StepSizeController
 from .saveat import SaveAt
@@ -158,8 +157,15 @@ def integrate(
     saveat = SaveAt(None if t_eval is None else np.asarray(t_eval, dtype=float), save_every)
 
     y0 = np.array(y0, dtype=float)
+    if rigid and backend != "numba":
+        return _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progress,
+                                 backend, observer)  # fmt: skip
+    from ..kernels import drivers as _drv  # the numba engine (being replaced by the core)
+
     if rigid:
         compiled_ok = system.compiled
+        if backend == "numba":  # the numba engine, kept only to cross-check the port
+            backend = "compiled"
         if backend is None:
             backend = "compiled" if compiled_ok else "python"
         elif backend not in BACKENDS:
@@ -259,3 +265,102 @@ def integrate(
                 "may be stiff or singular there, or the tolerances too tight)"
             )
             raise IntegrationError(message, result(message, False))
+
+
+#: The core's name of each kind of method (:attr:`Solver.kind`).
+_CORE_METHODS = ("rk4", "erk", "rkmk", "splitting", "dop853")
+#: Steps per call of the core when a progress callback is given (progress is reported between).
+PROGRESS_CHUNK = 20_000
+
+
+def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progress, backend,
+                      observer) -> IntegrationResult:  # fmt: skip
+    """A rigid body on the compiled core (:func:`poinsot._core.integrate_rigid`): the whole run
+    in one call (in chunks only to report progress or to grow the output of an adaptive run);
+    forces given as Python callables are called back from it (the slow path)."""
+    from .. import _core
+    from .. import _core as _drv
+
+    cls = type(solver)
+    if backend is None:
+        backend = "compiled" if system.compiled else "python"
+    elif backend not in BACKENDS:
+        raise ValueError(f"`backend` must be one of {BACKENDS}, found {backend!r}")
+    if backend == "compiled" and not system.compiled:
+        names = ", ".join(f.name for f in system.python_forces)
+        raise ValueError(
+            "`backend='compiled'` needs built-in forces; these are Python callables (use "
+            f"backend='python'): {names}"
+        )
+    kind = solver.kind
+    if kind not in _CORE_METHODS:
+        raise ValueError(f"method {cls.name!r} has no step in the compiled core")
+    body, force_kind, force_params, axes, user = system.native(y0)
+    z = system.to_internal(y0)
+    n = z.size
+    times = saveat.times
+    if len(times):
+        capacity = len(times)
+    elif cls.adaptive:
+        capacity = 256
+    else:
+        capacity = int(min((t1 - t0) / dt, 1e9)) // saveat.every + 3
+    out_t = np.empty(capacity)
+    out_y = np.empty((capacity, n))
+    clock = np.array([t0, 0.0])
+    counters = np.zeros(6, dtype=np.int64)
+    f = np.zeros(n)
+    ctrl = controller.as_array() if cls.adaptive else np.zeros(7)
+    A = np.ascontiguousarray(solver.A, dtype=float).reshape(len(solver.B), len(solver.B))
+    B = np.ascontiguousarray(solver.B, dtype=float)
+    C = np.ascontiguousarray(solver.C, dtype=float)
+    flips = None
+    if observer is not None and hasattr(observer, "first"):  # counts flips (ensembles)
+        flips = (observer.first, observer.last, observer.count)
+    start = time.perf_counter()
+    max_steps = PROGRESS_CHUNK if progress is not None else 2**62
+
+    def result(message, success):
+        k = int(counters[1])
+        return IntegrationResult(
+            out_t[:k].copy(),
+            system.from_internal(out_y[:k]),
+            cls.name,
+            int(counters[4]),
+            int(counters[3]),
+            time.perf_counter() - start,
+            message,
+            {"dt": dt, "rtol": getattr(controller, "rtol", None),
+             "atol": getattr(controller, "atol", None)},
+            backend,
+            int(counters[5]),
+            success,
+        )  # fmt: skip
+
+    while True:
+        status = _core.integrate_rigid(
+            body, force_kind, force_params, axes, user, kind, A, B, C, clock, z, f,
+            float(dt or 0.0), ctrl, t1, times, saveat.every, out_t, out_y, counters, max_steps,
+            flips,
+        )  # fmt: skip
+        if progress is not None:
+            progress(float(clock[0]))
+        if status == _drv.FINISHED:
+            return result("finished", True)
+        if status == _drv.OUTPUT_FULL:
+            out_t = np.concatenate([out_t, np.empty(len(out_t))])
+            out_y = np.concatenate([out_y, np.empty((len(out_y), n))])
+            continue
+        if status == _drv.RUNNING:
+            continue
+        if status == _drv.NONFINITE:
+            message = _describe_nonfinite(system.state_slices, float(clock[0]),
+                                          system.from_internal(z))  # fmt: skip
+            raise IntegrationError(message, result(message, False))
+        if status == _drv.STEP_TOO_SMALL:
+            message = (
+                f"the step size fell below the resolution of t = {clock[0]:.9g} (the problem "
+                "may be stiff or singular there, or the tolerances too tight)"
+            )
+            raise IntegrationError(message, result(message, False))
+        raise IntegrationError(f"the run stopped with status {status}", result("failed", False))

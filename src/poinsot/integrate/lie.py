@@ -24,6 +24,7 @@ class MuntheKaas(ExplicitRungeKutta):
     requires = "rigid"
     conserves = frozenset({"orthogonality"})
     code = _st.RKMK
+    kind = "rkmk"
     driver = "run_rkmk"
 
     def step(self, system, state, h, controller=None):

@@ -21,6 +21,7 @@ class ExplicitRungeKutta(Solver):
     """
 
     code = _st.ERK
+    kind = "erk"
     driver = "run_erk"
 
     def step(self, system, state, h, controller=None):
@@ -45,6 +46,7 @@ class RK4(ExplicitRungeKutta):
     name = "rk4"
     order = 4
     code = _st.RK4
+    kind = "rk4"
     driver = "run_rk4"
     A, B, C = tableaux.RK4_A, tableaux.RK4_B, tableaux.RK4_C
 

@@ -33,6 +33,7 @@ class Splitting(Solver):
     requires = "rigid"
     conserves = frozenset({"orthogonality", "angular_momentum", "symplectic"})
     code = _st.SPLITTING
+    kind = "splitting"
     driver = "run_splitting"
     #: the structure it needs: every force a kick (position-only)
     needs_position_only_forces = True

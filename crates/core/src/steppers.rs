@@ -1,0 +1,465 @@
+//! The integrators' steps: pure functions of (system, time, state, step).
+//!
+//! Each step reads a state and writes the next one into a preallocated buffer; it keeps
+//! nothing between calls (diffrax's "pure step"). Every driver calls these same functions.
+//!
+//! * [`erk_step`]: an explicit Runge–Kutta method given by its tableau (RK4 and any user
+//!   tableau); [`rk4_rigid_step`]: RK4 on a rigid state held in registers.
+//! * [`rkmk_step`]: Runge–Kutta–Munthe-Kaas on R⁹ × SO(3): the attitude advances as
+//!   `Q = Q_n exp(θ̂)` with `θ̇ = dexp⁻¹_{−θ}(ω)` (Munthe-Kaas 1999, BIT 39; Iserles et al.
+//!   2000, Acta Numerica §5).
+//! * [`splitting_step`]: kick–drift–kick, the exact free-rotor flow between two half kicks of
+//!   the forces (Dullweber, Leimkuhler & McLachlan 1997, J. Chem. Phys. 107), on the momentum
+//!   state `[R, V, Q, π]`.
+//! * [`dop853_step`]: Dormand–Prince 8(5,3) with its error estimate ([`dop853_error_norm`]),
+//!   7th-order dense output ([`dop853_dense`], [`dop853_interpolate`]) and the standard
+//!   step-size controller ([`step_size_factor`], [`initial_step_size`]).
+
+use crate::layout::{OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
+use crate::rigid::{free_rotor_step, pivot_constrained};
+use crate::so3::{dexpinv3, exp_so3, Mat3};
+use crate::system::{RigidStructure, VectorField};
+use crate::tableaux::{
+    DOP853_A, DOP853_C, DOP853_D, DOP853_E3, DOP853_E5, DOP853_INTERPOLATOR_POWER, DOP853_STAGES,
+    DOP853_STAGES_EXTENDED,
+};
+
+/// An explicit Runge–Kutta tableau: `a` row-major `s × s` (strictly lower), `b` and `c` (s).
+#[derive(Clone, Copy, Debug)]
+pub struct Tableau<'a> {
+    pub a: &'a [f64],
+    pub b: &'a [f64],
+    pub c: &'a [f64],
+}
+
+impl Tableau<'_> {
+    /// Number of stages.
+    #[inline(always)]
+    pub fn stages(&self) -> usize {
+        self.b.len()
+    }
+}
+
+/// One step of the explicit Runge–Kutta method `tab`: stages
+/// `k_i = f(t + C_i h, y + h Σ_j A_ij k_j)`, result `y + h Σ_i B_i k_i` in `out`.
+/// `k` (s·n) receives the stage derivatives, `ytmp` (n) is work space.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn erk_step<S: VectorField + ?Sized>(
+    sys: &S,
+    tab: &Tableau,
+    t: f64,
+    y: &[f64],
+    h: f64,
+    k: &mut [f64],
+    ytmp: &mut [f64],
+    out: &mut [f64],
+) {
+    let s = tab.stages();
+    let n = sys.dim();
+    for i in 0..s {
+        for idx in 0..n {
+            let mut acc = 0.0;
+            for m in 0..i {
+                acc += tab.a[i * s + m] * k[m * n + idx];
+            }
+            ytmp[idx] = y[idx] + h * acc;
+        }
+        sys.rhs(t + tab.c[i] * h, ytmp, &mut k[i * n..(i + 1) * n]);
+    }
+    for idx in 0..n {
+        let mut acc = 0.0;
+        for i in 0..s {
+            acc += tab.b[i] * k[i * n + idx];
+        }
+        out[idx] = y[idx] + h * acc;
+    }
+}
+
+type State = [f64; STATE_SIZE];
+
+#[inline(always)]
+fn axpy(y: &State, a: f64, k: &State) -> State {
+    let mut o = [0.0; STATE_SIZE];
+    for i in 0..STATE_SIZE {
+        o[i] = y[i] + a * k[i];
+    }
+    o
+}
+
+/// One step of classical RK4 on a rigid state held in registers:
+/// `k1 = f(t, y)`, `k2 = f(t + h/2, y + h/2 k1)`, `k3 = f(t + h/2, y + h/2 k2)`,
+/// `k4 = f(t + h, y + h k3)`, `y + h/6 (k1 + 2 k2 + 2 k3 + k4)` — the RK4 tableau's step, in
+/// the same order of operations as [`erk_step`] up to the grouping of the update.
+#[inline(always)]
+pub fn rk4_rigid_step<S: RigidStructure + ?Sized>(sys: &S, t: f64, y: &State, h: f64) -> State {
+    let half = 0.5 * h;
+    let k1 = sys.rates(t, y);
+    let k2 = sys.rates(t + half, &axpy(y, half, &k1));
+    let k3 = sys.rates(t + half, &axpy(y, half, &k2));
+    let k4 = sys.rates(t + h, &axpy(y, h, &k3));
+    let c = h / 6.0;
+    let mut o = [0.0; STATE_SIZE];
+    for i in 0..STATE_SIZE {
+        o[i] = y[i] + c * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+    }
+    o
+}
+
+/// `Q_out = Q_y E` on the attitude blocks of two states.
+#[inline(always)]
+fn rotate_attitude(y: &[f64], e: &Mat3, out: &mut [f64]) {
+    for r in 0..3 {
+        let q0 = y[Q_AT + 3 * r];
+        let q1 = y[Q_AT + 3 * r + 1];
+        let q2 = y[Q_AT + 3 * r + 2];
+        for k in 0..3 {
+            out[Q_AT + 3 * r + k] = q0 * e[0][k] + q1 * e[1][k] + q2 * e[2][k];
+        }
+    }
+}
+
+/// One Runge–Kutta–Munthe-Kaas step of the rigid-body state with tableau `tab`. `R, V, ω`
+/// follow the tableau in their vector space; the attitude follows it in the Lie algebra:
+/// `θ_i = h Σ_j A_ij κ_j`, `Q_i = Q exp(θ̂_i)`, `κ_i = dexp⁻¹_{−θ_i}(ω_i)`, and
+/// `Q_new = Q exp(h Σ B_i κ_i)`. Work space: `k` (s·n), `ytmp` (n), `kth` (s).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn rkmk_step<S: VectorField + ?Sized>(
+    sys: &S,
+    tab: &Tableau,
+    t: f64,
+    y: &[f64],
+    h: f64,
+    k: &mut [f64],
+    ytmp: &mut [f64],
+    kth: &mut [[f64; 3]],
+    out: &mut [f64],
+) {
+    let s = tab.stages();
+    let n = sys.dim();
+    for i in 0..s {
+        for idx in 0..n {
+            let mut acc = 0.0;
+            for m in 0..i {
+                acc += tab.a[i * s + m] * k[m * n + idx];
+            }
+            ytmp[idx] = y[idx] + h * acc;
+        }
+        let mut th = [0.0; 3];
+        for m in 0..i {
+            for j in 0..3 {
+                th[j] += tab.a[i * s + m] * kth[m][j];
+            }
+        }
+        for v in th.iter_mut() {
+            *v *= h;
+        }
+        let e = exp_so3(th);
+        rotate_attitude(y, &e, ytmp);
+        sys.rhs(t + tab.c[i] * h, ytmp, &mut k[i * n..(i + 1) * n]);
+        kth[i] = dexpinv3(
+            [-th[0], -th[1], -th[2]],
+            [ytmp[OMEGA_AT], ytmp[OMEGA_AT + 1], ytmp[OMEGA_AT + 2]],
+        );
+    }
+    for idx in 0..n {
+        let mut acc = 0.0;
+        for i in 0..s {
+            acc += tab.b[i] * k[i * n + idx];
+        }
+        out[idx] = y[idx] + h * acc;
+    }
+    let mut th = [0.0; 3];
+    for i in 0..s {
+        for j in 0..3 {
+            th[j] += tab.b[i] * kth[i][j];
+        }
+    }
+    let e = exp_so3([h * th[0], h * th[1], h * th[2]]);
+    rotate_attitude(y, &e, out);
+}
+
+/// `y` = `z` with ω = π/I in the ω slot (zero along a zero moment).
+#[inline(always)]
+pub fn momentum_to_velocity<S: RigidStructure + ?Sized>(sys: &S, z: &[f64]) -> State {
+    let body = sys.body();
+    let mut y = [0.0; STATE_SIZE];
+    y.copy_from_slice(&z[..STATE_SIZE]);
+    for k in 0..3 {
+        y[OMEGA_AT + k] = z[OMEGA_AT + k] * body.inv_moments[k];
+    }
+    y
+}
+
+/// The momentum state `[R, V, Q, π = I ω]` of the splitting method from a state.
+#[inline(always)]
+pub fn velocity_to_momentum<S: RigidStructure + ?Sized>(sys: &S, y: &[f64], z: &mut [f64]) {
+    z[..STATE_SIZE].copy_from_slice(&y[..STATE_SIZE]);
+    for k in 0..3 {
+        z[OMEGA_AT + k] = sys.body().moments[k] * y[OMEGA_AT + k];
+    }
+}
+
+/// Momentum kick by the forces over `h`, in place: `V += h F/M` (a free body; about a pivot
+/// its reaction balances F) and `π += h τ`.
+#[inline(always)]
+fn kick<S: RigidStructure + ?Sized>(sys: &S, t: f64, z: &mut [f64], h: f64) {
+    let y = momentum_to_velocity(sys, z);
+    let w = sys.wrench(t, &y);
+    let body = sys.body();
+    if !body.has_pivot {
+        let c = h * body.inv_mass;
+        z[V_AT] += c * w[0];
+        z[V_AT + 1] += c * w[1];
+        z[V_AT + 2] += c * w[2];
+    }
+    z[OMEGA_AT] += h * w[3];
+    z[OMEGA_AT + 1] += h * w[4];
+    z[OMEGA_AT + 2] += h * w[5];
+}
+
+/// One kick–drift–kick step on the momentum state `z = [R, V, Q, π]` (principal frame):
+/// `kick(h/2) ∘ drift(h) ∘ kick(h/2)`, the drift the exact free rotor
+/// ([`free_rotor_step`]) and `R += h V` (or, about a pivot, `R, V` slaved to the attitude).
+/// Second order and symplectic for forces that depend on `(t, R, Q)` only; torque-free it
+/// keeps `|L|`, the spatial `L` and `QᵀQ = I` to round-off.
+#[inline(always)]
+pub fn splitting_step<S: RigidStructure + ?Sized>(
+    sys: &S,
+    t: f64,
+    z: &[f64],
+    h: f64,
+    out: &mut [f64],
+) {
+    out[..STATE_SIZE].copy_from_slice(&z[..STATE_SIZE]);
+    let body = *sys.body();
+    kick(sys, t, out, 0.5 * h);
+    free_rotor_step(&body, out, h);
+    if !body.has_pivot {
+        for k in 0..3 {
+            out[R_AT + k] += h * out[V_AT + k];
+        }
+    }
+    kick(sys, t + h, out, 0.5 * h);
+    if body.has_pivot {
+        let y = pivot_constrained(&body, momentum_to_velocity(sys, out));
+        out[R_AT..R_AT + 3].copy_from_slice(&y[R_AT..R_AT + 3]);
+        out[V_AT..V_AT + 3].copy_from_slice(&y[V_AT..V_AT + 3]);
+    }
+}
+
+/// One Dormand–Prince 8(5,3) step from `(t, y)` with `f = ẏ(t, y)` (first same as last).
+/// `out_y` receives the 8th-order solution and `out_f` its derivative; `k`
+/// (DOP853_STAGES_EXTENDED · n) keeps the 12 stages and `out_f` (row 12) for
+/// [`dop853_error_norm`] and [`dop853_dense`].
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn dop853_step<S: VectorField + ?Sized>(
+    sys: &S,
+    t: f64,
+    y: &[f64],
+    f: &[f64],
+    h: f64,
+    k: &mut [f64],
+    ytmp: &mut [f64],
+    out_y: &mut [f64],
+    out_f: &mut [f64],
+) {
+    let n = sys.dim();
+    k[..n].copy_from_slice(&f[..n]);
+    for s in 1..=DOP853_STAGES {
+        // rows 1–11: the stages; row 12: the derivative at the new point (B is row 12 of A)
+        for idx in 0..n {
+            let mut acc = 0.0;
+            for m in 0..s {
+                acc += DOP853_A[s][m] * k[m * n + idx];
+            }
+            ytmp[idx] = y[idx] + h * acc;
+        }
+        if s == DOP853_STAGES {
+            out_y[..n].copy_from_slice(&ytmp[..n]);
+        }
+        sys.rhs(t + DOP853_C[s] * h, ytmp, &mut k[s * n..(s + 1) * n]);
+    }
+    out_f[..n].copy_from_slice(&k[DOP853_STAGES * n..(DOP853_STAGES + 1) * n]);
+}
+
+/// The scaled error of the last DOP853 step: Hairer's combination of the 5th- and 3rd-order
+/// estimators, `|h| Σe5² / √((Σe5² + 0.01 Σe3²) n)` with `e = (Σ_i E_i k_i)/sc`,
+/// `sc = atol + rtol max(|y|, |y_new|)`. A step is accepted below 1.
+#[inline(always)]
+pub fn dop853_error_norm(
+    k: &[f64],
+    n: usize,
+    h: f64,
+    y: &[f64],
+    y_new: &[f64],
+    rtol: f64,
+    atol: f64,
+) -> f64 {
+    let mut e5 = 0.0;
+    let mut e3 = 0.0;
+    for idx in 0..n {
+        let scale = atol + y[idx].abs().max(y_new[idx].abs()) * rtol;
+        let mut a5 = 0.0;
+        let mut a3 = 0.0;
+        for i in 0..=DOP853_STAGES {
+            a5 += DOP853_E5[i] * k[i * n + idx];
+            a3 += DOP853_E3[i] * k[i * n + idx];
+        }
+        a5 /= scale;
+        a3 /= scale;
+        e5 += a5 * a5;
+        e3 += a3 * a3;
+    }
+    if e5 == 0.0 && e3 == 0.0 {
+        return 0.0;
+    }
+    h.abs() * e5 / ((e5 + 0.01 * e3) * n as f64).sqrt()
+}
+
+/// The coefficients `fd` (7 · n) of the 7th-order interpolant over the last step
+/// `[t_old, t_old + h]` from `y_old` to `y` (`f = ẏ` at the end): three more stages (rows
+/// 13–15 of `k`) and the dense-output matrix `D`.
+#[allow(clippy::too_many_arguments)]
+pub fn dop853_dense<S: VectorField + ?Sized>(
+    sys: &S,
+    t_old: f64,
+    h: f64,
+    y_old: &[f64],
+    y: &[f64],
+    f: &[f64],
+    k: &mut [f64],
+    ytmp: &mut [f64],
+    fd: &mut [f64],
+) {
+    let n = sys.dim();
+    for s in DOP853_STAGES + 1..DOP853_STAGES_EXTENDED {
+        for idx in 0..n {
+            let mut acc = 0.0;
+            for m in 0..s {
+                acc += DOP853_A[s][m] * k[m * n + idx];
+            }
+            ytmp[idx] = y_old[idx] + h * acc;
+        }
+        sys.rhs(t_old + DOP853_C[s] * h, ytmp, &mut k[s * n..(s + 1) * n]);
+    }
+    for idx in 0..n {
+        let dy = y[idx] - y_old[idx];
+        fd[idx] = dy;
+        fd[n + idx] = h * k[idx] - dy;
+        fd[2 * n + idx] = 2.0 * dy - h * (f[idx] + k[idx]);
+        for r in 0..4 {
+            let mut acc = 0.0;
+            for s in 0..DOP853_STAGES_EXTENDED {
+                acc += DOP853_D[r][s] * k[s * n + idx];
+            }
+            fd[(3 + r) * n + idx] = h * acc;
+        }
+    }
+}
+
+/// The DOP853 interpolant at the fraction `x` ∈ [0, 1] of the step, into `out`:
+/// `y_old + x(F0 + (1−x)(F1 + x(F2 + (1−x)(F3 + …))))`.
+#[inline(always)]
+pub fn dop853_interpolate(fd: &[f64], y_old: &[f64], x: f64, out: &mut [f64]) {
+    let n = y_old.len();
+    let p = DOP853_INTERPOLATOR_POWER;
+    for idx in 0..n {
+        let mut acc = 0.0;
+        for i in 0..p {
+            acc += fd[(p - 1 - i) * n + idx];
+            acc *= if i % 2 == 0 { x } else { 1.0 - x };
+        }
+        out[idx] = y_old[idx] + acc;
+    }
+}
+
+/// The parameters of the standard step-size controller.
+#[derive(Clone, Copy, Debug)]
+pub struct Control {
+    pub rtol: f64,
+    pub atol: f64,
+    pub safety: f64,
+    pub min_factor: f64,
+    pub max_factor: f64,
+    pub max_step: f64,
+    /// 0 selects the first step automatically ([`initial_step_size`]).
+    pub first_step: f64,
+}
+
+/// The standard controller (Hairer, Nørsett & Wanner §II.4): the next step is the last one
+/// times `safety · err^(−1/(q+1))`, clipped to `[min_factor, max_factor]` (and not above 1
+/// right after a rejection); `q` the order of the error estimator.
+#[inline(always)]
+pub fn step_size_factor(error_norm: f64, error_order: f64, rejected: bool, c: &Control) -> f64 {
+    let exponent = -1.0 / (error_order + 1.0);
+    if error_norm < 1.0 {
+        let mut factor = if error_norm == 0.0 {
+            c.max_factor
+        } else {
+            c.max_factor.min(c.safety * error_norm.powf(exponent))
+        };
+        if rejected {
+            factor = factor.min(1.0);
+        }
+        return factor;
+    }
+    c.min_factor.max(c.safety * error_norm.powf(exponent))
+}
+
+/// An empirical first step (Hairer, Nørsett & Wanner §II.4, as SciPy's
+/// `select_initial_step`): `h0 = 0.01 |y0|/|f0|` in the scaled RMS norm, then
+/// `h1 = (0.01/max(|f0|, |f'|))^(1/(q+1))`, the smaller of `100 h0`, `h1`, the interval and
+/// `max_step`. One more evaluation of the vector field.
+#[allow(clippy::too_many_arguments)]
+pub fn initial_step_size<S: VectorField + ?Sized>(
+    sys: &S,
+    t0: f64,
+    y0: &[f64],
+    f0: &[f64],
+    t_end: f64,
+    order: f64,
+    c: &Control,
+    ytmp: &mut [f64],
+    ftmp: &mut [f64],
+) -> f64 {
+    let n = sys.dim();
+    let interval = (t_end - t0).abs();
+    if interval == 0.0 {
+        return 0.0;
+    }
+    let (rtol, atol) = (c.rtol, c.atol);
+    let mut d0 = 0.0;
+    let mut d1 = 0.0;
+    for idx in 0..n {
+        let scale = atol + y0[idx].abs() * rtol;
+        d0 += (y0[idx] / scale).powi(2);
+        d1 += (f0[idx] / scale).powi(2);
+    }
+    let d0 = (d0 / n as f64).sqrt();
+    let d1 = (d1 / n as f64).sqrt();
+    let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
+        1e-6
+    } else {
+        0.01 * d0 / d1
+    };
+    h0 = h0.min(interval);
+    for idx in 0..n {
+        ytmp[idx] = y0[idx] + h0 * f0[idx];
+    }
+    sys.rhs(t0 + h0, ytmp, ftmp);
+    let mut d2 = 0.0;
+    for idx in 0..n {
+        let scale = atol + y0[idx].abs() * rtol;
+        d2 += ((ftmp[idx] - f0[idx]) / scale).powi(2);
+    }
+    let d2 = (d2 / n as f64).sqrt() / h0;
+    let h1 = if d1 <= 1e-15 && d2 <= 1e-15 {
+        1e-6f64.max(h0 * 1e-3)
+    } else {
+        (0.01 / d1.max(d2)).powf(1.0 / (order + 1.0))
+    };
+    (100.0 * h0).min(h1).min(interval).min(c.max_step)
+}

@@ -1,0 +1,50 @@
+//! The contract between a model and the integrators (diffsol's `OdeEquations`, in small):
+//! a system is plain data with a right-hand side. The steppers and drivers of this crate see
+//! nothing else of it.
+//!
+//! 1. [`VectorField::dim`]: the length of the state (a constant where the system fixes it, so
+//!    the compiler unrolls the steppers' loops).
+//! 2. [`VectorField::rhs`]: `out = ẏ(t, y)`.
+//! 3. [`VectorField::project`]: put `y` back on the system's constraint manifold at `t`, in
+//!    place, and say whether the system is constrained (the drivers then recompute a cached
+//!    derivative). Unconstrained systems keep the default, a no-op returning `false`.
+//! 4. [`VectorField::failed`]: a system that calls out (a Python callback) reports here that a
+//!    call failed; the drivers stop with [`crate::drivers::Status::CallbackFailed`].
+//!
+//! Rigid bodies offer more structure ([`RigidStructure`]): their parameters, for the steppers
+//! that use the free-rotor flows, and the wrench of their forces, for the splitting method's
+//! kicks; and their rates on a state held in registers, for the fixed-step fast path.
+
+use crate::layout::{Body, STATE_SIZE};
+
+/// An ordinary differential equation `ẏ = f(t, y)` on a flat state.
+pub trait VectorField {
+    /// Length of the state.
+    fn dim(&self) -> usize;
+    /// `out = ẏ(t, y)`.
+    fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]);
+    /// Put `y` on the constraint manifold at `t`, in place; `true` when constrained.
+    #[inline(always)]
+    fn project(&self, _t: f64, _y: &mut [f64]) -> bool {
+        false
+    }
+    /// True once a call out of the engine (a user callback) has failed.
+    #[inline(always)]
+    fn failed(&self) -> bool {
+        false
+    }
+}
+
+/// The rigid-body structure of a system whose state is the 18-vector `[R, V, Q, ω]` in the
+/// principal frame (`layout`).
+pub trait RigidStructure: VectorField {
+    /// The body's parameters (principal frame of the inertia about the reference point).
+    fn body(&self) -> &Body;
+    /// `(F, τ)`: total force (space frame) and torque about the reference point (principal
+    /// frame) at `(t, y)`.
+    fn wrench(&self, t: f64, y: &[f64; STATE_SIZE]) -> [f64; 6];
+    /// `ẏ` of a state held in registers (eqs (07)–(09)).
+    fn rates(&self, t: f64, y: &[f64; STATE_SIZE]) -> [f64; STATE_SIZE];
+    /// The state put back on its constraint (the pivot), or unchanged.
+    fn constrain(&self, t: f64, y: [f64; STATE_SIZE]) -> [f64; STATE_SIZE];
+}

@@ -1,0 +1,510 @@
+//! Bindings of the rigid-body engine: one call integrates a body (or resumes a run) with any
+//! registered method, in the buffers the Python layer owns (`poinsot.integrate.driver`).
+//! Checks at the boundary name the argument; the GIL is released while no Python force runs;
+//! an interrupt (Ctrl-C) is honoured between chunks of steps.
+
+use std::cell::RefCell;
+
+use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadwriteArray1, PyReadwriteArray2};
+use poinsot_core::drivers::{
+    run_adaptive, run_fixed, AdaptiveState, Clock, Counters, Erk, FixedMethod, Output, Rk4Rigid,
+    Rkmk, Sampling, Splitting, Status,
+};
+use poinsot_core::forces::{Force, ForceKind};
+use poinsot_core::layout::{Body, FORCE_PARAMS, STATE_SIZE};
+use poinsot_core::observers::{FlipObserver, NoObserver, Observer};
+use poinsot_core::rigid::State;
+use poinsot_core::so3::Mat3;
+use poinsot_core::steppers::{momentum_to_velocity, velocity_to_momentum, Control, Tableau};
+use poinsot_core::system::RigidStructure;
+use poinsot_core::systems::{Rigid, TorqueFree, UserWrench};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+
+/// Steps per chunk between two checks for an interrupt.
+const CHUNK: u64 = 1 << 16;
+
+pub(crate) fn value_error(msg: impl Into<String>) -> PyErr {
+    PyValueError::new_err(msg.into())
+}
+
+/// The body parameter vector, checked.
+pub(crate) fn body_from(body: &[f64]) -> PyResult<Body> {
+    Body::from_slice(body).ok_or_else(|| {
+        value_error(format!(
+            "`body` must hold {} parameters, found {}",
+            poinsot_core::layout::BODY_SIZE,
+            body.len()
+        ))
+    })
+}
+
+/// The lowered forces, checked: kinds (k,) and parameters (k, FORCE_PARAMS).
+pub(crate) fn forces_from(kind: &[i64], params: &PyReadonlyArray2<f64>) -> PyResult<Vec<Force>> {
+    let p = params.as_array();
+    if p.nrows() != kind.len() || (p.ncols() != FORCE_PARAMS && !kind.is_empty()) {
+        return Err(value_error(format!(
+            "`force_params` must have shape ({}, {FORCE_PARAMS}), found {:?}",
+            kind.len(),
+            p.shape()
+        )));
+    }
+    kind.iter()
+        .enumerate()
+        .map(|(i, &code)| {
+            let kind = ForceKind::from_code(code).ok_or_else(|| {
+                value_error(format!("`force_kind[{i}]` = {code} is no force kind"))
+            })?;
+            let mut row = [0.0; FORCE_PARAMS];
+            for (j, r) in row.iter_mut().enumerate() {
+                *r = p[[i, j]];
+            }
+            Ok(Force { kind, p: row })
+        })
+        .collect()
+}
+
+pub(crate) fn mat3_from(a: &PyReadonlyArray2<f64>, name: &str) -> PyResult<Mat3> {
+    let v = a.as_array();
+    if v.shape() != [3, 3] {
+        return Err(value_error(format!(
+            "`{name}` must have shape (3, 3), found {:?}",
+            v.shape()
+        )));
+    }
+    Ok([0, 1, 2].map(|i| [0, 1, 2].map(|j| v[[i, j]])))
+}
+
+/// Forces given as a Python callable `user(t, y) -> (Fx, Fy, Fz, τx, τy, τz)` of the time and
+/// the body-frame state: the slow path (the GIL is held for the whole run). The first error it
+/// raises is kept and re-raised when the run stops.
+pub(crate) struct PyUser<'py> {
+    py: Python<'py>,
+    func: Bound<'py, PyAny>,
+    error: RefCell<Option<PyErr>>,
+}
+
+impl<'py> PyUser<'py> {
+    pub(crate) fn new(py: Python<'py>, func: Bound<'py, PyAny>) -> Self {
+        PyUser {
+            py,
+            func,
+            error: RefCell::new(None),
+        }
+    }
+    pub(crate) fn take_error(&self) -> Option<PyErr> {
+        self.error.borrow_mut().take()
+    }
+}
+
+impl UserWrench for PyUser<'_> {
+    fn wrench(&self, t: f64, y: &State) -> Option<[f64; 6]> {
+        if self.error.borrow().is_some() {
+            return None;
+        }
+        let y = numpy::PyArray1::from_slice(self.py, y);
+        let result = self
+            .func
+            .call1((t, y))
+            .and_then(|r| r.extract::<[f64; 6]>())
+            .map_err(|e| {
+                if e.is_instance_of::<PyTypeError>(self.py) {
+                    PyTypeError::new_err(format!(
+                        "a force callable must return six numbers (Fx, Fy, Fz, τx, τy, τz): {e}"
+                    ))
+                } else {
+                    e
+                }
+            });
+        match result {
+            Ok(w) => Some(w),
+            Err(e) => {
+                *self.error.borrow_mut() = Some(e);
+                None
+            }
+        }
+    }
+}
+
+/// A C function `int f(double t, const double *y, double *out)` (`y` the body-frame state,
+/// `out` the six numbers of the wrench; non-zero return: failure), called by address: a numba
+/// `cfunc`, a ctypes function, a symjit function.
+pub(crate) struct CUser {
+    f: extern "C" fn(f64, *const f64, *mut f64) -> i32,
+}
+
+impl UserWrench for CUser {
+    #[inline(always)]
+    fn wrench(&self, t: f64, y: &State) -> Option<[f64; 6]> {
+        let mut out = [0.0; 6];
+        ((self.f)(t, y.as_ptr(), out.as_mut_ptr()) == 0).then_some(out)
+    }
+}
+
+/// Everything one call of the engine reads and writes.
+struct Run<'a> {
+    method: &'a str,
+    tab: Tableau<'a>,
+    clock: &'a mut [f64],
+    z: &'a mut [f64],
+    f: &'a mut [f64],
+    dt: f64,
+    control: Control,
+    sampling: Sampling<'a>,
+    out: Output<'a>,
+    counters: &'a mut [i64],
+    max_steps: u64,
+}
+
+fn counters_in(c: &[i64]) -> Counters {
+    Counters {
+        n_out: c[1] as usize,
+        next_sample: c[2] as usize,
+        n_steps: c[3] as u64,
+        n_fev: c[4] as u64,
+        n_rejected: c[5] as u64,
+    }
+}
+
+fn counters_out(k: &Counters, status: Status, c: &mut [i64]) {
+    c[0] = status as i64;
+    c[1] = k.n_out as i64;
+    c[2] = k.next_sample as i64;
+    c[3] = k.n_steps as i64;
+    c[4] = k.n_fev as i64;
+    c[5] = k.n_rejected as i64;
+}
+
+/// One chunk of a run, with any system and observer.
+fn chunk<S: RigidStructure + ?Sized, O: Observer>(
+    sys: &S,
+    obs: &mut O,
+    r: &mut Run,
+    steps: u64,
+) -> Status {
+    let mut clock = Clock {
+        t: r.clock[0],
+        h: r.clock[1],
+    };
+    let mut k = counters_in(r.counters);
+    let n = STATE_SIZE;
+    let status = match r.method {
+        "dop853" => {
+            let mut st = AdaptiveState { f: r.f.to_vec() };
+            let s = run_adaptive(
+                sys,
+                obs,
+                &mut clock,
+                r.z,
+                &mut st,
+                &r.control,
+                &r.sampling,
+                &mut r.out,
+                &mut k,
+                steps,
+            );
+            r.f.copy_from_slice(&st.f);
+            s
+        }
+        "rk4" => fixed(sys, &mut Rk4Rigid, obs, &mut clock, r, &mut k, steps),
+        "erk" => fixed(
+            sys,
+            &mut Erk::new(r.tab, n),
+            obs,
+            &mut clock,
+            r,
+            &mut k,
+            steps,
+        ),
+        "rkmk" => fixed(
+            sys,
+            &mut Rkmk::new(r.tab, n),
+            obs,
+            &mut clock,
+            r,
+            &mut k,
+            steps,
+        ),
+        _ => fixed(sys, &mut Splitting, obs, &mut clock, r, &mut k, steps),
+    };
+    r.clock[0] = clock.t;
+    r.clock[1] = clock.h;
+    counters_out(&k, status, r.counters);
+    status
+}
+
+fn fixed<S: RigidStructure + ?Sized, M: FixedMethod<S>, O: Observer>(
+    sys: &S,
+    m: &mut M,
+    obs: &mut O,
+    clock: &mut Clock,
+    r: &mut Run,
+    k: &mut Counters,
+    steps: u64,
+) -> Status {
+    run_fixed(
+        sys,
+        m,
+        obs,
+        clock,
+        r.z,
+        r.dt,
+        &r.sampling,
+        &mut r.out,
+        k,
+        steps,
+    )
+}
+
+/// The whole call: chunks of steps, an interrupt check between them; the GIL released when
+/// `release` (no Python runs inside).
+fn drive<S, O>(py: Python<'_>, sys: &S, obs: &mut O, r: &mut Run, release: bool) -> PyResult<Status>
+where
+    S: RigidStructure + Sync + ?Sized,
+    O: Observer + Send,
+{
+    MomentumState::enter(sys, r);
+    let mut left = r.max_steps;
+    loop {
+        let steps = left.min(CHUNK);
+        let status = if release {
+            py.detach(|| chunk(sys, obs, r, steps))
+        } else {
+            chunk(sys, obs, r, steps)
+        };
+        left -= steps.min(left);
+        if status != Status::Running || left == 0 {
+            MomentumState::leave(sys, r);
+            return Ok(status);
+        }
+        if let Err(e) = py.check_signals() {
+            MomentumState::leave(sys, r);
+            return Err(e);
+        }
+    }
+}
+
+/// Integrate one rigid body: see `poinsot.integrate.driver.integrate`. Returns the status.
+#[pyfunction]
+#[pyo3(signature = (
+    body, force_kind, force_params, axes, user, method, a, b, c, clock, z, f, dt, control,
+    t_end, t_eval, save_every, out_t, out_y, counters, max_steps, flips=None
+))]
+#[allow(clippy::too_many_arguments)]
+fn integrate_rigid<'py>(
+    py: Python<'py>,
+    body: PyReadonlyArray1<'py, f64>,
+    force_kind: PyReadonlyArray1<'py, i64>,
+    force_params: PyReadonlyArray2<'py, f64>,
+    axes: PyReadonlyArray2<'py, f64>,
+    user: Option<Bound<'py, PyAny>>,
+    method: &str,
+    a: PyReadonlyArray2<'py, f64>,
+    b: PyReadonlyArray1<'py, f64>,
+    c: PyReadonlyArray1<'py, f64>,
+    mut clock: PyReadwriteArray1<'py, f64>,
+    mut z: PyReadwriteArray1<'py, f64>,
+    mut f: PyReadwriteArray1<'py, f64>,
+    dt: f64,
+    control: PyReadonlyArray1<'py, f64>,
+    t_end: f64,
+    t_eval: PyReadonlyArray1<'py, f64>,
+    save_every: i64,
+    mut out_t: PyReadwriteArray1<'py, f64>,
+    mut out_y: PyReadwriteArray2<'py, f64>,
+    mut counters: PyReadwriteArray1<'py, i64>,
+    max_steps: i64,
+    flips: Option<(
+        PyReadwriteArray1<'py, f64>,
+        PyReadwriteArray1<'py, f64>,
+        PyReadwriteArray1<'py, f64>,
+    )>,
+) -> PyResult<i64> {
+    let body = body_from(body.as_slice()?)?;
+    let forces = forces_from(force_kind.as_slice()?, &force_params)?;
+    let axes = mat3_from(&axes, "axes")?;
+    if !["dop853", "rk4", "erk", "rkmk", "splitting"].contains(&method) {
+        return Err(value_error(format!("unknown method {method:?}")));
+    }
+    let (a_s, b_s, c_s) = (a.as_slice()?, b.as_slice()?, c.as_slice()?);
+    let s = b_s.len();
+    if a_s.len() != s * s || c_s.len() != s {
+        return Err(value_error("the tableau must be A (s, s), B (s,), C (s,)"));
+    }
+    let ctl = control.as_slice()?;
+    if ctl.len() != 7 {
+        return Err(value_error("`control` must hold 7 numbers"));
+    }
+    let z_s = z.as_slice_mut()?;
+    if z_s.len() != STATE_SIZE {
+        return Err(value_error(format!("`z` must hold {STATE_SIZE} numbers")));
+    }
+    let out_t_s = out_t.as_slice_mut()?;
+    let m = out_t_s.len();
+    let out_y_s = out_y.as_slice_mut()?;
+    if out_y_s.len() != m * STATE_SIZE {
+        return Err(value_error("`out_y` must have shape (len(out_t), 18)"));
+    }
+    let counters_s = counters.as_slice_mut()?;
+    if counters_s.len() != 6 {
+        return Err(value_error("`counters` must hold 6 integers"));
+    }
+    let mut run = Run {
+        method,
+        tab: Tableau {
+            a: a_s,
+            b: b_s,
+            c: c_s,
+        },
+        clock: clock.as_slice_mut()?,
+        z: z_s,
+        f: f.as_slice_mut()?,
+        dt,
+        control: Control {
+            rtol: ctl[0],
+            atol: ctl[1],
+            safety: ctl[2],
+            min_factor: ctl[3],
+            max_factor: ctl[4],
+            max_step: ctl[5],
+            first_step: ctl[6],
+        },
+        sampling: Sampling {
+            t_end,
+            t_eval: t_eval.as_slice()?,
+            every: save_every.max(1) as u64,
+        },
+        out: Output {
+            t: out_t_s,
+            y: out_y_s,
+        },
+        counters: counters_s,
+        max_steps: max_steps.max(0) as u64,
+    };
+    let mut flips = flips;
+    let status = match (&mut flips, user) {
+        (_, Some(func)) => {
+            if let Ok(address) = func.extract::<usize>() {
+                // a C function by address
+                if address == 0 {
+                    return Err(value_error("`user` must be a non-null function address"));
+                }
+                // SAFETY: the caller promises a C function of this signature at `address`
+                // (poinsot.forces.CustomForce checks the ctypes/cfunc signature).
+                let f: extern "C" fn(f64, *const f64, *mut f64) -> i32 =
+                    unsafe { std::mem::transmute(address) };
+                let sys = Rigid::new(body, forces, axes, Some(CUser { f }));
+                drive_any(py, &sys, &mut flips, &mut run, true)?
+            } else {
+                let sys = Rigid::new(body, forces, axes, Some(PyUser::new(py, func)));
+                let status = drive_unsync(py, &sys, &mut flips, &mut run)?;
+                if let Some(err) = sys.user.as_ref().and_then(|u| u.take_error()) {
+                    return Err(err);
+                }
+                status
+            }
+        }
+        (_, None) if forces.is_empty() && !body.has_pivot => {
+            drive_any(py, &TorqueFree { body }, &mut flips, &mut run, true)?
+        }
+        (_, None) => {
+            let sys: Rigid = Rigid::new(body, forces, axes, None);
+            drive_any(py, &sys, &mut flips, &mut run, true)?
+        }
+    };
+    Ok(status as i64)
+}
+
+type Flips<'py> = Option<(
+    PyReadwriteArray1<'py, f64>,
+    PyReadwriteArray1<'py, f64>,
+    PyReadwriteArray1<'py, f64>,
+)>;
+
+fn drive_any<S: RigidStructure + Sync + ?Sized>(
+    py: Python<'_>,
+    sys: &S,
+    flips: &mut Flips,
+    run: &mut Run,
+    release: bool,
+) -> PyResult<Status> {
+    match flips {
+        Some((first, last, count)) => {
+            let mut obs = FlipObserver {
+                first: first.as_slice_mut()?,
+                last: last.as_slice_mut()?,
+                count: count.as_slice_mut()?,
+                offset: 0,
+            };
+            drive(py, sys, &mut obs, run, release)
+        }
+        None => drive(py, sys, &mut NoObserver, run, release),
+    }
+}
+
+/// The splitting method steps the momentum state `[R, V, Q, π]`: the caller's state is
+/// turned into it for the call and back at the end (once per call, not per chunk).
+struct MomentumState;
+
+impl MomentumState {
+    fn enter<S: RigidStructure + ?Sized>(sys: &S, r: &mut Run) -> Self {
+        if r.method == "splitting" {
+            let y = r.z.to_vec();
+            velocity_to_momentum(sys, &y, r.z);
+        }
+        MomentumState
+    }
+    fn leave<S: RigidStructure + ?Sized>(sys: &S, r: &mut Run) {
+        if r.method == "splitting" {
+            let y = momentum_to_velocity(sys, r.z);
+            r.z.copy_from_slice(&y);
+        }
+    }
+}
+
+/// A run whose system calls Python (it holds the GIL throughout).
+fn drive_unsync<S: RigidStructure + ?Sized>(
+    py: Python<'_>,
+    sys: &S,
+    flips: &mut Flips,
+    run: &mut Run,
+) -> PyResult<Status> {
+    MomentumState::enter(sys, run);
+    let status = drive_unsync_inner(py, sys, flips, run);
+    MomentumState::leave(sys, run);
+    status
+}
+
+fn drive_unsync_inner<S: RigidStructure + ?Sized>(
+    py: Python<'_>,
+    sys: &S,
+    flips: &mut Flips,
+    run: &mut Run,
+) -> PyResult<Status> {
+    let mut left = run.max_steps;
+    loop {
+        let steps = left.min(CHUNK);
+        let status = match flips {
+            Some((first, last, count)) => {
+                let mut obs = FlipObserver {
+                    first: first.as_slice_mut()?,
+                    last: last.as_slice_mut()?,
+                    count: count.as_slice_mut()?,
+                    offset: 0,
+                };
+                chunk(sys, &mut obs, run, steps)
+            }
+            None => chunk(sys, &mut NoObserver, run, steps),
+        };
+        left -= steps.min(left);
+        if status != Status::Running || left == 0 {
+            return Ok(status);
+        }
+        py.check_signals()?;
+    }
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(integrate_rigid, m)?)?;
+    Ok(())
+}

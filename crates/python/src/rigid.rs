@@ -1,0 +1,438 @@
+//! Bindings of the rigid-body formulas on batches: frames, initial states, the pivot,
+//! energies and momenta, particles. Shapes are checked here; `poinsot` reshapes `(..., 3)`
+//! inputs to rows before calling.
+
+use numpy::ndarray::{Array1, Array2, Array3, ArrayView2, ArrayView3};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+};
+use poinsot_core::forces::total_potential;
+use poinsot_core::invariants::{angular_momentum_body, kinetic_energy, rotational_energy};
+use poinsot_core::layout::{load, STATE_SIZE};
+use poinsot_core::rigid::{
+    self, initial_state, orthogonality_error, particle_position, particle_velocity,
+    pivot_constrained,
+};
+use poinsot_core::so3::{Mat3, Vec3};
+use poinsot_core::system::RigidStructure;
+use poinsot_core::systems::{NoUser, Rigid};
+use pyo3::prelude::*;
+
+use crate::engine::{body_from, forces_from, mat3_from, value_error};
+
+fn rows<'a>(
+    a: &'a PyReadonlyArray2<'_, f64>,
+    k: usize,
+    name: &str,
+) -> PyResult<ArrayView2<'a, f64>> {
+    let v = a.as_array();
+    if v.ncols() != k {
+        return Err(value_error(format!(
+            "`{name}` must have {k} columns, found shape {:?}",
+            v.shape()
+        )));
+    }
+    Ok(v)
+}
+
+fn mats<'a>(a: &'a PyReadonlyArray3<'_, f64>, name: &str) -> PyResult<ArrayView3<'a, f64>> {
+    let v = a.as_array();
+    if v.shape()[1..] != [3, 3] {
+        return Err(value_error(format!(
+            "`{name}` must have shape (n, 3, 3), found {:?}",
+            v.shape()
+        )));
+    }
+    Ok(v)
+}
+
+#[inline]
+fn v3(a: &ArrayView2<f64>, i: usize) -> Vec3 {
+    [a[[i, 0]], a[[i, 1]], a[[i, 2]]]
+}
+
+#[inline]
+fn m3(a: &ArrayView3<f64>, i: usize) -> Mat3 {
+    [0, 1, 2].map(|r| [0, 1, 2].map(|c| a[[i, r, c]]))
+}
+
+fn same_rows(n: usize, m: usize, a: &str, b: &str) -> PyResult<()> {
+    if n != m {
+        return Err(value_error(format!(
+            "`{a}` and `{b}` must have the same number of rows ({n} ≠ {m})"
+        )));
+    }
+    Ok(())
+}
+
+/// States (n, 18) from the body frame to the principal frame of `axes` (or back).
+#[pyfunction]
+#[pyo3(signature = (axes, states, inverse=false))]
+fn states_principal<'py>(
+    py: Python<'py>,
+    axes: PyReadonlyArray2<'py, f64>,
+    states: PyReadonlyArray2<'py, f64>,
+    inverse: bool,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let e = mat3_from(&axes, "axes")?;
+    let y = rows(&states, STATE_SIZE, "states")?;
+    let mut out = Array2::<f64>::zeros((y.nrows(), STATE_SIZE));
+    let mut buf = [0.0; STATE_SIZE];
+    for (i, row) in y.outer_iter().enumerate() {
+        let src: Vec<f64> = row.iter().copied().collect();
+        if inverse {
+            rigid::state_from_principal(&e, &src, &mut buf);
+        } else {
+            rigid::state_to_principal(&e, &src, &mut buf);
+        }
+        for k in 0..STATE_SIZE {
+            out[[i, k]] = buf[k];
+        }
+    }
+    Ok(out.into_pyarray(py))
+}
+
+/// Body-frame initial states (N, 18), by the rules of `poinsot.simulate`: `q` (1 or N, 3, 3),
+/// `omega` (N, 3); `r`, `v` (1 or N, 3, or 0 rows: the default).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn initial_states<'py>(
+    py: Python<'py>,
+    q: PyReadonlyArray3<'py, f64>,
+    omega: PyReadonlyArray2<'py, f64>,
+    r: PyReadonlyArray2<'py, f64>,
+    v: PyReadonlyArray2<'py, f64>,
+    com: [f64; 3],
+    c: [f64; 3],
+    pivot: [f64; 3],
+    has_pivot: bool,
+    line: [f64; 3],
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let q = mats(&q, "Q")?;
+    let w = rows(&omega, 3, "omega")?;
+    let r = rows(&r, 3, "R")?;
+    let v = rows(&v, 3, "V")?;
+    let n = w.nrows();
+    let pick = |len: usize, i: usize| if len > 1 { i } else { 0 };
+    let mut out = Array2::<f64>::zeros((n, STATE_SIZE));
+    for i in 0..n {
+        let qi = m3(&q, pick(q.shape()[0], i));
+        let ri = (r.nrows() > 0).then(|| v3(&r, pick(r.nrows(), i)));
+        let vi = (v.nrows() > 0).then(|| v3(&v, pick(v.nrows(), i)));
+        let y = initial_state(&qi, v3(&w, i), ri, vi, com, c, pivot, has_pivot, line);
+        for k in 0..STATE_SIZE {
+            out[[i, k]] = y[k];
+        }
+    }
+    Ok(out.into_pyarray(py))
+}
+
+/// Where the pivot is in space for an engine state: `P = R − Q c`.
+#[pyfunction]
+fn pivot_point(
+    body: PyReadonlyArray1<'_, f64>,
+    state: PyReadonlyArray1<'_, f64>,
+) -> PyResult<[f64; 3]> {
+    let b = body_from(body.as_slice()?)?;
+    let y = state.as_slice()?;
+    if y.len() != STATE_SIZE {
+        return Err(value_error("`state` must hold 18 numbers"));
+    }
+    Ok(rigid::pivot_point(&b, &load(y)))
+}
+
+/// Engine states (n, 18) with `R, V` reset from the attitude about the pivot.
+#[pyfunction]
+fn project_onto_pivot<'py>(
+    py: Python<'py>,
+    body: PyReadonlyArray1<'py, f64>,
+    states: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let b = body_from(body.as_slice()?)?;
+    let y = rows(&states, STATE_SIZE, "states")?;
+    let mut out = y.to_owned();
+    for mut row in out.outer_iter_mut() {
+        let s: Vec<f64> = row.iter().copied().collect();
+        let c = pivot_constrained(&b, load(&s));
+        for k in 0..STATE_SIZE {
+            row[k] = c[k];
+        }
+    }
+    Ok(out.into_pyarray(py))
+}
+
+/// `(ẏ (18,), wrench (6,))` of an engine state under the built-in forces: eqs (07)–(09).
+#[pyfunction]
+fn rigid_rates<'py>(
+    py: Python<'py>,
+    body: PyReadonlyArray1<'py, f64>,
+    force_kind: PyReadonlyArray1<'py, i64>,
+    force_params: PyReadonlyArray2<'py, f64>,
+    t: f64,
+    state: PyReadonlyArray1<'py, f64>,
+) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    let b = body_from(body.as_slice()?)?;
+    let forces = forces_from(force_kind.as_slice()?, &force_params)?;
+    let y = state.as_slice()?;
+    if y.len() != STATE_SIZE {
+        return Err(value_error("`state` must hold 18 numbers"));
+    }
+    let eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let sys: Rigid<NoUser> = Rigid::new(b, forces, eye, None);
+    let y = load(y);
+    let w = sys.wrench(t, &y);
+    let r = rigid::rigid_rates(&b, &y, w);
+    Ok((
+        Array1::from(r.to_vec()).into_pyarray(py),
+        Array1::from(w.to_vec()).into_pyarray(py),
+    ))
+}
+
+/// Total potential energy of the built-in forces at samples `t` (n,), engine states (n, 18).
+#[pyfunction]
+fn potential_energies<'py>(
+    py: Python<'py>,
+    body: PyReadonlyArray1<'py, f64>,
+    force_kind: PyReadonlyArray1<'py, i64>,
+    force_params: PyReadonlyArray2<'py, f64>,
+    t: PyReadonlyArray1<'py, f64>,
+    states: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let b = body_from(body.as_slice()?)?;
+    let forces = forces_from(force_kind.as_slice()?, &force_params)?;
+    let t = t.as_slice()?;
+    let y = rows(&states, STATE_SIZE, "states")?;
+    same_rows(t.len(), y.nrows(), "t", "states")?;
+    let out: Vec<f64> = (0..t.len())
+        .map(|i| {
+            let s: Vec<f64> = y.row(i).iter().copied().collect();
+            total_potential(&forces, &b, t[i], &load(&s))
+        })
+        .collect();
+    Ok(Array1::from(out).into_pyarray(py))
+}
+
+/// Kinetic energy (12), `½ Aω·ω + ½ M |V|²`, per row of `omega`, `v` (n, 3).
+#[pyfunction]
+fn kinetic_energies<'py>(
+    py: Python<'py>,
+    inertia: PyReadonlyArray2<'py, f64>,
+    mass: f64,
+    omega: PyReadonlyArray2<'py, f64>,
+    v: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let a = mat3_from(&inertia, "inertia")?;
+    let w = rows(&omega, 3, "omega")?;
+    let v = rows(&v, 3, "V")?;
+    same_rows(w.nrows(), v.nrows(), "omega", "V")?;
+    let out: Vec<f64> = (0..w.nrows())
+        .map(|i| kinetic_energy(&a, mass, v3(&w, i), v3(&v, i)))
+        .collect();
+    Ok(Array1::from(out).into_pyarray(py))
+}
+
+/// Rotational kinetic energy `½ ω·Aω` per row of `omega` (n, 3).
+#[pyfunction]
+fn rotational_energies<'py>(
+    py: Python<'py>,
+    inertia: PyReadonlyArray2<'py, f64>,
+    omega: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let a = mat3_from(&inertia, "inertia")?;
+    let w = rows(&omega, 3, "omega")?;
+    let out: Vec<f64> = (0..w.nrows())
+        .map(|i| rotational_energy(&a, v3(&w, i)))
+        .collect();
+    Ok(Array1::from(out).into_pyarray(py))
+}
+
+/// Angular momentum per row: `A ω` (body frame) without `q`; `Q A ω` (about the centre of
+/// mass, space frame) with `q` (n, 3, 3); plus `M R × V` (eq. (03), about the origin) when `r`
+/// and `v` are given.
+#[pyfunction]
+#[pyo3(signature = (inertia, omega, q=None, mass=0.0, r=None, v=None))]
+fn angular_momenta<'py>(
+    py: Python<'py>,
+    inertia: PyReadonlyArray2<'py, f64>,
+    omega: PyReadonlyArray2<'py, f64>,
+    q: Option<PyReadonlyArray3<'py, f64>>,
+    mass: f64,
+    r: Option<PyReadonlyArray2<'py, f64>>,
+    v: Option<PyReadonlyArray2<'py, f64>>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let a = mat3_from(&inertia, "inertia")?;
+    let w = rows(&omega, 3, "omega")?;
+    let n = w.nrows();
+    let q = q.as_ref().map(|q| mats(q, "Q")).transpose()?;
+    if let Some(q) = &q {
+        same_rows(n, q.shape()[0], "omega", "Q")?;
+    }
+    let rv = match (&r, &v) {
+        (Some(r), Some(v)) => {
+            let (r, v) = (rows(r, 3, "R")?, rows(v, 3, "V")?);
+            same_rows(n, r.nrows(), "omega", "R")?;
+            same_rows(n, v.nrows(), "omega", "V")?;
+            Some((r, v))
+        }
+        (None, None) => None,
+        _ => return Err(value_error("give both `R` and `V`, or neither")),
+    };
+    let mut out = Array2::<f64>::zeros((n, 3));
+    for i in 0..n {
+        let p = angular_momentum_body(&a, v3(&w, i));
+        let mut l = match &q {
+            Some(q) => {
+                let qi = m3(q, i);
+                [0, 1, 2].map(|j| qi[j][0] * p[0] + qi[j][1] * p[1] + qi[j][2] * p[2])
+            }
+            None => p,
+        };
+        if let Some((r, v)) = &rv {
+            let c = poinsot_core::so3::cross(v3(r, i), v3(v, i));
+            for j in 0..3 {
+                l[j] += mass * c[j];
+            }
+        }
+        for j in 0..3 {
+            out[[i, j]] = l[j];
+        }
+    }
+    Ok(out.into_pyarray(py))
+}
+
+/// `Q ω` per row: ω in the space frame.
+#[pyfunction]
+fn omega_space<'py>(
+    py: Python<'py>,
+    q: PyReadonlyArray3<'py, f64>,
+    omega: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let q = mats(&q, "Q")?;
+    let w = rows(&omega, 3, "omega")?;
+    same_rows(w.nrows(), q.shape()[0], "omega", "Q")?;
+    let mut out = Array2::<f64>::zeros((w.nrows(), 3));
+    for i in 0..w.nrows() {
+        let qi = m3(&q, i);
+        for j in 0..3 {
+            out[[i, j]] = qi[j][0] * w[[i, 0]] + qi[j][1] * w[[i, 1]] + qi[j][2] * w[[i, 2]];
+        }
+    }
+    Ok(out.into_pyarray(py))
+}
+
+/// `max |QᵀQ − I|` per matrix (n, 3, 3).
+#[pyfunction]
+fn orthogonality_errors<'py>(
+    py: Python<'py>,
+    q: PyReadonlyArray3<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let q = mats(&q, "Q")?;
+    let out: Vec<f64> = (0..q.shape()[0])
+        .map(|i| {
+            let mut y = [0.0; STATE_SIZE];
+            let qi = m3(&q, i);
+            for r in 0..3 {
+                for c in 0..3 {
+                    y[6 + 3 * r + c] = qi[r][c];
+                }
+            }
+            orthogonality_error(&y)
+        })
+        .collect();
+    Ok(Array1::from(out).into_pyarray(py))
+}
+
+/// Particle positions `Q u + R` at every sample: `r` (n, 3), `q` (n, 3, 3), offsets `u`
+/// (N, 3) → (n, N, 3); with `v` and `omega` (n, 3) the velocities `Q(ω × u) + V` instead.
+#[pyfunction]
+#[pyo3(signature = (r, q, u, omega=None))]
+fn particle_motion<'py>(
+    py: Python<'py>,
+    r: PyReadonlyArray2<'py, f64>,
+    q: PyReadonlyArray3<'py, f64>,
+    u: PyReadonlyArray2<'py, f64>,
+    omega: Option<PyReadonlyArray2<'py, f64>>,
+) -> PyResult<Bound<'py, PyArray3<f64>>> {
+    let r = rows(&r, 3, "R")?;
+    let q = mats(&q, "Q")?;
+    let u = rows(&u, 3, "u")?;
+    same_rows(r.nrows(), q.shape()[0], "R", "Q")?;
+    let w = omega.as_ref().map(|w| rows(w, 3, "omega")).transpose()?;
+    let (n, m) = (r.nrows(), u.nrows());
+    let mut out = Array3::<f64>::zeros((n, m, 3));
+    for k in 0..n {
+        let qk = m3(&q, k);
+        for i in 0..m {
+            let p = match &w {
+                Some(w) => particle_velocity(v3(&r, k), &qk, v3(w, k), v3(&u, i)),
+                None => particle_position(v3(&r, k), &qk, v3(&u, i)),
+            };
+            for j in 0..3 {
+                out[[k, i, j]] = p[j];
+            }
+        }
+    }
+    Ok(out.into_pyarray(py))
+}
+
+/// `(V, ω, residual)` of particle data by the notebook's rules (`poinsot_core::rigid`).
+#[pyfunction]
+fn rigid_motion_from_particles<'py>(
+    py: Python<'py>,
+    masses: PyReadonlyArray1<'py, f64>,
+    positions: PyReadonlyArray2<'py, f64>,
+    velocities: PyReadonlyArray2<'py, f64>,
+    center: [f64; 3],
+    inertia_inv: PyReadonlyArray2<'py, f64>,
+) -> PyResult<([f64; 3], [f64; 3], Bound<'py, PyArray1<f64>>)> {
+    let m = masses.as_slice()?;
+    let p = rows(&positions, 3, "positions")?;
+    let v = rows(&velocities, 3, "velocities")?;
+    same_rows(m.len(), p.nrows(), "masses", "positions")?;
+    same_rows(m.len(), v.nrows(), "masses", "velocities")?;
+    let pos: Vec<Vec3> = (0..m.len()).map(|i| v3(&p, i)).collect();
+    let vel: Vec<Vec3> = (0..m.len()).map(|i| v3(&v, i)).collect();
+    let a = mat3_from(&inertia_inv, "inertia_inv")?;
+    let mut residual = vec![0.0; m.len()];
+    let (vv, w) = rigid::rigid_motion_from_particles(m, &pos, &vel, center, &a, &mut residual);
+    Ok((vv, w, Array1::from(residual).into_pyarray(py)))
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(states_principal, m)?)?;
+    m.add_function(wrap_pyfunction!(initial_states, m)?)?;
+    m.add_function(wrap_pyfunction!(pivot_point, m)?)?;
+    m.add_function(wrap_pyfunction!(project_onto_pivot, m)?)?;
+    m.add_function(wrap_pyfunction!(rigid_rates, m)?)?;
+    m.add_function(wrap_pyfunction!(potential_energies, m)?)?;
+    m.add_function(wrap_pyfunction!(kinetic_energies, m)?)?;
+    m.add_function(wrap_pyfunction!(rotational_energies, m)?)?;
+    m.add_function(wrap_pyfunction!(angular_momenta, m)?)?;
+    m.add_function(wrap_pyfunction!(omega_space, m)?)?;
+    m.add_function(wrap_pyfunction!(orthogonality_errors, m)?)?;
+    m.add_function(wrap_pyfunction!(particle_motion, m)?)?;
+    m.add_function(wrap_pyfunction!(rigid_motion_from_particles, m)?)?;
+    // the layouts, for the Python package (one place: crates/core/src/layout.rs)
+    use poinsot_core::layout as l;
+    for (name, value) in [
+        ("STATE_SIZE", l::STATE_SIZE),
+        ("R_AT", l::R_AT),
+        ("V_AT", l::V_AT),
+        ("Q_AT", l::Q_AT),
+        ("OMEGA_AT", l::OMEGA_AT),
+        ("MASS", l::MASS),
+        ("INV_MASS", l::INV_MASS),
+        ("MOMENTS", l::MOMENTS),
+        ("INV_MOMENTS", l::INV_MOMENTS),
+        ("COM_OFFSET", l::COM_OFFSET),
+        ("INERTIA_COM", l::INERTIA_COM),
+        ("PIVOT", l::PIVOT),
+        ("HAS_PIVOT", l::HAS_PIVOT),
+        ("ROTOR", l::ROTOR),
+        ("BODY_SIZE", l::BODY_SIZE),
+        ("FORCE_PARAMS", l::FORCE_PARAMS),
+    ] {
+        m.add(name, value)?;
+    }
+    Ok(())
+}
