@@ -57,6 +57,7 @@ LIBRARY = {
     "models",
     "_validation",
     "_io",
+    "layout",
     "conservation",
 }
 PRESENTATION = {"plotting", "report", "numbers"}

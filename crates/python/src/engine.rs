@@ -504,7 +504,51 @@ fn drive_unsync_inner<S: RigidStructure + ?Sized>(
     }
 }
 
+/// The Butcher tableau `(A (s, s), B (s,), C (s,))` of a built-in method: `"rk4"` or
+/// `"dop853"` (its 12 stages; the dense output's stay in the core).
+#[pyfunction]
+fn tableau<'py>(
+    py: Python<'py>,
+    name: &str,
+) -> PyResult<(
+    Bound<'py, numpy::PyArray2<f64>>,
+    Bound<'py, numpy::PyArray1<f64>>,
+    Bound<'py, numpy::PyArray1<f64>>,
+)> {
+    use numpy::ndarray::{Array1, Array2};
+    use numpy::IntoPyArray;
+    use poinsot_core::tableaux as t;
+    let (a, b, c): (Vec<Vec<f64>>, Vec<f64>, Vec<f64>) = match name {
+        "rk4" => (
+            t::RK4_A.iter().map(|r| r.to_vec()).collect(),
+            t::RK4_B.to_vec(),
+            t::RK4_C.to_vec(),
+        ),
+        "dop853" => {
+            let s = t::DOP853_STAGES;
+            (
+                t::DOP853_A[..s].iter().map(|r| r[..s].to_vec()).collect(),
+                t::DOP853_B.to_vec(),
+                t::DOP853_C[..s].to_vec(),
+            )
+        }
+        _ => {
+            return Err(value_error(format!(
+                "no built-in tableau {name:?} (\"rk4\", \"dop853\")"
+            )))
+        }
+    };
+    let s = b.len();
+    let a = Array2::from_shape_vec((s, s), a.concat()).expect("square tableau");
+    Ok((
+        a.into_pyarray(py),
+        Array1::from(b).into_pyarray(py),
+        Array1::from(c).into_pyarray(py),
+    ))
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(tableau, m)?)?;
     m.add_function(wrap_pyfunction!(integrate_rigid, m)?)?;
     Ok(())
 }

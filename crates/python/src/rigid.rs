@@ -434,5 +434,19 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     ] {
         m.add(name, value)?;
     }
+    let kinds = pyo3::types::PyDict::new(m.py());
+    use poinsot_core::forces::ForceKind as K;
+    for (name, kind) in [
+        ("gravity", K::Gravity),
+        ("central_gravity", K::CentralGravity),
+        ("spring", K::Spring),
+        ("linear_drag", K::LinearDrag),
+        ("quadratic_drag", K::QuadraticDrag),
+        ("point_force", K::PointForce),
+        ("torque", K::Torque),
+    ] {
+        kinds.set_item(name, kind as i64)?;
+    }
+    m.add("FORCE_KINDS", kinds)?;
     Ok(())
 }

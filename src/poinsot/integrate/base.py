@@ -68,6 +68,16 @@ def _kernel_for(fn, system):
     return python_twin(fn)
 
 
+class _KernelCode:
+    """The numba engine's code of a method (``kernels.steppers.METHOD_CODES[kind]``), looked
+    up on use: the compiled core names methods by :attr:`Solver.kind`."""
+
+    def __get__(self, obj, cls):
+        from ..kernels.steppers import METHOD_CODES
+
+        return METHOD_CODES.get(cls.kind, -1)
+
+
 class Solver:
     """Base class of poinsot's integrators; see the module docstring for the contract.
 
@@ -86,7 +96,7 @@ class Solver:
     adaptive: ClassVar[bool] = False
     conserves: ClassVar[frozenset[str]] = frozenset()
     requires: ClassVar[str] = "ode"
-    code: ClassVar[int] = -1
+    code = _KernelCode()
     #: The compiled core's step: "rk4", "erk", "rkmk", "splitting" or "dop853".
     kind: ClassVar[str] = ""
     driver: ClassVar[str] = ""

@@ -58,15 +58,10 @@ class StepSizeController:
             raise ValueError(f"`max_step` must be a positive number, found {self.max_step!r}")
 
     def as_array(self) -> np.ndarray:
-        """The parameters as the kernels read them (:mod:`poinsot.kernels.steppers`)."""
-        from ..kernels import steppers as st
-
-        out = np.zeros(st.CONTROL_SIZE)
-        out[st.RTOL] = self.rtol
-        out[st.ATOL] = self.atol
-        out[st.SAFETY] = self.safety
-        out[st.MIN_FACTOR] = self.min_factor
-        out[st.MAX_FACTOR] = self.max_factor
-        out[st.MAX_STEP] = self.max_step
-        out[st.FIRST_STEP] = self.first_step or 0.0
-        return out
+        """The parameters as the engines read them: ``[rtol, atol, safety, min_factor,
+        max_factor, max_step, first_step]`` (``first_step`` 0: chosen automatically)."""
+        return np.array(
+            [self.rtol, self.atol, self.safety, self.min_factor, self.max_factor,
+             self.max_step, self.first_step or 0.0],
+            dtype=float,
+        )  # fmt: skip

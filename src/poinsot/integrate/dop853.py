@@ -14,8 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernels import steppers as _st
-from ..kernels import tableaux
+from .. import _core
 from .base import Solver, SolverState, _kernel_for, register
 
 __all__ = ["DEFAULT_ATOL", "DEFAULT_RTOL", "DOP853"]
@@ -36,12 +35,9 @@ class DOP853(Solver):
     order = 8
     error_order = 7
     adaptive = True
-    code = _st.DOP853
     kind = "dop853"
     driver = "run_adaptive"
-    A = tableaux.DOP853_A[: tableaux.DOP853_STAGES, : tableaux.DOP853_STAGES]
-    B = tableaux.DOP853_B
-    C = tableaux.DOP853_C[: tableaux.DOP853_STAGES]
+    A, B, C = _core.tableau("dop853")
 
     def init(self, system, t0, y0):
         from ..kernels.steppers import evaluate
@@ -52,11 +48,15 @@ class DOP853(Solver):
         return SolverState(state.t, state.z, f)
 
     def step(self, system, state, h, controller=None):
+        from ..kernels import steppers as _st
+
         from .control import StepSizeController
 
         controller = controller or StepSizeController()
         z = state.z
         n = z.size
+        from ..kernels import tableaux
+
         K = np.empty((tableaux.DOP853_STAGES_EXTENDED, n))
         out_y = np.empty_like(z)
         out_f = np.empty_like(z)

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernels import steppers as _st
 from .base import SolverState, _kernel_for, register
 from .rk import RK4, ExplicitRungeKutta
 
@@ -23,11 +22,12 @@ class MuntheKaas(ExplicitRungeKutta):
 
     requires = "rigid"
     conserves = frozenset({"orthogonality"})
-    code = _st.RKMK
     kind = "rkmk"
     driver = "run_rkmk"
 
     def step(self, system, state, h, controller=None):
+        from ..kernels import steppers as _st
+
         z = state.z
         s = len(self.B)
         out = np.empty_like(z)

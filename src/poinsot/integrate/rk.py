@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernels import steppers as _st
-from ..kernels import tableaux
+from .. import _core
 from .base import Solver, SolverState, _drivers, _kernel_for, register
 
 __all__ = ["RK4", "ExplicitRungeKutta"]
@@ -20,11 +19,12 @@ class ExplicitRungeKutta(Solver):
     ``Σ_j A_ij = C_i``, ``A`` strictly lower triangular) and its convergence order.
     """
 
-    code = _st.ERK
     kind = "erk"
     driver = "run_erk"
 
     def step(self, system, state, h, controller=None):
+        from ..kernels import steppers as _st
+
         z = state.z
         K = np.empty((len(self.B), z.size))
         out = np.empty_like(z)
@@ -45,10 +45,9 @@ class RK4(ExplicitRungeKutta):
 
     name = "rk4"
     order = 4
-    code = _st.RK4
     kind = "rk4"
     driver = "run_rk4"
-    A, B, C = tableaux.RK4_A, tableaux.RK4_B, tableaux.RK4_C
+    A, B, C = _core.tableau("rk4")
 
     def driver_function(self, system):
         """Rigid bodies: RK4 in registers (:func:`~poinsot.kernels.steppers.rk4_tuple_step`);
@@ -58,6 +57,8 @@ class RK4(ExplicitRungeKutta):
         return _kernel_for(_drivers().run_erk, system)
 
     def step(self, system, state, h, controller=None):
+        from ..kernels import steppers as _st
+
         if not _is_rigid(system):
             return super().step(system, state, h, controller)
         from ..kernels.layout import load_state, store_state

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernels import steppers as _st
 from .base import Solver, SolverState, _kernel_for, register
 
 __all__ = ["Splitting"]
@@ -32,13 +31,14 @@ class Splitting(Solver):
     order = 2
     requires = "rigid"
     conserves = frozenset({"orthogonality", "angular_momentum", "symplectic"})
-    code = _st.SPLITTING
     kind = "splitting"
     driver = "run_splitting"
     #: the structure it needs: every force a kick (position-only)
     needs_position_only_forces = True
 
     def step(self, system, state, h, controller=None):
+        from ..kernels import steppers as _st
+
         z = state.z
         out = np.empty_like(z)
         split = _kernel_for(_st.splitting_step, system)
