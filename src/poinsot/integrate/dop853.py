@@ -49,7 +49,6 @@ class DOP853(Solver):
 
     def step(self, system, state, h, controller=None):
         from ..kernels import steppers as _st
-
         from .control import StepSizeController
 
         controller = controller or StepSizeController()
