@@ -6,7 +6,9 @@
 //!
 //! One module per concept; equation numbers refer to `docs/theory.md`.
 
+pub mod inertia;
 pub mod invariants;
+pub mod shapes;
 pub mod so3;
 
 pub mod version {
