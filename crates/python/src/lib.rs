@@ -3,8 +3,11 @@
 
 use pyo3::prelude::*;
 
+mod geometry;
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", poinsot_core::version::VERSION)?;
+    geometry::register(m)?;
     Ok(())
 }
