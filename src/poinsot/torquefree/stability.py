@@ -17,7 +17,7 @@ import numpy as np
 
 from .._validation import as_vector3
 from ..kernels import freebody
-from ..kernels.so3 import exp_so3
+from .._core import exp_so3
 
 __all__ = ["FixedPointSet", "Stability", "StabilityMixin"]
 
