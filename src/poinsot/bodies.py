@@ -15,6 +15,7 @@ from functools import cached_property
 
 import numpy as np
 
+from . import _core
 from ._validation import (
     as_array,
     as_positive_array,
@@ -22,7 +23,6 @@ from ._validation import (
     as_rotation_matrix,
     as_vector3,
 )
-from . import _core
 
 __all__ = ["SYMMETRY_CLASSES", "RigidBody", "UnphysicalInertiaWarning"]
 

@@ -22,9 +22,9 @@ from typing import ClassVar
 
 import numpy as np
 
+from . import _core
 from ._validation import as_array, as_rotation_matrix, as_vector3
 from .forces import BodyFrame, Force, ForceContext
-from . import _core
 from .kernels import layout
 from .kernels.forces import builtin_potential, builtin_wrench
 from .kernels.rigid import (

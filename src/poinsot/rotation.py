@@ -25,8 +25,8 @@ import warnings
 
 import numpy as np
 
-from ._validation import as_array
 from . import _core as so3
+from ._validation import as_array
 
 __all__ = [
     "EULER_SEQUENCES",

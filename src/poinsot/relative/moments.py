@@ -2,16 +2,16 @@
 (2)–(6), (16)).
 
 Every function checks its arguments and calls one kernel of :mod:`poinsot.kernels.relative`
-(or, for the planar inertia, of :mod:`poinsot._core`); vectors are body-frame components and may carry leading
-axes (``(..., 3)``), so a whole trajectory is evaluated in one call.
+(the planar inertia: :mod:`poinsot._core`); vectors are body-frame components and may carry
+leading axes (``(..., 3)``), so a whole trajectory is evaluated in one call.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .._validation import as_array
 from .. import _core
+from .._validation import as_array
 from ..kernels import relative as krel
 
 __all__ = [

@@ -14,9 +14,9 @@ import warnings
 
 import numpy as np
 
+from .. import _core
 from .._validation import as_array
 from ..kernels import freebody
-from .. import _core
 from ..kernels.rigid import euler_omega_dot
 from .polhodes import PolhodeMixin
 from .solution import SolutionMixin
