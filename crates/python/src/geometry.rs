@@ -77,10 +77,7 @@ fn items<'a>(a: &'a ArrayLike<'_>, name: &str, tail: &[usize]) -> PyResult<Items
             py_shape(shape)
         )));
     }
-    let data = match a.as_slice() {
-        Ok(s) => Cow::Borrowed(s),
-        Err(_) => Cow::Owned(a.as_array().iter().copied().collect()),
-    };
+    let data = c_order(a);
     Ok(Items {
         lead: shape[..shape.len() - tail.len()].to_vec(),
         data,
@@ -97,10 +94,19 @@ fn single<'a>(a: &'a ArrayLike<'_>, name: &str, shape: &[usize]) -> PyResult<Cow
             py_shape(a.shape())
         )));
     }
-    Ok(match a.as_slice() {
-        Ok(s) => Cow::Borrowed(s),
-        Err(_) => Cow::Owned(a.as_array().iter().copied().collect()),
-    })
+    Ok(c_order(a))
+}
+
+/// The elements of `a` in C (row-major) order: borrowed when `a` is C-contiguous, copied
+/// otherwise. (`as_slice` alone also accepts Fortran order, whose memory order is not the
+/// items' order.)
+fn c_order<'a>(a: &'a ArrayLike<'_>) -> Cow<'a, [f64]> {
+    if a.is_c_contiguous() {
+        if let Ok(s) = a.as_slice() {
+            return Cow::Borrowed(s);
+        }
+    }
+    Cow::Owned(a.as_array().iter().copied().collect())
 }
 
 fn array<'py>(py: Python<'py>, shape: Vec<usize>, data: Vec<f64>) -> PyResult<Out<'py>> {
