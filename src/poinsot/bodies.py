@@ -15,6 +15,7 @@ from functools import cached_property
 
 import numpy as np
 
+from . import _core
 from ._validation import (
     as_array,
     as_positive_array,
@@ -22,8 +23,6 @@ from ._validation import (
     as_rotation_matrix,
     as_vector3,
 )
-from .kernels import inertia as kin
-from .kernels import shapes
 
 __all__ = ["SYMMETRY_CLASSES", "RigidBody", "UnphysicalInertiaWarning"]
 
@@ -31,9 +30,9 @@ __all__ = ["SYMMETRY_CLASSES", "RigidBody", "UnphysicalInertiaWarning"]
 #: by hand (symmetry of the matrix, positive semi-definiteness, the triangle inequality).
 DEFAULT_RTOL = 1e-9
 #: Two principal moments closer than this, relative to the largest, are equal (one tolerance for
-#: every class: :mod:`poinsot.kernels.inertia`).
-SYMMETRY_RTOL = kin.SYMMETRY_RTOL
-SYMMETRY_CLASSES = kin.SYMMETRY_CLASSES
+#: every class: ``crates/core/src/inertia.rs``).
+SYMMETRY_RTOL = _core.SYMMETRY_RTOL
+SYMMETRY_CLASSES = _core.SYMMETRY_CLASSES
 
 
 class UnphysicalInertiaWarning(UserWarning):
@@ -153,14 +152,14 @@ class RigidBody:
                 f"`masses` and `positions` must have the same length, found {len(m)} and {len(r)}"
             )
         with np.errstate(over="ignore", invalid="ignore"):  # overflow is refused by _build
-            com = kin.center_of_mass(m, r)
+            com = _core.center_of_mass(m, r)
             u = r - com
-            return cls._build(m.sum(), kin.particle_inertia(m, u), com, m, u)
+            return cls._build(m.sum(), _core.particle_inertia(m, u), com, m, u)
 
     @classmethod
     def _primitive(cls, mass, inertia_local, position, orientation) -> RigidBody:
         pos, rot = _placement(position, orientation)
-        return cls._build(mass, kin.rotate_inertia(inertia_local, rot), pos)
+        return cls._build(mass, _core.rotate_inertia(inertia_local, rot), pos)
 
     @classmethod
     def box(cls, mass, size, *, position=None, orientation=None) -> RigidBody:
@@ -175,21 +174,21 @@ class RigidBody:
         """
         m = as_positive_scalar(mass, "mass")
         size = as_positive_array(size, "size", (3,))
-        return cls._primitive(m, shapes.box_inertia(m, size), position, orientation)
+        return cls._primitive(m, _core.box_inertia(m, size), position, orientation)
 
     @classmethod
     def sphere(cls, mass, radius, *, position=None, orientation=None) -> RigidBody:
         """Uniform solid sphere: ``A = 2/5 M r² 𝟙``."""
         m = as_positive_scalar(mass, "mass")
         r = as_positive_scalar(radius, "radius")
-        return cls._primitive(m, shapes.sphere_inertia(m, r), position, orientation)
+        return cls._primitive(m, _core.sphere_inertia(m, r), position, orientation)
 
     @classmethod
     def spherical_shell(cls, mass, radius, *, position=None, orientation=None) -> RigidBody:
         """Thin uniform spherical shell: ``A = 2/3 M r² 𝟙``."""
         m = as_positive_scalar(mass, "mass")
         r = as_positive_scalar(radius, "radius")
-        return cls._primitive(m, shapes.spherical_shell_inertia(m, r), position, orientation)
+        return cls._primitive(m, _core.spherical_shell_inertia(m, r), position, orientation)
 
     @classmethod
     def cylinder(cls, mass, radius, height, *, position=None, orientation=None) -> RigidBody:
@@ -197,21 +196,21 @@ class RigidBody:
         m = as_positive_scalar(mass, "mass")
         r = as_positive_scalar(radius, "radius")
         h = as_positive_scalar(height, "height")
-        return cls._primitive(m, shapes.cylinder_inertia(m, r, h), position, orientation)
+        return cls._primitive(m, _core.cylinder_inertia(m, r, h), position, orientation)
 
     @classmethod
     def ellipsoid(cls, mass, semi_axes, *, position=None, orientation=None) -> RigidBody:
         """Uniform solid ellipsoid with semi-axes ``(a, b, c)`` along x, y, z."""
         m = as_positive_scalar(mass, "mass")
         ax = as_positive_array(semi_axes, "semi_axes", (3,))
-        return cls._primitive(m, shapes.ellipsoid_inertia(m, ax), position, orientation)
+        return cls._primitive(m, _core.ellipsoid_inertia(m, ax), position, orientation)
 
     @classmethod
     def rod(cls, mass, length, *, position=None, orientation=None) -> RigidBody:
         """Thin uniform rod along z: the degenerate (collinear) body, ``I1 = 0``."""
         m = as_positive_scalar(mass, "mass")
         length = as_positive_scalar(length, "length")
-        return cls._primitive(m, shapes.rod_inertia(m, length), position, orientation)
+        return cls._primitive(m, _core.rod_inertia(m, length), position, orientation)
 
     @classmethod
     def cone(cls, mass, radius, height, *, position=None, orientation=None) -> RigidBody:
@@ -219,7 +218,7 @@ class RigidBody:
         m = as_positive_scalar(mass, "mass")
         r = as_positive_scalar(radius, "radius")
         h = as_positive_scalar(height, "height")
-        return cls._primitive(m, shapes.cone_inertia(m, r, h), position, orientation)
+        return cls._primitive(m, _core.cone_inertia(m, r, h), position, orientation)
 
     @classmethod
     def from_mesh(cls, mesh, *, mass=None, density=None) -> RigidBody:
@@ -268,8 +267,8 @@ class RigidBody:
             raise ValueError("`parts` must contain at least one body or particle")
         masses = np.array([b.mass for b in bodies])
         coms = np.array([b.center_of_mass for b in bodies])
-        com = kin.center_of_mass(masses, coms)
-        total = sum(kin.parallel_axis(b.inertia, b.mass, b.center_of_mass - com) for b in bodies)
+        com = _core.center_of_mass(masses, coms)
+        total = sum(_core.parallel_axis(b.inertia, b.mass, b.center_of_mass - com) for b in bodies)
         if all(b.has_particles for b in bodies):
             pm = np.concatenate([b.particle_masses for b in bodies])
             pos = np.concatenate([b.particle_positions for b in bodies])
@@ -285,7 +284,11 @@ class RigidBody:
         rot = np.eye(3) if orientation is None else as_rotation_matrix(orientation, "orientation")
         offsets = None if self._particle_offsets is None else self._particle_offsets @ rot.T
         return type(self)._build(
-            self._mass, kin.rotate_inertia(self._inertia, rot), pos, self._particle_masses, offsets
+            self._mass,
+            _core.rotate_inertia(self._inertia, rot),
+            pos,
+            self._particle_masses,
+            offsets,
         )
 
     # ----------------------------------------------------------------- properties
@@ -307,11 +310,11 @@ class RigidBody:
     def inertia_about(self, point) -> np.ndarray:
         """Inertia (3, 3) about ``point`` (3,), by the parallel-axis theorem."""
         p = as_vector3(point, "point")
-        return kin.parallel_axis(self._inertia, self._mass, p - self._com)
+        return _core.parallel_axis(self._inertia, self._mass, p - self._com)
 
     @cached_property
     def _principal(self) -> tuple[np.ndarray, np.ndarray]:
-        moments, axes = kin.principal_decomposition(self._inertia)
+        moments, axes = _core.principal_decomposition(self._inertia)
         return _readonly(moments), _readonly(axes)
 
     @property
@@ -342,18 +345,18 @@ class RigidBody:
     @property
     def planar_inertia(self) -> np.ndarray:
         """Planar inertia tensor ``J' = Σ m ρρᵀ = ½ tr(J) 𝟙 − J`` (paper eqs (3)–(4))."""
-        return _readonly(kin.planar_inertia(self._inertia))
+        return _readonly(_core.planar_inertia(self._inertia))
 
     @property
     def is_degenerate(self) -> bool:
         """True when ``A`` is singular (I1 ≈ 0): all the mass lies on one line."""
-        return bool(kin.is_degenerate(self.principal_moments, kin.DEGENERATE_RTOL))
+        return bool(_core.is_degenerate(self.principal_moments, _core.DEGENERATE_RTOL))
 
     def classify_symmetry(self, rtol: float = SYMMETRY_RTOL) -> str:
         """``"spherical"`` (I1 = I3), ``"oblate"`` (I1 = I2 < I3), ``"prolate"`` (I1 < I2 = I3)
         or ``"asymmetric"``, with moments equal when they differ by ≤ ``rtol · I3``
-        (:func:`poinsot.kernels.inertia.symmetry_code`)."""
-        return SYMMETRY_CLASSES[kin.symmetry_code(self.principal_moments, float(rtol))]
+        (``symmetry_code`` of ``crates/core/src/inertia.rs``)."""
+        return SYMMETRY_CLASSES[_core.symmetry_code(self.principal_moments, float(rtol))]
 
     @property
     def symmetry(self) -> str:

@@ -22,9 +22,9 @@ from typing import ClassVar
 
 import numpy as np
 
+from . import _core
 from ._validation import as_array, as_rotation_matrix, as_vector3
 from .forces import BodyFrame, Force, ForceContext
-from .kernels import inertia as kin_inertia
 from .kernels import layout
 from .kernels.forces import builtin_potential, builtin_wrench
 from .kernels.rigid import (
@@ -95,7 +95,7 @@ class RigidBodySystem:
         if self.pivot is None:  # the body's own decomposition, computed once and cached
             moments, axes = body.principal_moments, body.principal_axes
         else:
-            moments, axes = kin_inertia.principal_decomposition(self.inertia)
+            moments, axes = _core.principal_decomposition(self.inertia)
         self._body_params, degenerate = rigid_body_parameters(
             float(body.mass),
             np.ascontiguousarray(moments),

@@ -267,7 +267,7 @@ def _figures(folder: Path, scenario, traj, free, comparison=None):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .kernels.shapes import equivalent_box_half_extents
+    from ._core import equivalent_box_half_extents
     from .plotting import (
         plot_attitude_frames,
         plot_center_of_mass_path,

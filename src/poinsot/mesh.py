@@ -3,7 +3,7 @@
 A mesh is accepted as a path to an STL/OBJ/PLY file (read with the optional ``trimesh``
 dependency: ``pip install 'poinsot[mesh]'``), a ``trimesh.Trimesh``, or a ``(vertices, faces)``
 pair of arrays. The integrals are poinsot's own
-(:func:`poinsot.kernels.inertia.polyhedron_mass_properties`); trimesh, when present, only
+(``polyhedron_mass_properties`` of ``crates/core/src/inertia.rs``); trimesh, when present, only
 reads files, and the tests use its ``mass_properties`` as an independent peer.
 """
 
@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-from .kernels.inertia import polyhedron_mass_properties
+from ._core import polyhedron_mass_properties
 
 __all__ = ["check_closed_oriented", "load_mesh_arrays", "mesh_mass_properties"]
 

@@ -38,8 +38,8 @@ def _plotly():
 
 def equivalent_box_half_extents(body) -> np.ndarray:
     """Half extents (along e1, e2, e3) of the uniform box with the body's mass and principal
-    moments (:func:`poinsot.kernels.shapes.equivalent_box_half_extents`)."""
-    from .kernels.shapes import equivalent_box_half_extents as half_extents
+    moments (``equivalent_box_half_extents`` of ``crates/core/src/shapes.rs``)."""
+    from ._core import equivalent_box_half_extents as half_extents
 
     return half_extents(np.asarray(body.principal_moments), float(body.mass))
 

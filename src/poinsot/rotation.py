@@ -2,7 +2,8 @@
 
 Conventions
 -----------
-* Quaternions are scalar first, ``(w, x, y, z)`` (see :mod:`poinsot.kernels.so3`).
+* Quaternions are scalar first, ``(w, x, y, z)`` (the conventions of ``crates/core/src/so3.rs``,
+  called through :mod:`poinsot._core`).
 * Euler sequences follow :class:`scipy.spatial.transform.Rotation`: three letters, upper case
   for **intrinsic** rotations about the moving axes (``"ZXZ"``), lower case for **extrinsic**
   rotations about the fixed axes (``"zxz"``); all 12 proper and Tait–Bryan sequences.
@@ -24,8 +25,8 @@ import warnings
 
 import numpy as np
 
+from . import _core as so3
 from ._validation import as_array
-from .kernels import so3
 
 __all__ = [
     "EULER_SEQUENCES",

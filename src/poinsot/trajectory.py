@@ -7,10 +7,10 @@ from functools import cached_property
 
 import numpy as np
 
+from ._core import matrix_to_quat
 from ._io import atomic_path
 from .kernels import rigid
 from .kernels.layout import STATE_SIZE, STATE_SLICES
-from .kernels.so3 import matrix_to_quat
 
 __all__ = ["Trajectory"]
 

@@ -18,10 +18,12 @@
 
 pub mod drivers;
 pub mod forces;
+pub mod inertia;
 pub mod invariants;
 pub mod layout;
 pub mod observers;
 pub mod rigid;
+pub mod shapes;
 pub mod so3;
 pub mod steppers;
 pub mod system;

@@ -84,6 +84,250 @@ pub fn matmul(a: &Mat3, b: &Mat3) -> Mat3 {
     c
 }
 
+/// A unit quaternion, scalar first: `(w, x, y, z)` (Hamilton product; acts on vectors as
+/// `q v q*`, the active rotation).
+pub type Quat = [f64; 4];
+
+/// `vee(B)`: the vector of the skew part of `B`, the inverse of [`hat`]:
+/// `vee(B) = vee((B − Bᵀ)/2) = (−B23, B13, −B12)` for a skew `B` (`docs/theory.md` §1;
+/// 0-based `(B[2][1], B[0][2], B[1][0])`), so round-off in `B` does not bias the result.
+#[inline(always)]
+pub fn vee(b: &Mat3) -> Vec3 {
+    [
+        0.5 * (b[2][1] - b[1][2]),
+        0.5 * (b[0][2] - b[2][0]),
+        0.5 * (b[1][0] - b[0][1]),
+    ]
+}
+
+/// `log(R)`: the rotation vector `w` with `exp_so3(w) = R` and `|w| ≤ π`, through the
+/// quaternion of `R` by Shepperd's method ([`matrix_to_quat`]) and [`quat_to_rotvec`], which
+/// stays accurate near θ = π where `arccos((tr R − 1)/2)` loses half the digits.
+#[inline(always)]
+pub fn log_so3(r: &Mat3) -> Vec3 {
+    quat_to_rotvec(matrix_to_quat(r))
+}
+
+/// The rotation matrix by `angle` about the coordinate axis `axis` ∈ {0, 1, 2} (x, y, z).
+/// An `axis` outside 0..3 is taken modulo 3.
+#[inline(always)]
+pub fn axis_rotation(axis: usize, angle: f64) -> Mat3 {
+    let c = angle.cos();
+    let s = angle.sin();
+    let mut r = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let i = (axis + 1) % 3;
+    let j = (axis + 2) % 3;
+    r[i][i] = c;
+    r[j][j] = c;
+    r[i][j] = -s;
+    r[j][i] = s;
+    r
+}
+
+/// `p ⊗ q`: the Hamilton product of two scalar-first quaternions.
+#[inline(always)]
+pub fn quat_multiply(p: Quat, q: Quat) -> Quat {
+    let [pw, px, py, pz] = p;
+    let [qw, qx, qy, qz] = q;
+    [
+        pw * qw - px * qx - py * qy - pz * qz,
+        pw * qx + px * qw + py * qz - pz * qy,
+        pw * qy - px * qz + py * qw + pz * qx,
+        pw * qz + px * qy - py * qx + pz * qw,
+    ]
+}
+
+/// The conjugate `(w, −x, −y, −z)`: the inverse of a unit quaternion.
+#[inline(always)]
+pub fn quat_conjugate(q: Quat) -> Quat {
+    [q[0], -q[1], -q[2], -q[3]]
+}
+
+/// `q/|q|`; `None` for the zero quaternion (which has no direction).
+#[inline(always)]
+pub fn quat_normalize(q: Quat) -> Option<Quat> {
+    let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
+    if n == 0.0 {
+        return None;
+    }
+    Some([q[0] / n, q[1] / n, q[2] / n, q[3] / n])
+}
+
+/// The rotation matrix of a unit quaternion `(w, x, y, z)`:
+/// `R = (w² − |u|²) I + 2 u uᵀ + 2 w û` written with `w² + |u|² = 1`.
+#[inline(always)]
+pub fn quat_to_matrix(q: Quat) -> Mat3 {
+    let [w, x, y, z] = q;
+    [
+        [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - w * z),
+            2.0 * (x * z + w * y),
+        ],
+        [
+            2.0 * (x * y + w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - w * x),
+        ],
+        [
+            2.0 * (x * z - w * y),
+            2.0 * (y * z + w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        ],
+    ]
+}
+
+/// `q v q*` for a unit quaternion `q = (w, u)`: `v + 2w (u × v) + 2 u × (u × v)`.
+#[inline(always)]
+pub fn quat_rotate(q: Quat, v: Vec3) -> Vec3 {
+    let [w, ux, uy, uz] = q;
+    let tx = 2.0 * (uy * v[2] - uz * v[1]);
+    let ty = 2.0 * (uz * v[0] - ux * v[2]);
+    let tz = 2.0 * (ux * v[1] - uy * v[0]);
+    [
+        v[0] + w * tx + (uy * tz - uz * ty),
+        v[1] + w * ty + (uz * tx - ux * tz),
+        v[2] + w * tz + (ux * ty - uy * tx),
+    ]
+}
+
+/// The unit quaternion (w ≥ 0) of a rotation matrix, by Shepperd's method (Shepperd 1978,
+/// J. Guidance Control 1(3)): the largest of `4w², 4x², 4y², 4z²` is computed from the diagonal
+/// and the other components from off-diagonal sums, so no branch divides by a small number.
+#[inline(always)]
+pub fn matrix_to_quat(r: &Mat3) -> Quat {
+    let tr = r[0][0] + r[1][1] + r[2][2];
+    let c0 = 1.0 + tr;
+    let c1 = 1.0 + 2.0 * r[0][0] - tr;
+    let c2 = 1.0 + 2.0 * r[1][1] - tr;
+    let c3 = 1.0 + 2.0 * r[2][2] - tr;
+    let mut k = 0;
+    let mut big = c0;
+    if c1 > big {
+        k = 1;
+        big = c1;
+    }
+    if c2 > big {
+        k = 2;
+        big = c2;
+    }
+    if c3 > big {
+        k = 3;
+        big = c3;
+    }
+    let s = big.max(0.0).sqrt(); // 2|q_k|
+    let d21 = r[2][1] - r[1][2];
+    let d02 = r[0][2] - r[2][0];
+    let d10 = r[1][0] - r[0][1];
+    let s01 = r[0][1] + r[1][0];
+    let s02 = r[0][2] + r[2][0];
+    let s12 = r[1][2] + r[2][1];
+    let ss = s * s;
+    let (w, x, y, z) = match k {
+        0 => (ss, d21, d02, d10),
+        1 => (d21, ss, s01, s02),
+        2 => (d02, s01, ss, s12),
+        _ => (d10, s02, s12, ss),
+    };
+    let mut n = (w * w + x * x + y * y + z * z).sqrt();
+    if w < 0.0 {
+        n = -n;
+    }
+    [w / n, x / n, y / n, z / n]
+}
+
+/// The unit quaternion of the rotation vector `w` (angle |w| about w/|w|):
+/// `(cos(θ/2), sin(θ/2) w/θ)`, with `sin(θ/2)/θ = 1/2 − θ²/48 + θ⁴/3840` below
+/// [`SMALL_ANGLE`].
+#[inline(always)]
+pub fn rotvec_to_quat(w: Vec3) -> Quat {
+    let t2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    let theta = t2.sqrt();
+    let s = if theta < SMALL_ANGLE {
+        0.5 - t2 / 48.0 + t2 * t2 / 3840.0
+    } else {
+        (0.5 * theta).sin() / theta
+    };
+    [(0.5 * theta).cos(), s * w[0], s * w[1], s * w[2]]
+}
+
+/// The rotation vector (angle in [0, π]) of a unit quaternion: `θ = 2 atan2(|v|, |w|)`,
+/// accurate at every angle, including near 0 and π.
+#[inline(always)]
+pub fn quat_to_rotvec(q: Quat) -> Vec3 {
+    let sign = if q[0] < 0.0 { -1.0 } else { 1.0 };
+    let w = sign * q[0];
+    let x = sign * q[1];
+    let y = sign * q[2];
+    let z = sign * q[3];
+    let sv = (x * x + y * y + z * z).sqrt();
+    let factor = if sv < 1e-12 {
+        if w != 0.0 {
+            2.0 / w
+        } else {
+            2.0
+        }
+    } else {
+        2.0 * sv.atan2(w) / sv
+    };
+    [factor * x, factor * y, factor * z]
+}
+
+/// `Rz(ψ) Rx(θ) Rz(φ)`: the rotation of z-x-z Euler angles (intrinsic, as SciPy's
+/// `Rotation.from_euler("ZXZ", …)`; the paper's precession, nutation and proper rotation,
+/// eq. (13)).
+#[inline(always)]
+pub fn zxz_matrix(psi: f64, theta: f64, phi: f64) -> Mat3 {
+    let (sps, cps) = (psi.sin(), psi.cos());
+    let (st, ct) = (theta.sin(), theta.cos());
+    let (sph, cph) = (phi.sin(), phi.cos());
+    [
+        [
+            cps * cph - sps * ct * sph,
+            -cps * sph - sps * ct * cph,
+            sps * st,
+        ],
+        [
+            sps * cph + cps * ct * sph,
+            -sps * sph + cps * ct * cph,
+            -cps * st,
+        ],
+        [st * sph, st * cph, ct],
+    ]
+}
+
+/// Body-frame angular velocity `(p, q, r)` from z-x-z Euler angles `(ψ, θ, φ)` and their
+/// rates (paper eq. (13); the same form gives the carrier's ω_e from its angles, eq. (14)):
+/// `p = ψ̇ sin θ sin φ + θ̇ cos φ`, `q = ψ̇ sin θ cos φ − θ̇ sin φ`, `r = φ̇ + ψ̇ cos θ`.
+#[inline(always)]
+pub fn zxz_body_rates(angles: Vec3, rates: Vec3) -> Vec3 {
+    let st = angles[1].sin();
+    let ct = angles[1].cos();
+    let sp = angles[2].sin();
+    let cp = angles[2].cos();
+    [
+        rates[0] * st * sp + rates[1] * cp,
+        rates[0] * st * cp - rates[1] * sp,
+        rates[2] + rates[0] * ct,
+    ]
+}
+
+/// The inverse of [`zxz_body_rates`]: `ψ̇ = (p sin φ + q cos φ)/sin θ`,
+/// `θ̇ = p cos φ − q sin φ`, `φ̇ = r − ψ̇ cos θ`. Singular at θ = 0, π (sin θ = 0), where
+/// the result is infinite or NaN; callers check.
+#[inline(always)]
+pub fn zxz_angle_rates(angles: Vec3, omega: Vec3) -> Vec3 {
+    let st = angles[1].sin();
+    let sp = angles[2].sin();
+    let cp = angles[2].cos();
+    let psid = (omega[0] * sp + omega[1] * cp) / st;
+    [
+        psid,
+        omega[0] * cp - omega[1] * sp,
+        omega[2] - psid * angles[1].cos(),
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -158,5 +402,190 @@ mod tests {
         // d exp = hat(dexp_u v) exp(u)
         let expect = matmul(&hat(w), &e0);
         assert!(close(&d, &expect, 1e-8));
+    }
+
+    fn transpose(a: &Mat3) -> Mat3 {
+        let mut t = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                t[i][j] = a[j][i];
+            }
+        }
+        t
+    }
+
+    fn matvec(a: &Mat3, v: Vec3) -> Vec3 {
+        [
+            a[0][0] * v[0] + a[0][1] * v[1] + a[0][2] * v[2],
+            a[1][0] * v[0] + a[1][1] * v[1] + a[1][2] * v[2],
+            a[2][0] * v[0] + a[2][1] * v[1] + a[2][2] * v[2],
+        ]
+    }
+
+    /// A small deterministic generator of test vectors (no dependency on `rand`).
+    fn sample_vectors(n: usize, scale: f64) -> Vec<Vec3> {
+        let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        (0..n)
+            .map(|_| [scale * next(), scale * next(), scale * next()])
+            .collect()
+    }
+
+    #[test]
+    fn vee_inverts_hat_and_ignores_the_symmetric_part() {
+        for w in sample_vectors(50, 3.0) {
+            let mut b = hat(w);
+            b[0][1] += 0.25; // a symmetric perturbation is discarded
+            b[1][0] += 0.25;
+            b[2][2] += 1.0;
+            let v = vee(&b);
+            for k in 0..3 {
+                assert!((v[k] - w[k]).abs() < 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn log_inverts_exp_up_to_pi() {
+        // |w| ≤ π: log(exp(w)) = w; the small-angle series and the near-π branch included.
+        let mut cases = sample_vectors(300, 1.8);
+        cases.push([1e-9, -2e-9, 5e-10]);
+        cases.push([0.0, 0.0, 0.0]);
+        cases.push([0.0, 0.0, std::f64::consts::PI - 1e-7]);
+        cases.push([1.0, 1.0, 1.0].map(|x: f64| x * (std::f64::consts::PI - 1e-9) / 3f64.sqrt()));
+        for w in cases {
+            let th = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+            if th > std::f64::consts::PI {
+                continue;
+            }
+            let back = log_so3(&exp_so3(w));
+            let tol = if th > 3.0 { 1e-8 } else { 1e-13 };
+            for k in 0..3 {
+                assert!((back[k] - w[k]).abs() < tol, "{w:?} -> {back:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn quaternions_and_matrices_round_trip() {
+        for w in sample_vectors(200, 3.0) {
+            let q = rotvec_to_quat(w);
+            let n: f64 = q.iter().map(|x| x * x).sum();
+            assert!((n - 1.0).abs() < 1e-15);
+            // the quaternion's matrix is the exponential of the same rotation vector
+            assert!(close(&quat_to_matrix(q), &exp_so3(w), 1e-14));
+            // matrix -> quaternion -> matrix, with w ≥ 0
+            let q2 = matrix_to_quat(&quat_to_matrix(q));
+            assert!(q2[0] >= 0.0);
+            let s = if q[0] < 0.0 { -1.0 } else { 1.0 };
+            for k in 0..4 {
+                assert!((q2[k] - s * q[k]).abs() < 1e-14);
+            }
+            // rotating a vector: q v q* = R v = (q ⊗ (0, v) ⊗ q*).xyz
+            let v = [0.3, -1.1, 0.8];
+            let a = quat_rotate(q, v);
+            let b = matvec(&quat_to_matrix(q), v);
+            let c = quat_multiply(quat_multiply(q, [0.0, v[0], v[1], v[2]]), quat_conjugate(q));
+            for k in 0..3 {
+                assert!((a[k] - b[k]).abs() < 1e-14);
+                assert!((a[k] - c[k + 1]).abs() < 1e-14);
+            }
+            // rotvec -> quaternion -> rotvec
+            let th = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+            if th < 3.0 {
+                let back = quat_to_rotvec(q);
+                for k in 0..3 {
+                    assert!((back[k] - w[k]).abs() < 1e-13);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn quaternion_product_is_matrix_product() {
+        let ws = sample_vectors(40, 2.5);
+        for pair in ws.chunks(2) {
+            let (p, q) = (rotvec_to_quat(pair[0]), rotvec_to_quat(pair[1]));
+            let pq = quat_multiply(p, q);
+            let m = matmul(&quat_to_matrix(p), &quat_to_matrix(q));
+            assert!(close(&quat_to_matrix(pq), &m, 1e-14));
+            // q ⊗ q* = 1, and normalising a scaled quaternion gives it back
+            let one = quat_multiply(q, quat_conjugate(q));
+            assert!((one[0] - 1.0).abs() < 1e-15 && one[1..].iter().all(|x| x.abs() < 1e-15));
+            let back = quat_normalize(q.map(|x| 7.5 * x)).unwrap();
+            for k in 0..4 {
+                assert!((back[k] - q[k]).abs() < 1e-15);
+            }
+        }
+        assert!(quat_normalize([0.0; 4]).is_none());
+    }
+
+    #[test]
+    fn matrix_to_quat_near_a_half_turn() {
+        // θ = π about a skew axis: the w-branch would divide by ~0; Shepperd picks another.
+        let n = [2.0f64, -1.0, 0.5];
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        let w = n.map(|x| x / len * std::f64::consts::PI);
+        let r = exp_so3(w);
+        let q = matrix_to_quat(&r);
+        assert!(q[0].abs() < 1e-15);
+        assert!(close(&quat_to_matrix(q), &r, 1e-15));
+    }
+
+    #[test]
+    fn axis_rotations_are_exponentials_and_compose_zxz() {
+        let e = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        for (axis, unit) in e.iter().enumerate() {
+            for &angle in &[-2.0, 0.3, 1.7, 3.1] {
+                let w = unit.map(|x| x * angle);
+                assert!(close(&axis_rotation(axis, angle), &exp_so3(w), 1e-15));
+            }
+        }
+        let (psi, theta, phi) = (0.7, 1.2, -2.3);
+        let r = matmul(
+            &matmul(&axis_rotation(2, psi), &axis_rotation(0, theta)),
+            &axis_rotation(2, phi),
+        );
+        assert!(close(&zxz_matrix(psi, theta, phi), &r, 1e-15));
+    }
+
+    #[test]
+    fn zxz_rates_are_the_derivative_of_the_matrix() {
+        // Q̇ = Q hat(ω) with ω the body rates: compare with a central difference of
+        // zxz_matrix along (ψ̇, θ̇, φ̇), then invert with zxz_angle_rates.
+        let h = 1e-6;
+        for (k, a) in sample_vectors(30, 3.0).into_iter().enumerate() {
+            let angles = [a[0], 0.2 + 0.9 * (a[1] + 1.0), a[2]]; // θ in (0.2, 2.0)
+            let rates = sample_vectors(30, 2.0)[k];
+            let at = |t: f64| {
+                zxz_matrix(
+                    angles[0] + t * rates[0],
+                    angles[1] + t * rates[1],
+                    angles[2] + t * rates[2],
+                )
+            };
+            let (qp, qm) = (at(h), at(-h));
+            let mut dq = [[0.0; 3]; 3];
+            for i in 0..3 {
+                for j in 0..3 {
+                    dq[i][j] = (qp[i][j] - qm[i][j]) / (2.0 * h);
+                }
+            }
+            let omega_fd = vee(&matmul(&transpose(&at(0.0)), &dq));
+            let omega = zxz_body_rates(angles, rates);
+            let back = zxz_angle_rates(angles, omega);
+            for i in 0..3 {
+                assert!(
+                    (omega[i] - omega_fd[i]).abs() < 1e-8,
+                    "{omega:?} {omega_fd:?}"
+                );
+                assert!((back[i] - rates[i]).abs() < 1e-12);
+            }
+        }
     }
 }

@@ -6,6 +6,7 @@
 use pyo3::prelude::*;
 
 mod engine;
+mod geometry;
 mod rigid;
 
 #[pymodule]
@@ -29,5 +30,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
         m.add(name, status as i64)?;
     }
     rigid::register(m)?;
+    geometry::register(m)?;
     Ok(())
 }

@@ -163,7 +163,7 @@ class EnsembleResult:
     @property
     def quaternion(self) -> np.ndarray:
         """Attitude as unit quaternions (w, x, y, z), w ≥ 0 (N, n, 4)."""
-        from ..kernels.so3 import matrix_to_quat
+        from .._core import matrix_to_quat
 
         return matrix_to_quat(np.ascontiguousarray(self.Q))
 

@@ -2,16 +2,16 @@
 (2)–(6), (16)).
 
 Every function checks its arguments and calls one kernel of :mod:`poinsot.kernels.relative`
-(or :mod:`poinsot.kernels.inertia`); vectors are body-frame components and may carry leading
-axes (``(..., 3)``), so a whole trajectory is evaluated in one call.
+(the planar inertia: :mod:`poinsot._core`); vectors are body-frame components and may carry
+leading axes (``(..., 3)``), so a whole trajectory is evaluated in one call.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .. import _core
 from .._validation import as_array
-from ..kernels import inertia as kin_inertia
 from ..kernels import relative as krel
 
 __all__ = [
@@ -70,7 +70,7 @@ def planar_inertia(J) -> np.ndarray:
     >>> np.diag(planar_inertia(np.diag([1.0, 2.0, 3.0]))).tolist()  # A' = (B + C − A)/2, …
     [2.0, 1.0, 0.0]
     """
-    return kin_inertia.planar_inertia(_inertia(J))
+    return _core.planar_inertia(_inertia(J))
 
 
 def planar_principal_moments(moments) -> np.ndarray:
@@ -84,7 +84,7 @@ def planar_principal_moments(moments) -> np.ndarray:
     [2.5, 1.5, 0.5]
     """
     m = as_array(moments, "moments", (3,))
-    return np.diag(kin_inertia.planar_inertia(np.diag(m))).copy()
+    return np.diag(_core.planar_inertia(np.diag(m))).copy()
 
 
 def planar_inertia_ellipsoid(J):

@@ -14,9 +14,9 @@ import warnings
 
 import numpy as np
 
+from .. import _core
 from .._validation import as_array
 from ..kernels import freebody
-from ..kernels import inertia as kin_inertia
 from ..kernels.rigid import euler_omega_dot
 from .polhodes import PolhodeMixin
 from .solution import SolutionMixin
@@ -26,7 +26,7 @@ __all__ = ["SYMMETRY_RTOL", "FreeRigidBody"]
 
 #: Moments closer than this (relative to I3) are treated as equal (symmetric body); the same
 #: tolerance as :attr:`poinsot.bodies.RigidBody.symmetry`.
-SYMMETRY_RTOL = kin_inertia.SYMMETRY_RTOL
+SYMMETRY_RTOL = _core.SYMMETRY_RTOL
 
 
 class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
@@ -91,8 +91,8 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
         # hold products such as I1 I2 I3, which would leave the double range for moments
         # beyond 1e±103; times and ω are unchanged by this scaling (ω̇ = −I⁻¹(ω × Iω))
         self._In = np.ldexp(self._I, -int(np.frexp(self._I[2])[1]))
-        self._symmetry_code = int(kin_inertia.symmetry_code(self._I, SYMMETRY_RTOL))
-        self.symmetry = kin_inertia.SYMMETRY_CLASSES[self._symmetry_code]
+        self._symmetry_code = int(_core.symmetry_code(self._I, SYMMETRY_RTOL))
+        self.symmetry = _core.SYMMETRY_CLASSES[self._symmetry_code]
         self.inertia = body_axes @ np.diag(moments) @ body_axes.T
 
     @classmethod

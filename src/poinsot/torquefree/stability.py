@@ -15,9 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._core import exp_so3
 from .._validation import as_vector3
 from ..kernels import freebody
-from ..kernels.so3 import exp_so3
 
 __all__ = ["FixedPointSet", "Stability", "StabilityMixin"]
 
