@@ -6,8 +6,12 @@
 //!
 //! One module per concept; equation numbers refer to `docs/theory.md`.
 
+pub mod cmath;
+pub mod elliptic;
+pub mod freebody;
 pub mod invariants;
 pub mod so3;
+pub mod torque_free;
 
 pub mod version {
     /// The crate's version, for `poinsot._core.__version__`.
