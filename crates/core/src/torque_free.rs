@@ -444,6 +444,13 @@ impl AttitudeSetup {
     }
 }
 
+/// `Q(t) = Q0 exp(Ω t)`: the attitude at a fixed point of Euler's equation, where ω is constant
+/// (eqs (22)–(23)), by Rodrigues' formula ([`exp_so3`]).
+#[inline]
+pub fn fixed_point_attitude(q0: &Mat3, w: Vec3, t: f64) -> Mat3 {
+    matmul(q0, &exp_so3([t * w[0], t * w[1], t * w[2]]))
+}
+
 /// `Q(t)` (sorted principal frame → space) of the motion from `ω(0) = w`, `Q(0) = q0`, with the
 /// regime `reg` and the attitude setup `att`.
 pub fn attitude_at(
@@ -455,7 +462,7 @@ pub fn attitude_at(
     t: f64,
 ) -> Mat3 {
     match reg.case {
-        SPHERICAL | FIXED => matmul(q0, &exp_so3([t * w[0], t * w[1], t * w[2]])),
+        SPHERICAL | FIXED => fixed_point_attitude(q0, w, t),
         PRECESSION => {
             // Q(t) = exp(t L/I⊥) Q0 exp(ν t e_s), L = Q0 (I w) in space
             let s = reg.axis as usize;

@@ -3,8 +3,11 @@
 
 use pyo3::prelude::*;
 
+mod exact;
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", poinsot_core::version::VERSION)?;
+    exact::register(m)?;
     Ok(())
 }
