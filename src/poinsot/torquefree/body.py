@@ -14,10 +14,8 @@ import warnings
 
 import numpy as np
 
+from .. import _core
 from .._validation import as_array
-from ..kernels import freebody
-from ..kernels import inertia as kin_inertia
-from ..kernels.rigid import euler_omega_dot
 from .polhodes import PolhodeMixin
 from .solution import SolutionMixin
 from .stability import StabilityMixin
@@ -25,8 +23,9 @@ from .stability import StabilityMixin
 __all__ = ["SYMMETRY_RTOL", "FreeRigidBody"]
 
 #: Moments closer than this (relative to I3) are treated as equal (symmetric body); the same
-#: tolerance as :attr:`poinsot.bodies.RigidBody.symmetry`.
-SYMMETRY_RTOL = kin_inertia.SYMMETRY_RTOL
+#: tolerance as :attr:`poinsot.bodies.RigidBody.symmetry` (``poinsot.kernels.inertia``; the
+#: core holds the same value, checked by ``tests/kernels/test_exact_port.py``).
+SYMMETRY_RTOL = _core.SYMMETRY_RTOL
 
 
 class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
@@ -91,8 +90,8 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
         # hold products such as I1 I2 I3, which would leave the double range for moments
         # beyond 1e±103; times and ω are unchanged by this scaling (ω̇ = −I⁻¹(ω × Iω))
         self._In = np.ldexp(self._I, -int(np.frexp(self._I[2])[1]))
-        self._symmetry_code = int(kin_inertia.symmetry_code(self._I, SYMMETRY_RTOL))
-        self.symmetry = kin_inertia.SYMMETRY_CLASSES[self._symmetry_code]
+        self._symmetry_code = int(_core.symmetry_code(self._I, SYMMETRY_RTOL))
+        self.symmetry = _core.SYMMETRY_CLASSES[self._symmetry_code]
         self.inertia = body_axes @ np.diag(moments) @ body_axes.T
 
     @classmethod
@@ -139,7 +138,7 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
         [1.0, 0.0, -3.0]
         """
         self.check_feasible(energy, momentum)
-        return freebody.cone_coefficients(self._I, float(energy), float(momentum))
+        return _core.cone_coefficients(self._I, float(energy), float(momentum))
 
     def cone_matrix(self, energy, momentum) -> np.ndarray:
         """The cone (32) as a quadratic form in the body frame: ``ωᵀ C ω = 0``, (3, 3)."""
@@ -182,5 +181,5 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
         in the body frame."""
         w = np.asarray(omega, dtype=float)
         S = self._S
-        w_sorted = w @ S
-        return euler_omega_dot(self._I, w_sorted, np.zeros_like(w_sorted)) @ S.T
+        w_sorted = np.ascontiguousarray(w.reshape(-1, 3) @ S)
+        return (_core.euler_omega_dot_free(self._I, w_sorted) @ S.T).reshape(w.shape)
