@@ -130,7 +130,9 @@ def test_every_module_belongs_to_a_layer():
     for path in PACKAGE.iterdir():
         if path.name.startswith(".") or path.name in ("py.typed", "__pycache__"):
             continue
-        assert path.name.split(".")[0] in known, f"{path.name}: add it to a layer in tests/test_layering.py"
+        assert path.name.split(".")[0] in known, (
+            f"{path.name}: add it to a layer in tests/test_layering.py"
+        )
 
 
 def test_import_linter_contracts():
