@@ -7,7 +7,10 @@
 //! One module per concept; equation numbers refer to `docs/theory.md`:
 //!
 //! * the data: [`layout`] (state, body parameters), [`so3`], [`invariants`];
+//! * bodies: [`inertia`], [`shapes`];
 //! * the physics: [`forces`], [`rigid`] (eqs (07)–(09), the free-rotor flows);
+//! * the exact torque-free motion: [`elliptic`] (with [`cmath`]), [`freebody`],
+//!   [`torque_free`];
 //! * the contract between models and integrators: [`system`], with the rigid-body systems in
 //!   [`systems`];
 //! * the integrators: [`tableaux`] (as data), [`steppers`] (pure steps), [`observers`] and
@@ -16,8 +19,11 @@
 // Index loops mirror the equations (sums over components and stages) in this crate.
 #![allow(clippy::needless_range_loop)]
 
+pub mod cmath;
 pub mod drivers;
+pub mod elliptic;
 pub mod forces;
+pub mod freebody;
 pub mod inertia;
 pub mod invariants;
 pub mod layout;
@@ -29,6 +35,7 @@ pub mod steppers;
 pub mod system;
 pub mod systems;
 pub mod tableaux;
+pub mod torque_free;
 
 pub mod version {
     /// The crate's version, for `poinsot._core.__version__`.

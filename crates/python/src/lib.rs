@@ -6,6 +6,7 @@
 use pyo3::prelude::*;
 
 mod engine;
+mod exact;
 mod geometry;
 mod rigid;
 
@@ -31,5 +32,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     }
     rigid::register(m)?;
     geometry::register(m)?;
+    exact::register(m)?;
     Ok(())
 }

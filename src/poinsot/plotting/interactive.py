@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernels.freebody import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
+from .._core import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
 
 __all__ = ["energy_ellipsoid_figure", "polhode_family_figure"]
 

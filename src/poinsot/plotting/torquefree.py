@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._core import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
 from .._io import atomic_path
-from ..kernels.freebody import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
 
 __all__ = [
     "animate_tumbling",

@@ -16,8 +16,6 @@ import numpy as np
 
 from .. import _core
 from .._validation import as_array
-from ..kernels import freebody
-from ..kernels.rigid import euler_omega_dot
 from .polhodes import PolhodeMixin
 from .solution import SolutionMixin
 from .stability import StabilityMixin
@@ -25,7 +23,8 @@ from .stability import StabilityMixin
 __all__ = ["SYMMETRY_RTOL", "FreeRigidBody"]
 
 #: Moments closer than this (relative to I3) are treated as equal (symmetric body); the same
-#: tolerance as :attr:`poinsot.bodies.RigidBody.symmetry`.
+#: tolerance as :attr:`poinsot.bodies.RigidBody.symmetry` (``poinsot.kernels.inertia``; the
+#: core holds the same value, checked by ``tests/kernels/test_exact_port.py``).
 SYMMETRY_RTOL = _core.SYMMETRY_RTOL
 
 
@@ -139,7 +138,7 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
         [1.0, 0.0, -3.0]
         """
         self.check_feasible(energy, momentum)
-        return freebody.cone_coefficients(self._I, float(energy), float(momentum))
+        return _core.cone_coefficients(self._I, float(energy), float(momentum))
 
     def cone_matrix(self, energy, momentum) -> np.ndarray:
         """The cone (32) as a quadratic form in the body frame: ``ωᵀ C ω = 0``, (3, 3)."""
@@ -182,5 +181,5 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
         in the body frame."""
         w = np.asarray(omega, dtype=float)
         S = self._S
-        w_sorted = w @ S
-        return euler_omega_dot(self._I, w_sorted, np.zeros_like(w_sorted)) @ S.T
+        w_sorted = np.ascontiguousarray(w.reshape(-1, 3) @ S)
+        return (_core.euler_omega_dot_free(self._I, w_sorted) @ S.T).reshape(w.shape)

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._validation import as_positive_scalar, as_vector3
-from ..kernels import torque_free as tf
+from .solution import REGIME
 
 __all__ = ["Polhode", "PolhodeMixin"]
 
@@ -59,7 +59,7 @@ class PolhodeMixin:
             return Polhode(w_body[None, :], "fixed point", k, a, math.inf, np.zeros(1))
         if family == "separatrix":
             reg = self._regimes(w_body[None, :])[0]
-            T = (abs(reg[tf.U0]) + math.log(4e6)) / reg[tf.LAM]
+            T = (abs(reg[REGIME["u0"]]) + math.log(4e6)) / reg[REGIME["lam"]]
             t = np.linspace(-T, T, n)
         else:
             t = np.linspace(0.0, self.period(w_body), n)

@@ -2,8 +2,10 @@
 (``docs/theory.md`` §1, eqs (20)–(33); ``docs/torque_free.md``).
 
 Every method takes one initial condition ``omega0`` (3,) or many (N, 3) (body frame) and
-evaluates the closed form in the compiled kernels of :mod:`poinsot.kernels.torque_free`, so
-millions of exact solutions need no integrator. With one initial condition the result has the
+evaluates the closed form in the compiled core (``poinsot._core``: the Rust crate
+``poinsot-core``, modules ``torque_free`` and ``freebody``; the loop over members runs there,
+without the GIL), so millions of exact solutions need no integrator, and none of it imports
+numba. With one initial condition the result has the
 shapes of a single motion (``exact_omega``: (n, 3)) and undefined quantities raise; with many,
 a leading member axis is added (``(N, n, 3)``) and undefined quantities are NaN, so that one
 fixed point does not stop a sweep.
@@ -15,12 +17,16 @@ import math
 
 import numpy as np
 
+from .. import _core
 from .._validation import as_array, as_rotation_matrices, as_vectors
-from ..kernels import freebody
-from ..kernels import torque_free as tf
-from ..kernels.rigid import angular_momentum_body, rotational_energy
 
 __all__ = ["SolutionMixin"]
+
+#: Offsets of the regime row (``poinsot._core.torque_free_regimes``): ``"case"``, ``"u0"``,
+#: ``"lam"``, … and ``"size"``.
+REGIME = _core.REGIME_OFFSETS
+#: The polhode family of each case code, as :meth:`SolutionMixin.classify` names it.
+CASE_NAMES = tuple(_core.TORQUE_FREE_CASE_NAMES)
 
 
 class SolutionMixin:
@@ -40,7 +46,8 @@ class SolutionMixin:
         return as_array([t], "t", (1,))
 
     def _regimes(self, W):
-        return tf.regimes(self._In, self._S, self._symmetry_code, W)
+        """The regime rows (N, ``REGIME["size"]``) of the body-frame ω ``W`` (N, 3)."""
+        return _core.torque_free_regimes(self._In, self._S, self._symmetry_code, W)
 
     # ----------------------------------------------------------------- invariants
     def invariants(self, omega):
@@ -55,7 +62,7 @@ class SolutionMixin:
         """
         W, single = self._initial(omega, "omega")
         with np.errstate(over="ignore"):  # beyond ~1e308 they are inf: not representable
-            k, a = freebody.invariants(self._I, W @ self._S)
+            k, a = _core.principal_invariants(self._I, np.ascontiguousarray(W @ self._S))
         return (float(k[0]), float(a[0])) if single else (k, a)
 
     # ----------------------------------------------------------------- families and times
@@ -64,8 +71,8 @@ class SolutionMixin:
         ``"separatrix"``, ``"fixed point"``, ``"symmetric"`` or ``"spherical"`` (an array of
         names for (N, 3))."""
         W, single = self._initial(omega0)
-        cases = self._regimes(W)[:, tf.CASE].astype(int)
-        names = np.array(tf.CASE_NAMES)[cases]
+        cases = self._regimes(W)[:, REGIME["case"]].astype(int)
+        names = np.array(CASE_NAMES)[cases]
         return str(names[0]) if single else names
 
     def period(self, omega0):
@@ -73,8 +80,7 @@ class SolutionMixin:
         ``inf`` on the separatrix. At a fixed point, where ω is constant, one ``omega0`` raises
         ``ValueError`` and an array gives NaN."""
         W, single = self._initial(omega0)
-        regs = self._regimes(W)
-        out = tf.periods(regs)
+        out = _core.torque_free_periods(self._In, self._S, self._symmetry_code, W)
         if single and math.isnan(out[0]):
             raise ValueError("`omega0` is a fixed point: ω(t) is constant and has no period")
         return float(out[0]) if single else out
@@ -92,8 +98,7 @@ class SolutionMixin:
             raise ValueError(
                 f"flip_interval needs three distinct moments; this body is {self.symmetry}"
             )
-        regs = self._regimes(W)
-        out = tf.flip_intervals(regs)
+        out = _core.torque_free_flip_intervals(self._In, self._S, self._symmetry_code, W)
         if single and math.isnan(out[0]):
             raise ValueError("`omega0` is a fixed point: ω2 never changes sign, no flips")
         return float(out[0]) if single else out
@@ -120,7 +125,7 @@ class SolutionMixin:
         (2, 2, 3)
         """
         W, single = self._initial(omega0)
-        out = tf.exact_omegas(self._In, self._S, self._symmetry_code, W, self._times(t))
+        out = _core.torque_free_omegas(self._In, self._S, self._symmetry_code, W, self._times(t))
         return out[0] if single else out
 
     def exact_attitude(self, omega0, t, Q0=None) -> np.ndarray:
@@ -141,7 +146,7 @@ class SolutionMixin:
         """
         W, single = self._initial(omega0)
         Q = np.eye(3)[None] if Q0 is None else as_rotation_matrices(Q0, "Q0", len(W))
-        out = tf.exact_attitudes(
+        out = _core.torque_free_attitudes(
             self._In, self._S, self._symmetry_code, W, np.ascontiguousarray(Q), self._times(t)
         )
         return out[0] if single else out
@@ -178,9 +183,8 @@ class SolutionMixin:
         w = self.exact_omega(tr.omega[0], t)
         Q = self.exact_attitude(tr.omega[0], t, tr.Q[0])
         k0, a0 = self.invariants(tr.omega[0])
-        omega = np.ascontiguousarray(tr.omega)
-        ks = rotational_energy(self.inertia, omega)
-        As = np.linalg.norm(angular_momentum_body(self.inertia, omega), axis=1)
+        omega = np.ascontiguousarray(tr.omega, dtype=float)
+        ks, As = _core.rotational_energies_and_momenta(np.ascontiguousarray(self.inertia), omega)
         return {
             "omega": np.abs(tr.omega - w).max(axis=1),
             "attitude": np.abs(tr.Q - Q).max(axis=(1, 2)),

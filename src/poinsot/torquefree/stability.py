@@ -5,7 +5,7 @@ A fixed point is an ω with ``ω × Aω = 0``: an eigenvector of the inertia. Th
 moments give three axes (the intermediate one unstable, a saddle with growth rate σ); two equal
 moments a plane and an axis; three equal moments make every ω a fixed point. The linear
 stability comes from the eigenvalues of the Jacobian ``A⁻¹(hat(Aω) − hat(ω) A)``
-(:func:`poinsot.kernels.freebody.euler_jacobian`).
+(``poinsot._core.euler_jacobian``, the Rust core's ``freebody::euler_jacobian``).
 """
 
 from __future__ import annotations
@@ -15,9 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._core import exp_so3
+from .. import _core
 from .._validation import as_vector3
-from ..kernels import freebody
 
 __all__ = ["FixedPointSet", "Stability", "StabilityMixin"]
 
@@ -108,7 +107,7 @@ class StabilityMixin:
     def jacobian(self, omega) -> np.ndarray:
         """``∂ω̇/∂ω = A⁻¹(hat(Aω) − hat(ω) A)`` (3, 3), body frame."""
         w = as_vector3(omega, "omega")
-        return freebody.euler_jacobian(np.ascontiguousarray(self.inertia), w)
+        return _core.euler_jacobian(np.ascontiguousarray(self.inertia, dtype=float), w)
 
     def stability(self, omega) -> Stability:
         """Linear stability of the fixed point ``omega`` (body frame); see :class:`Stability`."""
@@ -151,7 +150,7 @@ class StabilityMixin:
         t = np.atleast_1d(np.asarray(t, dtype=float))
         Q0 = np.eye(3) if Q0 is None else as_rotation_matrix(Q0, "Q0")
         if method == "rodrigues":
-            return Q0 @ exp_so3(t[:, None] * w)
+            return _core.fixed_point_attitudes(w, np.ascontiguousarray(Q0, dtype=float), t)
         if method != "jordan":
             raise ValueError(f"`method` must be 'rodrigues' or 'jordan', found {method!r}")
         speed = np.linalg.norm(w)

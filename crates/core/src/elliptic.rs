@@ -1,0 +1,490 @@
+//! Jacobi elliptic functions and elliptic integrals that take `m1 = 1 − m` directly
+//! (the port of `poinsot.kernels.elliptic`, formula for formula and in the same order of
+//! operations, so that both round alike).
+//!
+//! Near the separatrix of the free rigid body `1 − m` can be 1e-14 or smaller, and forming `m`
+//! first rounds most of its digits away; so the descending arithmetic–geometric-mean algorithm
+//! (Abramowitz & Stegun 16.4; the recurrence of Cephes' `ellpj`) starts from `b₀ = √m1`, which
+//! keeps every digit of `m1`.
+//!
+//! The integrals are Carlson's symmetric forms `R_F`, `R_J` and `R_C` by the duplication
+//! algorithm (B. C. Carlson, "Numerical computation of real or complex elliptic integrals",
+//! *Numer. Algorithms* 10 (1995) 13–26; DLMF §19.36(i)). From them: the complete integral
+//! `K(m) = R_F(0, m1, 1)` (DLMF 19.25.1), the incomplete integrals of the first and third
+//! kinds (DLMF 19.25.5, 19.25.14), and the inverse of `(sn, cn)`.
+
+use crate::cmath;
+use std::f64::consts::PI;
+
+const EPS: f64 = 2.220446049250313e-16;
+const MAX_ITER: usize = 64;
+
+/// Below this `m1`, `|u| ≤ K/2` is evaluated by one ascending Landen step and the hyperbolic
+/// expansion (neglected terms O(m1³)); above it the AGM's relative error, ~eps·K/m1^¼, is
+/// below 3e-14.
+pub const NEAR_ONE: f64 = 1e-5;
+
+/// Below this `m1` the third-kind integral in u uses the separatrix forms (see
+/// [`third_kind_u`]).
+pub const TINY_M1: f64 = 1e-32;
+
+/// Carlson's stopping rule for a relative error below `r = 2⁻⁵³`: `(3r)^(-1/6)` (R_F).
+const RF_FACTOR: f64 = 379.82022430228585;
+/// The same for R_J: `(r/4)^(-1/6)`.
+const RJ_FACTOR: f64 = 574.7005687343988;
+
+/// Python's `max(a, b)`: `a` unless `b > a`.
+#[inline(always)]
+fn py_max(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
+    }
+}
+
+/// `(sn, cn, dn, am)` of one argument `u` by the descending AGM (A&S 16.4), with `m1 = 1 − m`
+/// given separately (it carries the precision when `m` is close to 1). `am` is the amplitude φ
+/// (continuous, `sn = sin φ`). At `m1 = 0` the separatrix limit (tanh, sech, sech, the
+/// Gudermannian); at `m = 0` the circular functions.
+pub fn jacobi_agm(u: f64, m: f64, m1: f64) -> (f64, f64, f64, f64) {
+    if m1 <= 0.0 {
+        let sech = 1.0 / u.cosh();
+        return (u.tanh(), sech, sech, 2.0 * (0.5 * u).tanh().atan());
+    }
+    if m <= 0.0 {
+        return (u.sin(), u.cos(), 1.0, u);
+    }
+    let mut a = [0.0f64; MAX_ITER + 1];
+    let mut c = [0.0f64; MAX_ITER + 1];
+    a[0] = 1.0;
+    c[0] = m.sqrt();
+    let mut b = m1.sqrt();
+    let mut i = 0usize;
+    while (c[i] / a[i]).abs() > EPS && i < MAX_ITER {
+        let a_prev = a[i];
+        a[i + 1] = 0.5 * (a_prev + b);
+        c[i + 1] = 0.5 * (a_prev - b);
+        b = (a_prev * b).sqrt();
+        i += 1;
+    }
+    let mut phi = 2f64.powi(i as i32) * a[i] * u;
+    while i > 0 {
+        phi = 0.5 * ((c[i] * phi.sin() / a[i]).asin() + phi);
+        i -= 1;
+    }
+    let sn = phi.sin();
+    let cn = phi.cos();
+    let dn = (cn * cn + m1 * sn * sn).sqrt(); // = √(1 − m sn²) without cancellation; dn > 0
+    (sn, cn, dn, phi)
+}
+
+/// `(sn, cn, dn)` for `m1 ≪ 1` and `|u| ≤ K/2`, to round-off relative to each value.
+///
+/// One ascending Landen transformation (A&S 16.14.2–4) maps `m` to `μ` with complement
+/// `μ1 = r²`, `r = (1 − √m)/(1 + √m) = m1/(1 + √m)²` (no cancellation); for parameter `μ` the
+/// first-order hyperbolic expansion (A&S 16.15.1–3) is exact to O(μ1² e^{4|w|}), i.e. O(m1³)
+/// on |u| ≤ K/2. Then `sn = (1 + r) sn_μ cn_μ / dn_μ`, `cn = (1 + r)/μ · (dn_μ² − r)/dn_μ`,
+/// `dn = (1 − r)/μ · (dn_μ² + r)/dn_μ`.
+pub fn jacobi_near_one(u: f64, m: f64, m1: f64) -> (f64, f64, f64) {
+    let q = 1.0 + m.sqrt();
+    let r = m1 / (q * q);
+    let mu1 = r * r;
+    let mu = 1.0 - mu1;
+    let w = u / (1.0 + r);
+    let t = w.tanh();
+    let s = 1.0 / w.cosh();
+    // sinh·cosh·sech² = tanh and sinh·cosh·tanh·sech = tanh²/sech: no overflow for large w
+    let sn_mu = t + 0.25 * mu1 * (t - w * s * s);
+    let cn_mu = s - 0.25 * mu1 * (t * t / s - w * t * s);
+    let dn_mu = s + 0.25 * mu1 * (t * t / s + w * t * s);
+    let sn = (1.0 + r) * sn_mu * cn_mu / dn_mu;
+    let cn = (1.0 + r) / mu * (dn_mu * dn_mu - r) / dn_mu;
+    let dn = (1.0 - r) / mu * (dn_mu * dn_mu + r) / dn_mu;
+    (sn, cn, dn)
+}
+
+/// `(sn, cn, dn)` on |u| ≤ K/2: [`jacobi_near_one`] below [`NEAR_ONE`], else the AGM.
+#[inline]
+fn base(u: f64, m: f64, m1: f64) -> (f64, f64, f64) {
+    if m1 < NEAR_ONE {
+        return jacobi_near_one(u, m, m1);
+    }
+    let (sn, cn, dn, _) = jacobi_agm(u, m, m1);
+    (sn, cn, dn)
+}
+
+/// `(sn, cn, dn, p, v)`: the Jacobi functions of `u` with small `cn`, `dn` kept to relative
+/// precision, and the reduction `u = 2pK + v` (|v| ≤ K); `k = K(m)`.
+///
+/// Near odd multiples of the quarter period K (where `sn ≈ ±1`), the amplitude computed by the
+/// AGM rounds to ±π/2 and `cn`, `dn` lose all relative precision — exactly where the free body
+/// lingers near its unstable axis. So for |v| > K/2 the quarter-period shift `x = K − |v|`:
+/// `sn v = ±cd x`, `cn v = √m1 sd x`, `dn v = √m1 nd x` (DLMF 22.4.3), with
+/// `sn(u) = (−1)^p sn v`, `cn(u) = (−1)^p cn v`, `dn(u) = dn v`. `K = inf` (m = 1) leaves `u`
+/// unreduced.
+pub fn jacobi_reduced(u: f64, m: f64, m1: f64, k: f64) -> (f64, f64, f64, f64, f64) {
+    if k.is_infinite() {
+        let (sn, cn, dn, _) = jacobi_agm(u, m, m1);
+        return (sn, cn, dn, 0.0, u);
+    }
+    let p = (u / (2.0 * k)).round_ties_even();
+    let v = u - 2.0 * k * p;
+    let (sn, cn, dn) = if v.abs() > 0.5 * k {
+        let (sx, cx, dx) = base(k - v.abs(), m, m1);
+        let r = m1.sqrt();
+        (1f64.copysign(v) * cx / dx, r * sx / dx, r / dx)
+    } else {
+        base(v, m, m1)
+    };
+    let parity = 1.0 - 2.0 * (p.abs() % 2.0);
+    (parity * sn, parity * cn, dn, p, v)
+}
+
+// ------------------------------------------------------------------------- Carlson's forms
+
+/// `R_F(x, y, z) = ½ ∫₀^∞ dt / √((t + x)(t + y)(t + z))` for `x, y, z ≥ 0`, at most one zero
+/// (DLMF 19.16.1), by duplication (Carlson 1995, algorithm 1; DLMF 19.36.1).
+pub fn carlson_rf(mut x: f64, mut y: f64, mut z: f64) -> f64 {
+    let a0 = (x + y + z) / 3.0;
+    let q = RF_FACTOR * py_max(py_max((a0 - x).abs(), (a0 - y).abs()), (a0 - z).abs());
+    let dx = a0 - x;
+    let dy = a0 - y;
+    let mut a = a0;
+    let mut scale = 1.0; // 4^-n
+    while scale * q >= a.abs() && scale > 0.0 {
+        let sx = x.sqrt();
+        let sy = y.sqrt();
+        let sz = z.sqrt();
+        let lam = sx * sy + sx * sz + sy * sz;
+        a = 0.25 * (a + lam);
+        x = 0.25 * (x + lam);
+        y = 0.25 * (y + lam);
+        z = 0.25 * (z + lam);
+        scale *= 0.25;
+    }
+    let xx = dx * scale / a;
+    let yy = dy * scale / a;
+    let zz = -(xx + yy);
+    let e2 = xx * yy - zz * zz;
+    let e3 = xx * yy * zz;
+    (1.0 - e2 / 10.0 + e3 / 14.0 + e2 * e2 / 24.0 - 3.0 * e2 * e3 / 44.0) / a.sqrt()
+}
+
+/// `R_J(x, y, z, p) = 3/2 ∫₀^∞ dt / ((t + p) √((t + x)(t + y)(t + z)))` for `x, y, z ≥ 0` (at
+/// most one zero) and `p > 0` (DLMF 19.16.2), by duplication (Carlson 1995, algorithm 3;
+/// DLMF 19.36.1), with `R_C(1, 1 + e)` in its cancellation-free form ([`carlson_rc1p`]).
+pub fn carlson_rj(mut x: f64, mut y: f64, mut z: f64, mut p: f64) -> f64 {
+    let a0 = (x + y + z + 2.0 * p) / 5.0;
+    let q = RJ_FACTOR
+        * py_max(
+            py_max(py_max((a0 - x).abs(), (a0 - y).abs()), (a0 - z).abs()),
+            (a0 - p).abs(),
+        );
+    let delta = (p - x) * (p - y) * (p - z);
+    let dx = a0 - x;
+    let dy = a0 - y;
+    let dz = a0 - z;
+    let mut a = a0;
+    let mut scale = 1.0; // 4^-m
+    let mut total = 0.0;
+    while scale * q >= a.abs() && scale > 0.0 {
+        let sx = x.sqrt();
+        let sy = y.sqrt();
+        let sz = z.sqrt();
+        let sp = p.sqrt();
+        let lam = sx * sy + sx * sz + sy * sz;
+        let d = (sp + sx) * (sp + sy) * (sp + sz);
+        let e = scale * scale * scale * delta / (d * d);
+        total += scale * carlson_rc1p(e) / d;
+        a = 0.25 * (a + lam);
+        x = 0.25 * (x + lam);
+        y = 0.25 * (y + lam);
+        z = 0.25 * (z + lam);
+        p = 0.25 * (p + lam);
+        scale *= 0.25;
+    }
+    let xx = dx * scale / a;
+    let yy = dy * scale / a;
+    let zz = dz * scale / a;
+    let pp = -0.5 * (xx + yy + zz);
+    let e2 = xx * yy + xx * zz + yy * zz - 3.0 * pp * pp;
+    let e3 = xx * yy * zz + 2.0 * e2 * pp + 4.0 * pp * pp * pp;
+    let e4 = (2.0 * xx * yy * zz + e2 * pp + 3.0 * pp * pp * pp) * pp;
+    let e5 = xx * yy * zz * pp * pp;
+    let series = 1.0 - 3.0 * e2 / 14.0 + e3 / 6.0 + 9.0 * e2 * e2 / 88.0
+        - 3.0 * e4 / 22.0
+        - 9.0 * e2 * e3 / 52.0
+        + 3.0 * e5 / 26.0;
+    scale * series / (a * a.sqrt()) + 6.0 * total
+}
+
+/// `R_C(1, 1 + e)` for `e > −1` (DLMF 19.2.17–19): `atan(√e)/√e` for e > 0,
+/// `atanh(√−e)/√−e` for e < 0, 1 at 0 — accurate for small |e|, where `R_C(x, y)` with
+/// `y → x` cancels.
+pub fn carlson_rc1p(e: f64) -> f64 {
+    if e > 0.0 {
+        let r = e.sqrt();
+        return r.atan() / r;
+    }
+    if e < 0.0 {
+        let r = (-e).sqrt();
+        return cmath::atanh(r) / r;
+    }
+    1.0
+}
+
+// ------------------------------------------------------------------------- integrals in (m, m1)
+
+/// The complete integral of the first kind `K(m) = R_F(0, m1, 1)` (DLMF 19.25.1) from the
+/// complementary parameter `m1 = 1 − m`; `inf` at `m1 = 0`.
+pub fn ellipk_m1(m1: f64) -> f64 {
+    if m1 <= 0.0 {
+        return f64::INFINITY;
+    }
+    carlson_rf(0.0, m1, 1.0)
+}
+
+/// `φ = jπ + r` with `r ∈ [−π/2, π/2]`: `(j, r)`.
+#[inline]
+fn reduce_angle(phi: f64) -> (f64, f64) {
+    let j = (phi / PI).round_ties_even();
+    (j, phi - j * PI)
+}
+
+/// The incomplete integral of the first kind `F(φ | m)` for any real `φ`:
+/// `sin r · R_F(cos²r, cos²r + m1 sin²r, 1) + 2jK` with `φ = jπ + r`, |r| ≤ π/2
+/// (DLMF 19.25.5; the second argument `Δ² = 1 − m sin²r` formed without cancellation).
+pub fn ellipf(phi: f64, _m: f64, m1: f64) -> f64 {
+    let (j, r) = reduce_angle(phi);
+    let s = r.sin();
+    let c = r.cos();
+    let mut value = s * carlson_rf(c * c, c * c + m1 * s * s, 1.0);
+    if j != 0.0 {
+        value += 2.0 * j * ellipk_m1(m1);
+    }
+    value
+}
+
+/// The complete integral of the third kind
+/// `Π(n | m) = R_F(0, m1, 1) + (n/3) R_J(0, m1, 1, 1 − n)` for `n < 1` (DLMF 19.25.2).
+pub fn ellippi_complete(n: f64, _m: f64, m1: f64) -> f64 {
+    carlson_rf(0.0, m1, 1.0) + n / 3.0 * carlson_rj(0.0, m1, 1.0, 1.0 - n)
+}
+
+/// The incomplete integral of the third kind
+/// `Π(n; φ | m) = ∫₀^φ dθ / ((1 − n sin²θ) √(1 − m sin²θ))` for `n < 1` and any real φ:
+/// `s R_F(c², Δ², 1) + (n/3) s³ R_J(c², Δ², 1, 1 − n s²)` on |φ| ≤ π/2 (DLMF 19.25.14),
+/// extended by `Π(n; φ + jπ) = Π(n; φ) + 2jΠ(n)`.
+pub fn ellippi(n: f64, phi: f64, m: f64, m1: f64) -> f64 {
+    let (j, r) = reduce_angle(phi);
+    let s = r.sin();
+    let c = r.cos();
+    let c2 = c * c;
+    let d2 = c2 + m1 * s * s;
+    let mut value = s * carlson_rf(c2, d2, 1.0)
+        + n / 3.0 * s * s * s * carlson_rj(c2, d2, 1.0, 1.0 - n * s * s);
+    if j != 0.0 {
+        value += 2.0 * j * ellippi_complete(n, m, m1);
+    }
+    value
+}
+
+/// The argument `u` in (−2K, 2K] with `sn u = s`, `cn u = c` (`s² + c² = 1`).
+///
+/// Carlson's form on the branch of `c`: `u = s R_F(c², c² + m1 s², 1)` for `c ≥ 0`, and
+/// `sign(s)·2K − s R_F(…)` for `c < 0` — no angle is formed, so a tiny `c` keeps its digits
+/// (an `atan2` would round the amplitude to ±π/2). On the separatrix (`m1 = 0`)
+/// `sn = tanh u`, `cn = sech u`: `u = asinh(s/c)`.
+pub fn first_kind_from_sn_cn(s: f64, c: f64, _m: f64, m1: f64) -> f64 {
+    if m1 == 0.0 {
+        if c > 0.0 {
+            return cmath::asinh(s / c);
+        }
+        return f64::INFINITY.copysign(s);
+    }
+    let c2 = c * c;
+    let r = s * carlson_rf(c2, c2 + m1 * s * s, 1.0);
+    if c >= 0.0 {
+        return r;
+    }
+    (if s >= 0.0 { 1.0 } else { -1.0 }) * 2.0 * ellipk_m1(m1) - r
+}
+
+/// `∫₀^u du/(1 − n tanh²u)` (m = 1, sn = tanh) for `n < 1`: with ν = −n,
+/// `u/(1 + ν) + √ν/(1 + ν) · atan(√ν tanh u)` (ν ≥ 0), and for 0 < n < 1
+/// `u/(1 − n) − √n/(1 − n) · atanh(√n tanh u)`.
+pub fn third_kind_separatrix(n: f64, u: f64) -> f64 {
+    if n <= 0.0 {
+        let nu = -n;
+        let r = nu.sqrt();
+        return u / (1.0 + nu) + r / (1.0 + nu) * (r * u.tanh()).atan();
+    }
+    let r = n.sqrt();
+    u / (1.0 - n) - r / (1.0 - n) * cmath::atanh(r * u.tanh())
+}
+
+/// `∫₀^u du' / (1 − n sn²u')  (= Π(n; am u | m))` for `n < 1`, accurate for every u;
+/// `k = K(m)`.
+///
+/// `u = 2pK + v` with |v| ≤ K: the integral is `2p Π(n|m) + G(v)`, with
+/// `G(v) = s R_F(c², d², 1) + (n/3) s³ R_J(c², d², 1, 1 − n s²)` from `s = sn v`,
+/// `c = cn v ≥ 0`, `d = dn v` taken from [`jacobi_reduced`] (accurate near v = ±K, where the
+/// free body lingers by its unstable axis). For `m1 <` [`TINY_M1`], `sn(v|m) = tanh v + O(√m1)`
+/// on |v| ≤ K/2 and `cd ≈ 1` beyond, so there `G` is the separatrix form, and
+/// `Π(n|m) − (K − |v|)/(1 − n)` up to K, both exact to O(√m1) < 1e-16.
+pub fn third_kind_u(n: f64, u: f64, m: f64, m1: f64, k: f64) -> f64 {
+    if m1 == 0.0 {
+        return third_kind_separatrix(n, u);
+    }
+    let (_, _, _, p, v) = jacobi_reduced(u, m, m1, k);
+    let mut g = if m1 < TINY_M1 {
+        if v.abs() <= 0.5 * k {
+            third_kind_separatrix(n, v)
+        } else {
+            1f64.copysign(v) * (ellippi_complete(n, m, m1) - (k - v.abs()) / (1.0 - n))
+        }
+    } else {
+        let (s, c, d, _, _) = jacobi_reduced(v, m, m1, k);
+        let c2 = c * c;
+        let d2 = d * d;
+        s * carlson_rf(c2, d2, 1.0) + n / 3.0 * s * s * s * carlson_rj(c2, d2, 1.0, 1.0 - n * s * s)
+    };
+    if p != 0.0 {
+        g += 2.0 * p * ellippi_complete(n, m, m1);
+    }
+    g
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::FRAC_PI_2;
+
+    fn rel(a: f64, b: f64) -> f64 {
+        (a - b).abs() / b.abs().max(1e-300)
+    }
+
+    #[test]
+    fn carlson_test_values() {
+        // Carlson (1995) §3 test values
+        assert!(rel(carlson_rf(1.0, 2.0, 0.0), 1.311_028_777_146_059_9) < 1e-15);
+        assert!(rel(carlson_rf(0.5, 1.0, 0.0), 1.854_074_677_301_371_9) < 1e-15);
+        assert!(rel(carlson_rj(0.0, 1.0, 2.0, 3.0), 0.776_886_237_785_823_3) < 1e-14);
+        assert!(rel(carlson_rj(2.0, 3.0, 4.0, 5.0), 0.142_975_796_671_567_5) < 1e-14);
+        // R_F is homogeneous of degree −1/2 and symmetric
+        let (x, y, z) = (0.3, 1.7, 2.9);
+        let f = carlson_rf(x, y, z);
+        assert!(rel(carlson_rf(z, x, y), f) < 1e-15);
+        assert!(rel(carlson_rf(4.0 * x, 4.0 * y, 4.0 * z), 0.5 * f) < 1e-15);
+        // R_J(x, y, z, z) = R_D(x, y, z); R_J(x, x, x, x) = x^(-3/2)
+        assert!(rel(carlson_rj(2.0, 2.0, 2.0, 2.0), 2f64.powf(-1.5)) < 1e-15);
+        assert_eq!(carlson_rc1p(0.0), 1.0);
+        assert!(rel(carlson_rc1p(1.0), std::f64::consts::FRAC_PI_4) < 1e-15);
+    }
+
+    #[test]
+    fn complete_integral_table_values() {
+        assert!(rel(ellipk_m1(1.0), FRAC_PI_2) < 3e-16);
+        assert!(rel(ellipk_m1(0.5), 1.854_074_677_301_371_9) < 1e-15);
+        assert!(ellipk_m1(0.0).is_infinite());
+        // K(m) ~ ln(4/√m1) as m → 1 (A&S 17.3.26): relative error O(m1 ln m1)
+        let m1: f64 = 1e-12;
+        let asym = (4.0 / m1.sqrt()).ln();
+        assert!(rel(ellipk_m1(m1), asym) < 1e-10);
+    }
+
+    #[test]
+    fn legendre_relation() {
+        // E K' + E' K − K K' = π/2 with E(m) = R_F(0, m1, 1) − (m/3) R_D(0, m1, 1),
+        // R_D(x, y, z) = R_J(x, y, z, z)
+        let e_of =
+            |m: f64, m1: f64| carlson_rf(0.0, m1, 1.0) - m / 3.0 * carlson_rj(0.0, m1, 1.0, 1.0);
+        for &m in &[0.1, 0.3, 0.5, 0.77, 0.95] {
+            let m1 = 1.0 - m;
+            let (k, kp) = (ellipk_m1(m1), ellipk_m1(m));
+            let (e, ep) = (e_of(m, m1), e_of(m1, m));
+            assert!(rel(e * kp + ep * k - k * kp, FRAC_PI_2) < 1e-14, "m = {m}");
+        }
+    }
+
+    #[test]
+    fn jacobi_identities_and_limits() {
+        for &m1 in &[1.0, 0.7, 0.2, 1e-3, 1e-6, 1e-12, 1e-20] {
+            let m = 1.0 - m1;
+            let k = ellipk_m1(m1);
+            for j in -40..=40 {
+                let u = 0.173 * j as f64;
+                let (sn, cn, dn, _, _) = jacobi_reduced(u, m, m1, k);
+                assert!((sn * sn + cn * cn - 1.0).abs() < 4e-15, "m1 {m1} u {u}");
+                assert!((dn * dn + m * sn * sn - 1.0).abs() < 4e-15, "m1 {m1} u {u}");
+                let (sa, ca, da, am) = jacobi_agm(u, m, m1);
+                assert!((sa - am.sin()).abs() < 1e-15);
+                assert!(
+                    (sa - sn).abs() < 1e-12 && (ca - cn).abs() < 1e-12 && (da - dn).abs() < 1e-12
+                );
+            }
+            // sn K = 1, cn K = 0, dn K = √m1
+            let (sn, cn, dn, _, _) = jacobi_reduced(k, m, m1, k);
+            assert!((sn - 1.0).abs() < 1e-15 && cn.abs() < 1e-15);
+            assert!(rel(dn, m1.sqrt()) < 1e-14);
+        }
+        // m = 0: circular; m = 1: hyperbolic
+        let (sn, cn, dn, am) = jacobi_agm(0.7, 0.0, 1.0);
+        assert_eq!((sn, cn, dn, am), (0.7f64.sin(), 0.7f64.cos(), 1.0, 0.7));
+        let (sn, cn, dn, _) = jacobi_agm(0.7, 1.0, 0.0);
+        assert_eq!(
+            (sn, cn, dn),
+            (0.7f64.tanh(), 1.0 / 0.7f64.cosh(), 1.0 / 0.7f64.cosh())
+        );
+    }
+
+    #[test]
+    fn near_one_branch_agrees_with_the_agm_where_both_apply() {
+        let m1 = 0.9e-5;
+        let m = 1.0 - m1;
+        let k = ellipk_m1(m1);
+        for j in 0..50 {
+            let u = 0.5 * k * j as f64 / 50.0;
+            let (a, b, c) = jacobi_near_one(u, m, m1);
+            let (sa, ca, da, _) = jacobi_agm(u, m, m1);
+            assert!((a - sa).abs() < 3e-14 && rel(b, ca) < 3e-14 && rel(c, da) < 3e-14);
+        }
+    }
+
+    #[test]
+    fn first_and_third_kinds() {
+        // F inverts am: F(am u) = u; first_kind_from_sn_cn inverts (sn, cn) on (−2K, 2K]
+        for &m1 in &[0.9, 0.4, 1e-4, 1e-9] {
+            let m = 1.0 - m1;
+            let k = ellipk_m1(m1);
+            for j in -9..=9 {
+                let u = 0.2 * k * j as f64;
+                let (sn, cn, _, am) = jacobi_agm(u, m, m1);
+                // dF/dφ = 1/dn ≤ 1/√m1 amplifies the amplitude's round-off
+                assert!((ellipf(am, m, m1) - u).abs() < 1e-14 * (1.0 + u.abs()) / m1.sqrt());
+                assert!((first_kind_from_sn_cn(sn, cn, m, m1) - u).abs() < 1e-12 * k);
+            }
+            // Π(0; φ) = F(φ); Π(n; π/2) = Π(n)
+            assert!(rel(ellippi(0.0, 1.1, m, m1), ellipf(1.1, m, m1)) < 1e-15);
+            // (the double nearest π/2 is 6e-17 short of it: an error 6e-17/√m1)
+            let full = ellippi(-0.7, FRAC_PI_2, m, m1);
+            assert!(rel(full, ellippi_complete(-0.7, m, m1)) < 1e-15 + 1e-16 / m1.sqrt());
+            // ∫ du/(1 − n sn²) along u equals Π(n; am u)
+            for j in -7..=7 {
+                let u = 0.37 * k * j as f64;
+                let (_, _, _, am) = jacobi_agm(u, m, m1);
+                let a = third_kind_u(-0.6, u, m, m1, k);
+                assert!((a - ellippi(-0.6, am, m, m1)).abs() < 1e-12 * (1.0 + a.abs()));
+            }
+        }
+        // Π(n|0) = π/(2√(1 − n)) (DLMF 19.6.3)
+        assert!(rel(ellippi_complete(-3.0, 0.0, 1.0), FRAC_PI_2 / 2.0) < 1e-15);
+        // the separatrix form: its derivative is 1/(1 − n tanh²u)
+        let (n, u, h) = (-2.5, 0.8, 1e-5);
+        let d = (third_kind_separatrix(n, u + h) - third_kind_separatrix(n, u - h)) / (2.0 * h);
+        assert!(rel(d, 1.0 / (1.0 - n * u.tanh().powi(2))) < 1e-9);
+        let d = (third_kind_separatrix(0.4, u + h) - third_kind_separatrix(0.4, u - h)) / (2.0 * h);
+        assert!(rel(d, 1.0 / (1.0 - 0.4 * u.tanh().powi(2))) < 1e-9);
+    }
+}
