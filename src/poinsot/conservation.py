@@ -19,7 +19,7 @@ the integrator (``docs/theory.md``, "Conservation laws"):
   :class:`~poinsot.forces.CentralGravity`, whose force and gravity-gradient torque derive
   from one potential that is invariant under rotations about the centre.
 
-Every value is computed by the kernels of :mod:`poinsot.kernels.rigid`; this module only
+Every value is computed by the compiled core (``poinsot._core``); this module only
 decides which of them the problem conserves and says why.
 """
 
@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kernels import rigid
+from . import _core
 
 __all__ = ["Invariant", "invariants_of"]
 
@@ -37,6 +37,29 @@ __all__ = ["Invariant", "invariants_of"]
 #: fraction of the largest: looser than the body's symmetry class, since the moments about a
 #: pivot come through the parallel-axis shift and carry its rounding.
 TOP_RTOL = 1e-9
+
+
+def _c(a):
+    return np.ascontiguousarray(a, dtype=float)
+
+
+def _momentum_com(A, Q, w):
+    """``Q A ω`` per sample (n, 3): the angular momentum about the centre of mass, space frame."""
+    return _core.angular_momenta(_c(A), _c(w).reshape(-1, 3), _c(Q).reshape(-1, 3, 3))
+
+
+def _momentum(A, M, R, V, Q, w):
+    """``Q A ω + M R × V`` per sample (n, 3), eq. (03)."""
+    return _core.angular_momenta(
+        _c(A), _c(w).reshape(-1, 3), _c(Q).reshape(-1, 3, 3), float(M),
+        _c(R).reshape(-1, 3), _c(V).reshape(-1, 3),
+    )  # fmt: skip
+
+
+def _rotational_energy(A, w):
+    """``½ ω·Aω`` for ω (..., 3) → (...)."""
+    w = np.asarray(w, dtype=float)
+    return _core.rotational_energies(_c(A), _c(w).reshape(-1, 3)).reshape(w.shape[:-1])
 
 
 @dataclass(frozen=True)
@@ -177,7 +200,7 @@ def invariants_of(traj) -> list[Invariant]:
     pivot = system.pivot
     at_com = pivot is None or not np.any(system.c)
     if only_gravity and at_com:  # no torque about the centre of mass
-        L = rigid.angular_momentum_com(A, Q, w)
+        L = _momentum_com(A, Q, w)
         why = "no force has a torque about the centre of mass" + (
             " (uniform gravity acts at it)" if uniform else ""
         )
@@ -204,7 +227,7 @@ def invariants_of(traj) -> list[Invariant]:
                 scale,
             )
         )
-        k = rigid.rotational_energy(A, w)
+        k = _rotational_energy(A, w)
         out.append(
             Invariant(
                 "rotational energy ½ ω·Aω",
@@ -232,7 +255,7 @@ def invariants_of(traj) -> list[Invariant]:
         return out
     if pivot is not None and only_gravity:
         point = system.pivot_point(traj.state[0])
-        L = rigid.angular_momentum(A, M, R - point, V, Q, w)
+        L = _momentum(A, M, R - point, V, Q, w)
         scale = _norm_scale(L[0])
         if not uniform or not np.any(g):
             out.append(
@@ -290,7 +313,7 @@ def invariants_of(traj) -> list[Invariant]:
         centres = {tuple(f.center) for f in central}
         if len(centres) == 1:
             point = np.array(next(iter(centres)))
-            L = rigid.angular_momentum(A, M, R - point, V, Q, w)
+            L = _momentum(A, M, R - point, V, Q, w)
             out.append(
                 Invariant(
                     "angular momentum about the attracting centre (orbit + spin)",
@@ -303,7 +326,7 @@ def invariants_of(traj) -> list[Invariant]:
                 )
             )
             return out
-    L = rigid.angular_momentum_com(A, Q, w)
+    L = _momentum_com(A, Q, w)
     out.append(
         Invariant(
             "angular momentum about the centre of mass (space frame)",

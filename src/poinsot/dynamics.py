@@ -22,25 +22,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from . import _core
+from . import _core, layout
 from ._validation import as_array, as_rotation_matrix, as_vector3
 from .forces import BodyFrame, Force, ForceContext
-from .kernels import layout
-from .kernels.forces import builtin_potential, builtin_wrench
-from .kernels.rigid import (
-    initial_states,
-    pivot_constrained,
-    pivot_point_of,
-    project_onto_pivot,
-    rigid_body_parameters,
-    rigid_derivative,
-    rigid_motion_from_particles,
-    rigid_rates,
-    shift_torque_to_pivot,
-    states_from_principal,
-    states_to_principal,
-)
-from .kernels.systems import RigidSystem, TorqueFreeSystem, UserForcesSystem
 
 __all__ = ["DegenerateBodyWarning", "RigidBodySystem", "rigid_velocity_from_particles"]
 
@@ -96,12 +80,12 @@ class RigidBodySystem:
             moments, axes = body.principal_moments, body.principal_axes
         else:
             moments, axes = _core.principal_decomposition(self.inertia)
-        self._body_params, degenerate = rigid_body_parameters(
+        self._body_params, degenerate = _core.rigid_body_parameters(
             float(body.mass),
-            np.ascontiguousarray(moments),
-            np.ascontiguousarray(axes),
-            self.c,
-            np.asarray(body.inertia),
+            [float(m) for m in moments],
+            np.ascontiguousarray(axes, dtype=float),
+            [float(x) for x in self.c],
+            np.ascontiguousarray(body.inertia, dtype=float),
             self.pivot is not None,
         )
         self.degenerate = bool(degenerate)
@@ -151,16 +135,20 @@ class RigidBodySystem:
     def to_internal(self, y) -> np.ndarray:
         """States (n, 18) (or one state (18,)) from the body frame to the principal frame."""
         y = np.asarray(y, dtype=float)
-        return states_to_principal(self.principal_axes, np.atleast_2d(y)).reshape(y.shape)
+        axes = np.ascontiguousarray(self.principal_axes, dtype=float)
+        rows = np.ascontiguousarray(y.reshape(-1, layout.STATE_SIZE))
+        return _core.states_principal(axes, rows).reshape(y.shape)
 
     def from_internal(self, z) -> np.ndarray:
         """States (or their time derivatives) from the principal frame to the body frame."""
         z = np.asarray(z, dtype=float)
-        return states_from_principal(self.principal_axes, np.atleast_2d(z)).reshape(z.shape)
+        axes = np.ascontiguousarray(self.principal_axes, dtype=float)
+        rows = np.ascontiguousarray(z.reshape(-1, layout.STATE_SIZE))
+        return _core.states_principal(axes, rows, inverse=True).reshape(z.shape)
 
     def pivot_point(self, y) -> np.ndarray:
         """The fixed point ``P = R − Q c`` in space, from a body-frame state (with a pivot)."""
-        return np.array(pivot_point_of(self._body_params, self.to_internal(y)))
+        return np.array(_core.pivot_point(self._body_params, self.to_internal(y)))
 
     def body_parameters(self, pivot_point=None) -> np.ndarray:
         """The body's parameter vector for the engine, with the pivot held at ``pivot_point``."""
@@ -172,6 +160,8 @@ class RigidBodySystem:
     def compiled_system(self, y0):
         """The named tuple of arrays the compiled engine integrates, from the initial
         body-frame state ``y0`` (which fixes where the pivot is in space)."""
+        from .kernels.systems import RigidSystem, TorqueFreeSystem, UserForcesSystem
+
         params = self.body_parameters(self.pivot_point(y0) if self.pivot is not None else None)
         if self.jitted_forces:
             return UserForcesSystem(
@@ -217,6 +207,8 @@ class RigidBodySystem:
 
     def python_system(self, y0):
         """The same physics evaluated from Python, for the Python backend (Python forces)."""
+        from .kernels.systems import RigidSystem
+
         params = self.body_parameters(self.pivot_point(y0) if self.pivot is not None else None)
         return _PythonRigidSystem(self, RigidSystem(params, self.force_kind, self.force_params))
 
@@ -224,36 +216,41 @@ class RigidBodySystem:
     def context(self, t, R, V, Q, omega) -> ForceContext:
         return ForceContext(self.body, t, R, V, Q, omega)
 
+    def _rates(self, t, y):
+        """``(ẏ, wrench)`` of a body-frame state, in the principal frame (the core)."""
+        body, kinds, params, axes, user = self.native(y)
+        z = np.ascontiguousarray(self.to_internal(y))
+        return _core.rigid_rates(body, kinds, params, axes, user, float(t), z)
+
     def wrench(self, t, R, V, Q, omega):
         """Total force (space) and torque (body frame) about the reference point, at a
         body-frame state: ``τ_P = τ_G + c × Qᵀ F`` with a pivot."""
         y = layout.pack_state(
             as_vector3(R, "R"), as_vector3(V, "V"), np.asarray(Q, float), as_vector3(omega, "w")
         )
-        system = self.python_system(y)
-        w = system.wrench(float(t), self.to_internal(y))
-        E = self.principal_axes
-        return np.array(w[:3]), E @ np.array(w[3:])
+        w = self._rates(t, y)[1]
+        return np.array(w[:3]), self.principal_axes @ np.array(w[3:])
 
     def rhs(self, t, y) -> np.ndarray:
         """Time derivative of the body-frame 18-state ``[R, V, Q, ω]``: eqs (07)–(09)."""
         y = np.asarray(y, dtype=float)
-        system = self.python_system(y)
-        out = np.empty(layout.STATE_SIZE)
-        system.vector_field(float(t), self.to_internal(y), out)
-        return self.from_internal(out)
+        return self.from_internal(self._rates(t, y)[0])
 
     def potential_energies(self, t, Y) -> np.ndarray:
         """Total potential energy of the forces at samples ``t`` (n,), body-frame ``Y`` (n, 18):
         built-in forces by the compiled kernels, Python forces by their own ``potential``."""
-        from .kernels.forces import potential_energies
-
         t = np.asarray(t, dtype=float)
         Y = np.asarray(Y, dtype=float)
         if not len(t):
             return np.zeros(0)
         params = self.body_parameters(self.pivot_point(Y[0]) if self.pivot is not None else None)
-        out = potential_energies(self.force_kind, self.force_params, params, t, self.to_internal(Y))
+        out = _core.potential_energies(
+            params,
+            np.ascontiguousarray(self.force_kind, dtype=np.int64),
+            np.ascontiguousarray(self.force_params, dtype=float).reshape(-1, layout.FORCE_PARAMS),
+            np.ascontiguousarray(t),
+            np.ascontiguousarray(self.to_internal(Y)),
+        )
         for f in self.python_forces + self.jitted_forces:
             if f.has_potential:
                 for i in range(len(t)):
@@ -275,9 +272,10 @@ class RigidBodySystem:
         stays exactly at ``pivot_point``."""
         if self.pivot is None:
             return np.array(y, dtype=float)
-        z = self.to_internal(y)
-        project_onto_pivot(self.body_parameters(pivot_point), z)
-        return self.from_internal(z)
+        y = np.asarray(y, dtype=float)
+        z = np.ascontiguousarray(self.to_internal(y)).reshape(-1, layout.STATE_SIZE)
+        z = _core.project_onto_pivot(self.body_parameters(pivot_point), z)
+        return self.from_internal(z).reshape(y.shape)
 
     # ----------------------------------------------------------------- initial state
     def initial_state(self, *, omega0, Q0=None, R0=None, V0=None, omega_frame="body"):
@@ -305,16 +303,16 @@ class RigidBodySystem:
                 stacklevel=3,
             )
         none = np.zeros((0, 3))
-        return initial_states(
-            Q[None],
-            w[None],
+        return _core.initial_states(
+            np.ascontiguousarray(Q[None], dtype=float),
+            np.ascontiguousarray(w[None], dtype=float),
             none if R0 is None else as_vector3(R0, "R0")[None],
             none if V0 is None else as_vector3(V0, "V0")[None],
-            np.asarray(self.body.center_of_mass, dtype=float),
-            self.c,
-            np.zeros(3) if self.pivot is None else self.pivot,
+            [float(x) for x in self.body.center_of_mass],
+            [float(x) for x in self.c],
+            [0.0] * 3 if self.pivot is None else [float(x) for x in self.pivot],
             self.pivot is not None,
-            line,
+            [float(x) for x in line],
         )[0]
 
     def degenerate_line(self) -> np.ndarray:
@@ -343,6 +341,13 @@ def _sum_of(functions):
     return _SUMS[functions]
 
 
+def _kernels():
+    """The numba engine's kernels (the ``backend="numba"`` cross-check only)."""
+    from .kernels import forces, rigid
+
+    return forces, rigid
+
+
 class _PythonRigidSystem:
     """A rigid system evaluated from Python (the Python backend): the built-in forces through
     the compiled kernels, the user's Python forces through their callables, at the body-frame
@@ -365,7 +370,7 @@ class _PythonRigidSystem:
     def wrench(self, t, y):
         owner = self.owner
         if len(owner.force_kind):
-            Fx, Fy, Fz, tx, ty, tz = builtin_wrench(
+            Fx, Fy, Fz, tx, ty, tz = _kernels()[0].builtin_wrench(
                 owner.force_kind, owner.force_params, self.body, t, y
             )
         else:
@@ -382,7 +387,7 @@ class _PythonRigidSystem:
                 tau = tau + E.T @ ti
             Fx, Fy, Fz = (float(v) for v in F)
             tx, ty, tz = (float(v) for v in tau)
-        tx, ty, tz = shift_torque_to_pivot(self.body, y, Fx, Fy, Fz, tx, ty, tz)
+        tx, ty, tz = _kernels()[1].shift_torque_to_pivot(self.body, y, Fx, Fy, Fz, tx, ty, tz)
         return Fx, Fy, Fz, tx, ty, tz
 
     def lanes(self):
@@ -390,21 +395,23 @@ class _PythonRigidSystem:
 
     def rates(self, t, y, lane):
         Fx, Fy, Fz, tx, ty, tz = self.wrench(t, np.asarray(y, dtype=float))
-        return rigid_rates(self.body, y, Fx, Fy, Fz, tx, ty, tz)
+        return _kernels()[1].rigid_rates(self.body, y, Fx, Fy, Fz, tx, ty, tz)
 
     def vector_field(self, t, y, out):
         Fx, Fy, Fz, tx, ty, tz = self.wrench(t, y)
-        rigid_derivative(self.body, y, Fx, Fy, Fz, tx, ty, tz, out)
+        _kernels()[1].rigid_derivative(self.body, y, Fx, Fy, Fz, tx, ty, tz, out)
 
     def constrain(self, t, y, lane):
-        return pivot_constrained(self.body, np.asarray(y, dtype=float))
+        return _kernels()[1].pivot_constrained(self.body, np.asarray(y, dtype=float))
 
     def project(self, t, y):
-        project_onto_pivot(self.body, y)
+        _kernels()[1].project_onto_pivot(self.body, y)
         return self.owner.pivot is not None
 
     def potential(self, t, y):
-        U = builtin_potential(self.owner.force_kind, self.owner.force_params, self.body, t, y)
+        U = _kernels()[0].builtin_potential(
+            self.owner.force_kind, self.owner.force_params, self.body, t, y
+        )
         return float(U)
 
 
@@ -431,13 +438,14 @@ def rigid_velocity_from_particles(body, velocities):
         A_inv = np.linalg.pinv(A, rcond=1e-12, hermitian=True)
     else:
         A_inv = np.linalg.inv(A)
-    V, omega, norms = rigid_motion_from_particles(
-        np.asarray(body.particle_masses),
-        np.asarray(body.particle_positions),
-        v,
-        np.asarray(body.center_of_mass),
-        A_inv,
+    V, omega, norms = _core.rigid_motion_from_particles(
+        np.ascontiguousarray(body.particle_masses, dtype=float),
+        np.ascontiguousarray(body.particle_positions, dtype=float),
+        np.ascontiguousarray(v, dtype=float),
+        [float(x) for x in body.center_of_mass],
+        np.ascontiguousarray(A_inv, dtype=float),
     )
+    V, omega = np.array(V), np.array(omega)
     worst = int(np.argmax(norms))
     scale = max(float(np.max(np.linalg.norm(v, axis=1))), 1e-300)
     if norms[worst] > RIGIDITY_RTOL * scale + 1e-300:

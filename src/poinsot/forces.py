@@ -3,7 +3,7 @@
 
 A force is data: a kind and its parameters. It never changes once built, and preparing it for a
 body — :meth:`Force.lower` — returns a *new* row of numbers, the lowered force that the compiled
-engine reads (:mod:`poinsot.kernels.forces` holds every formula). The same force can therefore
+engine reads (``crates/core/src/forces.rs`` holds every formula). The same force can therefore
 act on several bodies, in several systems, at once.
 
 At a state ``(t, R, V, Q, ω)`` a force has a **wrench**: the total force ``F`` in the space frame
@@ -34,8 +34,9 @@ from typing import ClassVar
 
 import numpy as np
 
+from . import _core
 from ._validation import as_positive_scalar, as_scalar, as_vector3
-from .kernels.layout import FORCE_KINDS, FORCE_PARAMS
+from .layout import FORCE_KINDS, FORCE_PARAMS, pack_state
 
 __all__ = [
     "BodyFrame",
@@ -80,6 +81,18 @@ class BodyFrame:
         return self.axes.T @ np.asarray(v, dtype=float)
 
 
+def _particles(R, Q, u, omega=None):
+    """Positions ``Q u + R`` of body points ``u`` (N, 3) of one state, or with ``omega`` their
+    velocities ``Q(ω × u) + R`` (``R`` then the velocity ``V``): (N, 3), by the core."""
+    c = np.ascontiguousarray
+    R = c(R, dtype=float).reshape(1, 3)
+    Q = c(Q, dtype=float).reshape(1, 3, 3)
+    u = c(u, dtype=float).reshape(-1, 3)
+    if omega is None:
+        return _core.particle_motion(R, Q, u)[0]
+    return _core.particle_motion(R, Q, u, c(omega, dtype=float).reshape(1, 3))[0]
+
+
 class ForceContext:
     """The state a Python force sees: time, centre of mass ``R``, its velocity ``V`` (space
     frame), attitude ``Q`` and body angular velocity ``omega``, plus the body. Particle
@@ -94,39 +107,28 @@ class ForceContext:
     def point_position(self, offset_body):
         """Space position ``R + Q b`` of the body point at offset ``b`` (3,) from the centre of
         mass."""
-        from .kernels.rigid import particle_positions
-
-        return particle_positions(self.R, self.Q, np.atleast_2d(offset_body).astype(float))[0]
+        return _particles(self.R, self.Q, np.atleast_2d(offset_body))[0]
 
     def point_velocity(self, offset_body):
         """Space velocity ``V + Q(ω × b)`` of the body point at offset ``b``."""
-        from .kernels.rigid import particle_velocities
-
-        b = np.atleast_2d(offset_body).astype(float)
-        return particle_velocities(self.V, self.Q, self.omega, b)[0]
+        return _particles(self.V, self.Q, np.atleast_2d(offset_body), self.omega)[0]
 
     @property
     def particle_positions(self):
         """``r_i = Q u_i + R``, shape (N, 3)."""
         if self._r is None:
-            from .kernels.rigid import particle_positions
-
-            self._r = particle_positions(self.R, self.Q, np.asarray(self.body.u))
+            self._r = _particles(self.R, self.Q, self.body.u)
         return self._r
 
     @property
     def particle_velocities(self):
         """``ṙ_i = Q(ω × u_i) + Ṙ``, shape (N, 3)."""
         if self._v is None:
-            from .kernels.rigid import particle_velocities
-
-            self._v = particle_velocities(self.V, self.Q, self.omega, np.asarray(self.body.u))
+            self._v = _particles(self.V, self.Q, self.body.u, self.omega)
         return self._v
 
     def state(self) -> np.ndarray:
         """The flat 18-state ``[R, V, Q, ω]`` (body frame)."""
-        from .kernels.layout import pack_state
-
         return pack_state(self.R, self.V, self.Q, self.omega)
 
 
@@ -139,7 +141,7 @@ def _readonly(a) -> np.ndarray:
 class Force:
     """Base class of forces: an immutable description.
 
-    Built-in kinds set :attr:`kind` (a key of :data:`~poinsot.kernels.layout.FORCE_KINDS`)
+    Built-in kinds set :attr:`kind` (a key of :data:`~poinsot.layout.FORCE_KINDS`)
     and implement :meth:`lower`; forces given by Python callables implement
     :meth:`python_wrench` (and :meth:`python_potential`) instead.
     """
@@ -184,12 +186,11 @@ class Force:
         """``(F (3,) space frame, τ (3,) body frame about the centre of mass)`` at ``ctx``."""
         if not self.compiled:
             return self.python_wrench(ctx)
-        from .kernels.forces import force_wrench
-
         body_params, frame = _body_frame_parameters(ctx.body)
-        return force_wrench(
+        (F, tau), _ = _core.force_wrench_potential(
             FORCE_KINDS[self.kind], self.lower(frame), body_params, float(ctx.t), ctx.state()
         )
+        return np.array(F), np.array(tau)
 
     def potential(self, ctx: ForceContext) -> float:
         """Potential energy ``U``, defined up to a constant."""
@@ -197,14 +198,11 @@ class Force:
             raise NotImplementedError(f"{self.name} has no potential")
         if not self.compiled:
             return self.python_potential(ctx)
-        from .kernels.forces import force_potential_of
-
         body_params, frame = _body_frame_parameters(ctx.body)
-        return float(
-            force_potential_of(
-                FORCE_KINDS[self.kind], self.lower(frame), body_params, float(ctx.t), ctx.state()
-            )
+        _, U = _core.force_wrench_potential(
+            FORCE_KINDS[self.kind], self.lower(frame), body_params, float(ctx.t), ctx.state()
         )
+        return float(U)
 
     def python_wrench(self, ctx):  # pragma: no cover - abstract
         raise NotImplementedError
@@ -219,12 +217,11 @@ class Force:
 def _body_frame_parameters(body):
     """The parameter vector of a free body in its own frame (identity axes), for evaluating one
     force outside the engine."""
-    from .kernels.layout import body_vector
-
-    inertia = np.asarray(body.inertia, dtype=float)
-    params = body_vector(
-        float(body.mass), np.diag(inertia).copy(), np.zeros(3), inertia, np.zeros(3), False, -1
-    )
+    inertia = np.ascontiguousarray(body.inertia, dtype=float)
+    params = _core.body_vector(
+        float(body.mass), [float(x) for x in np.diag(inertia)], [0.0] * 3, inertia, [0.0] * 3,
+        False, -1,
+    )  # fmt: skip
     return params, BodyFrame(body.center_of_mass)
 
 
@@ -285,7 +282,7 @@ class CentralGravity(Force):
     ``U = −μM/r − μ/(2r³) (tr A − 3 n̂·A n̂)``, ``n̂`` the unit vector from the centre to the
     body, in body axes. The torque about the centre of mass is ``τ = 3μ/r³ n̂ × (A n̂)`` (the
     gravity-gradient torque); the force is ``−∇U`` of the same expression, so total energy is
-    conserved exactly by the model. See :func:`poinsot.kernels.forces.central_gravity_wrench`.
+    conserved exactly by the model. See ``central_gravity`` in ``crates/core/src/forces.rs``.
     """
 
     kind = "central_gravity"
@@ -496,7 +493,7 @@ class CustomForce(Force):
       path (every right-hand side calls Python).
     * A numba-compiled function ``func(t, y) → (Fx, Fy, Fz, τx, τy, τz)`` of the time and the
       body-frame state ``y`` (18,) = ``[R, V, Q (row-major), ω]``
-      (:data:`poinsot.kernels.layout.STATE_SLICES`), the torque about the centre of mass in
+      (:data:`poinsot.layout.STATE_SLICES`), the torque about the centre of mass in
       the body frame, optionally with a compiled ``potential(t, y) → float``: the compiled
       engine calls it directly. (Numba cannot cache code that holds your function, so such a
       run compiles its engine once per process.)

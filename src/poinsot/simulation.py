@@ -10,7 +10,7 @@ from ._validation import _rotation_input, as_positive_scalar, as_sample_times, a
 from .dynamics import RigidBodySystem, rigid_velocity_from_particles
 from .integrate.base import get_solver
 from .integrate.driver import IntegrationError, integrate
-from .kernels.layout import unpack_state
+from .layout import unpack_state
 from .trajectory import Trajectory
 
 __all__ = ["SimulationError", "simulate"]

@@ -7,10 +7,10 @@ from functools import cached_property
 
 import numpy as np
 
+from . import _core
 from ._core import matrix_to_quat
 from ._io import atomic_path
-from .kernels import rigid
-from .kernels.layout import STATE_SIZE, STATE_SLICES
+from .layout import STATE_SIZE, STATE_SLICES
 
 __all__ = ["Trajectory"]
 
@@ -110,40 +110,40 @@ class Trajectory:
         return _readonly(q)
 
     def _c(self, a):
-        return np.ascontiguousarray(a)
+        return np.ascontiguousarray(a, dtype=float)
 
     @cached_property
     def omega_space(self):
         """Angular velocity in the space frame, ``Q ω`` (n, 3)."""
-        return _readonly(rigid.omega_space(self._c(self.Q), self._c(self.omega)))
+        return _readonly(_core.omega_space(self._c(self.Q), self._c(self.omega)))
 
     @cached_property
     def angular_momentum_com(self):
         """Angular momentum about the centre of mass, space frame: ``Q A ω`` (n, 3)."""
-        A = np.asarray(self.body.inertia)
-        return _readonly(rigid.angular_momentum_com(A, self._c(self.Q), self._c(self.omega)))
+        A = self._c(self.body.inertia)
+        return _readonly(_core.angular_momenta(A, self._c(self.omega), self._c(self.Q)))
 
     @cached_property
     def angular_momentum(self):
         """Angular momentum about the space origin, eq. (03): ``L = Q A ω + M R × Ṙ`` (n, 3)."""
-        A = np.asarray(self.body.inertia)
+        A = self._c(self.body.inertia)
         return _readonly(
-            rigid.angular_momentum(
+            _core.angular_momenta(
                 A,
+                self._c(self.omega),
+                self._c(self.Q),
                 float(self.body.mass),
                 self._c(self.R),
                 self._c(self.V),
-                self._c(self.Q),
-                self._c(self.omega),
             )
         )
 
     @cached_property
     def kinetic_energy(self):
         """Kinetic energy, eq. (12): ``½ Aω·ω + ½ M |Ṙ|²`` (n,)."""
-        A = np.asarray(self.body.inertia)
+        A = self._c(self.body.inertia)
         return _readonly(
-            rigid.kinetic_energy(A, float(self.body.mass), self._c(self.omega), self._c(self.V))
+            _core.kinetic_energies(A, float(self.body.mass), self._c(self.omega), self._c(self.V))
         )
 
     @property
@@ -164,15 +164,13 @@ class Trajectory:
 
     def positions(self):
         """Particle trajectories ``r_i = Q u_i + R``, shape (n, N, 3); needs a particle body."""
-        return rigid.particle_trajectories(
-            self._c(self.R), self._c(self.Q), np.asarray(self.body.u)
-        )
+        return _core.particle_motion(self._c(self.R), self._c(self.Q), self._c(self.body.u))
 
     # ----------------------------------------------------------------- diagnostics
     @cached_property
     def orthogonality_error(self):
         """``max |QᵀQ − I|`` per sample (n,)."""
-        return _readonly(rigid.orthogonality_error(self._c(self.Q)))
+        return _readonly(_core.orthogonality_errors(self._c(self.Q)))
 
     @cached_property
     def rigidity_error(self):

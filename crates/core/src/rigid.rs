@@ -477,3 +477,68 @@ pub fn rigid_motion_from_particles(
     }
     (vel, omega)
 }
+
+/// Which exact free-rotor flow applies to the ascending principal `moments`: −1 for three
+/// distinct moments (McLachlan's split), or the index of the symmetry axis (0 for a prolate
+/// body or a rod, 2 for an oblate or spherical one).
+pub fn rotor_code(moments: Vec3, rtol: f64) -> i32 {
+    match crate::inertia::symmetry_code(moments, rtol) {
+        0 => -1,
+        1 => 0,
+        _ => 2,
+    }
+}
+
+/// Everything the engine needs of a body, in one call: `(parameters, degenerate)`.
+///
+/// `moments` (ascending) and `axes` (columns) are the principal decomposition of the inertia
+/// about the reference point; `com_offset` the centre of mass from it and `inertia_com` the
+/// inertia about the centre of mass, both in the body frame. A moment below
+/// `DEGENERATE_RTOL` times the largest (a body on a line) is set to zero, so that its line has
+/// no angular acceleration (the minimum-norm solution); the free-rotor flow is chosen by
+/// [`rotor_code`].
+pub fn body_parameters(
+    mass: f64,
+    moments: Vec3,
+    axes: &Mat3,
+    com_offset: Vec3,
+    inertia_com: &Mat3,
+    has_pivot: bool,
+) -> ([f64; crate::layout::BODY_SIZE], bool) {
+    use crate::inertia::{is_degenerate, DEGENERATE_RTOL, SYMMETRY_RTOL};
+    let mut m = moments;
+    let degenerate = is_degenerate(m, DEGENERATE_RTOL);
+    if degenerate {
+        let top = m[2];
+        for v in m.iter_mut() {
+            if *v <= DEGENERATE_RTOL * top {
+                *v = 0.0;
+            }
+        }
+    }
+    let c = [0, 1, 2].map(|k| {
+        axes[0][k] * com_offset[0] + axes[1][k] * com_offset[1] + axes[2][k] * com_offset[2]
+    });
+    let mut a = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            let mut s = 0.0;
+            for p in 0..3 {
+                for q in 0..3 {
+                    s += axes[p][i] * inertia_com[p][q] * axes[q][j];
+                }
+            }
+            a[i][j] = s;
+        }
+    }
+    let params = Body::vector(
+        mass,
+        m,
+        c,
+        &a,
+        [0.0; 3],
+        has_pivot,
+        rotor_code(m, SYMMETRY_RTOL),
+    );
+    (params, degenerate)
+}

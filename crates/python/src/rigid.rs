@@ -18,7 +18,7 @@ use poinsot_core::system::RigidStructure;
 use poinsot_core::systems::{NoUser, Rigid};
 use pyo3::prelude::*;
 
-use crate::engine::{body_from, forces_from, mat3_from, value_error};
+use crate::engine::{body_from, forces_from, mat3_from, value_error, PyUser};
 
 fn rows<'a>(
     a: &'a PyReadonlyArray2<'_, f64>,
@@ -161,31 +161,120 @@ fn project_onto_pivot<'py>(
     Ok(out.into_pyarray(py))
 }
 
-/// `(ẏ (18,), wrench (6,))` of an engine state under the built-in forces: eqs (07)–(09).
+/// `(ẏ (18,), wrench (6,))` of an engine state: eqs (07)–(09) under the built-in forces and
+/// the user's (a Python callable of the body-frame state, as `integrate_rigid` takes it); the
+/// wrench is about the reference point, its torque in the principal frame.
 #[pyfunction]
+#[pyo3(signature = (body, force_kind, force_params, axes, user, t, state))]
+#[allow(clippy::too_many_arguments)]
 fn rigid_rates<'py>(
     py: Python<'py>,
     body: PyReadonlyArray1<'py, f64>,
     force_kind: PyReadonlyArray1<'py, i64>,
     force_params: PyReadonlyArray2<'py, f64>,
+    axes: PyReadonlyArray2<'py, f64>,
+    user: Option<Bound<'py, PyAny>>,
     t: f64,
     state: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
     let b = body_from(body.as_slice()?)?;
     let forces = forces_from(force_kind.as_slice()?, &force_params)?;
+    let axes = mat3_from(&axes, "axes")?;
     let y = state.as_slice()?;
     if y.len() != STATE_SIZE {
         return Err(value_error("`state` must hold 18 numbers"));
     }
-    let eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    let sys: Rigid<NoUser> = Rigid::new(b, forces, eye, None);
     let y = load(y);
-    let w = sys.wrench(t, &y);
-    let r = rigid::rigid_rates(&b, &y, w);
+    let (r, w) = match user {
+        Some(func) => {
+            let sys = Rigid::new(b, forces, axes, Some(PyUser::new(py, func)));
+            let w = sys.wrench(t, &y);
+            if let Some(err) = sys.user.as_ref().and_then(|u| u.take_error()) {
+                return Err(err);
+            }
+            (rigid::rigid_rates(&b, &y, w), w)
+        }
+        None => {
+            let sys: Rigid<NoUser> = Rigid::new(b, forces, axes, None);
+            let w = sys.wrench(t, &y);
+            (rigid::rigid_rates(&b, &y, w), w)
+        }
+    };
     Ok((
         Array1::from(r.to_vec()).into_pyarray(py),
         Array1::from(w.to_vec()).into_pyarray(py),
     ))
+}
+
+/// `((F (3,), τ (3,)), U)`: one built-in force's wrench (force in space, torque about the
+/// centre of mass, body frame) and potential at a body-frame state of a body with parameters
+/// `body` (its own frame).
+#[pyfunction]
+fn force_wrench_potential(
+    kind: i64,
+    params: PyReadonlyArray1<'_, f64>,
+    body: PyReadonlyArray1<'_, f64>,
+    t: f64,
+    state: PyReadonlyArray1<'_, f64>,
+) -> PyResult<(([f64; 3], [f64; 3]), f64)> {
+    let b = body_from(body.as_slice()?)?;
+    let kind = poinsot_core::forces::ForceKind::from_code(kind)
+        .ok_or_else(|| value_error(format!("`kind` = {kind} is no force kind")))?;
+    let p = params.as_slice()?;
+    if p.len() != poinsot_core::layout::FORCE_PARAMS {
+        return Err(value_error("`params` must hold FORCE_PARAMS numbers"));
+    }
+    let mut row = [0.0; poinsot_core::layout::FORCE_PARAMS];
+    row.copy_from_slice(p);
+    let y = state.as_slice()?;
+    if y.len() != STATE_SIZE {
+        return Err(value_error("`state` must hold 18 numbers"));
+    }
+    let f = poinsot_core::forces::Force { kind, p: row };
+    let y = load(y);
+    let w = f.wrench(&b, t, &y);
+    Ok((
+        ([w[0], w[1], w[2]], [w[3], w[4], w[5]]),
+        f.potential(&b, t, &y),
+    ))
+}
+
+/// `(parameters (BODY_SIZE,), degenerate)`: the body as the engine reads it
+/// (`poinsot_core::rigid::body_parameters`).
+#[pyfunction]
+fn rigid_body_parameters<'py>(
+    py: Python<'py>,
+    mass: f64,
+    moments: [f64; 3],
+    axes: PyReadonlyArray2<'py, f64>,
+    com_offset: [f64; 3],
+    inertia_com: PyReadonlyArray2<'py, f64>,
+    has_pivot: bool,
+) -> PyResult<(Bound<'py, PyArray1<f64>>, bool)> {
+    let axes = mat3_from(&axes, "axes")?;
+    let a = mat3_from(&inertia_com, "inertia_com")?;
+    let (p, degenerate) = rigid::body_parameters(mass, moments, &axes, com_offset, &a, has_pivot);
+    Ok((Array1::from(p.to_vec()).into_pyarray(py), degenerate))
+}
+
+/// The parameter vector of a body from its parts (principal frame of the inertia about the
+/// reference point): `Body::vector`.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn body_vector<'py>(
+    py: Python<'py>,
+    mass: f64,
+    moments: [f64; 3],
+    com_offset: [f64; 3],
+    inertia_com: PyReadonlyArray2<'py, f64>,
+    pivot: [f64; 3],
+    has_pivot: bool,
+    rotor: i32,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let a = mat3_from(&inertia_com, "inertia_com")?;
+    let p =
+        poinsot_core::layout::Body::vector(mass, moments, com_offset, &a, pivot, has_pivot, rotor);
+    Ok(Array1::from(p.to_vec()).into_pyarray(py))
 }
 
 /// Total potential energy of the built-in forces at samples `t` (n,), engine states (n, 18).
@@ -404,6 +493,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pivot_point, m)?)?;
     m.add_function(wrap_pyfunction!(project_onto_pivot, m)?)?;
     m.add_function(wrap_pyfunction!(rigid_rates, m)?)?;
+    m.add_function(wrap_pyfunction!(force_wrench_potential, m)?)?;
+    m.add_function(wrap_pyfunction!(rigid_body_parameters, m)?)?;
+    m.add_function(wrap_pyfunction!(body_vector, m)?)?;
     m.add_function(wrap_pyfunction!(potential_energies, m)?)?;
     m.add_function(wrap_pyfunction!(kinetic_energies, m)?)?;
     m.add_function(wrap_pyfunction!(rotational_energies, m)?)?;
