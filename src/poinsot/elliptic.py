@@ -31,7 +31,7 @@ __all__ = [
 def jacobi(u, m, m1):
     """``(sn, cn, dn)`` of ``u`` with ``m1 = 1 − m`` given to full precision; small ``cn`` and
     ``dn`` near the quarter periods keep their relative precision (see
-    :func:`poinsot.kernels.elliptic.jacobi_reduced` for the error bound)."""
+    ``elliptic::jacobi_reduced`` of the core for the error bound)."""
     sn, cn, dn, _, _ = _core.jacobi_reduced(_floats(u), float(m), float(m1), ellipk(m1))
     return sn, cn, dn
 
@@ -49,7 +49,7 @@ def ellipk(m1):
 
 def ellipf(phi, m, m1):
     """Incomplete integral of the first kind ``F(φ | m)`` for any real ``φ`` (scalar or
-    array): :func:`poinsot.kernels.elliptic.ellipf_scalar`."""
+    array): the core's ``elliptic::ellipf``."""
     phi = _floats(phi)
     out = _core.ellipf(phi, float(m), float(m1))
     return out if phi.ndim else float(out)
@@ -64,7 +64,7 @@ def ellippi_complete(n, m, m1):
 def ellippi(n, phi, m, m1):
     """Incomplete integral of the third kind
     ``Π(n; φ | m) = ∫₀^φ dθ / ((1 − n sin²θ) √(1 − m sin²θ))`` for ``n < 1`` and any real φ
-    (scalar or array): :func:`poinsot.kernels.elliptic.ellippi_scalar`."""
+    (scalar or array): the core's ``elliptic::ellippi``."""
     _check_n(n)
     phi = _floats(phi)
     out = _core.ellippi(float(n), phi, float(m), float(m1))
@@ -73,13 +73,13 @@ def ellippi(n, phi, m, m1):
 
 def first_kind_from_sn_cn(s, c, m, m1):
     """The argument ``u`` in (−2K, 2K] with ``sn u = s``, ``cn u = c`` (``s² + c² = 1``):
-    :func:`poinsot.kernels.elliptic.first_kind_from_sn_cn`."""
+    the core's ``elliptic::first_kind_from_sn_cn``."""
     return float(_core.first_kind_from_sn_cn(float(s), float(c), float(m), float(m1)))
 
 
 def third_kind_u(n, u, m, m1):
     """``∫₀^u du' / (1 − n sn²u')  (= Π(n; am u | m))`` for ``n < 1``, accurate for every u
-    (scalar or array): :func:`poinsot.kernels.elliptic.third_kind_u_scalar`."""
+    (scalar or array): the core's ``elliptic::third_kind_u``."""
     _check_n(n)
     u = _floats(u)
     out = _core.third_kind_u(float(n), u, float(m), float(m1))
