@@ -358,26 +358,7 @@ fn turn_about_axis(s: usize, angle: f64, x: Vec3) -> Vec3 {
     }
 }
 
-/// `Rz(ψ) Rx(θ) Rz(φ)`: the rotation of z-x-z Euler angles (intrinsic, as SciPy's
-/// `Rotation.from_euler("ZXZ", ...)`; `poinsot.kernels.so3.zxz_matrix_into`).
-pub fn zxz_matrix(psi: f64, theta: f64, phi: f64) -> Mat3 {
-    let (cps, sps) = (psi.cos(), psi.sin());
-    let (ct, st) = (theta.cos(), theta.sin());
-    let (cph, sph) = (phi.cos(), phi.sin());
-    [
-        [
-            cps * cph - sps * ct * sph,
-            -cps * sph - sps * ct * cph,
-            sps * st,
-        ],
-        [
-            sps * cph + cps * ct * sph,
-            -sps * sph + cps * ct * cph,
-            -cps * st,
-        ],
-        [st * sph, st * cph, ct],
-    ]
-}
+pub use crate::so3::zxz_matrix;
 
 /// `(θ, φ)` of the body relative to the invariable frame from the body momentum `π`:
 /// relabelled as `(π3, −π2, π1)` when the pole is e1.

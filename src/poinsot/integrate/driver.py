@@ -157,7 +157,7 @@ def integrate(
     saveat = SaveAt(None if t_eval is None else np.asarray(t_eval, dtype=float), save_every)
 
     y0 = np.array(y0, dtype=float)
-    if rigid and backend != "numba":
+    if rigid and backend != "numba" and hasattr(system, "native"):
         return _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progress,
                                  backend, observer)  # fmt: skip
     from ..kernels import drivers as _drv  # the numba engine (being replaced by the core)
