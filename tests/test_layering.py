@@ -59,6 +59,7 @@ LIBRARY = {
     "_io",
     "layout",
     "conservation",
+    "expressions",
 }
 PRESENTATION = {"plotting", "report", "numbers"}
 APPLICATION = {"scenario", "scenario_reference", "job", "cli", "__main__"}

@@ -56,6 +56,8 @@ class RigidBodySystem:
 
     #: Names of the blocks of the flat state, for diagnostics.
     state_slices: ClassVar[dict[str, slice]] = layout.STATE_SLICES
+    #: The structure the integrators may use (:mod:`poinsot.integrate.problem`).
+    structure: ClassVar[str] = "rigid"
 
     def __init__(self, body, forces=(), pivot=None):
         self.body = body
@@ -204,6 +206,20 @@ class RigidBodySystem:
         )
         axes = np.ascontiguousarray(self.principal_axes, dtype=float)
         return np.ascontiguousarray(params, dtype=float), kinds, params_f, axes, user
+
+    def problem(self, y0):
+        """The system as the compiled core integrates it
+        (:class:`~poinsot.integrate.problem.NativeProblem`), from the initial body-frame state
+        ``y0``."""
+        from .integrate.problem import RIGID_METHODS, NativeProblem
+
+        return NativeProblem(
+            _core.integrate_rigid,
+            self.native(y0),
+            RIGID_METHODS,
+            tuple(f.name for f in self.python_forces),
+            observes_flips=True,
+        )
 
     def python_system(self, y0):
         """The same physics evaluated from Python, for the Python backend (Python forces)."""

@@ -11,6 +11,8 @@
 //! * the physics: [`forces`], [`rigid`] (eqs (07)–(09), the free-rotor flows);
 //! * the exact torque-free motion: [`elliptic`] (with [`cmath`]), [`freebody`],
 //!   [`torque_free`];
+//! * motion relative to a moving carrier: [`relative`] (eqs (1)–(18) of the paper);
+//! * a model's own expressions compiled at run time: [`expressions`];
 //! * the contract between models and integrators: [`system`], with the rigid-body systems in
 //!   [`systems`];
 //! * the integrators: [`tableaux`] (as data), [`steppers`] (pure steps), [`observers`] and
@@ -22,12 +24,14 @@
 pub mod cmath;
 pub mod drivers;
 pub mod elliptic;
+pub mod expressions;
 pub mod forces;
 pub mod freebody;
 pub mod inertia;
 pub mod invariants;
 pub mod layout;
 pub mod observers;
+pub mod relative;
 pub mod rigid;
 pub mod shapes;
 pub mod so3;

@@ -16,7 +16,7 @@ use poinsot_core::observers::{FlipObserver, NoObserver, Observer};
 use poinsot_core::rigid::State;
 use poinsot_core::so3::Mat3;
 use poinsot_core::steppers::{momentum_to_velocity, velocity_to_momentum, Control, Tableau};
-use poinsot_core::system::RigidStructure;
+use poinsot_core::system::{RigidStructure, VectorField};
 use poinsot_core::systems::{Rigid, TorqueFree, UserWrench};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -130,7 +130,7 @@ impl UserWrench for PyUser<'_> {
 /// `out` the six numbers of the wrench; non-zero return: failure), called by address: a numba
 /// `cfunc`, a ctypes function, a symjit function.
 pub(crate) struct CUser {
-    f: extern "C" fn(f64, *const f64, *mut f64) -> i32,
+    pub(crate) f: extern "C" fn(f64, *const f64, *mut f64) -> i32,
 }
 
 impl UserWrench for CUser {
@@ -142,7 +142,7 @@ impl UserWrench for CUser {
 }
 
 /// Everything one call of the engine reads and writes.
-struct Run<'a> {
+pub(crate) struct Run<'a> {
     method: &'a str,
     tab: Tableau<'a>,
     clock: &'a mut [f64],
@@ -154,6 +154,104 @@ struct Run<'a> {
     out: Output<'a>,
     counters: &'a mut [i64],
     max_steps: u64,
+}
+
+/// The buffers of one call, as Python passes them (see `poinsot.integrate.driver`).
+pub(crate) struct RunArgs<'py> {
+    pub a: PyReadonlyArray2<'py, f64>,
+    pub b: PyReadonlyArray1<'py, f64>,
+    pub c: PyReadonlyArray1<'py, f64>,
+    pub clock: PyReadwriteArray1<'py, f64>,
+    pub z: PyReadwriteArray1<'py, f64>,
+    pub f: PyReadwriteArray1<'py, f64>,
+    pub dt: f64,
+    pub control: PyReadonlyArray1<'py, f64>,
+    pub t_end: f64,
+    pub t_eval: PyReadonlyArray1<'py, f64>,
+    pub save_every: i64,
+    pub out_t: PyReadwriteArray1<'py, f64>,
+    pub out_y: PyReadwriteArray2<'py, f64>,
+    pub counters: PyReadwriteArray1<'py, i64>,
+    pub max_steps: i64,
+}
+
+impl<'py> RunArgs<'py> {
+    /// The run over these buffers, checked against the state's length `dim` and the methods
+    /// the system offers.
+    pub(crate) fn run<'a>(
+        &'a mut self,
+        method: &'a str,
+        methods: &[&str],
+        dim: usize,
+    ) -> PyResult<Run<'a>> {
+        if !methods.contains(&method) {
+            return Err(value_error(format!(
+                "`method` must be one of {methods:?} for this system, found {method:?}"
+            )));
+        }
+        let (a_s, b_s, c_s) = (self.a.as_slice()?, self.b.as_slice()?, self.c.as_slice()?);
+        let s = b_s.len();
+        if a_s.len() != s * s || c_s.len() != s {
+            return Err(value_error("the tableau must be A (s, s), B (s,), C (s,)"));
+        }
+        let ctl = self.control.as_slice()?;
+        if ctl.len() != 7 {
+            return Err(value_error("`control` must hold 7 numbers"));
+        }
+        let clock = self.clock.as_slice_mut()?;
+        if clock.len() != 2 {
+            return Err(value_error("`clock` must hold 2 numbers (t, h)"));
+        }
+        let z = self.z.as_slice_mut()?;
+        if z.len() != dim {
+            return Err(value_error(format!("`z` must hold {dim} numbers")));
+        }
+        let f = self.f.as_slice_mut()?;
+        if f.len() != dim {
+            return Err(value_error(format!("`f` must hold {dim} numbers")));
+        }
+        let out_t = self.out_t.as_slice_mut()?;
+        let m = out_t.len();
+        let out_y = self.out_y.as_slice_mut()?;
+        if out_y.len() != m * dim {
+            return Err(value_error(format!(
+                "`out_y` must have shape (len(out_t), {dim})"
+            )));
+        }
+        let counters = self.counters.as_slice_mut()?;
+        if counters.len() != 6 {
+            return Err(value_error("`counters` must hold 6 integers"));
+        }
+        Ok(Run {
+            method,
+            tab: Tableau {
+                a: a_s,
+                b: b_s,
+                c: c_s,
+            },
+            clock,
+            z,
+            f,
+            dt: self.dt,
+            control: Control {
+                rtol: ctl[0],
+                atol: ctl[1],
+                safety: ctl[2],
+                min_factor: ctl[3],
+                max_factor: ctl[4],
+                max_step: ctl[5],
+                first_step: ctl[6],
+            },
+            sampling: Sampling {
+                t_end: self.t_end,
+                t_eval: self.t_eval.as_slice()?,
+                every: self.save_every.max(1) as u64,
+            },
+            out: Output { t: out_t, y: out_y },
+            counters,
+            max_steps: self.max_steps.max(0) as u64,
+        })
+    }
 }
 
 fn counters_in(c: &[i64]) -> Counters {
@@ -175,65 +273,87 @@ fn counters_out(k: &Counters, status: Status, c: &mut [i64]) {
     c[5] = k.n_rejected as i64;
 }
 
-/// One chunk of a run, with any system and observer.
-fn chunk<S: RigidStructure + ?Sized, O: Observer>(
-    sys: &S,
-    obs: &mut O,
+/// One chunk of `steps` of a time loop, with the run's clock and counters read before and
+/// written after.
+fn in_chunk(
     r: &mut Run,
-    steps: u64,
+    body: impl FnOnce(&mut Run, &mut Clock, &mut Counters) -> Status,
 ) -> Status {
     let mut clock = Clock {
         t: r.clock[0],
         h: r.clock[1],
     };
     let mut k = counters_in(r.counters);
-    let n = STATE_SIZE;
-    let status = match r.method {
-        "dop853" => {
-            let mut st = AdaptiveState { f: r.f.to_vec() };
-            let s = run_adaptive(
-                sys,
-                obs,
-                &mut clock,
-                r.z,
-                &mut st,
-                &r.control,
-                &r.sampling,
-                &mut r.out,
-                &mut k,
-                steps,
-            );
-            r.f.copy_from_slice(&st.f);
-            s
-        }
-        "rk4" => fixed(sys, &mut Rk4Rigid, obs, &mut clock, r, &mut k, steps),
-        "erk" => fixed(
-            sys,
-            &mut Erk::new(r.tab, n),
-            obs,
-            &mut clock,
-            r,
-            &mut k,
-            steps,
-        ),
-        "rkmk" => fixed(
-            sys,
-            &mut Rkmk::new(r.tab, n),
-            obs,
-            &mut clock,
-            r,
-            &mut k,
-            steps,
-        ),
-        _ => fixed(sys, &mut Splitting, obs, &mut clock, r, &mut k, steps),
-    };
+    let status = body(r, &mut clock, &mut k);
     r.clock[0] = clock.t;
     r.clock[1] = clock.h;
     counters_out(&k, status, r.counters);
     status
 }
 
-fn fixed<S: RigidStructure + ?Sized, M: FixedMethod<S>, O: Observer>(
+/// One chunk of a run of any system: the adaptive method (`"dop853"`) or an explicit tableau
+/// (`"erk"`).
+pub(crate) fn chunk_general<S: VectorField + ?Sized, O: Observer>(
+    sys: &S,
+    obs: &mut O,
+    r: &mut Run,
+    steps: u64,
+) -> Status {
+    in_chunk(r, |r, clock, k| {
+        if r.method == "dop853" {
+            let mut st = AdaptiveState { f: r.f.to_vec() };
+            let s = run_adaptive(
+                sys,
+                obs,
+                clock,
+                r.z,
+                &mut st,
+                &r.control,
+                &r.sampling,
+                &mut r.out,
+                k,
+                steps,
+            );
+            r.f.copy_from_slice(&st.f);
+            s
+        } else {
+            let tab = r.tab;
+            fixed(sys, &mut Erk::new(tab, sys.dim()), obs, clock, r, k, steps)
+        }
+    })
+}
+
+/// One chunk of a run of a rigid body: any method, those that use its structure included.
+fn chunk<S: RigidStructure + ?Sized, O: Observer>(
+    sys: &S,
+    obs: &mut O,
+    r: &mut Run,
+    steps: u64,
+) -> Status {
+    match r.method {
+        "rk4" => in_chunk(r, |r, clock, k| {
+            fixed(sys, &mut Rk4Rigid, obs, clock, r, k, steps)
+        }),
+        "rkmk" => in_chunk(r, |r, clock, k| {
+            let tab = r.tab;
+            fixed(
+                sys,
+                &mut Rkmk::new(tab, STATE_SIZE),
+                obs,
+                clock,
+                r,
+                k,
+                steps,
+            )
+        }),
+        "splitting" => in_chunk(r, |r, clock, k| {
+            fixed(sys, &mut Splitting, obs, clock, r, k, steps)
+        }),
+        _ => chunk_general(sys, obs, r, steps),
+    }
+}
+
+fn fixed<S: VectorField + ?Sized, M: FixedMethod<S>, O: Observer>(
     sys: &S,
     m: &mut M,
     obs: &mut O,
@@ -256,32 +376,39 @@ fn fixed<S: RigidStructure + ?Sized, M: FixedMethod<S>, O: Observer>(
     )
 }
 
-/// The whole call: chunks of steps, an interrupt check between them; the GIL released when
-/// `release` (no Python runs inside).
+/// The whole call: chunks of at most [`CHUNK`] steps (`one` runs a chunk, releasing the GIL
+/// or not), an interrupt check between them, the run's step budget honoured.
+pub(crate) fn in_chunks(
+    py: Python<'_>,
+    r: &mut Run,
+    mut one: impl FnMut(&mut Run, u64) -> Status,
+) -> PyResult<Status> {
+    let mut left = r.max_steps;
+    loop {
+        let steps = left.min(CHUNK);
+        let status = one(r, steps);
+        left -= steps.min(left);
+        if status != Status::Running || left == 0 {
+            return Ok(status);
+        }
+        py.check_signals()?;
+    }
+}
+
+/// A run of a rigid body; the GIL released when `release` (no Python runs inside).
 fn drive<S, O>(py: Python<'_>, sys: &S, obs: &mut O, r: &mut Run, release: bool) -> PyResult<Status>
 where
     S: RigidStructure + Sync + ?Sized,
     O: Observer + Send,
 {
     MomentumState::enter(sys, r);
-    let mut left = r.max_steps;
-    loop {
-        let steps = left.min(CHUNK);
-        let status = if release {
-            py.detach(|| chunk(sys, obs, r, steps))
-        } else {
-            chunk(sys, obs, r, steps)
-        };
-        left -= steps.min(left);
-        if status != Status::Running || left == 0 {
-            MomentumState::leave(sys, r);
-            return Ok(status);
-        }
-        if let Err(e) = py.check_signals() {
-            MomentumState::leave(sys, r);
-            return Err(e);
-        }
-    }
+    let status = if release {
+        in_chunks(py, r, |r, steps| py.detach(|| chunk(sys, obs, r, steps)))
+    } else {
+        in_chunks(py, r, |r, steps| chunk(sys, obs, r, steps))
+    };
+    MomentumState::leave(sys, r);
+    status
 }
 
 /// Integrate one rigid body: see `poinsot.integrate.driver.integrate`. Returns the status.
@@ -302,17 +429,17 @@ fn integrate_rigid<'py>(
     a: PyReadonlyArray2<'py, f64>,
     b: PyReadonlyArray1<'py, f64>,
     c: PyReadonlyArray1<'py, f64>,
-    mut clock: PyReadwriteArray1<'py, f64>,
-    mut z: PyReadwriteArray1<'py, f64>,
-    mut f: PyReadwriteArray1<'py, f64>,
+    clock: PyReadwriteArray1<'py, f64>,
+    z: PyReadwriteArray1<'py, f64>,
+    f: PyReadwriteArray1<'py, f64>,
     dt: f64,
     control: PyReadonlyArray1<'py, f64>,
     t_end: f64,
     t_eval: PyReadonlyArray1<'py, f64>,
     save_every: i64,
-    mut out_t: PyReadwriteArray1<'py, f64>,
-    mut out_y: PyReadwriteArray2<'py, f64>,
-    mut counters: PyReadwriteArray1<'py, i64>,
+    out_t: PyReadwriteArray1<'py, f64>,
+    out_y: PyReadwriteArray2<'py, f64>,
+    counters: PyReadwriteArray1<'py, i64>,
     max_steps: i64,
     flips: Option<(
         PyReadwriteArray1<'py, f64>,
@@ -323,79 +450,36 @@ fn integrate_rigid<'py>(
     let body = body_from(body.as_slice()?)?;
     let forces = forces_from(force_kind.as_slice()?, &force_params)?;
     let axes = mat3_from(&axes, "axes")?;
-    if !["dop853", "rk4", "erk", "rkmk", "splitting"].contains(&method) {
-        return Err(value_error(format!("unknown method {method:?}")));
-    }
-    let (a_s, b_s, c_s) = (a.as_slice()?, b.as_slice()?, c.as_slice()?);
-    let s = b_s.len();
-    if a_s.len() != s * s || c_s.len() != s {
-        return Err(value_error("the tableau must be A (s, s), B (s,), C (s,)"));
-    }
-    let ctl = control.as_slice()?;
-    if ctl.len() != 7 {
-        return Err(value_error("`control` must hold 7 numbers"));
-    }
-    let z_s = z.as_slice_mut()?;
-    if z_s.len() != STATE_SIZE {
-        return Err(value_error(format!("`z` must hold {STATE_SIZE} numbers")));
-    }
-    let out_t_s = out_t.as_slice_mut()?;
-    let m = out_t_s.len();
-    let out_y_s = out_y.as_slice_mut()?;
-    if out_y_s.len() != m * STATE_SIZE {
-        return Err(value_error("`out_y` must have shape (len(out_t), 18)"));
-    }
-    let counters_s = counters.as_slice_mut()?;
-    if counters_s.len() != 6 {
-        return Err(value_error("`counters` must hold 6 integers"));
-    }
-    let mut run = Run {
-        method,
-        tab: Tableau {
-            a: a_s,
-            b: b_s,
-            c: c_s,
-        },
-        clock: clock.as_slice_mut()?,
-        z: z_s,
-        f: f.as_slice_mut()?,
+    let mut args = RunArgs {
+        a,
+        b,
+        c,
+        clock,
+        z,
+        f,
         dt,
-        control: Control {
-            rtol: ctl[0],
-            atol: ctl[1],
-            safety: ctl[2],
-            min_factor: ctl[3],
-            max_factor: ctl[4],
-            max_step: ctl[5],
-            first_step: ctl[6],
-        },
-        sampling: Sampling {
-            t_end,
-            t_eval: t_eval.as_slice()?,
-            every: save_every.max(1) as u64,
-        },
-        out: Output {
-            t: out_t_s,
-            y: out_y_s,
-        },
-        counters: counters_s,
-        max_steps: max_steps.max(0) as u64,
+        control,
+        t_end,
+        t_eval,
+        save_every,
+        out_t,
+        out_y,
+        counters,
+        max_steps,
     };
+    let mut run = args.run(
+        method,
+        &["dop853", "rk4", "erk", "rkmk", "splitting"],
+        STATE_SIZE,
+    )?;
     let mut flips = flips;
     let status = match (&mut flips, user) {
-        (_, Some(func)) => {
-            if let Ok(address) = func.extract::<usize>() {
-                // a C function by address
-                if address == 0 {
-                    return Err(value_error("`user` must be a non-null function address"));
-                }
-                // SAFETY: the caller promises a C function of this signature at `address`
-                // (poinsot.forces.CustomForce checks the ctypes/cfunc signature).
-                let f: extern "C" fn(f64, *const f64, *mut f64) -> i32 =
-                    unsafe { std::mem::transmute(address) };
-                let sys = Rigid::new(body, forces, axes, Some(CUser { f }));
+        (_, Some(func)) => match c_user(&func)? {
+            Some(cu) => {
+                let sys = Rigid::new(body, forces, axes, Some(cu));
                 drive_any(py, &sys, &mut flips, &mut run, true)?
-            } else {
+            }
+            None => {
                 let sys = Rigid::new(body, forces, axes, Some(PyUser::new(py, func)));
                 let status = drive_unsync(py, &sys, &mut flips, &mut run)?;
                 if let Some(err) = sys.user.as_ref().and_then(|u| u.take_error()) {
@@ -403,7 +487,7 @@ fn integrate_rigid<'py>(
                 }
                 status
             }
-        }
+        },
         (_, None) if forces.is_empty() && !body.has_pivot => {
             drive_any(py, &TorqueFree { body }, &mut flips, &mut run, true)?
         }
@@ -413,6 +497,22 @@ fn integrate_rigid<'py>(
         }
     };
     Ok(status as i64)
+}
+
+/// The user's forces as a C function when `func` is an address (an int), else `None` (a
+/// Python callable).
+pub(crate) fn c_user(func: &Bound<'_, PyAny>) -> PyResult<Option<CUser>> {
+    let Ok(address) = func.extract::<usize>() else {
+        return Ok(None);
+    };
+    if address == 0 {
+        return Err(value_error("`user` must be a non-null function address"));
+    }
+    // SAFETY: the caller promises a C function of this signature at `address`
+    // (poinsot.forces.CustomForce checks the ctypes/cfunc signature).
+    let f: extern "C" fn(f64, *const f64, *mut f64) -> i32 =
+        unsafe { std::mem::transmute(address) };
+    Ok(Some(CUser { f }))
 }
 
 type Flips<'py> = Option<(
@@ -470,38 +570,20 @@ fn drive_unsync<S: RigidStructure + ?Sized>(
     run: &mut Run,
 ) -> PyResult<Status> {
     MomentumState::enter(sys, run);
-    let status = drive_unsync_inner(py, sys, flips, run);
+    let status = match flips {
+        Some((first, last, count)) => {
+            let mut obs = FlipObserver {
+                first: first.as_slice_mut()?,
+                last: last.as_slice_mut()?,
+                count: count.as_slice_mut()?,
+                offset: 0,
+            };
+            in_chunks(py, run, |r, steps| chunk(sys, &mut obs, r, steps))
+        }
+        None => in_chunks(py, run, |r, steps| chunk(sys, &mut NoObserver, r, steps)),
+    };
     MomentumState::leave(sys, run);
     status
-}
-
-fn drive_unsync_inner<S: RigidStructure + ?Sized>(
-    py: Python<'_>,
-    sys: &S,
-    flips: &mut Flips,
-    run: &mut Run,
-) -> PyResult<Status> {
-    let mut left = run.max_steps;
-    loop {
-        let steps = left.min(CHUNK);
-        let status = match flips {
-            Some((first, last, count)) => {
-                let mut obs = FlipObserver {
-                    first: first.as_slice_mut()?,
-                    last: last.as_slice_mut()?,
-                    count: count.as_slice_mut()?,
-                    offset: 0,
-                };
-                chunk(sys, &mut obs, run, steps)
-            }
-            None => chunk(sys, &mut NoObserver, run, steps),
-        };
-        left -= steps.min(left);
-        if status != Status::Running || left == 0 {
-            return Ok(status);
-        }
-        py.check_signals()?;
-    }
 }
 
 /// The Butcher tableau `(A (s, s), B (s,), C (s,))` of a built-in method: `"rk4"` or

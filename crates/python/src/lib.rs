@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 mod engine;
 mod exact;
 mod geometry;
+mod relative;
 mod rigid;
 
 #[pymodule]
@@ -31,6 +32,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
         m.add(name, status as i64)?;
     }
     rigid::register(m)?;
+    relative::register(m)?;
     geometry::register(m)?;
     exact::register(m)?;
     Ok(())

@@ -88,7 +88,7 @@ def _describe_nonfinite(slices, t, y) -> str:
 def check_solver_fits(cls, system) -> None:
     """Refuse a method that cannot integrate ``system``: one that needs the rigid-body
     structure, or a splitting method with velocity-dependent forces (it takes kicks)."""
-    rigid = hasattr(system, "compiled_system")
+    rigid = getattr(system, "structure", None) == "rigid"
     if not rigid and cls.requires == "rigid":
         raise ValueError(f"method {cls.name!r} needs a rigid-body system")
     if rigid and getattr(cls, "needs_position_only_forces", False):
@@ -157,7 +157,7 @@ def integrate(
     saveat = SaveAt(None if t_eval is None else np.asarray(t_eval, dtype=float), save_every)
 
     y0 = np.array(y0, dtype=float)
-    if rigid and backend != "numba" and hasattr(system, "native"):
+    if backend != "numba" and hasattr(system, "problem"):
         return _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progress,
                                  backend, observer)  # fmt: skip
     from ..kernels import drivers as _drv  # the numba engine (being replaced by the core)
@@ -267,35 +267,32 @@ def integrate(
             raise IntegrationError(message, result(message, False))
 
 
-#: The core's name of each kind of method (:attr:`Solver.kind`).
-_CORE_METHODS = ("rk4", "erk", "rkmk", "splitting", "dop853")
 #: Steps per call of the core when a progress callback is given (progress is reported between).
 PROGRESS_CHUNK = 20_000
 
 
 def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progress, backend,
                       observer) -> IntegrationResult:  # fmt: skip
-    """A rigid body on the compiled core (:func:`poinsot._core.integrate_rigid`): the whole run
-    in one call (in chunks only to report progress or to grow the output of an adaptive run);
-    forces given as Python callables are called back from it (the slow path)."""
-    from .. import _core
+    """A system on the compiled core (its :class:`~poinsot.integrate.problem.NativeProblem`):
+    the whole run in one call (in chunks only to report progress or to grow the output of an
+    adaptive run); forces and carriers given as Python callables are called back from it (the
+    slow path)."""
     from .. import _core as _drv
 
     cls = type(solver)
+    problem = system.problem(y0)
     if backend is None:
-        backend = "compiled" if system.compiled else "python"
+        backend = "compiled" if problem.compiled else "python"
     elif backend not in BACKENDS:
         raise ValueError(f"`backend` must be one of {BACKENDS}, found {backend!r}")
-    if backend == "compiled" and not system.compiled:
-        names = ", ".join(f.name for f in system.python_forces)
+    if backend == "compiled" and not problem.compiled:
         raise ValueError(
-            "`backend='compiled'` needs built-in forces; these are Python callables (use "
-            f"backend='python'): {names}"
+            "`backend='compiled'` needs built-in forces; these are Python "
+            f"callables (use backend='python'): {', '.join(problem.slow)}"
         )
-    kind = solver.kind
-    if kind not in _CORE_METHODS:
-        raise ValueError(f"method {cls.name!r} has no step in the compiled core")
-    body, force_kind, force_params, axes, user = system.native(y0)
+    kind = problem.kind_of(solver.kind)
+    if kind is None:
+        raise ValueError(f"method {cls.name!r} has no step in the compiled core for this system")
     z = system.to_internal(y0)
     n = z.size
     times = saveat.times
@@ -314,9 +311,11 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
     A = np.ascontiguousarray(solver.A, dtype=float).reshape(len(solver.B), len(solver.B))
     B = np.ascontiguousarray(solver.B, dtype=float)
     C = np.ascontiguousarray(solver.C, dtype=float)
-    flips = None
+    extra = {}
     if observer is not None and hasattr(observer, "first"):  # counts flips (ensembles)
-        flips = (observer.first, observer.last, observer.count)
+        if not problem.observes_flips:
+            raise ValueError("this system's engine does not count flips")
+        extra["flips"] = (observer.first, observer.last, observer.count)
     start = time.perf_counter()
     max_steps = PROGRESS_CHUNK if progress is not None else 2**62
 
@@ -338,10 +337,9 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
         )  # fmt: skip
 
     while True:
-        status = _core.integrate_rigid(
-            body, force_kind, force_params, axes, user, kind, A, B, C, clock, z, f,
-            float(dt or 0.0), ctrl, t1, times, saveat.every, out_t, out_y, counters, max_steps,
-            flips,
+        status = problem.engine(
+            *problem.data, kind, A, B, C, clock, z, f, float(dt or 0.0), ctrl, t1, times,
+            saveat.every, out_t, out_y, counters, max_steps, **extra,
         )  # fmt: skip
         if progress is not None:
             progress(float(clock[0]))

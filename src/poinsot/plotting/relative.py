@@ -3,7 +3,7 @@ velocity, the carrier's motion, the relative energy and the inertia moments; and
 of ω_r on the energy ellipsoid (17) with the bound √(C/A) (18).
 
 Plotting only: every plotted quantity is computed by :class:`~poinsot.relative.RelativeTrajectory`
-(through the kernels).
+(through the compiled core).
 """
 
 from __future__ import annotations
@@ -60,7 +60,7 @@ def plot_relative_motion(sol, *, title=None):
     E = sol.relative_energy
     axes[1, 0].plot(t, E, color="tab:purple", label="½ ω_r·Jω_r")
     axes[1, 0].set_ylabel("relative rotational energy (J)")
-    balanced = bool(sol.system.options[0])
+    balanced = sol.system.balance_transport
     if balanced:
         axes[1, 0].set_title(
             f"conserved (case (16)): max drift {np.ptp(E) / max(abs(E[0]), 1e-300):.2g} relative",
@@ -98,7 +98,7 @@ def plot_hodograph(sol, *, title=None):
     T0 = float(sol.relative_energy[0])
     w = sol.omega_r @ E  # principal components
     semi = np.sqrt(2 * T0 / moments) if T0 > 0 else np.zeros(3)
-    balanced = bool(sol.system.options[0])
+    balanced = sol.system.balance_transport
     if T0 > 0:
         x, y, z = _ellipsoid_mesh(semi, np.eye(3))
         ax.plot_wireframe(x, y, z, color="tab:blue", alpha=0.15, linewidth=0.4, rstride=2,

@@ -11,10 +11,11 @@ How the engine evaluates it:
 * constants and splines (SciPy ``PPoly`` and its subclasses ``CubicSpline``,
   ``Akima1DInterpolator``, ``PchipInterpolator``, or a ``BSpline``) become piecewise
   polynomials: data for the cached compiled engine, ``ε_e`` the exact derivative of the spline;
-* SymPy expressions (or text parsed by SymPy) become one generated compiled function of t
-  (``ε_e`` by exact differentiation); a process compiles the engine once per such carrier;
-* numba-compiled callables run in the compiled engine; plain Python callables run on the Python
-  backend (the slow path). A callable ω_e needs its ``epsilon_e`` too: poinsot does not
+* SymPy expressions (or text parsed by SymPy) become machine code at run time, in a few
+  milliseconds and without a C compiler (:mod:`poinsot.expressions`; ``ε_e`` by exact
+  differentiation first); a carrier seen before in the process is not compiled again;
+* Python callables (numba-compiled ones included) are called back from the core at every
+  evaluation: the slow path. A callable ω_e needs its ``epsilon_e`` too: poinsot does not
   differentiate a black box.
 """
 
@@ -29,8 +30,6 @@ from .._validation import as_rotation_matrix, as_vector3
 
 __all__ = ["Carrier"]
 
-_SOURCES: dict = {}
-
 
 def _sympy():
     import sympy
@@ -41,10 +40,6 @@ def _sympy():
 def _is_sympy(value) -> bool:
     mod = type(value).__module__ or ""
     return mod.startswith("sympy")
-
-
-def _is_jitted(func) -> bool:
-    return type(func).__name__ == "CPUDispatcher" and hasattr(func, "py_func")
 
 
 def _is_spline(value) -> bool:
@@ -67,8 +62,6 @@ def _classify(value, name):
         return None
     if _is_spline(value):
         return "spline"
-    if _is_jitted(value):
-        return "compiled"
     if callable(value) and not _is_sympy(value):
         return "python"
     if _has_sympy(value):
@@ -204,7 +197,7 @@ def _spline_ppoly(spline, name):
 
 def zxz_matrix(psi, theta, phi):
     """``Rz(ψ) Rx(θ) Rz(φ)`` as a SymPy matrix (z-x-z Euler angles, as
-    :func:`poinsot.kernels.so3.zxz_matrix_into`)."""
+    ``poinsot_core::so3::zxz_matrix``)."""
     sp = _sympy()
     c, s = sp.cos, sp.sin
 
@@ -218,48 +211,14 @@ def zxz_matrix(psi, theta, phi):
 
 
 def _compile_motion(exprs, t):
-    """One numba-compiled ``carrier(t) → 9-tuple`` from SymPy expressions (common
-    subexpressions shared); memoised by its source, so equal carriers share one engine."""
-    sp = _sympy()
-    from sympy.printing.pycode import PythonCodePrinter
+    """The nine expressions ``(ω_e, ε_e, a_O)`` of t as one compiled function (machine code;
+    cached by content, so equal carriers share it)."""
+    from ..expressions import ExpressionError, compile_expressions
 
-    tt = sp.Symbol("t_")
-    subs, reduced = sp.cse(
-        [sp.sympify(e).subs(t, tt) for e in exprs], symbols=sp.numbered_symbols("x_")
-    )
-    printer = PythonCodePrinter({"fully_qualified_modules": True})
-    lines = [f"    {printer.doprint(s)} = {printer.doprint(v)}" for s, v in subs]
-    values = ", ".join(f"float({printer.doprint(v)})" for v in reduced)
-    source = "def carrier(t_):\n" + "\n".join(lines) + f"\n    return ({values})\n"
-    if source not in _SOURCES:
-        import numba
-
-        scope = {"math": math}
-        exec(source, scope)  # generated from the user's SymPy expressions (printed by SymPy)
-        _SOURCES[source] = numba.njit(scope["carrier"])
-    return _SOURCES[source], source
-
-
-def _wrap_compiled(funcs):
-    """One numba-compiled ``carrier(t) → 9-tuple`` from compiled callables of t returning
-    3-vectors (``None``: zero), memoised."""
-    key = tuple(funcs)
-    if key not in _SOURCES:
-        import numba
-
-        lines, names, scope = [], [], {}
-        for i, f in enumerate(funcs):
-            if f is None:
-                names.append("(0.0, 0.0, 0.0)")
-            else:
-                scope[f"f{i}"] = f
-                lines.append(f"    v{i} = f{i}(t)")
-                names.append(f"(float(v{i}[0]), float(v{i}[1]), float(v{i}[2]))")
-        parts = ", ".join(f"{n}[{k}]" for n in names for k in range(3))
-        source = "def carrier(t):\n" + "\n".join(lines) + f"\n    return ({parts})\n"
-        exec(source, scope)  # a generated call of the user's compiled functions
-        _SOURCES[key] = numba.njit(scope["carrier"])
-    return _SOURCES[key]
+    try:
+        return compile_expressions(exprs, [t])
+    except ExpressionError as exc:
+        raise ValueError(f"the carrier's expressions cannot be compiled: {exc}") from exc
 
 
 class Carrier:
@@ -274,8 +233,7 @@ class Carrier:
         ω_e in carrier components: a constant vector (ε_e = 0); three SymPy expressions in t
         (or text such as ``"0.3*sin(t)"``; ε_e derived exactly); a SciPy spline of 3-vectors
         (ε_e its exact derivative); or a callable of t returning (3,), which needs
-        ``epsilon_e``. A numba-compiled callable runs in the compiled engine, a Python one on
-        the Python backend.
+        ``epsilon_e``. A callable is called back from the compiled core (the slow path).
     epsilon_e : callable, optional
         ε_e = dω_e/dt (carrier components) for a callable ``omega_e``; refused otherwise
         (poinsot derives it exactly).
@@ -328,18 +286,18 @@ class Carrier:
         kind_w = _classify(omega_e, "omega_e") if omega_e is not None else "sympy"
         kind_e = _classify(epsilon_e, "epsilon_e")
         kind_a = _classify(origin_acceleration, "origin_acceleration")
-        if epsilon_e is not None and kind_w not in ("python", "compiled"):
+        if epsilon_e is not None and kind_w != "python":
             raise ValueError(
                 "`epsilon_e` is for a callable `omega_e` only: for a constant it is zero, and "
                 "for SymPy expressions, Euler angles, attitudes and splines it is derived exactly"
             )
-        if kind_w in ("python", "compiled") and epsilon_e is None:
+        if kind_w == "python" and epsilon_e is None:
             raise ValueError(
                 "a callable `omega_e` needs `epsilon_e` (its time derivative, carrier "
                 "components): poinsot cannot differentiate a black box exactly (or give SymPy "
                 "expressions or a spline)"
             )
-        if kind_e is not None and kind_e not in ("python", "compiled"):
+        if kind_e is not None and kind_e != "python":
             raise TypeError("`epsilon_e` must be a callable of t")
         self._attitude = None
         self.t_symbol = None
@@ -356,13 +314,6 @@ class Carrier:
         kinds = {kind_w, kind_a} - {None}
         if "python" in kinds or kind_e == "python":
             self.kind = "python"
-        elif "compiled" in kinds:
-            self.kind = "function"
-            if kinds - {"compiled", "constant"}:
-                raise ValueError(
-                    "a compiled callable `omega_e` combines only with a constant or compiled "
-                    "`origin_acceleration`"
-                )
         elif "sympy" in kinds:
             self.kind = "function"
             if "spline" in kinds:
@@ -478,18 +429,9 @@ class Carrier:
             else:
                 acc = _sympy_vector(accel, "origin_acceleration", t)
             self.expressions = {"omega_e": omega, "epsilon_e": eps, "origin_acceleration": acc}
-            self.function, self.source = _compile_motion([*omega, *eps, *acc], t)
+            self.function = _compile_motion([*omega, *eps, *acc], t)
             if Q is not None:
                 self._attitude = sp.lambdify(t, Q, modules="numpy")
-            return
-        if self.kind == "function":  # compiled callables
-            a = None if accel is None else accel
-            if kind_a == "constant":
-                a_const = tuple(float(v) for v in as_vector3(accel, "origin_acceleration"))
-                import numba
-
-                a = numba.njit(lambda t: a_const)
-            self.function = _wrap_compiled((omega_e, epsilon_e, a))
             return
         # Python callables: every part as a Python function of t
         parts = []
@@ -513,8 +455,19 @@ class Carrier:
     # ------------------------------------------------------------------ evaluation
     @property
     def compiled(self) -> bool:
-        """True when the compiled engine can evaluate the carrier (no Python callable)."""
+        """True when the core evaluates the carrier without calling Python."""
         return self.kind != "python"
+
+    @property
+    def engine(self):
+        """The carrier as the core's engine takes it: piecewise polynomials
+        ``(w_breaks, w_coeffs, a_breaks, a_coeffs)``, compiled expressions, or (the slow
+        path) the Python callable :meth:`motion_tuple`."""
+        if self.kind == "ppoly":
+            return self.ppoly
+        if self.kind == "function":
+            return self.function
+        return self.motion_tuple
 
     @property
     def has_attitude(self) -> bool:
@@ -539,11 +492,11 @@ class Carrier:
 
     def motions(self, t) -> np.ndarray:
         """``(ω_e, ε_e, a_O)`` at the times ``t`` (n,) → (n, 9), carrier components."""
-        from ..kernels.relative import carrier_motions_ppoly
+        from .. import _core
 
-        t = np.atleast_1d(np.asarray(t, dtype=float))
-        if self.kind == "ppoly":
-            return carrier_motions_ppoly(*self.ppoly[:2], *self.ppoly[2:], t)
+        t = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
+        if self.kind != "python":
+            return _core.carrier_motions(self.engine, t)
         out = np.empty((len(t), 9))
         for i, s in enumerate(t):
             out[i] = self.motion_tuple(float(s))
@@ -551,12 +504,8 @@ class Carrier:
 
     def motion_tuple(self, t: float) -> tuple:
         """The 9-tuple of the engine at ``t`` (callables checked: shape (3,), finite)."""
-        if self.kind == "ppoly":
-            from ..kernels.relative import carrier_motion_ppoly
-
-            return carrier_motion_ppoly(*self.ppoly, float(t))
-        if self.kind == "function":
-            return self.function(t)
+        if self.kind != "python":
+            return tuple(self.motions(float(t))[0].tolist())
         values = []
         for f, name in zip(self._python, ("omega_e", "epsilon_e", "origin_acceleration"),
                            strict=True):  # fmt: skip

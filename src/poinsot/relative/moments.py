@@ -1,9 +1,10 @@
 """The inertia moments of relative motion as named quantities (``docs/relative.md``; paper eqs
 (2)–(6), (16)).
 
-Every function checks its arguments and calls one kernel of :mod:`poinsot.kernels.relative`
-(the planar inertia: :mod:`poinsot._core`); vectors are body-frame components and may carry
-leading axes (``(..., 3)``), so a whole trajectory is evaluated in one call.
+Every function checks its arguments and calls one function of the core
+(``poinsot_core::relative``; the planar inertia: ``poinsot_core::inertia``); vectors are
+body-frame components and may carry leading axes (``(..., 3)``), so a whole trajectory is
+evaluated in one call.
 """
 
 from __future__ import annotations
@@ -12,7 +13,6 @@ import numpy as np
 
 from .. import _core
 from .._validation import as_array
-from ..kernels import relative as krel
 
 __all__ = [
     "balancing_moment",
@@ -47,6 +47,15 @@ def _pair(a, b, na, nb):
     if a.shape != b.shape:
         a, b = np.broadcast_arrays(a, b)
     return np.ascontiguousarray(a), np.ascontiguousarray(b)
+
+
+def _rows(func, *args, a, b):
+    """``func(*args, a_rows, b_rows)`` on (n, 3) rows, returned in the shape of ``a``."""
+    shape = a.shape
+    out = func(
+        *args, np.ascontiguousarray(a.reshape(-1, 3)), np.ascontiguousarray(b.reshape(-1, 3))
+    )
+    return out.reshape(shape)
 
 
 def planar_inertia(J) -> np.ndarray:
@@ -126,7 +135,7 @@ def transport_moment(J, omega_e, epsilon_e) -> np.ndarray:
     """
     J = _inertia(J)
     w, e = _pair(omega_e, epsilon_e, "omega_e", "epsilon_e")
-    return krel.transport_moment(J, w, e)
+    return _rows(_core.transport_moments, J, a=w, b=e)
 
 
 def balancing_moment(J, omega_e, epsilon_e) -> np.ndarray:
@@ -166,7 +175,7 @@ def coriolis_moment(J, omega_r, omega_e) -> np.ndarray:
     """
     J = _inertia(J)
     r, w = _pair(omega_r, omega_e, "omega_r", "omega_e")
-    return krel.coriolis_moment(J, r, w)
+    return _rows(_core.coriolis_moments, J, a=r, b=w)
 
 
 def coriolis_moment_three_term(J, omega_r, omega_e) -> np.ndarray:
@@ -182,7 +191,7 @@ def coriolis_moment_three_term(J, omega_r, omega_e) -> np.ndarray:
     """
     J = _inertia(J)
     r, w = _pair(omega_r, omega_e, "omega_r", "omega_e")
-    return krel.coriolis_moment_three_term(J, r, w)
+    return _rows(_core.coriolis_moments_three_term, J, a=r, b=w)
 
 
 def coriolis_moment_particles(masses, rho, omega_r, omega_e) -> np.ndarray:
@@ -209,4 +218,5 @@ def coriolis_moment_particles(masses, rho, omega_r, omega_e) -> np.ndarray:
         raise ValueError(f"`masses[{i}]` must be a positive number, found {m[i]}")
     rho = as_array(rho, "rho", (len(m), 3))
     r, w = _pair(omega_r, omega_e, "omega_r", "omega_e")
-    return krel.coriolis_moment_particles(np.ascontiguousarray(m), np.ascontiguousarray(rho), r, w)
+    return _rows(_core.coriolis_moments_particles, np.ascontiguousarray(m),
+                 np.ascontiguousarray(rho), a=r, b=w)  # fmt: skip

@@ -7,11 +7,10 @@ from functools import cached_property
 
 import numpy as np
 
+from .. import _core
 from .._validation import as_rotation_matrix, as_vector3
 from ..integrate.base import get_solver
 from ..integrate.driver import IntegrationError, integrate
-from ..kernels import rigid as krig
-from ..kernels.relative import absolute_states
 from ..rotation import body_rates_from_euler, euler_from_matrix, euler_rates_from_body
 from ..simulation import SimulationError, _check_sampling, _check_t_span, _check_tolerances
 from ..trajectory import Trajectory
@@ -259,8 +258,8 @@ class RelativeTrajectory:
     @cached_property
     def absolute_states(self) -> np.ndarray:
         """The absolute body-frame states ``[R, V, Q, ω]`` (n, 18)."""
-        return _readonly(absolute_states(np.ascontiguousarray(self._y),
-                                          np.ascontiguousarray(self.carrier_motion)))  # fmt: skip
+        motions = np.ascontiguousarray(self.carrier_motion)
+        return _readonly(_core.absolute_states(np.ascontiguousarray(self._y), motions))
 
     @property
     def Q_absolute(self) -> np.ndarray:
@@ -303,8 +302,8 @@ class RelativeTrajectory:
     def relative_energy(self) -> np.ndarray:
         """The relative rotational energy ``½ ω_r·Jω_r`` (n,) (eq. (17): constant under the
         balancing moment (16))."""
-        J = np.ascontiguousarray(self.body.inertia)
-        return _readonly(krig.rotational_energy(J, np.ascontiguousarray(self.omega_r)))
+        J = np.ascontiguousarray(self.body.inertia, dtype=float)
+        return _readonly(_core.rotational_energies(J, np.ascontiguousarray(self.omega_r)))
 
     @cached_property
     def transport_moment(self) -> np.ndarray:

@@ -1,0 +1,482 @@
+//! A model's own expressions, compiled at run time to machine code without a C compiler.
+//!
+//! The Python layer lowers SymPy expressions (common subexpressions already shared) to an
+//! [`Program`]: a flat postfix program over the inputs, with numbered temporaries. This module
+//! holds no physics: it evaluates whatever expressions a model brings (a carrier's `ω_e(t)`,
+//! `ε_e(t)`, `a_O(t)`).
+//!
+//! * [`Function::compile`] turns a program into machine code with the `symjit` crate (AMD64,
+//!   ARM64 or RISC-V; a few hundred microseconds), and falls back to interpreting the program
+//!   where machine code cannot be had (a platform that forbids writable-executable memory).
+//! * [`Program::eval`] interprets the program: the fallback, and the independent route the
+//!   tests hold the machine code against.
+
+use std::sync::Mutex;
+
+use symjit::{Compiled, CompilerType, Config, Expr};
+
+/// Push a constant (`value`).
+pub const CONST: i64 = 0;
+/// Push input number `value`.
+pub const INPUT: i64 = 1;
+/// Push temporary number `value`.
+pub const LOAD: i64 = 2;
+/// Pop into temporary number `value`.
+pub const STORE: i64 = 3;
+/// Pop into the next output.
+pub const OUTPUT: i64 = 4;
+/// Pop b, a; push a + b.
+pub const ADD: i64 = 5;
+/// Pop b, a; push a · b.
+pub const MUL: i64 = 6;
+/// Pop b, a; push a ^ b.
+pub const POW: i64 = 7;
+/// Unary functions: `UNARY + k` applies [`UNARY_NAMES`]`[k]`.
+pub const UNARY: i64 = 100;
+/// Binary functions: `BINARY + k` applies [`BINARY_NAMES`]`[k]` (pop b, a; push f(a, b)).
+pub const BINARY: i64 = 200;
+
+/// The unary functions a program may call, by their SymPy names.
+pub const UNARY_NAMES: [&str; 17] = [
+    "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh", "atanh",
+    "exp", "log", "sqrt", "Abs", "sign",
+];
+/// The binary functions a program may call, by their SymPy names.
+pub const BINARY_NAMES: [&str; 3] = ["atan2", "Min", "Max"];
+
+/// symjit's name of each unary function ([`UNARY_NAMES`] order).
+const SYMJIT_UNARY: [&str; 17] = [
+    "sin", "cos", "tan", "arcsin", "arccos", "arctan", "sinh", "cosh", "tanh", "arcsinh",
+    "arccosh", "arctanh", "exp", "ln", "root", "abs", "sign",
+];
+const SYMJIT_BINARY: [&str; 3] = ["atan2", "min", "max"];
+
+fn unary(k: usize, x: f64) -> f64 {
+    match k {
+        0 => x.sin(),
+        1 => x.cos(),
+        2 => x.tan(),
+        3 => x.asin(),
+        4 => x.acos(),
+        5 => x.atan(),
+        6 => x.sinh(),
+        7 => x.cosh(),
+        8 => x.tanh(),
+        9 => x.asinh(),
+        10 => x.acosh(),
+        11 => x.atanh(),
+        12 => x.exp(),
+        13 => x.ln(),
+        14 => x.sqrt(),
+        15 => x.abs(),
+        _ => {
+            if x.is_nan() {
+                x
+            } else if x > 0.0 {
+                1.0
+            } else if x < 0.0 {
+                -1.0
+            } else {
+                0.0
+            }
+        }
+    }
+}
+
+fn binary(k: usize, a: f64, b: f64) -> f64 {
+    match k {
+        0 => a.atan2(b),
+        1 => {
+            if a <= b {
+                a
+            } else {
+                b
+            }
+        }
+        _ => {
+            if a >= b {
+                a
+            } else {
+                b
+            }
+        }
+    }
+}
+
+/// One instruction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Op {
+    Const(f64),
+    Input(usize),
+    Load(usize),
+    Store(usize),
+    Output,
+    Add,
+    Mul,
+    Pow,
+    Unary(usize),
+    Binary(usize),
+}
+
+/// A checked postfix program: `n_inputs` inputs, `n_outputs` outputs.
+#[derive(Clone, Debug)]
+pub struct Program {
+    ops: Vec<Op>,
+    n_temps: usize,
+    pub n_inputs: usize,
+    pub n_outputs: usize,
+}
+
+impl Program {
+    /// The program of `codes` and `values` (one number per instruction: the constant, the
+    /// input's or temporary's index, or ignored), checked: known codes, indices in range, no
+    /// stack underflow, temporaries stored before they are loaded, an empty stack at the end,
+    /// and exactly `n_outputs` outputs.
+    pub fn new(
+        codes: &[i64],
+        values: &[f64],
+        n_inputs: usize,
+        n_outputs: usize,
+    ) -> Result<Self, String> {
+        if codes.len() != values.len() {
+            return Err(format!(
+                "the program's codes ({}) and values ({}) differ in length",
+                codes.len(),
+                values.len()
+            ));
+        }
+        let index = |i: usize, v: f64| -> Result<usize, String> {
+            if v >= 0.0 && v.fract() == 0.0 && v < 1e9 {
+                Ok(v as usize)
+            } else {
+                Err(format!("instruction {i}: {v} is no index"))
+            }
+        };
+        let mut ops = Vec::with_capacity(codes.len());
+        let mut depth: usize = 0;
+        let mut stored: Vec<bool> = Vec::new();
+        let mut outputs = 0;
+        for (i, (&c, &v)) in codes.iter().zip(values).enumerate() {
+            let (op, pops, pushes) = match c {
+                CONST => (Op::Const(v), 0, 1),
+                INPUT => {
+                    let k = index(i, v)?;
+                    if k >= n_inputs {
+                        return Err(format!("instruction {i}: input {k} of {n_inputs}"));
+                    }
+                    (Op::Input(k), 0, 1)
+                }
+                LOAD => {
+                    let k = index(i, v)?;
+                    if !stored.get(k).copied().unwrap_or(false) {
+                        return Err(format!("instruction {i}: temporary {k} loaded before set"));
+                    }
+                    (Op::Load(k), 0, 1)
+                }
+                STORE => {
+                    let k = index(i, v)?;
+                    if k >= stored.len() {
+                        stored.resize(k + 1, false);
+                    }
+                    stored[k] = true;
+                    (Op::Store(k), 1, 0)
+                }
+                OUTPUT => {
+                    outputs += 1;
+                    (Op::Output, 1, 0)
+                }
+                ADD => (Op::Add, 2, 1),
+                MUL => (Op::Mul, 2, 1),
+                POW => (Op::Pow, 2, 1),
+                c if (UNARY..UNARY + UNARY_NAMES.len() as i64).contains(&c) => {
+                    (Op::Unary((c - UNARY) as usize), 1, 1)
+                }
+                c if (BINARY..BINARY + BINARY_NAMES.len() as i64).contains(&c) => {
+                    (Op::Binary((c - BINARY) as usize), 2, 1)
+                }
+                _ => return Err(format!("instruction {i}: unknown code {c}")),
+            };
+            if depth < pops {
+                return Err(format!("instruction {i}: the stack is empty"));
+            }
+            depth = depth - pops + pushes;
+            ops.push(op);
+        }
+        if depth != 0 {
+            return Err(format!("{depth} values are left on the stack"));
+        }
+        if outputs != n_outputs {
+            return Err(format!("{outputs} outputs, expected {n_outputs}"));
+        }
+        Ok(Program {
+            ops,
+            n_temps: stored.len(),
+            n_inputs,
+            n_outputs,
+        })
+    }
+
+    /// Interpret the program at `inputs`, writing `out` (`n_outputs`).
+    pub fn eval(&self, inputs: &[f64], out: &mut [f64]) {
+        let mut stack: Vec<f64> = Vec::with_capacity(16);
+        let mut temps = vec![0.0; self.n_temps];
+        let mut k = 0;
+        for op in &self.ops {
+            match *op {
+                Op::Const(c) => stack.push(c),
+                Op::Input(i) => stack.push(inputs[i]),
+                Op::Load(i) => stack.push(temps[i]),
+                Op::Store(i) => temps[i] = stack.pop().unwrap_or(f64::NAN),
+                Op::Output => {
+                    out[k] = stack.pop().unwrap_or(f64::NAN);
+                    k += 1;
+                }
+                Op::Unary(f) => {
+                    let x = stack.pop().unwrap_or(f64::NAN);
+                    stack.push(unary(f, x));
+                }
+                Op::Add | Op::Mul | Op::Pow | Op::Binary(_) => {
+                    let b = stack.pop().unwrap_or(f64::NAN);
+                    let a = stack.pop().unwrap_or(f64::NAN);
+                    stack.push(match *op {
+                        Op::Add => a + b,
+                        Op::Mul => a * b,
+                        Op::Pow => power(a, b),
+                        Op::Binary(f) => binary(f, a, b),
+                        _ => unreachable!(),
+                    });
+                }
+            }
+        }
+    }
+
+    /// The program as symjit expressions: the inputs (variables) and the outputs.
+    fn to_symjit(&self) -> (Vec<Expr>, Vec<Expr>) {
+        let inputs: Vec<Expr> = (0..self.n_inputs)
+            .map(|i| Expr::var(&format!("x{i}")))
+            .collect();
+        let mut temps: Vec<Expr> = vec![Expr::from(0.0); self.n_temps];
+        let mut stack: Vec<Expr> = Vec::new();
+        let mut outs = Vec::with_capacity(self.n_outputs);
+        for op in &self.ops {
+            match *op {
+                Op::Const(c) => stack.push(Expr::from(c)),
+                Op::Input(i) => stack.push(inputs[i].clone()),
+                Op::Load(i) => stack.push(temps[i].clone()),
+                Op::Store(i) => temps[i] = stack.pop().expect("checked"),
+                Op::Output => outs.push(stack.pop().expect("checked")),
+                Op::Unary(f) => {
+                    let x = stack.pop().expect("checked");
+                    stack.push(Expr::unary(SYMJIT_UNARY[f], &x));
+                }
+                Op::Add | Op::Mul | Op::Pow | Op::Binary(_) => {
+                    let b = stack.pop().expect("checked");
+                    let a = stack.pop().expect("checked");
+                    let name = match *op {
+                        Op::Add => "plus",
+                        Op::Mul => "times",
+                        Op::Pow => "power",
+                        Op::Binary(f) => SYMJIT_BINARY[f],
+                        _ => unreachable!(),
+                    };
+                    stack.push(Expr::binary(name, &a, &b));
+                }
+            }
+        }
+        (inputs, outs)
+    }
+}
+
+/// `a ^ b`, with integer powers by repeated multiplication as symjit compiles them.
+fn power(a: f64, b: f64) -> f64 {
+    if b.fract() == 0.0 && b.abs() <= 64.0 {
+        a.powi(b as i32)
+    } else {
+        a.powf(b)
+    }
+}
+
+/// Machine code of a program: its memory holds the inputs at `first_input` and the outputs
+/// at `first_output`.
+struct MachineCode {
+    code: Box<dyn Compiled<f64> + Send + Sync>,
+    params: Vec<f64>,
+    first_input: usize,
+    first_output: usize,
+}
+
+/// A compiled program: machine code where the platform allows it, else the interpreter.
+pub struct Function {
+    program: Program,
+    /// The machine code writes its own memory at each call: hence the lock.
+    code: Option<Mutex<MachineCode>>,
+}
+
+impl Function {
+    /// Compile `program` (CSE, no fused multiply-adds, so that the results do not depend on
+    /// the CPU). Never fails: without machine code the program is interpreted.
+    pub fn compile(program: Program) -> Self {
+        let code = Self::machine_code(&program).map(Mutex::new);
+        Function { program, code }
+    }
+
+    fn machine_code(program: &Program) -> Option<MachineCode> {
+        // symjit's option bits: CSE (0x4), COMPACT (0x1000), STABLE_MATH (0x0800_0000), and
+        // opt level 1; an explicit configuration, so that no `symjit.toml` of the working
+        // directory is read.
+        let opt = 0x4 | 0x1000 | 0x0800_0000 | (1 << 8);
+        let config = Config::new(CompilerType::Native, opt).ok()?;
+        let (inputs, outputs) = program.to_symjit();
+        let mut compiler = symjit::Compiler::with_config(config);
+        let mut app = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            compiler.compile(&inputs, &outputs)
+        }))
+        .ok()?
+        .ok()?;
+        if app.count_states != program.n_inputs || app.count_obs != program.n_outputs {
+            return None;
+        }
+        // Only the machine code (with its own memory) is kept; the rest of the application
+        // (the compiler's graph) is dropped here.
+        let code = app.compiled.take()?;
+        Some(MachineCode {
+            code: Box::new(code),
+            params: app.params.clone(),
+            first_input: app.first_state,
+            first_output: app.first_obs,
+        })
+    }
+
+    /// True when the program runs as machine code.
+    pub fn is_machine_code(&self) -> bool {
+        self.code.is_some()
+    }
+
+    pub fn program(&self) -> &Program {
+        &self.program
+    }
+
+    /// Evaluate at `inputs` (`n_inputs`), writing `out` (`n_outputs`).
+    pub fn eval(&self, inputs: &[f64], out: &mut [f64]) {
+        let (ni, no) = (self.program.n_inputs, self.program.n_outputs);
+        match &self.code {
+            Some(m) => {
+                let mut guard = m.lock().unwrap_or_else(|e| e.into_inner());
+                let MachineCode {
+                    code,
+                    params,
+                    first_input,
+                    first_output,
+                } = &mut *guard;
+                code.mem_mut()[*first_input..*first_input + ni].copy_from_slice(&inputs[..ni]);
+                code.exec(params);
+                out[..no].copy_from_slice(&code.mem()[*first_output..*first_output + no]);
+            }
+            None => self.program.eval(inputs, out),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `[sin(t)·t + t², atan2(t, 2), x₀ = exp(−t), sqrt(x₀) + x₀]`, the temporary shared.
+    fn sample() -> Program {
+        let (c, v): (Vec<i64>, Vec<f64>) = [
+            (INPUT, 0.0),
+            (UNARY, 0.0), // sin
+            (INPUT, 0.0),
+            (MUL, 0.0),
+            (INPUT, 0.0),
+            (CONST, 2.0),
+            (POW, 0.0),
+            (ADD, 0.0),
+            (OUTPUT, 0.0),
+            (INPUT, 0.0),
+            (CONST, 2.0),
+            (BINARY, 0.0), // atan2
+            (OUTPUT, 0.0),
+            (CONST, -1.0),
+            (INPUT, 0.0),
+            (MUL, 0.0),
+            (UNARY + 12, 0.0), // exp
+            (STORE, 0.0),
+            (LOAD, 0.0),
+            (UNARY + 14, 0.0), // sqrt
+            (LOAD, 0.0),
+            (ADD, 0.0),
+            (OUTPUT, 0.0),
+        ]
+        .into_iter()
+        .unzip();
+        Program::new(&c, &v, 1, 3).unwrap()
+    }
+
+    /// The machine code equals the interpreter and the closed forms.
+    #[test]
+    fn machine_code_equals_the_interpreter_and_the_closed_form() {
+        let f = Function::compile(sample());
+        #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+        assert!(f.is_machine_code());
+        for t in [-2.0, -0.3, 0.0, 0.7, 5.0] {
+            let mut a = [0.0; 3];
+            let mut b = [0.0; 3];
+            f.eval(&[t], &mut a);
+            f.program().eval(&[t], &mut b);
+            let e: f64 = (-t).exp();
+            let want = [t.sin() * t + t * t, t.atan2(2.0), e.sqrt() + e];
+            for k in 0..3 {
+                assert!((a[k] - b[k]).abs() <= 1e-15 * (1.0 + b[k].abs()), "t = {t}");
+                assert!(
+                    (b[k] - want[k]).abs() <= 1e-15 * (1.0 + want[k].abs()),
+                    "t = {t}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn every_function_compiles_and_agrees() {
+        for k in 0..UNARY_NAMES.len() {
+            let p = Program::new(&[INPUT, UNARY + k as i64, OUTPUT], &[0.0; 3], 1, 1).unwrap();
+            let f = Function::compile(p);
+            let x = if k == 10 { 1.7 } else { 0.4 }; // acosh needs x ≥ 1
+            let (mut a, mut b) = ([0.0], [0.0]);
+            f.eval(&[x], &mut a);
+            f.program().eval(&[x], &mut b);
+            assert!(
+                (a[0] - b[0]).abs() <= 1e-15 * (1.0 + b[0].abs()),
+                "{}",
+                UNARY_NAMES[k]
+            );
+        }
+        for k in 0..BINARY_NAMES.len() {
+            let p = Program::new(
+                &[INPUT, INPUT, BINARY + k as i64, OUTPUT],
+                &[0.0, 1.0, 0.0, 0.0],
+                2,
+                1,
+            )
+            .unwrap();
+            let f = Function::compile(p);
+            for (x, y) in [(0.3, -1.2), (-2.0, 0.5)] {
+                let (mut a, mut b) = ([0.0], [0.0]);
+                f.eval(&[x, y], &mut a);
+                f.program().eval(&[x, y], &mut b);
+                assert_eq!(a[0], b[0], "{}", BINARY_NAMES[k]);
+            }
+        }
+    }
+
+    #[test]
+    fn malformed_programs_are_refused() {
+        assert!(Program::new(&[ADD, OUTPUT], &[0.0; 2], 1, 1).is_err()); // underflow
+        assert!(Program::new(&[INPUT], &[3.0], 1, 0).is_err()); // input out of range
+        assert!(Program::new(&[LOAD, OUTPUT], &[0.0; 2], 1, 1).is_err()); // unset temporary
+        assert!(Program::new(&[INPUT, INPUT, OUTPUT], &[0.0; 3], 1, 1).is_err()); // leftover
+        assert!(Program::new(&[INPUT, OUTPUT], &[0.0; 2], 1, 2).is_err()); // output count
+        assert!(Program::new(&[99], &[0.0], 1, 0).is_err()); // unknown code
+        assert!(Program::new(&[CONST], &[0.0, 1.0], 1, 0).is_err()); // lengths
+    }
+}
