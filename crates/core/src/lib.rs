@@ -22,6 +22,7 @@
 pub mod cmath;
 pub mod drivers;
 pub mod elliptic;
+pub mod ensemble;
 pub mod forces;
 pub mod freebody;
 pub mod inertia;
