@@ -6,6 +6,7 @@
 use pyo3::prelude::*;
 
 mod engine;
+mod ensemble;
 mod exact;
 mod geometry;
 mod rigid;
@@ -33,5 +34,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     rigid::register(m)?;
     geometry::register(m)?;
     exact::register(m)?;
+    ensemble::register(m)?;
     Ok(())
 }
