@@ -281,7 +281,8 @@ fn run_ensemble<'py>(
             "`t0`, `t1` must be finite with t0 ≤ t1, found {t0}, {t1}"
         )));
     }
-    if !matches!(method, Method::Dop853(_)) && !(dt.is_finite() && dt > 0.0) {
+    let fixed_step = !matches!(method, Method::Dop853(_));
+    if fixed_step && !(dt.is_finite() && dt > 0.0) {
         return Err(value_error(format!(
             "`dt` must be a positive number, found {dt}"
         )));
