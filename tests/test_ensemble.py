@@ -282,3 +282,89 @@ def test_python_forces_and_velocity_forces_refused():
         simulate_ensemble(
             BODY, (0, 1.0), omega0=W0, dt=1e-2, method="splitting", forces=[LinearDrag(0.1)]
         )
+
+
+# --------------------------------------------------------------------------- the compiled core
+def _fresh_process(code):
+    import subprocess
+    import sys
+    import textwrap
+
+    run = subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=300
+    )
+    assert run.returncode == 0, run.stderr
+    return run.stdout.split()
+
+
+def test_an_ensemble_compiles_nothing():
+    """Ensembles run on the Rust core: a fresh process runs every kind of ensemble, its
+    summary and its exact grading without importing numba."""
+    out = _fresh_process(
+        """
+        import sys
+        import numpy as np
+        from poinsot import Gravity, RigidBody
+        from poinsot.ensemble import simulate_ensemble
+        body = RigidBody.box(1.0, (1.0, 2.0, 3.0))
+        w = np.random.default_rng(0).normal(size=(40, 3))
+        res = simulate_ensemble(body, (0, 1), omega0=w, dt=1e-2, t_eval=[0.5, 1.0])
+        res.summary(), res.exact_errors()
+        simulate_ensemble(body, (0, 1), omega0=w, method="dop853", keep_states=False)
+        simulate_ensemble(body, (0, 1), omega0=w, dt=1e-2, method="splitting",
+                          moments=0.2 * np.abs(w) + 1.0)
+        simulate_ensemble(body, (0, 1), omega0=w, dt=1e-2, pivot=(0, 0, -0.5),
+                          forces=[Gravity()])
+        print("numba" in sys.modules)
+        """
+    )
+    assert out == ["False"]
+
+
+def test_ctrl_c_stops_a_running_ensemble():
+    """An interrupt during a long run stops every worker and raises KeyboardInterrupt."""
+    out = _fresh_process(
+        """
+        import _thread, threading
+        import numpy as np
+        from poinsot import RigidBody
+        from poinsot.ensemble import simulate_ensemble
+        body = RigidBody.box(1.0, (1.0, 2.0, 3.0))
+        w = np.random.default_rng(0).normal(size=(8, 3))
+        threading.Timer(1.0, _thread.interrupt_main).start()
+        try:  # 10⁹ steps per member: hours, unless interrupted
+            simulate_ensemble(body, (0, 1e6), omega0=w, dt=1e-3, threads=2, progress=False)
+        except KeyboardInterrupt:
+            print("interrupted")
+        """
+    )
+    assert out == ["interrupted"]
+
+
+@pytest.mark.parametrize(
+    ("change", "match"),
+    [
+        ({"method": "euler"}, r"`method` must be one of"),
+        ({"y0": np.zeros((3, 17))}, r"`y0` must have shape \(m, 18\)"),
+        ({"bodies": np.zeros((2, 25))}, r"`bodies` must have shape \(1, 25\) or \(3, 25\)"),
+        ({"axes": np.zeros((3, 3, 2))}, r"`axes` must have shape \(n, 3, 3\)"),
+        ({"force_kind": np.array([99])}, r"`force_params` must have shape \(n, 1, 10\)"),
+        ({"dt": 0.0}, r"`dt` must be a positive number"),
+        ({"t_eval": np.array([1.0, 0.5])}, r"`t_eval` must be non-decreasing"),
+        ({"t_eval": np.array([2.0])}, r"`t_eval` must lie within"),
+        ({"threads": 0}, r"`threads` must be a positive integer"),
+    ],
+)
+def test_the_core_names_bad_arguments(change, match):
+    from poinsot import _core
+
+    body = np.zeros(25)
+    args = {
+        "method": "rk4", "a": np.zeros((0, 0)), "b": np.zeros(0), "c": np.zeros(0),
+        "control": np.zeros(0), "t0": 0.0, "t1": 1.0, "dt": 0.1, "t_eval": np.array([1.0]),
+        "inertia": np.eye(3)[None], "bodies": body[None], "axes": np.eye(3)[None],
+        "force_kind": np.zeros(0, dtype=np.int64), "force_params": np.zeros((1, 0, 10)),
+        "y0": np.zeros((3, 18)), "threads": 1,
+    }  # fmt: skip
+    with pytest.raises(ValueError, match=match):
+        _core.run_ensemble(**{**args, **change})

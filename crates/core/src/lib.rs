@@ -15,6 +15,7 @@
 //! * a model's own expressions compiled at run time: [`expressions`];
 //! * the contract between models and integrators: [`system`], with the rigid-body systems in
 //!   [`systems`];
+//! * ensembles of runs, in parallel: [`ensemble`];
 //! * the integrators: [`tableaux`] (as data), [`steppers`] (pure steps), [`observers`] and
 //!   [`drivers`] (time loops).
 
@@ -24,6 +25,7 @@
 pub mod cmath;
 pub mod drivers;
 pub mod elliptic;
+pub mod ensemble;
 pub mod expressions;
 pub mod forces;
 pub mod freebody;

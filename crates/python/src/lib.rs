@@ -6,6 +6,7 @@
 use pyo3::prelude::*;
 
 mod engine;
+mod ensemble;
 mod exact;
 mod geometry;
 mod relative;
@@ -35,5 +36,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     relative::register(m)?;
     geometry::register(m)?;
     exact::register(m)?;
+    ensemble::register(m)?;
     Ok(())
 }

@@ -1,8 +1,9 @@
-"""Where an ensemble's chunks run: this process's threads, or a Dask cluster; and the progress bar.
+"""Where an ensemble's chunks run: in this process, one after the other, each chunk's members
+in parallel on the compiled core's threads; or on a Dask cluster; and the progress bar.
 
-Chunks are produced lazily and at most a few per worker are in flight, so the inputs of a huge
-ensemble are never all cut at once. Results are handed to ``absorb`` in the order they finish;
-each carries its member range, so the order does not matter.
+Chunks are produced lazily and at most a few per Dask worker are in flight, so the inputs of a
+huge ensemble are never all cut at once. Results are handed to ``absorb`` in the order they
+finish; each carries its member range, so the order does not matter.
 """
 
 from __future__ import annotations
@@ -10,7 +11,6 @@ from __future__ import annotations
 import os
 import sys
 from collections import deque
-from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 
 from .tasks import run_chunk
 
@@ -89,22 +89,17 @@ def run_chunks(spec, tasks, total, chunk, absorb, *, threads=None, client=None, 
             return
         if threads is not None and (not isinstance(threads, int) or threads < 1):
             raise ValueError(f"`threads` must be a positive integer, found {threads!r}")
-        workers = min(threads or available_cpus(), n_chunks)
-        if workers <= 1:
-            for task in tasks:
-                out = run_chunk(spec, task)
-                absorb(out)
-                bar.update(out.stop - out.start)
-            return
-        with ThreadPoolExecutor(workers) as pool:
-            _pump(lambda task: pool.submit(run_chunk, spec, task), tasks, workers, absorb, bar,
-                  lambda fs: wait(fs, return_when=FIRST_COMPLETED)[0])  # fmt: skip
+        workers = threads or available_cpus()
+        for task in tasks:
+            out = run_chunk(spec, task, workers)
+            absorb(out)
+            bar.update(out.stop - out.start)
     finally:
         bar.close()
 
 
 def _pump(submit, tasks, workers, absorb, bar, next_done):
-    """Keep ``IN_FLIGHT`` chunks per worker running; absorb each as it finishes."""
+    """Keep ``IN_FLIGHT`` chunks per Dask worker running; absorb each as it finishes."""
     pending = set()
     queue = deque()
     for task in tasks:
@@ -127,7 +122,8 @@ def _pump(submit, tasks, workers, absorb, bar, next_done):
 
 def _run_dask(client, spec, tasks, absorb, bar):
     """Chunks on the cluster's workers: the spec is scattered once, each task travels as
-    arrays, the workers call the same compiled kernels."""
+    arrays, the workers call the same compiled core (one thread per chunk: the cluster runs
+    chunks side by side)."""
     from distributed import wait as dask_wait
 
     workers = max(1, len(client.scheduler_info().get("workers", {})))

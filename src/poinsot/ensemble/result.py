@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..kernels.layout import STATE_SIZE, STATE_SLICES
+from ..layout import STATE_SIZE, STATE_SLICES
 
 __all__ = ["EnsembleResult"]
 
@@ -100,7 +100,7 @@ class EnsembleResult:
         s = slice(out.start, out.stop)
         if self._states is not None:
             self._states[s] = out.Y
-        self.final_state[s] = out.Y[:, -1]
+        self.final_state[s] = out.final
         self.initial_state[s] = out.Y0
         for name in ("energy", "momentum", "orthogonality"):
             getattr(self, f"{name}_error")[s] = getattr(out, name)

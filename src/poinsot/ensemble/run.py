@@ -1,9 +1,10 @@
 """``simulate_ensemble``: many initial conditions (and inertias) of one body, in compiled chunks.
 
 The thin layer of MuJoCo's ``rollout``: check shapes once, cut the ensemble into chunks, make
-one compiled call per chunk (:mod:`poinsot.kernels.ensemble`) and gather the results into
-preallocated arrays. No Python object per member and no Python per step. Chunks run on a pool
-of threads (the kernels release the GIL) or on the workers of a Dask cluster; every member's
+one call of the compiled core per chunk (``poinsot._core.run_ensemble``,
+``crates/core/src/ensemble.rs``) and gather the results into preallocated arrays. No Python
+object per member and no Python per step. A chunk's members run in parallel on the core's
+threads (the GIL released), or chunks run on the workers of a Dask cluster; every member's
 arithmetic is independent of the chunk it falls in, so the results do not depend on
 ``chunk_size``, ``threads`` or ``client``, bit for bit.
 """
@@ -17,12 +18,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import layout
 from .._validation import as_rotation_matrices, as_sample_times, as_scalar, as_vectors
 from ..dynamics import RigidBodySystem
 from ..forces import BodyFrame
 from ..integrate.base import get_solver
 from ..integrate.driver import check_solver_fits
-from ..kernels import layout
 from ..simulation import _check_t_span, _check_tolerances
 from .executors import run_chunks
 from .result import EnsembleResult
@@ -32,6 +33,10 @@ __all__ = ["simulate_ensemble"]
 
 #: Bytes of samples one chunk may hold (m · n · 18 · 8): bounds the memory of a run whatever N.
 CHUNK_BYTES = 32 * 2**20
+#: The smallest default chunk (members per call of the core).
+MIN_CHUNK = 64
+#: The steps the core's ensembles run (a solver's ``kind``).
+CORE_METHODS = ("rk4", "erk", "rkmk", "splitting", "dop853")
 #: Relative tolerance of the checks on per-member inertias (as for one body).
 INERTIA_RTOL = 1e-9
 
@@ -101,7 +106,7 @@ def simulate_ensemble(
         Members per compiled call (default: about 32 MiB of samples per chunk, and at least
         four chunks per thread when N is large).
     threads : int, optional
-        Threads running chunks (default: the CPUs this process may use).
+        Threads running each chunk's members (default: the CPUs this process may use).
     client : dask.distributed.Client, optional
         Run the chunks on a Dask cluster instead; only arrays travel. Dask is imported only
         when this is given.
@@ -142,7 +147,7 @@ def simulate_ensemble(
     start = time.perf_counter()
     spec, members = _prepare(
         body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, method, dt, rtol,
-        atol, t_eval, flips, reductions,
+        atol, t_eval, flips, reductions, keep_states,
     )  # fmt: skip
     N = members.n
     n = len(spec.t_eval)
@@ -179,11 +184,11 @@ class _Members:
         inertia = None if self.inertia is None else self.inertia[i0:i1]
         force_params = None
         if self.lower_per_member:  # forces with body points, on bodies with their own axes
-            from ..kernels.ensemble import member_bodies
+            from .. import _core
 
-            _, axes, _ = member_bodies(
-                float(self.system.mass), np.ascontiguousarray(inertia), self.system.c,
-                self.system.pivot is not None,
+            _, axes, _ = _core.member_bodies(
+                float(self.system.mass), np.ascontiguousarray(inertia),
+                [float(x) for x in self.system.c], self.system.pivot is not None,
             )  # fmt: skip
             force_params = _lower_per_member(self.system, axes)
         return ChunkTask(
@@ -212,7 +217,7 @@ def _lower_per_member(system, axes):
 
 
 def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, method, dt,
-             rtol, atol, t_eval, flips, reductions):  # fmt: skip
+             rtol, atol, t_eval, flips, reductions, keep_states):  # fmt: skip
     from ..bodies import RigidBody
 
     if not isinstance(body, RigidBody):
@@ -229,6 +234,8 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
             f"LinearDrag, QuadraticDrag, PointForce, Torque); these are user callables: {names}"
         )
     check_solver_fits(solver, system)
+    if solver.kind not in CORE_METHODS:
+        raise ValueError(f"method {solver.name!r} has no step in the compiled core")
     omega = as_vectors(omega0, "omega0", single_ok=False)
     N = len(omega)
     if N == 0:
@@ -270,7 +277,7 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
         kind = "free_varied"
     spec = EnsembleSpec(
         kind=kind,
-        method_code=int(solver.code),
+        method_kind=solver.kind,
         method_name=solver.name,
         A=np.ascontiguousarray(solver.A, dtype=float),
         B=np.ascontiguousarray(solver.B, dtype=float),
@@ -292,6 +299,7 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
         force_params=np.ascontiguousarray(system.force_params),
         flips=bool(flips),
         reductions=_check_reductions(reductions),
+        keep_states=bool(keep_states),
     )
     lower = member_inertia is not None and any(
         f.compiled and _depends_on_frame(f, system) for f in system.forces
@@ -372,8 +380,6 @@ def _check_reductions(reductions):
 
 
 def _chunk_size(chunk_size, N, n, threads, client):
-    from ..kernels.ensemble import BLOCK
-
     if chunk_size is not None:
         if not isinstance(chunk_size, int | np.integer) or chunk_size < 1:
             raise ValueError(f"`chunk_size` must be a positive integer, found {chunk_size!r}")
@@ -381,5 +387,5 @@ def _chunk_size(chunk_size, N, n, threads, client):
     by_memory = max(1, CHUNK_BYTES // (n * layout.STATE_SIZE * 8))
     workers = threads or (2 if client is not None else len(os.sched_getaffinity(0)))
     by_balance = math.ceil(N / (4 * max(1, workers)))
-    size = max(BLOCK, min(by_memory, by_balance))
-    return int(min(size, by_memory, N) if N > BLOCK else N)
+    size = max(MIN_CHUNK, min(by_memory, by_balance))
+    return int(min(size, by_memory, N) if N > MIN_CHUNK else N)

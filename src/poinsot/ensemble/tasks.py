@@ -2,9 +2,9 @@
 
 An :class:`EnsembleSpec` (shared by every chunk: the body's parameters, the lowered forces, the
 method's tableau, the sample times) and a :class:`ChunkTask` (the chunk's members) are plain
-arrays and numbers, so a chunk pickles cheaply; :func:`run_chunk` builds the chunk's template
-(:mod:`poinsot.kernels.systems`) and makes the compiled calls of
-:mod:`poinsot.kernels.ensemble`. It holds no physics.
+arrays and numbers, so a chunk pickles cheaply; :func:`run_chunk` makes one call of the
+compiled core (``poinsot._core.run_ensemble``, ``crates/core/src/ensemble.rs``), which runs
+the members in parallel. It holds no physics.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ class EnsembleSpec:
     or a pivot)."""
 
     kind: str
-    method_code: int
+    method_kind: str  # the core's name of the method's step: rk4, erk, rkmk, splitting, dop853
     method_name: str
     A: np.ndarray
     B: np.ndarray
@@ -45,6 +45,7 @@ class EnsembleSpec:
     force_params: np.ndarray  # (n_forces, FORCE_PARAMS) lowered in the shared principal frame
     flips: bool
     reductions: dict = field(default_factory=dict)
+    keep_states: bool = True
 
 
 @dataclass(frozen=True)
@@ -65,12 +66,14 @@ class ChunkTask:
 
 @dataclass
 class ChunkOutput:
-    """What a chunk returns: samples ``Y`` (m, n, 18, body frame), initial states ``Y0``
-    (m, 18), per-member statistics and run counters, and the user reductions."""
+    """What a chunk returns: samples ``Y`` (m, n, 18, body frame; None unless the states are
+    kept), final states (m, 18), initial states ``Y0`` (m, 18), per-member statistics and run
+    counters, and the user reductions."""
 
     start: int
     stop: int
-    Y: np.ndarray
+    Y: np.ndarray | None
+    final: np.ndarray
     Y0: np.ndarray
     energy: np.ndarray
     momentum: np.ndarray
@@ -97,70 +100,33 @@ class ChunkSamples:
     V: np.ndarray
 
 
-def _template(spec: EnsembleSpec, task: ChunkTask, Y0):
-    """The chunk's template system, its principal axes (1 or m, 3, 3), its inertias (1 or m,
-    3, 3) and its initial states in the principal frames."""
-    from ..kernels import ensemble as ke
-    from ..kernels import systems as ks
+def run_chunk(spec: EnsembleSpec, task: ChunkTask, threads: int = 1) -> ChunkOutput:
+    """Integrate one chunk in one call of the compiled core (:func:`poinsot._core.run_ensemble`,
+    the members in parallel on ``threads`` threads): initial states, bodies and forces by
+    member, the run, the statistics streamed per member."""
+    from .. import _core
 
-    m = task.stop - task.start
+    line = [0.0] * 3  # degenerate bodies are refused before any chunk runs
+    Y0 = _core.initial_states(task.Q, task.omega, task.R, task.V, list(spec.com), list(spec.c),
+                              list(spec.pivot), spec.has_pivot, line)  # fmt: skip
     if task.inertia is not None:
-        bodies, axes, _ = ke.member_bodies(spec.mass, task.inertia, spec.c, spec.has_pivot)
+        bodies, axes, _ = _core.member_bodies(spec.mass, task.inertia, list(spec.c),
+                                              spec.has_pivot)  # fmt: skip
         inertia = task.inertia
     else:
         bodies, axes, inertia = spec.body_params[None], spec.axes, spec.inertia
-    Z0, bodies = ke.principal_members(bodies, axes, Y0, spec.has_pivot)
-    if spec.kind == "free":
-        template = ks.TorqueFreeLanes(spec.body_params, m)
-    elif spec.kind == "free_varied":
-        template = ks.TorqueFreeLanesVaried(bodies, m)
-    else:
-        params = task.force_params
-        if params is None:
-            params = np.broadcast_to(spec.force_params, (m, *spec.force_params.shape))
-        template = ks.RigidLanes(bodies, spec.force_kind, np.ascontiguousarray(params), m)
-    return template, np.ascontiguousarray(axes), np.ascontiguousarray(inertia), Z0
-
-
-def run_chunk(spec: EnsembleSpec, task: ChunkTask) -> ChunkOutput:
-    """Integrate one chunk: a few compiled calls (initial states, the run, the statistics)."""
-    from ..kernels import ensemble as ke
-    from ..kernels import steppers as st
-    from ..kernels.observers import NoObserver, flip_observer
-    from ..kernels.rigid import initial_states
-
-    m = task.stop - task.start
-    n = len(spec.t_eval)
-    line = np.zeros(3)  # degenerate bodies are refused before any chunk runs
-    Y0 = initial_states(task.Q, task.omega, task.R, task.V, spec.com, spec.c, spec.pivot,
-                        spec.has_pivot, line)  # fmt: skip
-    template, axes, inertia, Z0 = _template(spec, task, Y0)
-    observer = flip_observer(m) if spec.flips else NoObserver(0.0)
-    Y = np.empty((m, n, 18))
-    status = np.zeros(m, dtype=np.int64)
-    nsteps = np.zeros(m, dtype=np.int64)
-    nfev = np.zeros(m, dtype=np.int64)
-    args = (axes, Z0, spec.t0, spec.t1)
-    outs = (Y, status, nsteps, nfev)
-    if spec.method_code == st.DOP853:
-        ke.chunk_dop853(template, observer, spec.control, *args, spec.t_eval, *outs)
-    else:
-        chunk = {st.RK4: ke.chunk_rk4, st.ERK: ke.chunk_erk, st.RKMK: ke.chunk_rkmk,
-                 st.SPLITTING: ke.chunk_splitting}[spec.method_code]  # fmt: skip
-        chunk(template, observer, spec.A, spec.B, spec.C, *args, spec.dt, spec.t_eval, *outs)
-    energy = np.empty(m)
-    momentum = np.empty(m)
-    orthogonality = np.empty(m)
-    ke.chunk_statistics(template, axes, inertia, spec.mass, spec.t0, Y0, spec.t_eval, Y, energy,
-                        momentum, orthogonality)  # fmt: skip
-    if spec.flips:
-        first, last, count = observer.first, observer.last, observer.count.astype(np.int64)
-    else:
-        first = last = np.full(m, np.nan)
-        count = np.full(m, -1, dtype=np.int64)
+    params = spec.force_params[None] if task.force_params is None else task.force_params
+    keep = spec.keep_states or bool(spec.reductions)
+    (Y, final, energy, momentum, orthogonality, first, last, count, status, nsteps,
+     nfev) = _core.run_ensemble(
+        spec.method_kind, spec.A, spec.B, spec.C, spec.control, spec.t0, spec.t1, spec.dt,
+        spec.t_eval, inertia, np.ascontiguousarray(bodies), axes, spec.force_kind,
+        np.ascontiguousarray(params), Y0, flips=spec.flips, keep_samples=keep, threads=threads,
+    )  # fmt: skip
     return ChunkOutput(
-        task.start, task.stop, Y, Y0, energy, momentum, orthogonality, first, last, count,
-        status, nsteps, nfev, _user_reductions(spec, task, Y),
+        task.start, task.stop, Y if spec.keep_states else None, final, Y0, energy, momentum,
+        orthogonality, first, last, count, status, nsteps, nfev,
+        _user_reductions(spec, task, Y),
     )  # fmt: skip
 
 
@@ -168,7 +134,7 @@ def _user_reductions(spec, task, Y) -> dict:
     out = {}
     if not spec.reductions:
         return out
-    from ..kernels.layout import STATE_SLICES
+    from ..layout import STATE_SLICES
 
     def block(name):
         return Y[..., STATE_SLICES[name]]

@@ -1,0 +1,814 @@
+//! Ensembles: many independent motions of one body (`docs/ensembles.md`), each an ordinary
+//! run of the single-body systems and drivers, in parallel over the members.
+//!
+//! Nothing here is a formula of its own. A member is a [`Member`]: its body's parameters
+//! (its own inertia, or the body every member shares), its principal axes, its built-in
+//! forces and its body-frame initial state. [`run_member`] integrates it with the systems of
+//! [`crate::systems`] ([`TorqueFree`] without forces or pivot, [`Rigid`] otherwise) and the
+//! drivers of [`crate::drivers`] ([`run_fixed`] with any [`FixedMethod`], [`run_adaptive`]),
+//! watching its flips with the [`FlipObserver`]; [`run_members`] runs a chunk of members on
+//! the current rayon pool. A member's arithmetic depends on nothing but its own data, so its
+//! result is the same bit for bit whatever the chunking or the number of threads, and equal to
+//! a single-body run of it.
+//!
+//! Every member gets its own [`Status`] (a member that fails gets NaN samples and statistics;
+//! the others are untouched) and its own [`MemberSummary`]: the run's counters, its flips,
+//! and the reductions over its samples of [`Drift`], streamed as the member finishes, so that
+//! a caller that keeps only statistics never stores a trajectory (one member's samples per
+//! thread at a time).
+//!
+//! Runs stop promptly when the caller raises a flag: the drivers are resumable and run
+//! [`STEPS_PER_CALL`] steps between two looks at it.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use rayon::prelude::*;
+
+use crate::drivers::{
+    run_adaptive, run_fixed, AdaptiveState, Clock, Counters, Erk, FixedMethod, Output, Rk4Rigid,
+    Rkmk, Sampling, Splitting, Status,
+};
+use crate::forces::Force;
+use crate::inertia::{parallel_axis, principal_decomposition};
+use crate::invariants::{angular_momentum_body, kinetic_energy};
+use crate::layout::{Body, BODY_SIZE, OMEGA_AT, Q_AT, STATE_SIZE, V_AT};
+use crate::observers::{FlipObserver, NoObserver, Observer};
+use crate::rigid::{
+    body_parameters, orthogonality_error, pivot_point, state_from_principal, state_to_principal,
+    State,
+};
+use crate::so3::{Mat3, Vec3};
+use crate::steppers::{Control, Tableau};
+use crate::system::RigidStructure;
+use crate::systems::{Rigid, TorqueFree};
+
+/// Steps a driver takes between two looks at the stop flag (well under a millisecond of
+/// RK4, a few milliseconds of DOP853 for a rigid body).
+pub const STEPS_PER_CALL: u64 = 4096;
+
+/// The method every member runs.
+#[derive(Clone, Copy, Debug)]
+pub enum Method<'a> {
+    /// Classical RK4 on the state in registers ([`Rk4Rigid`]).
+    Rk4,
+    /// Any explicit Runge–Kutta tableau ([`Erk`]).
+    Erk(Tableau<'a>),
+    /// Runge–Kutta–Munthe-Kaas with a tableau ([`Rkmk`]).
+    Rkmk(Tableau<'a>),
+    /// The splitting method (free-rotor flows and kicks, [`Splitting`]).
+    Splitting,
+    /// Adaptive Dormand–Prince 8(5,3), each member with its own step sizes.
+    Dop853(Control),
+}
+
+/// What every member shares: the method, the time span and the sample times.
+#[derive(Clone, Copy, Debug)]
+pub struct Schedule<'a> {
+    pub method: Method<'a>,
+    pub t0: f64,
+    pub t1: f64,
+    /// Step of the fixed-step methods (unused by DOP853).
+    pub dt: f64,
+    /// Sample times, increasing, within `[t0, t1]` (at least one).
+    pub t_eval: &'a [f64],
+    /// Record the flips of every member ([`FlipObserver`]).
+    pub flips: bool,
+}
+
+/// One member of an ensemble.
+#[derive(Clone, Debug)]
+pub struct Member<'a> {
+    /// Its body (principal frame of the inertia about the reference point), the pivot placed
+    /// where its initial state puts it ([`Member::new`]).
+    pub body: Body,
+    /// Its principal axes (columns, body coordinates).
+    pub axes: Mat3,
+    /// Its inertia about the centre of mass, body frame (for the statistics).
+    pub inertia: Mat3,
+    /// Its built-in forces, lowered in its principal frame.
+    pub forces: &'a [Force],
+    /// Its initial state, body frame.
+    pub y0: State,
+}
+
+impl<'a> Member<'a> {
+    /// A member from its body (pivot not yet placed), axes, inertia, forces and body-frame
+    /// initial state. About a pivot, the pivot is held where the initial state puts it,
+    /// `P = R − Q c` ([`pivot_point`]).
+    pub fn new(body: Body, axes: Mat3, inertia: Mat3, forces: &'a [Force], y0: State) -> Self {
+        let mut body = body;
+        if body.has_pivot {
+            body.pivot = pivot_point(&body, &principal(&axes, &y0));
+        }
+        Member {
+            body,
+            axes,
+            inertia,
+            forces,
+            y0,
+        }
+    }
+}
+
+/// The parameters and principal axes of a member with its own inertia about the centre of
+/// mass (body frame), sharing the body's `mass` and centre of mass `c` (seen from the
+/// reference point): `(parameters, axes, degenerate)`. About a pivot the inertia is moved
+/// there by Huygens–Steiner ([`parallel_axis`]); then [`principal_decomposition`] and
+/// [`body_parameters`], as for a single body.
+pub fn member_body(
+    mass: f64,
+    inertia_com: &Mat3,
+    c: Vec3,
+    has_pivot: bool,
+) -> ([f64; BODY_SIZE], Mat3, bool) {
+    let about = if has_pivot {
+        parallel_axis(inertia_com, mass, c)
+    } else {
+        *inertia_com
+    };
+    let (moments, axes) = principal_decomposition(&about);
+    let (params, degenerate) = body_parameters(mass, moments, &axes, c, inertia_com, has_pivot);
+    (params, axes, degenerate)
+}
+
+fn principal(axes: &Mat3, y: &State) -> State {
+    let mut z = [0.0; STATE_SIZE];
+    state_to_principal(axes, y, &mut z);
+    z
+}
+
+/// The largest drifts over a member's samples relative to its initial state, accumulated one
+/// sample at a time (the per-member statistics of `poinsot.ensemble`):
+///
+/// * energy: `max |E(t_k) − E(t0)| / |E(t0)|` (absolute where `E(t0) = 0`), `E = K + U`, K the
+///   kinetic energy (12) ([`kinetic_energy`]) and U the potential of the built-in forces;
+/// * momentum: `max |L(t_k) − L(t0)| / |L(t0)|` (absolute where `L(t0) = 0`), L the angular
+///   momentum about the centre of mass in space, `Q A ω` (eq. (03), first term;
+///   [`angular_momentum_body`] turned to space);
+/// * orthogonality: `max |QᵀQ − I|` ([`orthogonality_error`]).
+///
+/// Samples are body-frame states (what the caller stores), A the inertia about the centre of
+/// mass in the body frame. A NaN energy (a failed member) makes all three NaN.
+#[derive(Clone, Copy, Debug)]
+pub struct Drift {
+    e0: f64,
+    scale_e: f64,
+    l0: Vec3,
+    scale_l: f64,
+    pub energy: f64,
+    pub momentum: f64,
+    pub orthogonality: f64,
+    failed: bool,
+}
+
+/// `(E, L)` of a body-frame state: kinetic energy (12) plus the potential `u`, and `Q A ω`.
+#[inline]
+fn energy_momentum(inertia: &Mat3, mass: f64, y: &[f64], u: f64) -> (f64, Vec3) {
+    let w = [y[OMEGA_AT], y[OMEGA_AT + 1], y[OMEGA_AT + 2]];
+    let v = [y[V_AT], y[V_AT + 1], y[V_AT + 2]];
+    let e = kinetic_energy(inertia, mass, w, v) + u;
+    let p = angular_momentum_body(inertia, w);
+    let q = Q_AT;
+    let l =
+        [0, 1, 2].map(|j| y[q + 3 * j] * p[0] + y[q + 3 * j + 1] * p[1] + y[q + 3 * j + 2] * p[2]);
+    (e, l)
+}
+
+impl Drift {
+    /// Start from the initial body-frame state `y0` with potential `u0`.
+    pub fn new(inertia: &Mat3, mass: f64, y0: &[f64], u0: f64) -> Self {
+        let (e0, l0) = energy_momentum(inertia, mass, y0, u0);
+        let a = (l0[0] * l0[0] + l0[1] * l0[1] + l0[2] * l0[2]).sqrt();
+        Drift {
+            e0,
+            scale_e: if e0 != 0.0 { e0.abs() } else { 1.0 },
+            l0,
+            scale_l: if a != 0.0 { a } else { 1.0 },
+            energy: 0.0,
+            momentum: 0.0,
+            orthogonality: 0.0,
+            failed: false,
+        }
+    }
+
+    /// Take the body-frame sample `y` with potential `u` into account.
+    pub fn add(&mut self, inertia: &Mat3, mass: f64, y: &[f64], u: f64) {
+        if self.failed {
+            return;
+        }
+        let (e, l) = energy_momentum(inertia, mass, y, u);
+        let d = [l[0] - self.l0[0], l[1] - self.l0[1], l[2] - self.l0[2]];
+        self.energy = self.energy.max((e - self.e0).abs() / self.scale_e);
+        self.momentum = self
+            .momentum
+            .max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() / self.scale_l);
+        self.orthogonality = self.orthogonality.max(orthogonality_error(y));
+        if e.is_nan() {
+            self.fail();
+        }
+    }
+
+    /// A member that failed: every drift NaN.
+    pub fn fail(&mut self) {
+        self.failed = true;
+        self.energy = f64::NAN;
+        self.momentum = f64::NAN;
+        self.orthogonality = f64::NAN;
+    }
+}
+
+/// What a member's run leaves besides its samples.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MemberSummary {
+    /// How its run ended ([`Status::Running`]: stopped by the caller, or never run).
+    pub status: Status,
+    pub n_steps: u64,
+    pub n_fev: u64,
+    /// Its drifts over the samples ([`Drift`]).
+    pub energy: f64,
+    pub momentum: f64,
+    pub orthogonality: f64,
+    /// Times of its first and last flips (NaN: none, or not recorded) and their count (−1
+    /// when not recorded).
+    pub first_flip: f64,
+    pub last_flip: f64,
+    pub flip_count: i64,
+}
+
+impl Default for MemberSummary {
+    fn default() -> Self {
+        MemberSummary {
+            status: Status::Running,
+            n_steps: 0,
+            n_fev: 0,
+            energy: f64::NAN,
+            momentum: f64::NAN,
+            orthogonality: f64::NAN,
+            first_flip: f64::NAN,
+            last_flip: f64::NAN,
+            flip_count: -1,
+        }
+    }
+}
+
+/// Integrate one member: its samples at `schedule.t_eval` go to `samples` (n · 18, body
+/// frame; NaN if the run fails), with its summary. The driver is called [`STEPS_PER_CALL`]
+/// steps at a time until it ends or `stop` is raised.
+pub fn run_member(
+    schedule: &Schedule,
+    member: &Member,
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> MemberSummary {
+    let z0 = principal(&member.axes, &member.y0);
+    if member.forces.is_empty() && !member.body.has_pivot {
+        let sys = TorqueFree { body: member.body };
+        member_on(schedule, member, &sys, &z0, samples, stop, |_, _| 0.0)
+    } else {
+        let sys: Rigid = Rigid::new(member.body, member.forces.to_vec(), member.axes, None);
+        member_on(schedule, member, &sys, &z0, samples, stop, |t, z| {
+            sys.potential(t, z)
+        })
+    }
+}
+
+fn member_on<S: RigidStructure, P: Fn(f64, &State) -> f64>(
+    schedule: &Schedule,
+    member: &Member,
+    sys: &S,
+    z0: &State,
+    samples: &mut [f64],
+    stop: &AtomicBool,
+    potential: P,
+) -> MemberSummary {
+    let n = schedule.t_eval.len();
+    assert_eq!(
+        samples.len(),
+        n * STATE_SIZE,
+        "one member's samples: n · 18"
+    );
+    let mut first = [f64::NAN];
+    let mut last = [f64::NAN];
+    let mut count = [0.0];
+    let (status, k) = if schedule.flips {
+        let mut obs = FlipObserver {
+            first: &mut first,
+            last: &mut last,
+            count: &mut count,
+            offset: 0,
+        };
+        integrate(schedule, sys, z0, samples, &mut obs, stop)
+    } else {
+        integrate(schedule, sys, z0, samples, &mut NoObserver, stop)
+    };
+    let mut out = MemberSummary {
+        status,
+        n_steps: k.n_steps,
+        n_fev: k.n_fev,
+        ..MemberSummary::default()
+    };
+    if schedule.flips {
+        out.first_flip = first[0];
+        out.last_flip = last[0];
+        out.flip_count = count[0] as i64;
+    }
+    if status != Status::Finished {
+        samples.fill(f64::NAN);
+        return out;
+    }
+    // the samples to the body frame, and the drifts of what the caller stores: the potential
+    // of each stored sample is that of its principal-frame state
+    let (a, mass) = (&member.inertia, member.body.mass);
+    let mut drift = Drift::new(a, mass, &member.y0, potential(schedule.t0, z0));
+    let mut y = [0.0; STATE_SIZE];
+    for (row, &t) in samples.chunks_exact_mut(STATE_SIZE).zip(schedule.t_eval) {
+        state_from_principal(&member.axes, row, &mut y);
+        row.copy_from_slice(&y);
+        drift.add(a, mass, &y, potential(t, &principal(&member.axes, &y)));
+    }
+    out.energy = drift.energy;
+    out.momentum = drift.momentum;
+    out.orthogonality = drift.orthogonality;
+    out
+}
+
+/// The driver loop of one member: principal-frame samples into `samples`.
+fn integrate<S: RigidStructure, O: Observer>(
+    schedule: &Schedule,
+    sys: &S,
+    z0: &State,
+    samples: &mut [f64],
+    obs: &mut O,
+    stop: &AtomicBool,
+) -> (Status, Counters) {
+    let n = schedule.t_eval.len();
+    let mut times = vec![0.0; n];
+    let mut out = Output {
+        t: &mut times,
+        y: samples,
+    };
+    let sampling = Sampling {
+        t_end: schedule.t1,
+        t_eval: schedule.t_eval,
+        every: u64::MAX,
+    };
+    let mut clock = Clock {
+        t: schedule.t0,
+        h: 0.0,
+    };
+    let mut k = Counters::default();
+    let mut z = [0.0; STATE_SIZE];
+    let status = match schedule.method {
+        Method::Dop853(control) => {
+            z.copy_from_slice(z0);
+            let mut state = AdaptiveState {
+                f: vec![0.0; STATE_SIZE],
+            };
+            resume(stop, || {
+                run_adaptive(
+                    sys,
+                    obs,
+                    &mut clock,
+                    &mut z,
+                    &mut state,
+                    &control,
+                    &sampling,
+                    &mut out,
+                    &mut k,
+                    STEPS_PER_CALL,
+                )
+            })
+        }
+        Method::Rk4 => fixed(sys, &mut Rk4Rigid, z0, &mut z, |m, z| {
+            resume(stop, || {
+                let (c, o, k) = (&mut clock, &mut out, &mut k);
+                run_fixed(
+                    sys,
+                    m,
+                    obs,
+                    c,
+                    z,
+                    schedule.dt,
+                    &sampling,
+                    o,
+                    k,
+                    STEPS_PER_CALL,
+                )
+            })
+        }),
+        Method::Erk(tab) => fixed(sys, &mut Erk::new(tab, STATE_SIZE), z0, &mut z, |m, z| {
+            resume(stop, || {
+                let (c, o, k) = (&mut clock, &mut out, &mut k);
+                run_fixed(
+                    sys,
+                    m,
+                    obs,
+                    c,
+                    z,
+                    schedule.dt,
+                    &sampling,
+                    o,
+                    k,
+                    STEPS_PER_CALL,
+                )
+            })
+        }),
+        Method::Rkmk(tab) => fixed(sys, &mut Rkmk::new(tab, STATE_SIZE), z0, &mut z, |m, z| {
+            resume(stop, || {
+                let (c, o, k) = (&mut clock, &mut out, &mut k);
+                run_fixed(
+                    sys,
+                    m,
+                    obs,
+                    c,
+                    z,
+                    schedule.dt,
+                    &sampling,
+                    o,
+                    k,
+                    STEPS_PER_CALL,
+                )
+            })
+        }),
+        Method::Splitting => fixed(sys, &mut Splitting, z0, &mut z, |m, z| {
+            resume(stop, || {
+                let (c, o, k) = (&mut clock, &mut out, &mut k);
+                run_fixed(
+                    sys,
+                    m,
+                    obs,
+                    c,
+                    z,
+                    schedule.dt,
+                    &sampling,
+                    o,
+                    k,
+                    STEPS_PER_CALL,
+                )
+            })
+        }),
+    };
+    (status, k)
+}
+
+/// A fixed-step method's own state from the member's ([`FixedMethod::init`]), then its run.
+fn fixed<S: RigidStructure, M: FixedMethod<S>>(
+    sys: &S,
+    method: &mut M,
+    z0: &State,
+    z: &mut State,
+    run: impl FnOnce(&mut M, &mut [f64]) -> Status,
+) -> Status {
+    method.init(sys, z0, z);
+    run(method, z)
+}
+
+/// Call a resumable driver until it ends or `stop` is raised.
+fn resume(stop: &AtomicBool, mut call: impl FnMut() -> Status) -> Status {
+    loop {
+        let status = call();
+        if status != Status::Running || stop.load(Ordering::Relaxed) {
+            return status;
+        }
+    }
+}
+
+/// Run a chunk of members on the current rayon pool (`rayon::ThreadPool::install` picks
+/// one). Per member `i`: its samples go to `samples[i · n · 18 ..]` (n · 18 each, body frame)
+/// when given, else to one buffer per thread; its final state to `finals[i · 18 ..]`; its
+/// summary to `summaries[i]`. Members not started when `stop` is raised keep the default
+/// summary (status [`Status::Running`]: not run) and NaN states.
+pub fn run_members(
+    schedule: &Schedule,
+    members: &[Member],
+    samples: Option<&mut [f64]>,
+    finals: &mut [f64],
+    summaries: &mut [MemberSummary],
+    stop: &AtomicBool,
+) {
+    let per = schedule.t_eval.len() * STATE_SIZE;
+    let m = members.len();
+    assert_eq!(finals.len(), m * STATE_SIZE, "finals: m · 18");
+    assert_eq!(summaries.len(), m, "summaries: m");
+    let one = |member: &Member, y: &mut [f64], last: &mut [f64], summary: &mut MemberSummary| {
+        if stop.load(Ordering::Relaxed) {
+            y.fill(f64::NAN);
+            last.fill(f64::NAN);
+            *summary = MemberSummary::default();
+            return;
+        }
+        *summary = run_member(schedule, member, y, stop);
+        last.copy_from_slice(&y[per - STATE_SIZE..]);
+    };
+    let rest = finals
+        .par_chunks_mut(STATE_SIZE)
+        .zip(summaries.par_iter_mut())
+        .zip(members.par_iter());
+    match samples {
+        Some(y) => {
+            assert_eq!(y.len(), m * per, "samples: m · n · 18");
+            y.par_chunks_mut(per)
+                .zip(rest)
+                .for_each(|(y, ((last, s), member))| one(member, y, last, s));
+        }
+        None => rest.for_each_init(
+            || vec![0.0; per],
+            |y, ((last, s), member)| one(member, y, last, s),
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::forces::ForceKind;
+    use crate::layout::FORCE_PARAMS;
+    use crate::rigid::initial_state;
+    use crate::tableaux::{RK4_A, RK4_B, RK4_C};
+
+    const CONTROL: Control = Control {
+        rtol: 1e-10,
+        atol: 1e-12,
+        safety: 0.9,
+        min_factor: 0.2,
+        max_factor: 10.0,
+        max_step: f64::INFINITY,
+        first_step: 0.0,
+    };
+
+    fn rot(a: f64, b: f64) -> Mat3 {
+        let (sa, ca) = a.sin_cos();
+        let (sb, cb) = b.sin_cos();
+        // rotation about z by a, then about x by b
+        let rz = [[ca, -sa, 0.0], [sa, ca, 0.0], [0.0, 0.0, 1.0]];
+        let rx = [[1.0, 0.0, 0.0], [0.0, cb, -sb], [0.0, sb, cb]];
+        crate::so3::matmul(&rz, &rx)
+    }
+
+    /// A body with a tilted inertia tensor, its members' initial states and bodies.
+    fn members(n: usize, pivot: bool) -> (Vec<State>, [f64; BODY_SIZE], Mat3, Mat3) {
+        let e = rot(0.3, 0.7);
+        let d = [1.0, 2.0, 3.5];
+        let mut a = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                a[i][j] = (0..3).map(|k| e[i][k] * d[k] * e[j][k]).sum();
+            }
+        }
+        let c = if pivot { [0.1, -0.2, 0.4] } else { [0.0; 3] };
+        let (params, axes, _) = member_body(2.0, &a, c, pivot);
+        let y0 = (0..n)
+            .map(|i| {
+                let s = i as f64;
+                let w = [0.05 * s.sin(), 1.0 + 0.1 * s, 0.05 * s.cos()];
+                initial_state(
+                    &rot(0.2 * s, 0.1),
+                    w,
+                    None,
+                    None,
+                    [0.5, 0.0, 0.0],
+                    c,
+                    [0.0; 3],
+                    pivot,
+                    [0.0; 3],
+                )
+            })
+            .collect();
+        (y0, params, axes, a)
+    }
+
+    fn schedule<'a>(method: Method<'a>, t_eval: &'a [f64]) -> Schedule<'a> {
+        Schedule {
+            method,
+            t0: 0.0,
+            t1: *t_eval.last().unwrap(),
+            dt: 1e-2,
+            t_eval,
+            flips: true,
+        }
+    }
+
+    /// A member equals the single-body run of the same system and driver, bit for bit.
+    #[test]
+    fn a_member_is_a_single_body_run() {
+        let (y0, params, axes, a) = members(3, false);
+        let body = Body::from_slice(&params).unwrap();
+        let t_eval: Vec<f64> = (0..=20).map(|k| 0.25 * k as f64).collect();
+        let s = schedule(Method::Rk4, &t_eval);
+        let member = Member::new(body, axes, a, &[], y0[2]);
+        let mut samples = vec![0.0; t_eval.len() * STATE_SIZE];
+        let summary = run_member(&s, &member, &mut samples, &AtomicBool::new(false));
+        assert_eq!(summary.status, Status::Finished);
+        // the single-body route: one call of the driver, no chunks, samples converted here
+        let sys = TorqueFree { body };
+        let mut z = principal(&axes, &y0[2]);
+        let mut t_out = vec![0.0; t_eval.len()];
+        let mut y_out = vec![0.0; t_eval.len() * STATE_SIZE];
+        let mut k = Counters::default();
+        let status = run_fixed(
+            &sys,
+            &mut Rk4Rigid,
+            &mut NoObserver,
+            &mut Clock { t: 0.0, h: 0.0 },
+            &mut z,
+            1e-2,
+            &Sampling {
+                t_end: 5.0,
+                t_eval: &t_eval,
+                every: 1,
+            },
+            &mut Output {
+                t: &mut t_out,
+                y: &mut y_out,
+            },
+            &mut k,
+            u64::MAX,
+        );
+        assert_eq!(status, Status::Finished);
+        assert_eq!(summary.n_steps, k.n_steps);
+        assert_eq!(summary.n_fev, k.n_fev);
+        for (row, got) in y_out
+            .chunks_exact(STATE_SIZE)
+            .zip(samples.chunks_exact(STATE_SIZE))
+        {
+            let mut y = [0.0; STATE_SIZE];
+            state_from_principal(&axes, row, &mut y);
+            assert_eq!(&y[..], got);
+        }
+    }
+
+    /// Torque-free members keep their energy and |L| (each method to its error), Q stays
+    /// orthogonal (to round-off for the Lie-group methods), and the drifts computed on the fly are those of the
+    /// stored samples.
+    #[test]
+    fn torque_free_members_conserve_energy_and_momentum() {
+        let (y0, params, axes, a) = members(16, false);
+        let body = Body::from_slice(&params).unwrap();
+        let ms: Vec<Member> = y0
+            .iter()
+            .map(|y| Member::new(body, axes, a, &[], *y))
+            .collect();
+        let t_eval: Vec<f64> = (0..=40).map(|k| 0.5 * k as f64).collect();
+        let a_flat = RK4_A.concat();
+        let tab = Tableau {
+            a: &a_flat,
+            b: &RK4_B,
+            c: &RK4_C,
+        };
+        // (method, tolerance of the invariants, of QᵀQ = I: the Lie-group methods keep it)
+        for (method, tol, tol_q) in [
+            (Method::Rk4, 1e-6, 1e-6),
+            (Method::Erk(tab), 1e-6, 1e-6),
+            (Method::Rkmk(tab), 1e-6, 1e-13),
+            (Method::Splitting, 1e-3, 1e-13),
+            (Method::Dop853(CONTROL), 1e-8, 1e-8),
+        ] {
+            let s = schedule(method, &t_eval);
+            let m = ms.len();
+            let mut samples = vec![0.0; m * t_eval.len() * STATE_SIZE];
+            let mut finals = vec![0.0; m * STATE_SIZE];
+            let mut sums = vec![MemberSummary::default(); m];
+            let stop = AtomicBool::new(false);
+            run_members(&s, &ms, Some(&mut samples), &mut finals, &mut sums, &stop);
+            for (i, sum) in sums.iter().enumerate() {
+                assert_eq!(sum.status, Status::Finished, "{method:?}");
+                assert!(sum.energy < tol && sum.momentum < tol, "{method:?} {sum:?}");
+                assert!(sum.orthogonality < tol_q, "{method:?} {sum:?}");
+                // the drifts again, from the stored samples by the invariants directly
+                let w0 = [y0[i][15], y0[i][16], y0[i][17]];
+                let e0 = crate::invariants::rotational_energy(&a, w0);
+                let mut de: f64 = 0.0;
+                for row in samples[i * t_eval.len() * STATE_SIZE..][..t_eval.len() * STATE_SIZE]
+                    .chunks_exact(STATE_SIZE)
+                {
+                    let e = crate::invariants::rotational_energy(&a, [row[15], row[16], row[17]]);
+                    de = de.max((e - e0).abs() / e0);
+                }
+                assert!((de - sum.energy).abs() <= 1e-15, "{de} {}", sum.energy);
+                let last =
+                    &samples[(i + 1) * t_eval.len() * STATE_SIZE - STATE_SIZE..][..STATE_SIZE];
+                assert_eq!(&finals[i * STATE_SIZE..(i + 1) * STATE_SIZE], last);
+            }
+            // no samples stored: the same summaries and final states
+            let mut finals2 = vec![0.0; m * STATE_SIZE];
+            let mut sums2 = vec![MemberSummary::default(); m];
+            run_members(&s, &ms, None, &mut finals2, &mut sums2, &stop);
+            assert_eq!(finals, finals2, "{method:?}");
+            assert_eq!(sums, sums2);
+        }
+    }
+
+    /// Members near the intermediate axis flip (the tennis-racket effect); a steady spin
+    /// about the largest axis never does.
+    #[test]
+    fn flips_are_counted_per_member() {
+        let d = [1.0, 2.0, 3.0];
+        let a = [[d[0], 0.0, 0.0], [0.0, d[1], 0.0], [0.0, 0.0, d[2]]];
+        let (params, axes, _) = member_body(1.0, &a, [0.0; 3], false);
+        let body = Body::from_slice(&params).unwrap();
+        let eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let y = |w: Vec3| {
+            initial_state(
+                &eye, w, None, None, [0.0; 3], [0.0; 3], [0.0; 3], false, [0.0; 3],
+            )
+        };
+        let ms = [
+            Member::new(body, axes, a, &[], y([1e-3, 1.0, 1e-3])),
+            Member::new(body, axes, a, &[], y([0.0, 0.0, 1.0])),
+        ];
+        let t_eval = [60.0];
+        let s = schedule(Method::Dop853(CONTROL), &t_eval);
+        let mut finals = vec![0.0; 2 * STATE_SIZE];
+        let mut sums = vec![MemberSummary::default(); 2];
+        run_members(
+            &s,
+            &ms,
+            None,
+            &mut finals,
+            &mut sums,
+            &AtomicBool::new(false),
+        );
+        assert!(sums[0].flip_count >= 2, "{:?}", sums[0]);
+        assert!(sums[0].first_flip > 0.0 && sums[0].last_flip > sums[0].first_flip);
+        assert_eq!(sums[1].flip_count, 0);
+        assert!(sums[1].first_flip.is_nan());
+    }
+
+    /// A member that overflows fails alone; its neighbours are unchanged, bit for bit.
+    #[test]
+    fn a_failing_member_gets_its_own_status() {
+        let (mut y0, params, axes, a) = members(5, true);
+        let body = Body::from_slice(&params).unwrap();
+        let gravity = Force {
+            kind: ForceKind::Gravity,
+            p: {
+                let mut p = [0.0; FORCE_PARAMS];
+                p[2] = -9.8;
+                p
+            },
+        };
+        let forces = [gravity];
+        let t_eval = [0.5, 1.0];
+        let s = schedule(Method::Rk4, &t_eval);
+        let run = |y0: &[State]| {
+            let ms: Vec<Member> = y0
+                .iter()
+                .map(|y| Member::new(body, axes, a, &forces, *y))
+                .collect();
+            let mut finals = vec![0.0; y0.len() * STATE_SIZE];
+            let mut sums = vec![MemberSummary::default(); y0.len()];
+            run_members(
+                &s,
+                &ms,
+                None,
+                &mut finals,
+                &mut sums,
+                &AtomicBool::new(false),
+            );
+            (finals, sums)
+        };
+        let (good, good_sums) = run(&y0);
+        y0[2][16] = 1e200;
+        let (bad, bad_sums) = run(&y0);
+        assert_eq!(bad_sums[2].status, Status::NonFinite);
+        assert!(bad_sums[2].energy.is_nan());
+        assert!(bad[2 * STATE_SIZE..3 * STATE_SIZE]
+            .iter()
+            .all(|x| x.is_nan()));
+        for i in [0, 1, 3, 4] {
+            assert_eq!(good_sums[i], bad_sums[i]);
+            assert_eq!(
+                good[i * STATE_SIZE..(i + 1) * STATE_SIZE],
+                bad[i * STATE_SIZE..(i + 1) * STATE_SIZE]
+            );
+        }
+        // about a pivot the pivot stays where the initial state put it
+        let m = Member::new(body, axes, a, &forces, y0[0]);
+        let z0 = principal(&axes, &y0[0]);
+        assert_eq!(pivot_point(&m.body, &z0), m.body.pivot);
+    }
+
+    /// A raised stop flag: no member runs.
+    #[test]
+    fn a_raised_flag_stops_every_member() {
+        let (y0, params, axes, a) = members(8, false);
+        let body = Body::from_slice(&params).unwrap();
+        let ms: Vec<Member> = y0
+            .iter()
+            .map(|y| Member::new(body, axes, a, &[], *y))
+            .collect();
+        let t_eval = [1e6];
+        let s = schedule(Method::Rk4, &t_eval);
+        let mut finals = vec![0.0; 8 * STATE_SIZE];
+        let mut sums = vec![MemberSummary::default(); 8];
+        run_members(
+            &s,
+            &ms,
+            None,
+            &mut finals,
+            &mut sums,
+            &AtomicBool::new(true),
+        );
+        assert!(sums.iter().all(|s| s.status == Status::Running));
+    }
+}

@@ -1,0 +1,436 @@
+//! Bindings of the ensembles (`poinsot_core::ensemble`): one call runs a chunk of members on a
+//! rayon pool of the caller's size (`poinsot.ensemble.tasks.run_chunk`). Arguments are checked
+//! here, with their names; the GIL is released for the run; an interrupt (Ctrl-C) is looked
+//! for every few milliseconds and raises the stop flag every worker polls, so the call returns
+//! promptly with the `KeyboardInterrupt`; a panic in the core becomes a `RuntimeError`.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use numpy::ndarray::{Array1, Array2, Array3, ArrayView3};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+};
+use poinsot_core::ensemble::{member_body, run_members, Member, MemberSummary, Method, Schedule};
+use poinsot_core::forces::{Force, ForceKind};
+use poinsot_core::layout::{load, Body, BODY_SIZE, FORCE_PARAMS, STATE_SIZE};
+use poinsot_core::so3::Mat3;
+use poinsot_core::steppers::{Control, Tableau};
+use pyo3::exceptions::PyRuntimeError;
+use pyo3::prelude::*;
+use rayon::{ThreadPool, ThreadPoolBuilder};
+
+use crate::engine::{body_from, value_error};
+
+/// How often the calling thread looks for an interrupt while the workers run.
+const POLL: Duration = Duration::from_millis(5);
+
+const METHODS: [&str; 5] = ["rk4", "erk", "rkmk", "splitting", "dop853"];
+
+/// The rows of a per-member argument: 1 (shared) or `m` (one per member).
+fn shared_or_per_member(rows: usize, m: usize, name: &str, shape: &str) -> PyResult<()> {
+    if rows != 1 && rows != m {
+        return Err(value_error(format!(
+            "`{name}` must have shape (1, {shape}) or ({m}, {shape}) (shared or one per member), \
+             found {rows} rows"
+        )));
+    }
+    Ok(())
+}
+
+fn mats<'a>(
+    a: &'a PyReadonlyArray3<'_, f64>,
+    m: usize,
+    name: &str,
+) -> PyResult<ArrayView3<'a, f64>> {
+    let v = a.as_array();
+    if v.shape()[1..] != [3, 3] {
+        return Err(value_error(format!(
+            "`{name}` must have shape (n, 3, 3), found {:?}",
+            v.shape()
+        )));
+    }
+    shared_or_per_member(v.shape()[0], m, name, "3, 3")?;
+    Ok(v)
+}
+
+fn mat(a: &ArrayView3<f64>, i: usize) -> Mat3 {
+    let i = if a.shape()[0] > 1 { i } else { 0 };
+    [0, 1, 2].map(|r| [0, 1, 2].map(|c| a[[i, r, c]]))
+}
+
+/// Each member's (or the shared) lowered forces: kinds (k,), parameters (1 | m, k,
+/// FORCE_PARAMS).
+fn member_forces(
+    kind: &[i64],
+    params: &PyReadonlyArray3<f64>,
+    m: usize,
+) -> PyResult<Vec<Vec<Force>>> {
+    let p = params.as_array();
+    let k = kind.len();
+    if p.shape()[1] != k || (p.shape()[2] != FORCE_PARAMS && k > 0) {
+        return Err(value_error(format!(
+            "`force_params` must have shape (n, {k}, {FORCE_PARAMS}), found {:?}",
+            p.shape()
+        )));
+    }
+    shared_or_per_member(
+        p.shape()[0],
+        m,
+        "force_params",
+        &format!("{k}, {FORCE_PARAMS}"),
+    )?;
+    let kinds = kind
+        .iter()
+        .enumerate()
+        .map(|(j, &code)| {
+            ForceKind::from_code(code)
+                .ok_or_else(|| value_error(format!("`force_kind[{j}]` = {code} is no force kind")))
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok((0..p.shape()[0])
+        .map(|i| {
+            kinds
+                .iter()
+                .enumerate()
+                .map(|(j, &kind)| Force {
+                    kind,
+                    p: std::array::from_fn(|c| p[[i, j, c]]),
+                })
+                .collect()
+        })
+        .collect())
+}
+
+/// The parameters and principal axes of members with their own inertia about the centre of
+/// mass (`inertia` (m, 3, 3), body frame), sharing the body's `mass` and its centre of mass
+/// `c` seen from the reference point: `(bodies (m, BODY_SIZE), axes (m, 3, 3), degenerate
+/// (m,))` (`poinsot_core::ensemble::member_body`; the pivot is placed by `run_ensemble`).
+#[pyfunction]
+fn member_bodies<'py>(
+    py: Python<'py>,
+    mass: f64,
+    inertia: PyReadonlyArray3<'py, f64>,
+    c: [f64; 3],
+    has_pivot: bool,
+) -> PyResult<(
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray3<f64>>,
+    Bound<'py, PyArray1<bool>>,
+)> {
+    let a = inertia.as_array();
+    if a.shape()[1..] != [3, 3] {
+        return Err(value_error(format!(
+            "`inertia` must have shape (m, 3, 3), found {:?}",
+            a.shape()
+        )));
+    }
+    let m = a.shape()[0];
+    let mut bodies = Array2::<f64>::zeros((m, BODY_SIZE));
+    let mut axes = Array3::<f64>::zeros((m, 3, 3));
+    let mut degenerate = Array1::from_elem(m, false);
+    for i in 0..m {
+        let (p, e, d) = member_body(mass, &mat(&a, i), c, has_pivot);
+        for k in 0..BODY_SIZE {
+            bodies[[i, k]] = p[k];
+        }
+        for r in 0..3 {
+            for s in 0..3 {
+                axes[[i, r, s]] = e[r][s];
+            }
+        }
+        degenerate[i] = d;
+    }
+    Ok((
+        bodies.into_pyarray(py),
+        axes.into_pyarray(py),
+        degenerate.into_pyarray(py),
+    ))
+}
+
+/// The rayon pool of `threads` workers, built once per process and size.
+fn pool(threads: usize) -> PyResult<Arc<ThreadPool>> {
+    static POOLS: Mutex<Vec<(u32, usize, Arc<ThreadPool>)>> = Mutex::new(Vec::new());
+    let pid = std::process::id(); // a forked child builds its own
+    let mut pools = POOLS.lock().unwrap_or_else(|e| e.into_inner());
+    pools.retain(|(p, _, _)| *p == pid);
+    if let Some((_, _, p)) = pools.iter().find(|(_, n, _)| *n == threads) {
+        return Ok(p.clone());
+    }
+    let p = Arc::new(
+        ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("poinsot-ensemble-{i}"))
+            .build()
+            .map_err(|e| PyRuntimeError::new_err(format!("no thread pool of {threads}: {e}")))?,
+    );
+    pools.push((pid, threads, p.clone()));
+    Ok(p)
+}
+
+fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
+    p.downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into())
+}
+
+/// What `run_ensemble` returns: samples (m, n, 18) or None, final states (m, 18), the drifts
+/// (energy, momentum, orthogonality), the flips (first, last, count), and status, steps and
+/// evaluations per member.
+type Outputs<'py> = (
+    Option<Bound<'py, PyArray3<f64>>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i64>>,
+);
+
+/// Integrate a chunk of members (`poinsot.ensemble.tasks.run_chunk`).
+///
+/// `method` one of `"rk4"`, `"erk"`, `"rkmk"`, `"splitting"`, `"dop853"` with its tableau
+/// `a` (s, s), `b`, `c` (s,) and the controller's 7 numbers `control` (DOP853); `t0`, `t1`,
+/// `dt` (fixed-step methods) and the sample times `t_eval` (n,). Per member (one row shared
+/// by all, or one row each): `inertia` (about the centre of mass, body frame), `bodies`
+/// (parameter vectors, principal frame, pivot not placed), `axes` (principal axes, columns),
+/// `force_params` (k forces of kinds `force_kind`, lowered in the member's principal frame);
+/// `y0` (m, 18) the body-frame initial states. `keep_samples`: return the samples (else only
+/// the final states); `threads`: the pool's size.
+#[pyfunction]
+#[pyo3(signature = (
+    method, a, b, c, control, t0, t1, dt, t_eval, inertia, bodies, axes, force_kind,
+    force_params, y0, flips=true, keep_samples=true, threads=1
+))]
+#[allow(clippy::too_many_arguments)]
+fn run_ensemble<'py>(
+    py: Python<'py>,
+    method: &str,
+    a: PyReadonlyArray2<'py, f64>,
+    b: PyReadonlyArray1<'py, f64>,
+    c: PyReadonlyArray1<'py, f64>,
+    control: PyReadonlyArray1<'py, f64>,
+    t0: f64,
+    t1: f64,
+    dt: f64,
+    t_eval: PyReadonlyArray1<'py, f64>,
+    inertia: PyReadonlyArray3<'py, f64>,
+    bodies: PyReadonlyArray2<'py, f64>,
+    axes: PyReadonlyArray3<'py, f64>,
+    force_kind: PyReadonlyArray1<'py, i64>,
+    force_params: PyReadonlyArray3<'py, f64>,
+    y0: PyReadonlyArray2<'py, f64>,
+    flips: bool,
+    keep_samples: bool,
+    threads: i64,
+) -> PyResult<Outputs<'py>> {
+    // the schedule
+    if !METHODS.contains(&method) {
+        return Err(value_error(format!(
+            "`method` must be one of {METHODS:?}, found {method:?}"
+        )));
+    }
+    let (a_s, b_s, c_s) = (a.as_slice()?, b.as_slice()?, c.as_slice()?);
+    let s = b_s.len();
+    if a_s.len() != s * s || c_s.len() != s {
+        return Err(value_error(
+            "the tableau must be `a` (s, s), `b` (s,), `c` (s,)",
+        ));
+    }
+    let tab = Tableau {
+        a: a_s,
+        b: b_s,
+        c: c_s,
+    };
+    if (method == "erk" || method == "rkmk") && s == 0 {
+        return Err(value_error(format!("method {method:?} needs a tableau")));
+    }
+    let ctl = control.as_slice()?;
+    let method = match method {
+        "rk4" => Method::Rk4,
+        "erk" => Method::Erk(tab),
+        "rkmk" => Method::Rkmk(tab),
+        "splitting" => Method::Splitting,
+        _ => {
+            if ctl.len() != 7 {
+                return Err(value_error(format!(
+                    "`control` must hold 7 numbers, found {}",
+                    ctl.len()
+                )));
+            }
+            Method::Dop853(Control {
+                rtol: ctl[0],
+                atol: ctl[1],
+                safety: ctl[2],
+                min_factor: ctl[3],
+                max_factor: ctl[4],
+                max_step: ctl[5],
+                first_step: ctl[6],
+            })
+        }
+    };
+    if !(t0.is_finite() && t1.is_finite() && t1 >= t0) {
+        return Err(value_error(format!(
+            "`t0`, `t1` must be finite with t0 ≤ t1, found {t0}, {t1}"
+        )));
+    }
+    let fixed_step = !matches!(method, Method::Dop853(_));
+    if fixed_step && !(dt.is_finite() && dt > 0.0) {
+        return Err(value_error(format!(
+            "`dt` must be a positive number, found {dt}"
+        )));
+    }
+    let times = t_eval.as_slice()?;
+    if times.is_empty() {
+        return Err(value_error("`t_eval` must hold at least one time"));
+    }
+    for (k, w) in times.windows(2).enumerate() {
+        if w[1] < w[0] {
+            return Err(value_error(format!(
+                "`t_eval` must be non-decreasing, found t_eval[{}] = {} after {}",
+                k + 1,
+                w[1],
+                w[0]
+            )));
+        }
+    }
+    if !(times[0] >= t0 && times[times.len() - 1] <= t1) {
+        return Err(value_error(format!(
+            "`t_eval` must lie within [{t0}, {t1}], found [{}, {}]",
+            times[0],
+            times[times.len() - 1]
+        )));
+    }
+    if threads < 1 {
+        return Err(value_error(format!(
+            "`threads` must be a positive integer, found {threads}"
+        )));
+    }
+    let schedule = Schedule {
+        method,
+        t0,
+        t1,
+        dt,
+        t_eval: times,
+        flips,
+    };
+    // the members
+    let y0 = y0.as_array();
+    if y0.ncols() != STATE_SIZE {
+        return Err(value_error(format!(
+            "`y0` must have shape (m, {STATE_SIZE}), found {:?}",
+            y0.shape()
+        )));
+    }
+    let m = y0.nrows();
+    let inertia = mats(&inertia, m, "inertia")?;
+    let axes = mats(&axes, m, "axes")?;
+    let bodies = bodies.as_array();
+    if bodies.ncols() != BODY_SIZE {
+        return Err(value_error(format!(
+            "`bodies` must have shape (n, {BODY_SIZE}), found {:?}",
+            bodies.shape()
+        )));
+    }
+    shared_or_per_member(bodies.nrows(), m, "bodies", &BODY_SIZE.to_string())?;
+    let bodies = (0..bodies.nrows())
+        .map(|i| body_from(&bodies.row(i).to_vec()))
+        .collect::<PyResult<Vec<Body>>>()?;
+    let forces = member_forces(force_kind.as_slice()?, &force_params, m)?;
+    let pick = |len: usize, i: usize| if len > 1 { i } else { 0 };
+    let members: Vec<Member> = (0..m)
+        .map(|i| {
+            let y: Vec<f64> = y0.row(i).to_vec();
+            Member::new(
+                bodies[pick(bodies.len(), i)],
+                mat(&axes, i),
+                mat(&inertia, i),
+                &forces[pick(forces.len(), i)],
+                load(&y),
+            )
+        })
+        .collect();
+    // the run: workers on the pool, this thread looking for an interrupt
+    let n = times.len();
+    let mut samples = vec![0.0; if keep_samples { m * n * STATE_SIZE } else { 0 }];
+    let mut finals = vec![0.0; m * STATE_SIZE];
+    let mut summaries = vec![MemberSummary::default(); m];
+    let pool = pool(threads as usize)?;
+    let stop = AtomicBool::new(false);
+    let mut interrupt: Option<PyErr> = None;
+    let outcome = py.detach(|| {
+        std::thread::scope(|scope| {
+            let caller = std::thread::current();
+            let (schedule, members, stop, pool) = (&schedule, &members, &stop, &pool);
+            let (samples, finals, summaries) = (&mut samples, &mut finals, &mut summaries);
+            let worker = scope.spawn(move || {
+                let done = catch_unwind(AssertUnwindSafe(|| {
+                    pool.install(|| {
+                        let samples = keep_samples.then_some(&mut samples[..]);
+                        run_members(schedule, members, samples, finals, summaries, stop)
+                    })
+                }));
+                caller.unpark();
+                done
+            });
+            while !worker.is_finished() {
+                std::thread::park_timeout(POLL);
+                if interrupt.is_none() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        interrupt = Some(e);
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                }
+            }
+            worker.join()
+        })
+    });
+    if let Some(e) = interrupt {
+        return Err(e);
+    }
+    match outcome {
+        Ok(Ok(())) => {}
+        Ok(Err(p)) | Err(p) => {
+            return Err(PyRuntimeError::new_err(format!(
+                "the ensemble engine failed (a bug in poinsot, please report it): {}",
+                panic_message(p)
+            )))
+        }
+    }
+    let samples = keep_samples
+        .then(|| Array3::from_shape_vec((m, n, STATE_SIZE), samples).map(|a| a.into_pyarray(py)))
+        .transpose()
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let finals = Array2::from_shape_vec((m, STATE_SIZE), finals)
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let column =
+        |f: fn(&MemberSummary) -> f64| Array1::from_iter(summaries.iter().map(f)).into_pyarray(py);
+    let counts =
+        |f: fn(&MemberSummary) -> i64| Array1::from_iter(summaries.iter().map(f)).into_pyarray(py);
+    Ok((
+        samples,
+        finals.into_pyarray(py),
+        column(|s| s.energy),
+        column(|s| s.momentum),
+        column(|s| s.orthogonality),
+        column(|s| s.first_flip),
+        column(|s| s.last_flip),
+        counts(|s| s.flip_count),
+        counts(|s| s.status as i64),
+        counts(|s| s.n_steps as i64),
+        counts(|s| s.n_fev as i64),
+    ))
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(member_bodies, m)?)?;
+    m.add_function(wrap_pyfunction!(run_ensemble, m)?)?;
+    Ok(())
+}
