@@ -6,34 +6,14 @@ import time
 
 import numpy as np
 
-from ._validation import _rotation_input, as_positive_scalar, as_sample_times, as_scalar
+from ._validation import _rotation_input
 from .dynamics import RigidBodySystem, rigid_velocity_from_particles
-from .integrate.base import get_solver
 from .integrate.driver import IntegrationError, integrate
+from .integrate.solve import SimulationError, check_run, solve
 from .layout import unpack_state
 from .trajectory import Trajectory
 
 __all__ = ["SimulationError", "simulate"]
-
-
-class SimulationError(RuntimeError):
-    """A run stopped early; :attr:`trajectory` holds the samples computed before the failure."""
-
-    def __init__(self, message, trajectory: Trajectory):
-        super().__init__(message)
-        self.trajectory = trajectory
-
-
-def _check_t_span(t_span):
-    if not (type(t_span) in (tuple, list) and len(t_span) == 2) and (
-        isinstance(t_span, str) or np.ndim(t_span) != 1 or len(t_span) != 2
-    ):
-        raise ValueError(f"`t_span` must be a pair (t0, t1), found {t_span!r}")
-    t0 = as_scalar(t_span[0], "t_span[0]")
-    t1 = as_scalar(t_span[1], "t_span[1]")
-    if not t1 > t0:
-        raise ValueError(f"`t_span` must increase: t0 = {t0}, t1 = {t1}")
-    return t0, t1
 
 
 def simulate(
@@ -59,6 +39,7 @@ def simulate(
     scalar_first=True,
     events=None,
     event_resolution=2001,
+    max_steps=None,
 ) -> Trajectory:
     """Integrate the motion of ``body`` under ``forces``: eqs (07) ``M R̈ = F``,
     (08) ``A ω̇ + ω × Aω = Σ u_i × Qᵀ F_i`` and (09) ``Q̇ = QΩ``.
@@ -109,6 +90,11 @@ def simulate(
         terminal event ends the run there (:mod:`poinsot.integrate.events`).
     event_resolution : int
         Grid points on which events are detected before they are located exactly.
+    max_steps : int, optional
+        The most steps the run may take (default
+        :data:`~poinsot.integrate.solve.DEFAULT_MAX_STEPS`): a fixed-step run that needs more
+        is refused before it starts; an adaptive one that reaches it stops with a
+        :class:`SimulationError`.
 
     Returns
     -------
@@ -134,8 +120,8 @@ def simulate(
     >>> round(float(traj.R[-1, 2] - traj.R[0, 2]), 6)
     -1960.0
     """
-    t0, t1 = _check_t_span(t_span)
-    solver = get_solver(method)
+    run = check_run(t_span, method, dt=dt, rtol=rtol, atol=atol, t_eval=t_eval,
+                    save_every=save_every, max_steps=max_steps)  # fmt: skip
     if isinstance(forces, str) or not hasattr(forces, "__iter__"):
         raise TypeError(f"`forces` must be a sequence of Force objects, found {forces!r}")
     system = RigidBodySystem(body, forces, pivot)
@@ -150,38 +136,21 @@ def simulate(
     if Q0 is not None:  # a Rotation, or SciPy's quaternion order, as an array (checked below)
         Q0 = _rotation_input(Q0, "Q0", scalar_first)
     y0 = system.initial_state(omega0=omega0, Q0=Q0, R0=R0, V0=V0, omega_frame=omega_frame)
-    t_eval, save_every, dt = _check_sampling(t_eval, t0, t1, save_every, dt)
-    rtol, atol = _check_tolerances(rtol, atol)
-    _check_forces_at_start(system, t0, y0)
+    _check_forces_at_start(system, run.t0, y0)
     if events is not None:
-        return _simulate_events(system, solver, t0, t1, y0, t_eval, dt, rtol, atol, backend,
-                                events, event_resolution)  # fmt: skip
-    try:
-        result = integrate(
-            system,
-            solver,
-            (t0, t1),
-            y0,
-            t_eval=t_eval,
-            dt=dt,
-            rtol=rtol,
-            atol=atol,
-            save_every=int(save_every),
-            progress=progress,
-            backend=backend,
-        )
-    except IntegrationError as exc:
-        raise SimulationError(str(exc), _trajectory(exc.partial, system)) from exc
-    return _trajectory(result, system)
+        return _simulate_events(system, run, y0, backend, events, event_resolution)
+    return solve(system, y0, run, trajectory=lambda r: _trajectory(r, system),
+                 progress=progress, backend=backend)  # fmt: skip
 
 
-def _simulate_events(system, solver, t0, t1, y0, t_eval, dt, rtol, atol, backend, events,
-                     resolution) -> Trajectory:  # fmt: skip
+def _simulate_events(system, run, y0, backend, events, resolution) -> Trajectory:
     """:func:`simulate` watching ``events``: the run restarted from grid states to locate
     their zeros (:func:`poinsot.integrate.events.integrate_with_events`)."""
     from .integrate.events import integrate_with_events
 
-    times = np.linspace(t0, t1, 201) if t_eval is None else t_eval
+    solver, dt, rtol, atol = run.solver, run.dt, run.rtol, run.atol
+    t0, t1 = run.t0, run.t1
+    times = np.linspace(t0, t1, 201) if run.t_eval is None else run.t_eval
     stats = {"nfev": 0, "nsteps": 0, "backend": "", "method": ""}
 
     def segment(ta, ya, tb, tt):
@@ -189,7 +158,7 @@ def _simulate_events(system, solver, t0, t1, y0, t_eval, dt, rtol, atol, backend
             return np.repeat(np.asarray(ya, float)[None], len(tt), axis=0)
         try:
             out = integrate(system, solver, (ta, tb), ya, t_eval=tt, dt=dt, rtol=rtol,
-                            atol=atol, backend=backend)  # fmt: skip
+                            atol=atol, backend=backend, max_steps=run.max_steps)  # fmt: skip
         except IntegrationError as exc:
             raise SimulationError(str(exc), _trajectory(exc.partial, system)) from exc
         stats["nfev"] += out.nfev
@@ -205,18 +174,6 @@ def _simulate_events(system, solver, t0, t1, y0, t_eval, dt, rtol, atol, backend
                       backend=stats["backend"])  # fmt: skip
     traj.t_events, traj.y_events = log.t_events, log.y_events
     return traj
-
-
-def _check_sampling(t_eval, t0, t1, save_every, dt):
-    """``t_eval`` (checked sample times or None), ``save_every`` (int) and ``dt`` (or None),
-    validated for any simulation entry point."""
-    if t_eval is not None:
-        t_eval = as_sample_times(t_eval, t0, t1)
-    if not isinstance(save_every, int | np.integer) or save_every < 1:
-        raise ValueError(f"`save_every` must be a positive integer, found {save_every!r}")
-    if dt is not None:
-        dt = as_positive_scalar(dt, "dt")
-    return t_eval, int(save_every), dt
 
 
 class ForceUndefinedError(ValueError):
@@ -240,18 +197,6 @@ def initial_velocities(body, particle_velocities, pivot):
     pivot, where it follows from ω)."""
     V0, omega0 = rigid_velocity_from_particles(body, particle_velocities)
     return (None if pivot is not None else V0), omega0
-
-
-def _check_tolerances(rtol, atol):
-    """``(rtol, atol)``: each None (the method's default) or a real number, ``0 < rtol < 1``
-    and ``atol > 0`` (a zero tolerance would stall an adaptive method at its first step)."""
-    if rtol is not None:
-        rtol = as_positive_scalar(rtol, "rtol")
-        if not rtol < 1:
-            raise ValueError(f"`rtol` must be below 1 (a relative error), found {rtol}")
-    if atol is not None:
-        atol = as_positive_scalar(atol, "atol")
-    return rtol, atol
 
 
 def _check_forces_at_start(system, t0, y0):

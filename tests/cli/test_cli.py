@@ -286,10 +286,10 @@ def test_help_explains_every_option(capsys):
 def test_sigint_leaves_no_partial_files(tmp_path):
     slow = tmp_path / "slow.toml"
     slow.write_text(
-        GOOD.replace("span = [0.0, 1.0]", "span = [0.0, 1e6]").replace(
+        GOOD.replace("span = [0.0, 1.0]", "span = [0.0, 1e5]").replace(
             "samples = 5", "samples = 50000"
         )
-        + '[integrator]\nmethod = "rk4"\ndt = 0.001\n'
+        + '[integrator]\nmethod = "rkmk4"\ndt = 0.001\n'
     )
     proc = subprocess.Popen(
         [sys.executable, "-m", "poinsot.cli", "run", str(slow), "--out", str(tmp_path / "out")],

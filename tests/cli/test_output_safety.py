@@ -222,8 +222,8 @@ def test_partial_folder_of_a_killed_run_is_removed_and_reported(tmp_path, capsys
 
 
 SLOW = (
-    FAST.replace("span = [0.0, 1.0]", "span = [0.0, 1e6]").replace("samples = 5", "samples = 50000")
-    + '[integrator]\nmethod = "rk4"\ndt = 0.001\n'
+    FAST.replace("span = [0.0, 1.0]", "span = [0.0, 1e5]").replace("samples = 5", "samples = 50000")
+    + '[integrator]\nmethod = "rkmk4"\ndt = 0.001\n'
 )
 
 

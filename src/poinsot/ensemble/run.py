@@ -24,7 +24,7 @@ from ..dynamics import RigidBodySystem
 from ..forces import BodyFrame
 from ..integrate.base import get_solver
 from ..integrate.driver import check_solver_fits
-from ..simulation import _check_t_span, _check_tolerances
+from ..integrate.solve import check_t_span, check_tolerances
 from .executors import run_chunks
 from .result import EnsembleResult
 from .tasks import ChunkTask, EnsembleSpec
@@ -222,7 +222,7 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
 
     if not isinstance(body, RigidBody):
         raise TypeError(f"`body` must be a poinsot RigidBody, found {type(body).__name__}")
-    t0, t1 = _check_t_span(t_span)
+    t0, t1 = check_t_span(t_span)
     solver = get_solver(method)
     if isinstance(forces, str) or not hasattr(forces, "__iter__"):
         raise TypeError(f"`forces` must be a sequence of Force objects, found {forces!r}")
@@ -251,7 +251,7 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
             "`body` is degenerate (all mass on a line): the spin of its members about that "
             "line is undefined; give each member a full inertia (`moments` or `inertia`)"
         )
-    rtol, atol = _check_tolerances(rtol, atol)
+    rtol, atol = check_tolerances(rtol, atol)
     if solver.adaptive:
         from ..integrate.control import StepSizeController
         from ..integrate.dop853 import DEFAULT_ATOL, DEFAULT_RTOL

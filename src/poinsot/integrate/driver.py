@@ -115,6 +115,7 @@ def integrate(
     progress=None,
     backend=None,
     observer=None,
+    max_steps=None,
 ) -> IntegrationResult:
     """Integrate ``system`` from ``t_span[0]`` to ``t_span[1]`` from ``y0``.
 
@@ -126,7 +127,8 @@ def integrate(
     first step; ``solver_options={"max_step": ...}``). ``backend`` is ``"compiled"`` (the
     default when every force is built-in) or ``"python"``. A non-finite state or a step size
     that underflows stops the run with an :class:`IntegrationError` naming the time and the
-    quantity, carrying the samples computed until then.
+    quantity, carrying the samples computed until then; so does a run that reaches
+    ``max_steps`` steps (default: no limit) before ``t_span[1]``.
     """
     cls = get_solver(method)
     solver: Solver = cls()
@@ -159,7 +161,7 @@ def integrate(
     y0 = np.array(y0, dtype=float)
     if backend != "numba" and hasattr(system, "problem"):
         return _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progress,
-                                 backend, observer)  # fmt: skip
+                                 backend, observer, max_steps)  # fmt: skip
     from ..kernels import drivers as _drv  # the numba engine (being replaced by the core)
 
     if rigid:
@@ -204,7 +206,8 @@ def integrate(
     counters = np.zeros(_drv.COUNTERS_SIZE, dtype=np.int64)
     driver = solver.driver_function(target)
     chunk = PROGRESS_CHUNK_COMPILED if backend == "compiled" else PROGRESS_CHUNK_PYTHON
-    max_steps = chunk if progress is not None else 2**62
+    per_call = chunk if progress is not None else 2**62
+    budget = 2**62 if max_steps is None else int(max_steps)
     f = np.empty(n)
     if cls.adaptive:
         ctrl = controller.as_array()
@@ -239,11 +242,14 @@ def integrate(
                 saveat.every, out_t, out_y, counters)  # fmt: skip
     quiet = np.errstate(over="ignore", invalid="ignore", divide="ignore")
     while True:
+        left = budget - int(counters[_drv.N_STEPS])
+        if left <= 0:
+            raise _over_budget(budget, float(clock[0]), t1, result)
         if backend == "compiled":  # compiled code raises no floating-point warnings
-            status = driver(*args, max_steps)
+            status = driver(*args, min(per_call, left))
         else:
             with quiet:
-                status = driver(*args, max_steps)
+                status = driver(*args, min(per_call, left))
         if progress is not None:
             progress(float(clock[0]))
         if status == _drv.FINISHED:
@@ -271,8 +277,17 @@ def integrate(
 PROGRESS_CHUNK = 20_000
 
 
+def _over_budget(budget, t, t1, result) -> IntegrationError:
+    """The error of a run that took its whole step budget before its end."""
+    message = (
+        f"the run reached `max_steps` = {budget} steps at t = {t:.9g}, short of t = {t1:g} "
+        "(raise `max_steps`, or loosen the tolerances)"
+    )
+    return IntegrationError(message, result(message, False))
+
+
 def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progress, backend,
-                      observer) -> IntegrationResult:  # fmt: skip
+                      observer, budget=None) -> IntegrationResult:  # fmt: skip
     """A system on the compiled core (its :class:`~poinsot.integrate.problem.NativeProblem`):
     the whole run in one call (in chunks only to report progress or to grow the output of an
     adaptive run); forces and carriers given as Python callables are called back from it (the
@@ -317,7 +332,8 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
             raise ValueError("this system's engine does not count flips")
         extra["flips"] = (observer.first, observer.last, observer.count)
     start = time.perf_counter()
-    max_steps = PROGRESS_CHUNK if progress is not None else 2**62
+    budget = 2**62 if budget is None else int(budget)
+    per_call = PROGRESS_CHUNK if progress is not None else 2**62
 
     def result(message, success):
         k = int(counters[1])
@@ -337,9 +353,12 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
         )  # fmt: skip
 
     while True:
+        left = budget - int(counters[3])
+        if left <= 0:
+            raise _over_budget(budget, float(clock[0]), t1, result)
         status = problem.engine(
             *problem.data, kind, A, B, C, clock, z, f, float(dt or 0.0), ctrl, t1, times,
-            saveat.every, out_t, out_y, counters, max_steps, **extra,
+            saveat.every, out_t, out_y, counters, min(per_call, left), **extra,
         )  # fmt: skip
         if progress is not None:
             progress(float(clock[0]))

@@ -197,15 +197,15 @@ def simulate_ensemble(
 
     from ..ensemble.executors import available_cpus
     from ..integrate.control import StepSizeController
+    from ..integrate.solve import check_sampling, check_t_span, check_tolerances
     from ..kernels import ensemble as kens
     from ..kernels.observers import NoObserver
-    from ..simulation import _check_sampling, _check_t_span, _check_tolerances
     from .engine import compile_system
 
-    t0, t1 = _check_t_span(t_span)
+    t0, t1 = check_t_span(t_span)
     solver = check_run_options(method, stabilization)
-    t_eval, _, dt = _check_sampling(t_eval, t0, t1, 1, dt)
-    rtol, atol = _check_tolerances(rtol, atol)
+    t_eval, _, dt = check_sampling(t_eval, t0, t1, 1, dt)
+    rtol, atol = check_tolerances(rtol, atol)
     if not solver.adaptive and dt is None:
         raise ValueError(f"method {solver.name!r} is fixed-step: `dt` must be given")
     times = np.linspace(t0, t1, 201) if t_eval is None else np.asarray(t_eval, dtype=float)

@@ -655,6 +655,7 @@ def simulate(
     events=None,
     event_resolution=2001,
     engine="numpy",
+    max_steps=None,
 ) -> LagrangianSolution:
     """Integrate the equations of motion of ``system``.
 
@@ -696,15 +697,22 @@ def simulate(
         compilation for every parameter set of a sweep.
     """
     from ..integrate.driver import IntegrationError, integrate
-    from ..simulation import SimulationError, _check_sampling, _check_t_span, _check_tolerances
+    from ..integrate.solve import (
+        SimulationError,
+        check_budget,
+        check_sampling,
+        check_t_span,
+        check_tolerances,
+    )
 
-    t0, t1 = _check_t_span(t_span)
+    t0, t1 = check_t_span(t_span)
     if engine not in ("numpy", "compiled"):
         raise ValueError(f"`engine` must be 'numpy' or 'compiled', found {engine!r}")
     solver = check_run_options(method, stabilization)
     params = as_params(params, system)
-    t_eval, _, dt = _check_sampling(t_eval, t0, t1, 1, dt)
-    rtol, atol = _check_tolerances(rtol, atol)
+    t_eval, _, dt = check_sampling(t_eval, t0, t1, 1, dt)
+    rtol, atol = check_tolerances(rtol, atol)
+    budget = check_budget(solver, t0, t1, dt, max_steps)
     if engine == "compiled" and not events and not system.unilateral:
         from .engine import compile_system
 
@@ -730,7 +738,8 @@ def simulate(
             return np.repeat(np.asarray(ya, dtype=float)[None], len(times), axis=0)
         try:
             tol = {"rtol": rtol, "atol": atol} if adaptive else {}
-            out = integrate(ode, solver, (ta, tb), ya, t_eval=times, dt=dt, **tol)
+            out = integrate(ode, solver, (ta, tb), ya, t_eval=times, dt=dt, max_steps=budget,
+                            **tol)  # fmt: skip
         except IntegrationError as exc:
             raise SimulationError(str(exc), None) from exc
         run.nfev += out.nfev

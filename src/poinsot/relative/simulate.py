@@ -9,10 +9,8 @@ import numpy as np
 
 from .. import _core
 from .._validation import as_rotation_matrix, as_vector3
-from ..integrate.base import get_solver
-from ..integrate.driver import IntegrationError, integrate
+from ..integrate.solve import check_run, solve
 from ..rotation import body_rates_from_euler, euler_from_matrix, euler_rates_from_body
-from ..simulation import SimulationError, _check_sampling, _check_t_span, _check_tolerances
 from ..trajectory import Trajectory
 from .carrier import Carrier
 from .moments import coriolis_moment, transport_moment
@@ -55,6 +53,7 @@ def simulate_relative(
     save_every=1,
     progress=None,
     backend=None,
+    max_steps=None,
 ) -> RelativeTrajectory:
     """Integrate a body's motion relative to a carrier frame: the compact relative Euler
     equation (11) in principal components (12),
@@ -94,7 +93,7 @@ def simulate_relative(
         is given by Euler angles or an attitude).
     origin0, origin_velocity0 : array_like (3,), optional
         The carrier origin's initial position and velocity, inertial (default zero).
-    method, dt, rtol, atol, t_eval, save_every, progress, backend
+    method, dt, rtol, atol, t_eval, save_every, progress, backend, max_steps
         As for :func:`poinsot.simulate`; the methods that need the rigid-body structure
         (``"splitting"``, ``"rkmk4"``) are refused.
 
@@ -115,12 +114,14 @@ def simulate_relative(
     >>> sol.omega_absolute[-1].round(9).tolist()
     [0.0, 0.0, 1.0]
     """
-    t0, t1 = _check_t_span(t_span)
+    run = check_run(t_span, method, dt=dt, rtol=rtol, atol=atol, t_eval=t_eval,
+                    save_every=save_every, max_steps=max_steps)  # fmt: skip
+    t0, t1 = run.t0, run.t1
     if not isinstance(carrier, Carrier):
         raise TypeError(
             f"`carrier` must be a poinsot.relative.Carrier, found {type(carrier).__name__}"
         )
-    solver = get_solver(method)
+    solver = run.solver
     if solver.requires == "rigid":
         raise ValueError(
             f"method {solver.name!r} needs the rigid-body structure; relative motion runs with "
@@ -163,16 +164,9 @@ def simulate_relative(
         else as_vector3(origin_velocity0, "origin_velocity0")
     )
     y0 = np.concatenate([r, v, Q.ravel(), w, Qc.ravel(), X, VO])
-    t_eval, save_every, dt = _check_sampling(t_eval, t0, t1, save_every, dt)
-    rtol, atol = _check_tolerances(rtol, atol)
     _check_start(system, t0, y0)
-    try:
-        result = integrate(system, solver, (t0, t1), y0, t_eval=t_eval, dt=dt, rtol=rtol,
-                           atol=atol, save_every=int(save_every), progress=progress,
-                           backend=backend)  # fmt: skip
-    except IntegrationError as exc:
-        raise SimulationError(str(exc), RelativeTrajectory(exc.partial, system)) from exc
-    return RelativeTrajectory(result, system)
+    return solve(system, y0, run, trajectory=lambda r: RelativeTrajectory(r, system),
+                 progress=progress, backend=backend)  # fmt: skip
 
 
 def _check_start(system, t0, y0):
