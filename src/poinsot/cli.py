@@ -546,6 +546,9 @@ def _dispatch(args) -> int:
     except SimulationError as exc:
         print(f"poinsot: numerical failure: {exc}", file=sys.stderr)
         return EXIT_NUMERICAL
+    except ValueError as exc:  # the library refusing a run before it starts (e.g. max_steps)
+        print(f"poinsot: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
     except _Terminated:
         print("poinsot: terminated; no partial output was left", file=sys.stderr)
         return EXIT_TERMINATED

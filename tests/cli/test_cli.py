@@ -553,3 +553,19 @@ def test_shared_plotlyjs_is_written_once_beside_the_reports(tmp_path):
     js.write_text("not plotly")  # someone else's file of that name is never replaced
     args = ["run", "--example", "atwood", "--out", str(out / "a"), "--plotly-js", "shared"]
     assert main(args) == 2 and js.read_text() == "not plotly"
+
+
+def test_a_run_beyond_the_step_budget_is_refused_without_a_traceback(tmp_path):
+    scenario = tmp_path / "tiny.toml"
+    scenario.write_text(GOOD + '[integrator]\nmethod = "rk4"\ndt = 1e-300\n')
+    proc = subprocess.run(
+        [sys.executable, "-m", "poinsot.cli", "run", str(scenario), "--out", str(tmp_path / "o")],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.returncode == 2, proc.stderr
+    assert "the run needs 1e+" in proc.stderr and "max_steps" in proc.stderr
+    assert "Traceback" not in proc.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["tiny.toml"]
