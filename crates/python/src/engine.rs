@@ -10,70 +10,19 @@ use poinsot_core::drivers::{
     run_adaptive, run_fixed, AdaptiveState, Clock, Counters, Erk, FixedMethod, Output, Rk4Rigid,
     Rkmk, Sampling, Splitting, Status,
 };
-use poinsot_core::forces::{Force, ForceKind};
-use poinsot_core::layout::{Body, FORCE_PARAMS, STATE_SIZE};
+use poinsot_core::layout::STATE_SIZE;
 use poinsot_core::observers::{FlipObserver, NoObserver, Observer};
 use poinsot_core::rigid::State;
-use poinsot_core::so3::Mat3;
 use poinsot_core::steppers::{momentum_to_velocity, velocity_to_momentum, Control, Tableau};
 use poinsot_core::system::{RigidStructure, VectorField};
 use poinsot_core::systems::{Rigid, TorqueFree, UserWrench};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
+
+pub(crate) use crate::args::{body_from, forces_from, mat3_from, value_error};
 
 /// Steps per chunk between two checks for an interrupt.
 const CHUNK: u64 = 1 << 16;
-
-pub(crate) fn value_error(msg: impl Into<String>) -> PyErr {
-    PyValueError::new_err(msg.into())
-}
-
-/// The body parameter vector, checked.
-pub(crate) fn body_from(body: &[f64]) -> PyResult<Body> {
-    Body::from_slice(body).ok_or_else(|| {
-        value_error(format!(
-            "`body` must hold {} parameters, found {}",
-            poinsot_core::layout::BODY_SIZE,
-            body.len()
-        ))
-    })
-}
-
-/// The lowered forces, checked: kinds (k,) and parameters (k, FORCE_PARAMS).
-pub(crate) fn forces_from(kind: &[i64], params: &PyReadonlyArray2<f64>) -> PyResult<Vec<Force>> {
-    let p = params.as_array();
-    if p.nrows() != kind.len() || (p.ncols() != FORCE_PARAMS && !kind.is_empty()) {
-        return Err(value_error(format!(
-            "`force_params` must have shape ({}, {FORCE_PARAMS}), found {:?}",
-            kind.len(),
-            p.shape()
-        )));
-    }
-    kind.iter()
-        .enumerate()
-        .map(|(i, &code)| {
-            let kind = ForceKind::from_code(code).ok_or_else(|| {
-                value_error(format!("`force_kind[{i}]` = {code} is no force kind"))
-            })?;
-            let mut row = [0.0; FORCE_PARAMS];
-            for (j, r) in row.iter_mut().enumerate() {
-                *r = p[[i, j]];
-            }
-            Ok(Force { kind, p: row })
-        })
-        .collect()
-}
-
-pub(crate) fn mat3_from(a: &PyReadonlyArray2<f64>, name: &str) -> PyResult<Mat3> {
-    let v = a.as_array();
-    if v.shape() != [3, 3] {
-        return Err(value_error(format!(
-            "`{name}` must have shape (3, 3), found {:?}",
-            v.shape()
-        )));
-    }
-    Ok([0, 1, 2].map(|i| [0, 1, 2].map(|j| v[[i, j]])))
-}
 
 /// Forces given as a Python callable `user(t, y) -> (Fx, Fy, Fz, τx, τy, τz)` of the time and
 /// the body-frame state: the slow path (the GIL is held for the whole run). The first error it

@@ -25,29 +25,8 @@ use poinsot_core::systems::{NoUser, Rigid, UserWrench};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 
-use crate::engine::{
-    body_from, c_user, chunk_general, forces_from, in_chunks, mat3_from, value_error, CUser,
-    PyUser, RunArgs,
-};
-
-fn rows<'a>(
-    a: &'a PyReadonlyArray2<'_, f64>,
-    k: usize,
-    name: &str,
-) -> PyResult<ArrayView2<'a, f64>> {
-    let v = a.as_array();
-    if v.ncols() != k {
-        return Err(value_error(format!(
-            "`{name}` must have {k} columns, found shape {:?}",
-            v.shape()
-        )));
-    }
-    Ok(v)
-}
-
-fn row3(a: &ArrayView2<f64>, i: usize) -> Vec3 {
-    [a[[i, 0]], a[[i, 1]], a[[i, 2]]]
-}
+use crate::args::{body_from, forces_from, mat3_from, rows, v3, value_error};
+use crate::engine::{c_user, chunk_general, in_chunks, CUser, PyUser, RunArgs};
 
 /// `f(J, a_i, b_i)` for the rows of `a`, `b` (n, 3) → (n, 3).
 fn pairs<'py>(
@@ -69,7 +48,7 @@ fn pairs<'py>(
     }
     let mut out = Array2::<f64>::zeros((a.nrows(), 3));
     for i in 0..a.nrows() {
-        let m = f(&j, row3(&a, i), row3(&b, i));
+        let m = f(&j, v3(&a, i), v3(&b, i));
         for k in 0..3 {
             out[[i, k]] = m[k];
         }
@@ -137,7 +116,7 @@ fn particles(masses: &[f64], rho: &ArrayView2<f64>) -> PyResult<Vec<Vec3>> {
             "`masses` and `rho` must have the same number of rows",
         ));
     }
-    Ok((0..rho.nrows()).map(|i| row3(rho, i)).collect())
+    Ok((0..rho.nrows()).map(|i| v3(rho, i)).collect())
 }
 
 /// The Coriolis inertia moments by their definition as a particle sum (paper eq. (6)).
@@ -160,7 +139,7 @@ fn coriolis_moments_particles<'py>(
     }
     let mut out = Array2::<f64>::zeros((a.nrows(), 3));
     for i in 0..a.nrows() {
-        let c = rel::coriolis_particles(m, &p, row3(&a, i), row3(&b, i));
+        let c = rel::coriolis_particles(m, &p, v3(&a, i), v3(&b, i));
         for k in 0..3 {
             out[[i, k]] = c[k];
         }

@@ -2,7 +2,7 @@
 //! energies and momenta, particles. Shapes are checked here; `poinsot` reshapes `(..., 3)`
 //! inputs to rows before calling.
 
-use numpy::ndarray::{Array1, Array2, Array3, ArrayView2, ArrayView3};
+use numpy::ndarray::{Array1, Array2, Array3, ArrayView3};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
 };
@@ -18,22 +18,8 @@ use poinsot_core::system::RigidStructure;
 use poinsot_core::systems::{NoUser, Rigid};
 use pyo3::prelude::*;
 
-use crate::engine::{body_from, forces_from, mat3_from, value_error, PyUser};
-
-fn rows<'a>(
-    a: &'a PyReadonlyArray2<'_, f64>,
-    k: usize,
-    name: &str,
-) -> PyResult<ArrayView2<'a, f64>> {
-    let v = a.as_array();
-    if v.ncols() != k {
-        return Err(value_error(format!(
-            "`{name}` must have {k} columns, found shape {:?}",
-            v.shape()
-        )));
-    }
-    Ok(v)
-}
+use crate::args::{body_from, forces_from, mat3_from, rows, v3, value_error};
+use crate::engine::PyUser;
 
 fn mats<'a>(a: &'a PyReadonlyArray3<'_, f64>, name: &str) -> PyResult<ArrayView3<'a, f64>> {
     let v = a.as_array();
@@ -44,11 +30,6 @@ fn mats<'a>(a: &'a PyReadonlyArray3<'_, f64>, name: &str) -> PyResult<ArrayView3
         )));
     }
     Ok(v)
-}
-
-#[inline]
-fn v3(a: &ArrayView2<f64>, i: usize) -> Vec3 {
-    [a[[i, 0]], a[[i, 1]], a[[i, 2]]]
 }
 
 #[inline]
