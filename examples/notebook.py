@@ -71,7 +71,7 @@ def gravity_run(body, out):
     exact = free.exact_omega((0, 1, 1), t)
     err = np.abs(traj.omega - exact).max()
     print(f"max |ω_RK4 − ω_exact| = {err:.2e} (gravity exerts no torque about the centre of mass)")
-    from poinsot.plotting import plot_omega
+    from poinsot.viz import plot_omega
 
     fig = plot_omega(t, traj.omega, exact=exact)
     fig.axes[0].set_title("ω(t), RK4 with dt = 0.2 (solid) and the exact solution (dashed)")
@@ -106,7 +106,7 @@ def torque_free_theory(body):
 def cone_figures(free, out):
     """The notebook's cone figures: (a) the 27-particle body, (b) two equal moments,
     (c) all equal moments."""
-    from poinsot.plotting import plot_energy_ellipsoid
+    from poinsot.viz import plot_energy_ellipsoid
 
     section("Energy ellipsoid ∩ cone (32)")
     k, a = 2.0, 4.0
@@ -144,7 +144,7 @@ def cone_figures(free, out):
 def polhode_sweep(body, free, out, n_grid=3):
     """The notebook's sweep: initial ω on the energy ellipsoid k = ½, integrated on [0, 40]
     with RK4 (100 output points), against the exact polhodes."""
-    from poinsot.plotting import plot_polhode_family
+    from poinsot.viz import plot_polhode_family
 
     section("Polhode sweep on the energy ellipsoid k = 1/2")
     k = 0.5
@@ -170,7 +170,7 @@ def polhode_sweep(body, free, out, n_grid=3):
 
 def tumbling(free, out):
     """The intermediate-axis flip (Dzhanibekov effect), exactly."""
-    from poinsot.plotting import animate_tumbling, plot_attitude_frames
+    from poinsot.viz import animate_tumbling, plot_attitude_frames
 
     section("Tumbling about the intermediate axis")
     w0 = free._from_sorted(np.array([1e-3, 1.0, 1e-3]))

@@ -1,13 +1,18 @@
-"""Layering contracts (like poliastro's import-linter contract "core does not import astropy").
+"""The layering of the package, as declared once: the import-linter ``layers`` contract in
+``pyproject.toml`` (application, presentation, library, kernels and the core's layouts, the
+bindings; top to bottom).
 
+The tests read that contract (nothing here restates which module is in which layer) and check
+it on the source with an AST walk that needs nothing installed:
+
+* every module of the package belongs to a layer;
+* no module imports a layer above its own, nor an independent sibling (``|``) of its layer;
 * the kernel layer (``poinsot.kernels``) imports the standard library, NumPy, numba and its own
   modules only;
-* the library (bodies, forces, dynamics, integrators, torque-free and Lagrangian analysis)
-  never imports the presentation (``plotting``, ``report``) or the application (``scenario``,
-  ``job``, ``cli``), and the presentation never imports the application.
+* ``import poinsot`` exposes the library only.
 
-The AST check below needs nothing installed; the same contracts are declared for import-linter
-in ``pyproject.toml`` and run by :func:`test_import_linter_contracts` when it is installed.
+:func:`test_import_linter_contracts` runs ``lint-imports`` on the same contract when
+import-linter is installed.
 """
 
 from __future__ import annotations
@@ -16,6 +21,8 @@ import ast
 import shutil
 import subprocess
 import sys
+import tomllib
+from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
@@ -23,6 +30,8 @@ import pytest
 import poinsot
 
 PACKAGE = Path(poinsot.__file__).parent
+ROOT = PACKAGE.parent.parent
+PYPROJECT = ROOT / "pyproject.toml"
 KERNELS = PACKAGE / "kernels"
 ALLOWED_IN_KERNELS = {
     "numpy",
@@ -40,60 +49,180 @@ ALLOWED_IN_KERNELS = {
     "pathlib",
     "warnings",
 }
-LIBRARY = {
-    "bodies",
-    "mesh",
-    "rotation",
-    "forces",
-    "dynamics",
-    "integrate",
-    "trajectory",
-    "simulation",
-    "torquefree",
-    "ensemble",
-    "relative",
-    "elliptic",
-    "lagrange",
-    "models",
-    "_validation",
-    "_io",
-    "layout",
-    "conservation",
-    "expressions",
-}
-PRESENTATION = {"plotting", "report", "numbers"}
-APPLICATION = {"scenario", "scenario_reference", "job", "cli", "__main__"}
+
+pytestmark = pytest.mark.skipif(
+    not PYPROJECT.exists(), reason="the contract lives in the checkout's pyproject.toml"
+)
 
 
-def _imports(path: Path):
-    """``(absolute module name, line)`` of every import in ``path`` (relative ones resolved)."""
-    tree = ast.parse(path.read_text())
-    package = ".".join(path.relative_to(PACKAGE.parent).with_suffix("").parts[:-1])
+@dataclass(frozen=True)
+class Layer:
+    index: int  # 0 is the top
+    modules: frozenset[str]  # names under the container: "app", "viz", "bodies", ...
+    independent: bool  # siblings separated by "|": they may not import each other
+    optional: frozenset[str]  # declared "(name)": need not exist as Python source
+
+
+def _parse_layer(index: int, raw: str) -> Layer:
+    """One entry of ``layers``, with import-linter's syntax: ``a | b`` independent siblings,
+    ``a : b`` siblings that may import each other, ``(a)`` optional."""
+    has_pipe, has_colon = "|" in raw, ":" in raw
+    assert not (has_pipe and has_colon), f"layer {raw!r} mixes '|' and ':'"
+    parts = [p.strip() for p in raw.split(":" if has_colon else "|")]
+    names, optional = set(), set()
+    for part in parts:
+        assert part, f"empty name in layer {raw!r}"
+        if part.startswith("(") and part.endswith(")"):
+            part = part[1:-1].strip()
+            optional.add(part)
+        names.add(part)
+    return Layer(index, frozenset(names), not has_colon, frozenset(optional))
+
+
+def _contract():
+    """``(container, [Layer, ...])`` from the one ``layers`` contract in pyproject.toml."""
+    config = tomllib.loads(PYPROJECT.read_text(encoding="utf-8"))["tool"]["importlinter"]
+    contracts = [c for c in config["contracts"] if c["type"] == "layers"]
+    assert len(contracts) == 1, "pyproject.toml declares exactly one `layers` contract"
+    contract = contracts[0]
+    assert contract.get("containers") == [config["root_package"]] == ["poinsot"]
+    assert contract.get("exhaustive") is True
+    return "poinsot", [_parse_layer(i, raw) for i, raw in enumerate(contract["layers"])]
+
+
+CONTAINER, LAYERS = _contract()
+LAYER_OF = {name: layer for layer in LAYERS for name in layer.modules}
+
+
+def _top(name: str) -> str | None:
+    """The child of the container that ``name`` (a dotted module name) lies in, or None for the
+    container itself or a module outside it."""
+    parts = name.split(".")
+    return parts[1] if len(parts) > 1 and parts[0] == CONTAINER else None
+
+
+def _module_name(path: Path, package: Path = PACKAGE) -> str:
+    parts = path.relative_to(package.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _imports(path: Path, package: Path = PACKAGE):
+    """``(absolute module name, line)`` of every import in ``path``: relative ones resolved,
+    and ``from module import name`` read also as an import of ``module.name`` (which may be a
+    submodule)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    here = ".".join(path.relative_to(package.parent).with_suffix("").parts[:-1])
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             for alias in node.names:
                 yield alias.name, node.lineno
         elif isinstance(node, ast.ImportFrom):
             if node.level:
-                base = package.split(".")
+                base = here.split(".")
                 base = base[: len(base) - node.level + 1]
                 module = ".".join([*base, node.module] if node.module else base)
-                names = [f"{module}.{a.name}" for a in node.names] if not node.module else []
-                yield module, node.lineno
-                yield from ((n, node.lineno) for n in names)
             else:
-                yield node.module or "", node.lineno
+                module = node.module or ""
+            yield module, node.lineno
+            yield from ((f"{module}.{a.name}", node.lineno) for a in node.names)
 
 
-def _top_of(module: str) -> str | None:
-    parts = module.split(".")
-    return parts[1] if len(parts) > 1 and parts[0] == "poinsot" else None
+def _children(package: Path = PACKAGE):
+    """The children of the container: its modules and subpackages, by name."""
+    names = set()
+    for path in package.iterdir():
+        if path.name.startswith((".", "__pycache__")) or path.name == "__init__.py":
+            continue
+        if path.is_dir():
+            if (path / "__init__.py").exists():
+                names.add(path.name)
+        elif path.suffix == ".py":
+            names.add(path.stem)
+        elif path.suffix in (".so", ".pyd"):
+            names.add(path.name.split(".")[0])  # the compiled bindings
+    return names
 
 
-def _files(names):
-    for name in sorted(names):
-        target = PACKAGE / name
-        yield from sorted(target.rglob("*.py")) if target.is_dir() else [target.with_suffix(".py")]
+def _upward_imports(package: Path = PACKAGE) -> list[str]:
+    """Every import in the source under ``package`` of a layer above the importer's own, or of
+    an independent sibling in its layer."""
+    found = []
+    for path in sorted(package.rglob("*.py")):
+        own = _top(_module_name(path, package))
+        if own is None:  # the container's __init__: test_import_poinsot_exposes_the_library
+            continue
+        layer = LAYER_OF[own]
+        for module, line in _imports(path, package):
+            target = _top(module)
+            if target is None or target == own or target not in LAYER_OF:
+                continue  # outside, the container itself, or a name imported from a module
+            other = LAYER_OF[target]
+            where = f"{path.relative_to(package)}:{line} imports {module}"
+            if other.index < layer.index:
+                found.append(f"{where}: {own} (layer {layer.index}) may not import {target}, "
+                             f"in layer {other.index} above it")  # fmt: skip
+            elif other is layer and layer.independent:
+                found.append(f"{where}: {own} and {target} are independent siblings ('|')")
+    return found
+
+
+def test_the_contract_declares_each_module_once():
+    declared = [name for layer in LAYERS for name in layer.modules]
+    assert len(declared) == len(set(declared)), f"declared twice: {declared}"
+
+
+def test_every_module_belongs_to_a_layer():
+    children = _children()
+    undeclared = sorted(children - set(LAYER_OF))
+    assert not undeclared, (
+        f"{undeclared}: add them to a layer of the `layers` contract in pyproject.toml"
+    )
+    missing = sorted(
+        name for name in set(LAYER_OF) - children if name not in LAYER_OF[name].optional
+    )
+    assert not missing, f"the contract names modules that do not exist: {missing}"
+
+
+def test_no_module_imports_a_layer_above_its_own():
+    found = _upward_imports()
+    assert not found, "\n".join(found)
+
+
+def test_the_check_catches_an_upward_import_and_a_sibling_import(tmp_path):
+    """The walk is not vacuous: on a small tree laid out as the contract says, a module of the
+    lowest layer importing the top layer is caught, and so is an independent sibling."""
+    top, bottom = LAYERS[0], LAYERS[-1]
+    package = tmp_path / CONTAINER
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    high, low = sorted(top.modules)[0], sorted(bottom.modules)[0]
+    (package / f"{high}.py").write_text("")
+    (package / f"{low}.py").write_text(f"from . import {high}\n")
+    assert any(f"may not import {high}" in f for f in _upward_imports(package))
+    independent = next(layer for layer in LAYERS if layer.independent and len(layer.modules) > 1)
+    a, b = sorted(independent.modules)[:2]
+    (package / f"{low}.py").write_text("")
+    (package / f"{a}.py").write_text(f"from .{b} import x\n")
+    (package / f"{b}.py").write_text("")
+    assert any("independent siblings" in f for f in _upward_imports(package))
+
+
+def test_import_poinsot_exposes_the_library():
+    """The container's ``__init__`` (its type-checking names and lazy map included) names only
+    the library and what lies below it, never the presentation or the application."""
+    library = LAYER_OF["simulation"]
+    path = PACKAGE / "__init__.py"
+    named = {module for module, _ in _imports(path)}
+    lazy = next(
+        node.value
+        for node in ast.parse(path.read_text(encoding="utf-8")).body
+        if isinstance(node, ast.Assign) and getattr(node.targets[0], "id", "") == "_LAZY"
+    )
+    named |= set(ast.literal_eval(lazy).values())
+    for module in named:
+        target = _top(module)
+        if target in LAYER_OF:
+            assert LAYER_OF[target].index >= library.index, f"poinsot/__init__.py names {module}"
 
 
 def test_kernels_import_only_numpy_numba_stdlib_and_each_other():
@@ -110,49 +239,19 @@ def test_kernels_import_only_numpy_numba_stdlib_and_each_other():
                 )
 
 
-@pytest.mark.parametrize(
-    ("sources", "forbidden"),
-    [(LIBRARY, PRESENTATION | APPLICATION), (PRESENTATION, APPLICATION)],
-    ids=["library", "presentation"],
-)
-def test_lower_layers_never_import_higher_ones(sources, forbidden):
-    for path in _files(sources):
-        if not path.exists():
-            continue
-        for module, line in _imports(path):
-            assert _top_of(module) not in forbidden, (
-                f"{path.relative_to(PACKAGE)}:{line} imports {module}: the "
-                f"{'library' if sources is LIBRARY else 'presentation'} must not import "
-                f"{sorted(forbidden)}"
-            )
-
-
-def test_every_module_belongs_to_a_layer():
-    known = LIBRARY | PRESENTATION | APPLICATION | {"kernels", "__init__", "scenarios", "_core"}
-    for path in PACKAGE.iterdir():
-        if path.name.startswith(".") or path.name in ("py.typed", "__pycache__"):
-            continue
-        assert path.name.split(".")[0] in known, (
-            f"{path.name}: add it to a layer in tests/test_layering.py"
-        )
-
-
 def test_import_linter_contracts():
-    exe = shutil.which("lint-imports")
-    if exe is None:
+    if shutil.which("lint-imports") is None:
         pytest.skip("import-linter is not installed")
-    root = PACKAGE.parent.parent
-    if not (root / "pyproject.toml").exists():  # pragma: no cover - installed, not a checkout
-        pytest.skip("the contracts live in the checkout's pyproject.toml")
     done = subprocess.run(
         [
             sys.executable,
             "-c",
             "from importlinter.cli import lint_imports_command; lint_imports_command()",
         ],
-        cwd=root,
+        cwd=ROOT,
         capture_output=True,
         text=True,
         timeout=120,
     )
     assert done.returncode == 0, done.stdout + done.stderr
+    assert "1 kept, 0 broken" in done.stdout, done.stdout

@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from poinsot import RigidBody, simulate
-from poinsot.scenario import ScenarioError, load_scenario
+from poinsot.app.scenario import ScenarioError, load_scenario
 from scenario_texts import BOX_SCENARIO
 
 BASE = BOX_SCENARIO
@@ -120,7 +120,7 @@ def test_tiny_semi_axis_and_huge_mass_run_without_a_crash(tmp_path):
     """Moments near 1e300: the run completes; the torque-free figures are left out, said."""
     import warnings
 
-    from poinsot.job import run_scenario
+    from poinsot.app.job import run_scenario
 
     text = BASE.replace(BOX, 'type = "ellipsoid"\nmass = 1e300\nsemi_axes = [5e-324, 1.0, 1.0]')
     with pytest.warns(UserWarning, match="torque-free analysis and polhodes left out"):

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from poinsot import scenario as sc
-from poinsot.scenario_reference import collect_schema, render_reference
+from poinsot.app import scenario as sc
+from poinsot.app.scenario_reference import collect_schema, render_reference
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -28,8 +28,8 @@ def test_checked_in_reference_is_the_generated_one(reference):
 
 
 def test_every_key_the_validator_names_is_documented(reference):
-    source = (ROOT / "src" / "poinsot" / "scenario.py").read_text(encoding="utf-8")
-    from poinsot.scenario_reference import _KINDS
+    source = (ROOT / "src" / "poinsot" / "app" / "scenario.py").read_text(encoding="utf-8")
+    from poinsot.app.scenario_reference import _KINDS
 
     # the validator's typed reads: t.get("key", "kind", ...), t.table("key"), t.tables("key")
     typed = re.findall(r'\.get\(\s*"(\w+)",\s*"(\w+)"', source)
@@ -74,7 +74,7 @@ def test_a_misspelt_key_is_refused_the_reference_lists_the_right_one(reference):
 
 
 def test_cli_prints_the_reference(capsys, reference):
-    from poinsot.cli import main
+    from poinsot.app.cli import main
 
     assert main(["examples", "--reference"]) == 0
     assert capsys.readouterr().out.strip() == reference.strip()

@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from poinsot.cli import main
-from poinsot.scenario import list_examples
+from poinsot.app.cli import main
+from poinsot.app.scenario import list_examples
 from scenario_texts import BOX_SCENARIO
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -22,7 +22,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def _poinsot(*args, cwd, timeout=300):
     return subprocess.run(
-        [sys.executable, "-m", "poinsot.cli", *args],
+        [sys.executable, "-m", "poinsot.app.cli", *args],
         cwd=cwd,
         capture_output=True,
         text=True,
@@ -99,7 +99,7 @@ def test_version_and_module_entry_point(tmp_path):
 
 
 def test_examples_show_prints_a_loadable_template(tmp_path, capsys):
-    from poinsot.scenario import load_scenario
+    from poinsot.app.scenario import load_scenario
 
     assert main(["examples", "--show", "heavy-top"]) == 0
     text = capsys.readouterr().out
@@ -292,7 +292,7 @@ def test_sigint_leaves_no_partial_files(tmp_path):
         + '[integrator]\nmethod = "rkmk4"\ndt = 0.001\n'
     )
     proc = subprocess.Popen(
-        [sys.executable, "-m", "poinsot.cli", "run", str(slow), "--out", str(tmp_path / "out")],
+        [sys.executable, "-m", "poinsot.app.cli", "run", str(slow), "--out", str(tmp_path / "out")],
         cwd=tmp_path,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -453,7 +453,7 @@ def test_run_draws_the_runs_own_energy_and_the_sweep_apart(tmp_path):
     is a separate, titled polhodes_sweep.png (the notebook example: k = 12.5 against 0.5)."""
     import matplotlib.pyplot as plt
 
-    import poinsot.job as job
+    import poinsot.app.job as job
 
     titles = {}
     real_save = plt.Figure.savefig
@@ -462,7 +462,7 @@ def test_run_draws_the_runs_own_energy_and_the_sweep_apart(tmp_path):
         titles[Path(fname).name] = (fig.axes[0].get_title(), fig)
         return real_save(fig, fname, *args, **kwargs)
 
-    from poinsot.scenario import load_example
+    from poinsot.app.scenario import load_example
 
     scenario = load_example("notebook")
     scenario.outputs["report"] = False
@@ -483,7 +483,7 @@ def test_run_draws_the_runs_own_energy_and_the_sweep_apart(tmp_path):
 def test_mechanism_animation_has_a_frame_per_slider_step(tmp_path):
     plotly = pytest.importorskip("plotly.graph_objects")
     from poinsot import models
-    from poinsot.report import MAX_FRAMES, _mechanism_figure
+    from poinsot.viz.report import MAX_FRAMES, _mechanism_figure
 
     model = models.pendulum_on_cart()
     sol = model.simulate((0, 4), t_eval=np.linspace(0, 4, 401))
@@ -521,7 +521,7 @@ def test_units_in_summary_and_csv_headers(tmp_path):
 
 
 def test_report_numbers_are_grouped_with_units(tmp_path):
-    from poinsot.numbers import rows_of
+    from poinsot.viz.numbers import rows_of
 
     assert main(["run", "--example", "notebook", "--out", str(tmp_path / "n"), "--quiet"]) == 0
     summary = json.loads((tmp_path / "n" / "summary.json").read_text())
@@ -559,7 +559,15 @@ def test_a_run_beyond_the_step_budget_is_refused_without_a_traceback(tmp_path):
     scenario = tmp_path / "tiny.toml"
     scenario.write_text(GOOD + '[integrator]\nmethod = "rk4"\ndt = 1e-300\n')
     proc = subprocess.run(
-        [sys.executable, "-m", "poinsot.cli", "run", str(scenario), "--out", str(tmp_path / "o")],
+        [
+            sys.executable,
+            "-m",
+            "poinsot.app.cli",
+            "run",
+            str(scenario),
+            "--out",
+            str(tmp_path / "o"),
+        ],
         cwd=tmp_path,
         capture_output=True,
         text=True,

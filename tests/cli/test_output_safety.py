@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from poinsot._io import MANIFEST, OutputError, OutputExistsError, OutputFolder, safe_name
-from poinsot.cli import main
+from poinsot.app.cli import main
 from scenario_texts import BOX_SCENARIO
 
 FAST = BOX_SCENARIO.replace('name = "t"', 'name = "{name}"') + (
@@ -32,7 +32,7 @@ def _scenario(tmp_path, name="t", extra=""):
 
 def _poinsot(*args, cwd, **kw):
     return subprocess.Popen(
-        [sys.executable, "-m", "poinsot.cli", *args],
+        [sys.executable, "-m", "poinsot.app.cli", *args],
         cwd=cwd,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -107,8 +107,8 @@ def test_force_never_replaces_a_users_file_of_the_same_name(tmp_path):
     (out / "trajectory.csv").write_text("the user's own table")
     path.write_text(path.read_text().replace("data = false", "data = true"))
     with pytest.raises(OutputError, match=r"trajectory\.csv exists and poinsot did not write it"):
-        from poinsot.job import run_scenario
-        from poinsot.scenario import load_scenario
+        from poinsot.app.job import run_scenario
+        from poinsot.app.scenario import load_scenario
 
         run_scenario(load_scenario(path), out, force=True)
     assert (out / "trajectory.csv").read_text() == "the user's own table"
@@ -175,12 +175,12 @@ def test_disk_without_room_is_refused_before_the_work(tmp_path):
 
 
 def test_disk_that_fills_while_writing(tmp_path, monkeypatch, capsys):
-    import poinsot.job
+    import poinsot.app.job
 
     def full(*args, **kwargs):
         raise OSError(errno.ENOSPC, "No space left on device", str(tmp_path / "x"))
 
-    monkeypatch.setattr(poinsot.job, "atomic_write_text", full)
+    monkeypatch.setattr(poinsot.app.job, "atomic_write_text", full)
     assert main(["run", str(_scenario(tmp_path)), "--out", str(tmp_path / "o")]) == 1
     assert "disk is full" in capsys.readouterr().err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
@@ -240,21 +240,21 @@ def test_sigterm_is_handled_like_sigint(tmp_path):
 
 
 def test_polhodes_writes_its_folder_atomically(tmp_path, monkeypatch):
-    import poinsot.cli
+    import poinsot.app.cli
 
     calls = {"n": 0}
-    real = poinsot.cli._write_polhodes
+    real = poinsot.app.cli._write_polhodes
 
     def interrupted(out, *args):
         (out / "polhodes.png").write_bytes(b"half")  # some files written, then Ctrl-C
         calls["n"] += 1
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(poinsot.cli, "_write_polhodes", interrupted)
+    monkeypatch.setattr(poinsot.app.cli, "_write_polhodes", interrupted)
     moments = ["polhodes", "--moments", "1", "2", "3", "--out", str(tmp_path / "p")]
     assert main([*moments, "--quiet"]) == 130
     assert calls["n"] == 1 and list(tmp_path.iterdir()) == []
-    monkeypatch.setattr(poinsot.cli, "_write_polhodes", real)
+    monkeypatch.setattr(poinsot.app.cli, "_write_polhodes", real)
     assert main([*moments, "--quiet"]) == 0
     assert MANIFEST in {p.name for p in (tmp_path / "p").iterdir()}
     assert main([*moments, "--quiet"]) == 2  # exists, no --force
@@ -263,7 +263,7 @@ def test_polhodes_writes_its_folder_atomically(tmp_path, monkeypatch):
 
 def test_json_into_a_closed_pipe(tmp_path):
     path = _scenario(tmp_path)
-    shell = f"{sys.executable} -m poinsot.cli run {path} --out {tmp_path / 'o'} --json | true"
+    shell = f"{sys.executable} -m poinsot.app.cli run {path} --out {tmp_path / 'o'} --json | true"
     res = subprocess.run(["bash", "-c", f"set -o pipefail; {shell}"], capture_output=True,
                          text=True, timeout=300)  # fmt: skip
     assert "Traceback" not in res.stderr and "BrokenPipe" not in res.stderr, res.stderr

@@ -11,7 +11,7 @@ from sympy.physics.mechanics import dynamicsymbols
 
 from poinsot import models
 from poinsot.lagrange import LagrangianSystem
-from poinsot.plotting.lagrange import lagrangian_panels, plot_mechanism_frames
+from poinsot.viz.lagrange import lagrangian_panels, plot_mechanism_frames
 
 matplotlib.use("Agg")
 

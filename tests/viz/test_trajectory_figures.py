@@ -8,15 +8,15 @@ import numpy as np
 import pytest
 
 from poinsot import Gravity, LinearDrag, RigidBody, simulate
+from poinsot.app.scenario import load_example
 from poinsot.conservation import invariants_of
-from poinsot.plotting import (
+from poinsot.torquefree import FreeRigidBody
+from poinsot.viz import (
     plot_attitude_frames,
     plot_center_of_mass_path,
     plot_conservation,
     plot_method_comparison,
 )
-from poinsot.scenario import load_example
-from poinsot.torquefree import FreeRigidBody
 
 matplotlib.use("Agg")
 

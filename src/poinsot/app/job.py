@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._io import OutputError, OutputExistsError, OutputFolder, atomic_path, atomic_write_text
+from .._io import OutputError, OutputExistsError, OutputFolder, atomic_path, atomic_write_text
 
 __all__ = ["OutputError", "OutputExistsError", "run_scenario", "summarize"]
 
@@ -29,7 +29,7 @@ def estimated_output_bytes(scenario) -> int:
 
 def _torque_free(scenario):
     """The torque-free analysis of the body, or ``None`` when it does not apply."""
-    from .torquefree import FreeRigidBody
+    from ..torquefree import FreeRigidBody
 
     if not scenario.analysis.get("polhodes", True) or scenario.body.is_degenerate:
         return None
@@ -41,7 +41,7 @@ def _torque_free(scenario):
 def _within_range(free, scenario, traj):
     """``free``, or None (with a warning) when the run's energy puts its polhodes outside the
     double range (moments near 1e300): the torque-free figures are then left out."""
-    from .kernels.rigid import rotational_energy
+    from ..kernels.rigid import rotational_energy
 
     k = float(rotational_energy(scenario.body.inertia, np.ascontiguousarray(traj.omega[0])))
     try:
@@ -50,7 +50,7 @@ def _within_range(free, scenario, traj):
     except ValueError as exc:
         import warnings
 
-        from ._io import PoinsotWarning
+        from .._io import PoinsotWarning
 
         warnings.warn(f"torque-free analysis and polhodes left out: {exc}", PoinsotWarning,
                       stacklevel=3)  # fmt: skip
@@ -60,7 +60,7 @@ def _within_range(free, scenario, traj):
 
 def summarize(scenario, traj, free=None) -> dict:
     """The numbers of a run, JSON-ready: body, invariants, torque-free analysis, diagnostics."""
-    from .kernels.rigid import angular_momentum_body, rotational_energy
+    from ..kernels.rigid import angular_momentum_body, rotational_energy
 
     body = scenario.body
     w0 = np.ascontiguousarray(traj.omega[0])
@@ -88,7 +88,7 @@ def summarize(scenario, traj, free=None) -> dict:
     }
     if free is not None and k0 > 0:
         analysis = free.describe(w0)
-        from .forces import Gravity
+        from ..forces import Gravity
 
         if all(isinstance(f, Gravity) for f in scenario.forces):  # no torque about the c.o.m.
             analysis["exact_solution_error"] = free.trajectory_error(traj)
@@ -245,7 +245,7 @@ def _write_lagrangian(work: Path, scenario, sol, summary, report, plotlyjs="inli
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        from .plotting.lagrange import plot_lagrangian_solution, plot_mechanism_frames
+        from ..viz.lagrange import plot_lagrangian_solution, plot_mechanism_frames
 
         for fig, name in (
             (plot_lagrangian_solution(sol, model=model, title=model.description), "solution.png"),
@@ -255,7 +255,7 @@ def _write_lagrangian(work: Path, scenario, sol, summary, report, plotlyjs="inli
                 fig.savefig(tmp, dpi=110, format="png")
             plt.close(fig)
     if report and scenario.outputs.get("report", True):
-        from .report import write_lagrangian_report
+        from ..viz.report import write_lagrangian_report
 
         write_lagrangian_report(work / "report.html", sol, summary, model=model,
                                 plotlyjs=plotlyjs)  # fmt: skip
@@ -267,8 +267,8 @@ def _figures(folder: Path, scenario, traj, free, comparison=None):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ._core import equivalent_box_half_extents
-    from .plotting import (
+    from .._core import equivalent_box_half_extents
+    from ..viz import (
         plot_attitude_frames,
         plot_center_of_mass_path,
         plot_conservation,
@@ -283,7 +283,7 @@ def _figures(folder: Path, scenario, traj, free, comparison=None):
 
     save(plot_omega_series(traj), "omega.png")
     if comparison is not None:
-        from .plotting import plot_method_comparison
+        from ..viz import plot_method_comparison
 
         save(
             plot_method_comparison(
@@ -301,7 +301,7 @@ def _figures(folder: Path, scenario, traj, free, comparison=None):
     half = np.maximum(half, 1e-3 * half.max())  # a flat body is drawn as a thin box
     save(plot_attitude_frames(QE, traj.t, half_extents=half), "body.png")
     if free is not None:
-        from .kernels.rigid import rotational_energy
+        from ..kernels.rigid import rotational_energy
 
         energy = scenario.analysis.get("energy")
         k_traj = float(
@@ -334,11 +334,11 @@ def compare_methods(scenario, traj, free):
 
     Returns ``(errors, table)`` or None when the comparison does not apply (no exact solution:
     a torque about the centre of mass; or an adaptive step, which has no step to share).
-    ``errors``: ``label → per-sample arrays`` for :func:`~poinsot.plotting.plot_method_comparison`
+    ``errors``: ``label → per-sample arrays`` for :func:`~poinsot.viz.plot_method_comparison`
     (the exact solution's own distance from SO(3) included); ``table``: the maxima, JSON-ready.
     """
-    from .forces import Gravity
-    from .kernels.rigid import orthogonality_error
+    from ..forces import Gravity
+    from ..kernels.rigid import orthogonality_error
 
     if free is None or scenario.dt is None or not np.any(traj.omega[0]):
         return None
@@ -396,7 +396,7 @@ def run_scenario(
     :class:`OutputError` if ``out`` cannot or may not be written (both checked before any
     work; see :class:`~poinsot._io.OutputFolder`), and
     :class:`~poinsot.simulation.SimulationError` on a numerical failure. ``plotlyjs``: how the
-    report gets plotly.js (:data:`poinsot.report.PLOTLYJS_MODES`).
+    report gets plotly.js (:data:`poinsot.viz.report.PLOTLYJS_MODES`).
     """
     folder = OutputFolder(
         out, force=force, command="run", needs_bytes=estimated_output_bytes(scenario)
@@ -438,7 +438,7 @@ def run_scenario(
         if not lagrangian and scenario.outputs.get("figures", True):
             _figures(work, scenario, traj, free, comparison)
         if not lagrangian and report and scenario.outputs.get("report", True):
-            from .report import write_report
+            from ..viz.report import write_report
 
             write_report(
                 work / "report.html",
@@ -455,9 +455,9 @@ def run_scenario(
 
 
 def _add_units(summary: dict) -> None:
-    """``summary["units"]``: the unit of every number, by key path (:mod:`poinsot.numbers`),
+    """``summary["units"]``: the unit of every number, by key path (:mod:`poinsot.viz.numbers`),
     plus the per-quantity units the summary already carries."""
-    from .numbers import units_of
+    from ..viz.numbers import units_of
 
     summary["units"] = {**summary.get("units", {}), **units_of(summary)}
 
@@ -502,7 +502,7 @@ def summarize_ensemble(scenario, res, free=None) -> dict:
 
 
 def _describe(values):
-    from .ensemble.result import _describe as describe
+    from ..ensemble.result import _describe as describe
 
     return describe(values)
 
@@ -511,7 +511,7 @@ def _ensemble_free_body(scenario):
     """The torque-free body whose exact flip intervals grade the ensemble, or None."""
     if scenario.forces or scenario.pivot is not None or scenario.body.is_degenerate:
         return None
-    from .torquefree import FreeRigidBody
+    from ..torquefree import FreeRigidBody
 
     free = FreeRigidBody.from_body(scenario.body)
     return free if free.symmetry == "asymmetric" else None
@@ -531,7 +531,7 @@ def _run_ensemble(scenario, folder: OutputFolder, *, report=True) -> dict:
         if scenario.outputs.get("figures", True) or (report and scenario.outputs.get("report")):
             images = _ensemble_figures(work, scenario, res, free)
         if report and scenario.outputs.get("report", True):
-            from .report import write_ensemble_report
+            from ..viz.report import write_ensemble_report
 
             write_ensemble_report(work / "report.html", summary, images)
         summary["timings"] = {"simulation_s": sim_time, "total_s": time.perf_counter() - start}
@@ -563,7 +563,7 @@ def _ensemble_figures(folder: Path, scenario, res, free) -> dict:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .plotting.ensemble import plot_ensemble_histograms, plot_flip_intervals
+    from ..viz.ensemble import plot_ensemble_histograms, plot_flip_intervals
 
     images = {}
 
@@ -588,7 +588,7 @@ def _ensemble_figures(folder: Path, scenario, res, free) -> dict:
 def summarize_relative(scenario, sol) -> dict:
     """The numbers of a motion relative to ``[carrier]``, JSON-ready, with a ``table`` of
     ``name → (value, unit, meaning)`` for the report and the terminal."""
-    from .relative import planar_principal_moments
+    from ..relative import planar_principal_moments
 
     c = scenario.carrier
     body = scenario.body
@@ -725,7 +725,7 @@ def _run_relative(scenario, folder: OutputFolder, *, progress=None, report=True)
             matplotlib.use("Agg")
             import matplotlib.pyplot as plt
 
-            from .plotting.relative import plot_hodograph, plot_relative_motion
+            from ..viz.relative import plot_hodograph, plot_relative_motion
 
             figures = [
                 (
@@ -753,7 +753,7 @@ def _run_relative(scenario, folder: OutputFolder, *, progress=None, report=True)
                         Path(tmp).write_bytes(buf.getvalue())
                 images[caption] = buf.getvalue()
         if report and scenario.outputs.get("report", True):
-            from .report import write_relative_report
+            from ..viz.report import write_relative_report
 
             write_relative_report(work / "report.html", summary, images)
         summary["timings"] = {"simulation_s": sim_time, "total_s": time.perf_counter() - start}

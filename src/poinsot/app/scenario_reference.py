@@ -1,6 +1,6 @@
 """The scenario file reference, generated from the validator itself.
 
-The validator in :mod:`poinsot.scenario` declares every key where it reads it (its table, the
+The validator in :mod:`poinsot.app.scenario` declares every key where it reads it (its table, the
 ``type`` it belongs to, the kind of value, the default, the allowed values). This module turns
 on its recorder, loads the bundled examples and a set of probe scenarios that between them
 take every branch of the validator (every body type, force, carrier rotation, ensemble
@@ -174,7 +174,7 @@ def _requirement(reads, always, missing) -> str:
 def _models_section() -> list[str]:
     """``[model]``'s names, parameters and coordinates, from :mod:`poinsot.models` (where the
     validator takes them)."""
-    from . import models
+    from .. import models
 
     lines = ["## `model.params`, `model.q0`, `model.qd0`", "",
              "The keys are the model's own parameter and coordinate names (any subset; the rest "
@@ -200,7 +200,7 @@ def render_reference() -> str:
     lines = [
         "# Scenario file reference",
         "",
-        "Generated from the validator by `poinsot.scenario_reference` (print it with",
+        "Generated from the validator by `poinsot.app.scenario_reference` (print it with",
         "`poinsot examples --reference`); `tests/test_scenario_reference.py` checks that this",
         "file is its current output. How to write a scenario is in",
         "[`docs/scenarios.md`](scenarios.md); `poinsot examples --show NAME` prints a bundled",

@@ -20,7 +20,7 @@ import sys
 import time
 from pathlib import Path
 
-from . import __version__
+from .. import __version__
 
 __all__ = ["main"]
 
@@ -67,7 +67,7 @@ def _say(args, *text):
 
 
 def _cmd_run(args):
-    from ._io import safe_name
+    from .._io import safe_name
     from .job import run_scenario
     from .scenario import load_example, load_scenario
 
@@ -246,7 +246,7 @@ def _cmd_inertia(args):
             except ScenarioError as exc:
                 raise ScenarioError(f"{path}: {exc}") from None
     else:
-        from .bodies import RigidBody
+        from ..bodies import RigidBody
 
         try:
             body = RigidBody.from_mesh(path, mass=args.mass, density=args.density)
@@ -276,7 +276,7 @@ def _cmd_polhodes(args):
 
     import numpy as np
 
-    from .torquefree import FreeRigidBody
+    from ..torquefree import FreeRigidBody
 
     try:
         free = FreeRigidBody(args.moments)
@@ -309,7 +309,7 @@ def _cmd_polhodes(args):
         free.check_energy_range(energy)
     except ValueError as exc:
         raise _BadInput(f"--energy: {exc}") from None
-    from ._io import OutputFolder
+    from .._io import OutputFolder
 
     out = _output_folder(args, "polhodes")
     folder = OutputFolder(out, force=args.force, command="polhodes", needs_bytes=12_000_000)
@@ -338,8 +338,8 @@ def _write_polhodes(out: Path, args, free, energy, result):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ._io import atomic_path, atomic_write_text
-    from .plotting import plot_energy_ellipsoid, plot_polhode_family
+    from .._io import atomic_path, atomic_write_text
+    from ..viz import plot_energy_ellipsoid, plot_polhode_family
 
     fig = plot_polhode_family(free, energy)
     if args.omega0 is not None:  # ω0 fixes the energy: its ω(t) lies on this very ellipsoid
@@ -363,8 +363,8 @@ def _write_polhodes(out: Path, args, free, energy, result):
             fig.savefig(tmp, dpi=110, format="png")
         plt.close(fig)
     try:  # one interactive page with both figures and the numbers, when plotly is installed
-        from .plotting.interactive import energy_ellipsoid_figure, polhode_family_figure
-        from .report import write_figures_page
+        from ..viz.interactive import energy_ellipsoid_figure, polhode_family_figure
+        from ..viz.report import write_figures_page
     except ImportError:  # pragma: no cover - depends on the environment
         pass
     else:
@@ -374,7 +374,7 @@ def _write_polhodes(out: Path, args, free, energy, result):
         about = "Torque-free analysis: fixed points, invariants and the energy ellipsoid"
         page = {**result, "scenario": {"name": "polhodes", "description": about}}
         write_figures_page(out / "report.html", figures, page, plotlyjs=args.plotly_js)
-    from .numbers import units_of
+    from ..viz.numbers import units_of
 
     result["units"] = units_of(result)
     atomic_write_text(out / "polhodes.json", json.dumps(result, indent=2))
@@ -532,9 +532,9 @@ def main(argv=None) -> int:
 
 
 def _dispatch(args) -> int:
-    from ._io import OutputError, is_disk_full
+    from .._io import OutputError, is_disk_full
+    from ..simulation import SimulationError
     from .scenario import ScenarioError
-    from .simulation import SimulationError
 
     try:
         code = args.func(args)

@@ -4,7 +4,7 @@ Everything is validated before anything runs. An error names the key path, what 
 and what was found — ``body.particles[3].mass: expected a positive number, found -1`` — and an
 unknown key is refused with the nearest valid key suggested. Units are SI. The reference of
 every key and its default is ``docs/scenarios.md``; bundled examples live in
-``poinsot/scenarios/``.
+``poinsot/app/scenarios/``.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ class ScenarioError(ValueError):
 
 #: While not None, every key the validator reads is appended here as
 #: ``(table path, variant, key, kind, default, choices)``: the scenario schema, recorded from
-#: the validator itself (:mod:`poinsot.scenario_reference` renders it).
+#: the validator itself (:mod:`poinsot.app.scenario_reference` renders it).
 _SCHEMA_RECORDER: list | None = None
 
 
@@ -219,7 +219,7 @@ def _orientation(t: _Table):
         seq = e.get("seq", "string", "ZXZ")
         degrees = e.get("degrees", "bool", False)
         e.finish()
-        from .rotation import EULER_SEQUENCES, matrix_from_euler
+        from ..rotation import EULER_SEQUENCES, matrix_from_euler
 
         if seq not in EULER_SEQUENCES:
             raise ScenarioError(
@@ -230,7 +230,7 @@ def _orientation(t: _Table):
         q = _convert(value, "vector4", where)
     else:
         q = _convert(value, "matrix3", where)
-    from ._validation import as_rotation_matrix
+    from .._validation import as_rotation_matrix
 
     try:
         return as_rotation_matrix(q, "orientation")
@@ -248,7 +248,7 @@ MAX_LEVELS = 200
 def build_body(t: _Table, base_dir: Path, part: bool = False):
     """The :class:`~poinsot.bodies.RigidBody` described by a ``[body]`` table (``part``: one of
     ``[[body.parts]]``, where a pivot has no meaning)."""
-    from .bodies import RigidBody
+    from ..bodies import RigidBody
 
     kind = t.get(
         "type", "string", "particles" if t.has("particles") else _MISSING, choices=BODY_TYPES
@@ -346,7 +346,7 @@ FORCE_TYPES = (
 
 def build_force(t: _Table):
     """One force from a ``[[forces]]`` table."""
-    from . import forces as F
+    from .. import forces as F
 
     kind = t.get("type", "string", choices=FORCE_TYPES)
     try:
@@ -424,7 +424,7 @@ class Scenario:
     def ensemble_omegas(self) -> np.ndarray:
         """The ensemble's initial angular velocities (members, 3), drawn as ``[ensemble]``
         states (body frame)."""
-        from .ensemble import sampling
+        from ..ensemble import sampling
 
         e = self.ensemble
         if e["distribution"] == "sphere":
@@ -434,7 +434,7 @@ class Scenario:
     def simulate_ensemble(self, progress=None):
         """Run the ensemble of ``[ensemble]``: an :class:`~poinsot.ensemble.EnsembleResult`
         sampled at the scenario's times (final states only with ``keep_states = false``)."""
-        from .ensemble import simulate_ensemble
+        from ..ensemble import simulate_ensemble
 
         e = self.ensemble
         initial = {k: v for k, v in self.initial.items() if k in ("Q0", "R0", "V0")}
@@ -462,7 +462,7 @@ class Scenario:
         scenario's integrator (same step or tolerances), to compare methods on one problem."""
         if self.carrier is not None:
             return self.simulate_relative(progress)
-        from .simulation import simulate
+        from ..simulation import simulate
 
         return simulate(
             self.body,
@@ -482,7 +482,7 @@ class Scenario:
         """Run the motion relative to ``[carrier]``: the initial state is relative to the
         carrier (``omega`` = ω_r, body frame; ``orientation`` = Q_r; ``position``, ``velocity``
         relative to the carrier's origin)."""
-        from .relative import simulate_relative
+        from ..relative import simulate_relative
 
         c = self.carrier
         i = self.initial
@@ -519,7 +519,7 @@ def _expressions(t: _Table, key):
 def _carrier(ct: _Table, initial: dict, pivot) -> dict:
     """``[carrier]``: the carrier's rotation (``omega_e`` or ``euler_angles``, numbers or
     expressions in t), ``origin_acceleration``, ``balance_transport``, ``hold_com``."""
-    from .relative import Carrier
+    from ..relative import Carrier
 
     given = [k for k in CARRIER_ROTATIONS if ct.has(k)]
     if len(given) != 1:
@@ -696,7 +696,7 @@ def _outputs(root: _Table):
 
 
 def _parse_model(root: _Table, name: str, description: str, source: str) -> LagrangianScenario:
-    from . import models
+    from .. import models
 
     mt = root.table("model")
     model_name = mt.get("name", "string", choices=tuple(models.MODELS))
@@ -733,7 +733,7 @@ def _parse_model(root: _Table, name: str, description: str, source: str) -> Lagr
         source,
     )
     try:  # consistency of the initial conditions, before anything runs
-        from .lagrange.numeric import _keyed, _numeric, consistent_initial_state
+        from ..lagrange.numeric import _keyed, _numeric, consistent_initial_state
 
         system = model.system
         num = _numeric(system, params)
@@ -823,7 +823,7 @@ MAX_MEMBERS = 10**8
 
 def _ensemble(et: _Table, initial: dict) -> dict:
     """``[ensemble]``: how many members, their distribution of initial spins, the seed."""
-    from .ensemble.sampling import DISTRIBUTIONS
+    from ..ensemble.sampling import DISTRIBUTIONS
 
     if "particle_velocities" in initial or initial.get("omega_frame", "body") != "body":
         raise ScenarioError(
@@ -865,7 +865,7 @@ def _check_physics(s: Scenario):
     """Refuse what cannot run: infeasible torque-free invariants, a bad initial state."""
     energy, momentum = s.analysis["energy"], s.analysis["momentum"]
     if energy is not None and not s.body.is_degenerate:
-        from .torquefree import FreeRigidBody
+        from ..torquefree import FreeRigidBody
 
         try:
             FreeRigidBody.from_body(s.body).check_energy_range(energy)
@@ -874,16 +874,16 @@ def _check_physics(s: Scenario):
     if momentum is not None:
         if energy is None:
             raise ScenarioError("analysis.momentum: needs analysis.energy as well")
-        from .torquefree import FreeRigidBody
+        from ..torquefree import FreeRigidBody
 
         try:
             FreeRigidBody.from_body(s.body).check_feasible(energy, momentum)
         except ValueError as exc:
             raise ScenarioError(f"analysis.momentum: {exc}") from None
-    from .dynamics import RigidBodySystem
-    from .integrate.base import get_solver
-    from .integrate.driver import check_solver_fits
-    from .simulation import ForceUndefinedError, _check_forces_at_start, initial_velocities
+    from ..dynamics import RigidBodySystem
+    from ..integrate.base import get_solver
+    from ..integrate.driver import check_solver_fits
+    from ..simulation import ForceUndefinedError, _check_forces_at_start, initial_velocities
 
     try:
         system = RigidBodySystem(s.body, s.forces, s.pivot)
@@ -968,7 +968,7 @@ def _decode(raw: bytes, label: str) -> str:
 
 # --------------------------------------------------------------------------- examples
 def _example_files():
-    return resources.files("poinsot") / "scenarios"
+    return resources.files("poinsot.app") / "scenarios"
 
 
 def list_examples() -> dict[str, str]:

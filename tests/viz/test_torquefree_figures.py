@@ -8,14 +8,14 @@ import matplotlib
 import numpy as np
 import pytest
 
-from poinsot.plotting import (
+from poinsot.torquefree import FreeRigidBody
+from poinsot.viz import (
     animate_tumbling,
     plot_attitude_frames,
     plot_energy_ellipsoid,
     plot_omega,
     plot_polhode_family,
 )
-from poinsot.torquefree import FreeRigidBody
 
 matplotlib.use("Agg")
 BODY = FreeRigidBody((25 / 3, 50 / 3, 65 / 3))
@@ -101,7 +101,7 @@ def test_omega_and_frames_and_animation(tmp_path):
 
 def test_interactive_figures_data():
     pytest.importorskip("plotly")
-    from poinsot.plotting.interactive import energy_ellipsoid_figure, polhode_family_figure
+    from poinsot.viz.interactive import energy_ellipsoid_figure, polhode_family_figure
 
     fig = polhode_family_figure(BODY, 0.5, levels=5, omega=np.zeros((2, 3)))
     I = BODY.principal_moments

@@ -3,7 +3,7 @@
 One page, plotly.js inlined by default (opens with no network; see :data:`PLOTLYJS_MODES` for
 the smaller choices): the body tumbling in 3D (animated), ω on the energy ellipsoid with the
 polhode family, the time series, and the numbers, grouped, named and with units
-(:mod:`poinsot.numbers`).
+(:mod:`poinsot.viz.numbers`).
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import json
 
 import numpy as np
 
-from ._io import atomic_write_text
+from .._io import atomic_write_text
 
 __all__ = [
     "PLOTLYJS_MODES",
@@ -39,7 +39,7 @@ def _plotly():
 def equivalent_box_half_extents(body) -> np.ndarray:
     """Half extents (along e1, e2, e3) of the uniform box with the body's mass and principal
     moments (``equivalent_box_half_extents`` of ``crates/core/src/shapes.rs``)."""
-    from ._core import equivalent_box_half_extents as half_extents
+    from .._core import equivalent_box_half_extents as half_extents
 
     return half_extents(np.asarray(body.principal_moments), float(body.mass))
 
@@ -198,8 +198,8 @@ def _animation_controls(frames, times) -> dict:
 
 def _polhode_figure(traj, go, free, levels):
     """The run's own ω(t), unscaled, on its own energy ellipsoid with the polhodes there."""
-    from .kernels.rigid import rotational_energy
-    from .plotting.interactive import polhode_family_figure
+    from ..kernels.rigid import rotational_energy
+    from .interactive import polhode_family_figure
 
     w = traj.omega
     k = float(rotational_energy(traj.body.inertia, np.ascontiguousarray(w[0])))
@@ -264,10 +264,10 @@ def _legend_per_subplot(fig) -> None:
 
 
 def _comparison_figure(t, errors, go):
-    """The plotly twin of :func:`poinsot.plotting.plot_method_comparison`."""
+    """The plotly twin of :func:`poinsot.viz.plot_method_comparison`."""
     from plotly.subplots import make_subplots
 
-    from .plotting.trajectory import COMPARISON_PANELS
+    from .trajectory import COMPARISON_PANELS
 
     fig = make_subplots(rows=1, cols=3, subplot_titles=[p[1] for p in COMPARISON_PANELS])
     tiny = 1e-17
@@ -293,7 +293,7 @@ def write_report(
     path, traj, summary: dict, *, free=None, levels=7, comparison=None, plotlyjs="inline"
 ) -> None:
     """Write the interactive report for ``traj`` to ``path`` (atomically); ``comparison``:
-    the per-sample errors of :func:`poinsot.job.compare_methods`, drawn second; ``plotlyjs``:
+    the per-sample errors of :func:`poinsot.app.job.compare_methods`, drawn second; ``plotlyjs``:
     one of :data:`PLOTLYJS_MODES`."""
     go, pio = _plotly()
     figures = [_body_figure(traj, go)]
@@ -365,7 +365,7 @@ def _mechanism_figure(model, sol, go):
 
 
 def _panels_figure(panels, go, title=None):
-    """Plotly subplots of :func:`poinsot.plotting.lagrange.lagrangian_panels`, two per row,
+    """Plotly subplots of :func:`poinsot.viz.lagrange.lagrangian_panels`, two per row,
     each with its own legend."""
     from plotly.subplots import make_subplots
 
@@ -388,7 +388,7 @@ def write_lagrangian_report(path, sol, summary: dict, *, model=None, plotlyjs="i
     :class:`~poinsot.models.Model`), the coordinates by unit, the reactions as named forces,
     the residuals, what the system conserves, and the numbers."""
     go, pio = _plotly()
-    from .plotting.lagrange import lagrangian_panels
+    from .lagrange import lagrangian_panels
 
     figures = []
     if model is not None and model.points:

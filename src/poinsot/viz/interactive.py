@@ -1,6 +1,6 @@
 """Interactive (plotly) figures of the torque-free body; needs the ``report`` extra.
 
-The same constructions as :mod:`poinsot.plotting.torquefree`, as ``plotly.graph_objects.Figure``
+The same constructions as :mod:`poinsot.viz.torquefree`, as ``plotly.graph_objects.Figure``
 objects: rotate them in a browser, or ``fig.write_html(path)``.
 """
 

@@ -9,10 +9,10 @@ import pytest
 go = pytest.importorskip("plotly.graph_objects")
 
 from poinsot import models  # noqa: E402
-from poinsot.plotting.lagrange import lagrangian_panels  # noqa: E402
-from poinsot.report import _panels_figure, _polhode_figure, _series_figure  # noqa: E402
-from poinsot.scenario import load_example  # noqa: E402
+from poinsot.app.scenario import load_example  # noqa: E402
 from poinsot.torquefree import FreeRigidBody  # noqa: E402
+from poinsot.viz.lagrange import lagrangian_panels  # noqa: E402
+from poinsot.viz.report import _panels_figure, _polhode_figure, _series_figure  # noqa: E402
 
 
 def _legends(fig):
@@ -47,7 +47,7 @@ def test_lagrangian_panels_one_legend_each():
 
 
 def test_report_pages_use_powers_of_ten(tmp_path, notebook):
-    from poinsot.report import write_report
+    from poinsot.viz.report import write_report
 
     summary = {"scenario": {"name": "t", "description": ""}}
     write_report(tmp_path / "r.html", notebook, summary, plotlyjs="cdn")

@@ -1,0 +1,10 @@
+"""The application: scenario files, running a scenario end to end, the command line.
+
+* :mod:`poinsot.app.scenario` reads and checks a scenario file (``docs/scenarios.md``) into a
+  scenario object; :mod:`poinsot.app.scenario_reference` renders every key it accepts;
+* :mod:`poinsot.app.job` runs a scenario into an output folder, atomically;
+* :mod:`poinsot.app.cli` is the ``poinsot`` command (``python -m poinsot``).
+
+The application sits on top: it imports the presentation (:mod:`poinsot.viz`) and the library;
+neither imports it (the ``layers`` contract in ``pyproject.toml``).
+"""
