@@ -69,6 +69,7 @@ def _say(args, *text):
 def _cmd_run(args):
     from .._io import safe_name
     from .job import run_scenario
+    from .runs import run_for
     from .scenario import load_example, load_scenario
 
     if args.scenario and args.example:
@@ -88,105 +89,9 @@ def _cmd_run(args):
         progress.close()
     if args.json:
         print(json.dumps(summary, indent=2))
-    elif "ensemble" in summary:
-        e = summary["ensemble"]
-        _say(
-            args,
-            f"  {e['members']} members ({summary['distribution']['description']}), "
-            f"{e['method']}: {e['succeeded']} finished in {e['wall_time_s']:.3g} s",
-        )
-        stats = e["statistics"]
-        if stats.get("first_flip", {}).get("count"):
-            f = stats["first_flip"]
-            spread = f"5–95 %: {f['p05']:.4g}–{f['p95']:.4g} s"
-            flipped = f["members_with_a_flip"]
-            _say(args, f"  first flip: median {f['median']:.4g} s ({spread}), {flipped} flipped")
-        if "flips_against_exact" in summary:
-            r = summary["flips_against_exact"]["relative_error"]
-            if r.get("count"):
-                rel = f"median relative error {r['median']:.2e}, max {r['max']:.2e}"
-                _say(args, f"  flip interval against the exact 2K(m)/λ: {rel}")
-        _say(args, f"  wrote {out}/ (summary.json, ensemble.nc, histograms, report.html)")
-    elif "carrier" in summary:  # motion relative to a carrier
-        _say(args, f"  carrier: {summary['carrier']['description']}")
-        for name, (value, unit, _) in summary["table"].items():
-            shown = f"{value:.6g}" if isinstance(value, float) else str(value)
-            _say(args, f"  {name}: {shown} {unit}".rstrip())
-        _say(args, f"  wrote {out}/ (summary.json, relative.csv, figures, report.html)")
-    elif "system" in summary:  # a constrained (Lagrangian) model
-        i = summary["integration"]
-        _say(
-            args,
-            f"  coordinates {', '.join(summary['system']['coordinates'])}; "
-            f"{len(summary['system']['holonomic_constraints'])} holonomic and "
-            f"{len(summary['system']['nonholonomic_constraints'])} non-holonomic "
-            "constraints",
-        )
-        _say(
-            args,
-            f"  integrated t ∈ [{scenario.t_span[0]:g}, {scenario.t_span[1]:g}] s with "
-            f"{i['method']} (stabilization {i['stabilization']}): max |g| "
-            f"{i['max_constraint_residual']:.2e}, max |G q̇ + b| {i['max_velocity_residual']:.2e}",
-        )
-        kept = [(v["symbol"], v["max_relative_change"]) for v in summary["conserved"].values()]
-        if kept:
-            changes = ", ".join(f"{sym} {c:.2e}" for sym, c in kept)
-            _say(args, f"  conserved by this system, largest relative change: {changes}")
-        for name, v in summary["reactions"].items():
-            _say(args, f"  {name}: {v['min']:.6g} … {v['max']:.6g} {v['unit']}")
-        for r in summary.get("releases", []):
-            _say(args, f"  released at t = {r['t']:.10g} s: {r['constraint']} ≥ 0 let go")
-        _say(args, f"  wrote {out}/ (summary.json, solution.npz/.csv, solution.png, "
-                   "mechanism.png, report.html)")  # fmt: skip
     else:
-        i = summary["integration"]
-        d = i["diagnostics"]
-        _say(
-            args,
-            f"  body: mass {summary['body']['mass']:.6g} kg, principal moments "
-            + ", ".join(f"{x:.6g}" for x in summary["body"]["principal_moments"])
-            + " kg·m²",
-        )
-        step = f"dt = {scenario.dt:g} s, " if scenario.dt is not None else ""
-        _say(
-            args,
-            f"  integrated t ∈ [{scenario.t_span[0]:g}, {scenario.t_span[1]:g}] s with "
-            f"{i['method']} ({step}{i['nsteps']} steps); max |QᵀQ − I| "
-            f"{d['orthogonality_error']:.2e}",
-        )
-        kept = [
-            (v["symbol"], v["max_relative_change"])
-            for v in d["invariants"].values()
-            if v["expected_conserved"]
-        ]
-        if kept:
-            changes = ", ".join(f"{s} {c:.2e}" for s, c in kept)
-            _say(args, f"  conserved by this problem, largest relative change: {changes}")
-        else:
-            _say(args, "  nothing is conserved by this problem (its forces do work)")
-        if "torque_free" in summary:
-            tf = summary["torque_free"]
-            _say(args, f"  torque-free motion: polhode family {tf['family']!r}")
-            if "exact_solution_error" in tf:
-                e = tf["exact_solution_error"]
-                _say(
-                    args,
-                    f"  against the exact solution: max |ω − ω_exact| {e['omega']:.2e} "
-                    f"rad/s, max |Q − Q_exact| {e['attitude']:.2e}",
-                )
-        if "method_comparison" in summary:
-            other = {
-                m: v
-                for m, v in summary["method_comparison"].items()
-                if m not in ("exact", i["method"])
-            }
-            for m, v in other.items():
-                _say(
-                    args,
-                    f"  {m} at the same step: max |QᵀQ − I| {v['orthogonality']:.2e}, "
-                    f"max |Q − Q_exact| {v['attitude']:.2e} (methods.png)",
-                )
-        _say(args, f"  wrote {out}/ (summary.json, trajectory.npz/.csv, figures, report.html)")
+        for line in run_for(scenario).terminal_lines(summary, out):
+            _say(args, line)
     return EXIT_OK
 
 

@@ -457,11 +457,9 @@ class Scenario:
         )
 
     def simulate(self, progress=None, *, method=None):
-        """Run the simulation: a :class:`~poinsot.trajectory.Trajectory`, or with
-        ``[carrier]`` a :class:`~poinsot.relative.RelativeTrajectory`. ``method`` replaces the
-        scenario's integrator (same step or tolerances), to compare methods on one problem."""
-        if self.carrier is not None:
-            return self.simulate_relative(progress)
+        """Run the simulation: a :class:`~poinsot.trajectory.Trajectory`. ``method`` replaces
+        the scenario's integrator (same step or tolerances), to compare methods on one
+        problem."""
         from ..simulation import simulate
 
         return simulate(
@@ -504,6 +502,22 @@ class Scenario:
             t_eval=self.t_eval,
             progress=progress,
         )
+
+
+class EnsembleScenario(Scenario):
+    """A scenario with ``[ensemble]``: many initial spins of one body
+    (:meth:`simulate_ensemble`)."""
+
+
+class RelativeScenario(Scenario):
+    """A scenario with ``[carrier]``: the body's motion relative to a moving frame."""
+
+    def simulate(self, progress=None, *, method=None):
+        """Run the motion relative to ``[carrier]``: a
+        :class:`~poinsot.relative.RelativeTrajectory` (:meth:`simulate_relative`; it runs with
+        the scenario's own integrator, ``method`` is not used)."""
+        del method
+        return self.simulate_relative(progress)
 
 
 #: The ways ``[carrier]`` may give the carrier's rotation (``docs/scenarios.md``).
@@ -794,7 +808,13 @@ def _parse(data: dict, source: str, base_dir: Path):
         )
     at.finish()
     root.finish()
-    scenario = Scenario(
+    if ensemble is not None:
+        kind = EnsembleScenario
+    elif carrier is not None:
+        kind = RelativeScenario
+    else:
+        kind = Scenario
+    scenario = kind(
         name,
         description,
         body,

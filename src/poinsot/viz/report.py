@@ -293,8 +293,8 @@ def write_report(
     path, traj, summary: dict, *, free=None, levels=7, comparison=None, plotlyjs="inline"
 ) -> None:
     """Write the interactive report for ``traj`` to ``path`` (atomically); ``comparison``:
-    the per-sample errors of :func:`poinsot.app.job.compare_methods`, drawn second; ``plotlyjs``:
-    one of :data:`PLOTLYJS_MODES`."""
+    the per-sample errors of :func:`poinsot.app.runs.rigid.compare_methods`, drawn second;
+    ``plotlyjs``: one of :data:`PLOTLYJS_MODES`."""
     go, pio = _plotly()
     figures = [_body_figure(traj, go)]
     if comparison is not None:

@@ -1,0 +1,125 @@
+"""What every kind of run does, and the helpers they share."""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import numpy as np
+
+from ..._io import atomic_path
+
+
+class Run:
+    """One run of one scenario: simulate, summarise, write data, figures and the report.
+
+    :func:`poinsot.app.job.run_scenario` calls them in this order, the same for every kind:
+    :meth:`simulate`; :meth:`summarise`; then, inside the output folder being written,
+    :meth:`write_data` (unless ``[output] data = false``), :meth:`figures` and
+    :meth:`write_report` (unless switched off); and :meth:`finish` once the timings are in,
+    before ``summary.json`` is written. :meth:`terminal_lines` says what the command line
+    prints about the finished run.
+    """
+
+    def __init__(self, scenario):
+        self.scenario = scenario
+        self.result = None  # what simulate() returned
+
+    def estimated_bytes(self) -> int:
+        """A generous estimate of what the run writes, checked against the free disk space:
+        figures and a self-contained report (~10 MB) plus the sampled data."""
+        return 10_000_000 + 2_000 * int(self.scenario.samples)
+
+    def simulate(self, progress=None) -> None:
+        """Run the simulation into :attr:`result`; ``progress``: a callback of the time
+        reached (see :func:`poinsot.simulate`), where the kind of run reports it."""
+        raise NotImplementedError
+
+    def summarise(self) -> dict:
+        """The numbers of the run, JSON-ready."""
+        raise NotImplementedError
+
+    def write_data(self, folder: Path, summary: dict) -> None:
+        """The sampled data, into ``folder``."""
+        raise NotImplementedError
+
+    def figures(self, folder: Path | None, *, for_report: bool) -> dict[str, bytes]:
+        """Draw the figures: saved as PNG into ``folder`` (None: not saved) and returned as
+        ``{caption: PNG bytes}`` where the report shows them (``for_report``)."""
+        raise NotImplementedError
+
+    def write_report(self, path: Path, summary: dict, images: dict, *, plotlyjs="inline"):
+        """The HTML report, at ``path``."""
+        raise NotImplementedError
+
+    def finish(self, summary: dict) -> None:
+        """Complete ``summary`` once its timings are in (default: nothing to add)."""
+
+    def terminal_lines(self, summary: dict, out) -> list[str]:
+        """What the command line prints about the finished run written to ``out``."""
+        raise NotImplementedError
+
+
+def jsonable(obj):
+    """``obj`` with NumPy scalars as Python numbers and non-finite floats as JSON can hold
+    them (NaN as null, ±inf as "inf"/"-inf")."""
+    if isinstance(obj, dict):
+        return {k: jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [jsonable(v) for v in obj]
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not np.isfinite(obj):
+        return None if np.isnan(obj) else ("inf" if obj > 0 else "-inf")
+    return obj
+
+
+def add_units(summary: dict) -> None:
+    """``summary["units"]``: the unit of every number, by key path (:mod:`poinsot.viz.numbers`),
+    plus the per-quantity units the summary already carries."""
+    from ...viz.numbers import units_of
+
+    summary["units"] = {**summary.get("units", {}), **units_of(summary)}
+
+
+def scenario_header(scenario, **extra) -> dict:
+    """The ``scenario`` entry of a summary: name, description, source (and ``extra``)."""
+    return {
+        "name": scenario.name,
+        "description": scenario.description,
+        "source": scenario.source,
+        **extra,
+    }
+
+
+def pyplot():
+    """matplotlib's pyplot on the Agg backend (no display)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def save_png(fig, path: Path, dpi: int) -> None:
+    """Save ``fig`` as PNG at ``path`` (atomically) and close it."""
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=dpi, format="png")
+    pyplot().close(fig)
+
+
+def png_images(figures, folder: Path | None, dpi: int = 100) -> dict[str, bytes]:
+    """``figures`` (``(figure, file name, caption)``) rendered as PNG once: written into
+    ``folder`` unless it is None, and returned as ``{caption: PNG bytes}`` for the report."""
+    plt = pyplot()
+    images = {}
+    for fig, name, caption in figures:
+        buf = io.BytesIO()
+        fig.savefig(buf, dpi=dpi, format="png")
+        plt.close(fig)
+        if folder is not None:
+            with atomic_path(folder / name) as tmp:
+                Path(tmp).write_bytes(buf.getvalue())
+        images[caption] = buf.getvalue()
+    return images

@@ -1,0 +1,134 @@
+"""An ensemble's run: many initial spins of one body, and the distributions of what they do."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..._io import atomic_path
+from ...torquefree.scope import flip_reference
+from .base import Run, jsonable, png_images, pyplot, scenario_header
+
+__all__ = ["EnsembleRun", "summarize_ensemble"]
+
+
+class EnsembleRun(Run):
+    """An :class:`~poinsot.app.scenario.EnsembleScenario` (``[ensemble]``); writes
+    ensemble.nc, histograms.png, flip_intervals.png (where the exact flips apply) and
+    report.html."""
+
+    free = None  # the free body whose exact flip intervals grade the members, where it applies
+
+    def estimated_bytes(self):
+        return 10_000_000 + 2_000 * int(self.scenario.ensemble["members"])
+
+    def simulate(self, progress=None):
+        del progress  # an ensemble reports no progress of its own
+        self.result = self.scenario.simulate_ensemble(progress=None)
+
+    def summarise(self):
+        s = self.scenario
+        self.free = flip_reference(s.body, s.forces, s.pivot)
+        return summarize_ensemble(s, self.result, self.free)
+
+    def write_data(self, folder, summary):
+        _write_ensemble_dataset(folder / "ensemble.nc", self.result, self.free)
+
+    def figures(self, folder, *, for_report):
+        res, free = self.result, self.free
+        from ...viz.ensemble import plot_ensemble_histograms, plot_flip_intervals
+
+        pyplot()
+
+        def figures():  # one at a time: each is drawn, rendered and closed before the next
+            yield (plot_ensemble_histograms(res), "histograms.png",
+                   "Distributions over the members")  # fmt: skip
+            if free is not None and np.isfinite(res.flip_interval).any():
+                exact = free.flip_interval(res.initial_state[:, 15:18])
+                yield (plot_flip_intervals(res, exact), "flip_intervals.png",
+                       "Measured time between flips against the exact 2K(m)/λ")  # fmt: skip
+
+        return png_images(figures(), folder)
+
+    def write_report(self, path, summary, images, *, plotlyjs="inline"):
+        from ...viz.report import write_ensemble_report
+
+        write_ensemble_report(path, summary, images)
+
+    def terminal_lines(self, summary, out):
+        e = summary["ensemble"]
+        lines = [
+            f"  {e['members']} members ({summary['distribution']['description']}), "
+            f"{e['method']}: {e['succeeded']} finished in {e['wall_time_s']:.3g} s"
+        ]
+        stats = e["statistics"]
+        if stats.get("first_flip", {}).get("count"):
+            f = stats["first_flip"]
+            spread = f"5–95 %: {f['p05']:.4g}–{f['p95']:.4g} s"
+            flipped = f["members_with_a_flip"]
+            lines.append(f"  first flip: median {f['median']:.4g} s ({spread}), {flipped} flipped")
+        if "flips_against_exact" in summary:
+            r = summary["flips_against_exact"]["relative_error"]
+            if r.get("count"):
+                rel = f"median relative error {r['median']:.2e}, max {r['max']:.2e}"
+                lines.append(f"  flip interval against the exact 2K(m)/λ: {rel}")
+        lines.append(f"  wrote {out}/ (summary.json, ensemble.nc, histograms, report.html)")
+        return lines
+
+
+def summarize_ensemble(scenario, res, free=None) -> dict:
+    """The numbers of an ensemble run, JSON-ready: the scenario, the distribution of initial
+    spins, the body, the run and each statistic's distribution; with ``free`` (a torque-free
+    asymmetric body) the measured flip intervals against the exact ones."""
+    e = scenario.ensemble
+    if e["distribution"] == "sphere":
+        dist = {"description": f"ω uniform on the sphere |ω| = {e['speed']:g} rad/s"}
+    else:
+        dist = {
+            "description": f"ω ~ N({e['mean'].tolist()}, diag({e['std'].tolist()})²) rad/s",
+            "mean": e["mean"].tolist(),
+            "std": e["std"].tolist(),
+        }
+    out = {
+        "scenario": scenario_header(scenario),
+        "distribution": {"kind": e["distribution"], "seed": e["seed"], **dist},
+        "body": scenario.body.mass_properties(),
+        "ensemble": res.summary(),
+        "units": {"time": "s", "omega": "rad/s", "errors": "dimensionless"},
+    }
+    if free is not None:
+        exact = free.flip_interval(res.initial_state[:, 15:18])
+        measured = res.flip_interval
+        ok = np.isfinite(exact) & np.isfinite(measured)
+        rel = measured[ok] / exact[ok] - 1
+        out["flips_against_exact"] = {
+            "meaning": "measured mean time between flips / exact 2K(m)/λ − 1, per member",
+            "members_compared": int(ok.sum()),
+            "exact_flip_interval_s": _describe(exact[np.isfinite(exact)]),
+            "relative_error": _describe(np.abs(rel)),
+        }
+    return jsonable(out)
+
+
+def _describe(values):
+    from ...ensemble.result import _describe as describe
+
+    return describe(values)
+
+
+def _write_ensemble_dataset(path: Path, res, free):
+    """ensemble.nc: the members' statistics, their initial ω and the exact flip intervals."""
+    try:
+        ds = res.to_xarray()
+    except ImportError:
+        return
+    W0 = res.initial_state[:, 15:18]
+    ds["omega0"] = (("member", "component"), W0, {"units": "rad/s", "frame": "body"})
+    if free is not None:
+        ds["exact_flip_interval"] = (("member",), free.flip_interval(W0), {"units": "s"})
+    for name in list(ds.variables):  # NetCDF-3 (SciPy's writer) has no 64-bit integers
+        if ds[name].dtype == np.int64:
+            ds[name] = ds[name].astype(np.int32)
+    with atomic_path(path) as tmp:
+        ds.to_netcdf(tmp, engine="scipy")

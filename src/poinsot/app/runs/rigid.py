@@ -1,0 +1,271 @@
+"""A rigid body's run: its trajectory, the torque-free analysis where it applies, and the
+integrators compared against the exact solution where one exists."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from ..._io import PoinsotWarning, atomic_path
+from ...torquefree.scope import check_motion_energy, exact_solution_applies, free_rotation
+from .base import Run, add_units, jsonable, pyplot, save_png, scenario_header
+
+__all__ = ["COMPARED_METHODS", "RigidRun", "compare_methods", "comparison_lead", "summarize"]
+
+#: The integrators a fixed-step torque-free run is compared with: the notebook's classical
+#: RK4 and the Lie-group RKMK4 of the same order, which keeps the attitude on SO(3).
+COMPARED_METHODS = ("rk4", "rkmk4")
+
+
+class RigidRun(Run):
+    """A :class:`~poinsot.app.scenario.Scenario`: one body under its forces; writes
+    trajectory.npz/.csv/.nc, omega.png, conservation.png, center_of_mass.png, body.png, the
+    polhodes (where the torque-free analysis applies), methods.png (where the exact solution
+    grades the integrators) and report.html."""
+
+    free = None  # the torque-free analysis, where it applies
+    comparison = None  # (errors, table) of compare_methods, where it applies
+
+    def simulate(self, progress=None):
+        self.result = self.scenario.simulate(progress=progress)
+
+    def summarise(self):
+        scenario, traj = self.scenario, self.result
+        if scenario.analysis.get("polhodes", True):
+            self.free = free_rotation(scenario.body, scenario.pivot)
+        if self.free is not None:
+            try:
+                check_motion_energy(self.free, scenario.body, traj.omega[0])
+            except ValueError as exc:  # polhodes outside the double range (moments near 1e300)
+                warnings.warn(f"torque-free analysis and polhodes left out: {exc}",
+                              PoinsotWarning, stacklevel=3)  # fmt: skip
+                self.free = None
+        summary = summarize(scenario, traj, self.free)
+        self.comparison = compare_methods(scenario, traj, self.free)
+        add_units(summary)
+        if self.comparison is not None:
+            summary["method_comparison"] = self.comparison[1]
+            summary["lead"] = comparison_lead(self.comparison[1], scenario.dt)
+        return summary
+
+    def write_data(self, folder, summary):
+        traj = self.result
+        traj.to_npz(folder / "trajectory.npz")
+        traj.to_csv(folder / "trajectory.csv")
+        try:
+            ds = traj.to_xarray()
+        except ImportError:
+            return
+        with atomic_path(folder / "trajectory.nc") as tmp:
+            ds.to_netcdf(tmp, engine="scipy")
+
+    def figures(self, folder, *, for_report):
+        if folder is not None:  # the report draws its own, interactive figures
+            _figures(folder, self.scenario, self.result, self.free, self.comparison)
+        return {}
+
+    def write_report(self, path, summary, images, *, plotlyjs="inline"):
+        from ...viz.report import write_report
+
+        comparison = None if self.comparison is None else self.comparison[0]
+        write_report(path, self.result, summary, free=self.free, comparison=comparison,
+                     plotlyjs=plotlyjs)  # fmt: skip
+
+    def finish(self, summary):
+        add_units(summary)
+
+    def terminal_lines(self, summary, out):
+        scenario = self.scenario
+        i = summary["integration"]
+        d = i["diagnostics"]
+        lines = [
+            f"  body: mass {summary['body']['mass']:.6g} kg, principal moments "
+            + ", ".join(f"{x:.6g}" for x in summary["body"]["principal_moments"])
+            + " kg·m²"
+        ]
+        step = f"dt = {scenario.dt:g} s, " if scenario.dt is not None else ""
+        lines.append(
+            f"  integrated t ∈ [{scenario.t_span[0]:g}, {scenario.t_span[1]:g}] s with "
+            f"{i['method']} ({step}{i['nsteps']} steps); max |QᵀQ − I| "
+            f"{d['orthogonality_error']:.2e}"
+        )
+        kept = [
+            (v["symbol"], v["max_relative_change"])
+            for v in d["invariants"].values()
+            if v["expected_conserved"]
+        ]
+        if kept:
+            changes = ", ".join(f"{s} {c:.2e}" for s, c in kept)
+            lines.append(f"  conserved by this problem, largest relative change: {changes}")
+        else:
+            lines.append("  nothing is conserved by this problem (its forces do work)")
+        if "torque_free" in summary:
+            tf = summary["torque_free"]
+            lines.append(f"  torque-free motion: polhode family {tf['family']!r}")
+            if "exact_solution_error" in tf:
+                e = tf["exact_solution_error"]
+                lines.append(
+                    f"  against the exact solution: max |ω − ω_exact| {e['omega']:.2e} "
+                    f"rad/s, max |Q − Q_exact| {e['attitude']:.2e}"
+                )
+        if "method_comparison" in summary:
+            other = {
+                m: v
+                for m, v in summary["method_comparison"].items()
+                if m not in ("exact", i["method"])
+            }
+            for m, v in other.items():
+                lines.append(
+                    f"  {m} at the same step: max |QᵀQ − I| {v['orthogonality']:.2e}, "
+                    f"max |Q − Q_exact| {v['attitude']:.2e} (methods.png)"
+                )
+        lines.append(f"  wrote {out}/ (summary.json, trajectory.npz/.csv, figures, report.html)")
+        return lines
+
+
+def summarize(scenario, traj, free=None) -> dict:
+    """The numbers of a run, JSON-ready: body, invariants, torque-free analysis, diagnostics."""
+    from ...kernels.rigid import angular_momentum_body, rotational_energy
+
+    body = scenario.body
+    w0 = np.ascontiguousarray(traj.omega[0])
+    k0 = float(rotational_energy(body.inertia, w0))
+    a0 = float(np.hypot.reduce(angular_momentum_body(body.inertia, w0)))  # no overflow
+    out = {
+        "scenario": scenario_header(scenario),
+        "body": body.mass_properties(),
+        "initial": {
+            "omega": w0.tolist(),
+            "rotational_energy": k0,
+            "angular_momentum_magnitude": a0,
+            "a2_over_2k": a0 * a0 / (2 * k0) if k0 > 0 else None,
+        },
+        "final": {
+            "t": float(traj.t[-1]),
+            "R": traj.R[-1].tolist(),
+            "omega": traj.omega[-1].tolist(),
+        },
+        "integration": traj.summary(),
+    }
+    if free is not None and k0 > 0:
+        analysis = free.describe(w0)
+        if exact_solution_applies(scenario.forces):
+            analysis["exact_solution_error"] = free.trajectory_error(traj)
+        out["torque_free"] = analysis
+    return jsonable(out)
+
+
+def _figures(folder: Path, scenario, traj, free, comparison=None):
+    from ..._core import equivalent_box_half_extents
+    from ...viz import (
+        plot_attitude_frames,
+        plot_center_of_mass_path,
+        plot_conservation,
+        plot_omega_series,
+        plot_polhode_family,
+    )
+
+    def save(fig, name):
+        save_png(fig, folder / name, dpi=110)
+
+    pyplot()
+    save(plot_omega_series(traj), "omega.png")
+    if comparison is not None:
+        from ...viz import plot_method_comparison
+
+        save(
+            plot_method_comparison(
+                traj.t,
+                comparison[0],
+                title="Integrators against the exact torque-free solution, same step",
+            ),
+            "methods.png",
+        )
+    save(plot_conservation(traj), "conservation.png")
+    if np.ptp(traj.R, axis=0).max() > 0:  # a centre of mass at rest has no path to draw
+        save(plot_center_of_mass_path(traj), "center_of_mass.png")
+    half = equivalent_box_half_extents(scenario.body.principal_moments, scenario.body.mass)
+    QE = traj.Q @ scenario.body.principal_axes  # draw the box in principal axes
+    half = np.maximum(half, 1e-3 * half.max())  # a flat body is drawn as a thin box
+    save(plot_attitude_frames(QE, traj.t, half_extents=half), "body.png")
+    if free is not None:
+        from ...kernels.rigid import rotational_energy
+
+        energy = scenario.analysis.get("energy")
+        k_traj = float(
+            rotational_energy(scenario.body.inertia, np.ascontiguousarray(traj.omega[0]))
+        )
+        levels = scenario.analysis.get("levels", 9)
+        if k_traj > 0:  # the run's ω(t) on its own energy ellipsoid, with the family there
+            fig = plot_polhode_family(free, k_traj, levels=levels)
+            ax = fig.axes[0]
+            ax.plot(*traj.omega.T, color="crimson", lw=2.5, label="ω(t) of this run")
+            ax.set_title(f"This run's ω(t) (rad/s, body frame) on its energy ellipsoid, "
+                         f"k = {k_traj:.4g} J\nwith the polhodes at that energy")  # fmt: skip
+            ax.legend(loc="upper left", fontsize=8)
+            save(fig, "polhodes.png")
+        if energy is not None and not np.isclose(energy, k_traj, rtol=1e-12):
+            fig = plot_polhode_family(free, energy, levels=levels)  # [analysis] energy's sweep
+            fig.axes[0].set_title(f"The polhode family at k = {energy:g} J ([analysis] energy), "
+                                  "not this run's energy")  # fmt: skip
+            save(fig, "polhodes_sweep.png")
+
+
+def compare_methods(scenario, traj, free):
+    """Run the scenario again with each of :data:`COMPARED_METHODS` (same step) and measure
+    each run against the exact torque-free solution.
+
+    Returns ``(errors, table)`` or None when the comparison does not apply (no exact solution:
+    a torque about the centre of mass; or an adaptive step, which has no step to share).
+    ``errors``: ``label → per-sample arrays`` for :func:`~poinsot.viz.plot_method_comparison`
+    (the exact solution's own distance from SO(3) included); ``table``: the maxima, JSON-ready.
+    """
+    from ...kernels.rigid import orthogonality_error
+
+    if free is None or scenario.dt is None or not np.any(traj.omega[0]):
+        return None
+    if not exact_solution_applies(scenario.forces):
+        return None
+    runs = {traj.method: traj}
+    for method in COMPARED_METHODS:
+        if method not in runs:
+            runs[method] = scenario.simulate(method=method)
+    errors, table = {}, {}
+    for method, tr in runs.items():
+        label = f"{method}, dt = {scenario.dt:g} s"
+        errors[label] = {"orthogonality": tr.orthogonality_error, **free.error_series(tr)}
+        table[method] = {
+            k: float(np.max(errors[label][k])) for k in ("orthogonality", "attitude", "omega")
+        }
+    t = traj.t - traj.t[0]
+    Q = free.exact_attitude(traj.omega[0], t, traj.Q[0])
+    errors["exact solution (round-off)"] = {"orthogonality": orthogonality_error(Q)}
+    table["exact"] = {
+        "orthogonality": float(errors["exact solution (round-off)"]["orthogonality"].max())
+    }
+    return errors, table
+
+
+def comparison_lead(table: dict, dt: float) -> str:
+    """One sentence stating what the method comparison shows."""
+    parts = [
+        f"{m.upper()} leaves SO(3) by {v['orthogonality']:.2g} and is off the exact "
+        f"attitude by {v['attitude']:.2g}"
+        for m, v in table.items()
+        if m != "exact"
+    ]
+    omega = [v["omega"] for m, v in table.items() if m != "exact"]
+    same = len(omega) > 1 and np.ptp(omega) <= 1e-6 * max(omega)
+    return (
+        f"Integrators at the same step dt = {dt:g} s against the exact solution: "
+        + "; ".join(parts)
+        + f"; the exact solution stays within {table['exact']['orthogonality']:.1g} of SO(3)."
+        + (
+            " Their ω errors coincide: Euler's equation for ω does not involve the attitude, "
+            "and both are 4th-order Runge–Kutta for it."
+            if same
+            else ""
+        )
+    )
