@@ -27,9 +27,9 @@ def rotations(draw):
     n = np.linalg.norm(q)
     if n < 1e-3:
         q, n = np.array([1.0, 0, 0, 0]), 1.0
-    from poinsot.kernels.so3 import quat_to_matrix
+    from poinsot.rotation import matrix_from_quat
 
-    return quat_to_matrix(q / n)
+    return matrix_from_quat(q / n)
 
 
 @pytest.fixture
@@ -40,8 +40,8 @@ def notebook_body():
     return build()
 
 
-# Kernels compile on first use (then load from numba's disk cache): a property test's first
-# example may take seconds, so hypothesis runs without a per-example deadline.
+# Hypothesis runs without a per-example deadline: the machines that run the suite are shared,
+# and a deadline would measure them, not poinsot (a hang is caught by the tests' own limits).
 from hypothesis import settings  # noqa: E402
 
 settings.register_profile("poinsot", deadline=None)

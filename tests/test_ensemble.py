@@ -143,7 +143,7 @@ def test_grading_against_the_exact_solution():
 
 
 def test_user_reductions_compiled_and_python():
-    import numba
+    numba = pytest.importorskip("numba", reason="a user's own numba function (no dependency)")
 
     @numba.njit
     def spin_z(t, y):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from poinsot._core import exp_so3, hat
 
 from poinsot import (
     CentralGravity,
@@ -17,7 +18,6 @@ from poinsot import (
     simulate,
 )
 from poinsot.dynamics import RigidBodySystem
-from poinsot.kernels.so3 import exp_so3, hat
 
 BODY = RigidBody.box(2.0, (1.0, 0.6, 0.3), position=(0.1, 0.2, 0.3))
 

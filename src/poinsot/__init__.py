@@ -1,7 +1,8 @@
 """poinsot: dynamics of rigid bodies and constrained mechanical systems.
 
 The top-level names are loaded lazily (PEP 562), so ``import poinsot`` costs only NumPy; SciPy,
-SymPy, matplotlib and numba are imported by the functions that need them.
+SymPy and matplotlib are imported by the functions that need them; the physics is the compiled
+core ``poinsot._core``, built with the package.
 """
 
 from __future__ import annotations

@@ -31,7 +31,13 @@ import numpy as np
 
 from . import _core
 
-__all__ = ["Invariant", "invariants_of"]
+__all__ = [
+    "Invariant",
+    "angular_momentum_body",
+    "invariants_of",
+    "orthogonality_error",
+    "rotational_energy",
+]
 
 #: Two moments about the pivot are equal (a symmetric top) when they differ by at most this
 #: fraction of the largest: looser than the body's symmetry class, since the moments about a
@@ -56,10 +62,45 @@ def _momentum(A, M, R, V, Q, w):
     )  # fmt: skip
 
 
-def _rotational_energy(A, w):
-    """``½ ω·Aω`` for ω (..., 3) → (...)."""
-    w = np.asarray(w, dtype=float)
-    return _core.rotational_energies(_c(A), _c(w).reshape(-1, 3)).reshape(w.shape[:-1])
+def rotational_energy(inertia, omega) -> np.ndarray:
+    """The rotational kinetic energy ``½ ω·Aω`` (eq. (30)) of body-frame ω (..., 3) with the
+    inertia ``A`` (3, 3) about the same point, in J: an array of shape (...).
+
+    Examples
+    --------
+    >>> float(rotational_energy(np.diag([1.0, 2.0, 3.0]), [1.0, 1.0, 1.0]))
+    3.0
+    """
+    w = np.asarray(omega, dtype=float)
+    return _core.rotational_energies(_c(inertia), _c(w).reshape(-1, 3)).reshape(w.shape[:-1])
+
+
+def angular_momentum_body(inertia, omega) -> np.ndarray:
+    """The angular momentum ``A ω`` (eq. (03), the body's own part) in the body frame, in
+    kg m²/s: (..., 3) for ω (..., 3).
+
+    Examples
+    --------
+    >>> angular_momentum_body(np.diag([1.0, 2.0, 3.0]), [1.0, 1.0, 1.0]).tolist()
+    [1.0, 2.0, 3.0]
+    """
+    w = np.asarray(omega, dtype=float)
+    return _core.angular_momenta(_c(inertia), _c(w).reshape(-1, 3)).reshape(w.shape)
+
+
+def orthogonality_error(Q) -> np.ndarray:
+    """``max |QᵀQ − I|`` of attitude matrices Q (..., 3, 3): how far each is from SO(3).
+
+    Examples
+    --------
+    >>> float(orthogonality_error(np.eye(3)))
+    0.0
+    """
+    Q = np.asarray(Q, dtype=float)
+    return _core.orthogonality_errors(_c(Q).reshape(-1, 3, 3)).reshape(Q.shape[:-2])
+
+
+_rotational_energy = rotational_energy
 
 
 @dataclass(frozen=True)

@@ -1,16 +1,16 @@
 """One rigid body, its forces and an optional fixed point: the system the integrators step
 (``docs/theory.md`` §1, eqs (07)–(09)).
 
-:class:`RigidBodySystem` holds no formula. It prepares what the kernels need:
+:class:`RigidBodySystem` holds no formula. It prepares what the compiled core needs:
 
 * the reference point (the centre of mass, or the pivot) and the principal frame of the inertia
   about it, in which the compiled engine integrates (Euler's equation then takes its component
   form (27)–(29); states are converted to and from the body frame at the boundary);
 * the forces, lowered once to arrays (:meth:`~poinsot.forces.Force.lower`); the forces
   themselves are never modified;
-* :meth:`RigidBodySystem.compiled_system`, the named tuple of arrays the compiled engine runs,
-  and :meth:`RigidBodySystem.python_system`, the same physics evaluated from Python, for forces
-  given by Python callables (the slow path).
+* :meth:`RigidBodySystem.problem`, what the core integrates: the body's parameters, the
+  lowered forces, the principal axes, and forces given by Python callables, called back from
+  the core (the slow path).
 
 It also builds initial states, including the notebook's rules from particle velocities.
 """
@@ -96,10 +96,15 @@ class RigidBodySystem:
         E = axes
         frame = BodyFrame(body.center_of_mass, E)
         builtin = [f for f in self.forces if f.compiled]
+        #: forces the core calls by address (a C function), and the rest of the user's
+        c = tuple(f for f in self.forces if getattr(f, "address", None) is not None)
         self.jitted_forces = tuple(f for f in self.forces if getattr(f, "jitted", False))
-        self.python_forces = tuple(
-            f for f in self.forces if not f.compiled and f not in self.jitted_forces
-        )
+        others = tuple(f for f in self.forces if not f.compiled and f not in c)
+        if len(c) > 1 or (c and others):  # one address per run: the C forces summed in Python
+            c, others = (), tuple(f for f in self.forces if not f.compiled)
+        self.c_forces = c
+        #: the forces the core calls back in Python (the slow path)
+        self.python_forces = others
         self.force_kind = np.array([layout.FORCE_KINDS[f.kind] for f in builtin], dtype=np.int64)
         self.force_params = np.array([f.lower(frame) for f in builtin]).reshape(
             -1, layout.FORCE_PARAMS
@@ -108,7 +113,7 @@ class RigidBodySystem:
     # ----------------------------------------------------------------- properties
     @property
     def compiled(self) -> bool:
-        """True when every force is built-in: the whole run is one compiled call."""
+        """True when no force is called back in Python: the whole run is compiled code."""
         return not self.python_forces
 
     @property
@@ -159,34 +164,16 @@ class RigidBodySystem:
             params[layout.PIVOT : layout.PIVOT + 3] = pivot_point
         return params
 
-    def compiled_system(self, y0):
-        """The named tuple of arrays the compiled engine integrates, from the initial
-        body-frame state ``y0`` (which fixes where the pivot is in space)."""
-        from .kernels.systems import RigidSystem, TorqueFreeSystem, UserForcesSystem
-
-        params = self.body_parameters(self.pivot_point(y0) if self.pivot is not None else None)
-        if self.jitted_forces:
-            return UserForcesSystem(
-                params,
-                self.force_kind,
-                self.force_params,
-                np.ascontiguousarray(self.principal_axes),
-                _sum_of(tuple(f.func for f in self.jitted_forces)),
-                np.zeros((2, layout.STATE_SIZE)),
-            )
-        if self.pivot is None and not len(self.force_kind):
-            return TorqueFreeSystem(params)
-        return RigidSystem(params, self.force_kind, self.force_params)
-
     def native(self, y0):
         """What the compiled core's engine reads, from the initial body-frame state ``y0``
         (which fixes where the pivot is in space): ``(body parameters, force kinds, force
-        parameters, principal axes, user)``, ``user`` None when every force is built-in, else
-        a callable ``(t, y_body) → (Fx, Fy, Fz, τx, τy, τz)`` summing the other forces (called
-        back from the core: the slow path)."""
+        parameters, principal axes, user)``, ``user`` None when every force is built-in, the
+        address of the one C function of a :class:`~poinsot.forces.CustomForce` (called by
+        address), else a callable ``(t, y_body) → (Fx, Fy, Fz, τx, τy, τz)`` summing the
+        other forces (called back from the core: the slow path)."""
         params = self.body_parameters(self.pivot_point(y0) if self.pivot is not None else None)
-        user = None
-        others = self.python_forces + self.jitted_forces
+        user = self.c_forces[0].address if self.c_forces else None
+        others = self.python_forces
         if others:
             body = self.body
 
@@ -221,13 +208,6 @@ class RigidBodySystem:
             observes_flips=True,
         )
 
-    def python_system(self, y0):
-        """The same physics evaluated from Python, for the Python backend (Python forces)."""
-        from .kernels.systems import RigidSystem
-
-        params = self.body_parameters(self.pivot_point(y0) if self.pivot is not None else None)
-        return _PythonRigidSystem(self, RigidSystem(params, self.force_kind, self.force_params))
-
     # ----------------------------------------------------------------- body-frame evaluation
     def context(self, t, R, V, Q, omega) -> ForceContext:
         return ForceContext(self.body, t, R, V, Q, omega)
@@ -254,7 +234,7 @@ class RigidBodySystem:
 
     def potential_energies(self, t, Y) -> np.ndarray:
         """Total potential energy of the forces at samples ``t`` (n,), body-frame ``Y`` (n, 18):
-        built-in forces by the compiled kernels, Python forces by their own ``potential``."""
+        built-in forces by the core, Python forces by their own ``potential``."""
         t = np.asarray(t, dtype=float)
         Y = np.asarray(Y, dtype=float)
         if not len(t):
@@ -267,7 +247,7 @@ class RigidBodySystem:
             np.ascontiguousarray(t),
             np.ascontiguousarray(self.to_internal(Y)),
         )
-        for f in self.python_forces + self.jitted_forces:
+        for f in self.python_forces + self.c_forces:
             if f.has_potential:
                 for i in range(len(t)):
                     R, V, Q, w = layout.unpack_state(Y[i])
@@ -334,101 +314,6 @@ class RigidBodySystem:
     def degenerate_line(self) -> np.ndarray:
         """The unit line of a degenerate body (all mass on it), zeros for any other body."""
         return self.principal_axes[:, 0].copy() if self.degenerate else np.zeros(3)
-
-
-_SUMS: dict = {}
-
-
-def _sum_of(functions):
-    """One compiled function ``(t, y) → 6-tuple`` summing the user's compiled forces (the engine
-    then makes one plain call; memoised, so the same forces reuse one compiled engine)."""
-    if len(functions) == 1:
-        return functions[0]
-    if functions not in _SUMS:
-        import numba
-
-        names = [f"f{i}" for i in range(len(functions))]
-        lines = [f"    w{i} = {n}(t, y)" for i, n in enumerate(names)]
-        total = ", ".join(" + ".join(f"w{i}[{k}]" for i in range(len(functions))) for k in range(6))
-        source = "def total(t, y):\n" + "\n".join(lines) + f"\n    return ({total})\n"
-        scope = dict(zip(names, functions, strict=True))
-        exec(source, scope)  # a generated sum of a variable number of compiled callees
-        _SUMS[functions] = numba.njit(scope["total"])
-    return _SUMS[functions]
-
-
-def _kernels():
-    """The numba engine's kernels (the ``backend="numba"`` cross-check only)."""
-    from .kernels import forces, rigid
-
-    return forces, rigid
-
-
-class _PythonRigidSystem:
-    """A rigid system evaluated from Python (the Python backend): the built-in forces through
-    the compiled kernels, the user's Python forces through their callables, at the body-frame
-    state they expect. It offers the generic system interface of
-    :mod:`poinsot.kernels.systems` as methods."""
-
-    def __init__(self, owner: RigidBodySystem, data):
-        self.owner = owner
-        self.data = data
-        self.body = data.body
-        self.axes = owner.principal_axes
-        self._forces = owner.python_forces + owner.jitted_forces
-
-    def state_size(self, y):
-        return layout.STATE_SIZE
-
-    def body_parameters(self):
-        return self.body
-
-    def wrench(self, t, y):
-        owner = self.owner
-        if len(owner.force_kind):
-            Fx, Fy, Fz, tx, ty, tz = _kernels()[0].builtin_wrench(
-                owner.force_kind, owner.force_params, self.body, t, y
-            )
-        else:
-            Fx = Fy = Fz = tx = ty = tz = 0.0
-        if self._forces:
-            R, V, Qp, wp = layout.unpack_state(y)
-            E = self.axes
-            ctx = ForceContext(owner.body, t, R.copy(), V.copy(), Qp @ E.T, E @ wp)
-            F = np.array([Fx, Fy, Fz])
-            tau = np.array([tx, ty, tz])
-            for f in self._forces:
-                Fi, ti = f.python_wrench(ctx)
-                F = F + Fi
-                tau = tau + E.T @ ti
-            Fx, Fy, Fz = (float(v) for v in F)
-            tx, ty, tz = (float(v) for v in tau)
-        tx, ty, tz = _kernels()[1].shift_torque_to_pivot(self.body, y, Fx, Fy, Fz, tx, ty, tz)
-        return Fx, Fy, Fz, tx, ty, tz
-
-    def lanes(self):
-        return 1
-
-    def rates(self, t, y, lane):
-        Fx, Fy, Fz, tx, ty, tz = self.wrench(t, np.asarray(y, dtype=float))
-        return _kernels()[1].rigid_rates(self.body, y, Fx, Fy, Fz, tx, ty, tz)
-
-    def vector_field(self, t, y, out):
-        Fx, Fy, Fz, tx, ty, tz = self.wrench(t, y)
-        _kernels()[1].rigid_derivative(self.body, y, Fx, Fy, Fz, tx, ty, tz, out)
-
-    def constrain(self, t, y, lane):
-        return _kernels()[1].pivot_constrained(self.body, np.asarray(y, dtype=float))
-
-    def project(self, t, y):
-        _kernels()[1].project_onto_pivot(self.body, y)
-        return self.owner.pivot is not None
-
-    def potential(self, t, y):
-        U = _kernels()[0].builtin_potential(
-            self.owner.force_kind, self.owner.force_params, self.body, t, y
-        )
-        return float(U)
 
 
 def rigid_velocity_from_particles(body, velocities):

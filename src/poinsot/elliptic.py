@@ -2,9 +2,8 @@
 
 Near ``m = 1`` (the separatrix of the free rigid body) the complementary parameter carries the
 precision, so every function here takes it explicitly. These are array front-ends of the
-compiled core (``poinsot._core``, the Rust crate ``poinsot-core``, module ``elliptic``; the
-numba kernels of :mod:`poinsot.kernels.elliptic` hold the same formulas for the compiled
-ensembles): Carlson's symmetric forms
+compiled core (``poinsot._core``, the Rust crate ``poinsot-core``, module ``elliptic``):
+Carlson's symmetric forms
 ``R_F``, ``R_J`` (whose arguments ``Δ² = 1 − m sin²φ = cos²φ + m1 sin²φ`` are formed without
 cancellation), ``K(m) = R_F(0, m1, 1)`` and the descending AGM (DLMF §19.25(i), 19.25.5 and
 19.25.14; A&S 16.4).

@@ -485,36 +485,78 @@ def _is_jitted(func) -> bool:
     return type(func).__name__ == "CPUDispatcher" and hasattr(func, "py_func")
 
 
+def _c_function(func, returns, label):
+    """``(address, ctypes function)`` of a C function given as a numba ``cfunc`` or a ctypes
+    function pointer, with its signature checked (``returns`` the ctypes return type; the
+    arguments ``(double t, const double *y[, double *out])``); None for anything else."""
+    import ctypes
+
+    cf = getattr(func, "ctypes", None) if hasattr(func, "address") else None  # numba cfunc
+    if cf is None and isinstance(func, ctypes._CFuncPtr):
+        cf = func
+    if cf is None:
+        return None
+    double_p = ctypes.POINTER(ctypes.c_double)
+    args = (ctypes.c_double, double_p, double_p) if returns is ctypes.c_int else (
+        ctypes.c_double, double_p)  # fmt: skip
+    ok_ret = cf.restype in ((ctypes.c_int, ctypes.c_int32) if returns is ctypes.c_int else
+                            (ctypes.c_double,))  # fmt: skip
+    if tuple(cf.argtypes or ()) != args or not ok_ret:
+        want = ("int f(double t, const double *y, double *wrench)" if returns is ctypes.c_int
+                else "double u(double t, const double *y)")  # fmt: skip
+        raise TypeError(f"`{label}`: a C function must have the signature {want}")
+    return ctypes.cast(cf, ctypes.c_void_p).value, cf
+
+
 class CustomForce(Force):
     """Any wrench, from your own function.
 
     * A Python callable ``func(ctx) → (F_space (3,), τ_body (3,))`` about the centre of mass,
       ``ctx`` a :class:`ForceContext`, optionally with ``potential(ctx) → float``: the slow
-      path (every right-hand side calls Python).
-    * A numba-compiled function ``func(t, y) → (Fx, Fy, Fz, τx, τy, τz)`` of the time and the
+      path (the core calls Python at every evaluation of the right-hand side).
+    * A C function ``int func(double t, const double *y, double *wrench)`` — a numba
+      ``cfunc``, a ctypes function pointer, any function with a C ABI — of the time and the
       body-frame state ``y`` (18,) = ``[R, V, Q (row-major), ω]``
-      (:data:`poinsot.layout.STATE_SLICES`), the torque about the centre of mass in
-      the body frame, optionally with a compiled ``potential(t, y) → float``: the compiled
-      engine calls it directly. (Numba cannot cache code that holds your function, so such a
-      run compiles its engine once per process.)
+      (:data:`poinsot.layout.STATE_SLICES`), writing ``(Fx, Fy, Fz, τx, τy, τz)`` (the force
+      in space, the torque about the centre of mass in the body frame) and returning 0 (any
+      other value stops the run), optionally with ``double potential(double t, const double
+      *y)``: the core calls it by address, with no Python in between (one such force per body;
+      several are summed through Python).
+    * A numba-compiled function ``func(t, y) → (Fx, Fy, Fz, τx, τy, τz)`` (``njit``), with
+      an optional ``potential(t, y)``: called from Python (give a ``cfunc`` for speed).
 
     Examples
     --------
-    >>> import numba
-    >>> @numba.njit
-    ... def pull_up(t, y):
-    ...     return 0.0, 0.0, 2.0, 0.0, 0.0, 0.0
-    >>> CustomForce(pull_up, position_only=True).jitted
+    A C function from ctypes (a numba ``cfunc`` of the same signature works alike):
+
+    >>> import ctypes
+    >>> proto = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_double,
+    ...                          ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_double))
+    >>> def lift(t, y, out):
+    ...     out[0], out[1], out[2], out[3], out[4], out[5] = 0.0, 0.0, 2.0, 0.0, 0.0, 0.0
+    ...     return 0
+    >>> c_lift = proto(lift)
+    >>> force = CustomForce(c_lift, position_only=True)
+    >>> force.address is not None
     True
     """
 
     def __init__(self, func, *, potential=None, position_only=False, name=None):
+        import ctypes
+
         if not callable(func):
             raise TypeError(f"`func` must be callable, found {type(func).__name__}")
         if potential is not None and not callable(potential):
             raise TypeError(f"`potential` must be callable, found {type(potential).__name__}")
-        jitted = _is_jitted(func)
-        if potential is not None and _is_jitted(potential) != jitted:
+        c = _c_function(func, ctypes.c_int, "func")
+        c_potential = None
+        if c is not None and potential is not None:
+            c_potential = _c_function(potential, ctypes.c_double, "potential")
+            if c_potential is None:
+                raise TypeError("`potential` of a C force must be a C function "
+                                "double u(double t, const double *y)")  # fmt: skip
+        jitted = c is None and _is_jitted(func)
+        if c is None and potential is not None and _is_jitted(potential) != jitted:
             raise TypeError(
                 "`func` and `potential` must both be numba-compiled functions of (t, y), or both "
                 "Python callables of the force context"
@@ -525,6 +567,9 @@ class CustomForce(Force):
             has_potential=potential is not None,
             position_only=bool(position_only),
             jitted=jitted,
+            address=None if c is None else c[0],
+            _c=c,
+            _c_potential=c_potential,
             _name=name or getattr(func, "__name__", "CustomForce"),
         )
 
@@ -533,6 +578,16 @@ class CustomForce(Force):
         return self._name
 
     def python_wrench(self, ctx):
+        if self._c is not None:  # the C function, called from Python (forces summed there)
+            import ctypes
+
+            y = np.ascontiguousarray(ctx.state(), dtype=float)
+            out = np.zeros(6)
+            p = ctypes.POINTER(ctypes.c_double)
+            status = self._c[1](float(ctx.t), y.ctypes.data_as(p), out.ctypes.data_as(p))
+            if status != 0:
+                raise ForceError(f"force {self.name} returned {status} at t = {ctx.t:g}")
+            return out[:3].copy(), out[3:].copy()
         if self.jitted:
             out = self.func(float(ctx.t), ctx.state())
             if not isinstance(out, tuple) or len(out) != 6:
@@ -548,6 +603,12 @@ class CustomForce(Force):
         )
 
     def python_potential(self, ctx):
+        if self._c_potential is not None:
+            import ctypes
+
+            y = np.ascontiguousarray(ctx.state(), dtype=float)
+            p = ctypes.POINTER(ctypes.c_double)
+            return float(self._c_potential[1](float(ctx.t), y.ctypes.data_as(p)))
         if self.jitted:
             return float(self._potential(float(ctx.t), ctx.state()))
         return float(self._potential(ctx))

@@ -73,7 +73,7 @@ def test_constrained_members_solve_their_dependent_coordinates_and_keep_the_cons
 def test_fixed_step_ensembles_and_failed_members():
     """RK4 members; a member whose run becomes non-finite gets NaN samples and its status,
     its neighbours their own results."""
-    from poinsot.kernels.drivers import FINISHED, NONFINITE
+    from poinsot._core import FINISHED, NONFINITE
 
     mdl = models.pendulum_polar()
     th, g, l, m = (mdl.symbols[k] for k in ("theta", "g", "l", "m"))

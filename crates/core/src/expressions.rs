@@ -15,6 +15,9 @@ use std::sync::Mutex;
 
 use symjit::{Compiled, CompilerType, Config, Expr};
 
+/// symjit's entry point of machine code: `(memory, _, _, params)` (its `CompiledFunc<f64>`).
+type CompiledFunc = fn(*const f64, *const &mut [f64], usize, *const f64) -> i32;
+
 /// Push a constant (`value`).
 pub const CONST: i64 = 0;
 /// Push input number `value`.
@@ -297,27 +300,47 @@ fn power(a: f64, b: f64) -> f64 {
 }
 
 /// Machine code of a program: its memory holds the inputs at `first_input` and the outputs
-/// at `first_output`.
+/// at `first_output`. The code reads and writes only the memory it is given, so every thread
+/// (every [`Scratch`]) runs it on a copy of its own.
 struct MachineCode {
-    code: Box<dyn Compiled<f64> + Send + Sync>,
+    /// Owns the executable memory that `func` points into.
+    _code: Box<dyn Compiled<f64> + Send + Sync>,
+    func: CompiledFunc,
     params: Vec<f64>,
+    /// The memory as compiled (constants in place): each scratch starts as a copy.
+    template: Vec<f64>,
     first_input: usize,
     first_output: usize,
+}
+
+/// The working memory of one evaluator of a [`Function`] (a thread, a member of an ensemble):
+/// evaluations through it take no lock.
+pub struct Scratch {
+    mem: Vec<f64>,
 }
 
 /// A compiled program: machine code where the platform allows it, else the interpreter.
 pub struct Function {
     program: Program,
-    /// The machine code writes its own memory at each call: hence the lock.
-    code: Option<Mutex<MachineCode>>,
+    code: Option<MachineCode>,
+    /// The memory of [`Function::eval`] (shared callers take turns).
+    shared: Mutex<Scratch>,
 }
 
 impl Function {
     /// Compile `program` (CSE, no fused multiply-adds, so that the results do not depend on
     /// the CPU). Never fails: without machine code the program is interpreted.
     pub fn compile(program: Program) -> Self {
-        let code = Self::machine_code(&program).map(Mutex::new);
-        Function { program, code }
+        let code = Self::machine_code(&program);
+        let mem = code
+            .as_ref()
+            .map(|c| c.template.clone())
+            .unwrap_or_default();
+        Function {
+            program,
+            code,
+            shared: Mutex::new(Scratch { mem }),
+        }
     }
 
     fn machine_code(program: &Program) -> Option<MachineCode> {
@@ -339,9 +362,17 @@ impl Function {
         // Only the machine code (with its own memory) is kept; the rest of the application
         // (the compiler's graph) is dropped here.
         let code = app.compiled.take()?;
+        let template = code.mem().to_vec();
+        if app.first_state + program.n_inputs > template.len()
+            || app.first_obs + program.n_outputs > template.len()
+        {
+            return None;
+        }
         Some(MachineCode {
-            code: Box::new(code),
+            func: code.func(),
+            _code: Box::new(code),
             params: app.params.clone(),
+            template,
             first_input: app.first_state,
             first_output: app.first_obs,
         })
@@ -356,24 +387,45 @@ impl Function {
         &self.program
     }
 
-    /// Evaluate at `inputs` (`n_inputs`), writing `out` (`n_outputs`).
-    pub fn eval(&self, inputs: &[f64], out: &mut [f64]) {
+    /// A working memory for [`Function::eval_in`].
+    pub fn scratch(&self) -> Scratch {
+        Scratch {
+            mem: self
+                .code
+                .as_ref()
+                .map(|c| c.template.clone())
+                .unwrap_or_default(),
+        }
+    }
+
+    /// Evaluate at `inputs` (`n_inputs`), writing `out` (`n_outputs`), in `scratch` (one of
+    /// this function's): no lock, so evaluators on many threads run at once.
+    #[inline]
+    pub fn eval_in(&self, scratch: &mut Scratch, inputs: &[f64], out: &mut [f64]) {
         let (ni, no) = (self.program.n_inputs, self.program.n_outputs);
         match &self.code {
             Some(m) => {
-                let mut guard = m.lock().unwrap_or_else(|e| e.into_inner());
-                let MachineCode {
-                    code,
-                    params,
-                    first_input,
-                    first_output,
-                } = &mut *guard;
-                code.mem_mut()[*first_input..*first_input + ni].copy_from_slice(&inputs[..ni]);
-                code.exec(params);
-                out[..no].copy_from_slice(&code.mem()[*first_output..*first_output + no]);
+                let mem = &mut scratch.mem;
+                debug_assert_eq!(mem.len(), m.template.len());
+                mem[m.first_input..m.first_input + ni].copy_from_slice(&inputs[..ni]);
+                // the code reads `params` and reads and writes `mem` only (symjit's ABI)
+                (m.func)(
+                    mem.as_mut_ptr() as *const f64,
+                    std::ptr::null(),
+                    0,
+                    m.params.as_ptr(),
+                );
+                out[..no].copy_from_slice(&mem[m.first_output..m.first_output + no]);
             }
             None => self.program.eval(inputs, out),
         }
+    }
+
+    /// Evaluate at `inputs` (`n_inputs`), writing `out` (`n_outputs`), in the function's own
+    /// memory (callers on several threads take turns).
+    pub fn eval(&self, inputs: &[f64], out: &mut [f64]) {
+        let mut guard = self.shared.lock().unwrap_or_else(|e| e.into_inner());
+        self.eval_in(&mut guard, inputs, out);
     }
 }
 

@@ -15,6 +15,8 @@
 //! * a model's own expressions compiled at run time: [`expressions`];
 //! * the contract between models and integrators: [`system`], with the rigid-body systems in
 //!   [`systems`];
+//! * constrained systems (Lagrange's equations with multipliers): [`lagrange`], on small
+//!   dense solvers ([`linalg`]);
 //! * ensembles of runs, in parallel: [`ensemble`];
 //! * the integrators: [`tableaux`] (as data), [`steppers`] (pure steps), [`observers`] and
 //!   [`drivers`] (time loops).
@@ -31,7 +33,9 @@ pub mod forces;
 pub mod freebody;
 pub mod inertia;
 pub mod invariants;
+pub mod lagrange;
 pub mod layout;
+pub mod linalg;
 pub mod observers;
 pub mod relative;
 pub mod rigid;

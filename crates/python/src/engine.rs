@@ -535,6 +535,144 @@ fn drive_unsync<S: RigidStructure + ?Sized>(
     status
 }
 
+/// A vector field given in Python: `rhs(t, y) -> ẏ` and, optionally, `project(y, t) -> y`
+/// onto the system's constraint manifold. The slow path: the GIL is held for the whole run;
+/// the first error a callable raises is kept and re-raised when the run stops.
+struct PyField<'py> {
+    py: Python<'py>,
+    rhs: Bound<'py, PyAny>,
+    project: Option<Bound<'py, PyAny>>,
+    dim: usize,
+    error: RefCell<Option<PyErr>>,
+}
+
+impl PyField<'_> {
+    fn call(&self, f: &Bound<'_, PyAny>, args: (f64, &[f64]), swap: bool, out: &mut [f64]) {
+        if self.error.borrow().is_some() {
+            out.fill(f64::NAN);
+            return;
+        }
+        let y = numpy::PyArray1::from_slice(self.py, args.1);
+        let result = if swap {
+            f.call1((y, args.0))
+        } else {
+            f.call1((args.0, y))
+        };
+        let values = result.and_then(|r| {
+            let a = r
+                .extract::<PyReadonlyArray1<f64>>()
+                .map(|a| a.as_slice().map(|s| s.to_vec()));
+            match a {
+                Ok(Ok(v)) => Ok(v),
+                _ => r.extract::<Vec<f64>>(),
+            }
+        });
+        match values {
+            Ok(v) if v.len() == self.dim => out.copy_from_slice(&v),
+            Ok(v) => {
+                *self.error.borrow_mut() = Some(PyTypeError::new_err(format!(
+                    "the right-hand side must return {} numbers, found {}",
+                    self.dim,
+                    v.len()
+                )));
+                out.fill(f64::NAN);
+            }
+            Err(e) => {
+                *self.error.borrow_mut() = Some(e);
+                out.fill(f64::NAN);
+            }
+        }
+    }
+}
+
+impl VectorField for PyField<'_> {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+    fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]) {
+        self.call(&self.rhs, (t, y), false, out);
+    }
+    fn project(&self, t: f64, y: &mut [f64]) -> bool {
+        let Some(p) = &self.project else {
+            return false;
+        };
+        let y0 = y.to_vec();
+        self.call(p, (t, &y0), true, y);
+        true
+    }
+    fn failed(&self) -> bool {
+        self.error.borrow().is_some()
+    }
+}
+
+/// Integrate a vector field given in Python (`rhs(t, y)`, optional `project(y, t)`): the
+/// adaptive method or an explicit tableau, in the buffers of `poinsot.integrate.driver`.
+/// Returns the status.
+#[pyfunction]
+#[pyo3(signature = (
+    rhs, project, method, a, b, c, clock, z, f, dt, control, t_end, t_eval, save_every, out_t,
+    out_y, counters, max_steps
+))]
+#[allow(clippy::too_many_arguments)]
+fn integrate_python<'py>(
+    py: Python<'py>,
+    rhs: Bound<'py, PyAny>,
+    project: Option<Bound<'py, PyAny>>,
+    method: &str,
+    a: PyReadonlyArray2<'py, f64>,
+    b: PyReadonlyArray1<'py, f64>,
+    c: PyReadonlyArray1<'py, f64>,
+    clock: PyReadwriteArray1<'py, f64>,
+    z: PyReadwriteArray1<'py, f64>,
+    f: PyReadwriteArray1<'py, f64>,
+    dt: f64,
+    control: PyReadonlyArray1<'py, f64>,
+    t_end: f64,
+    t_eval: PyReadonlyArray1<'py, f64>,
+    save_every: i64,
+    out_t: PyReadwriteArray1<'py, f64>,
+    out_y: PyReadwriteArray2<'py, f64>,
+    counters: PyReadwriteArray1<'py, i64>,
+    max_steps: i64,
+) -> PyResult<i64> {
+    if !rhs.is_callable() {
+        return Err(PyTypeError::new_err("`rhs` must be a function rhs(t, y)"));
+    }
+    let dim = z.as_slice()?.len();
+    let mut args = RunArgs {
+        a,
+        b,
+        c,
+        clock,
+        z,
+        f,
+        dt,
+        control,
+        t_end,
+        t_eval,
+        save_every,
+        out_t,
+        out_y,
+        counters,
+        max_steps,
+    };
+    let mut run = args.run(method, &["dop853", "erk"], dim)?;
+    let sys = PyField {
+        py,
+        rhs,
+        project: project.filter(|p| !p.is_none()),
+        dim,
+        error: RefCell::new(None),
+    };
+    let status = in_chunks(py, &mut run, |r, steps| {
+        chunk_general(&sys, &mut NoObserver, r, steps)
+    })?;
+    if let Some(err) = sys.error.borrow_mut().take() {
+        return Err(err);
+    }
+    Ok(status as i64)
+}
+
 /// The Butcher tableau `(A (s, s), B (s,), C (s,))` of a built-in method: `"rk4"` or
 /// `"dop853"` (its 12 stages; the dense output's stay in the core).
 #[pyfunction]
@@ -581,5 +719,6 @@ fn tableau<'py>(
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tableau, m)?)?;
     m.add_function(wrap_pyfunction!(integrate_rigid, m)?)?;
+    m.add_function(wrap_pyfunction!(integrate_python, m)?)?;
     Ok(())
 }

@@ -151,7 +151,7 @@ fn member_bodies<'py>(
 }
 
 /// The rayon pool of `threads` workers, built once per process and size.
-fn pool(threads: usize) -> PyResult<Arc<ThreadPool>> {
+pub(crate) fn pool(threads: usize) -> PyResult<Arc<ThreadPool>> {
     static POOLS: Mutex<Vec<(u32, usize, Arc<ThreadPool>)>> = Mutex::new(Vec::new());
     let pid = std::process::id(); // a forked child builds its own
     let mut pools = POOLS.lock().unwrap_or_else(|e| e.into_inner());
@@ -168,6 +168,49 @@ fn pool(threads: usize) -> PyResult<Arc<ThreadPool>> {
     );
     pools.push((pid, threads, p.clone()));
     Ok(p)
+}
+
+/// Run `work` on `pool` with the GIL released while this thread looks for an interrupt every
+/// [`POLL`]: an interrupt raises the stop flag `work` polls, and is returned once the workers
+/// have stopped; a panic in the core becomes a `RuntimeError`.
+pub(crate) fn interruptible<T: Send>(
+    py: Python<'_>,
+    pool: &ThreadPool,
+    work: impl FnOnce(&AtomicBool) -> T + Send,
+) -> PyResult<T> {
+    let stop = AtomicBool::new(false);
+    let mut interrupt: Option<PyErr> = None;
+    let outcome = py.detach(|| {
+        std::thread::scope(|scope| {
+            let caller = std::thread::current();
+            let stop = &stop;
+            let worker = scope.spawn(move || {
+                let done = catch_unwind(AssertUnwindSafe(|| pool.install(|| work(stop))));
+                caller.unpark();
+                done
+            });
+            while !worker.is_finished() {
+                std::thread::park_timeout(POLL);
+                if interrupt.is_none() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        interrupt = Some(e);
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                }
+            }
+            worker.join()
+        })
+    });
+    if let Some(e) = interrupt {
+        return Err(e);
+    }
+    match outcome {
+        Ok(Ok(t)) => Ok(t),
+        Ok(Err(p)) | Err(p) => Err(PyRuntimeError::new_err(format!(
+            "the engine failed (a bug in poinsot, please report it): {}",
+            panic_message(p)
+        ))),
+    }
 }
 
 fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
@@ -363,46 +406,13 @@ fn run_ensemble<'py>(
     let mut finals = vec![0.0; m * STATE_SIZE];
     let mut summaries = vec![MemberSummary::default(); m];
     let pool = pool(threads as usize)?;
-    let stop = AtomicBool::new(false);
-    let mut interrupt: Option<PyErr> = None;
-    let outcome = py.detach(|| {
-        std::thread::scope(|scope| {
-            let caller = std::thread::current();
-            let (schedule, members, stop, pool) = (&schedule, &members, &stop, &pool);
-            let (samples, finals, summaries) = (&mut samples, &mut finals, &mut summaries);
-            let worker = scope.spawn(move || {
-                let done = catch_unwind(AssertUnwindSafe(|| {
-                    pool.install(|| {
-                        let samples = keep_samples.then_some(&mut samples[..]);
-                        run_members(schedule, members, samples, finals, summaries, stop)
-                    })
-                }));
-                caller.unpark();
-                done
-            });
-            while !worker.is_finished() {
-                std::thread::park_timeout(POLL);
-                if interrupt.is_none() {
-                    if let Err(e) = Python::attach(|py| py.check_signals()) {
-                        interrupt = Some(e);
-                        stop.store(true, Ordering::Relaxed);
-                    }
-                }
-            }
-            worker.join()
-        })
-    });
-    if let Some(e) = interrupt {
-        return Err(e);
-    }
-    match outcome {
-        Ok(Ok(())) => {}
-        Ok(Err(p)) | Err(p) => {
-            return Err(PyRuntimeError::new_err(format!(
-                "the ensemble engine failed (a bug in poinsot, please report it): {}",
-                panic_message(p)
-            )))
-        }
+    {
+        let (samples, finals, summaries) = (&mut samples, &mut finals, &mut summaries);
+        let (schedule, members) = (&schedule, &members);
+        interruptible(py, &pool, move |stop| {
+            let samples = keep_samples.then_some(&mut samples[..]);
+            run_members(schedule, members, samples, finals, summaries, stop)
+        })?;
     }
     let samples = keep_samples
         .then(|| Array3::from_shape_vec((m, n, STATE_SIZE), samples).map(|a| a.into_pyarray(py)))

@@ -257,7 +257,7 @@ fn absolute_states<'py>(
 /// a postfix program over the inputs (`poinsot_core::expressions`), checked and compiled once.
 #[pyclass(frozen, module = "poinsot._core")]
 pub(crate) struct Expressions {
-    function: Arc<Function>,
+    pub(crate) function: Arc<Function>,
 }
 
 impl Expressions {

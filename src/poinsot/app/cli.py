@@ -33,7 +33,7 @@ class _Progress:
     """A one-line progress bar on stderr, shown only on a terminal and after one second.
 
     Written here rather than taken from tqdm/rich: it is twenty lines, and the core
-    dependencies stay numpy, scipy, sympy, matplotlib and numba.
+    dependencies stay numpy, scipy, sympy and matplotlib.
     """
 
     def __init__(self, t0, t1, enabled):

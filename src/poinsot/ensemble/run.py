@@ -227,8 +227,8 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
     if isinstance(forces, str) or not hasattr(forces, "__iter__"):
         raise TypeError(f"`forces` must be a sequence of Force objects, found {forces!r}")
     system = RigidBodySystem(body, forces, pivot)
-    if not system.compiled or system.jitted_forces:
-        names = ", ".join(f.name for f in system.python_forces + system.jitted_forces)
+    if not system.compiled or system.c_forces:
+        names = ", ".join(f.name for f in system.python_forces + system.c_forces)
         raise ValueError(
             "`forces`: an ensemble runs built-in forces only (Gravity, CentralGravity, Spring, "
             f"LinearDrag, QuadraticDrag, PointForce, Torque); these are user callables: {names}"

@@ -9,11 +9,11 @@ rkmk4      4     no       Q on SO(3) (Lie-group method)
 splitting  2     no       Q on SO(3), |L| and spatial L (torque-free), symplectic
 ========== ===== ======== ==========================================================
 
-The steps themselves are kernels (:mod:`poinsot.kernels.steppers`), shared by every driver;
-:func:`~poinsot.integrate.driver.integrate` runs a whole integration in one compiled call.
+The steps themselves are the compiled core's (``crates/core/src/steppers.rs``), shared by every
+driver; :func:`~poinsot.integrate.driver.integrate` runs a whole integration in one call.
 """
 
-from .base import INVARIANTS, METHODS, Solver, SolverState, get_solver, register
+from .base import INVARIANTS, METHODS, Solver, get_solver, register
 from .control import ConstantStepSize, StepSizeController
 from .dop853 import DOP853
 from .lie import RKMK4, MuntheKaas
@@ -32,7 +32,6 @@ __all__ = [
     "MuntheKaas",
     "SaveAt",
     "Solver",
-    "SolverState",
     "Splitting",
     "StepSizeController",
     "get_solver",

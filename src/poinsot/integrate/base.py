@@ -1,22 +1,20 @@
 """The integrator contract and the registry of methods (cf. ``scipy.integrate._ivp.base``).
 
-A solver is stateless: it describes a method and steps a state it is handed, keeping nothing
-between calls (diffrax's pure ``step``). Writing a new integrator:
+A method is a declaration and its data; its step lives once, in the compiled core
+(``crates/core/src/steppers.rs``: pure steps, diffrax's ``step``), and its time loop in the
+core's drivers (``drivers.rs``). Writing a new integrator:
 
 1. Subclass :class:`Solver` and set the class attributes ``name``, ``order`` (the global order
    of accuracy, checked by ``tests/integrate/test_order.py``), ``adaptive``, ``conserves`` (the
    invariants it keeps to round-off, from :data:`INVARIANTS`) and ``requires`` (``"ode"`` for
    any vector field, ``"rigid"`` when it needs the rigid-body structure).
-2. Give its data: an explicit Runge–Kutta method is its tableau ``A``, ``B``, ``C``
-   (:class:`~poinsot.integrate.rk.ExplicitRungeKutta`); other methods name the kernel step
-   they run (:attr:`Solver.kernel` in :mod:`poinsot.kernels.steppers`) and the compiled driver
-   that loops over it (:attr:`Solver.driver` in :mod:`poinsot.kernels.drivers`).
-3. :meth:`Solver.init` turns a system's state into the solver's state, :meth:`Solver.step`
-   advances it by ``h`` and returns ``(new state, error estimate)``, :meth:`Solver.output`
-   turns it back. The drivers use the same kernel steps; they never read a solver's fields
-   beyond its declared data.
-4. Add it to :data:`METHODS` with :func:`register`; every registered method then runs through
-   the order and conservation tests.
+2. Give its data and name its step: an explicit Runge–Kutta method is its tableau ``A``,
+   ``B``, ``C`` on the core's general step (:attr:`Solver.kind` ``"erk"``,
+   :class:`~poinsot.integrate.rk.ExplicitRungeKutta`); the other kinds are the core's own
+   steps (``"rk4"`` in registers, ``"rkmk"`` with a tableau, ``"splitting"``, ``"dop853"``).
+3. Add it to :data:`METHODS` with :func:`register`; every registered method then runs through
+   the order and conservation tests. A system offers the kinds its structure allows
+   (:class:`~poinsot.integrate.problem.NativeProblem`).
 
 Users select a method by name (any case) or by class: ``simulate(..., method="rkmk4")`` or
 ``method=RKMK4``. Step-size control and sampling are separate small objects
@@ -25,12 +23,11 @@ Users select a method by name (any case) or by class: ``simulate(..., method="rk
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
-__all__ = ["INVARIANTS", "METHODS", "Solver", "SolverState", "get_solver", "register"]
+__all__ = ["INVARIANTS", "METHODS", "Solver", "get_solver", "register"]
 
 #: Invariants a method may declare it keeps to round-off.
 INVARIANTS = frozenset(
@@ -42,42 +39,6 @@ INVARIANTS = frozenset(
 )
 
 
-@dataclass(frozen=True)
-class SolverState:
-    """The state a solver carries from one step to the next: time ``t``, its own state vector
-    ``z`` and, for first-same-as-last methods, the derivative ``f`` at ``(t, z)``."""
-
-    t: float
-    z: np.ndarray
-    f: np.ndarray | None = None
-
-
-def _drivers():
-    from ..kernels import drivers
-
-    return drivers
-
-
-def _kernel_for(fn, system):
-    """The compiled kernel for a compiled system (a named tuple of arrays), its Python twin for
-    a Python system."""
-    if isinstance(system, tuple):
-        return fn
-    from ..kernels.jit import python_twin
-
-    return python_twin(fn)
-
-
-class _KernelCode:
-    """The numba engine's code of a method (``kernels.steppers.METHOD_CODES[kind]``), looked
-    up on use: the compiled core names methods by :attr:`Solver.kind`."""
-
-    def __get__(self, obj, cls):
-        from ..kernels.steppers import METHOD_CODES
-
-        return METHOD_CODES.get(cls.kind, -1)
-
-
 class Solver:
     """Base class of poinsot's integrators; see the module docstring for the contract.
 
@@ -85,10 +46,11 @@ class Solver:
     ----------
     name, order, adaptive, conserves, requires
         The declaration of the method.
-    code : int
-        The method's code in :mod:`poinsot.kernels.steppers` (how the kernels convert states).
-    driver : str
-        The compiled time loop that runs it (a function of :mod:`poinsot.kernels.drivers`).
+    kind : str
+        The compiled core's step that runs it: ``"rk4"``, ``"erk"``, ``"rkmk"``,
+        ``"splitting"`` or ``"dop853"``.
+    A, B, C : ndarray
+        The tableau (explicit Runge–Kutta methods and their relatives); empty for the others.
     """
 
     name: ClassVar[str] = ""
@@ -96,43 +58,10 @@ class Solver:
     adaptive: ClassVar[bool] = False
     conserves: ClassVar[frozenset[str]] = frozenset()
     requires: ClassVar[str] = "ode"
-    code = _KernelCode()
-    #: The compiled core's step: "rk4", "erk", "rkmk", "splitting" or "dop853".
     kind: ClassVar[str] = ""
-    driver: ClassVar[str] = ""
-    #: tableau (ExplicitRungeKutta and its relatives); empty arrays for the others
     A: ClassVar[np.ndarray] = np.zeros((0, 0))
     B: ClassVar[np.ndarray] = np.zeros(0)
     C: ClassVar[np.ndarray] = np.zeros(0)
-
-    def driver_function(self, system):
-        """The compiled driver for a compiled system, or its Python twin for a Python one."""
-        return _kernel_for(getattr(_drivers(), self.driver), system)
-
-    def init(self, system, t0, y0) -> SolverState:
-        """The solver's state at ``(t0, y0)`` (``y0`` in the system's own coordinates)."""
-        from ..kernels.steppers import SPLITTING, solver_init_into
-
-        y0 = np.asarray(y0, dtype=float)
-        if self.code != SPLITTING:  # the solver's state is the system's state
-            return SolverState(float(t0), y0.copy())
-        z = np.empty_like(y0)
-        _kernel_for(solver_init_into, system)(self.code, system, y0, z)
-        return SolverState(float(t0), z)
-
-    def output(self, system, state: SolverState) -> np.ndarray:
-        """The system's state from the solver's."""
-        from ..kernels.steppers import solver_output_into
-
-        y = np.empty_like(state.z)
-        _kernel_for(solver_output_into, system)(self.code, system, state.z, y)
-        return y
-
-    def step(self, system, state: SolverState, h: float, controller=None):
-        """Advance ``state`` by ``h``: ``(new state, error)``. ``error`` is the scaled error
-        norm for adaptive methods (``controller`` gives the tolerances; a step is acceptable
-        when it is below 1), ``None`` for fixed-step methods."""
-        raise NotImplementedError
 
     def __repr__(self):
         return f"{type(self).__name__}()"

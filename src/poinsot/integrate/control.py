@@ -36,7 +36,7 @@ class StepSizeController:
     step with scaled error ``err``, the next one is the last times
     ``safety · err^(−1/(q+1))``, within ``[min_factor, max_factor]`` (and not above 1 right after
     a rejection); ``q`` is the order of the method's error estimator
-    (:func:`poinsot.kernels.steppers.step_size_factor`).
+    (the core's ``step_size_factor``).
 
     ``first_step`` (None: chosen automatically) and ``max_step`` bound the steps.
     """

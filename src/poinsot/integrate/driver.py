@@ -1,11 +1,11 @@
-"""Running a solver over a time span: one compiled call, or the same code run from Python.
+"""Running a solver over a time span: one call into the compiled core.
 
-:func:`integrate` prepares the arrays the compiled drivers of :mod:`poinsot.kernels.drivers`
-read, calls the driver for the whole run (in segments only to report progress or to grow the
-output of an adaptive run), and turns the status it returns into results or errors. The
-``"python"`` backend runs the very same driver code as Python (its
-:func:`~poinsot.kernels.jit.python_twin`) with a system evaluated from Python: the path for
-forces given by Python callables, and the reference the compiled backend is tested against.
+:func:`integrate` asks the system for its :class:`~poinsot.integrate.problem.NativeProblem`,
+prepares the arrays the core's drivers read, calls the core for the whole run (in segments
+only to report progress or to grow the output of an adaptive run), and turns the status it
+returns into results or errors. What is given in Python — forces, carriers or inputs as
+Python callables, a right-hand side ``rhs(t, y)`` — is called back from the core: the slow
+path, reported as ``backend="python"``.
 """
 
 from __future__ import annotations
@@ -23,9 +23,6 @@ from .saveat import SaveAt
 __all__ = ["BACKENDS", "IntegrationError", "IntegrationResult", "ODESystem", "integrate"]
 
 BACKENDS = ("compiled", "python")
-#: Steps per compiled call when a progress callback is given (progress is reported between).
-PROGRESS_CHUNK_COMPILED = 20_000
-PROGRESS_CHUNK_PYTHON = 200
 
 
 @dataclass
@@ -56,28 +53,39 @@ class IntegrationError(RuntimeError):
 
 class ODESystem:
     """Any object with ``rhs(t, y) → ẏ`` (and optionally ``projector(y0)``, returning ``None``
-    or a map ``(y, t) → y`` onto its constraint manifold) as a Python system, in the generic
-    contract of :mod:`poinsot.kernels.systems`; integrated by the Python backend."""
+    or a map ``(y, t) → y`` onto its constraint manifold, and ``state_slices``, the names of
+    parts of the state for messages) as a system the core integrates, calling it back (the
+    slow path)."""
+
+    structure = "ode"
 
     def __init__(self, problem, y0):
         self.rhs = problem.rhs
         make = getattr(problem, "projector", None)
         self._project = make(y0) if make is not None else None
+        n = np.asarray(y0).size
+        self.state_slices = getattr(problem, "state_slices", None) or {"state": slice(0, n)}
 
-    def vector_field(self, t, y, out):
-        out[:] = self.rhs(t, y)
+    def problem(self, y0):
+        from .. import _core
+        from .problem import GENERAL_METHODS, NativeProblem
 
-    def project(self, t, y):
-        if self._project is None:
-            return False
-        y[:] = self._project(y, t)
-        return True
+        rhs, project = self.rhs, self._project
 
-    def state_size(self, y):
-        return y.shape[0]
+        def field(t, y):
+            return np.asarray(rhs(t, y), dtype=float)
 
-    def body_parameters(self):
-        raise TypeError("this method needs a rigid-body system")
+        def onto(y, t):
+            return np.asarray(project(y, t), dtype=float)
+
+        data = (field, onto if project is not None else None)
+        return NativeProblem(_core.integrate_python, data, GENERAL_METHODS,
+                             ("the right-hand side rhs(t, y)",))  # fmt: skip
+
+    def to_internal(self, y):
+        return np.array(y, dtype=float)
+
+    from_internal = to_internal
 
 
 def _describe_nonfinite(slices, t, y) -> str:
@@ -122,7 +130,8 @@ def integrate(
     ``system`` is a :class:`~poinsot.dynamics.RigidBodySystem` (states in the body frame) or
     any object with ``rhs(t, y)``. Samples are kept at ``t_eval`` or, without it, at the start,
     every ``save_every``-th step and the end (:class:`~poinsot.integrate.saveat.SaveAt`);
-    ``observer`` (:mod:`poinsot.kernels.observers`) records what it wants of every step.
+    ``observer``, an object with float arrays ``first``, ``last``, ``count`` (1,), records the
+    flips of ω of a rigid body (the sign changes along its intermediate axis), every step.
     Fixed-step methods take steps of ``dt``; adaptive ones use ``rtol``, ``atol`` (``dt``: the
     first step; ``solver_options={"max_step": ...}``). ``backend`` is ``"compiled"`` (the
     default when every force is built-in) or ``"python"``. A non-finite state or a step size
@@ -140,7 +149,6 @@ def integrate(
     if not t1 > t0:
         raise ValueError(f"`t_span` must increase, found t0 = {t0}, t1 = {t1}")
     check_solver_fits(cls, system)
-    rigid = hasattr(system, "compiled_system")
     if cls.adaptive:
         from .dop853 import DEFAULT_ATOL, DEFAULT_RTOL
 
@@ -159,118 +167,15 @@ def integrate(
     saveat = SaveAt(None if t_eval is None else np.asarray(t_eval, dtype=float), save_every)
 
     y0 = np.array(y0, dtype=float)
-    if backend != "numba" and hasattr(system, "problem"):
-        return _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progress,
-                                 backend, observer, max_steps)  # fmt: skip
-    from ..kernels import drivers as _drv  # the numba engine (being replaced by the core)
-
-    if rigid:
-        compiled_ok = system.compiled
-        if backend == "numba":  # the numba engine, kept only to cross-check the port
-            backend = "compiled"
-        if backend is None:
-            backend = "compiled" if compiled_ok else "python"
-        elif backend not in BACKENDS:
-            raise ValueError(f"`backend` must be one of {BACKENDS}, found {backend!r}")
-        if backend == "compiled" and not compiled_ok:
-            names = ", ".join(f.name for f in system.python_forces)
-            raise ValueError(
-                "`backend='compiled'` needs built-in forces; these are Python callables (use "
-                f"backend='python'): {names}"
+    if not hasattr(system, "problem"):
+        if not hasattr(system, "rhs"):
+            raise TypeError(
+                "`system` must be a poinsot system or an object with rhs(t, y), found "
+                f"{type(system).__name__}"
             )
-        target = system.compiled_system(y0) if backend == "compiled" else system.python_system(y0)
-        y_internal = system.to_internal(y0)
-        slices = system.state_slices
-    else:
-        if backend == "compiled":
-            raise ValueError("`backend='compiled'` needs a rigid-body system")
-        backend = "python"
-        target = ODESystem(system, y0) if hasattr(system, "rhs") else system
-        y_internal = y0
-        slices = getattr(system, "state_slices", None) or {"state": slice(0, y0.size)}
-
-    start = time.perf_counter()
-    state = solver.init(target, t0, y_internal)
-    z = state.z.copy()
-    n = z.size
-    times = saveat.times
-    if len(times):
-        capacity = len(times)
-    elif cls.adaptive:
-        capacity = 256
-    else:
-        capacity = int(min((t1 - t0) / dt, 1e9)) // saveat.every + 3
-    out_t = np.empty(capacity)
-    out_y = np.empty((capacity, n))
-    clock = np.array([t0, 0.0])
-    counters = np.zeros(_drv.COUNTERS_SIZE, dtype=np.int64)
-    driver = solver.driver_function(target)
-    chunk = PROGRESS_CHUNK_COMPILED if backend == "compiled" else PROGRESS_CHUNK_PYTHON
-    per_call = chunk if progress is not None else 2**62
-    budget = 2**62 if max_steps is None else int(max_steps)
-    f = np.empty(n)
-    if cls.adaptive:
-        ctrl = controller.as_array()
-
-    def result(message, success):
-        k = int(counters[_drv.N_OUT])
-        y = out_y[:k]
-        y = system.from_internal(y) if rigid else y.copy()
-        return IntegrationResult(
-            out_t[:k].copy(),
-            y,
-            cls.name,
-            int(counters[_drv.N_FEV]),
-            int(counters[_drv.N_STEPS]),
-            time.perf_counter() - start,
-            message,
-            {"dt": dt, "rtol": rtol, "atol": atol},
-            backend,
-            int(counters[_drv.N_REJECTED]),
-            success,
-        )
-
-    if observer is None:
-        from ..kernels.observers import NoObserver
-
-        observer = NoObserver(0.0)
-    if cls.adaptive:
-        args = (target, observer, clock, z, f, t1, ctrl, times, saveat.every, out_t, out_y,
-                counters)  # fmt: skip
-    else:
-        args = (target, observer, solver.A, solver.B, solver.C, clock, z, t1, float(dt), times,
-                saveat.every, out_t, out_y, counters)  # fmt: skip
-    quiet = np.errstate(over="ignore", invalid="ignore", divide="ignore")
-    while True:
-        left = budget - int(counters[_drv.N_STEPS])
-        if left <= 0:
-            raise _over_budget(budget, float(clock[0]), t1, result)
-        if backend == "compiled":  # compiled code raises no floating-point warnings
-            status = driver(*args, min(per_call, left))
-        else:
-            with quiet:
-                status = driver(*args, min(per_call, left))
-        if progress is not None:
-            progress(float(clock[0]))
-        if status == _drv.FINISHED:
-            return result("finished", True)
-        if status == _drv.OUTPUT_FULL:
-            out_t = np.concatenate([out_t, np.empty(len(out_t))])
-            out_y = np.concatenate([out_y, np.empty((len(out_y), n))])
-            args = (*args[:-3], out_t, out_y, counters)
-            continue
-        if status == _drv.NONFINITE:
-            y_bad = z.copy()
-            if rigid:
-                y_bad = system.from_internal(y_bad)
-            message = _describe_nonfinite(slices, float(clock[0]), y_bad)
-            raise IntegrationError(message, result(message, False))
-        if status == _drv.STEP_TOO_SMALL:
-            message = (
-                f"the step size fell below the resolution of t = {clock[0]:.9g} (the problem "
-                "may be stiff or singular there, or the tolerances too tight)"
-            )
-            raise IntegrationError(message, result(message, False))
+        system = ODESystem(system, y0)
+    return _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progress,
+                             backend, observer, max_steps)  # fmt: skip
 
 
 #: Steps per call of the core when a progress callback is given (progress is reported between).

@@ -4,14 +4,12 @@ The attitude is advanced as ``Q = Q_n exp(θ̂)`` with ``θ`` solving the ODE in
 ``θ̇ = dexp⁻¹_{−θ}(ω)`` (from ``Q̇ = QΩ``), integrated by an explicit Runge–Kutta tableau, while
 ``R, V, ω`` follow the same tableau in their vector space. Every ``Q`` it produces is a product of
 exact rotations, so ``QᵀQ = I`` holds to round-off (Munthe-Kaas 1999, BIT 39; Iserles et al.
-2000, Acta Numerica §5). The step is :func:`poinsot.kernels.steppers.rkmk_step`.
+2000, Acta Numerica §5). The step is the core's ``rkmk_step``.
 """
 
 from __future__ import annotations
 
-import numpy as np
-
-from .base import SolverState, _kernel_for, register
+from .base import register
 from .rk import RK4, ExplicitRungeKutta
 
 __all__ = ["RKMK4", "MuntheKaas"]
@@ -23,20 +21,6 @@ class MuntheKaas(ExplicitRungeKutta):
     requires = "rigid"
     conserves = frozenset({"orthogonality"})
     kind = "rkmk"
-    driver = "run_rkmk"
-
-    def step(self, system, state, h, controller=None):
-        from ..kernels import steppers as _st
-
-        z = state.z
-        s = len(self.B)
-        out = np.empty_like(z)
-        rkmk = _kernel_for(_st.rkmk_step, system)
-        rkmk(
-            system, self.A, self.B, self.C, state.t, z, float(h),
-            np.empty((s, z.size)), np.empty_like(z), np.empty((s, 3)), np.empty((3, 3)), out,
-        )  # fmt: skip
-        return SolverState(state.t + h, out), None
 
 
 @register

@@ -4,7 +4,7 @@ The Hamiltonian splits into the free rotor ``T = Σ π_i²/(2 I_i)`` (plus ``|P|
 centre of mass) and the potential of the forces. Each part is solved exactly: the free rotor by
 the exact flow of a symmetric rotor or the symmetric composition of rotations about the
 principal axes (McLachlan 1993, *Phys. Rev. Lett.* 71; Dullweber, Leimkuhler & McLachlan 1997,
-*J. Chem. Phys.* 107 — :func:`poinsot.kernels.rigid.free_rotor_step_into`), the forces as
+*J. Chem. Phys.* 107 — the core's ``free_rotor_step``), the forces as
 momentum kicks. The Strang composition ``kick(h/2) ∘ drift(h) ∘ kick(h/2)`` is second order and
 symplectic; torque-free it keeps ``|L|`` and the spatial ``L`` to round-off, and ``Q`` on SO(3).
 
@@ -15,33 +15,20 @@ damping, the heavy top's weight, central gravity.
 
 from __future__ import annotations
 
-import numpy as np
-
-from .base import Solver, SolverState, _kernel_for, register
+from .base import Solver, register
 
 __all__ = ["Splitting"]
 
 
 @register
 class Splitting(Solver):
-    """Second-order symplectic splitting (free rotor ∘ kicks), fixed step; its state carries
-    the body momentum π in place of ω (:func:`poinsot.kernels.steppers.solver_init_into`)."""
+    """Second-order symplectic splitting (free rotor ∘ kicks), fixed step; the core steps
+    the body momentum π in place of ω (``splitting_step``)."""
 
     name = "splitting"
     order = 2
     requires = "rigid"
     conserves = frozenset({"orthogonality", "angular_momentum", "symplectic"})
     kind = "splitting"
-    driver = "run_splitting"
     #: the structure it needs: every force a kick (position-only)
     needs_position_only_forces = True
-
-    def step(self, system, state, h, controller=None):
-        from ..kernels import steppers as _st
-
-        z = state.z
-        out = np.empty_like(z)
-        split = _kernel_for(_st.splitting_step, system)
-        split(system, state.t, z, float(h), np.empty_like(z), np.empty((3, 3)),
-              np.empty((3, 3)), out)  # fmt: skip
-        return SolverState(state.t + h, out), None

@@ -2,8 +2,9 @@
 
 :class:`LagrangianSystem` derives the equations of motion with multipliers symbolically (SymPy);
 ``system.simulate`` integrates them with poinsot's integrators and reports multipliers,
-generalized constraint forces, constraint residuals and energy (``engine="compiled"``: a
-generated, numba-compiled module stepped by the compiled drivers); ``system.simulate_ensemble``
+generalized constraint forces, constraint residuals and energy (the default
+``engine="compiled"``: the model's expressions compiled to machine code in the core in
+milliseconds, stepped by the core's integrators); ``system.simulate_ensemble``
 runs parameter ensembles; ``system.equilibria`` and ``system.linearize`` give equilibria,
 natural frequencies and stability.
 """

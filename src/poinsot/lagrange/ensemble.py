@@ -1,12 +1,13 @@
 """Parameter ensembles of a Lagrangian system: N parameter sets × initial states in compiled
 calls, like the rigid-body ensembles (``docs/lagrange.md``, "Ensembles").
 
-The system is generated and compiled once (:mod:`poinsot.lagrange.engine`); every member is
-the same compiled function with its own parameter vector, inputs and initial state. Members
-are cut into chunks, and a chunk runs in one call of
-:func:`~poinsot.kernels.ensemble.chunk_states_dop853` (or ``chunk_states_erk``) on the
-compiled drivers, chunks in parallel on threads (the kernels release the GIL). No Python runs
-per member or per step: Python checks shapes, builds the arrays and collects the results.
+The model is compiled once (:mod:`poinsot.lagrange.engine`); every member is the same
+compiled model with its own parameter vector, inputs and initial state. Members are cut into
+chunks, and a chunk runs in one call of the core
+(``poinsot._core.LagrangianModel.run_ensemble``), its members in parallel on the core's
+threads with the GIL released and Ctrl-C honoured. No Python runs per member or per step:
+Python checks shapes, builds the arrays and collects the results. A member's result depends
+on its own data only: the same bit for bit whatever the chunking or the number of threads.
 """
 
 from __future__ import annotations
@@ -98,9 +99,9 @@ class LagrangianEnsemble:
     @property
     def success(self) -> np.ndarray:
         """(N,) bool: the members whose run finished."""
-        from ..kernels.drivers import FINISHED
+        from .. import _core
 
-        return self.status == FINISHED
+        return self.status == _core.FINISHED
 
     def samples(self, i: int) -> dict:
         """Member ``i``'s accelerations, multipliers (``lam``), generalized constraint forces,
@@ -193,13 +194,9 @@ def simulate_ensemble(
     >>> np.sign(ens[th][:, -1].round(5)).tolist()
     [-1.0, 0.0, 1.0]
     """
-    from concurrent.futures import ThreadPoolExecutor
-
     from ..ensemble.executors import available_cpus
     from ..integrate.control import StepSizeController
     from ..integrate.solve import check_sampling, check_t_span, check_tolerances
-    from ..kernels import ensemble as kens
-    from ..kernels.observers import NoObserver
     from .engine import compile_system
 
     t0, t1 = check_t_span(t_span)
@@ -214,7 +211,7 @@ def simulate_ensemble(
     if chunk_size is not None and (not isinstance(chunk_size, int) or chunk_size < 1):
         raise ValueError(f"`chunk_size` must be a positive integer, found {chunk_size!r}")
 
-    n, m = system.n_coordinates, system.n_constraints
+    m = system.n_constraints
     P_cols = _by_key(params, system.parameters, "params", "parameter")
     U_cols = _by_key(inputs, system.inputs, "inputs", "input")
     Q_cols = _by_key(q0, system.coordinates, "q0", None if system.n_holonomic else "coordinate")
@@ -239,36 +236,24 @@ def simulate_ensemble(
 
     gains = tuple(float(x) for x in baumgarte) if stabilization == "baumgarte" else (0.0, 0.0)
     projection = stabilization == "projection" and m > 0
-    Y = np.empty((N, len(times), 2 * n))
-    status = np.zeros(N, dtype=np.int64)
-    nsteps = np.zeros(N, dtype=np.int64)
-    nfev = np.zeros(N, dtype=np.int64)
     workers = threads or available_cpus()
     chunk = chunk_size or max(1, min(1000, -(-N // workers)))
-    observer = NoObserver(0.0)
     if solver.adaptive:
-        control = StepSizeController(rtol, atol).as_array()
+        kind, control = "dop853", StepSizeController(rtol, atol).as_array()
+        A, B, C, step = np.zeros((0, 0)), np.zeros(0), np.zeros(0), 0.0
     else:
         steps = solver()
-
-    def run(i0):
+        kind, control, step = "erk", np.zeros(7), float(dt)
+        B = np.ascontiguousarray(steps.B, dtype=float)
+        A = np.ascontiguousarray(steps.A, dtype=float).reshape(len(B), len(B))
+        C = np.ascontiguousarray(steps.C, dtype=float)
+    parts = []
+    for i0 in range(0, N, chunk):
         i1 = min(i0 + chunk, N)
-        template = engine.native_lanes(P[i0:i1], U[i0:i1], gains, projection)
-        out = (Y[i0:i1], status[i0:i1], nsteps[i0:i1], nfev[i0:i1])
-        if solver.adaptive:
-            kens.chunk_states_dop853(template, observer, control, Z0[i0:i1], t0, t1, times,
-                                     *out)  # fmt: skip
-        else:
-            kens.chunk_states_erk(template, observer, steps.A, steps.B, steps.C, Z0[i0:i1],
-                                  t0, t1, float(dt), times, *out)  # fmt: skip
-
-    starts = range(0, N, chunk)
-    if workers == 1 or len(starts) == 1:
-        for i0 in starts:
-            run(i0)
-    else:
-        with ThreadPoolExecutor(min(workers, len(starts))) as pool:
-            list(pool.map(run, starts))
+        parts.append(engine.model.run_ensemble(
+            P[i0:i1], U[i0:i1], Z0[i0:i1], gains[0], gains[1], projection, kind, A, B, C,
+            step, control, t0, t1, times, workers))  # fmt: skip
+    Y, status, nsteps, nfev = (np.concatenate(col) for col in zip(*parts, strict=True))
     return LagrangianEnsemble(system, engine, times, Y, P, U, status, nsteps, nfev,
                               solver.name, stabilization)  # fmt: skip
 
@@ -295,10 +280,8 @@ def _complete_states(system, engine, t0, Z0, P, U, tol):
 def _check_consistent(engine, t0, Z0, P, U, tol):
     """Refuse the first member whose initial state violates the constraints (or whose
     equations cannot be solved there), naming it; one compiled loop over the members."""
-    N = len(Z0)
-    pos, vel, solvable = np.empty(N), np.empty(N), np.empty(N, dtype=np.bool_)
-    engine.module.starts(float(t0), Z0, P, U, pos, vel, solvable)
-    n = engine.module.N
+    pos, vel, solvable = engine.model.starts(float(t0), Z0, P, U)
+    n = engine.n
     scale_q = 1 + np.max(np.abs(Z0[:, :n]), axis=1)
     scale_v = 1 + np.max(np.abs(Z0[:, n:]), axis=1)
     for bad, what, value in ((pos > tol * scale_q, "holonomic constraints are violated by "

@@ -79,10 +79,11 @@ def _verdict(A, eig, scale):
 
 
 def _numeric(system, params):
-    from .numeric import _numeric as build
-    from .numeric import as_params
+    """The system's compiled model with these parameters (the core evaluates it)."""
+    from .engine import compile_system
+    from .numeric import _EngineNumeric, as_params
 
-    return build(system, as_params(params, system))
+    return _EngineNumeric(system, as_params(params, system), compile_system(system))
 
 
 class Equilibrium(dict):

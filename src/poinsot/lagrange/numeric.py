@@ -159,31 +159,60 @@ class _Numeric:
 
 
 class _EngineNumeric(_Numeric):
-    """The interface of :class:`_Numeric` on a system's generated, compiled module
+    """The interface of :class:`_Numeric` on a system's compiled model
     (:mod:`poinsot.lagrange.engine`): the same functions of ``(q, q̇, t, u)`` without
-    ``lambdify``, and :meth:`batch` as one compiled loop."""
+    ``lambdify``, the accelerations, projection and :meth:`batch` computed by the core.
+    ``active`` (m,) masks the constraints in play (a released one-sided constraint is out)."""
 
-    def __init__(self, system, params: dict, engine):
+    def __init__(self, system, params: dict, engine, active=None):
         self.system = system
         self.params = dict(params)
         self.engine = engine
         self.u_of = None
         self.m = system.n_constraints
         self.n_hol = system.n_holonomic
+        self.active = None if active is None else np.asarray(active, dtype=bool)
         self._p = engine.parameter_vector(params)
-        parts = engine.module._parts
+        model = engine.model
 
         def part(k):
             def fn(q, qd, t, u):
-                return parts(_floats(q), _floats(qd), float(t), self._p, _floats(u))[k]
+                return model.parts(float(t), _floats(q), _floats(qd), self._p, _floats(u))[k]
 
             return fn
 
         self.M, self.f, self.G, self.b, self.gamma, self.g, self.energy = map(part, range(7))
 
+    def _u(self, t, q, qd):
+        return _floats(self.u_of(t, q, qd) if self.u_of is not None else ())
+
+    def with_active(self, active):
+        """A copy with the constraints in play ``active`` (m,)."""
+        import copy
+
+        out = copy.copy(self)
+        out.active = None if active is None else np.asarray(active, dtype=bool)
+        return out
+
+    def accelerations(self, t, q, qd, stab=None):
+        """``(q̈, λ)`` with the physical multipliers (``stab`` is not taken: the compiled
+        engine adds Baumgarte's terms itself); ``λ`` of the constraints in play."""
+        if stab is not None:
+            raise ValueError("the compiled engine takes the stabilisation as gains")
+        q, qd = _floats(q), _floats(qd)
+        qdd, lam = self.engine.model.accelerations(float(t), q, qd, self._p, self._u(t, q, qd),
+                                                   self.active)  # fmt: skip
+        return qdd, (lam if self.active is None else lam[self.active])
+
+    def project(self, t, q, qd, tol=1e-13, max_iter=20):
+        q, qd = _floats(q), _floats(qd)
+        q, qd, _ = self.engine.model.project(float(t), q, qd, self._p, self._u(t, q, qd),
+                                             self.active, tol, max_iter)  # fmt: skip
+        return q, qd
+
     def batch(self, t, q, qd, u) -> dict:
         y = np.concatenate([q, qd], axis=1)
-        return self.engine.samples(t, y, self._p, np.asarray(u, float))
+        return self.engine.samples(t, y, self._p, np.asarray(u, float), self.active)
 
 
 def _solve_stack(K, r):
@@ -217,11 +246,10 @@ class _ODE:
         self.stabilization = stabilization
         self.alpha, self.beta = baumgarte
         self.state_slices = {"q": slice(0, self.n), "qd": slice(self.n, 2 * self.n)}
-        self.engine = engine  # a CompiledSystem: the generated, numba-compiled rhs
+        self.engine = engine  # a CompiledSystem (the core's model), or None: NumPy per step
         if engine is not None:
             self._p = engine.parameter_vector(num.params)
             self._gains = (self.alpha, self.beta) if stabilization == "baumgarte" else (0, 0)
-            self._no_inputs = np.zeros(0)
 
     def stab(self, t, q, qd):
         if self.stabilization != "baumgarte" or not self.num.m:
@@ -233,12 +261,6 @@ class _ODE:
 
     def rhs(self, t, y):
         q, qd = y[: self.n], y[self.n :]
-        if self.engine is not None:
-            out = np.empty(2 * self.n)
-            u = self.num.u_of(t, q, qd) if self.num.u_of is not None else self._no_inputs
-            self.engine.module.rhs(t, np.ascontiguousarray(y, dtype=float), self._p, u,
-                                     float(self._gains[0]), float(self._gains[1]), out)  # fmt: skip
-            return out
         qdd, _ = self.num.accelerations(t, q, qd, self.stab(t, q, qd))
         return np.concatenate([qd, qdd])
 
@@ -254,52 +276,31 @@ class _ODE:
 
 
 class _NativeODE(_ODE):
-    """The system stepped by the compiled drivers through the generated module's entry points
-    (:data:`~poinsot.kernels.systems.NativeSystem`): no Python runs per step. Inputs are
-    constants here (callables are evaluated per step by :class:`_ODE`)."""
+    """The system integrated by the core (:class:`~poinsot.integrate.problem.NativeProblem`):
+    the compiled model, its parameters, its inputs (constants, compiled expressions of
+    ``[t, q, q̇]``, or a Python callable ``(t, q, qd)``: the slow path), Baumgarte's gains, the
+    projection and the constraints in play. No Python runs per step unless an input is a
+    Python callable."""
 
-    forces = ()
-    python_forces = ()
-    compiled = True  # every step in compiled code
-
-    def __init__(self, num, stabilization, baumgarte, engine, u):
+    def __init__(self, num, stabilization, baumgarte, engine, inputs):
         super().__init__(num, stabilization, baumgarte, engine)
-        self._u = np.ascontiguousarray(u, dtype=float)
+        self._inputs = inputs
         self._projection = stabilization == "projection" and num.m > 0
 
-    def compiled_system(self, y0):
-        return self.engine.native_system(self._p, self._u, self._gains, self._projection)
+    def problem(self, y0):
+        from .. import _core
+        from ..integrate.problem import GENERAL_METHODS, NativeProblem
 
-    def python_system(self, y0):
-        return _NativePython(self)
+        active = getattr(self.num, "active", None)
+        slow = ("inputs given as Python functions",) if callable(self._inputs) else ()
+        data = (self.engine.model, self._p, self._inputs, float(self._gains[0]),
+                float(self._gains[1]), self._projection, active)  # fmt: skip
+        return NativeProblem(_core.integrate_lagrange, data, GENERAL_METHODS, slow)
 
     def to_internal(self, y):
         return np.array(y, dtype=float)
 
     from_internal = to_internal
-
-
-class _NativePython:
-    """The same generated functions called from Python, step by step (``backend="python"``:
-    the reference the compiled drivers are tested against)."""
-
-    def __init__(self, ode):
-        self.ode, self.mod = ode, ode.engine.module
-
-    def vector_field(self, t, y, out):
-        a, b = self.ode._gains
-        self.mod.rhs(float(t), np.ascontiguousarray(y), self.ode._p, self.ode._u, float(a),
-                     float(b), out)  # fmt: skip
-
-    def project(self, t, y):
-        return bool(self.ode._projection and self.mod.project(float(t), y, self.ode._p,
-                                                               self.ode._u))  # fmt: skip
-
-    def state_size(self, y):
-        return y.shape[0]
-
-    def body_parameters(self):  # pragma: no cover - the rigid-only steps are refused
-        raise TypeError("a Lagrangian system has no rigid-body parameters")
 
 
 class LagrangianSolution:
@@ -365,6 +366,20 @@ class LagrangianSolution:
             out = pnum.batch(self.t[at], self.q[at], self.qd[at], self.inputs[at])
             self.accelerations[at] = out["qdd"]
             self.energy[at] = out["energy"]
+            if getattr(pnum, "active", None) is not None:
+                # the compiled engine, constraints masked: multipliers zero for the released
+                # ones, their residuals NaN (a gap, not an error)
+                gone = ~pnum.active
+                lam = out["lam"].copy()
+                lam[:, gone] = 0.0
+                self.multipliers[at] = lam
+                self.constraint_forces[at] = out["constraint_forces"]
+                pos, vel = out["g"].copy(), out["velocity_residual"].copy()
+                pos[:, gone[:nh]] = np.nan
+                vel[:, gone] = np.nan
+                self.constraint_residual[at] = pos
+                self.constraint_velocity_residual[at] = vel
+                continue
             if pnum is num:
                 self.multipliers[at] = out["lam"]
                 self.constraint_forces[at] = out["constraint_forces"]
@@ -533,10 +548,14 @@ def input_function(inputs, system):
             f"`inputs` must give every input of the system: missing {', '.join(missing)} "
             "(a number, a function of t, or a function of (t, q, qd))"
         )
-    funcs, constants = [], []
+    funcs, constants, exprs = [], [], []
+    sp = _sympy_if_needed(given.values())
     for u in names:
         value, label = given[u], f"inputs[{str(u).replace('(t)', '')}]"
-        if callable(value):
+        if sp is not None and isinstance(value, sp.Basic) and not value.is_Number:
+            exprs.append(_input_expression(value, system, label))
+            funcs.append(None)
+        elif callable(value):
             try:
                 arity = len(inspect.signature(value).parameters)
             except (TypeError, ValueError):
@@ -548,13 +567,60 @@ def input_function(inputs, system):
             c = as_scalar(value, label)
             funcs.append(lambda t, q, qd, c=c: c)
             constants.append(c)
+            exprs.append(c)
+    compiled = None
+    if len(exprs) == len(names) and len(constants) < len(names):
+        from ..expressions import compile_expressions
+
+        plain = system.plain
+        args = [system.t, *plain.q, *plain.v]
+        compiled = compile_expressions([sp.sympify(plain.of(e)) for e in exprs], args)
+        n = system.n_coordinates
+
+        def evaluate(t, q, qd):
+            row = np.concatenate([[t], np.asarray(q, float), np.asarray(qd, float)])
+            return compiled(row.reshape(1, 1 + 2 * n))[0]
+
+        def component(i):
+            return lambda t, q, qd: evaluate(t, q, qd)[i]
+
+        funcs = [component(i) if f is None else f for i, f in enumerate(funcs)]
 
     def u_of(t, q, qd):
         return np.array([float(f(t, q, qd)) for f in funcs])
 
-    #: the values when every input is a constant (the compiled drivers take them), else None
+    #: the values when every input is a constant (the core takes them), else None
     u_of.constant = np.array(constants) if len(constants) == len(names) else None
+    #: the inputs as compiled expressions of [t, q, q̇] when each is a number or a SymPy
+    #: expression (the core evaluates them), else None
+    u_of.compiled = compiled
     return u_of
+
+
+def _sympy_if_needed(values):
+    """SymPy, when one of ``values`` is a SymPy object (without importing it otherwise)."""
+    import sys
+
+    sp = sys.modules.get("sympy")
+    if sp is None:
+        return None
+    return sp if any(isinstance(v, sp.Basic) for v in values) else None
+
+
+def _input_expression(value, system, label):
+    """A SymPy input: an expression in t, the coordinates and their speeds, checked."""
+    import sympy as sp
+
+    allowed = {system.t, *system.coordinates, *system.speeds}
+    atoms = (value.atoms(sp.Symbol) | value.atoms(sp.core.function.AppliedUndef)
+             | value.atoms(sp.Derivative))  # fmt: skip
+    stray = sorted(str(a) for a in atoms - allowed)
+    if stray:
+        raise ValueError(
+            f"`{label}` = {value} may depend only on t, the coordinates and their speeds; "
+            f"found {', '.join(stray)}"
+        )
+    return value
 
 
 def consistent_initial_state(system, num, t0, q0, qd0, guess=None, tol=1e-9):
@@ -654,7 +720,7 @@ def simulate(
     inputs=None,
     events=None,
     event_resolution=2001,
-    engine="numpy",
+    engine="compiled",
     max_steps=None,
 ) -> LagrangianSolution:
     """Integrate the equations of motion of ``system``.
@@ -688,13 +754,14 @@ def simulate(
         Grid points on which events, and the release of one-sided constraints
         (``system.unilateral``), are detected before they are located to the integrator's
         accuracy (:mod:`poinsot.integrate.events`); ``sol.releases`` lists the releases.
-    engine : {"numpy", "compiled"}
-        How the right-hand side is evaluated. ``"numpy"``: SymPy's ``lambdify`` with the
-        parameters substituted (ready at once). ``"compiled"``: one generated, numba-compiled
-        function for M, f, G, γ with shared subexpressions and the parameters as runtime
-        arguments (:mod:`poinsot.lagrange.engine`): about 14× less per evaluation, a few
-        seconds of compilation the first time a system is seen (cached on disk), and one
-        compilation for every parameter set of a sweep.
+    engine : {"compiled", "numpy"}
+        How the equations are evaluated. ``"compiled"`` (default): the model's expressions
+        (M, f, G, b, γ, g, h with shared subexpressions, parameters and inputs as runtime
+        arguments) compiled to machine code in the core in milliseconds
+        (:mod:`poinsot.lagrange.engine`), and the KKT solve, stabilisation and projection in
+        the core: no Python per step, unless an input is a Python function (the slow path).
+        ``"numpy"``: SymPy's ``lambdify`` and NumPy per step, the independent route the
+        compiled engine is tested against.
     """
     from ..integrate.driver import IntegrationError, integrate
     from ..integrate.solve import (
@@ -707,13 +774,13 @@ def simulate(
 
     t0, t1 = check_t_span(t_span)
     if engine not in ("numpy", "compiled"):
-        raise ValueError(f"`engine` must be 'numpy' or 'compiled', found {engine!r}")
+        raise ValueError(f"`engine` must be 'compiled' or 'numpy', found {engine!r}")
     solver = check_run_options(method, stabilization)
     params = as_params(params, system)
     t_eval, _, dt = check_sampling(t_eval, t0, t1, 1, dt)
     rtol, atol = check_tolerances(rtol, atol)
     budget = check_budget(solver, t0, t1, dt, max_steps)
-    if engine == "compiled" and not events and not system.unilateral:
+    if engine == "compiled":
         from .engine import compile_system
 
         compiled = compile_system(system)
@@ -747,29 +814,41 @@ def simulate(
         return out.y
 
     run.nfev, run.method = 0, solver.name
+
+    def ode_of(anum):
+        """The integrated system of ``anum``: the core's (compiled engine), or NumPy's."""
+        if compiled is None:
+            return _ODE(anum, stabilization, gains)
+        return _NativeODE(anum, stabilization, gains, compiled, _core_inputs(u_of))
+
     y_init = np.concatenate([q_init, qd_init])
     if not events and not system.unilateral:  # one run, no event to watch
-        if compiled is not None:
-            constant = np.zeros(0) if u_of is None else u_of.constant
-            if constant is not None:  # every step in compiled code
-                ode = _NativeODE(num, stabilization, gains, compiled, constant)
-            else:  # the generated rhs, called per step with the user's input functions
-                ode = _ODE(num, stabilization, gains, compiled)
-        else:
-            ode = _ODE(num, stabilization, gains)
-        out_y = run(ode, t0, y_init, t1, t_eval)
+        out_y = run(ode_of(num), t0, y_init, t1, t_eval)
         return LagrangianSolution(system, t_eval, out_y, num, method=run.method, nfev=run.nfev,
                                   stabilization=stabilization)  # fmt: skip
     times = np.asarray(t_eval, float)
-    return _simulate_phases(system, num, params, u_of, run, stabilization, gains, y_init,
-                            t0, t1, times, events, event_resolution)  # fmt: skip
+    return _simulate_phases(system, num, params, u_of, run, ode_of, y_init, t0, t1, times,
+                            events, event_resolution, stabilization)  # fmt: skip
 
 
-def _simulate_phases(system, num, params, u_of, run, stabilization, gains, y0, t0, t1, t_eval,
-                     events, resolution):  # fmt: skip
+def _core_inputs(u_of):
+    """The inputs as the core takes them: constants (an array), compiled expressions, or the
+    Python function ``(t, q, qd)`` (the slow path)."""
+    if u_of is None:
+        return np.zeros(0)
+    if u_of.constant is not None:
+        return np.ascontiguousarray(u_of.constant, dtype=float)
+    if u_of.compiled is not None:
+        return u_of.compiled
+    return u_of
+
+
+def _simulate_phases(system, num, params, u_of, run, ode_of, y0, t0, t1, t_eval, events,
+                     resolution, stabilization):  # fmt: skip
     """The run as phases between releases of one-sided constraints: in each, the user's
     events and a "release" event per active one-sided constraint (its multiplier falling
-    through zero) are watched; at a release the run goes on with the system without it."""
+    through zero) are watched; at a release the run goes on without that constraint (the
+    compiled engine masks its row; the NumPy path derives the released system)."""
     from ..integrate.events import integrate_with_events, normalize_events
 
     user = normalize_events(events)
@@ -778,19 +857,28 @@ def _simulate_phases(system, num, params, u_of, run, stabilization, gains, y0, t
     t_events = [[] for _ in user]
     y_events = [[] for _ in user]
     releases = []
-    active = system  # the system of this phase
+    compiled = isinstance(num, _EngineNumeric)
+    active = system  # the system of this phase (NumPy path)
+    mask = np.ones(system.n_constraints, dtype=bool)  # the constraints in play (compiled)
     labels = list(range(system.n_holonomic))  # this phase's holonomic rows → the original's
     ta, ya, stop = t0, y0, False
     while True:
-        anum = _numeric(active, params)
-        if u_of is not None:
-            anum = anum.bound(u_of)
-        ode = _ODE(anum, stabilization, gains)
+        if compiled:
+            anum = num if mask.all() else num.with_active(mask)
+            one_sided = [k for k in system.unilateral if mask[k]]
+        else:
+            anum = _numeric(active, params)
+            if u_of is not None:
+                anum = anum.bound(u_of)
+            one_sided = list(active.unilateral)
+        ode = ode_of(anum)
         watch = [g for g, _, _ in user]
-        for k in active.unilateral:
+        for k in one_sided:
+            # the multiplier of constraint k among those in play
+            index = int(mask[:k].sum()) if compiled else k
 
-            def release(t, y, k=k, anum=anum, n=active.n_coordinates):
-                return anum.accelerations(t, y[:n], y[n:])[1][k]
+            def release(t, y, index=index, anum=anum, n=system.n_coordinates):
+                return anum.accelerations(t, y[:n], y[n:])[1][index]
 
             release.terminal, release.direction = True, -1
             watch.append(release)
@@ -807,13 +895,18 @@ def _simulate_phases(system, num, params, u_of, run, stabilization, gains, y0, t
             y_all.append(y)
             stop = log.terminated_by is not None
             break
-        index = active.unilateral[log.terminated_by - n_user]  # a one-sided constraint lets go
-        releases.append((float(t[-1]), str(active.holonomic[index]), y[-1].copy()))
+        gone = one_sided[log.terminated_by - n_user]  # a one-sided constraint lets go
         t_all.append(t[:-1])  # the release instant is not a requested sample
         y_all.append(y[:-1])
         ta, ya = float(t[-1]), y[-1]
-        active = active.released(index)
-        labels.pop(index)
+        if compiled:
+            releases.append((ta, str(system.holonomic[gone]), ya.copy()))
+            mask[gone] = False
+            labels.remove(gone)
+        else:
+            releases.append((ta, str(active.holonomic[gone]), ya.copy()))
+            active = active.released(gone)
+            labels.pop(gone)
     t_out = np.concatenate(t_all)
     y_out = np.vstack(y_all)
     sol = LagrangianSolution(system, t_out, y_out, num, method=run.method, nfev=run.nfev,

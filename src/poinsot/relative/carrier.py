@@ -14,7 +14,7 @@ How the engine evaluates it:
 * SymPy expressions (or text parsed by SymPy) become machine code at run time, in a few
   milliseconds and without a C compiler (:mod:`poinsot.expressions`; ``ε_e`` by exact
   differentiation first); a carrier seen before in the process is not compiled again;
-* Python callables (numba-compiled ones included) are called back from the core at every
+* Python callables are called back from the core at every
   evaluation: the slow path. A callable ω_e needs its ``epsilon_e`` too: poinsot does not
   differentiate a black box.
 """

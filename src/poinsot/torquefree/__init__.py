@@ -11,7 +11,7 @@ eqs (19)–(33); ``docs/torque_free.md``).
   by Euler angles about the angular momentum with the third-kind integral, periods, flip
   intervals and the polhode family; every one takes one initial condition (3,) or many
   (N, 3), evaluated in the compiled core (``poinsot._core``: the Rust crate ``poinsot-core``,
-  modules ``torque_free``, ``elliptic`` and ``freebody``), without numba;
+  modules ``torque_free``, ``elliptic`` and ``freebody``);
 * :mod:`~poinsot.torquefree.polhodes` — polhodes, separatrix arcs and herpolhodes.
 
 Frames. ``FreeRigidBody(moments)`` takes the moments along the body's x, y, z axes (any order):

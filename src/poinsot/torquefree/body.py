@@ -23,8 +23,7 @@ from .stability import StabilityMixin
 __all__ = ["SYMMETRY_RTOL", "FreeRigidBody"]
 
 #: Moments closer than this (relative to I3) are treated as equal (symmetric body); the same
-#: tolerance as :attr:`poinsot.bodies.RigidBody.symmetry` (``poinsot.kernels.inertia``; the
-#: core holds the same value, checked by ``tests/kernels/test_exact_port.py``).
+#: tolerance as :attr:`poinsot.bodies.RigidBody.symmetry`: the core's own value.
 SYMMETRY_RTOL = _core.SYMMETRY_RTOL
 
 

@@ -49,7 +49,9 @@ def check_motion_energy(free: FreeRigidBody, body, omega0) -> float:
     the double range (moments near 1e300; see
     :meth:`~poinsot.torquefree.FreeRigidBody.check_energy_range`). A body at rest (k = 0)
     passes."""
-    k = _rotational_energy(np.asarray(body.inertia, float), np.asarray(omega0, float))
+    from ..conservation import rotational_energy
+
+    k = float(rotational_energy(body.inertia, omega0))
     if k > 0:
         free.check_energy_range(k)
     return k
@@ -80,13 +82,3 @@ def flip_reference(body, forces=(), pivot=None) -> FreeRigidBody | None:
         return None
     free = FreeRigidBody.from_body(body)
     return free if free.symmetry == "asymmetric" else None
-
-
-def _rotational_energy(inertia, w) -> float:
-    """``½ ω·Aω`` in the order of the kernels' ``rotational_energy``, bit for bit."""
-    w0, w1, w2 = (float(x) for x in w)
-    e = 0.0
-    for j, wj in enumerate((w0, w1, w2)):
-        e += wj * (float(inertia[j, 0]) * w0 + float(inertia[j, 1]) * w1
-                   + float(inertia[j, 2]) * w2)  # fmt: skip
-    return 0.5 * e

@@ -198,7 +198,7 @@ def _animation_controls(frames, times) -> dict:
 
 def _polhode_figure(traj, go, free, levels):
     """The run's own ω(t), unscaled, on its own energy ellipsoid with the polhodes there."""
-    from ..kernels.rigid import rotational_energy
+    from ..conservation import rotational_energy
     from .interactive import polhode_family_figure
 
     w = traj.omega

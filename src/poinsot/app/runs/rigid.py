@@ -127,7 +127,7 @@ class RigidRun(Run):
 
 def summarize(scenario, traj, free=None) -> dict:
     """The numbers of a run, JSON-ready: body, invariants, torque-free analysis, diagnostics."""
-    from ...kernels.rigid import angular_momentum_body, rotational_energy
+    from ...conservation import angular_momentum_body, rotational_energy
 
     body = scenario.body
     w0 = np.ascontiguousarray(traj.omega[0])
@@ -191,7 +191,7 @@ def _figures(folder: Path, scenario, traj, free, comparison=None):
     half = np.maximum(half, 1e-3 * half.max())  # a flat body is drawn as a thin box
     save(plot_attitude_frames(QE, traj.t, half_extents=half), "body.png")
     if free is not None:
-        from ...kernels.rigid import rotational_energy
+        from ...conservation import rotational_energy
 
         energy = scenario.analysis.get("energy")
         k_traj = float(
@@ -222,7 +222,7 @@ def compare_methods(scenario, traj, free):
     ``errors``: ``label → per-sample arrays`` for :func:`~poinsot.viz.plot_method_comparison`
     (the exact solution's own distance from SO(3) included); ``table``: the maxima, JSON-ready.
     """
-    from ...kernels.rigid import orthogonality_error
+    from ...conservation import orthogonality_error
 
     if free is None or scenario.dt is None or not np.any(traj.omega[0]):
         return None

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from poinsot._core import jacobi_sn_cn_dn_am
 from scipy.integrate import quad
 from scipy.special import ellipj, ellipkinc
 
 from poinsot import elliptic
-from poinsot.kernels.elliptic import jacobi_sn_cn_dn_am
 
 U = np.linspace(-25, 25, 1001)
 

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 from scipy.spatial.transform import Rotation
 
-from poinsot.kernels import so3
+from poinsot import _core as so3
 
 vec = hnp.arrays(float, 3, elements=st.floats(-3, 3))
 quat = hnp.arrays(float, 4, elements=st.floats(-1, 1)).filter(lambda q: np.linalg.norm(q) > 0.1)

@@ -1,0 +1,691 @@
+//! Bindings of the constrained-system engine (`poinsot_core::lagrange`): a model's compiled
+//! expressions (`LagrangianModel`), one call that integrates a run (`integrate_lagrange`, the
+//! engine of `poinsot.lagrange`'s `NativeProblem`), the samples' post-processing and parameter
+//! ensembles on a rayon pool. Arguments are checked here, named; the GIL is released unless
+//! an input is a Python callable (the slow path); Ctrl-C is honoured between chunks.
+
+use std::cell::RefCell;
+use std::sync::Arc;
+
+use numpy::ndarray::{Array1, Array2, Array3};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2,
+    PyReadwriteArray1, PyReadwriteArray2,
+};
+use poinsot_core::drivers::Status;
+use poinsot_core::expressions::{Function, Program};
+use poinsot_core::lagrange::{
+    run_members, samples as core_samples, CompiledInputs, Constant, Inputs, Lagrangian, Method,
+    Model, SampleOut, Shape, Stabilization,
+};
+use poinsot_core::observers::NoObserver;
+use poinsot_core::steppers::{Control, Tableau};
+use poinsot_core::system::VectorField;
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+
+use crate::args::{rows, value_error};
+use crate::engine::{chunk_general, in_chunks, RunArgs};
+use crate::ensemble::{interruptible, pool};
+use crate::relative::Expressions;
+
+/// A model's expressions compiled once: `LagrangianModel(codes, values, n, m, nh, np, nu)`,
+/// the postfix program of `[M, f, G, b, γ, g, h]` in `[q, q̇, t, p, u]`
+/// (`poinsot_core::lagrange::Shape`).
+#[pyclass(frozen, module = "poinsot._core")]
+pub(crate) struct LagrangianModel {
+    model: Arc<Model>,
+}
+
+fn slice_len(x: &[f64], k: usize, name: &str) -> PyResult<()> {
+    if x.len() != k {
+        return Err(value_error(format!(
+            "`{name}` must hold {k} numbers, found {}",
+            x.len()
+        )));
+    }
+    Ok(())
+}
+
+fn mask(active: Option<PyReadonlyArray1<'_, bool>>, m: usize) -> PyResult<Option<Vec<bool>>> {
+    active
+        .map(|a| {
+            let v = a.as_slice()?.to_vec();
+            if v.len() != m {
+                return Err(value_error(format!(
+                    "`active` must hold {m} flags (one per constraint), found {}",
+                    v.len()
+                )));
+            }
+            Ok(v)
+        })
+        .transpose()
+}
+
+impl LagrangianModel {
+    fn shape(&self) -> Shape {
+        self.model.shape
+    }
+
+    fn check_point(&self, q: &[f64], v: &[f64], p: &[f64], u: &[f64]) -> PyResult<()> {
+        let s = self.shape();
+        slice_len(q, s.n, "q")?;
+        slice_len(v, s.n, "qd")?;
+        slice_len(p, s.np, "p")?;
+        slice_len(u, s.nu, "u")
+    }
+}
+
+#[pymethods]
+impl LagrangianModel {
+    #[new]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        codes: PyReadonlyArray1<'_, i64>,
+        values: PyReadonlyArray1<'_, f64>,
+        n: usize,
+        m: usize,
+        nh: usize,
+        np: usize,
+        nu: usize,
+    ) -> PyResult<Self> {
+        let shape = Shape { n, m, nh, np, nu };
+        if nh > m || n == 0 {
+            return Err(value_error(format!(
+                "a model needs n ≥ 1 coordinates and nh ≤ m holonomic constraints among its \
+                 constraints; found n = {n}, m = {m}, nh = {nh}"
+            )));
+        }
+        let program = Program::new(
+            codes.as_slice()?,
+            values.as_slice()?,
+            shape.n_inputs(),
+            shape.n_outputs(),
+        )
+        .map_err(|e| value_error(format!("the model's program is malformed: {e}")))?;
+        let model = py
+            .detach(|| Model::new(shape, program))
+            .map_err(|e| value_error(format!("the model is malformed: {e}")))?;
+        Ok(LagrangianModel {
+            model: Arc::new(model),
+        })
+    }
+
+    /// True when the model's expressions run as machine code (else they are interpreted).
+    #[getter]
+    fn machine_code(&self) -> bool {
+        self.model.is_machine_code()
+    }
+
+    /// `(n, m, nh, np, nu)`.
+    #[getter]
+    fn sizes(&self) -> (usize, usize, usize, usize, usize) {
+        let s = self.shape();
+        (s.n, s.m, s.nh, s.np, s.nu)
+    }
+
+    /// `(M (n, n), f (n,), G (m, n), b (m,), γ (m,), g (nh,), h)` at `(t, q, q̇)` with
+    /// parameters `p` and inputs `u`.
+    #[allow(clippy::type_complexity)]
+    fn parts<'py>(
+        &self,
+        py: Python<'py>,
+        t: f64,
+        q: PyReadonlyArray1<'py, f64>,
+        qd: PyReadonlyArray1<'py, f64>,
+        p: PyReadonlyArray1<'py, f64>,
+        u: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<(
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        f64,
+    )> {
+        let (q, v, p, u) = (q.as_slice()?, qd.as_slice()?, p.as_slice()?, u.as_slice()?);
+        self.check_point(q, v, p, u)?;
+        let s = self.shape();
+        let mut ev = self.model.evaluator();
+        ev.evaluate(t, q, v, p, u);
+        let x = &ev.parts;
+        let (n, m, nh) = (s.n, s.m, s.nh);
+        let mut at = 0;
+        let mut take = |k: usize| {
+            let v = x[at..at + k].to_vec();
+            at += k;
+            v
+        };
+        let mm = Array2::from_shape_vec((n, n), take(n * n)).expect("n·n");
+        let f = Array1::from(take(n));
+        let g_jac = Array2::from_shape_vec((m, n), take(m * n)).expect("m·n");
+        let b = Array1::from(take(m));
+        let gamma = Array1::from(take(m));
+        let g = Array1::from(take(nh));
+        let h = take(1)[0];
+        Ok((
+            mm.into_pyarray(py),
+            f.into_pyarray(py),
+            g_jac.into_pyarray(py),
+            b.into_pyarray(py),
+            gamma.into_pyarray(py),
+            g.into_pyarray(py),
+            h,
+        ))
+    }
+
+    /// `ẏ = [q̇, q̈]` (2n,) at `(t, y)` as the integrators see it: Baumgarte's gains `(α, β)`
+    /// in the KKT system, the constraints in `active` (all when absent); NaN where the
+    /// system is singular.
+    #[pyo3(signature = (t, y, p, u, alpha=0.0, beta=0.0, active=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn rhs<'py>(
+        &self,
+        py: Python<'py>,
+        t: f64,
+        y: PyReadonlyArray1<'py, f64>,
+        p: PyReadonlyArray1<'py, f64>,
+        u: PyReadonlyArray1<'py, f64>,
+        alpha: f64,
+        beta: f64,
+        active: Option<PyReadonlyArray1<'py, bool>>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let s = self.shape();
+        let (y, p, u) = (y.as_slice()?, p.as_slice()?, u.as_slice()?);
+        slice_len(y, 2 * s.n, "y")?;
+        slice_len(p, s.np, "p")?;
+        slice_len(u, s.nu, "u")?;
+        let active = mask(active, s.m)?;
+        let st = Stabilization {
+            alpha,
+            beta,
+            projection: false,
+        };
+        let sys = Lagrangian::new(&self.model, p, Constant(u), st, active).map_err(value_error)?;
+        let mut out = vec![0.0; 2 * s.n];
+        sys.rhs(t, y, &mut out);
+        Ok(Array1::from(out).into_pyarray(py))
+    }
+
+    /// `(q̈ (n,), λ (m,))` at `(t, q, q̇)`: the physical multipliers (no stabilisation), NaN
+    /// for a constraint not in `active`, and everything NaN where the system is singular.
+    #[pyo3(signature = (t, q, qd, p, u, active=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn accelerations<'py>(
+        &self,
+        py: Python<'py>,
+        t: f64,
+        q: PyReadonlyArray1<'py, f64>,
+        qd: PyReadonlyArray1<'py, f64>,
+        p: PyReadonlyArray1<'py, f64>,
+        u: PyReadonlyArray1<'py, f64>,
+        active: Option<PyReadonlyArray1<'py, bool>>,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let (q, v, p, u) = (q.as_slice()?, qd.as_slice()?, p.as_slice()?, u.as_slice()?);
+        self.check_point(q, v, p, u)?;
+        let s = self.shape();
+        let active = mask(active, s.m)?;
+        let mut ev = self.model.evaluator();
+        ev.evaluate(t, q, v, p, u);
+        let mut qdd = vec![f64::NAN; s.n];
+        let mut lam = vec![f64::NAN; s.m];
+        if ev.solve(v, active.as_deref(), 0.0, 0.0) {
+            let (a, l) = ev.solution();
+            qdd = a;
+            for (r, &c) in ev.rows().iter().enumerate() {
+                lam[c] = l[r];
+            }
+        }
+        Ok((
+            Array1::from(qdd).into_pyarray(py),
+            Array1::from(lam).into_pyarray(py),
+        ))
+    }
+
+    /// Per sample: `(q̈ (S, n), λ (S, m), Gᵀλ (S, n), g (S, nh), G q̇ + b (S, m), h (S,))` at
+    /// times `t` (S,), states `y` (S, 2n), inputs `u` (S, nu).
+    #[pyo3(signature = (t, y, p, u, active=None))]
+    #[allow(clippy::type_complexity)]
+    fn samples<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        y: PyReadonlyArray2<'py, f64>,
+        p: PyReadonlyArray1<'py, f64>,
+        u: PyReadonlyArray2<'py, f64>,
+        active: Option<PyReadonlyArray1<'py, bool>>,
+    ) -> PyResult<(
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray1<f64>>,
+    )> {
+        let s = self.shape();
+        let t = t.as_slice()?;
+        let ns = t.len();
+        let y = rows(&y, 2 * s.n, "y")?;
+        let u = rows(&u, s.nu, "u")?;
+        if y.nrows() != ns || u.nrows() != ns {
+            return Err(value_error(format!(
+                "`y` and `u` must have one row per time ({ns}), found {} and {}",
+                y.nrows(),
+                u.nrows()
+            )));
+        }
+        let p = p.as_slice()?;
+        slice_len(p, s.np, "p")?;
+        let active = mask(active, s.m)?;
+        let y: Vec<f64> = y.iter().copied().collect();
+        let u: Vec<f64> = u.iter().copied().collect();
+        let (mut qdd, mut lam, mut forces) = (
+            vec![0.0; ns * s.n],
+            vec![0.0; ns * s.m],
+            vec![0.0; ns * s.n],
+        );
+        let (mut g, mut vel, mut energy) =
+            (vec![0.0; ns * s.nh], vec![0.0; ns * s.m], vec![0.0; ns]);
+        let model = &self.model;
+        py.detach(|| {
+            core_samples(
+                model,
+                t,
+                &y,
+                p,
+                &u,
+                active.as_deref(),
+                SampleOut {
+                    qdd: &mut qdd,
+                    lam: &mut lam,
+                    forces: &mut forces,
+                    g: &mut g,
+                    velocity: &mut vel,
+                    energy: &mut energy,
+                },
+            )
+        });
+        let a2 = |v: Vec<f64>, k: usize| {
+            Array2::from_shape_vec((ns, k), v)
+                .expect("rows")
+                .into_pyarray(py)
+        };
+        Ok((
+            a2(qdd, s.n),
+            a2(lam, s.m),
+            a2(forces, s.n),
+            a2(g, s.nh),
+            a2(vel, s.m),
+            Array1::from(energy).into_pyarray(py),
+        ))
+    }
+
+    /// The nearest consistent state `(q, q̇)`: Gauss–Newton with minimum-norm corrections on
+    /// the holonomic residuals, then the velocities onto `G q̇ + b = 0`; the third value is
+    /// false when a correction cannot be computed.
+    #[pyo3(signature = (t, q, qd, p, u, active=None, tol=1e-13, max_iter=20))]
+    #[allow(clippy::too_many_arguments)]
+    fn project<'py>(
+        &self,
+        py: Python<'py>,
+        t: f64,
+        q: PyReadonlyArray1<'py, f64>,
+        qd: PyReadonlyArray1<'py, f64>,
+        p: PyReadonlyArray1<'py, f64>,
+        u: PyReadonlyArray1<'py, f64>,
+        active: Option<PyReadonlyArray1<'py, bool>>,
+        tol: f64,
+        max_iter: usize,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, bool)> {
+        let (q, v, p, u) = (q.as_slice()?, qd.as_slice()?, p.as_slice()?, u.as_slice()?);
+        self.check_point(q, v, p, u)?;
+        let active = mask(active, self.shape().m)?;
+        let (mut q, mut v) = (q.to_vec(), v.to_vec());
+        let mut ev = self.model.evaluator();
+        let ok = ev.project(t, &mut q, &mut v, p, u, active.as_deref(), tol, max_iter);
+        Ok((
+            Array1::from(q).into_pyarray(py),
+            Array1::from(v).into_pyarray(py),
+            ok,
+        ))
+    }
+
+    /// For every member's initial state `Z` (k, 2n) with parameters `P` (k, np) and inputs `U`
+    /// (k, nu) at `t`: `(max |g|, max |G q̇ + b|, solvable)`, each (k,).
+    #[allow(clippy::type_complexity)]
+    fn starts<'py>(
+        &self,
+        py: Python<'py>,
+        t: f64,
+        z: PyReadonlyArray2<'py, f64>,
+        params: PyReadonlyArray2<'py, f64>,
+        inputs: PyReadonlyArray2<'py, f64>,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<bool>>,
+    )> {
+        let s = self.shape();
+        let z = rows(&z, 2 * s.n, "Z")?;
+        let pp = rows(&params, s.np, "P")?;
+        let uu = rows(&inputs, s.nu, "U")?;
+        let k = z.nrows();
+        if pp.nrows() != k || uu.nrows() != k {
+            return Err(value_error("`Z`, `P` and `U` must have one row per member"));
+        }
+        let mut ev = self.model.evaluator();
+        let (mut pos, mut vel, mut ok) = (vec![0.0; k], vec![0.0; k], vec![false; k]);
+        for i in 0..k {
+            let row: Vec<f64> = z.row(i).iter().copied().collect();
+            let p: Vec<f64> = pp.row(i).iter().copied().collect();
+            let u: Vec<f64> = uu.row(i).iter().copied().collect();
+            let (q, v) = row.split_at(s.n);
+            ev.evaluate(t, q, v, &p, &u);
+            pos[i] = (0..s.nh).fold(0.0f64, |a, c| a.max(ev.residual(c).abs()));
+            vel[i] = (0..s.m).fold(0.0f64, |a, c| a.max(ev.velocity_residual(c, v).abs()));
+            ok[i] = ev.solve(v, None, 0.0, 0.0) && ev.solution().0.iter().all(|x| x.is_finite());
+        }
+        Ok((
+            Array1::from(pos).into_pyarray(py),
+            Array1::from(vel).into_pyarray(py),
+            Array1::from(ok).into_pyarray(py),
+        ))
+    }
+
+    /// Integrate members with parameters `P` (k, np), constant inputs `U` (k, nu) and initial
+    /// states `Y0` (k, 2n) on a pool of `threads`: `(samples (k, len(t_eval), 2n), status,
+    /// steps, evaluations)` per member. `method` `"erk"` (the tableau `a`, `b`, `c`, step
+    /// `dt`) or `"dop853"` (the controller's 7 numbers `control`).
+    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    fn run_ensemble<'py>(
+        &self,
+        py: Python<'py>,
+        params: PyReadonlyArray2<'py, f64>,
+        inputs: PyReadonlyArray2<'py, f64>,
+        y0: PyReadonlyArray2<'py, f64>,
+        alpha: f64,
+        beta: f64,
+        projection: bool,
+        method: &str,
+        a: PyReadonlyArray2<'py, f64>,
+        b: PyReadonlyArray1<'py, f64>,
+        c: PyReadonlyArray1<'py, f64>,
+        dt: f64,
+        control: PyReadonlyArray1<'py, f64>,
+        t0: f64,
+        t1: f64,
+        t_eval: PyReadonlyArray1<'py, f64>,
+        threads: usize,
+    ) -> PyResult<(
+        Bound<'py, PyArray3<f64>>,
+        Bound<'py, PyArray1<i64>>,
+        Bound<'py, PyArray1<i64>>,
+        Bound<'py, PyArray1<i64>>,
+    )> {
+        let s = self.shape();
+        let pp = rows(&params, s.np, "P")?;
+        let uu = rows(&inputs, s.nu, "U")?;
+        let zz = rows(&y0, 2 * s.n, "Y0")?;
+        let k = zz.nrows();
+        if pp.nrows() != k || uu.nrows() != k {
+            return Err(value_error(
+                "`P`, `U` and `Y0` must have one row per member",
+            ));
+        }
+        let pv: Vec<f64> = pp.iter().copied().collect();
+        let uv: Vec<f64> = uu.iter().copied().collect();
+        let zv: Vec<f64> = zz.iter().copied().collect();
+        let (a_s, b_s, c_s) = (a.as_slice()?, b.as_slice()?, c.as_slice()?);
+        let ctl = control.as_slice()?;
+        if ctl.len() != 7 {
+            return Err(value_error("`control` must hold 7 numbers"));
+        }
+        let method = match method {
+            "erk" => {
+                let st = b_s.len();
+                if a_s.len() != st * st || c_s.len() != st {
+                    return Err(value_error("the tableau must be A (s, s), B (s,), C (s,)"));
+                }
+                if !(dt.is_finite() && dt > 0.0) {
+                    return Err(value_error(format!("`dt` must be positive, found {dt}")));
+                }
+                Method::Erk(Tableau {
+                    a: a_s,
+                    b: b_s,
+                    c: c_s,
+                })
+            }
+            "dop853" => Method::Dop853(control_from(ctl)),
+            _ => {
+                return Err(value_error(format!(
+                    "`method` must be \"erk\" or \"dop853\", found {method:?}"
+                )))
+            }
+        };
+        let t_eval = t_eval.as_slice()?;
+        if t_eval.is_empty() {
+            return Err(value_error("`t_eval` must hold at least one time"));
+        }
+        let st = Stabilization {
+            alpha,
+            beta,
+            projection,
+        };
+        let per = t_eval.len() * 2 * s.n;
+        let mut samples = vec![0.0; k * per];
+        let pool = pool(threads.max(1))?;
+        let model = &*self.model;
+        let runs = {
+            let samples = &mut samples;
+            interruptible(py, &pool, move |stop| {
+                run_members(
+                    model, &pv, &uv, &zv, st, method, t0, t1, dt, t_eval, samples, stop,
+                )
+            })?
+        };
+        let samples = Array3::from_shape_vec((k, t_eval.len(), 2 * s.n), samples)
+            .expect("members · samples · 2n");
+        let col = |f: fn(&poinsot_core::lagrange::MemberRun) -> i64| {
+            Array1::from_iter(runs.iter().map(f)).into_pyarray(py)
+        };
+        Ok((
+            samples.into_pyarray(py),
+            col(|r| r.status as i64),
+            col(|r| r.n_steps as i64),
+            col(|r| r.n_fev as i64),
+        ))
+    }
+}
+
+fn control_from(c: &[f64]) -> Control {
+    Control {
+        rtol: c[0],
+        atol: c[1],
+        safety: c[2],
+        min_factor: c[3],
+        max_factor: c[4],
+        max_step: c[5],
+        first_step: c[6],
+    }
+}
+
+/// Inputs given as a Python callable `u(t, q, qd) -> (nu,)`: the slow path (the GIL is held).
+/// The first error it raises is kept and re-raised when the run stops.
+struct PyInputs<'py> {
+    py: Python<'py>,
+    func: Bound<'py, PyAny>,
+    count: usize,
+    error: RefCell<Option<PyErr>>,
+}
+
+impl Inputs for PyInputs<'_> {
+    fn count(&self) -> usize {
+        self.count
+    }
+    fn values(&self, t: f64, q: &[f64], v: &[f64], u: &mut [f64]) -> bool {
+        if self.error.borrow().is_some() {
+            return false;
+        }
+        let q = numpy::PyArray1::from_slice(self.py, q);
+        let v = numpy::PyArray1::from_slice(self.py, v);
+        let result = self
+            .func
+            .call1((t, q, v))
+            .and_then(|r| r.extract::<Vec<f64>>());
+        match result {
+            Ok(x) if x.len() == self.count => {
+                u.copy_from_slice(&x);
+                true
+            }
+            Ok(x) => {
+                *self.error.borrow_mut() = Some(PyTypeError::new_err(format!(
+                    "the inputs function must return {} numbers, found {}",
+                    self.count,
+                    x.len()
+                )));
+                false
+            }
+            Err(e) => {
+                *self.error.borrow_mut() = Some(e);
+                false
+            }
+        }
+    }
+}
+
+/// Integrate one run of a model (see `poinsot.integrate.driver`): parameters `p`, inputs
+/// `inputs` (an array of constants, an `Expressions` of `[t, q, q̇]`, or a Python callable
+/// `(t, q, qd) -> (nu,)`, the slow path), Baumgarte's gains, `projection` and the constraints
+/// in play `active`. Returns the status.
+#[pyfunction]
+#[pyo3(signature = (
+    model, p, inputs, alpha, beta, projection, active, method, a, b, c, clock, z, f, dt,
+    control, t_end, t_eval, save_every, out_t, out_y, counters, max_steps
+))]
+#[allow(clippy::too_many_arguments)]
+fn integrate_lagrange<'py>(
+    py: Python<'py>,
+    model: &Bound<'py, LagrangianModel>,
+    p: PyReadonlyArray1<'py, f64>,
+    inputs: Bound<'py, PyAny>,
+    alpha: f64,
+    beta: f64,
+    projection: bool,
+    active: Option<PyReadonlyArray1<'py, bool>>,
+    method: &str,
+    a: PyReadonlyArray2<'py, f64>,
+    b: PyReadonlyArray1<'py, f64>,
+    c: PyReadonlyArray1<'py, f64>,
+    clock: PyReadwriteArray1<'py, f64>,
+    z: PyReadwriteArray1<'py, f64>,
+    f: PyReadwriteArray1<'py, f64>,
+    dt: f64,
+    control: PyReadonlyArray1<'py, f64>,
+    t_end: f64,
+    t_eval: PyReadonlyArray1<'py, f64>,
+    save_every: i64,
+    out_t: PyReadwriteArray1<'py, f64>,
+    out_y: PyReadwriteArray2<'py, f64>,
+    counters: PyReadwriteArray1<'py, i64>,
+    max_steps: i64,
+) -> PyResult<i64> {
+    let model = model.get().model.clone();
+    let s = model.shape;
+    let p = p.as_slice()?.to_vec();
+    slice_len(&p, s.np, "p")?;
+    let active = mask(active, s.m)?;
+    let st = Stabilization {
+        alpha,
+        beta,
+        projection,
+    };
+    let mut args = RunArgs {
+        a,
+        b,
+        c,
+        clock,
+        z,
+        f,
+        dt,
+        control,
+        t_end,
+        t_eval,
+        save_every,
+        out_t,
+        out_y,
+        counters,
+        max_steps,
+    };
+    let mut run = args.run(method, &["dop853", "erk"], 2 * s.n)?;
+    let refuse = |e: String| value_error(e);
+    let status = if let Ok(u) = inputs.extract::<PyReadonlyArray1<'py, f64>>() {
+        let u = u.as_slice()?.to_vec();
+        Lagrangian::new(&model, &p, Constant(&u), st, active.clone()).map_err(refuse)?;
+        let (model, p, u, active) = (&*model, &p, &u, &active);
+        in_chunks(py, &mut run, |r, steps| {
+            py.detach(|| {
+                let sys = Lagrangian::new(model, p, Constant(u), st, active.clone())
+                    .expect("checked above");
+                chunk_general(&sys, &mut NoObserver, r, steps)
+            })
+        })?
+    } else if let Ok(e) = inputs.cast::<Expressions>() {
+        let function: Arc<Function> = e.get().function.clone();
+        let fp = function.program();
+        if fp.n_inputs != 1 + 2 * s.n || fp.n_outputs != s.nu {
+            return Err(value_error(format!(
+                "the inputs' expressions take {} values to {}; [t, q, qd] ({}) to {} are needed",
+                fp.n_inputs,
+                fp.n_outputs,
+                1 + 2 * s.n,
+                s.nu
+            )));
+        }
+        let (model, p, active, function) = (&*model, &p, &active, &*function);
+        in_chunks(py, &mut run, |r, steps| {
+            py.detach(|| {
+                let sys =
+                    Lagrangian::new(model, p, CompiledInputs::new(function), st, active.clone())
+                        .expect("sizes checked above");
+                chunk_general(&sys, &mut NoObserver, r, steps)
+            })
+        })?
+    } else if inputs.is_callable() {
+        let sys = Lagrangian::new(
+            &model,
+            &p,
+            PyInputs {
+                py,
+                func: inputs,
+                count: s.nu,
+                error: RefCell::new(None),
+            },
+            st,
+            active,
+        )
+        .map_err(refuse)?;
+        let status = in_chunks(py, &mut run, |r, steps| {
+            chunk_general(&sys, &mut NoObserver, r, steps)
+        })?;
+        if let Some(err) = sys.inputs.error.borrow_mut().take() {
+            return Err(err);
+        }
+        status
+    } else {
+        return Err(PyTypeError::new_err(
+            "`inputs` must be an array of numbers, compiled expressions or a callable (t, q, qd)",
+        ));
+    };
+    Ok(match status {
+        Status::CallbackFailed => Status::CallbackFailed,
+        s => s,
+    } as i64)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<LagrangianModel>()?;
+    m.add_function(wrap_pyfunction!(integrate_lagrange, m)?)?;
+    Ok(())
+}
