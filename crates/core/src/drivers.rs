@@ -98,6 +98,48 @@ pub fn all_finite(z: &[f64]) -> bool {
     !bad
 }
 
+/// A buffer of doubles that starts on a cache line (64 bytes).
+pub struct Lines {
+    lines: Vec<Line>,
+    len: usize,
+}
+
+#[repr(C, align(64))]
+#[derive(Clone, Copy)]
+struct Line([f64; 8]);
+
+impl Lines {
+    pub fn zeros(len: usize) -> Self {
+        Lines {
+            lines: vec![Line([0.0; 8]); len.div_ceil(8)],
+            len,
+        }
+    }
+    pub fn from_slice(z: &[f64]) -> Self {
+        let mut out = Self::zeros(z.len());
+        out.copy_from_slice(z);
+        out
+    }
+}
+
+impl std::ops::Deref for Lines {
+    type Target = [f64];
+    #[inline(always)]
+    fn deref(&self) -> &[f64] {
+        // SAFETY: `Line` is `repr(C)` over `[f64; 8]`: the lines are `8 · lines.len() ≥ len`
+        // contiguous, initialised doubles.
+        unsafe { std::slice::from_raw_parts(self.lines.as_ptr() as *const f64, self.len) }
+    }
+}
+
+impl std::ops::DerefMut for Lines {
+    #[inline(always)]
+    fn deref_mut(&mut self) -> &mut [f64] {
+        // SAFETY: as for `deref`, uniquely borrowed.
+        unsafe { std::slice::from_raw_parts_mut(self.lines.as_mut_ptr() as *mut f64, self.len) }
+    }
+}
+
 /// A fixed-step method as the fixed-step driver runs it.
 pub trait FixedMethod<S: VectorField + ?Sized> {
     /// Evaluations of the vector field per step.
@@ -237,6 +279,10 @@ fn save<S: VectorField + ?Sized, M: FixedMethod<S>>(
 ///
 /// `z` (n) is the method's state ([`FixedMethod::init`]) and is advanced in place; samples go
 /// to `out`. Steps are `dt`, shortened to land exactly on every sample time and on the end.
+///
+/// Always inlined: a caller compiled for a wider instruction set (the ensembles' lanes,
+/// [`crate::lanes`]) gets the whole loop, its steps included, in that instruction set.
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn run_fixed<S, M, O>(
     sys: &S,
@@ -259,9 +305,11 @@ where
     let t_eval = sampling.t_eval;
     let t_end = sampling.t_end;
     let save_every = sampling.every.max(1);
-    let mut a = z.to_vec(); // the two state buffers swap roles every step
-    let mut b = vec![0.0; n];
-    let mut checkpoint = z.to_vec(); // the last state verified finite
+    // the two state buffers swap roles every step; whole cache lines, so that vector loads
+    // and stores of many states at once (crate::lanes) never straddle two
+    let mut a = Lines::from_slice(z);
+    let mut b = Lines::zeros(n);
+    let mut checkpoint = Lines::from_slice(z); // the last state verified finite
     let n_eval = t_eval.len();
     let use_eval = n_eval > 0;
     let mut t = clock.t;

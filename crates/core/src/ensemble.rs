@@ -31,6 +31,7 @@ use crate::drivers::{
 use crate::forces::Force;
 use crate::inertia::{parallel_axis, principal_decomposition};
 use crate::invariants::{angular_momentum_body, kinetic_energy};
+use crate::lanes::{block_state, lane_samples, run_block, Block, LANES};
 use crate::layout::{Body, BODY_SIZE, OMEGA_AT, Q_AT, STATE_SIZE, V_AT};
 use crate::observers::{FlipObserver, NoObserver, Observer};
 use crate::rigid::{
@@ -262,7 +263,7 @@ pub fn run_member(
 ) -> MemberSummary {
     let z0 = principal(&member.axes, &member.y0);
     if member.forces.is_empty() && !member.body.has_pivot {
-        let sys = TorqueFree { body: member.body };
+        let sys = TorqueFree::new(member.body);
         member_on(schedule, member, &sys, &z0, samples, stop, |_, _| 0.0)
     } else {
         let sys: Rigid = Rigid::new(member.body, member.forces.to_vec(), member.axes, None);
@@ -301,25 +302,41 @@ fn member_on<S: RigidStructure, P: Fn(f64, &State) -> f64>(
     } else {
         integrate(schedule, sys, z0, samples, &mut NoObserver, stop)
     };
+    let flips = schedule.flips.then_some((first[0], last[0], count[0]));
+    finish_member(schedule, member, status, &k, flips, samples, potential)
+}
+
+/// A member's summary from its run (status, counters, flips `(first, last, count)` when
+/// recorded) and its principal-frame samples, which are turned to the body frame in place
+/// (NaN when the run did not finish), with the drifts of what the caller stores: the
+/// potential of each stored sample is that of its principal-frame state.
+fn finish_member<P: Fn(f64, &State) -> f64>(
+    schedule: &Schedule,
+    member: &Member,
+    status: Status,
+    k: &Counters,
+    flips: Option<(f64, f64, f64)>,
+    samples: &mut [f64],
+    potential: P,
+) -> MemberSummary {
     let mut out = MemberSummary {
         status,
         n_steps: k.n_steps,
         n_fev: k.n_fev,
         ..MemberSummary::default()
     };
-    if schedule.flips {
-        out.first_flip = first[0];
-        out.last_flip = last[0];
-        out.flip_count = count[0] as i64;
+    if let Some((first, last, count)) = flips {
+        out.first_flip = first;
+        out.last_flip = last;
+        out.flip_count = count as i64;
     }
     if status != Status::Finished {
         samples.fill(f64::NAN);
         return out;
     }
-    // the samples to the body frame, and the drifts of what the caller stores: the potential
-    // of each stored sample is that of its principal-frame state
+    let z0 = principal(&member.axes, &member.y0);
     let (a, mass) = (&member.inertia, member.body.mass);
-    let mut drift = Drift::new(a, mass, &member.y0, potential(schedule.t0, z0));
+    let mut drift = Drift::new(a, mass, &member.y0, potential(schedule.t0, &z0));
     let mut y = [0.0; STATE_SIZE];
     for (row, &t) in samples.chunks_exact_mut(STATE_SIZE).zip(schedule.t_eval) {
         state_from_principal(&member.axes, row, &mut y);
@@ -490,6 +507,32 @@ pub fn run_members(
     let m = members.len();
     assert_eq!(finals.len(), m * STATE_SIZE, "finals: m · 18");
     assert_eq!(summaries.len(), m, "summaries: m");
+    if let Some(y) = &samples {
+        assert_eq!(y.len(), m * per, "samples: m · n · 18");
+    }
+    if matches!(schedule.method, Method::Rk4) {
+        // RK4: blocks of LANES members in SIMD lanes (crate::lanes), bit for bit the single runs
+        let blocks = finals
+            .par_chunks_mut(STATE_SIZE * LANES)
+            .zip(summaries.par_chunks_mut(LANES))
+            .zip(members.par_chunks(LANES));
+        match samples {
+            Some(y) => {
+                y.par_chunks_mut(per * LANES)
+                    .zip(blocks)
+                    .for_each(|(y, ((last, s), block))| {
+                        run_lanes(schedule, block, y, last, s, stop);
+                    })
+            }
+            None => blocks.for_each_init(
+                || vec![0.0; per * LANES],
+                |y, ((last, s), block)| {
+                    run_lanes(schedule, block, &mut y[..per * block.len()], last, s, stop);
+                },
+            ),
+        }
+        return;
+    }
     let one = |member: &Member, y: &mut [f64], last: &mut [f64], summary: &mut MemberSummary| {
         if stop.load(Ordering::Relaxed) {
             y.fill(f64::NAN);
@@ -506,7 +549,6 @@ pub fn run_members(
         .zip(members.par_iter());
     match samples {
         Some(y) => {
-            assert_eq!(y.len(), m * per, "samples: m · n · 18");
             y.par_chunks_mut(per)
                 .zip(rest)
                 .for_each(|(y, ((last, s), member))| one(member, y, last, s));
@@ -515,6 +557,121 @@ pub fn run_members(
             || vec![0.0; per],
             |y, ((last, s), member)| one(member, y, last, s),
         ),
+    }
+}
+
+/// Members run one at a time (their samples, finals and summaries as [`run_lanes`]'s).
+fn one_by_one(
+    schedule: &Schedule,
+    block: &[Member],
+    samples: &mut [f64],
+    finals: &mut [f64],
+    summaries: &mut [MemberSummary],
+    stop: &AtomicBool,
+) {
+    let per = schedule.t_eval.len() * STATE_SIZE;
+    for (i, member) in block.iter().enumerate() {
+        let y = &mut samples[i * per..(i + 1) * per];
+        summaries[i] = run_member(schedule, member, y, stop);
+        finals[i * STATE_SIZE..(i + 1) * STATE_SIZE].copy_from_slice(&y[per - STATE_SIZE..]);
+    }
+}
+
+/// Up to [`LANES`] members with RK4 in one block of lanes: their samples into `samples`
+/// (members · n · 18, body frame), final states into `finals`, summaries into `summaries`.
+/// A block that does not finish cleanly (a member's state not finite) runs again member by
+/// member, so that each gets its own status at its own step.
+fn run_lanes(
+    schedule: &Schedule,
+    block: &[Member],
+    samples: &mut [f64],
+    finals: &mut [f64],
+    summaries: &mut [MemberSummary],
+    stop: &AtomicBool,
+) {
+    let n = schedule.t_eval.len();
+    let per = n * STATE_SIZE;
+    if stop.load(Ordering::Relaxed) {
+        samples.fill(f64::NAN);
+        finals.fill(f64::NAN);
+        summaries.fill(MemberSummary::default());
+        return;
+    }
+    if block.len() < LANES / 4 {
+        // a few members: their own runs (the same results) waste no lanes
+        one_by_one(schedule, block, samples, finals, summaries, stop);
+        return;
+    }
+    let z0: Vec<State> = block.iter().map(|m| principal(&m.axes, &m.y0)).collect();
+    let mut z = block_state(&z0);
+    let mut lanes = vec![0.0; n * STATE_SIZE * LANES];
+    let padded = |l: usize| &block[l.min(block.len() - 1)];
+    let (t0, t1, dt, t_eval, flips) = (
+        schedule.t0,
+        schedule.t1,
+        schedule.dt,
+        schedule.t_eval,
+        schedule.flips,
+    );
+    let torque_free = block
+        .iter()
+        .all(|m| m.forces.is_empty() && !m.body.has_pivot);
+    let mut rigid: Vec<Rigid> = Vec::new();
+    let run = if torque_free && block.iter().all(|m| m.body == block[0].body) {
+        let sys = [TorqueFree::new(block[0].body)];
+        let b = Block::<_, true> { systems: &sys };
+        run_block(&b, t0, t1, dt, t_eval, flips, &mut z, &mut lanes, stop)
+    } else if torque_free {
+        let sys: Vec<TorqueFree> = (0..LANES)
+            .map(|l| TorqueFree::new(padded(l).body))
+            .collect();
+        let b = Block::<_, false> { systems: &sys };
+        run_block(&b, t0, t1, dt, t_eval, flips, &mut z, &mut lanes, stop)
+    } else {
+        rigid = (0..LANES)
+            .map(|l| {
+                let m = padded(l);
+                Rigid::new(m.body, m.forces.to_vec(), m.axes, None)
+            })
+            .collect();
+        let b = Block::<_, false> { systems: &rigid };
+        run_block(&b, t0, t1, dt, t_eval, flips, &mut z, &mut lanes, stop)
+    };
+    if !matches!(run.status, Status::Finished | Status::Running) {
+        // a member failed: every member alone, each with its own status
+        one_by_one(schedule, block, samples, finals, summaries, stop);
+        return;
+    }
+    for (l, member) in block.iter().enumerate() {
+        let y = &mut samples[l * per..(l + 1) * per];
+        lane_samples(&lanes, l, y);
+        let flips = run
+            .flips
+            .as_ref()
+            .map(|f| (f.first[l], f.last[l], f.count[l]));
+        summaries[l] = if torque_free {
+            finish_member(
+                schedule,
+                member,
+                run.status,
+                &run.counters,
+                flips,
+                y,
+                |_, _| 0.0,
+            )
+        } else {
+            let sys = &rigid[l];
+            finish_member(
+                schedule,
+                member,
+                run.status,
+                &run.counters,
+                flips,
+                y,
+                |t, z| sys.potential(t, z),
+            )
+        };
+        finals[l * STATE_SIZE..(l + 1) * STATE_SIZE].copy_from_slice(&y[per - STATE_SIZE..]);
     }
 }
 
@@ -600,7 +757,7 @@ mod tests {
         let summary = run_member(&s, &member, &mut samples, &AtomicBool::new(false));
         assert_eq!(summary.status, Status::Finished);
         // the single-body route: one call of the driver, no chunks, samples converted here
-        let sys = TorqueFree { body };
+        let sys = TorqueFree::new(body);
         let mut z = principal(&axes, &y0[2]);
         let mut t_out = vec![0.0; t_eval.len()];
         let mut y_out = vec![0.0; t_eval.len() * STATE_SIZE];
@@ -634,6 +791,82 @@ mod tests {
             let mut y = [0.0; STATE_SIZE];
             state_from_principal(&axes, row, &mut y);
             assert_eq!(&y[..], got);
+        }
+    }
+
+    /// RK4 members in SIMD lanes equal their single runs bit for bit — samples, finals,
+    /// counters, drifts and flips — with one shared body, with a body per member, under forces
+    /// about a pivot, in a partial block (padded lanes), and with a member whose state stops
+    /// being finite (the block then runs member by member, each with its own status).
+    #[test]
+    fn members_in_lanes_are_their_single_runs() {
+        use crate::forces::ForceKind;
+        use crate::layout::FORCE_PARAMS;
+        let t_eval: Vec<f64> = (0..=8).map(|k| 0.125 * k as f64).collect();
+        let s = schedule(Method::Rk4, &t_eval);
+        let stop = AtomicBool::new(false);
+        let mut gravity = [0.0; FORCE_PARAMS];
+        gravity[0] = 2.0;
+        gravity[3] = -9.8;
+        let forces = [Force {
+            kind: ForceKind::Gravity,
+            p: gravity,
+        }];
+        let n = LANES + LANES / 2 + 3; // one full block, one partial
+        for case in 0..4 {
+            let pivot = case == 2;
+            let (mut y0, params, axes, a) = members(n, pivot);
+            if case == 3 {
+                y0[LANES + 5][OMEGA_AT] = f64::INFINITY; // a member that cannot run
+            }
+            let body = Body::from_slice(&params).unwrap();
+            let ms: Vec<Member> = (0..n)
+                .map(|i| {
+                    let mut b = body;
+                    if case == 1 {
+                        // a body per member: moments scaled
+                        let f = 1.0 + 0.01 * i as f64;
+                        b.moments = b.moments.map(|x| x * f);
+                        b.inv_moments = b.inv_moments.map(|x| x / f);
+                    }
+                    let f: &[Force] = if pivot { &forces } else { &[] };
+                    Member::new(b, axes, a, f, y0[i])
+                })
+                .collect();
+            let per = t_eval.len() * STATE_SIZE;
+            let mut samples = vec![0.0; n * per];
+            let mut finals = vec![0.0; n * STATE_SIZE];
+            let mut sums = vec![MemberSummary::default(); n];
+            run_members(&s, &ms, Some(&mut samples), &mut finals, &mut sums, &stop);
+            for (i, m) in ms.iter().enumerate() {
+                let mut one = vec![0.0; per];
+                let single = run_member(&s, m, &mut one, &stop);
+                let same =
+                    |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+                assert!(
+                    one.iter()
+                        .zip(&samples[i * per..(i + 1) * per])
+                        .all(|(a, b)| same(*a, *b)),
+                    "case {case}, member {i}: samples"
+                );
+                let got = sums[i];
+                assert_eq!(got.status, single.status, "case {case}, member {i}");
+                assert_eq!((got.n_steps, got.n_fev), (single.n_steps, single.n_fev));
+                for (a, b) in [
+                    (got.energy, single.energy),
+                    (got.momentum, single.momentum),
+                    (got.orthogonality, single.orthogonality),
+                    (got.first_flip, single.first_flip),
+                    (got.last_flip, single.last_flip),
+                ] {
+                    assert!(same(a, b), "case {case}, member {i}: {a} vs {b}");
+                }
+                assert_eq!(got.flip_count, single.flip_count);
+            }
+            if case == 3 {
+                assert_eq!(sums[LANES + 5].status, Status::NonFinite);
+                assert_eq!(sums[LANES + 4].status, Status::Finished);
+            }
         }
     }
 

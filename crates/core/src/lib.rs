@@ -17,7 +17,7 @@
 //!   [`systems`];
 //! * constrained systems (Lagrange's equations with multipliers): [`lagrange`], on small
 //!   dense solvers ([`linalg`]);
-//! * ensembles of runs, in parallel: [`ensemble`];
+//! * ensembles of runs, in parallel, members in SIMD lanes: [`ensemble`], [`lanes`];
 //! * the integrators: [`tableaux`] (as data), [`steppers`] (pure steps), [`observers`] and
 //!   [`drivers`] (time loops).
 
@@ -34,6 +34,7 @@ pub mod freebody;
 pub mod inertia;
 pub mod invariants;
 pub mod lagrange;
+pub mod lanes;
 pub mod layout;
 pub mod linalg;
 pub mod observers;

@@ -28,6 +28,23 @@ pub fn omega_dot_principal(moments: Vec3, inv: Vec3, w: Vec3, tau: Vec3) -> Vec3
     ]
 }
 
+/// The coefficients of the torque-free Euler equation (20) in principal components,
+/// `ω̇1 = c1 ω2 ω3` and cyclically: `c1 = (I2 − I3)/I1`, `c2 = (I3 − I1)/I2`,
+/// `c3 = (I1 − I2)/I3`, with `inv[k] = 1/I_k` (0 where `I_k = 0`, as in
+/// [`omega_dot_principal`]).
+#[inline(always)]
+pub fn euler_free_coefficients(moments: Vec3, inv: Vec3) -> Vec3 {
+    let [i1, i2, i3] = moments;
+    [inv[0] * (i2 - i3), inv[1] * (i3 - i1), inv[2] * (i1 - i2)]
+}
+
+/// `ω̇` of the torque-free Euler equation (20) from its coefficients
+/// ([`euler_free_coefficients`]): `(c1 ω2 ω3, c2 ω3 ω1, c3 ω1 ω2)`.
+#[inline(always)]
+pub fn omega_dot_free(c: Vec3, w: Vec3) -> Vec3 {
+    [c[0] * w[1] * w[2], c[1] * w[2] * w[0], c[2] * w[0] * w[1]]
+}
+
 /// `Q̇ = QΩ` (09): row i of `Q̇` is `q_i × ω` (Q row-major, ω body components).
 #[inline(always)]
 pub fn attitude_rate(q: &[f64], w: Vec3) -> [f64; 9] {

@@ -79,28 +79,40 @@ pub fn erk_step<S: VectorField + ?Sized>(
 type State = [f64; STATE_SIZE];
 
 #[inline(always)]
-fn axpy(y: &State, a: f64, k: &State) -> State {
-    let mut o = [0.0; STATE_SIZE];
-    for i in 0..STATE_SIZE {
+fn axpy<const N: usize>(y: &[f64; N], a: f64, k: &[f64; N]) -> [f64; N] {
+    let mut o = [0.0; N];
+    for i in 0..N {
         o[i] = y[i] + a * k[i];
     }
     o
 }
 
-/// One step of classical RK4 on a rigid state held in registers:
+/// One step of classical RK4 on a rigid state held in registers: the system's own
+/// [`RigidStructure::rk4`] (by default [`rk4_registers`] on the whole state).
+#[inline(always)]
+pub fn rk4_rigid_step<S: RigidStructure + ?Sized>(sys: &S, t: f64, y: &State, h: f64) -> State {
+    sys.rk4(t, y, h)
+}
+
+/// One step of classical RK4 on a state of `N` numbers held in registers, rates `f(t, y)`:
 /// `k1 = f(t, y)`, `k2 = f(t + h/2, y + h/2 k1)`, `k3 = f(t + h/2, y + h/2 k2)`,
 /// `k4 = f(t + h, y + h k3)`, `y + h/6 (k1 + 2 k2 + 2 k3 + k4)` — the RK4 tableau's step, in
 /// the same order of operations as [`erk_step`] up to the grouping of the update.
 #[inline(always)]
-pub fn rk4_rigid_step<S: RigidStructure + ?Sized>(sys: &S, t: f64, y: &State, h: f64) -> State {
+pub fn rk4_registers<const N: usize>(
+    f: impl Fn(f64, &[f64; N]) -> [f64; N],
+    t: f64,
+    y: &[f64; N],
+    h: f64,
+) -> [f64; N] {
     let half = 0.5 * h;
-    let k1 = sys.rates(t, y);
-    let k2 = sys.rates(t + half, &axpy(y, half, &k1));
-    let k3 = sys.rates(t + half, &axpy(y, half, &k2));
-    let k4 = sys.rates(t + h, &axpy(y, h, &k3));
+    let k1 = f(t, y);
+    let k2 = f(t + half, &axpy(y, half, &k1));
+    let k3 = f(t + half, &axpy(y, half, &k2));
+    let k4 = f(t + h, &axpy(y, h, &k3));
     let c = h / 6.0;
-    let mut o = [0.0; STATE_SIZE];
-    for i in 0..STATE_SIZE {
+    let mut o = [0.0; N];
+    for i in 0..N {
         o[i] = y[i] + c * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
     }
     o

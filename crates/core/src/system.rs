@@ -47,4 +47,11 @@ pub trait RigidStructure: VectorField {
     fn rates(&self, t: f64, y: &[f64; STATE_SIZE]) -> [f64; STATE_SIZE];
     /// The state put back on its constraint (the pivot), or unchanged.
     fn constrain(&self, t: f64, y: [f64; STATE_SIZE]) -> [f64; STATE_SIZE];
+    /// One classical RK4 step of the state in registers (before [`RigidStructure::constrain`]):
+    /// by default the stages on the whole state; a system whose structure lets part of the
+    /// step be exact may say so.
+    #[inline(always)]
+    fn rk4(&self, t: f64, y: &[f64; STATE_SIZE], h: f64) -> [f64; STATE_SIZE] {
+        crate::steppers::rk4_registers(|t, y| self.rates(t, y), t, y, h)
+    }
 }

@@ -10,11 +10,14 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::forces::{total_potential, total_wrench, Force};
-use crate::layout::{load, Body, STATE_SIZE};
+use crate::layout::{load, Body, Q_AT, R_AT, STATE_SIZE, V_AT};
 use crate::rigid::{
-    pivot_constrained, rigid_rates, shift_torque_to_pivot, state_from_principal, State,
+    attitude_rate, euler_free_coefficients, omega_dot_free, pivot_constrained, rigid_rates,
+    shift_torque_to_pivot, state_from_principal, State,
 };
-use crate::so3::Mat3;
+
+use crate::so3::{Mat3, Vec3};
+use crate::steppers::rk4_registers;
 use crate::system::{RigidStructure, VectorField};
 
 /// Forces of the user's: `(F, τ)` at the body-frame state (force in space, torque about the
@@ -33,9 +36,32 @@ impl UserWrench for NoUser {
     }
 }
 
-/// A free body with no force.
+/// A free body with no force: the rotation by the torque-free Euler equation (20) and
+/// `Q̇ = QΩ` (09), the centre of mass in free flight.
 pub struct TorqueFree {
     pub body: Body,
+    /// The coefficients of eq. (20) ([`euler_free_coefficients`]).
+    pub euler: Vec3,
+}
+
+impl TorqueFree {
+    pub fn new(body: Body) -> Self {
+        TorqueFree {
+            euler: euler_free_coefficients(body.moments, body.inv_moments),
+            body,
+        }
+    }
+
+    /// The rates of the rotation `x = [Q (9), ω (3)]`.
+    #[inline(always)]
+    fn rotation_rates(&self, x: &[f64; 12]) -> [f64; 12] {
+        let w = [x[9], x[10], x[11]];
+        let a = attitude_rate(&x[..9], w);
+        let d = omega_dot_free(self.euler, w);
+        [
+            a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7], a[8], d[0], d[1], d[2],
+        ]
+    }
 }
 
 impl VectorField for TorqueFree {
@@ -60,11 +86,32 @@ impl RigidStructure for TorqueFree {
     }
     #[inline(always)]
     fn rates(&self, _: f64, y: &State) -> State {
-        crate::rigid::free_rigid_rates(&self.body, y, [0.0; 6])
+        let mut x = [0.0; 12];
+        x.copy_from_slice(&y[Q_AT..STATE_SIZE]);
+        let r = self.rotation_rates(&x);
+        let mut out = [0.0; STATE_SIZE];
+        out[R_AT..R_AT + 3].copy_from_slice(&y[V_AT..V_AT + 3]);
+        out[Q_AT..STATE_SIZE].copy_from_slice(&r);
+        out
     }
     #[inline(always)]
     fn constrain(&self, _: f64, y: State) -> State {
         y
+    }
+    /// RK4 on the rotation `[Q, ω]`; the centre of mass by its exact free flight `R + hV`,
+    /// `V` (what RK4 computes for `Ṙ = V`, `V̇ = 0` in exact arithmetic).
+    #[inline(always)]
+    fn rk4(&self, t: f64, y: &State, h: f64) -> State {
+        let mut x = [0.0; 12];
+        x.copy_from_slice(&y[Q_AT..STATE_SIZE]);
+        let r = rk4_registers(|_, x| self.rotation_rates(x), t, &x, h);
+        let mut out = [0.0; STATE_SIZE];
+        for k in 0..3 {
+            out[R_AT + k] = y[R_AT + k] + h * y[V_AT + k];
+            out[V_AT + k] = y[V_AT + k];
+        }
+        out[Q_AT..STATE_SIZE].copy_from_slice(&r);
+        out
     }
 }
 

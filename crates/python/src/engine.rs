@@ -438,7 +438,7 @@ fn integrate_rigid<'py>(
             }
         },
         (_, None) if forces.is_empty() && !body.has_pivot => {
-            drive_any(py, &TorqueFree { body }, &mut flips, &mut run, true)?
+            drive_any(py, &TorqueFree::new(body), &mut flips, &mut run, true)?
         }
         (_, None) => {
             let sys: Rigid = Rigid::new(body, forces, axes, None);

@@ -1,0 +1,352 @@
+//! Members in lanes: [`LANES`] members of an ensemble stepped together, structure of arrays,
+//! the member loop innermost, so that the compiler turns each step into vector instructions
+//! (8 members per instruction with AVX-512, 4 with AVX2, 2 with SSE2 or NEON).
+//!
+//! Nothing here is a formula. A block's state holds component `c` of lane `l` at
+//! `c · LANES + l`; a step gathers each lane's state, runs the *same* scalar step as a single
+//! run ([`rk4_rigid_step`] on the lane's system, constrained), and scatters it back. Floating
+//! point in Rust is never contracted or reassociated, so a lane computes bit for bit what a
+//! single run of its member computes, whatever instruction set runs it.
+//!
+//! The instruction set is chosen at run time ([`run_block`]): the block's whole time loop is
+//! compiled once per target (AVX-512, AVX2 + FMA, the baseline) and the best one the CPU
+//! offers runs, so one wheel serves every x86-64 machine (ARM's NEON is its baseline).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use crate::drivers::{run_fixed, Clock, Counters, FixedMethod, Output, Sampling, Status};
+use crate::layout::{OMEGA_AT, STATE_SIZE};
+use crate::observers::Observer;
+use crate::rigid::State;
+use crate::steppers::rk4_rigid_step;
+use crate::system::{RigidStructure, VectorField};
+
+/// Members per block: sixteen vectors of AVX-512 doubles, a state of 18 KiB (in the L1 cache;
+/// measured a little faster than 32 or 64 lanes, against the ensemble's ceiling kernel).
+pub const LANES: usize = 128;
+
+/// Component `c` of lane `l` in a block's state.
+#[inline(always)]
+pub fn at(c: usize, l: usize) -> usize {
+    c * LANES + l
+}
+
+/// [`LANES`] rigid-body systems stepped together: one system shared by every lane
+/// (`SHARED`: a body every member shares, its parameters broadcast), or one per lane.
+pub struct Block<'a, S, const SHARED: bool> {
+    pub systems: &'a [S],
+}
+
+impl<S: RigidStructure, const SHARED: bool> Block<'_, S, SHARED> {
+    #[inline(always)]
+    fn lane(&self, l: usize) -> &S {
+        if SHARED {
+            &self.systems[0]
+        } else {
+            &self.systems[l]
+        }
+    }
+}
+
+/// A block's state: 18 components of [`LANES`] lanes each.
+pub type BlockState = [f64; STATE_SIZE * LANES];
+
+/// The block state of a slice (its length checked once, so that no index in the lanes'
+/// loops needs a check of its own).
+#[inline(always)]
+fn block(z: &[f64]) -> &BlockState {
+    z[..STATE_SIZE * LANES].try_into().expect("a block's state")
+}
+
+#[inline(always)]
+fn block_mut(z: &mut [f64]) -> &mut BlockState {
+    (&mut z[..STATE_SIZE * LANES])
+        .try_into()
+        .expect("a block's state")
+}
+
+/// Lane `l` of a block's state.
+#[inline(always)]
+pub fn gather(z: &BlockState, l: usize) -> State {
+    let mut y = [0.0; STATE_SIZE];
+    for c in 0..STATE_SIZE {
+        y[c] = z[at(c, l % LANES)];
+    }
+    y
+}
+
+#[inline(always)]
+fn scatter(y: &State, l: usize, z: &mut BlockState) {
+    for c in 0..STATE_SIZE {
+        z[at(c, l % LANES)] = y[c];
+    }
+}
+
+impl<S: RigidStructure, const SHARED: bool> VectorField for Block<'_, S, SHARED> {
+    fn dim(&self) -> usize {
+        STATE_SIZE * LANES
+    }
+    fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]) {
+        let (y, out) = (block(y), block_mut(out));
+        for l in 0..LANES {
+            scatter(&self.lane(l).rates(t, &gather(y, l)), l, out);
+        }
+    }
+    fn project(&self, t: f64, y: &mut [f64]) -> bool {
+        let y = block_mut(y);
+        let mut any = false;
+        for l in 0..LANES {
+            let s = self.lane(l);
+            let c = s.constrain(t, gather(y, l));
+            scatter(&c, l, y);
+            any |= s.body().has_pivot;
+        }
+        any
+    }
+    fn failed(&self) -> bool {
+        (0..if SHARED { 1 } else { LANES }).any(|l| self.lane(l).failed())
+    }
+}
+
+/// Classical RK4 on every lane, each a single run's [`rk4_rigid_step`] constrained after the
+/// step (as [`crate::drivers::Rk4Rigid`]).
+pub struct BlockRk4;
+
+impl<S: RigidStructure, const SHARED: bool> FixedMethod<Block<'_, S, SHARED>> for BlockRk4 {
+    fn evals_per_step(&self) -> u64 {
+        4
+    }
+    #[inline(always)]
+    fn step(&mut self, sys: &Block<'_, S, SHARED>, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
+        let (z, out) = (block(z), block_mut(out));
+        for l in 0..LANES {
+            let s = sys.lane(l);
+            let y1 = s.constrain(t + h, rk4_rigid_step(s, t, &gather(z, l), h));
+            scatter(&y1, l, out);
+        }
+    }
+}
+
+/// The flips of every lane ([`crate::observers::FlipObserver`]'s rule, lane by lane): the
+/// sign test runs on all lanes at once; the rare step with a flip records it lane by lane.
+pub struct BlockFlips {
+    pub first: [f64; LANES],
+    pub last: [f64; LANES],
+    pub count: [f64; LANES],
+}
+
+impl Default for BlockFlips {
+    fn default() -> Self {
+        BlockFlips {
+            first: [f64::NAN; LANES],
+            last: [f64::NAN; LANES],
+            count: [0.0; LANES],
+        }
+    }
+}
+
+impl Observer for BlockFlips {
+    #[inline(always)]
+    fn observe(&mut self, _: usize, t0: f64, y0: &[f64], t1: f64, y1: &[f64]) {
+        let (a, b) = (
+            &y0[at(OMEGA_AT + 1, 0)..at(OMEGA_AT + 2, 0)],
+            &y1[at(OMEGA_AT + 1, 0)..at(OMEGA_AT + 2, 0)],
+        );
+        let mut any = false;
+        for l in 0..LANES {
+            any |= (a[l] < 0.0 && b[l] >= 0.0) | (a[l] > 0.0 && b[l] <= 0.0);
+        }
+        if !any {
+            return;
+        }
+        for l in 0..LANES {
+            let (a, b) = (a[l], b[l]);
+            if (a < 0.0 && b >= 0.0) || (a > 0.0 && b <= 0.0) {
+                let t = t0 + (t1 - t0) * a / (a - b);
+                if self.count[l] == 0.0 {
+                    self.first[l] = t;
+                }
+                self.last[l] = t;
+                self.count[l] += 1.0;
+            }
+        }
+    }
+}
+
+/// Records nothing (a block without flips).
+pub struct NoFlips;
+
+impl Observer for NoFlips {
+    #[inline(always)]
+    fn observe(&mut self, _: usize, _: f64, _: &[f64], _: f64, _: &[f64]) {}
+}
+
+/// What a block's run leaves: its status, counters and (when watched) flips.
+pub struct BlockRun {
+    pub status: Status,
+    pub counters: Counters,
+    pub flips: Option<BlockFlips>,
+}
+
+/// Integrate a block with RK4 from `t0` to `t1` in steps of `dt`, landing on every time of
+/// `t_eval`: `z` (18 · LANES) the initial states, advanced in place; `samples`
+/// (len(t_eval) · 18 · LANES) the block's states at the sample times. The driver is the
+/// single runs' [`run_fixed`], resumed [`crate::ensemble::STEPS_PER_CALL`] steps at a time
+/// until it ends or `stop` is raised.
+#[allow(clippy::too_many_arguments)]
+pub fn run_block<S: RigidStructure + Sync, const SHARED: bool>(
+    block: &Block<'_, S, SHARED>,
+    t0: f64,
+    t1: f64,
+    dt: f64,
+    t_eval: &[f64],
+    flips: bool,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> BlockRun {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512dq")
+        {
+            // SAFETY: the CPU has the features the function is compiled for.
+            return unsafe { run_block_avx512(block, t0, t1, dt, t_eval, flips, z, samples, stop) };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: as above.
+            return unsafe { run_block_avx2(block, t0, t1, dt, t_eval, flips, z, samples, stop) };
+        }
+    }
+    run_block_any(block, t0, t1, dt, t_eval, flips, z, samples, stop)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma,bmi2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn run_block_avx512<S: RigidStructure + Sync, const SHARED: bool>(
+    block: &Block<'_, S, SHARED>,
+    t0: f64,
+    t1: f64,
+    dt: f64,
+    t_eval: &[f64],
+    flips: bool,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> BlockRun {
+    // a local aligned to a cache line makes the frame realigned, so that the vector
+    // registers spilled in the loop land on whole cache lines
+    let anchor = Line([0.0; 8]);
+    std::hint::black_box(&anchor);
+    run_block_any(block, t0, t1, dt, t_eval, flips, z, samples, stop)
+}
+
+/// One cache line of doubles.
+#[repr(C, align(64))]
+#[derive(Clone, Copy)]
+struct Line([f64; 8]);
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn run_block_avx2<S: RigidStructure + Sync, const SHARED: bool>(
+    block: &Block<'_, S, SHARED>,
+    t0: f64,
+    t1: f64,
+    dt: f64,
+    t_eval: &[f64],
+    flips: bool,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> BlockRun {
+    run_block_any(block, t0, t1, dt, t_eval, flips, z, samples, stop)
+}
+
+/// The block's time loop, inlined into each target's copy of it.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn run_block_any<S: RigidStructure + Sync, const SHARED: bool>(
+    block: &Block<'_, S, SHARED>,
+    t0: f64,
+    t1: f64,
+    dt: f64,
+    t_eval: &[f64],
+    flips: bool,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> BlockRun {
+    let mut times = vec![0.0; t_eval.len()];
+    let mut out = Output {
+        t: &mut times,
+        y: samples,
+    };
+    let sampling = Sampling {
+        t_end: t1,
+        t_eval,
+        every: u64::MAX,
+    };
+    let mut clock = Clock { t: t0, h: 0.0 };
+    let mut k = Counters::default();
+    let mut obs = BlockFlips::default();
+    let status = loop {
+        let s = if flips {
+            run_fixed(
+                block,
+                &mut BlockRk4,
+                &mut obs,
+                &mut clock,
+                z,
+                dt,
+                &sampling,
+                &mut out,
+                &mut k,
+                crate::ensemble::STEPS_PER_CALL,
+            )
+        } else {
+            run_fixed(
+                block,
+                &mut BlockRk4,
+                &mut NoFlips,
+                &mut clock,
+                z,
+                dt,
+                &sampling,
+                &mut out,
+                &mut k,
+                crate::ensemble::STEPS_PER_CALL,
+            )
+        };
+        if s != Status::Running || stop.load(Ordering::Relaxed) {
+            break s;
+        }
+    };
+    BlockRun {
+        status,
+        counters: k,
+        flips: flips.then_some(obs),
+    }
+}
+
+/// Lane `l`'s samples (len(t_eval) · 18) out of a block's (len(t_eval) · 18 · LANES).
+pub fn lane_samples(samples: &[f64], l: usize, out: &mut [f64]) {
+    for (row, block_row) in out
+        .chunks_exact_mut(STATE_SIZE)
+        .zip(samples.chunks_exact(STATE_SIZE * LANES))
+    {
+        row.copy_from_slice(&gather(block(block_row), l));
+    }
+}
+
+/// A block's initial state from its members' (principal frame; lanes past the last member
+/// repeat it, and their results are dropped).
+pub fn block_state(states: &[State]) -> Vec<f64> {
+    let mut z = vec![0.0; STATE_SIZE * LANES];
+    for l in 0..LANES {
+        scatter(&states[l.min(states.len() - 1)], l, block_mut(&mut z));
+    }
+    z
+}
