@@ -97,10 +97,11 @@ def test_dexpinv_inverts_dexp(u, v):
     if th > 3.0:
         u = u * 3.0 / th
         th = 3.0
-    if th < 1e-6:
-        a, b = 0.5, 1 / 6
+    if th < 1e-2:  # the series: (1 − cos θ)/θ² and (θ − sin θ)/θ³ cancel below
+        a = 0.5 - th**2 / 24 + th**4 / 720
+        b = 1 / 6 - th**2 / 120 + th**4 / 5040
     else:
-        a, b = (1 - np.cos(th)) / th**2, (th - np.sin(th)) / th**3
+        a, b = 2 * np.sin(th / 2) ** 2 / th**2, (th - np.sin(th)) / th**3
     dexp = v + a * np.cross(u, v) + b * np.cross(u, np.cross(u, v))
     np.testing.assert_allclose(so3.dexpinv(u, dexp), v, atol=1e-12 * (1 + np.abs(v).max()))
 

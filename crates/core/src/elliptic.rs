@@ -104,14 +104,114 @@ pub fn jacobi_near_one(u: f64, m: f64, m1: f64) -> (f64, f64, f64) {
     (sn, cn, dn)
 }
 
-/// `(sn, cn, dn)` on |u| ≤ K/2: [`jacobi_near_one`] below [`NEAR_ONE`], else the AGM.
+/// Bulirsch's stopping rule: the AGM's last difference below `√eps` of its mean (the error
+/// of the next step, quadratic, is then below eps).
+const BULIRSCH_CA: f64 = 1.4901161193847656e-8;
+
+/// The descending arithmetic–geometric-mean sequence of `(1, √m1)` (A&S 17.6), once per
+/// parameter: the complete integral `K = π / (2 AGM(1, √m1))` (DLMF 19.8.5) and the Jacobi
+/// functions of any argument ([`Agm::sncndn`]) share it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Agm {
+    /// The means `a_i` and geometric means `√(a_i b_i)` of each level.
+    em: [f64; 16],
+    en: [f64; 16],
+    /// The last level.
+    levels: usize,
+    /// The final mean.
+    mean: f64,
+}
+
+impl Agm {
+    /// The sequence for `0 < m1 ≤ 1`, to Bulirsch's stopping rule (the last difference below
+    /// `√eps` of the mean: the next, quadratic, step is then exact to eps).
+    pub fn new(m1: f64) -> Agm {
+        let mut g = Agm::default();
+        let mut a = 1.0f64;
+        let mut emc = m1;
+        let mut c = 1.0f64;
+        for i in 0..16 {
+            g.levels = i;
+            g.em[i] = a;
+            emc = emc.sqrt();
+            g.en[i] = emc;
+            c = 0.5 * (a + emc);
+            if (a - emc).abs() <= BULIRSCH_CA * a {
+                break;
+            }
+            emc *= a;
+            a = c;
+        }
+        g.mean = c;
+        g
+    }
+
+    /// `K(m) = π / (2 AGM(1, √m1))`.
+    #[inline]
+    pub fn quarter(&self) -> f64 {
+        PI / (2.0 * self.mean)
+    }
+
+    /// `(sn, cn, dn)` of `u` for `0 < m < 1` by the descending Landen (Gauss) transformation
+    /// in Bulirsch's form (R. Bulirsch, "Numerical calculation of elliptic integrals and
+    /// elliptic functions", *Numer. Math.* 7 (1965) 78–90, procedure `sncndn`): one sine and
+    /// one cosine of the scaled argument, then rational steps back up the sequence (no
+    /// inverse sine per level, unlike [`jacobi_agm`]). For |u| ≤ K/2 ([`jacobi_reduced`]).
+    #[inline]
+    pub fn sncndn(&self, u: f64) -> (f64, f64, f64) {
+        if u.abs() < 1e-9 {
+            // sn = u (1 + O(u²)), cn = dn = 1 − O(u²): exact in double precision; the
+            // recurrence below would overflow through cot(c u) for tiny u
+            return (u, 1.0, 1.0);
+        }
+        let mut c = self.mean;
+        let mut dn = 1.0f64;
+        let (mut sn, mut cn) = (c * u).sin_cos();
+        if sn != 0.0 {
+            let mut a = cn / sn;
+            c *= a;
+            for ii in (0..=self.levels).rev() {
+                let b = self.em[ii];
+                a *= c;
+                c *= dn;
+                dn = (self.en[ii] + a) / (b + a);
+                a = c / b;
+            }
+            let r = 1.0 / (c * c + 1.0).sqrt();
+            sn = if sn >= 0.0 { r } else { -r };
+            cn = c * sn;
+        }
+        (sn, cn, dn)
+    }
+}
+
+/// `(sn, cn, dn)` of `u` for `0 < m < 1` ([`Agm::sncndn`] of a sequence made for it).
+pub fn jacobi_bulirsch(u: f64, m1: f64) -> (f64, f64, f64) {
+    Agm::new(m1).sncndn(u)
+}
+
+/// `(sn, cn, dn)` on |u| ≤ K/2: [`jacobi_near_one`] below [`NEAR_ONE`], the circular
+/// functions at `m = 0`, else [`Agm::sncndn`] on the sequence `agm` of `m1`.
 #[inline]
-fn base(u: f64, m: f64, m1: f64) -> (f64, f64, f64) {
+fn base(u: f64, m: f64, m1: f64, agm: &Agm) -> (f64, f64, f64) {
     if m1 < NEAR_ONE {
         return jacobi_near_one(u, m, m1);
     }
-    let (sn, cn, dn, _) = jacobi_agm(u, m, m1);
-    (sn, cn, dn)
+    if m <= 0.0 {
+        return u.sin_cos().into_tuple(1.0);
+    }
+    agm.sncndn(u)
+}
+
+trait WithDn {
+    fn into_tuple(self, dn: f64) -> (f64, f64, f64);
+}
+
+impl WithDn for (f64, f64) {
+    #[inline(always)]
+    fn into_tuple(self, dn: f64) -> (f64, f64, f64) {
+        (self.0, self.1, dn)
+    }
 }
 
 /// `(sn, cn, dn, p, v)`: the Jacobi functions of `u` with small `cn`, `dn` kept to relative
@@ -124,6 +224,24 @@ fn base(u: f64, m: f64, m1: f64) -> (f64, f64, f64) {
 /// `sn(u) = (−1)^p sn v`, `cn(u) = (−1)^p cn v`, `dn(u) = dn v`. `K = inf` (m = 1) leaves `u`
 /// unreduced.
 pub fn jacobi_reduced(u: f64, m: f64, m1: f64, k: f64) -> (f64, f64, f64, f64, f64) {
+    let agm = if m1 >= NEAR_ONE && m > 0.0 {
+        Agm::new(m1)
+    } else {
+        Agm::default()
+    };
+    jacobi_reduced_with(u, m, m1, k, &agm)
+}
+
+/// [`jacobi_reduced`] with the AGM sequence of `m1` made once ([`Agm::new`]; unused below
+/// [`NEAR_ONE`] and at `m = 0`): the form for many arguments of one parameter.
+#[inline]
+pub fn jacobi_reduced_with(
+    u: f64,
+    m: f64,
+    m1: f64,
+    k: f64,
+    agm: &Agm,
+) -> (f64, f64, f64, f64, f64) {
     if k.is_infinite() {
         let (sn, cn, dn, _) = jacobi_agm(u, m, m1);
         return (sn, cn, dn, 0.0, u);
@@ -131,13 +249,14 @@ pub fn jacobi_reduced(u: f64, m: f64, m1: f64, k: f64) -> (f64, f64, f64, f64, f
     let p = (u / (2.0 * k)).round_ties_even();
     let v = u - 2.0 * k * p;
     let (sn, cn, dn) = if v.abs() > 0.5 * k {
-        let (sx, cx, dx) = base(k - v.abs(), m, m1);
+        let (sx, cx, dx) = base(k - v.abs(), m, m1, agm);
         let r = m1.sqrt();
         (1f64.copysign(v) * cx / dx, r * sx / dx, r / dx)
     } else {
-        base(v, m, m1)
+        base(v, m, m1, agm)
     };
-    let parity = 1.0 - 2.0 * (p.abs() % 2.0);
+    // (−1)^p, p an integer (exact below 2⁵³)
+    let parity = if (0.5 * p).fract() == 0.0 { 1.0 } else { -1.0 };
     (parity * sn, parity * cn, dn, p, v)
 }
 
@@ -242,7 +361,7 @@ pub fn ellipk_m1(m1: f64) -> f64 {
     if m1 <= 0.0 {
         return f64::INFINITY;
     }
-    carlson_rf(0.0, m1, 1.0)
+    Agm::new(m1).quarter()
 }
 
 /// `φ = jπ + r` with `r ∈ [−π/2, π/2]`: `(j, r)`.
@@ -359,6 +478,44 @@ pub fn third_kind_u(n: f64, u: f64, m: f64, m1: f64, k: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// K(m) by the AGM equals Carlson's `R_F(0, m1, 1)` (DLMF 19.25.1) to round-off (a few ulps of
+    /// the duplication algorithm), from
+    /// m1 = 1 down to the separatrix.
+    #[test]
+    fn complete_integral_by_the_agm_equals_carlsons_form() {
+        let mut m1 = 1.0f64;
+        while m1 > 1e-300 {
+            let (a, b) = (ellipk_m1(m1), carlson_rf(0.0, m1, 1.0));
+            assert!((a - b).abs() <= 1.5e-15 * b, "m1 {m1}: {a} {b}");
+            m1 *= 0.37;
+        }
+        assert_eq!(ellipk_m1(1.0), PI / 2.0);
+    }
+
+    /// Bulirsch's descending Landen transformation and the AGM with inverse sines (A&S 16.4)
+    /// agree to round-off on |u| ≤ K/2 across m; the identities sn² + cn² = 1 and
+    /// dn² + m sn² = 1 hold.
+    #[test]
+    fn bulirsch_equals_the_agm_on_half_quarter_periods() {
+        for &m1 in &[0.999, 0.7, 0.5, 0.3, 0.1, 1e-2, 1e-3, 1e-4, 2e-5] {
+            let m = 1.0 - m1;
+            let k = ellipk_m1(m1);
+            let tiny = [-1e-300, 5e-324, 1e-12, -3e-9, 2e-9, 1e-7];
+            for u in (-20..=20).map(|i| 0.5 * k * i as f64 / 20.0).chain(tiny) {
+                let (s1, c1, d1) = jacobi_bulirsch(u, m1);
+                let (s2, c2, d2, _) = jacobi_agm(u, m, m1);
+                for (a, b) in [(s1, s2), (c1, c2), (d1, d2)] {
+                    assert!(
+                        (a - b).abs() <= 4e-16 * (1.0 + b.abs()),
+                        "m1 {m1}, u {u}: {a} {b}"
+                    );
+                }
+                assert!((s1 * s1 + c1 * c1 - 1.0).abs() < 1e-15);
+                assert!((d1 * d1 + m * s1 * s1 - 1.0).abs() < 1e-15);
+            }
+        }
+    }
     use std::f64::consts::FRAC_PI_2;
 
     fn rel(a: f64, b: f64) -> f64 {

@@ -32,7 +32,9 @@
 //! `Q(t) = exp(t L̂/I⊥) Q0 exp(ν t ê_s)`; fixed points: `Q0 exp(Ω t)`.
 
 use crate::cmath::{frexp, ldexp};
-use crate::elliptic::{ellipk_m1, first_kind_from_sn_cn, jacobi_reduced, third_kind_u};
+use crate::elliptic::{
+    ellipk_m1, first_kind_from_sn_cn, jacobi_reduced_with, third_kind_u, Agm, NEAR_ONE,
+};
 use crate::invariants::principal_invariants;
 use crate::so3::{exp_so3, matmul, Mat3, Vec3};
 use rayon::prelude::*;
@@ -134,6 +136,9 @@ pub struct Regime {
     pub axis: u8,
     /// The transverse moment `I⊥` of a symmetric body.
     pub i_perp: f64,
+    /// The AGM sequence of `m1` (elliptic cases with `m1 ≥` [`NEAR_ONE`]), made once for
+    /// every time of ω(t).
+    pub agm: Agm,
 }
 
 impl Regime {
@@ -267,7 +272,12 @@ impl Regime {
         reg.m1 = m1;
         reg.signs = [s1, s1 * s3, s3];
         reg.pole = pole;
-        reg.quarter = ellipk_m1(m1);
+        if m1 >= NEAR_ONE && m > 0.0 {
+            reg.agm = Agm::new(m1);
+            reg.quarter = reg.agm.quarter(); // = ellipk_m1(m1), the same sequence
+        } else {
+            reg.quarter = ellipk_m1(m1);
+        }
         reg
     }
 
@@ -332,8 +342,13 @@ impl Regime {
                 [p[0] / moments[0], p[1] / moments[1], p[2] / moments[2]]
             }
             _ => {
-                let (sn, cn, dn, _, _) =
-                    jacobi_reduced(self.u0 + self.lam * t, self.m, self.m1, self.quarter);
+                let (sn, cn, dn, _, _) = jacobi_reduced_with(
+                    self.u0 + self.lam * t,
+                    self.m,
+                    self.m1,
+                    self.quarter,
+                    &self.agm,
+                );
                 let (first, last) = if self.pole == 2 { (cn, dn) } else { (dn, cn) };
                 [
                     self.signs[0] * self.alpha[0] * first,

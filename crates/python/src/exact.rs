@@ -31,6 +31,15 @@ fn detached<T: Send, F: FnOnce() -> T + Send>(py: Python<'_>, f: F) -> PyResult<
         })
 }
 
+/// A flat buffer of doubles seen as arrays of `N` (its length a multiple of `N`): the core
+/// writes vectors and matrices straight into the array NumPy will own.
+fn as_arrays<const N: usize>(flat: &mut [f64]) -> &mut [[f64; N]] {
+    assert_eq!(flat.len() % N, 0, "a whole number of arrays");
+    // SAFETY: [f64; N] has the alignment of f64 and the size of N of them; the length is a
+    // multiple of N, and the borrow is unique.
+    unsafe { std::slice::from_raw_parts_mut(flat.as_mut_ptr().cast(), flat.len() / N) }
+}
+
 fn shape_error(name: &str, want: &str, got: &[usize]) -> PyErr {
     PyValueError::new_err(format!("`{name}` must have shape {want}, found {got:?}"))
 }
@@ -321,12 +330,11 @@ fn torque_free_omegas<'py>(
         times(&t, "t")?,
     );
     let (nw, nt) = (ws.len(), ts.len());
-    let out = detached(py, || {
-        let mut out = vec![[0.0; 3]; nw * nt];
-        torque_free::exact_omegas(i, &s, code, &ws, &ts, &mut out);
-        out
+    let flat = detached(py, || {
+        let mut flat = vec![0.0; nw * nt * 3];
+        torque_free::exact_omegas(i, &s, code, &ws, &ts, as_arrays::<3>(&mut flat));
+        flat
     })?;
-    let flat: Vec<f64> = out.into_iter().flatten().collect();
     let a = Array3::from_shape_vec((nw, nt, 3), flat)
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     Ok(a.into_pyarray(py))
@@ -360,12 +368,15 @@ fn torque_free_attitudes<'py>(
         )));
     }
     let (nw, nt) = (ws.len(), ts.len());
-    let out = detached(py, || {
-        let mut out = vec![[[0.0; 3]; 3]; nw * nt];
-        torque_free::exact_attitudes(i, &s, code, &ws, &qs, &ts, &mut out);
-        out
+    let flat = detached(py, || {
+        let mut flat = vec![0.0; nw * nt * 9];
+        let out = as_arrays::<9>(&mut flat);
+        // SAFETY: [[f64; 3]; 3] and [f64; 9] have the same size and alignment
+        let out: &mut [[[f64; 3]; 3]] =
+            unsafe { std::slice::from_raw_parts_mut(out.as_mut_ptr().cast(), out.len()) };
+        torque_free::exact_attitudes(i, &s, code, &ws, &qs, &ts, out);
+        flat
     })?;
-    let flat: Vec<f64> = out.into_iter().flatten().flatten().collect();
     let a = Array4::from_shape_vec((nw, nt, 3, 3), flat)
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     Ok(a.into_pyarray(py))
