@@ -104,6 +104,40 @@ fn py_min(a: f64, b: f64) -> f64 {
     }
 }
 
+/// The square roots of a body's moments that every motion's regime uses:
+/// `√(I1 (I3 − I1))`, `√(I2 (I3 − I2))`, `√(I2 (I2 − I1))`, `√(I3 (I3 − I1))` (sorted moments).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Radicals {
+    pub r13: f64,
+    pub r23: f64,
+    pub r12: f64,
+    pub r33: f64,
+}
+
+impl Radicals {
+    pub fn new(moments: Vec3) -> Radicals {
+        let [i1, i2, i3] = moments;
+        Radicals {
+            r13: (i1 * (i3 - i1)).sqrt(),
+            r23: (i2 * (i3 - i2)).sqrt(),
+            r12: (i2 * (i2 - i1)).sqrt(),
+            r33: (i3 * (i3 - i1)).sqrt(),
+        }
+    }
+}
+
+/// `√(a² + b²)`: the square root of the sum where the squares neither overflow nor underflow
+/// (the regime's scaled values), else `hypot`.
+#[inline(always)]
+fn norm2(a: f64, b: f64) -> f64 {
+    let s = a * a + b * b;
+    if s.is_normal() && s < 1e300 {
+        s.sqrt()
+    } else {
+        a.hypot(b)
+    }
+}
+
 /// The regime of one torque-free motion: everything the closed form needs of `ω(0)` (see the
 /// module docs). Fields unused by a case are zero.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -145,6 +179,11 @@ impl Regime {
     /// The regime of the motion from `ω(0) = w` (sorted principal frame) for sorted moments
     /// `moments`; `symmetry` the code of [`crate::freebody::symmetry_code`].
     pub fn new(moments: Vec3, symmetry: u8, w: Vec3) -> Regime {
+        Regime::with(moments, &Radicals::new(moments), symmetry, w)
+    }
+
+    /// [`Regime::new`] with the body's [`Radicals`] made once (for many motions of one body).
+    pub fn with(moments: Vec3, radicals: &Radicals, symmetry: u8, w: Vec3) -> Regime {
         let mut reg = Regime::default();
         let [w0, w1, w2] = w;
         let big = py_max(py_max(w0.abs(), w1.abs()), w2.abs());
@@ -198,12 +237,9 @@ impl Regime {
             reg.case = FIXED;
             return reg;
         }
-        let r13 = (i1 * (i3 - i1)).sqrt();
-        let r23 = (i2 * (i3 - i2)).sqrt();
-        let r12 = (i2 * (i2 - i1)).sqrt();
-        let r33 = (i3 * (i3 - i1)).sqrt();
-        let q3 = (r13 * x0).hypot(r23 * x1); // √P3, P3 = 2k I3 − a² (scaled)
-        let q1 = (r12 * x1).hypot(r33 * x2); // √P1, P1 = a² − 2k I1
+        let Radicals { r13, r23, r12, r33 } = *radicals;
+        let q3 = norm2(r13 * x0, r23 * x1); // √P3, P3 = 2k I3 − a² (scaled)
+        let q1 = norm2(r12 * x1, r33 * x2); // √P1, P1 = a² − 2k I1
         if q3 == 0.0 || q1 == 0.0 {
             // on e3 or on e1
             reg.case = FIXED;
@@ -556,9 +592,10 @@ pub fn exact_omegas(
     if n == 0 {
         return;
     }
+    let radicals = Radicals::new(moments);
     let member = |w: &Vec3, block: &mut [Vec3]| {
         let ws = to_sorted(s, *w);
-        let reg = Regime::new(moments, symmetry, ws);
+        let reg = Regime::with(moments, &radicals, symmetry, ws);
         for (o, &t) in block.iter_mut().zip(ts) {
             *o = from_sorted(s, reg.omega_at(moments, ws, t));
         }
