@@ -74,6 +74,34 @@ def test_every_member_equals_a_single_simulate(case):
         assert res.nsteps[i] == tr.nsteps
 
 
+@pytest.mark.parametrize("case", ["free rk4", "heavy top rk4", "own moments rk4"])
+def test_members_in_simd_lanes_equal_their_single_runs(case):
+    """RK4 members run in blocks of SIMD lanes (the core's ``lanes``: 128 members a block,
+    a short last block padded): every member equals its single ``simulate`` bit for bit, and
+    chunks of 40 or 7 (the latter too few for lanes: member by member) change nothing."""
+    n = 150
+    rng = np.random.default_rng(7)
+    w0 = rng.normal(size=(n, 3))
+    q0 = Rotation.random(n, random_state=8).as_matrix()
+    kw = {"progress": False, **CASES[case]}
+    moments = kw.pop("moments", None)
+    if moments is not None:
+        moments = rng.uniform(1.0, 2.0, (n, 3))
+        kw["moments"] = moments
+    runs = [simulate_ensemble(BODY, (0, T_END), omega0=w0, Q0=q0, t_eval=T_EVAL, chunk_size=c,
+                              threads=th, **kw) for c, th in ((n, 2), (40, 1), (7, 2))]  # fmt: skip
+    for other in runs[1:]:
+        np.testing.assert_array_equal(other.state, runs[0].state)
+        np.testing.assert_array_equal(other.flip_count, runs[0].flip_count)
+    kw.pop("moments", None)
+    for i in (0, 77, 127, 128, n - 1):
+        body = BODY if moments is None else RigidBody(2.0, np.diag(moments[i]),
+                                                      BODY.center_of_mass)  # fmt: skip
+        tr = simulate(body, (0, T_END), omega0=w0[i], Q0=q0[i], t_eval=T_EVAL,
+                      **{k: v for k, v in kw.items() if k != "progress"})  # fmt: skip
+        np.testing.assert_array_equal(runs[0].state[i], tr.state)
+
+
 @pytest.mark.parametrize("case", ["free rk4", "heavy top rk4", "free dop853"])
 def test_chunks_and_threads_change_nothing(case):
     """Bit for bit: one chunk on one thread, small chunks on two threads, final-only."""
