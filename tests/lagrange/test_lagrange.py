@@ -345,3 +345,42 @@ def test_augmented_system_solves_to_the_simulated_accelerations_and_multipliers(
     np.testing.assert_allclose(solved[:2], sol.accelerations[0], rtol=1e-12)
     assert solved[2] == pytest.approx(sol.multipliers[0, 0], rel=1e-12)
     assert system.augmented_matrix.shape == (3, 3)
+
+
+@pytest.mark.parametrize("n", [1, 3, 6])
+def test_point_masses_by_their_jacobians_equal_the_route_through_the_lagrangian(n):
+    """A system of point masses derives M, f and h from the positions' Jacobians
+    (``Σ m Jᵀ J``, ``−Σ m Jᵀ J̇q̇ − ∇U``, ``T + U``); the same system given its kinetic energy
+    (differentiated twice) must agree, at random states and parameters, with a constraint and
+    a generalized force in play."""
+    from sympy import cos, sin
+
+    q = dynamicsymbols(f"q:{n + 1}")
+    ms, ls, g, c = sp.symbols(f"m:{n + 1}"), sp.symbols(f"l:{n}"), sp.Symbol("g"), sp.Symbol("c")
+    pts = [sp.Matrix([q[0], 0, 0])]
+    for i in range(n):
+        pts.append(pts[-1] + ls[i] * sp.Matrix([-sin(q[i + 1]), cos(q[i + 1]), 0]))
+    U = sum(mi * g * p[1] for mi, p in zip(ms, pts, strict=True))
+    forces = [{q[1]: -c * q[1].diff()}]  # a damper on the first joint
+    hol = [q[0] - sp.Rational(1, 2) * sin(q[1])] if n > 1 else []
+    jac = LagrangianSystem(q, bodies=[PointMass(m, p) for m, p in zip(ms, pts, strict=True)],
+                           potential=U, forces=forces, holonomic=hol)  # fmt: skip
+    T = sum(m * (p.diff(jac.t).T * p.diff(jac.t))[0] / 2 for m, p in zip(ms, pts, strict=True))
+    lag = LagrangianSystem(q, kinetic=T, potential=U, forces=forces, holonomic=hol)
+    assert jac._point_mass_route is not None and lag._point_mass_route is None
+    rng = np.random.default_rng(n)
+    for _ in range(3):
+        values = {s: rng.uniform(0.5, 1.5) for s in (*ms, *ls, g, c)}
+        values.update({qi: rng.uniform(-2, 2) for qi in q})
+        values.update({qi.diff(): rng.uniform(-2, 2) for qi in q})
+
+        def num(e, values=values):
+            # speeds first: Derivative(q(t), t) contains q(t)
+            speeds = {k: v for k, v in values.items() if isinstance(k, sp.Derivative)}
+            rest = {k: v for k, v in values.items() if not isinstance(k, sp.Derivative)}
+            e = e if isinstance(e, sp.MatrixBase) else sp.Matrix([e])
+            return np.array(e.xreplace(speeds).xreplace(rest), dtype=float)
+
+        for a, b in ((jac.mass_matrix, lag.mass_matrix), (jac.forcing, lag.forcing),
+                     (jac.energy_function, lag.energy_function)):  # fmt: skip
+            np.testing.assert_allclose(num(a), num(b), rtol=1e-12, atol=1e-12)

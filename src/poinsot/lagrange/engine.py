@@ -127,6 +127,26 @@ def _model_key(system) -> str:
     return digest.hexdigest()[:24]
 
 
+class _no_cyclic_gc:
+    """Python's cycle collector paused while SymPy derives and lowers a model: the
+    derivation makes millions of short-lived, acyclic objects (freed by their reference
+    counts), and each of the collector's passes would walk every object alive in the process
+    (a large model, or another library's expressions, can double the derivation's time)."""
+
+    def __enter__(self):
+        import gc
+
+        self.was = gc.isenabled()
+        gc.disable()
+
+    def __exit__(self, *exc):
+        import gc
+
+        if self.was:
+            gc.enable()
+        return False
+
+
 def _load(path: Path, sizes):
     try:
         with np.load(path, allow_pickle=False) as data:
@@ -165,7 +185,8 @@ def compile_system(system) -> CompiledSystem:
         path = cache_dir() / f"model_{key}.npz"
         program = _load(path, sizes)
         if program is None:
-            program = _program(system)
+            with _no_cyclic_gc():
+                program = _program(system)
             _save(path, *program, sizes)
         model = _core.LagrangianModel(*program, *sizes)
         _MODELS[key] = model
