@@ -10,6 +10,7 @@ mod engine;
 mod ensemble;
 mod exact;
 mod geometry;
+mod gyrostat;
 mod relative;
 mod rigid;
 
@@ -38,5 +39,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     geometry::register(m)?;
     exact::register(m)?;
     ensemble::register(m)?;
+    gyrostat::register(m)?;
     Ok(())
 }
