@@ -43,11 +43,18 @@ class EquationErrorFit:
     absolute : bool
         Whether ``inertia`` is in physical units (``J`` given).
     singular_values : ndarray
-        Of the column-scaled regressor, descending.
+        Of the column-scaled regressor (unit-norm columns), descending.
     condition : float
         ``σ_1 / σ_k`` of the column-scaled regressor, ``σ_k`` the smallest singular value
         that must be nonzero (the second smallest for a null vector): large when the motion
         does not excite every unknown.
+    gap : float
+        ``σ_{p−1} / σ_p`` for a null vector (inf for an ordinary least-squares problem): near 1
+        when a second direction is almost as null as the first, so the estimate is ambiguous
+        (see :meth:`candidates`).
+    null_pair : ndarray (2, p) or None
+        The right singular vectors of the two smallest singular values (unscaled; ``p`` = 6,
+        or 7 with ``J``), for a null vector.
     """
 
     inertia: np.ndarray
@@ -55,6 +62,36 @@ class EquationErrorFit:
     absolute: bool
     singular_values: np.ndarray
     condition: float
+    gap: float = np.inf
+    null_pair: np.ndarray | None = None
+
+    def candidates(self, n: int = 12) -> list[tuple[np.ndarray, float | None]]:
+        """Physical inertias (trace 1) along the pencil ``cos φ v_p + sin φ v_{p−1}`` of the two
+        most nearly null directions, at ``n`` angles in [0, π): those that are positive
+        definite and obey ``I1 + I2 ≥ I3``, each with its ``J`` (None without a rotor). When
+        :attr:`gap` is near 1 the data cannot choose among them by this linear fit; the
+        output-error fit started from each can."""
+        if self.null_pair is None:
+            return []
+        out = []
+        v6, v5 = self.null_pair
+        for phi in np.pi * np.arange(n) / n:
+            v = np.cos(phi) * v6 + np.sin(phi) * v5
+            I = inertia_from_entries(v[:6])
+            tr = np.trace(I)
+            if tr == 0:
+                continue
+            I = I / tr
+            m = np.linalg.eigvalsh(I)
+            if m[0] > 0 and m[0] + m[1] >= m[2] * (1 - 1e-9):
+                out.append((I, float(v[6] / tr) if len(v) > 6 else None))
+        return out
+
+    @property
+    def physical(self) -> bool:
+        """Whether :attr:`inertia` is positive definite and obeys ``I1 + I2 ≥ I3``."""
+        m = np.linalg.eigvalsh(self.inertia)
+        return bool(m[0] > 0 and m[0] + m[1] >= m[2] * (1 - 1e-9))
 
 
 def inertia_from_entries(theta) -> np.ndarray:
@@ -139,17 +176,21 @@ def equation_error(
         A = A[:, :6]
     norms = np.linalg.norm(A, axis=0)
     norms[norms == 0] = 1.0
+    # the small normal matrix (columns scaled to unit norm) rather than an SVD of the tall
+    # regressor: the same singular vectors, and no LAPACK threads on a tall matrix
     if rotor_speed is not None and rotor_inertia is not None:
         J = float(rotor_inertia)
         As = A[:, :6] / norms[:6]
-        sv = np.linalg.svd(As, compute_uv=False)
-        x, *_ = np.linalg.lstsq(As, -J * A[:, 6], rcond=None)
+        N = As.T @ As
+        sv = _singular_values(N)
+        x = np.linalg.solve(N, As.T @ (-J * A[:, 6])) if sv[-1] > 0 else np.full(6, np.nan)
         I = inertia_from_entries(x / norms[:6])
         cond = float(sv[0] / sv[-1]) if sv[-1] > 0 else np.inf
         return EquationErrorFit(I, J, True, sv, cond)
     As = A / norms
-    _, sv, vt = np.linalg.svd(As, full_matrices=False)
-    v = vt[-1] / norms
+    lam, V = np.linalg.eigh(As.T @ As)
+    sv = np.sqrt(np.clip(lam[::-1], 0.0, None))
+    v = V[:, 0] / norms
     I = inertia_from_entries(v[:6])
     tr = np.trace(I)
     if tr == 0:
@@ -157,4 +198,11 @@ def equation_error(
     I = I / tr
     J = float(v[6] / tr) if rotor_speed is not None else None
     cond = float(sv[0] / sv[-2]) if sv[-2] > 0 else np.inf
-    return EquationErrorFit(I, J, False, sv, cond)
+    gap = float(sv[-2] / sv[-1]) if sv[-1] > 0 else np.inf
+    pair = np.array([V[:, 0] / norms, V[:, 1] / norms])
+    return EquationErrorFit(I, J, False, sv, cond, gap, pair)
+
+
+def _singular_values(N) -> np.ndarray:
+    """Singular values (descending) of ``A`` from ``N = AᵀA``."""
+    return np.sqrt(np.clip(np.linalg.eigvalsh(N)[::-1], 0.0, None))

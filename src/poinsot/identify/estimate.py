@@ -11,6 +11,7 @@ motion does not determine.
 from __future__ import annotations
 
 import warnings
+from dataclasses import replace
 
 import numpy as np
 
@@ -43,6 +44,11 @@ MIN_ROTATION = 1.0
 MAX_RATIO_STDERR = 0.02
 #: An axis whose standard error exceeds this [deg] is not identifiable.
 MAX_AXIS_STDERR_DEG = 5.0
+#: Below this ratio of the two smallest singular values the equation-error estimate is
+#: ambiguous, and the output-error fit is started from several inertias.
+AMBIGUOUS_GAP = 10.0
+#: Iterations of each trial start.
+TRIAL_NFEV = 10
 #: Residuals this many times the gyro noise (RMS) flag the model as not explaining the motion.
 MISMATCH_RATIO = 2.0
 
@@ -245,28 +251,40 @@ def identify(
         )
     sp = None if speed is None else speed[sl]
     eq = equation_error(ts, ws, rotor_speed=sp, rotor_axis=axis, rotor_inertia=J)
-    oe = output_error(
-        ts,
-        ws,
-        eq.inertia,
-        rotor_speed=sp,
-        rotor_axis=axis,
-        rotor_inertia=J,
-        initial_rotor_inertia=eq.rotor_inertia,
-        segment=seg,
-        loss=loss,
-        max_nfev=max_nfev,
-    )
-    result = _result(oe, ts, ws, flight, speed is not None, J)
-    if result.flags:
-        for f in result.flags:
-            warnings.warn(f, ModelMismatchWarning, stacklevel=2)
-        return result
-    _refuse_unidentifiable(result, where, cone, rotation)
+    common = dict(rotor_speed=sp, rotor_axis=axis, rotor_inertia=J, segment=seg, loss=loss)
+    start, start_J, w0 = eq.inertia, eq.rotor_inertia, None
+    nfev = 0
+    if not eq.physical or eq.gap < AMBIGUOUS_GAP:
+        # the linear fit cannot choose: start the output-error fit briefly from each physical
+        # inertia along its two most nearly null directions, and go on from the best
+        trials = [(eq.inertia, eq.rotor_inertia)] if eq.physical else []
+        trials += eq.candidates()
+        best = None
+        for I0, J0 in trials:
+            if J is not None:  # the candidates have trace 1: scale to the known J
+                continue
+            fit = output_error(ts, ws, I0, initial_rotor_inertia=J0, max_nfev=TRIAL_NFEV,
+                               **common)  # fmt: skip
+            nfev += fit.nfev
+            if best is None or fit.cost < best.cost:
+                best = fit
+        if best is not None:
+            start = best.axes @ np.diag(best.moments) @ best.axes.T
+            start_J, w0 = best.rotor_inertia, best.omega0
+    oe = output_error(ts, ws, start, omega0=w0, initial_rotor_inertia=start_J,
+                      max_nfev=max_nfev, **common)  # fmt: skip
+    oe = replace(oe, nfev=oe.nfev + nfev)
+    result = _result(oe, ts, ws, flight, speed is not None, J, loss != "linear")
+    if not result.residual_ratio > MISMATCH_RATIO:
+        # standard errors mean something only when the model explains the readings; when it
+        # does not, the result is returned flagged (its standard errors inflated by the misfit)
+        _refuse_unidentifiable(result, where, cone, rotation)
+    for f in result.flags:
+        warnings.warn(f, ModelMismatchWarning, stacklevel=2)
     return result
 
 
-def _result(oe, ts, ws, flight, has_rotor: bool, J) -> IdentifyResult:
+def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyResult:
     m, E = oe.moments, oe.axes
     absolute = oe.absolute
     scale = 1.0 if absolute else float(np.sum(m))
@@ -305,12 +323,17 @@ def _result(oe, ts, ws, flight, has_rotor: bool, J) -> IdentifyResult:
     rms = np.sqrt(np.mean(oe.residuals**2, axis=0))
     floor = 1e-9 * float(np.sqrt(np.mean(ws**2)))
     total_noise = max(float(np.sqrt(np.mean(noise**2))), floor)
-    ratio = float(np.sqrt(np.mean(rms**2)) / total_noise)
+    if robust:  # outliers are expected: compare the residuals' robust scale (1.4826 MAD)
+        r = oe.residuals
+        spread = 1.482602218505602 * np.median(np.abs(r - np.median(r, axis=0)), axis=0)
+        ratio = float(np.sqrt(np.mean(spread**2)) / total_noise)
+    else:
+        ratio = float(np.sqrt(np.mean(rms**2)) / total_noise)
     flags = []
     if ratio > MISMATCH_RATIO:
         model = "gyrostat" if has_rotor else "torque-free"
         flags.append(
-            f"the residuals are {ratio:.3g}× the gyro noise ({np.sqrt(np.mean(rms**2)):.3g} "
+            f"the residuals are {ratio:.3g}× the gyro noise ({ratio * total_noise:.3g} "
             f"against {total_noise:.3g} rad/s RMS): the {model} model does not explain the "
             "motion"
             + ("" if has_rotor else " (a spinning rotor that was not given?)")

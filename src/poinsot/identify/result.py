@@ -72,7 +72,8 @@ class IdentifyResult:
     noise_std : ndarray (3,)
         The gyro's white noise, estimated from the readings alone [rad/s].
     residual_ratio : float
-        Total RMS residual over total noise: about 1 when the model explains the readings.
+        Total RMS residual over total noise (with a robust loss, the residuals' robust scale
+        1.4826 · MAD instead of their RMS): about 1 when the model explains the readings.
     condition : float
         Condition number of the (column-scaled) fit's Jacobian: the identifiability of the
         whole set of unknowns (large: some combination is barely determined).
