@@ -62,7 +62,8 @@ def _times(t) -> np.ndarray:
         k = int(np.flatnonzero(d <= 0)[0]) + 1
         what = "repeats" if d[k - 1] == 0 else "goes back from"
         raise ValueError(
-            f"`t` must increase strictly: t[{k}] = {t[k]!r} {what} t[{k - 1}] = {t[k - 1]!r} "
+            f"`t` must increase strictly: t[{k}] = {float(t[k])!r} {what} t[{k - 1}] = "
+            f"{float(t[k - 1])!r} "
             "(duplicate or out-of-order samples)"
         )
     return t
@@ -295,12 +296,20 @@ def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyRes
     dr = oe.ratios_stderr
     if absolute:
         ds = oe.stderr("eta")  # I3 = I3⁰ e^η: dI3/I3 = dη
-        dm = np.array([np.hypot(moments[2] * dr[0], moments[0] * ds),
-                       np.hypot(moments[2] * dr[1], moments[1] * ds), moments[2] * ds])  # fmt: skip
+        with np.errstate(invalid="ignore"):
+            dm = np.array(
+                [
+                    np.hypot(moments[2] * dr[0], moments[0] * ds),
+                    np.hypot(moments[2] * dr[1], moments[1] * ds),
+                    moments[2] * ds,
+                ]
+            )
         k = [oe.names.index(x) for x in ("rho1", "rho2", "eta")]
         C = oe.covariance[np.ix_(k, k)]
         g = moments[2] * np.array([1.0, 1.0, 1.0 + ratios.sum()])  # ∂tr/∂(ρ1, ρ2, η)
-        dtrace = float(np.sqrt(max(g @ C @ g, 0.0)))
+        with np.errstate(invalid="ignore"):
+            var = float(g @ C @ g)
+        dtrace = float(np.sqrt(max(var, 0.0))) if not np.isnan(var) else np.inf
     else:
         # trace 1: m_i = ρ_i/(1 + ρ1 + ρ2), m3 = 1/(1 + ρ1 + ρ2)
         k = [oe.names.index(x) for x in ("rho1", "rho2")]
@@ -309,7 +318,9 @@ def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyRes
         G = np.array([[1.0 / s - ratios[0] / s**2, -ratios[0] / s**2],
                       [-ratios[1] / s**2, 1.0 / s - ratios[1] / s**2],
                       [-1.0 / s**2, -1.0 / s**2]])  # fmt: skip
-        dm = np.sqrt(np.clip(np.diag(G @ C @ G.T), 0.0, None))
+        with np.errstate(invalid="ignore"):  # an unidentifiable ratio: infinite variance
+            var = np.diag(G @ C @ G.T)
+        dm = np.sqrt(np.where(np.isnan(var), np.inf, np.clip(var, 0.0, None)))
         dtrace = 0.0
     rotor_inertia = None
     dJ = None
@@ -414,6 +425,13 @@ def _refuse_unidentifiable(res: IdentifyResult, where: str, cone: float, rotatio
         why.append("I1 and I2 are nearly equal, so e1 and e2 may turn freely in their plane")
     if "e2" in bad and "e3" in bad and abs(1 - r[1]) < 3 * (res.ratios_stderr[1] + 1e-3):
         why.append("I2 and I3 are nearly equal, so e2 and e3 may turn freely in their plane")
+    if ("I1/I3" in bad and "e2" in bad and "e3" in bad) or ("I2/I3" in bad and "e1" in bad
+                                                            and "e2" in bad):  # fmt: skip
+        why.append(
+            "a gyro bias along the symmetry axis of a (nearly) symmetric body cannot be told "
+            "from the spin about that axis, which leaves the ratio of that axis's moment "
+            "undetermined too"
+        )
     raise NotIdentifiableError(
         f"`omega`: {where} does not identify {', '.join(parts)}: "
         + "; ".join(why)

@@ -80,7 +80,8 @@ def saturated_samples(omega, saturation: float | None = None) -> np.ndarray:
 
     With ``saturation`` [rad/s] given: any component with ``|ω_i| ≥ saturation``. Without it,
     a clipping level is recognised as a plateau: at least :data:`PLATEAU` consecutive equal
-    samples at a column's largest ``|ω_i|`` (a real peak is not flat over several samples).
+    samples at a column's largest ``|ω_i|`` (a real peak is not flat over several samples), in a
+    column that is not constant over most of the log.
 
     Examples
     --------
@@ -100,6 +101,8 @@ def saturated_samples(omega, saturation: float | None = None) -> np.ndarray:
         if top == 0.0:
             continue
         at = a == top
+        if at.sum() > len(a) // 2:  # a constant column, not a clipped signal
+            continue
         for lo, hi in _runs(at):
             if hi - lo >= PLATEAU and np.all(w[lo:hi, k] == w[lo, k]):
                 out[lo:hi] = True

@@ -506,8 +506,8 @@ def read_log(path, log_map: LogMap | None = None, **options) -> GyroLog:
         what = "repeats the time of" if d[k] == 0 else "goes back in time from"
         raise LogMapError(
             f"{src}: column {columns['time']!r} must increase strictly: line "
-            f"{body[k + 2][0]} ({data[k + 1, 0]!r}) {what} line {body[k + 1][0]} "
-            f"({data[k, 0]!r})"
+            f"{body[k + 2][0]} ({float(data[k + 1, 0])!r}) {what} line {body[k + 1][0]} "
+            f"({float(data[k, 0])!r})"
         )
     gs = scale("gyro", m.gyro_scale, "rate", columns["gyro.x"])
     omega = data[:, 1:4] * gs

@@ -38,6 +38,8 @@ __all__ = ["LOSSES", "OutputErrorFit", "output_error"]
 
 #: Loss functions of :func:`scipy.optimize.least_squares` offered for the fit.
 LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")
+#: The fitted ratios are kept within exp(±LOG_RATIO_LIMIT).
+LOG_RATIO_LIMIT = 7.0
 #: Relative step of the central differences of the Jacobian.
 FD_STEP = 1e-6
 
@@ -346,12 +348,14 @@ def output_error(
 
     def to_x(y):
         x = y.copy()
-        x[lr] = np.exp(y[lr])
+        x[lr] = np.exp(np.clip(y[lr], -LOG_RATIO_LIMIT, LOG_RATIO_LIMIT))
         return x
 
     def jac(y):
-        Jy = model.jacobian(to_x(y))
-        Jy[:, lr] *= np.exp(y[lr])
+        x = to_x(y)
+        Jy = model.jacobian(x)
+        inside = np.abs(y[lr]) < LOG_RATIO_LIMIT  # flat where clipped
+        Jy[:, lr] *= np.where(inside, x[lr], 0.0)
         return Jy
 
     noise = white_noise_std(omega)
@@ -390,6 +394,7 @@ def output_error(
     dof = max(len(r) - final.p, 1)
     s2 = float(r @ r) / dof
     cov, cond = _gauss_newton_covariance(Jac, s2)
+    cov = _profile_symmetric_pairs(Jac, s2, cov, moments, final.names)
     pred = final.prediction(x)
     if final.extra == "eta":
         moments_out = moments
@@ -436,6 +441,41 @@ def _gauss_newton_covariance(J, s2: float):
         touched = np.any(np.abs(V[:, ~ok]) > 1e-8, axis=1)
         cov_s[np.ix_(touched, touched)] = np.inf
     return s2 * cov_s / np.outer(col, col), cond
+
+
+#: A rotation of the principal frame less determined than this [rad] about an axis whose two
+#: companions have moments closer than :data:`SYMMETRIC_GAP` (relative to I3) is the free
+#: turn of a (nearly) symmetric body.
+FREE_TURN = 0.1
+SYMMETRIC_GAP = 0.05
+
+
+def _profile_symmetric_pairs(J, s2, cov, moments, names):
+    """The covariance with the free turn of a (nearly) symmetric body held fixed.
+
+    When two moments are (nearly) equal the body's motion does not change when its principal
+    frame turns about the third axis (δ_k turns e_i and e_j in their plane): that direction
+    is not identifiable, and inverting the normal matrix lets its huge variance leak into
+    every parameter it is numerically mixed with (the ratios among them). Here such a δ_k
+    gets an infinite variance and the other parameters the covariance of the fit with δ_k
+    fixed, which is exact for an exactly symmetric body.
+    """
+    k0 = names.index("delta1")
+    free = []
+    for k in range(3):
+        i, j = [x for x in range(3) if x != k]
+        gap = abs(moments[j] - moments[i]) / moments[2]
+        if not cov[k0 + k, k0 + k] <= FREE_TURN**2 and gap < SYMMETRIC_GAP:
+            free.append(k0 + k)
+    if not free:
+        return cov
+    keep = [c for c in range(len(names)) if c not in free]
+    sub, _ = _gauss_newton_covariance(J[:, keep], s2)
+    out = np.full_like(cov, np.inf)
+    out[np.ix_(keep, keep)] = sub
+    for c in free:
+        out[c, keep] = out[keep, c] = 0.0
+    return out
 
 
 def _loss_weight(loss: str, z):
