@@ -123,7 +123,7 @@ def identify(
     saturation=None,
     loss: str = "linear",
     segment: float = 1.0,
-    max_nfev: int = 100,
+    max_nfev: int = 300,
 ) -> IdentifyResult:
     """Identify a tumbling body's inertia from its gyro log.
 
@@ -295,21 +295,17 @@ def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyRes
     ratios = m[:2] / m[2]
     dr = oe.ratios_stderr
     if absolute:
-        ds = oe.stderr("eta")  # I3 = I3⁰ e^η: dI3/I3 = dη
-        with np.errstate(invalid="ignore"):
-            dm = np.array(
-                [
-                    np.hypot(moments[2] * dr[0], moments[0] * ds),
-                    np.hypot(moments[2] * dr[1], moments[1] * ds),
-                    moments[2] * ds,
-                ]
-            )
+        # m = I3⁰ e^η (ρ1, ρ2, 1), expanded at η = 0: ∂m/∂(ρ1, ρ2, η)
         k = [oe.names.index(x) for x in ("rho1", "rho2", "eta")]
         C = oe.covariance[np.ix_(k, k)]
-        g = moments[2] * np.array([1.0, 1.0, 1.0 + ratios.sum()])  # ∂tr/∂(ρ1, ρ2, η)
-        with np.errstate(invalid="ignore"):
-            var = float(g @ C @ g)
-        dtrace = float(np.sqrt(max(var, 0.0))) if not np.isnan(var) else np.inf
+        I3 = moments[2]
+        G = np.array([[I3, 0.0, moments[0]], [0.0, I3, moments[1]], [0.0, 0.0, I3]])
+        g = G.sum(axis=0)  # ∂ trace
+        with np.errstate(invalid="ignore"):  # an unidentifiable ratio: infinite variance
+            var = np.diag(G @ C @ G.T)
+            var_trace = float(g @ C @ g)
+        dm = np.sqrt(np.where(np.isnan(var), np.inf, np.clip(var, 0.0, None)))
+        dtrace = float(np.sqrt(max(var_trace, 0.0))) if not np.isnan(var_trace) else np.inf
     else:
         # trace 1: m_i = ρ_i/(1 + ρ1 + ρ2), m3 = 1/(1 + ρ1 + ρ2)
         k = [oe.names.index(x) for x in ("rho1", "rho2")]
