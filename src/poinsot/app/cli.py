@@ -385,24 +385,12 @@ def _write_identify(out: Path, args, res, data):
 
     matplotlib.use("Agg")
     from .._io import OutputFolder, atomic_write_text
-    from ..viz.identify import plot_identified_axes, plot_identified_fit, plot_identified_polhode
-    from ..viz.report import write_identify_report
-    from .runs.base import png_images
+    from ..viz.identify import write_identify_report_folder
 
     folder = OutputFolder(out, force=args.force, command="identify", needs_bytes=5_000_000)
     with folder.writing() as work:
-        figures = [
-            (plot_identified_fit(res), "fit.png",
-             "Measured and fitted ω(t) in the sensor frame, and the residuals"),
-            (plot_identified_polhode(res), "polhode.png",
-             "The fitted motion on the energy ellipsoid of the fitted moments"),
-            (plot_identified_axes(res, box=args.box), "axes.png",
-             "The principal axes with their standard errors, on the body's box"),
-        ]  # fmt: skip
-        images = png_images(figures, work)
-        page = {**data, "scenario": {"name": Path(args.log).name,
-                                     "description": "Inertia from a gyroscope log"}}  # fmt: skip
-        write_identify_report(work / "report.html", page, images)
+        write_identify_report_folder(work, res, name=Path(args.log).name, box=args.box,
+                                     extra={"log": data["log"]})  # fmt: skip
         full = res.to_dict(series=True)
         full["log"] = data["log"]
         atomic_write_text(work / "result.json", json.dumps(full, indent=2))

@@ -250,14 +250,14 @@ class IdentifyResult:
             f"free flight   t = {self.window[0]:.4f} … {self.window[1]:.4f} s "
             f"({len(self.t)} samples, found by the {self.found_by})",
             f"model         {self.model}",
-            f"ratios        I1/I3 = {r[0]:.5f} ± {dr[0]:.5f}   I2/I3 = {r[1]:.5f} ± {dr[1]:.5f}",
+            f"ratios        I1/I3 = {r[0]:.5f} ± {dr[0]:.2g}   I2/I3 = {r[1]:.5f} ± {dr[1]:.2g}",
             "moments       " + ", ".join(f"{x:.6g}" for x in self.principal_moments) + f" {unit}",
         ]
         for k in range(3):
             e = self.axes[:, k]
             lines.append(
                 f"axis e{k + 1}       ({e[0]:+.4f}, {e[1]:+.4f}, {e[2]:+.4f})"
-                f" ± {self.axes_stderr_deg[k]:.2f}°"
+                f" ± {self.axes_stderr_deg[k]:.2g}°"
             )
         with np.printoptions(precision=6, suppress=False):
             rows = [" ".join(f"{v:+.6e}" for v in row) for row in self.inertia]

@@ -12,7 +12,12 @@ import numpy as np
 
 from .torquefree import _box_edges, _plt
 
-__all__ = ["plot_identified_axes", "plot_identified_fit", "plot_identified_polhode"]
+__all__ = [
+    "plot_identified_axes",
+    "plot_identified_fit",
+    "plot_identified_polhode",
+    "write_identify_report_folder",
+]
 
 _COLORS = ("tab:red", "tab:green", "tab:blue")
 
@@ -161,3 +166,40 @@ def plot_identified_axes(result, *, box=None, ax=None):
     r1, r2 = result.ratios
     ax.set_title(f"Principal axes (I1/I3 = {r1:.4f}, I2/I3 = {r2:.4f}) on\n{what}", fontsize=10)
     return fig
+
+
+#: The figures of an identification's report: (file, caption).
+REPORT_FIGURES = (
+    ("fit.png", "Measured and fitted ω(t) in the sensor frame, and the residuals"),
+    ("polhode.png", "The fitted motion on the energy ellipsoid of the fitted moments"),
+    ("axes.png", "The principal axes with their standard errors, on the body's box"),
+)
+
+
+def write_identify_report_folder(folder, result, *, name: str = "identify", box=None,
+                                 extra: dict | None = None) -> list[str]:  # fmt: skip
+    """Write the figures (``fit.png``, ``polhode.png``, ``axes.png``) and ``report.html`` of
+    an identification into the existing ``folder`` (each file atomically); ``extra`` entries
+    join the report's JSON summary. Returns the file names written."""
+    import io
+    from pathlib import Path
+
+    from .._io import atomic_path
+    from .report import write_identify_report
+
+    plt = _plt()
+    folder = Path(folder)
+    drawn = (plot_identified_fit(result), plot_identified_polhode(result),
+             plot_identified_axes(result, box=box))  # fmt: skip
+    images = {}
+    for fig, (file, caption) in zip(drawn, REPORT_FIGURES, strict=True):
+        buf = io.BytesIO()
+        fig.savefig(buf, dpi=100, format="png")
+        plt.close(fig)
+        with atomic_path(folder / file) as tmp:
+            Path(tmp).write_bytes(buf.getvalue())
+        images[caption] = buf.getvalue()
+    page = {**result.to_dict(), **(extra or {}),
+            "scenario": {"name": name, "description": "Inertia from a gyroscope log"}}  # fmt: skip
+    write_identify_report(folder / "report.html", page, images)
+    return [file for file, _ in REPORT_FIGURES] + ["report.html"]
