@@ -109,3 +109,20 @@ def test_smoothing_and_noise_level():
     t = np.arange(20000) / 4000.0
     noisy = np.sin(t)[:, None] + rng.normal(0, [0.01, 0.05], (20000, 2))
     np.testing.assert_allclose(white_noise_std(noisy), [0.01, 0.05], rtol=0.05)
+
+
+@pytest.mark.parametrize(("window", "order", "deriv"), [(5, 2, 0), (81, 3, 1), (21, 3, 2),
+                                                        (7, 2, 0), (9, 4, 1)])  # fmt: skip
+def test_savgol_is_scipys(window, order, deriv):
+    """The NumPy Savitzky–Golay filter against SciPy's, interior and ends (mode "interp")."""
+    from scipy.signal import savgol_coeffs, savgol_filter
+
+    from poinsot.identify.signals import savgol, savgol_weights
+
+    x = np.random.default_rng(window).standard_normal((300, 3)).cumsum(axis=0)
+    want = savgol_filter(x, window, order, deriv=deriv, delta=0.01, axis=0, mode="interp")
+    got = savgol(x, window, order, deriv=deriv, delta=0.01)
+    np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-9 * np.abs(want).max())
+    np.testing.assert_allclose(savgol_weights(window, order, deriv, 0.01),
+                               savgol_coeffs(window, order, deriv, 0.01, use="dot"),
+                               atol=1e-9 * 100**deriv)  # fmt: skip

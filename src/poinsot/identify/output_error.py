@@ -38,6 +38,9 @@ __all__ = ["LOSSES", "OutputErrorFit", "output_error"]
 
 #: Loss functions of :func:`scipy.optimize.least_squares` offered for the fit.
 LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")
+#: Passes of the reweighting for a robust loss, and the change of weights that ends them.
+IRLS_PASSES = 12
+IRLS_TOLERANCE = 1e-3
 #: The fitted ratios are kept within exp(±LOG_RATIO_LIMIT).
 LOG_RATIO_LIMIT = 7.0
 #: The most the body turns in one RK4 step of the model [rad]: the local error is about
@@ -373,16 +376,28 @@ def output_error(
     scale = float(np.nanmedian(noise)) if f_scale is None else float(f_scale)
     if not np.isfinite(scale) or scale <= 0:
         scale = 1.0
-    options = {"method": "lm"} if loss == "linear" else {
-        "method": "trf", "tr_solver": "lsmr", "loss": loss, "f_scale": scale}  # fmt: skip
-    sol = least_squares(
-        lambda y: model.residuals(to_x(y)),
-        x0,
-        jac=jac,
-        x_scale="jac",
-        max_nfev=max_nfev,
-        **options,
-    )
+    # a robust loss by iteratively reweighted least squares: each pass is a weighted
+    # least-squares fit (Levenberg–Marquardt) with the weights ρ'(r²/f²) of the last pass's
+    # residuals; its fixed point is the minimum of Σ ρ(r²/f²) (the same stationarity
+    # condition Σ ρ' r ∇r = 0 as least_squares with that loss)
+    weight = np.ones(3 * n)
+    for _ in range(IRLS_PASSES if loss != "linear" else 1):
+        root = np.sqrt(weight)
+        sol = least_squares(
+            lambda y, root=root: root * model.residuals(to_x(y)),
+            x0,
+            jac=lambda y, root=root: root[:, None] * jac(y),
+            x_scale="jac",
+            max_nfev=max_nfev,
+            method="lm",
+        )
+        if loss == "linear":
+            break
+        new = _loss_weight(loss, (model.residuals(to_x(sol.x)) / scale) ** 2)
+        x0 = sol.x
+        if np.max(np.abs(new - weight)) < IRLS_TOLERANCE:
+            break
+        weight = new
     sol.x = to_x(sol.x)
     # re-expand about the optimum: axes sorted by ascending moment, δ = 0, η = 0
     w0, rho, delta, extra, bias = model.unpack(sol.x)
