@@ -46,6 +46,9 @@ LOG_RATIO_LIMIT = 7.0
 #: The most the body turns in one RK4 step of the model [rad]: the local error is about
 #: (ω h)⁵/120 of |ω|, 3e-11 here.
 MAX_TURN_PER_STEP = 0.02
+#: At most this many RK4 steps per sample interval (a log sampled too slowly for its spin,
+#: or read in the wrong units, would otherwise cost without bound).
+MAX_SUBSTEPS = 16
 #: Relative step of the central differences of the Jacobian.
 FD_STEP = 1e-6
 
@@ -306,7 +309,8 @@ def output_error(
     max_step : float, optional
         Longest RK4 step [s]; default: the sample interval, shortened so that the body turns
         at most :data:`MAX_TURN_PER_STEP` per step (RK4's error then stays far below any
-        gyro's noise); ≤ 0: one step per sample interval.
+        gyro's noise), into at most :data:`MAX_SUBSTEPS` steps; ≤ 0: one step per sample
+        interval.
 
     Returns
     -------
@@ -335,6 +339,7 @@ def output_error(
         top = float(np.max(np.linalg.norm(omega, axis=1))) if n else 0.0
         interval = float(np.max(np.diff(t))) if n > 1 else 0.0
         max_step = MAX_TURN_PER_STEP / top if top > 0 else 0.0
+        max_step = max(max_step, interval / MAX_SUBSTEPS)  # a bounded cost
         if max_step >= interval:
             max_step = 0.0  # one step per sample
     model = _Model(t, omega, segments, rotor, rotor_inertia, E0, I3_0, max_step)
