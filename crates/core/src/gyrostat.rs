@@ -21,7 +21,9 @@
 //! * [`gyrostat_regressor`]: the same equation written as a linear map of the six entries of
 //!   `I` and of `J`, the regressor of an equation-error fit (`poinsot.identify`);
 //! * [`SampledRotor`] and [`Gyrostat`]: the momentum form as a [`VectorField`], stepped by the
-//!   crate's drivers; [`gyrostat_omegas`] integrates it with RK4 onto sample times.
+//!   crate's drivers; [`gyrostat_omegas`] integrates it with RK4 onto sample times;
+//! * [`point_acceleration_matrix`]: what an accelerometer on the body reads in free flight, the
+//!   lever-arm model that finds the flight in a log.
 
 use crate::drivers::{run_fixed, Clock, Counters, Erk, Output, Sampling, Status};
 use crate::observers::NoObserver;
@@ -71,6 +73,36 @@ pub fn gyrostat_omega_dot(moments: Vec3, axes: &Mat3, w: Vec3, h: Vec3, h_dot: V
     let wp = to_principal(axes, w);
     let tau = to_principal(axes, rotor_torque(w, h, h_dot));
     from_principal(axes, omega_dot_principal(moments, inv, wp, tau))
+}
+
+/// The matrix `A = hat(ω̇) + hat(ω)²` with `A p = ω̇ × p + ω × (ω × p)`: the acceleration,
+/// relative to the centre of mass, of the body point `p` (body frame, from the centre of mass)
+/// of a body turning with `ω`, `ω̇`. In free flight the centre of mass falls with `g`, so an
+/// accelerometer at `p` reads the specific force `f = A p` (plus its bias), linear in `p`.
+///
+/// ```
+/// use poinsot_core::gyrostat::point_acceleration_matrix;
+/// // spinning at 2 rad/s about z: a point 0.1 m out on x is pulled in at ω² r = 0.4 m/s²
+/// let a = point_acceleration_matrix([0.0, 0.0, 2.0], [0.0; 3]);
+/// assert_eq!([a[0][0] * 0.1, a[1][0] * 0.1, a[2][0] * 0.1], [-0.4, 0.0, 0.0]);
+/// ```
+#[inline]
+pub fn point_acceleration_matrix(w: Vec3, w_dot: Vec3) -> Mat3 {
+    let [x, y, z] = w;
+    // hat(ω)² = ω ωᵀ − |ω|² 𝟙
+    let n2 = x * x + y * y + z * z;
+    let mut a = [
+        [x * x - n2, x * y, x * z],
+        [y * x, y * y - n2, y * z],
+        [z * x, z * y, z * z - n2],
+    ];
+    let h = crate::so3::hat(w_dot);
+    for r in 0..3 {
+        for c in 0..3 {
+            a[r][c] += h[r][c];
+        }
+    }
+    a
 }
 
 /// Index of the symmetric entries in [`gyrostat_regressor`]'s columns 0–5:
@@ -570,6 +602,18 @@ mod tests {
             (order - 4.0).abs() < 0.3,
             "observed order {order} ({e1}, {e2})"
         );
+    }
+
+    #[test]
+    fn the_point_acceleration_is_the_rigid_body_acceleration() {
+        let (w, wd, p) = ([3.0, -1.5, 7.0], [20.0, 5.0, -11.0], [0.02, -0.013, 0.031]);
+        let a = point_acceleration_matrix(w, wd);
+        let ap: Vec3 = [0, 1, 2].map(|r| a[r][0] * p[0] + a[r][1] * p[1] + a[r][2] * p[2]);
+        let c1 = cross(wd, p);
+        let c2 = cross(w, cross(w, p));
+        for k in 0..3 {
+            assert!((ap[k] - (c1[k] + c2[k])).abs() < 1e-14);
+        }
     }
 
     #[test]

@@ -10,7 +10,7 @@ use numpy::{
 use poinsot_core::drivers::Status;
 use poinsot_core::gyrostat::{
     gyrostat_omega_dot as omega_dot, gyrostat_omegas as omegas, gyrostat_regressor as regressor,
-    SampledRotor,
+    point_acceleration_matrix, SampledRotor,
 };
 use poinsot_core::so3::{Mat3, Vec3};
 use pyo3::exceptions::PyRuntimeError;
@@ -233,7 +233,39 @@ fn gyrostat_omegas<'py>(
     Ok(arr.into_pyarray(py))
 }
 
+/// `hat(ω̇) + hat(ω)²` (n, 3, 3) at body-frame `omega`, `omega_dot` (n, 3): the matrices with
+/// `A p = ω̇ × p + ω × (ω × p)`, the acceleration of the body point `p` relative to the centre
+/// of mass.
+#[pyfunction]
+fn point_acceleration_matrices<'py>(
+    py: Python<'py>,
+    omega: PyReadonlyArray2<'py, f64>,
+    omega_dot: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray3<f64>>> {
+    let (w, wd) = (rows(&omega, 3, "omega")?, rows(&omega_dot, 3, "omega_dot")?);
+    let n = w.nrows();
+    if wd.nrows() != n {
+        return Err(value_error(format!(
+            "`omega_dot` must have the {n} rows of `omega`, found {}",
+            wd.nrows()
+        )));
+    }
+    let (w, wd): (Vec<Vec3>, Vec<Vec3>) = (
+        (0..n).map(|i| v3(&w, i)).collect(),
+        (0..n).map(|i| v3(&wd, i)).collect(),
+    );
+    let flat = detached(py, || {
+        (0..n)
+            .flat_map(|i| point_acceleration_matrix(w[i], wd[i]))
+            .flatten()
+            .collect::<Vec<f64>>()
+    })?;
+    let arr = Array3::from_shape_vec((n, 3, 3), flat).map_err(|e| value_error(e.to_string()))?;
+    Ok(arr.into_pyarray(py))
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(point_acceleration_matrices, m)?)?;
     m.add_function(wrap_pyfunction!(gyrostat_omega_dot, m)?)?;
     m.add_function(wrap_pyfunction!(gyrostat_regressor, m)?)?;
     m.add_function(wrap_pyfunction!(gyrostat_omegas, m)?)?;

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _core
 from .signals import smooth, smoothing_window
 
 __all__ = ["FreeFlight", "find_free_flight", "lever_arm_design", "saturated_samples"]
@@ -118,7 +119,8 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 def lever_arm_design(omega, omega_dot) -> np.ndarray:
     """The (n, 3, 6) matrices ``[hat(ω̇) + hat(ω)², 𝟙]`` with ``f = D (p, b)``: the specific
-    force of a point ``p`` of a body in free flight, ``ω̇ × p + ω × (ω × p) + b``.
+    force of a point ``p`` of a body in free flight, ``ω̇ × p + ω × (ω × p) + b`` (the point's
+    acceleration from the compiled core, ``poinsot._core.point_acceleration_matrices``).
 
     Examples
     --------
@@ -126,22 +128,12 @@ def lever_arm_design(omega, omega_dot) -> np.ndarray:
     >>> (D[0] @ [0.1, 0.0, 0.0, 0.0, 0.0, 0.0]).tolist()  # centripetal: −ω² p
     [-0.4, 0.0, 0.0]
     """
-    w = np.asarray(omega, dtype=float)
-    wd = np.asarray(omega_dot, dtype=float)
-    n = len(w)
-    hw = _hat(w)
-    D = np.zeros((n, 3, 6))
-    D[:, :, :3] = _hat(wd) + hw @ hw
+    w = np.ascontiguousarray(omega, dtype=float)
+    wd = np.ascontiguousarray(omega_dot, dtype=float)
+    D = np.zeros((len(w), 3, 6))
+    D[:, :, :3] = _core.point_acceleration_matrices(w, wd)
     D[:, :, 3:] = np.eye(3)
     return D
-
-
-def _hat(v):
-    z = np.zeros(len(v))
-    x, y, w = v[:, 0], v[:, 1], v[:, 2]
-    return np.stack(
-        [np.stack([z, -w, y], -1), np.stack([w, z, -x], -1), np.stack([-y, x, z], -1)], 1
-    )
 
 
 def _fit(D, f, idx):

@@ -285,7 +285,7 @@ def synthetic_throw(
     h = J * speed[:, None] * a
     h_dot = J * speed_rate[:, None] * a
     wd = _core.gyrostat_omega_dot(moments, axes, w, h, h_dot)
-    f = np.cross(wd, p) + np.cross(w, np.cross(w, p))
+    f = _core.point_acceleration_matrices(w, wd) @ p  # ω̇ × p + ω × (ω × p)
     b_gyro = bias * rng.choice([-1.0, 1.0], 3)
     b_acc = accel_bias * rng.choice([-1.0, 1.0], 3)
     t = tau
