@@ -6,8 +6,12 @@ the gyrostat ``I ω̇ + ω × (I ω + h) + ḣ = 0``, ``h = J ω_R(t) a``, from 
 each segment of the window, computed by the compiled core (``poinsot._core.gyrostat_omegas``:
 RK4 on the momentum form over the sampled rotor speed, one call for all the members of a
 finite-difference Jacobian), and ``b`` the gyro's bias. SciPy's
-:func:`scipy.optimize.least_squares` (trust-region reflective) minimises the residuals
-``ω_meas − ω − b``, from the equation-error estimate.
+:func:`scipy.optimize.least_squares` (MINPACK's Levenberg–Marquardt, on the logarithms of the
+ratios so that they stay positive) minimises the residuals ``ω_meas − ω − b``, from the
+equation-error estimate. A robust loss (SciPy's ``soft_l1``, ``huber``, ``cauchy``,
+``arctan``) is minimised by iteratively reweighted least squares: each pass a weighted fit
+with the weights ``ρ'(r²/f²)`` of the last pass's residuals, whose fixed point is the robust
+minimum.
 
 Parameters. The inertia is ``I = E diag(m) Eᵀ`` with ``m = I3 (ρ1, ρ2, 1)`` and
 ``E = E0 exp(hat δ)``: the moment ratios ``ρ`` and a small rotation ``δ`` of the principal
@@ -36,7 +40,7 @@ from ..rotation import matrix_from_rotvec
 
 __all__ = ["LOSSES", "OutputErrorFit", "output_error"]
 
-#: Loss functions of :func:`scipy.optimize.least_squares` offered for the fit.
+#: Loss functions offered for the fit (those of :func:`scipy.optimize.least_squares`).
 LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")
 #: Passes of the reweighting for a robust loss, and the change of weights that ends them.
 IRLS_PASSES = 12
