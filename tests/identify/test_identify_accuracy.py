@@ -10,6 +10,7 @@ import warnings
 
 import numpy as np
 import pytest
+from identify_throws import throw
 
 from poinsot.identify import ModelMismatchWarning, identify
 from poinsot.identify.estimate import MISMATCH_RATIO
@@ -34,8 +35,8 @@ def _assert_close(res, th, ratio_tol=0.005, axis_tol_deg=1.0):
 
 
 @pytest.mark.parametrize("seed", SEEDS)
-def test_rotor_throw_with_known_rotor_inertia(cached_throw, seed):
-    th = cached_throw(seed=seed)
+def test_rotor_throw_with_known_rotor_inertia(seed):
+    th = throw(seed=seed)
     res = _quiet_identify(th.t, th.omega, **th.kwargs())
     _assert_close(res, th)
     assert res.absolute and res.model == "gyrostat" and res.rotor_inertia == 1.7e-6
@@ -48,9 +49,9 @@ def test_rotor_throw_with_known_rotor_inertia(cached_throw, seed):
 
 
 @pytest.mark.parametrize("seed", SEEDS)
-def test_rotor_throw_with_fitted_rotor_inertia(cached_throw, seed):
+def test_rotor_throw_with_fitted_rotor_inertia(seed):
     """J unknown: fitted, and the ratios still come out; the tensor is up to scale."""
-    th = cached_throw(seed=seed)
+    th = throw(seed=seed)
     res = _quiet_identify(th.t, th.omega, **th.kwargs(rotor_inertia_known=False))
     _assert_close(res, th)
     assert not res.absolute and abs(res.trace - 1) < 1e-12
@@ -61,15 +62,15 @@ def test_rotor_throw_with_fitted_rotor_inertia(cached_throw, seed):
 
 
 @pytest.mark.parametrize("seed", SEEDS)
-def test_torque_free_throw(cached_throw, seed):
-    th = cached_throw(rotor=False, seed=seed)
+def test_torque_free_throw(seed):
+    th = throw(rotor=False, seed=seed)
     res = _quiet_identify(th.t, th.omega)
     _assert_close(res, th)
     assert res.model == "torque-free" and not res.absolute and res.rotor_inertia is None
 
 
-def test_a_torque_free_fit_of_a_rotor_throw_is_flagged(cached_throw):
-    th = cached_throw(seed=11)
+def test_a_torque_free_fit_of_a_rotor_throw_is_flagged():
+    th = throw(seed=11)
     with pytest.warns(ModelMismatchWarning) as record:
         res = identify(th.t, th.omega)  # the rotor is not given
     assert any("does not explain" in str(w.message) for w in record)
@@ -82,10 +83,10 @@ def test_a_torque_free_fit_of_a_rotor_throw_is_flagged(cached_throw):
     assert good.ok and good.residual_ratio < 1.2
 
 
-def test_noiseless_torque_free_throw_is_recovered_to_round_off(cached_throw):
+def test_noiseless_torque_free_throw_is_recovered_to_round_off():
     """The readings are the exact (elliptic-function) solution plus a bias: the fit's RK4
     model and the bias reproduce them to round-off."""
-    th = cached_throw(rotor=False, seed=21, noise=0.0, saturation=None)
+    th = throw(rotor=False, seed=21, noise=0.0, saturation=None)
     res = _quiet_identify(th.t, th.omega)
     np.testing.assert_allclose(res.ratios, th.ratios, rtol=1e-10)
     assert np.all(th.axis_errors_deg(res.axes) < 1e-5)
@@ -93,10 +94,10 @@ def test_noiseless_torque_free_throw_is_recovered_to_round_off(cached_throw):
     assert np.sqrt(np.mean(res.residuals**2)) < 1e-10
 
 
-def test_noiseless_rotor_throw_is_recovered_to_the_rotor_sampling(cached_throw):
+def test_noiseless_rotor_throw_is_recovered_to_the_rotor_sampling():
     """The fit sees the rotor speed at the log's samples only, linear between them: an error of
     order dt² ω̈_R / 8 ≈ 1e-3 rad/s in ω_R, 1e-6 relative in the result."""
-    th = cached_throw(seed=21, noise=0.0, saturation=None)
+    th = throw(seed=21, noise=0.0, saturation=None)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ModelMismatchWarning)  # residuals ≫ zero noise
         res = identify(th.t, th.omega, **th.kwargs())
@@ -106,10 +107,10 @@ def test_noiseless_rotor_throw_is_recovered_to_the_rotor_sampling(cached_throw):
     np.testing.assert_allclose(res.gyro_bias, th.gyro_bias, atol=2e-5)
 
 
-def test_free_flight_found_in_a_log_from_the_hand(cached_throw):
+def test_free_flight_found_in_a_log_from_the_hand():
     """The log holds the throw from the hand and the catch; the accelerometer's lever-arm
     model finds the flight and the lever arm."""
-    th = cached_throw(seed=12, accel=True, hand=True)
+    th = throw(seed=12, accel=True, hand=True)
     res = _quiet_identify(th.t, th.omega, **th.kwargs())
     assert res.found_by == "accelerometer"
     assert th.window[0] <= res.window[0] < res.window[0] + 0.4 < res.window[1] <= th.window[1]
@@ -121,10 +122,10 @@ def test_free_flight_found_in_a_log_from_the_hand(cached_throw):
     assert not bad.ok
 
 
-def test_saturated_samples_end_the_flight(cached_throw):
+def test_saturated_samples_end_the_flight():
     """A throw spun past the gyro's range: the clipped samples are left out, the longest
     unclipped stretch is fitted."""
-    th = cached_throw(seed=14, spin=38.0, max_spin=45.0, saturation=35.0)
+    th = throw(seed=14, spin=38.0, max_spin=45.0, saturation=35.0)
     clipped = np.flatnonzero(np.any(np.abs(th.omega) >= 35.0, axis=1))
     assert len(clipped) > 20
     res = _quiet_identify(th.t, th.omega, **th.kwargs())
@@ -136,8 +137,8 @@ def test_saturated_samples_end_the_flight(cached_throw):
     assert res2.window == res.window
 
 
-def test_a_robust_loss_resists_outliers(cached_throw):
-    th = cached_throw(rotor=False, seed=15)
+def test_a_robust_loss_resists_outliers():
+    th = throw(rotor=False, seed=15)
     rng = np.random.default_rng(0)
     w = th.omega.copy()
     spikes = rng.choice(len(w), 40, replace=False)
@@ -150,8 +151,8 @@ def test_a_robust_loss_resists_outliers(cached_throw):
     assert err(robust) < err(plain)
 
 
-def test_a_long_flight_is_split_into_segments(cached_throw):
-    th = cached_throw(rotor=False, seed=16, duration=1.5, rate=1000.0)
+def test_a_long_flight_is_split_into_segments():
+    th = throw(rotor=False, seed=16, duration=1.5, rate=1000.0)
     res = _quiet_identify(th.t, th.omega, segment=0.5)
     assert res.omega0.shape == (3, 3)
     _assert_close(res, th)

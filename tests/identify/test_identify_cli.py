@@ -9,18 +9,19 @@ import sys
 
 import numpy as np
 import pytest
+from identify_throws import throw
 from test_identify_log import BLACKBOX_MAP, _blackbox, _phyphox
 
 from poinsot.app.cli import main
 
 
 @pytest.fixture(scope="module")
-def files(tmp_path_factory, cached_throw):
+def files(tmp_path_factory):
     d = tmp_path_factory.mktemp("logs")
-    th = cached_throw(seed=42, accel=True, hand=True)
+    th = throw(seed=42, accel=True, hand=True)
     _blackbox(d / "btfl.csv", th)
     (d / "btfl.toml").write_text(BLACKBOX_MAP, encoding="utf-8")
-    phone = cached_throw(rotor=False, seed=43)
+    phone = throw(rotor=False, seed=43)
     _phyphox(d / "phone.csv", phone)
     return d, th, phone
 

@@ -5,14 +5,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from identify_throws import throw
 
 from poinsot.identify.flight import find_free_flight, lever_arm_design, saturated_samples
 
 
 @pytest.mark.parametrize("seed", [1, 2])
 @pytest.mark.parametrize("rotor", [False, True])
-def test_the_flight_is_found_and_the_lever_arm_measured(cached_throw, seed, rotor):
-    th = cached_throw(rotor=rotor, seed=seed, accel=True, hand=True)
+def test_the_flight_is_found_and_the_lever_arm_measured(seed, rotor):
+    th = throw(rotor=rotor, seed=seed, accel=True, hand=True)
     fl = find_free_flight(th.t, th.omega, th.accel)
     assert fl.found_by == "accelerometer"
     # inside the true flight, and most of it (the ends trimmed by half a smoothing window)
@@ -32,8 +33,8 @@ def test_the_lever_arm_design_is_the_rigid_body_acceleration():
     np.testing.assert_allclose(lever_arm_design(w, wd) @ np.r_[p, b], want, rtol=1e-12)
 
 
-def test_without_a_free_flight_the_accelerometer_is_refused(cached_throw):
-    th = cached_throw(rotor=False, seed=1, accel=True, hand=True)
+def test_without_a_free_flight_the_accelerometer_is_refused():
+    th = throw(rotor=False, seed=1, accel=True, hand=True)
     held = th.t < th.window[0] - 0.13  # only the part held still in the hand
     with pytest.raises(ValueError, match=r"`accel`: no free flight found"):
         find_free_flight(th.t[held], th.omega[held], th.accel[held])
@@ -60,8 +61,8 @@ def test_saturated_samples_end_a_stretch():
     assert not saturated_samples(np.ones((50, 3))).any()
 
 
-def test_the_users_window_bounds_the_search(cached_throw):
-    th = cached_throw(rotor=False, seed=2, accel=True, hand=True)
+def test_the_users_window_bounds_the_search():
+    th = throw(rotor=False, seed=2, accel=True, hand=True)
     fl = find_free_flight(th.t, th.omega, th.accel, window=(0.4, 0.7))
     assert 0.4 <= fl.window[0] < fl.window[1] <= 0.7
     fl = find_free_flight(th.t, th.omega, window=(0.4, 0.7))
@@ -85,10 +86,10 @@ def test_equation_error_is_exact_on_exact_data():
     assert not fit.absolute and fit.physical and fit.gap > 100
 
 
-def test_equation_error_with_a_known_rotor_is_absolute(cached_throw):
+def test_equation_error_with_a_known_rotor_is_absolute():
     from poinsot.identify.equation_error import equation_error
 
-    th = cached_throw(seed=2, noise=0.0, bias=0.0, saturation=None)
+    th = throw(seed=2, noise=0.0, bias=0.0, saturation=None)
     fit = equation_error(th.t, th.omega, rotor_speed=th.rotor_speed, rotor_axis=th.rotor_axis,
                          rotor_inertia=th.rotor_inertia)  # fmt: skip
     np.testing.assert_allclose(fit.inertia, th.inertia, atol=1e-5 * np.trace(th.inertia))

@@ -64,7 +64,7 @@ def logs(draw):
     return t, w, kw
 
 
-@settings(max_examples=25, deadline=20_000, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=25, deadline=60_000, suppress_health_check=[HealthCheck.too_slow])
 @given(logs())
 def test_identify_returns_a_checked_result_or_names_the_argument(log):
     t, w, kw = log

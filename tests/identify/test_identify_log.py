@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 import pytest
+from identify_throws import throw
 
 from poinsot.identify import LogMap, LogMapError, identify, load_map, read_log
 from poinsot.identify.log import parse_scale
@@ -59,8 +60,8 @@ def _blackbox(path, th):
     path.write_text("\n".join(rows) + "\n", encoding="utf-8")
 
 
-def test_a_phone_apps_export_is_read_without_a_map(tmp_path, cached_throw):
-    th = cached_throw(rotor=False, seed=41)
+def test_a_phone_apps_export_is_read_without_a_map(tmp_path):
+    th = throw(rotor=False, seed=41)
     for sep, decimal in ((",", "."), (";", ","), ("\t", ".")):
         p = tmp_path / f"phone{ord(sep)}.csv"
         _phyphox(p, th, sep=sep, decimal=decimal)
@@ -73,8 +74,8 @@ def test_a_phone_apps_export_is_read_without_a_map(tmp_path, cached_throw):
     assert np.all(np.abs(res.ratios / th.ratios - 1) < 0.005)
 
 
-def test_a_blackbox_log_through_a_map_file(tmp_path, cached_throw):
-    th = cached_throw(seed=42, accel=True, hand=True)
+def test_a_blackbox_log_through_a_map_file(tmp_path):
+    th = throw(seed=42, accel=True, hand=True)
     p, m = tmp_path / "btfl.csv", tmp_path / "btfl.toml"
     _blackbox(p, th)
     m.write_text(BLACKBOX_MAP, encoding="utf-8")

@@ -5,6 +5,7 @@ differences, the sensor errors by their statistics."""
 from __future__ import annotations
 
 import numpy as np
+from identify_throws import throw
 
 from poinsot.identify.synthetic import (
     BLOCK,
@@ -42,10 +43,10 @@ def test_logger_block_by_hand():
     assert body.symmetry == "asymmetric"
 
 
-def test_torque_free_throw_solves_eulers_equation(cached_throw):
+def test_torque_free_throw_solves_eulers_equation():
     from scipy.integrate import solve_ivp
 
-    th = cached_throw(rotor=False, seed=2, noise=0.0, bias=0.0)
+    th = throw(rotor=False, seed=2, noise=0.0, bias=0.0)
     I = th.inertia
 
     def rhs(_, w):
@@ -58,10 +59,10 @@ def test_torque_free_throw_solves_eulers_equation(cached_throw):
     assert th.rotor_speed is None and th.accel is None
 
 
-def test_rotor_throw_solves_the_gyrostat_equation(cached_throw):
+def test_rotor_throw_solves_the_gyrostat_equation():
     from scipy.integrate import solve_ivp
 
-    th = cached_throw(rotor=True, seed=2)
+    th = throw(rotor=True, seed=2)
     I, J, a = th.inertia, th.rotor_inertia, th.rotor_axis
 
     def rhs(time, w):
@@ -77,20 +78,20 @@ def test_rotor_throw_solves_the_gyrostat_equation(cached_throw):
     assert speed.min() == 200.0 and abs(speed.max() - 1300.0) < 1e-9
 
 
-def test_sensor_errors_have_the_stated_size(cached_throw):
-    th = cached_throw(rotor=True, seed=5, noise=0.02, bias=0.01, saturation=None)
+def test_sensor_errors_have_the_stated_size():
+    th = throw(rotor=True, seed=5, noise=0.02, bias=0.01, saturation=None)
     e = th.omega - th.omega_true - th.gyro_bias
     assert abs(e.std() / 0.02 - 1) < 0.05 and abs(e.mean()) < 0.002
     np.testing.assert_array_equal(np.abs(th.gyro_bias), 0.01)
-    clipped = cached_throw(rotor=True, seed=5, noise=0.02, bias=0.01, saturation=20.0)
+    clipped = throw(rotor=True, seed=5, noise=0.02, bias=0.01, saturation=20.0)
     assert np.abs(clipped.omega).max() == 20.0
     assert np.abs(clipped.omega_true).max() > 20.0
 
 
-def test_accelerometer_reads_the_lever_arm(cached_throw):
+def test_accelerometer_reads_the_lever_arm():
     """In flight f = ω̇ × p + ω × (ω × p) + b, with ω̇ here by central differences; in the
     hand it feels gravity."""
-    th = cached_throw(rotor=True, seed=3, accel=True, hand=True, noise=0.0, accel_noise=0.0)
+    th = throw(rotor=True, seed=3, accel=True, hand=True, noise=0.0, accel_noise=0.0)
     t, w, f, p = th.t, th.omega_true, th.accel, th.lever_arm
     inside = np.flatnonzero((t > th.window[0] + 1e-3) & (t < th.window[1] - 1e-3))
     k = inside[1:-1]

@@ -1,10 +1,9 @@
-"""Synthetic throws shared by the identification tests (made once per session)."""
+"""Synthetic throws shared by the identification tests, made once per session (a helper
+module, not a conftest: ``tests/conftest.py`` is imported by name elsewhere)."""
 
 from __future__ import annotations
 
 import functools
-
-import pytest
 
 
 @functools.cache
@@ -13,8 +12,3 @@ def throw(**kwargs):
     from poinsot.identify import synthetic_throw
 
     return synthetic_throw(**kwargs)
-
-
-@pytest.fixture(scope="session")
-def cached_throw():
-    return throw
