@@ -12,6 +12,7 @@
 //! * the exact torque-free motion: [`elliptic`] (with [`cmath`]), [`freebody`],
 //!   [`torque_free`];
 //! * motion relative to a moving carrier: [`relative`] (eqs (1)–(18) of the paper);
+//! * a body carrying a spinning rotor, the gyrostat: [`gyrostat`] (§4);
 //! * a model's own expressions compiled at run time: [`expressions`];
 //! * the contract between models and integrators: [`system`], with the rigid-body systems in
 //!   [`systems`];
@@ -31,6 +32,7 @@ pub mod ensemble;
 pub mod expressions;
 pub mod forces;
 pub mod freebody;
+pub mod gyrostat;
 pub mod inertia;
 pub mod invariants;
 pub mod lagrange;

@@ -10,6 +10,7 @@ mod engine;
 mod ensemble;
 mod exact;
 mod geometry;
+mod gyrostat;
 mod lagrange;
 mod relative;
 mod rigid;
@@ -40,5 +41,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     exact::register(m)?;
     ensemble::register(m)?;
     lagrange::register(m)?;
+    gyrostat::register(m)?;
     Ok(())
 }

@@ -4,6 +4,7 @@
     poinsot examples [--show NAME | --reference]
     poinsot inertia BODY [--mass M | --density RHO] [--json]
     poinsot polhodes --moments I1 I2 I3 [--energy K] [--omega0 W1 W2 W3] [--out DIR] [--json]
+    poinsot identify LOG.csv [--map MAP.toml] [--json] [--out DIR] [column, scale, rotor options]
 
 Exit codes: 0 success; 2 bad input (the message on stderr names the file and the key) or an
 output folder that cannot or may not be written; 1 numerical failure (with the diagnostic) or a
@@ -285,6 +286,116 @@ def _write_polhodes(out: Path, args, free, energy, result):
     atomic_write_text(out / "polhodes.json", json.dumps(result, indent=2))
 
 
+def _cmd_identify(args):
+    import warnings
+
+    from ..identify import (
+        LogMap,
+        LogMapError,
+        ModelMismatchWarning,
+        NotIdentifiableError,
+        identify,
+        load_map,
+        read_log,
+    )
+    from ..identify.log import parse_scale
+
+    path = Path(args.log)
+    try:
+        log_map = load_map(args.map) if args.map else LogMap()
+        options = {
+            "time": args.time,
+            "gyro": tuple(args.gyro) if args.gyro else None,
+            "accel": tuple(args.accel) if args.accel else None,
+            "rotor_speed": args.rotor_speed,
+            "rotor_axis": tuple(args.rotor_axis) if args.rotor_axis else None,
+            "rotor_inertia": args.rotor_inertia,
+            "window": tuple(args.window) if args.window else None,
+            "delimiter": args.delimiter,
+            "decimal": args.decimal,
+        }
+        for key, kind in (("time", "time"), ("gyro", "rate"), ("accel", "accel"),
+                          ("rotor_speed", "rate")):  # fmt: skip
+            value = getattr(args, f"{key}_scale")
+            if value is not None:
+                flag = f"--{key.replace('_', '-')}-scale"
+                options[f"{key}_scale"] = parse_scale(_number_or_text(value), kind, flag)
+        if args.saturation is not None:
+            options["saturation"] = parse_scale(_number_or_text(args.saturation), "rate",
+                                                "--saturation")  # fmt: skip
+        log = read_log(path, log_map, **options)
+    except LogMapError as exc:
+        raise _BadInput(str(exc)) from None
+    if args.rotor_inertia is not None and not args.rotor_inertia > 0:
+        raise _BadInput(f"--rotor-inertia must be a positive number (kg m²), found "
+                        f"{args.rotor_inertia}")  # fmt: skip
+    try:
+        with warnings.catch_warnings(record=True):  # the flags are printed with the result
+            warnings.simplefilter("always", ModelMismatchWarning)
+            res = identify(log.t, log.omega, loss=args.loss, **log.identify_kwargs())
+    except NotIdentifiableError as exc:
+        raise _BadInput(f"{path}: {exc}") from None
+    except (ValueError, TypeError) as exc:
+        raise _BadInput(f"{path}: {exc}{_columns_of(str(exc), log.columns)}") from None
+    data = res.to_dict()
+    data["log"] = {"path": str(path), "columns": log.columns, "notes": list(log.notes)}
+    if args.out:
+        _write_identify(Path(args.out), args, res, data)
+    if args.json:
+        print(json.dumps(data, indent=2))
+        return EXIT_OK
+    for note in log.notes:
+        _say(args, f"note          {note}")
+    for line in res.summary():
+        if line.startswith("warning"):
+            print(f"poinsot: {line.replace('warning       ', 'warning: ')}", file=sys.stderr)
+        else:
+            _say(args, line)
+    if args.out:
+        _say(args, f"wrote {args.out}/ (report.html, result.json, fit.png, polhode.png, axes.png)")
+    return EXIT_OK
+
+
+def _columns_of(message: str, columns: dict) -> str:
+    """The log's columns behind the argument a library message names, e.g. " (columns
+    'gyroADC[0]', 'gyroADC[1]', 'gyroADC[2]')" for "`omega` ..."."""
+    keys = {
+        "t": ("time",),
+        "omega": ("gyro.x", "gyro.y", "gyro.z"),
+        "accel": ("accel.x", "accel.y", "accel.z"),
+        "rotor_speed": ("rotor_speed",),
+    }
+    for name, wanted in keys.items():
+        if message.startswith(f"`{name}`") or message.startswith(f"`{name}["):
+            found = [repr(columns[k]) for k in wanted if k in columns]
+            if found:
+                return f" (the column{'s' if len(found) > 1 else ''} {', '.join(found)})"
+    return ""
+
+
+def _number_or_text(value: str):
+    try:
+        return float(value)
+    except ValueError:
+        return value
+
+
+def _write_identify(out: Path, args, res, data):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from .._io import OutputFolder, atomic_write_text
+    from ..viz.identify import write_identify_report_folder
+
+    folder = OutputFolder(out, force=args.force, command="identify", needs_bytes=5_000_000)
+    with folder.writing() as work:
+        write_identify_report_folder(work, res, name=Path(args.log).name, box=args.box,
+                                     extra={"log": data["log"]})  # fmt: skip
+        full = res.to_dict(series=True)
+        full["log"] = data["log"]
+        atomic_write_text(work / "result.json", json.dumps(full, indent=2))
+
+
 class _BadInput(ValueError):
     pass
 
@@ -395,6 +506,58 @@ def _parser():
     pol.add_argument("--quiet", action="store_true", help="print nothing but errors")
     pol.add_argument("--json", action="store_true", help="print the analysis as JSON")
     pol.set_defaults(func=_cmd_polhodes)
+
+    ide = sub.add_parser(
+        "identify",
+        help="identify a body's inertia from a gyro log (CSV)",
+        description="Principal moments (their ratios I1/I3, I2/I3), principal axes and the "
+        "inertia tensor of a body thrown tumbling, from its gyroscope log: time and gyro x, y, "
+        "z (a phone app's export is recognised by its header), optionally a spinning rotor "
+        "(speed column, axis, inertia: the inertia then comes out in kg m²) and the "
+        "accelerometer (finds the free flight). Columns and scales come from --map MAP.toml "
+        "or the options below (see docs/identify.md).",
+    )
+    ide.add_argument("log", metavar="LOG.csv", help="the log: a CSV file with a header line")
+    ide.add_argument("--map", metavar="MAP.toml", help="column map and scales (docs/identify.md)")
+    ide.add_argument("--time", metavar="COL", help="time column (header name or 0-based number)")
+    ide.add_argument("--gyro", nargs=3, metavar=("X", "Y", "Z"), help="gyro columns")
+    ide.add_argument("--accel", nargs=3, metavar=("X", "Y", "Z"), help="accelerometer columns")
+    ide.add_argument("--rotor-speed", metavar="COL", help="rotor speed column")
+    for key, example in (("time", '"1 us"'), ("gyro", '"1/16.384 deg/s"'),
+                         ("accel", '"1/2048 g"'), ("rotor-speed", '"1 rpm"')):  # fmt: skip
+        ide.add_argument(f"--{key}-scale", metavar="SCALE",
+                         help=f"one unit of the {key.replace('-', ' ')} column in SI, a number or "
+                         f"e.g. {example}")  # fmt: skip
+    ide.add_argument("--rotor-axis", type=float, nargs=3, metavar=("X", "Y", "Z"),
+                     help="rotor axis in the sensor frame")  # fmt: skip
+    ide.add_argument("--rotor-inertia", type=float, metavar="J",
+                     help="rotor's axial moment of inertia (kg m²)")  # fmt: skip
+    ide.add_argument("--window", type=float, nargs=2, metavar=("T0", "T1"),
+                     help="the stretch of the log to use or search, in seconds")  # fmt: skip
+    ide.add_argument(
+        "--saturation",
+        metavar="RATE",
+        help='the gyro range, rad/s or e.g. "2000 deg/s" (default: recognised)',
+    )
+    ide.add_argument("--loss", default="linear",
+                     choices=("linear", "soft_l1", "huber", "cauchy", "arctan"),
+                     help="the fit's loss (robust ones resist outliers)")  # fmt: skip
+    ide.add_argument("--delimiter", metavar="CHAR", help="CSV delimiter (default: guessed)")
+    ide.add_argument("--decimal", choices=(".", ","), help="decimal mark (default .)")
+    ide.add_argument(
+        "--box",
+        type=float,
+        nargs=3,
+        metavar=("A", "B", "C"),
+        help="the body's size along the sensor's x, y, z in m (for axes.png)",
+    )
+    ide.add_argument(
+        "--out", metavar="DIR", help="also write report.html, result.json and figures into DIR"
+    )
+    ide.add_argument("--force", action="store_true", help="replace the output folder's files")
+    ide.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    ide.add_argument("--json", action="store_true", help="print the result as JSON")
+    ide.set_defaults(func=_cmd_identify)
     return p
 
 

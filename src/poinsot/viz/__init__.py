@@ -3,8 +3,9 @@
 One module per concept, drawing what the library module of the same name computes:
 :mod:`~poinsot.viz.torquefree` (energy ellipsoid, polhodes, the tumbling body),
 :mod:`~poinsot.viz.trajectory` (time series, conservation, method comparison),
-:mod:`~poinsot.viz.lagrange`, :mod:`~poinsot.viz.ensemble` and :mod:`~poinsot.viz.relative`
-with matplotlib (PNG/SVG); :mod:`~poinsot.viz.interactive` (plotly figures),
+:mod:`~poinsot.viz.lagrange`, :mod:`~poinsot.viz.ensemble`, :mod:`~poinsot.viz.relative` and
+:mod:`~poinsot.viz.identify` (an inertia identified from a gyro log) with matplotlib
+(PNG/SVG); :mod:`~poinsot.viz.interactive` (plotly figures),
 :mod:`~poinsot.viz.report` (the self-contained HTML report) and :mod:`~poinsot.viz.numbers`
 (names, groups and units of a summary's numbers).
 

@@ -20,6 +20,7 @@ __all__ = [
     "equivalent_box_half_extents",
     "write_ensemble_report",
     "write_figures_page",
+    "write_identify_report",
     "write_lagrangian_report",
     "write_report",
 ]
@@ -562,3 +563,59 @@ def write_relative_report(path, summary: dict, images: dict) -> None:
     c = summary.get("carrier", {})
     lead = f"Carrier: {c.get('description', '')}. " + summary.get("lead", "")
     _image_page(path, summary, lead, table, images, ("summary.json", "relative.csv"))
+
+
+def write_identify_report(path, summary: dict, images: dict) -> None:
+    """A self-contained HTML page of an identification (``poinsot identify``): the estimate
+    with its standard errors and units, the fit's quality and flags, and the figures
+    (``images``: caption → PNG bytes). ``summary`` is
+    :meth:`poinsot.identify.IdentifyResult.to_dict` with a ``scenario`` entry (name,
+    description)."""
+    units = summary.get("units", {})
+    r, dr = summary["ratios"], summary["ratios_stderr"]
+    scale = units.get("inertia", "")
+    rows = [
+        ("I1/I3", f"{r[0]:.6g} ± {dr[0]:.2g}", "1", "ratio of the smallest to the largest "
+         "principal moment"),
+        ("I2/I3", f"{r[1]:.6g} ± {dr[1]:.2g}", "1", "ratio of the middle to the largest"),
+        ("principal moments", ", ".join(f"{x:.6g}" for x in summary["principal_moments"]),
+         scale, "ascending"),
+    ]  # fmt: skip
+    axes = np.asarray(summary["axes"])
+    for k in range(3):
+        e = axes[:, k]
+        rows.append((f"axis e{k + 1}", f"({e[0]:+.4f}, {e[1]:+.4f}, {e[2]:+.4f}) ± "
+                     f"{summary['axes_stderr_deg'][k]:.2g}°", "sensor frame",
+                     f"principal axis of I{k + 1}"))  # fmt: skip
+    inertia = "<br>".join(" ".join(f"{v:+.5e}" for v in row) for row in summary["inertia"])
+    rows.append(("inertia tensor", inertia, scale, "about the centre of mass, sensor frame"))
+    if summary.get("rotor_inertia") is not None:
+        rows.append(("rotor J", f"{summary['rotor_inertia']:.6g}", units.get("rotor_inertia",
+                     ""), "given" if summary["absolute"] else "fitted"))  # fmt: skip
+    w = summary["window"]
+    rows += [
+        ("free flight", f"{w[0]:.4f} … {w[1]:.4f}", "s", f"found by the {summary['found_by']}"
+         f", {summary['samples']} samples"),
+        ("gyro bias", ", ".join(f"{x:+.4g}" for x in summary["gyro_bias"]), "rad/s", "fitted"),
+        ("residuals / noise", f"{summary['residual_ratio']:.3g}", "1",
+         "about 1 when the model explains the readings"),
+        ("condition", f"{summary['condition']:.3g}", "1", "of the fit's scaled Jacobian"),
+    ]  # fmt: skip
+    if summary.get("lever_arm") is not None:
+        rows.append(("lever arm", ", ".join(f"{1000 * x:+.1f}" for x in summary["lever_arm"]),
+                     "mm", "accelerometer from the centre of mass"))  # fmt: skip
+    cells = "".join(
+        f"<tr><th>{html.escape(a)}</th><td>{b if a == 'inertia tensor' else html.escape(b)}"
+        f"</td><td>{html.escape(c)}</td><td class='meaning'>{html.escape(d)}</td></tr>"
+        for a, b, c, d in rows
+    )
+    table = ("<h2>Estimate</h2><table class='numbers'><tr><th>quantity</th><th>value</th>"
+             "<th>unit</th><th>meaning</th></tr>" + cells + "</table>")  # fmt: skip
+    flags = summary.get("flags") or []
+    if flags:
+        table = ("<h2>Warnings</h2><ul>" + "".join(f"<li>{html.escape(f)}</li>" for f in flags)
+                 + "</ul>" + table)  # fmt: skip
+    scale_note = ("absolute (the rotor's inertia was given)" if summary["absolute"]
+                  else "up to scale (trace 1): give the rotor's inertia for kg m²")  # fmt: skip
+    lead = f"Inertia identified from a gyro log: {summary['model']} model, {scale_note}."
+    _image_page(path, summary, lead, table, images, ("result.json",))

@@ -1,0 +1,636 @@
+//! A rigid body carrying a spinning symmetric rotor: the gyrostat (`docs/theory.md` §4).
+//!
+//! A rotor of axial inertia `J` spins at `ω_R(t)` relative to the body about the body-fixed
+//! unit axis `a`; its momentum relative to the body is `h = J ω_R a`. With no external torque
+//! about the centre of mass, the total angular momentum `L = I ω + h` is fixed in space, so in
+//! body components
+//!
+//! ```text
+//! L̇ = L × ω,    ω = I⁻¹ (L − h(t)),                                  (momentum form)
+//! I ω̇ + ω × (I ω + h) + ḣ = 0,                                       (velocity form)
+//! ```
+//!
+//! the second being Euler's equation (08) with the rotor's reaction torque
+//! `τ = −ω × h − ḣ` ([`rotor_torque`]); `I` is the inertia of the whole body about the centre of
+//! mass, rotor included. With `h = 0` both reduce to the torque-free Euler equation (20). The
+//! velocity form needs `ḣ`, the momentum form only `h`, so a rotor speed known at samples and
+//! interpolated linearly between them (a continuous `h`, a jumping `ḣ`) is integrated in the
+//! momentum form.
+//!
+//! * [`rotor_torque`], [`gyrostat_omega_dot`]: the right-hand side of the velocity form;
+//! * [`gyrostat_regressor`]: the same equation written as a linear map of the six entries of
+//!   `I` and of `J`, the regressor of an equation-error fit (`poinsot.identify`);
+//! * [`SampledRotor`] and [`Gyrostat`]: the momentum form as a [`VectorField`], stepped by the
+//!   crate's drivers; [`gyrostat_omegas`] integrates it with RK4 onto sample times;
+//! * [`point_acceleration_matrix`]: what an accelerometer on the body reads in free flight, the
+//!   lever-arm model that finds the flight in a log.
+
+use crate::drivers::{run_fixed, Clock, Counters, Erk, Output, Sampling, Status};
+use crate::observers::NoObserver;
+use crate::rigid::omega_dot_principal;
+use crate::so3::{cross, Mat3, Vec3};
+use crate::steppers::Tableau;
+use crate::system::VectorField;
+use crate::tableaux::{RK4_A, RK4_B, RK4_C};
+
+/// `Eᵀ v`: the components along the columns of `axes` of a vector given in the body frame.
+#[inline(always)]
+pub fn to_principal(axes: &Mat3, v: Vec3) -> Vec3 {
+    [0, 1, 2].map(|k| axes[0][k] * v[0] + axes[1][k] * v[1] + axes[2][k] * v[2])
+}
+
+/// `E v`: the body-frame vector of principal components `v`.
+#[inline(always)]
+pub fn from_principal(axes: &Mat3, v: Vec3) -> Vec3 {
+    [0, 1, 2].map(|r| axes[r][0] * v[0] + axes[r][1] * v[1] + axes[r][2] * v[2])
+}
+
+/// The reaction torque of the rotor on the body, `τ = −ω × h − ḣ` (any frame, the same for
+/// all three vectors): the gyroscopic torque of its momentum `h` carried round by the body,
+/// and the torque that spins it up.
+#[inline(always)]
+pub fn rotor_torque(w: Vec3, h: Vec3, h_dot: Vec3) -> Vec3 {
+    let c = cross(w, h);
+    [-c[0] - h_dot[0], -c[1] - h_dot[1], -c[2] - h_dot[2]]
+}
+
+/// `ω̇` of the gyrostat, `I ω̇ + ω × (I ω + h) + ḣ = 0`, for the inertia
+/// `I = E diag(moments) Eᵀ` (`axes` = E, columns the principal axes in body coordinates) and
+/// `ω`, `h`, `ḣ` in body components: Euler's equation (27)–(29) in the principal frame with
+/// the torque [`rotor_torque`]. A zero moment gives a zero rate about its axis (as
+/// [`omega_dot_principal`]).
+///
+/// ```
+/// use poinsot_core::gyrostat::gyrostat_omega_dot;
+/// let eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// // a sphere spinning about z whose rotor along x spins up: ω̇ = −ḣ/I
+/// let wd = gyrostat_omega_dot([2.0; 3], &eye, [0.0, 0.0, 1.0], [0.0; 3], [4.0, 0.0, 0.0]);
+/// assert_eq!(wd, [-2.0, 0.0, 0.0]);
+/// ```
+#[inline(always)]
+pub fn gyrostat_omega_dot(moments: Vec3, axes: &Mat3, w: Vec3, h: Vec3, h_dot: Vec3) -> Vec3 {
+    let inv = moments.map(|i| if i != 0.0 { 1.0 / i } else { 0.0 });
+    let wp = to_principal(axes, w);
+    let tau = to_principal(axes, rotor_torque(w, h, h_dot));
+    from_principal(axes, omega_dot_principal(moments, inv, wp, tau))
+}
+
+/// The matrix `A = hat(ω̇) + hat(ω)²` with `A p = ω̇ × p + ω × (ω × p)`: the acceleration,
+/// relative to the centre of mass, of the body point `p` (body frame, from the centre of mass)
+/// of a body turning with `ω`, `ω̇`. In free flight the centre of mass falls with `g`, so an
+/// accelerometer at `p` reads the specific force `f = A p` (plus its bias), linear in `p`.
+///
+/// ```
+/// use poinsot_core::gyrostat::point_acceleration_matrix;
+/// // spinning at 2 rad/s about z: a point 0.1 m out on x is pulled in at ω² r = 0.4 m/s²
+/// let a = point_acceleration_matrix([0.0, 0.0, 2.0], [0.0; 3]);
+/// assert_eq!([a[0][0] * 0.1, a[1][0] * 0.1, a[2][0] * 0.1], [-0.4, 0.0, 0.0]);
+/// ```
+#[inline]
+pub fn point_acceleration_matrix(w: Vec3, w_dot: Vec3) -> Mat3 {
+    let [x, y, z] = w;
+    // hat(ω)² = ω ωᵀ − |ω|² 𝟙
+    let n2 = x * x + y * y + z * z;
+    let mut a = [
+        [x * x - n2, x * y, x * z],
+        [y * x, y * y - n2, y * z],
+        [z * x, z * y, z * z - n2],
+    ];
+    let h = crate::so3::hat(w_dot);
+    for r in 0..3 {
+        for c in 0..3 {
+            a[r][c] += h[r][c];
+        }
+    }
+    a
+}
+
+/// Index of the symmetric entries in [`gyrostat_regressor`]'s columns 0–5:
+/// `(I11, I22, I33, I12, I13, I23)` as `(row, column)` pairs.
+pub const INERTIA_ENTRIES: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
+
+/// The gyrostat equation as a linear map: the 3 × 7 matrix `Φ` with
+/// `Φ θ = I ω̇ + ω × (I ω + J ω_R a) + J ω̇_R a` for
+/// `θ = (I11, I22, I33, I12, I13, I23, J)` ([`INERTIA_ENTRIES`]): column `j < 6` is
+/// `S_j ω̇ + ω × (S_j ω)` for the symmetric unit matrix `S_j` of entry j, column 6 is
+/// `ω_R (ω × a) + ω̇_R a`. Along a motion of the gyrostat `Φ θ = 0`; an equation-error fit
+/// solves it for θ from measured `ω`, `ω̇`, `ω_R`, `ω̇_R` (all body frame, `a` a unit vector).
+///
+/// ```
+/// use poinsot_core::gyrostat::gyrostat_regressor;
+/// // spinning about z with a rotor along x: column 6 is ω_R (ω × a) + ω̇_R a
+/// let phi = gyrostat_regressor([0.0, 0.0, 2.0], [0.0; 3], 3.0, 0.5, [1.0, 0.0, 0.0]);
+/// assert_eq!([phi[0][6], phi[1][6], phi[2][6]], [0.5, 6.0, 0.0]);
+/// ```
+#[inline]
+pub fn gyrostat_regressor(
+    w: Vec3,
+    w_dot: Vec3,
+    rotor_speed: f64,
+    rotor_accel: f64,
+    axis: Vec3,
+) -> [[f64; 7]; 3] {
+    let mut phi = [[0.0; 7]; 3];
+    for (j, &(r, c)) in INERTIA_ENTRIES.iter().enumerate() {
+        // S_j v has v[c] in row r and v[r] in row c (one entry on the diagonal)
+        let mut s_wd = [0.0; 3];
+        let mut s_w = [0.0; 3];
+        s_wd[r] += w_dot[c];
+        s_w[r] += w[c];
+        if r != c {
+            s_wd[c] += w_dot[r];
+            s_w[c] += w[r];
+        }
+        let g = cross(w, s_w);
+        for k in 0..3 {
+            phi[k][j] = s_wd[k] + g[k];
+        }
+    }
+    let g = cross(w, axis);
+    for k in 0..3 {
+        phi[k][6] = rotor_speed * g[k] + rotor_accel * axis[k];
+    }
+    phi
+}
+
+/// A rotor whose speed `ω_R` is known at increasing times `t` and linear between them
+/// (constant before the first and after the last): `h(t) = J ω_R(t) a`.
+#[derive(Clone, Copy, Debug)]
+pub struct SampledRotor<'a> {
+    pub t: &'a [f64],
+    pub speed: &'a [f64],
+    /// Unit axis, body frame.
+    pub axis: Vec3,
+    /// Axial moment of inertia `J`.
+    pub inertia: f64,
+}
+
+impl SampledRotor<'_> {
+    /// `ω_R(t)` by linear interpolation (0 for a rotor with no samples).
+    #[inline(always)]
+    pub fn speed_at(&self, t: f64) -> f64 {
+        let (ts, s) = (self.t, self.speed);
+        let n = ts.len().min(s.len());
+        if n == 0 {
+            return 0.0;
+        }
+        if t <= ts[0] {
+            return s[0];
+        }
+        if t >= ts[n - 1] {
+            return s[n - 1];
+        }
+        let k = ts[..n].partition_point(|&x| x <= t); // ts[k-1] <= t < ts[k]
+        let (t0, t1) = (ts[k - 1], ts[k]);
+        let f = (t - t0) / (t1 - t0);
+        s[k - 1] + f * (s[k] - s[k - 1])
+    }
+
+    /// `h(t) = J ω_R(t) a`, body frame.
+    #[inline(always)]
+    pub fn momentum_at(&self, t: f64) -> Vec3 {
+        let c = self.inertia * self.speed_at(t);
+        self.axis.map(|x| c * x)
+    }
+}
+
+/// The gyrostat in its momentum form, `L̇ = L × ω`, `ω = I⁻¹(L − h(t))`, as a [`VectorField`]
+/// on the state `L` (3) in the principal frame of `I` (moments `moments`, axes `axes`).
+pub struct Gyrostat<'a> {
+    pub moments: Vec3,
+    inv_moments: Vec3,
+    pub axes: Mat3,
+    pub rotor: SampledRotor<'a>,
+    /// The rotor axis in the principal frame.
+    axis_p: Vec3,
+}
+
+impl<'a> Gyrostat<'a> {
+    pub fn new(moments: Vec3, axes: Mat3, rotor: SampledRotor<'a>) -> Self {
+        Gyrostat {
+            moments,
+            inv_moments: moments.map(|i| if i != 0.0 { 1.0 / i } else { 0.0 }),
+            axes,
+            axis_p: to_principal(&axes, rotor.axis),
+            rotor,
+        }
+    }
+
+    /// `h(t)` in the principal frame.
+    #[inline(always)]
+    fn momentum_p(&self, t: f64) -> Vec3 {
+        let c = self.rotor.inertia * self.rotor.speed_at(t);
+        self.axis_p.map(|x| c * x)
+    }
+
+    /// `ω = I⁻¹(L − h(t))`, principal frame, of the state `l` (principal frame).
+    #[inline(always)]
+    pub fn omega_principal(&self, t: f64, l: &[f64]) -> Vec3 {
+        let h = self.momentum_p(t);
+        [0, 1, 2].map(|k| self.inv_moments[k] * (l[k] - h[k]))
+    }
+
+    /// The state `L = I ω + h(t)` (principal frame) of the body-frame `ω`.
+    pub fn state_of(&self, t: f64, w: Vec3) -> Vec3 {
+        let wp = to_principal(&self.axes, w);
+        let h = self.momentum_p(t);
+        [0, 1, 2].map(|k| self.moments[k] * wp[k] + h[k])
+    }
+
+    /// The body-frame `ω` of the state `l` at `t`.
+    pub fn omega_of(&self, t: f64, l: &[f64]) -> Vec3 {
+        from_principal(&self.axes, self.omega_principal(t, l))
+    }
+}
+
+impl VectorField for Gyrostat<'_> {
+    #[inline(always)]
+    fn dim(&self) -> usize {
+        3
+    }
+    #[inline(always)]
+    fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]) {
+        let w = self.omega_principal(t, y);
+        let d = cross([y[0], y[1], y[2]], w);
+        out[..3].copy_from_slice(&d);
+    }
+}
+
+/// Body-frame `ω` (n) at the increasing times `t` (n) of the gyrostat with inertia
+/// `E diag(moments) Eᵀ` and rotor `rotor` (its speed sampled on its own times), from
+/// `ω(t[0]) = omega0`: the momentum form stepped by the classical RK4 ([`Erk`] with the
+/// `RK4_*` tableau) through [`run_fixed`], landing on every sample time with steps of at most
+/// `max_step` (≤ 0: one step per sample interval). Returns the driver's status
+/// ([`Status::Finished`], or [`Status::NonFinite`] with the samples not reached left as NaN).
+pub fn gyrostat_omegas(
+    moments: Vec3,
+    axes: &Mat3,
+    rotor: SampledRotor<'_>,
+    omega0: Vec3,
+    t: &[f64],
+    max_step: f64,
+    out: &mut [Vec3],
+) -> Status {
+    let n = t.len();
+    assert_eq!(out.len(), n, "gyrostat_omegas: `out` has the wrong length");
+    if n == 0 {
+        return Status::Finished;
+    }
+    let sys = Gyrostat::new(moments, *axes, rotor);
+    let a: Vec<f64> = RK4_A.iter().flatten().copied().collect();
+    let tab = Tableau {
+        a: &a,
+        b: &RK4_B,
+        c: &RK4_C,
+    };
+    let mut method = Erk::new(tab, 3);
+    let mut z = sys.state_of(t[0], omega0).to_vec();
+    let span = t[n - 1] - t[0];
+    let dt = if max_step > 0.0 {
+        max_step
+    } else {
+        // the longest interval: every step then lands on the next sample
+        t.windows(2)
+            .map(|p| p[1] - p[0])
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE)
+    };
+    let mut out_t = vec![f64::NAN; n];
+    let mut out_y = vec![f64::NAN; 3 * n];
+    let mut clock = Clock { t: t[0], h: 0.0 };
+    let mut counters = Counters::default();
+    let sampling = Sampling {
+        t_end: t[n - 1],
+        t_eval: t,
+        every: 1,
+    };
+    let steps = if span > 0.0 {
+        (span / dt).ceil() as u64 + 2 * n as u64 + 16
+    } else {
+        n as u64 + 16
+    };
+    let status = run_fixed(
+        &sys,
+        &mut method,
+        &mut NoObserver,
+        &mut clock,
+        &mut z,
+        dt,
+        &sampling,
+        &mut Output {
+            t: &mut out_t,
+            y: &mut out_y,
+        },
+        &mut counters,
+        steps,
+    );
+    for (k, o) in out.iter_mut().enumerate() {
+        *o = if k < counters.n_out {
+            sys.omega_of(t[k], &out_y[3 * k..3 * k + 3])
+        } else {
+            [f64::NAN; 3]
+        };
+    }
+    status
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::freebody::euler_omega_dot;
+    use crate::inertia::principal_decomposition;
+    use crate::invariants::{angular_momentum_body, rotational_energy};
+    use crate::so3::{exp_so3, matmul};
+    use crate::torque_free::exact_omegas;
+
+    fn body() -> (Vec3, Mat3, Mat3) {
+        // principal moments and axes tilted away from the body frame, and the full tensor
+        let moments = [1.3e-4, 2.1e-4, 2.9e-4];
+        let axes = exp_so3([0.4, -0.7, 0.25]);
+        let mut inertia = [[0.0; 3]; 3];
+        for r in 0..3 {
+            for c in 0..3 {
+                inertia[r][c] = (0..3).map(|k| axes[r][k] * moments[k] * axes[c][k]).sum();
+            }
+        }
+        (moments, axes, inertia)
+    }
+
+    /// `x` with `A x = b` by Cramer's rule: a route independent of the principal frame.
+    fn cramer(a: &Mat3, b: Vec3) -> Vec3 {
+        let det = |m: &Mat3| {
+            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+        };
+        let d = det(a);
+        [0, 1, 2].map(|c| {
+            let mut m = *a;
+            for r in 0..3 {
+                m[r][c] = b[r];
+            }
+            det(&m) / d
+        })
+    }
+
+    fn norm(v: Vec3) -> f64 {
+        (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+    }
+
+    /// A smooth spin-up and back, 200 → 1300 → 200 rad/s over [0.05, 0.45] s, and its rate.
+    fn profile(t: f64) -> (f64, f64) {
+        let (t0, t1) = (0.05, 0.45);
+        if t <= t0 || t >= t1 {
+            return (200.0, 0.0);
+        }
+        let p = 2.0 * std::f64::consts::PI / (t1 - t0);
+        let x = p * (t - t0);
+        (200.0 + 550.0 * (1.0 - x.cos()), 550.0 * p * x.sin())
+    }
+
+    #[test]
+    fn velocity_form_matches_a_direct_solve_of_the_full_tensor() {
+        let (moments, axes, inertia) = body();
+        let w = [12.0, -7.5, 20.0];
+        let h = [1.1e-3, -4.0e-4, 2.0e-3];
+        let hd = [0.3, 0.05, -0.2];
+        let got = gyrostat_omega_dot(moments, &axes, w, h, hd);
+        let iw = angular_momentum_body(&inertia, w);
+        let l = [iw[0] + h[0], iw[1] + h[1], iw[2] + h[2]];
+        let c = cross(w, l);
+        let want = cramer(&inertia, [-c[0] - hd[0], -c[1] - hd[1], -c[2] - hd[2]]);
+        for k in 0..3 {
+            assert!(
+                (got[k] - want[k]).abs() < 1e-10 * norm(want),
+                "{got:?} {want:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn without_a_rotor_it_is_the_torque_free_euler_equation() {
+        let (moments, axes, _) = body();
+        let wp = [3.0, -1.0, 2.5];
+        let w = from_principal(&axes, wp);
+        let got = to_principal(
+            &axes,
+            gyrostat_omega_dot(moments, &axes, w, [0.0; 3], [0.0; 3]),
+        );
+        let want = euler_omega_dot(moments, wp);
+        for k in 0..3 {
+            assert!((got[k] - want[k]).abs() < 1e-12 * norm(want));
+        }
+    }
+
+    #[test]
+    fn the_regressor_is_the_equation_and_vanishes_on_a_motion() {
+        let (moments, axes, inertia) = body();
+        let (a, wr, wrd, j) = ([0.6, 0.0, 0.8], 900.0, 3.0e3, 1.7e-6);
+        let w = [9.0, 4.0, -15.0];
+        let h = a.map(|x| j * wr * x);
+        let hd = a.map(|x| j * wrd * x);
+        let theta = [
+            inertia[0][0],
+            inertia[1][1],
+            inertia[2][2],
+            inertia[0][1],
+            inertia[0][2],
+            inertia[1][2],
+            j,
+        ];
+        // at an arbitrary ω̇, Φθ is the equation's left side
+        let wd = [1.0, -2.0, 0.5];
+        let phi = gyrostat_regressor(w, wd, wr, wrd, a);
+        let iwd = angular_momentum_body(&inertia, wd);
+        let iw = angular_momentum_body(&inertia, w);
+        let c = cross(w, [iw[0] + h[0], iw[1] + h[1], iw[2] + h[2]]);
+        for k in 0..3 {
+            let lhs: f64 = (0..7).map(|m| phi[k][m] * theta[m]).sum();
+            let want = iwd[k] + c[k] + hd[k];
+            assert!(
+                (lhs - want).abs() < 1e-12 * norm(c).max(1e-9),
+                "{lhs} {want}"
+            );
+        }
+        // at the gyrostat's ω̇ it vanishes
+        let wd = gyrostat_omega_dot(moments, &axes, w, h, hd);
+        let phi = gyrostat_regressor(w, wd, wr, wrd, a);
+        for row in phi {
+            let r: f64 = (0..7).map(|m| row[m] * theta[m]).sum();
+            assert!(r.abs() < 1e-12 * norm(c), "{r}");
+        }
+    }
+
+    #[test]
+    fn a_constant_rotor_momentum_keeps_energy_and_total_momentum() {
+        let (moments, axes, inertia) = body();
+        let t: Vec<f64> = (0..=2000).map(|k| k as f64 * 2.5e-4).collect();
+        let speed = vec![1000.0; t.len()];
+        let rotor = SampledRotor {
+            t: &t,
+            speed: &speed,
+            axis: [0.0, 0.6, 0.8],
+            inertia: 1.7e-6,
+        };
+        let h = rotor.momentum_at(0.0);
+        let mut out = vec![[0.0; 3]; t.len()];
+        let status = gyrostat_omegas(moments, &axes, rotor, [20.0, 3.0, -9.0], &t, 0.0, &mut out);
+        assert_eq!(status, Status::Finished);
+        let l_norm = |w: Vec3| {
+            let iw = angular_momentum_body(&inertia, w);
+            norm([iw[0] + h[0], iw[1] + h[1], iw[2] + h[2]])
+        };
+        let (l0, e0) = (l_norm(out[0]), rotational_energy(&inertia, out[0]));
+        let mut moved: f64 = 0.0;
+        for &w in &out {
+            assert!((l_norm(w) - l0).abs() < 1e-11 * l0);
+            assert!((rotational_energy(&inertia, w) - e0).abs() < 1e-9 * e0);
+            moved = moved.max(norm([w[0] - out[0][0], w[1] - out[0][1], w[2] - out[0][2]]));
+        }
+        assert!(moved > 1.0, "the motion must not be trivial");
+    }
+
+    #[test]
+    fn the_integrated_motion_solves_the_velocity_form() {
+        // momentum-form RK4 over a sampled spin-up, checked by central differences of ω(t)
+        // against the velocity form with the profile's exact ḣ
+        let (moments, axes, _) = body();
+        let dt = 2.5e-4;
+        let t: Vec<f64> = (0..=2000).map(|k| k as f64 * dt).collect();
+        // the rotor sampled 16 times finer than the output, so that its linear interpolation
+        // is below the check's resolution
+        let tr: Vec<f64> = (0..=32000).map(|k| k as f64 * dt / 16.0).collect();
+        let speed: Vec<f64> = tr.iter().map(|&x| profile(x).0).collect();
+        let (axis, j) = ([0.0, 0.0, 1.0], 1.7e-6);
+        let rotor = SampledRotor {
+            t: &tr,
+            speed: &speed,
+            axis,
+            inertia: j,
+        };
+        let mut out = vec![[0.0; 3]; t.len()];
+        let status = gyrostat_omegas(
+            moments,
+            &axes,
+            rotor,
+            [10.0, -20.0, 5.0],
+            &t,
+            dt / 16.0,
+            &mut out,
+        );
+        assert_eq!(status, Status::Finished);
+        let mut worst: f64 = 0.0;
+        let mut scale: f64 = 0.0;
+        for k in 1..t.len() - 1 {
+            let fd = [0, 1, 2].map(|i| (out[k + 1][i] - out[k - 1][i]) / (2.0 * dt));
+            let (wr, wrd) = profile(t[k]);
+            let h = axis.map(|x| j * wr * x);
+            let hd = axis.map(|x| j * wrd * x);
+            let wd = gyrostat_omega_dot(moments, &axes, out[k], h, hd);
+            worst = worst.max(norm([fd[0] - wd[0], fd[1] - wd[1], fd[2] - wd[2]]));
+            scale = scale.max(norm(wd));
+        }
+        // central differences err by dt²/6 |ω⃛|: about 1e-4 of |ω̇| here
+        assert!(worst < 1e-3 * scale, "{worst} vs {scale}");
+        assert!(scale > 100.0);
+    }
+
+    #[test]
+    fn without_a_rotor_it_follows_the_exact_torque_free_motion() {
+        let (moments, axes, _) = body();
+        let t: Vec<f64> = (0..=2000).map(|k| k as f64 * 2.5e-4).collect();
+        let rotor = SampledRotor {
+            t: &[],
+            speed: &[],
+            axis: [1.0, 0.0, 0.0],
+            inertia: 0.0,
+        };
+        let w0 = [14.0, 25.0, -6.0];
+        let mut out = vec![[0.0; 3]; t.len()];
+        gyrostat_omegas(moments, &axes, rotor, w0, &t, 0.0, &mut out);
+        // the closed form (Jacobi elliptic functions) wants the axes right-handed and sorted
+        let (m, s) = principal_decomposition(&{
+            let d = [
+                [moments[0], 0.0, 0.0],
+                [0.0, moments[1], 0.0],
+                [0.0, 0.0, moments[2]],
+            ];
+            let ad = matmul(&axes, &d);
+            let mut at = [[0.0; 3]; 3];
+            for r in 0..3 {
+                for c in 0..3 {
+                    at[r][c] = axes[c][r];
+                }
+            }
+            matmul(&ad, &at)
+        });
+        let code = crate::inertia::symmetry_code(m, crate::inertia::SYMMETRY_RTOL);
+        let mut exact = vec![[0.0; 3]; t.len()];
+        exact_omegas(m, &s, code, &[w0], &t, &mut exact);
+        let mut worst: f64 = 0.0;
+        for (a, b) in out.iter().zip(&exact) {
+            worst = worst.max(norm([a[0] - b[0], a[1] - b[1], a[2] - b[2]]));
+        }
+        assert!(worst < 1e-8 * norm(w0), "{worst}");
+    }
+
+    #[test]
+    fn rk4_is_fourth_order_on_the_gyrostat() {
+        let (moments, axes, _) = body();
+        let tr: Vec<f64> = (0..=400).map(|k| k as f64 * 1e-3).collect();
+        let speed: Vec<f64> = tr.iter().map(|&x| 200.0 + 2000.0 * x).collect(); // linear: exact
+        let rotor = SampledRotor {
+            t: &tr,
+            speed: &speed,
+            axis: [0.0, 0.6, 0.8],
+            inertia: 1.7e-6,
+        };
+        let t = [0.0, 0.4];
+        let end = |h: f64| {
+            let mut out = [[0.0; 3]; 2];
+            gyrostat_omegas(moments, &axes, rotor, [10.0, -20.0, 5.0], &t, h, &mut out);
+            out[1]
+        };
+        let reference = end(1e-5);
+        let err = |h: f64| {
+            let w = end(h);
+            norm([0, 1, 2].map(|i| w[i] - reference[i]))
+        };
+        let (e1, e2) = (err(4e-3), err(2e-3));
+        let order = (e1 / e2).log2();
+        assert!(
+            (order - 4.0).abs() < 0.3,
+            "observed order {order} ({e1}, {e2})"
+        );
+    }
+
+    #[test]
+    fn the_point_acceleration_is_the_rigid_body_acceleration() {
+        let (w, wd, p) = ([3.0, -1.5, 7.0], [20.0, 5.0, -11.0], [0.02, -0.013, 0.031]);
+        let a = point_acceleration_matrix(w, wd);
+        let ap: Vec3 = [0, 1, 2].map(|r| a[r][0] * p[0] + a[r][1] * p[1] + a[r][2] * p[2]);
+        let c1 = cross(wd, p);
+        let c2 = cross(w, cross(w, p));
+        for k in 0..3 {
+            assert!((ap[k] - (c1[k] + c2[k])).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn linear_interpolation_of_the_rotor_speed() {
+        let t = [0.0, 1.0, 3.0];
+        let s = [10.0, 20.0, 0.0];
+        let r = SampledRotor {
+            t: &t,
+            speed: &s,
+            axis: [0.0, 0.0, 1.0],
+            inertia: 2.0,
+        };
+        assert_eq!(r.speed_at(-1.0), 10.0);
+        assert_eq!(r.speed_at(0.5), 15.0);
+        assert_eq!(r.speed_at(1.0), 20.0);
+        assert_eq!(r.speed_at(2.0), 10.0);
+        assert_eq!(r.speed_at(5.0), 0.0);
+        assert_eq!(r.momentum_at(0.5), [0.0, 0.0, 30.0]);
+    }
+}

@@ -1,0 +1,273 @@
+//! Bindings of the gyrostat, `poinsot_core::gyrostat`: its right-hand side, its regressor and
+//! its motion integrated onto sample times, for many parameter sets at once (the members of a
+//! finite-difference Jacobian run on rayon's threads). Shapes and orderings are checked here
+//! with the argument's name in the error; the GIL is released around every computation.
+
+use numpy::ndarray::{Array2, Array3};
+use numpy::{
+    IntoPyArray, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+};
+use poinsot_core::drivers::Status;
+use poinsot_core::gyrostat::{
+    gyrostat_omega_dot as omega_dot, gyrostat_omegas as omegas, gyrostat_regressor as regressor,
+    point_acceleration_matrix, SampledRotor,
+};
+use poinsot_core::so3::{Mat3, Vec3};
+use pyo3::exceptions::PyRuntimeError;
+use pyo3::prelude::*;
+use rayon::prelude::*;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use crate::args::{mat3_from, rows, v3, value_error};
+
+/// Run `f` without the GIL; a panic becomes `RuntimeError`.
+fn detached<T: Send, F: FnOnce() -> T + Send>(py: Python<'_>, f: F) -> PyResult<T> {
+    py.detach(|| catch_unwind(AssertUnwindSafe(f)))
+        .map_err(|_| PyRuntimeError::new_err("internal error in poinsot._core (gyrostat)"))
+}
+
+fn vec3_from(a: &PyReadonlyArray1<f64>, name: &str) -> PyResult<Vec3> {
+    let v = a.as_slice()?;
+    if v.len() != 3 {
+        return Err(value_error(format!(
+            "`{name}` must have shape (3,), found ({},)",
+            v.len()
+        )));
+    }
+    Ok([v[0], v[1], v[2]])
+}
+
+fn increasing(t: &[f64], name: &str) -> PyResult<()> {
+    if let Some(k) = t.iter().position(|x| !x.is_finite()) {
+        return Err(value_error(format!("`{name}[{k}]` is not finite")));
+    }
+    if let Some(k) = t.windows(2).position(|p| p[1] <= p[0]) {
+        return Err(value_error(format!(
+            "`{name}` must increase strictly, found {name}[{}] = {} after {}",
+            k + 1,
+            t[k + 1],
+            t[k]
+        )));
+    }
+    Ok(())
+}
+
+/// `ω̇` (n, 3) of the gyrostat `I ω̇ + ω × (Iω + h) + ḣ = 0` with `I = E diag(moments) Eᵀ`
+/// (`axes` = E), at body-frame `omega`, `h`, `h_dot` (n, 3).
+#[pyfunction]
+fn gyrostat_omega_dot<'py>(
+    py: Python<'py>,
+    moments: PyReadonlyArray1<'py, f64>,
+    axes: PyReadonlyArray2<'py, f64>,
+    omega: PyReadonlyArray2<'py, f64>,
+    h: PyReadonlyArray2<'py, f64>,
+    h_dot: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let m = vec3_from(&moments, "moments")?;
+    let e = mat3_from(&axes, "axes")?;
+    let (w, hh, hd) = (
+        rows(&omega, 3, "omega")?,
+        rows(&h, 3, "h")?,
+        rows(&h_dot, 3, "h_dot")?,
+    );
+    let n = w.nrows();
+    if hh.nrows() != n || hd.nrows() != n {
+        return Err(value_error(format!(
+            "`h` and `h_dot` must have the rows of `omega` ({n}), found {} and {}",
+            hh.nrows(),
+            hd.nrows()
+        )));
+    }
+    let (w, hh, hd): (Vec<Vec3>, Vec<Vec3>, Vec<Vec3>) = (
+        (0..n).map(|i| v3(&w, i)).collect(),
+        (0..n).map(|i| v3(&hh, i)).collect(),
+        (0..n).map(|i| v3(&hd, i)).collect(),
+    );
+    let flat = detached(py, || {
+        (0..n)
+            .flat_map(|i| omega_dot(m, &e, w[i], hh[i], hd[i]))
+            .collect::<Vec<f64>>()
+    })?;
+    let a = Array2::from_shape_vec((n, 3), flat).map_err(|e| value_error(e.to_string()))?;
+    Ok(a.into_pyarray(py))
+}
+
+/// The regressor `Φ` (n, 3, 7) of the gyrostat equation at each sample:
+/// `Φ θ = I ω̇ + ω × (Iω + J ω_R a) + J ω̇_R a`, `θ = (I11, I22, I33, I12, I13, I23, J)`.
+#[pyfunction]
+fn gyrostat_regressor<'py>(
+    py: Python<'py>,
+    omega: PyReadonlyArray2<'py, f64>,
+    omega_dot: PyReadonlyArray2<'py, f64>,
+    rotor_speed: PyReadonlyArray1<'py, f64>,
+    rotor_accel: PyReadonlyArray1<'py, f64>,
+    rotor_axis: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, PyArray3<f64>>> {
+    let (w, wd) = (rows(&omega, 3, "omega")?, rows(&omega_dot, 3, "omega_dot")?);
+    let (s, sd) = (rotor_speed.as_slice()?, rotor_accel.as_slice()?);
+    let a = vec3_from(&rotor_axis, "rotor_axis")?;
+    let n = w.nrows();
+    if wd.nrows() != n || s.len() != n || sd.len() != n {
+        return Err(value_error(format!(
+            "`omega_dot`, `rotor_speed` and `rotor_accel` must have the {n} rows of `omega`"
+        )));
+    }
+    let (w, wd): (Vec<Vec3>, Vec<Vec3>) = (
+        (0..n).map(|i| v3(&w, i)).collect(),
+        (0..n).map(|i| v3(&wd, i)).collect(),
+    );
+    let (s, sd) = (s.to_vec(), sd.to_vec());
+    let flat = detached(py, || {
+        (0..n)
+            .flat_map(|i| regressor(w[i], wd[i], s[i], sd[i], a))
+            .flatten()
+            .collect::<Vec<f64>>()
+    })?;
+    let arr = Array3::from_shape_vec((n, 3, 7), flat).map_err(|e| value_error(e.to_string()))?;
+    Ok(arr.into_pyarray(py))
+}
+
+/// Body-frame ω (m, n, 3) at the times `t` (n,) of m gyrostats: member i has the inertia
+/// `E_i diag(moments_i) E_iᵀ` (`moments` (m, 3), `axes` (m, 3, 3)), the rotor inertia
+/// `rotor_inertia[i]` and starts from `omega0[i]` at `t[0]`; all share the rotor speed
+/// `rotor_speed` (k,) sampled at `rotor_t` (k,) (linear between samples) about `rotor_axis`.
+/// RK4 on the momentum form with steps of at most `max_step` (≤ 0: one step per interval of
+/// `t`). A member whose motion stops being finite reads NaN from there on.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (moments, axes, rotor_inertia, omega0, t, rotor_t, rotor_speed, rotor_axis, max_step))]
+fn gyrostat_omegas<'py>(
+    py: Python<'py>,
+    moments: PyReadonlyArray2<'py, f64>,
+    axes: PyReadonlyArray3<'py, f64>,
+    rotor_inertia: PyReadonlyArray1<'py, f64>,
+    omega0: PyReadonlyArray2<'py, f64>,
+    t: PyReadonlyArray1<'py, f64>,
+    rotor_t: PyReadonlyArray1<'py, f64>,
+    rotor_speed: PyReadonlyArray1<'py, f64>,
+    rotor_axis: PyReadonlyArray1<'py, f64>,
+    max_step: f64,
+) -> PyResult<Bound<'py, PyArray3<f64>>> {
+    let mo = rows(&moments, 3, "moments")?;
+    let m = mo.nrows();
+    let ax = axes.as_array();
+    if ax.shape() != [m, 3, 3] {
+        return Err(value_error(format!(
+            "`axes` must have shape ({m}, 3, 3), found {:?}",
+            ax.shape()
+        )));
+    }
+    let j = rotor_inertia.as_slice()?;
+    if j.len() != m {
+        return Err(value_error(format!(
+            "`rotor_inertia` must have shape ({m},), found ({},)",
+            j.len()
+        )));
+    }
+    let w0 = rows(&omega0, 3, "omega0")?;
+    if w0.nrows() != m {
+        return Err(value_error(format!(
+            "`omega0` must have shape ({m}, 3), found {:?}",
+            w0.shape()
+        )));
+    }
+    let ts = t.as_slice()?.to_vec();
+    increasing(&ts, "t")?;
+    let (rt, rs) = (
+        rotor_t.as_slice()?.to_vec(),
+        rotor_speed.as_slice()?.to_vec(),
+    );
+    if rt.len() != rs.len() {
+        return Err(value_error(format!(
+            "`rotor_speed` must have the length of `rotor_t` ({}), found {}",
+            rt.len(),
+            rs.len()
+        )));
+    }
+    increasing(&rt, "rotor_t")?;
+    if let Some(k) = rs.iter().position(|x| !x.is_finite()) {
+        return Err(value_error(format!("`rotor_speed[{k}]` is not finite")));
+    }
+    let a = vec3_from(&rotor_axis, "rotor_axis")?;
+    if !max_step.is_finite() {
+        return Err(value_error("`max_step` must be finite"));
+    }
+    let members: Vec<(Vec3, Mat3, f64, Vec3)> = (0..m)
+        .map(|i| {
+            let e: Mat3 = std::array::from_fn(|r| std::array::from_fn(|c| ax[[i, r, c]]));
+            (v3(&mo, i), e, j[i], v3(&w0, i))
+        })
+        .collect();
+    let n = ts.len();
+    let out = detached(py, || {
+        let mut out = vec![[0.0; 3]; m * n];
+        let run = |(member, block): (&(Vec3, Mat3, f64, Vec3), &mut [Vec3])| {
+            let (mom, e, ji, w) = member;
+            let rotor = SampledRotor {
+                t: &rt,
+                speed: &rs,
+                axis: a,
+                inertia: *ji,
+            };
+            let status = omegas(*mom, e, rotor, *w, &ts, max_step, block);
+            if status != Status::Finished {
+                for o in block
+                    .iter_mut()
+                    .filter(|o| o.iter().any(|x| !x.is_finite()))
+                {
+                    *o = [f64::NAN; 3];
+                }
+            }
+        };
+        if n > 0 {
+            if m > 1 {
+                members.par_iter().zip(out.par_chunks_mut(n)).for_each(run);
+            } else {
+                members.iter().zip(out.chunks_mut(n)).for_each(run);
+            }
+        }
+        out
+    })?;
+    let flat: Vec<f64> = out.into_iter().flatten().collect();
+    let arr = Array3::from_shape_vec((m, n, 3), flat).map_err(|e| value_error(e.to_string()))?;
+    Ok(arr.into_pyarray(py))
+}
+
+/// `hat(ω̇) + hat(ω)²` (n, 3, 3) at body-frame `omega`, `omega_dot` (n, 3): the matrices with
+/// `A p = ω̇ × p + ω × (ω × p)`, the acceleration of the body point `p` relative to the centre
+/// of mass.
+#[pyfunction]
+fn point_acceleration_matrices<'py>(
+    py: Python<'py>,
+    omega: PyReadonlyArray2<'py, f64>,
+    omega_dot: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray3<f64>>> {
+    let (w, wd) = (rows(&omega, 3, "omega")?, rows(&omega_dot, 3, "omega_dot")?);
+    let n = w.nrows();
+    if wd.nrows() != n {
+        return Err(value_error(format!(
+            "`omega_dot` must have the {n} rows of `omega`, found {}",
+            wd.nrows()
+        )));
+    }
+    let (w, wd): (Vec<Vec3>, Vec<Vec3>) = (
+        (0..n).map(|i| v3(&w, i)).collect(),
+        (0..n).map(|i| v3(&wd, i)).collect(),
+    );
+    let flat = detached(py, || {
+        (0..n)
+            .flat_map(|i| point_acceleration_matrix(w[i], wd[i]))
+            .flatten()
+            .collect::<Vec<f64>>()
+    })?;
+    let arr = Array3::from_shape_vec((n, 3, 3), flat).map_err(|e| value_error(e.to_string()))?;
+    Ok(arr.into_pyarray(py))
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(point_acceleration_matrices, m)?)?;
+    m.add_function(wrap_pyfunction!(gyrostat_omega_dot, m)?)?;
+    m.add_function(wrap_pyfunction!(gyrostat_regressor, m)?)?;
+    m.add_function(wrap_pyfunction!(gyrostat_omegas, m)?)?;
+    Ok(())
+}
