@@ -34,7 +34,8 @@ class Trajectory:
     omega : ndarray, shape (n, 3)
         Angular velocity in the body frame.
     method, nfev, nsteps, wall_time
-        How it was computed.
+        How it was computed (``wall_time``: seconds of the integration itself, in the
+        compiled core; nothing is compiled at run time).
     t_events, y_events : list of ndarray
         With ``simulate(..., events=)``: per event, the times and states of its zeros.
     """
@@ -165,6 +166,138 @@ class Trajectory:
     def positions(self):
         """Particle trajectories ``r_i = Q u_i + R``, shape (n, N, 3); needs a particle body."""
         return _core.particle_motion(self._c(self.R), self._c(self.Q), self._c(self.body.u))
+
+    # ----------------------------------------------------------------- attitude
+    def _frame(self, frame):
+        """``(Q F, ω F)``: attitudes and body rates in the body axes given by the columns of
+        ``F`` (body components): ``"body"`` (the identity), ``"principal"`` (e1, e2, e3) or a
+        rotation matrix (3, 3)."""
+        if isinstance(frame, str):
+            if frame == "body":
+                return self.Q, self.omega
+            if frame == "principal":
+                F = self.body.principal_axes
+            else:
+                raise ValueError(
+                    f"`frame` must be 'body', 'principal' or a rotation matrix (3, 3) whose "
+                    f"columns are body axes, found {frame!r}"
+                )
+        else:
+            from ._validation import as_rotation_matrix
+
+            F = as_rotation_matrix(frame, "frame")
+        return self.Q @ F, self.omega @ F
+
+    def _euler(self, frame):
+        from .rotation import euler_series
+
+        key = frame if isinstance(frame, str) else np.asarray(frame, float).tobytes()
+        cache = self.__dict__.setdefault("_euler_cache", {})
+        if key not in cache:
+            Q, w = self._frame(frame)
+            series = euler_series(Q, w, self.t)
+            cache[key] = type(series)(*(_readonly(a) for a in series))
+        return cache[key]
+
+    def euler_angles(self, frame="body") -> np.ndarray:
+        """z-x-z Euler angles ``(ψ, θ, φ)`` of the attitude (n, 3), radians: ``Q = Rz(ψ) Rx(θ)
+        Rz(φ)`` (the paper's precession, nutation and proper rotation, eq. (13)).
+
+        θ ∈ [0, π] is the tilt of the body's z axis from the space z axis; ψ and φ are
+        unwrapped (continuous in time; :func:`poinsot.rotation.euler_series`), so ``ψ(t)``
+        shows the accumulated precession. Near θ = 0 or π (:meth:`euler_singular`) ψ and φ
+        are not separately defined.
+
+        Parameters
+        ----------
+        frame : {"body", "principal"} or array_like (3, 3)
+            The body axes the angles describe: the body's own, its principal axes e1, e2, e3,
+            or the columns of a rotation matrix (body components; its third column is the
+            axis whose tilt θ is).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from poinsot import RigidBody, simulate
+        >>> top = RigidBody.cylinder(1.0, 0.3, 0.2)
+        >>> traj = simulate(top, (0, 0.5), omega0=(0, 0, 50), Q0=[[1, 0, 0], [0, np.cos(0.6),
+        ...                 -np.sin(0.6)], [0, np.sin(0.6), np.cos(0.6)]], t_eval=[0, 0.5])
+        >>> traj.euler_angles()[:, 1].round(12).tolist()  # torque-free: the axis keeps its tilt
+        [0.6, 0.6]
+        """
+        return self._euler(frame).angles
+
+    def euler_rates(self, frame="body") -> np.ndarray:
+        """``(ψ̇, θ̇, φ̇)`` (n, 3) in rad/s, from the body rates by the inverse of eq. (13)
+        (the core's ``zxz_angle_rates``); NaN at the singular samples (:meth:`euler_singular`).
+        ``frame`` as for :meth:`euler_angles`."""
+        return self._euler(frame).rates
+
+    def euler_singular(self, frame="body") -> np.ndarray:
+        """Samples (n,) of bool where θ is within ``1e-6`` of 0 or π (gimbal lock): ψ and φ are
+        not separately defined there and their rates are NaN."""
+        return self._euler(frame).singular
+
+    def _body_axis(self, axis):
+        names = {"x": 0, "y": 1, "z": 2}
+        if isinstance(axis, str):
+            if axis in names:
+                return np.eye(3)[names[axis]]
+            if axis in ("e1", "e2", "e3"):
+                return self.body.principal_axes[:, int(axis[1]) - 1]
+            raise ValueError(
+                f"`axis` must be 'x', 'y', 'z', 'e1', 'e2', 'e3' or a 3-vector (body "
+                f"components), found {axis!r}"
+            )
+        from ._validation import as_vector3
+
+        a = as_vector3(axis, "axis")
+        norm = float(np.linalg.norm(a))
+        if not norm > 0:
+            raise ValueError("`axis` must be a nonzero 3-vector (body components)")
+        return a / norm
+
+    def symmetry_axis(self) -> np.ndarray:
+        """The body's symmetry axis (body components, unit): the principal axis whose moment
+        differs from the two equal others (e3 of an oblate body, e1 of a prolate one).
+
+        Raises ``ValueError`` for an asymmetric body (no symmetry axis) and a spherical one
+        (every axis is one)."""
+        kind = self.body.symmetry
+        if kind not in ("oblate", "prolate"):
+            raise ValueError(
+                f"the body is {kind}: it has no single symmetry axis; give `axis` explicitly"
+            )
+        return self.body.principal_axes[:, 2 if kind == "oblate" else 0].copy()
+
+    def axis_trace(self, axis=None) -> np.ndarray:
+        """The direction in space of a body axis along the motion, ``Q a`` (n, 3): unit vectors,
+        its trace on the unit sphere. ``axis``: a body-frame 3-vector or ``"x"``, ``"y"``,
+        ``"z"``, ``"e1"``, ``"e2"``, ``"e3"``; default :meth:`symmetry_axis`.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from poinsot import RigidBody, simulate
+        >>> traj = simulate(RigidBody.cylinder(1.0, 0.3, 0.2), (0, 1), omega0=(0, 0, 5))
+        >>> bool(np.abs(traj.axis_trace() - [0, 0, 1]).max() < 1e-12)  # spinning about its axis
+        True
+        """
+        a = self.symmetry_axis() if axis is None else self._body_axis(axis)
+        return np.einsum("nij,j->ni", self.Q, a)
+
+    def axis_tilt(self, axis=None, vertical=(0.0, 0.0, 1.0)) -> np.ndarray:
+        """The angle (n,) in radians, in [0, π], between a body axis (as for :meth:`axis_trace`)
+        and the space direction ``vertical`` (default +z): ``atan2(|a × v|, a · v)``. The tilt of
+        the body's z axis is the Euler angle θ of :meth:`euler_angles`."""
+        from ._validation import as_vector3
+
+        v = as_vector3(vertical, "vertical")
+        if not np.linalg.norm(v) > 0:
+            raise ValueError("`vertical` must be a nonzero 3-vector")
+        v = v / np.linalg.norm(v)
+        a = self.axis_trace(axis)
+        return np.arctan2(np.linalg.norm(np.cross(a, v), axis=1), a @ v)
 
     # ----------------------------------------------------------------- diagnostics
     @cached_property

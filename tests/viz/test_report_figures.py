@@ -62,5 +62,8 @@ def test_polhode_figure_is_at_the_runs_own_energy(notebook):
     k = free.invariants(notebook.omega[0])[0]
     assert f"k = {k:.4g} J" in fig.layout.title.text
     run = fig.data[-1]
-    np.testing.assert_allclose(np.column_stack([run.x, run.y, run.z]), notebook.omega)
-    assert fig.layout.scene.xaxis.title.text == "ω₁ [rad/s]"
+    # drawn by components along the principal axes, the notebook body's e1 being its z axis
+    drawn = np.column_stack([run.x, run.y, run.z])
+    np.testing.assert_allclose(drawn, notebook.omega @ free.principal_axes, atol=1e-15)
+    np.testing.assert_allclose(drawn[:, 0], notebook.omega[:, 2], atol=1e-15)
+    assert fig.layout.scene.xaxis.title.text.startswith("ω·e₁ (I₁ = 8.333)")

@@ -12,6 +12,7 @@ mod exact;
 mod geometry;
 mod relative;
 mod rigid;
+mod tops;
 
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -38,5 +39,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     geometry::register(m)?;
     exact::register(m)?;
     ensemble::register(m)?;
+    tops::register(m)?;
     Ok(())
 }

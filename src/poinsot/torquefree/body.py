@@ -121,6 +121,19 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
         return self._S.copy()
 
     # ----------------------------------------------------------------- frames
+    def principal_components(self, vectors) -> np.ndarray:
+        """The components ``(v·e1, v·e2, v·e3)`` along the sorted principal axes of body-frame
+        vectors (..., 3): what the figures plot, so that a curve "around e1" circles the axis
+        labelled e₁ whatever the body's own axes are.
+
+        >>> import numpy as np
+        >>> from poinsot.models import notebook_body
+        >>> free = FreeRigidBody.from_body(notebook_body())  # e1 is the body's z axis
+        >>> free.principal_components([0.0, 0.0, 2.0]).round(12).tolist()
+        [2.0, 0.0, 0.0]
+        """
+        return np.asarray(vectors, dtype=float) @ self._S
+
     def _to_sorted(self, omega):
         return np.asarray(omega, dtype=float) @ self._S  # Sᵀ ω for row vectors
 

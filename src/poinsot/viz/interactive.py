@@ -1,7 +1,8 @@
 """Interactive (plotly) figures of the torque-free body; needs the ``report`` extra.
 
 The same constructions as :mod:`poinsot.viz.torquefree`, as ``plotly.graph_objects.Figure``
-objects: rotate them in a browser, or ``fig.write_html(path)``.
+objects: rotate them in a browser, or ``fig.write_html(path)``. As there, angular velocities
+are drawn by their components along the sorted principal axes e1, e2, e3.
 """
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ import numpy as np
 
 from .._core import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
 
-__all__ = ["energy_ellipsoid_figure", "polhode_family_figure"]
+__all__ = ["SCENE_CAMERA", "energy_ellipsoid_figure", "omega_scene", "polhode_family_figure"]
 
 COLORS = {
     "around e1": "#1f77b4",
@@ -20,9 +21,16 @@ COLORS = {
 }
 
 
-#: 3D axes of angular velocity, principal (body) frame.
-_OMEGA_SCENE = {"aspectmode": "data", "xaxis_title": "ω₁ [rad/s]", "yaxis_title": "ω₂ [rad/s]",
-                "zaxis_title": "ω₃ [rad/s]"}  # fmt: skip
+#: A 3D scene's camera far enough out that no tick or axis label is clipped at its edges.
+SCENE_CAMERA = {"eye": {"x": 1.55, "y": 1.55, "z": 1.05}}
+
+
+def omega_scene(moments=None) -> dict:
+    """3D axes of angular velocity, components along the principal axes e1, e2, e3."""
+    names = [f"ω·e{'₁₂₃'[k]}" + (f" (I{'₁₂₃'[k]} = {moments[k]:.4g})" if moments is not None
+                                 else "") + " [rad/s]" for k in range(3)]  # fmt: skip
+    return {"aspectmode": "data", "xaxis_title": names[0], "yaxis_title": names[1],
+            "zaxis_title": names[2], "camera": SCENE_CAMERA}  # fmt: skip
 
 
 def _go():
@@ -69,26 +77,28 @@ def _line(go, pts, family, show):
 
 def polhode_family_figure(body, energy=0.5, *, levels=9, omega=None, n=200):
     """The polhode family on the energy ellipsoid with fixed points (green stable, red
-    unstable) and, if given, a path ``omega`` (n, 3). ``body`` is a
-    :class:`~poinsot.torquefree.FreeRigidBody`. Returns a plotly figure."""
+    unstable) and, if given, a path ``omega`` (n, 3, body frame), in components along the
+    principal axes. ``body`` is a :class:`~poinsot.torquefree.FreeRigidBody`. Returns a
+    plotly figure."""
     go = _go()
     k = float(energy)
     semi = energy_ellipsoid_semi_axes(body.principal_moments, k)
-    data = [_ellipsoid(go, semi, body._S, "#9ecae1", "energy ellipsoid")]
+    data = [_ellipsoid(go, semi, np.eye(3), "#9ecae1", "energy ellipsoid")]
     shown = set()
     stable, unstable = [], []
     for p in body.polhode_family(k, levels=levels, n=n):
         if p.family == "fixed point":
             (stable if body.stability(p.points[0]).stable else unstable).append(p.points[0])
         elif p.family != "spherical":
-            data.append(_line(go, p.points, p.family, p.family not in shown))
+            pts = body.principal_components(p.points)
+            data.append(_line(go, pts, p.family, p.family not in shown))
             shown.add(p.family)
     for pts, color, symbol, name in (
         (stable, "green", "circle", "stable fixed points"),
         (unstable, "red", "x", "unstable fixed points"),
     ):
         if pts:
-            arr = np.array(pts)
+            arr = body.principal_components(np.array(pts))
             data.append(
                 go.Scatter3d(
                     x=arr[:, 0],
@@ -100,7 +110,7 @@ def polhode_family_figure(body, energy=0.5, *, levels=9, omega=None, n=200):
                 )
             )
     if omega is not None:
-        w = np.asarray(omega)
+        w = body.principal_components(omega)
         data.append(
             go.Scatter3d(
                 x=w[:, 0],
@@ -114,8 +124,8 @@ def polhode_family_figure(body, energy=0.5, *, levels=9, omega=None, n=200):
     fig = go.Figure(data=data)
     fig.update_layout(
         title=f"Polhodes on the energy ellipsoid, k = {k:.4g} J",
-        height=600,
-        scene=_OMEGA_SCENE,
+        height=640,
+        scene=omega_scene(body.principal_moments),
     )
     return fig
 
@@ -129,13 +139,14 @@ def energy_ellipsoid_figure(body, energy, momentum):
     k, a = float(energy), float(momentum)
     D = body.check_feasible(k, a)
     I = body.principal_moments
+    E = np.eye(3)  # principal components: the ellipsoids' axes are the plot's axes
     data = [
-        _ellipsoid(go, energy_ellipsoid_semi_axes(I, k), body._S, "#9ecae1", "energy ellipsoid"),
+        _ellipsoid(go, energy_ellipsoid_semi_axes(I, k), E, "#9ecae1", "energy ellipsoid"),
         _ellipsoid(
-            go, momentum_ellipsoid_semi_axes(I, a), body._S, "#a1d99b", "momentum ellipsoid", 0.15
+            go, momentum_ellipsoid_semi_axes(I, a), E, "#a1d99b", "momentum ellipsoid", 0.15
         ),
     ]
-    curves = _intersection(body, k, a)
+    curves = [body.principal_components(c) for c in _intersection(body, k, a)]
     s = np.linspace(-1.35, 1.35, 25)
     if body.symmetry != "spherical":
         for i, pts in enumerate(curves):
@@ -169,7 +180,7 @@ def energy_ellipsoid_figure(body, energy, momentum):
     fig = go.Figure(data=data)
     fig.update_layout(
         title=f"Energy ellipsoid ∩ cone, k = {k:.4g} J, a²/2k = {D:.4g} kg·m²",
-        height=600,
-        scene=_OMEGA_SCENE,
+        height=640,
+        scene=omega_scene(I),
     )
     return fig

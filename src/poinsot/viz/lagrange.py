@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._style import legend_below, legend_outside
 from .torquefree import _plt
 
 __all__ = ["lagrangian_panels", "plot_lagrangian_solution", "plot_mechanism_frames"]
@@ -48,7 +49,7 @@ def lagrangian_panels(sol, model=None) -> list:
                 "Constraint reactions (from the multipliers)",
                 ("force [N]" if units == {"N"} else " / ".join(f"[{u}]" for u in sorted(units))),
                 False,
-                [(f"{n}: {meaning}", t, v) for n, (v, _, meaning) in reactions.items()],
+                [(n, t, v) for n, (v, _, _) in reactions.items()],
             )
         )
     elif m:
@@ -90,7 +91,7 @@ def plot_lagrangian_solution(sol, *, model=None, title=None):
     plt = _plt()
     panels = lagrangian_panels(sol, model)
     rows = (len(panels) + 1) // 2
-    fig, axes = plt.subplots(rows, 2, figsize=(12, 3.4 * rows + 0.6), squeeze=False)
+    fig, axes = plt.subplots(rows, 2, figsize=(12, 4.4 * rows + 0.6), squeeze=False)
     for ax, (panel, ylabel, log, curves) in zip(axes.ravel(), panels, strict=False):
         for label, x, y in curves:
             (ax.semilogy if log else ax.plot)(x, y, label=label)
@@ -98,7 +99,7 @@ def plot_lagrangian_solution(sol, *, model=None, title=None):
         ax.set_ylabel(ylabel)
         ax.set_xlabel("t [s]")
         ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=7)
+        legend_below(ax, fontsize=7, ncol=2)
     for ax in axes.ravel()[len(panels) :]:
         ax.remove()
     if title:
@@ -116,7 +117,7 @@ def plot_mechanism_frames(model, sol, *, frames=6, ax=None):
     idx = np.linspace(0, len(sol.t) - 1, frames).astype(int)
     three = model.view == "3d"
     if ax is None:
-        fig = plt.figure(figsize=(6.5, 6))
+        fig = plt.figure(figsize=(8.5, 6))
         ax = fig.add_subplot(projection="3d" if three else None)
     cols = slice(0, 3) if three else slice(0, 2)
     for name, pts in model.outlines(sol.params).items():
@@ -154,5 +155,6 @@ def plot_mechanism_frames(model, sol, *, frames=6, ax=None):
     title = f"{model.description}\nthe mechanism at {frames} instants (darker = later)"
     ax.set_title(title, fontsize=9)
     if model.outline or model.trail:
-        ax.legend(fontsize=7, loc="upper right")
+        legend_outside(ax, fontsize=7)
+        ax.figure.tight_layout() if not three else ax.figure.subplots_adjust(right=0.72)
     return ax.figure
