@@ -59,6 +59,9 @@ class Model:
         ground) [m].
     view : str
         ``"xy"`` (a planar mechanism, y up) or ``"3d"``.
+    param_units : dict
+        ``{symbol: unit}`` of every parameter (SI: ``"kg"``, ``"m"``, ``"m/s²"``, ``"rad"``…),
+        for tables and reports.
     """
 
     name: str
@@ -75,6 +78,12 @@ class Model:
     outline: dict = field(default_factory=dict)
     view: str = "xy"
     trail: str | None = None
+    param_units: dict = field(default_factory=dict)
+
+    def unit_of_parameter(self, symbol) -> str:
+        """The unit of a parameter, by symbol or name ("" when not declared)."""
+        by_name = {str(k): u for k, u in self.param_units.items()}
+        return by_name.get(str(symbol), "")
 
     def positions(self, sol):
         """The mechanism's :attr:`points` along a solution: ``(names, array (n_samples,
@@ -171,6 +180,7 @@ def pendulum_polar(theta0=1.0471975511965976) -> Model:
         {theta: 0.0},
         points={"pivot": (0, 0, 0), "bob": (l * sp.sin(theta), -l * sp.cos(theta), 0)},
         links=(("pivot", "bob"),),
+        param_units={m: "kg", g: "m/s²", l: "m"},
     )
 
 
@@ -210,6 +220,7 @@ def pendulum_cartesian(theta0=1.0471975511965976) -> Model:
         },
         points={"pivot": (0, 0, 0), "bob": (x, y, 0)},
         links=(("pivot", "bob"),),
+        param_units={m: "kg", g: "m/s²", l: "m"},
     )
 
 
@@ -239,6 +250,7 @@ def double_pendulum() -> Model:
         points={"pivot": (0, 0, 0), "bob 1": (x1, y1, 0), "bob 2": (x2, y2, 0)},
         links=(("pivot", "bob 1"), ("bob 1", "bob 2")),
         trail="bob 2",
+        param_units={m1: "kg", m2: "kg", l1: "m", l2: "m", g: "m/s²"},
     )
 
 
@@ -265,6 +277,7 @@ def spherical_pendulum() -> Model:
         links=(("pivot", "bob"),),
         view="3d",
         trail="bob",
+        param_units={m: "kg", g: "m/s²", l: "m"},
     )
 
 
@@ -301,6 +314,7 @@ def bead_on_rotating_hoop() -> Model:
         outline={"axis of rotation": [(0, 0, -1.3 * R), (0, 0, 1.3 * R)]},
         view="3d",
         trail="bead",
+        param_units={m: "kg", R: "m", w: "rad/s", g: "m/s²"},
     )
 
 
@@ -348,6 +362,7 @@ def atwood_machine() -> Model:
             **rim,
         },
         links=(("#left", "mass 1"), ("#right", "mass 2"), ("pulley", "#spoke"), *rim_links),
+        param_units={m1: "kg", m2: "kg", I: "kg·m²", r: "m", g: "m/s²", c: "m"},
     )
 
 
@@ -377,6 +392,7 @@ def pendulum_on_cart() -> Model:
         points={"cart": (x, 0, 0), "bob": (x + l * sp.sin(th), -l * sp.cos(th), 0)},
         links=(("cart", "bob"),),
         outline={"rail": [(-2 * l, 0, 0), (2 * l, 0, 0)]},
+        param_units={M: "kg", m: "kg", l: "m", g: "m/s²"},
     )
 
 
@@ -421,6 +437,7 @@ def rolling_disk() -> Model:
         links=(("centre", "#mark"), ("centre", "contact"), *rim_links),
         view="3d",
         trail="contact",
+        param_units={m: "kg", R: "m"},
     )
 
 
@@ -462,6 +479,7 @@ def knife_edge() -> Model:
         links=(("#heel", "#toe"),),
         trail="contact",
         view="xy",
+        param_units={m: "kg", g: "m/s²", alpha: "rad", I: "kg·m²"},
     )
 
 
@@ -505,6 +523,7 @@ def sliding_ladder() -> Model:
         links=(("top", "foot"),),
         outline={"wall": [(0, 0, 0), (0, 1.1 * L, 0)], "floor": [(0, 0, 0), (1.6 * L, 0, 0)]},
         trail="top",
+        param_units={m: "kg", g: "m/s²", L: "m"},
     )
 
 
@@ -561,6 +580,7 @@ def rolling_coin() -> Model:
         links=(("centre", "rim#0"), ("centre", "contact"), *rim_links),
         view="3d",
         trail="contact",
+        param_units={m: "kg", r: "m", g: "m/s²"},
     )
 
 
@@ -640,6 +660,7 @@ def heavy_symmetric_top() -> Model:
         links=(("tip", "centre of mass"), ("centre of mass", "rim#0"), *rim_links),
         view="3d",
         trail="centre of mass",
+        param_units={A: "kg·m²", C: "kg·m²", M: "kg", g: "m/s²", l: "m"},
     )
 
 

@@ -444,27 +444,41 @@ class Trajectory:
                 fmt="%.17g",
             )
 
+    def variables(self) -> dict:
+        """The samples as ``name → (dims, values, attrs)`` with a ``time`` dimension, units
+        in the attributes, coordinates included: what :meth:`to_xarray` and
+        :meth:`to_netcdf` write."""
+        vec = ("time", "axis")
+        return {
+            "R": (vec, self.R, {"units": "m"}),
+            "V": (vec, self.V, {"units": "m/s"}),
+            "Q": (("time", "row", "col"), self.Q, {"units": "1"}),
+            "omega": (vec, self.omega, {"units": "rad/s", "frame": "body"}),
+            "omega_space": (vec, self.omega_space, {"units": "rad/s", "frame": "space"}),
+            "quaternion": (("time", "component"), self.quaternion, {"units": "1"}),
+            "angular_momentum": (vec, self.angular_momentum, {"units": "kg m2/s"}),
+            "kinetic_energy": (("time",), self.kinetic_energy, {"units": "J"}),
+            "total_energy": (("time",), self.total_energy, {"units": "J"}),
+            "time": (("time",), self.t, {"units": "s"}),
+            "axis": (("axis",), np.array(list("xyz")), {}),
+            "component": (("component",), np.array(list("wxyz")), {}),
+        }
+
     def to_xarray(self):
-        """An ``xarray.Dataset`` with a ``time`` dimension (needs the ``xarray`` extra)."""
+        """An ``xarray.Dataset`` of :meth:`variables` (needs the ``xarray`` extra)."""
         try:
             import xarray as xr
         except ImportError as exc:  # pragma: no cover - depends on the environment
             raise ImportError("to_xarray needs xarray: pip install 'poinsot[xarray]'") from exc
-        vec = ("time", "axis")
-        ds = xr.Dataset(
-            {
-                "R": (vec, self.R, {"units": "m"}),
-                "V": (vec, self.V, {"units": "m/s"}),
-                "Q": (("time", "row", "col"), self.Q, {"units": "1"}),
-                "omega": (vec, self.omega, {"units": "rad/s", "frame": "body"}),
-                "omega_space": (vec, self.omega_space, {"units": "rad/s", "frame": "space"}),
-                "quaternion": (("time", "component"), self.quaternion, {"units": "1"}),
-                "angular_momentum": (vec, self.angular_momentum, {"units": "kg m2/s"}),
-                "kinetic_energy": ("time", self.kinetic_energy, {"units": "J"}),
-                "total_energy": ("time", self.total_energy, {"units": "J"}),
-            },
-            coords={"time": self.t, "axis": list("xyz"), "component": list("wxyz")},
-            attrs={"method": self.method, "summary": json.dumps(self.summary())},
-        )
-        ds["time"].attrs["units"] = "s"
-        return ds
+        from .ensemble.result import _dataset
+
+        return _dataset(xr, self.variables(), {"method": self.method,
+                                                "summary": json.dumps(self.summary())})  # fmt: skip
+
+    def to_netcdf(self, path) -> None:
+        """Write :meth:`variables` to a NetCDF-3 file (atomically, with SciPy's writer: no
+        xarray needed)."""
+        from ._io import write_netcdf
+
+        write_netcdf(path, self.variables(), {"method": self.method,
+                                              "summary": json.dumps(self.summary())})  # fmt: skip

@@ -32,9 +32,12 @@ def test_series_figure_has_one_legend_per_subplot_and_units(notebook):
     fig = _series_figure(notebook, go)
     legends = _legends(fig)
     assert len(legends) == 3 and all(len(axes) == 1 for axes in legends.values())
-    for name in legends:
-        assert fig.layout[name].x is not None  # placed inside its subplot
-    assert fig.layout.yaxis.title.text == "ω [rad/s]"
+    for name in legends:  # each below its own subplot, clear of its plotting area
+        legend = fig.layout[name]
+        ((xa, ya),) = legends[name]
+        assert legend.y < fig.layout[f"yaxis{ya[1:]}"].domain[0]
+        assert legend.x == fig.layout[f"xaxis{xa[1:]}"].domain[0]
+    assert fig.layout.yaxis.title.text == "ω along e₁, e₂, e₃ [rad/s]"
     assert "dimensionless" in fig.layout.yaxis3.title.text
 
 

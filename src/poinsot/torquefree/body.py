@@ -73,7 +73,9 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
                 f"{s[0]:.6g} + {s[1]:.6g} < {s[2]:.6g}"
             )
             if not allow_unphysical:
-                raise ValueError(message + " (allow_unphysical=True to study the equation anyway)")
+                from ..bodies import UnphysicalInertiaError
+
+                raise UnphysicalInertiaError(message)
             warnings.warn(message + ": no mass distribution has these moments", stacklevel=2)
         self._setup(I, np.eye(3))
 
