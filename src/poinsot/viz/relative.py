@@ -26,7 +26,8 @@ def _plt():
 
 
 def plot_relative_motion(sol, *, title=None):
-    """Panels over time: ω_r (body components), the carrier's ω_e (carrier components), the
+    """Panels over time: ω_r (body components) with the absolute ω (dashed: the same motion
+    seen from space), the carrier's ω_e (carrier components), the
     relative rotational energy ½ ω_r·Jω_r, the magnitudes of the transport and Coriolis inertia
     moments, and the direction of the body's axis of largest moment C in the carrier's axes
     (where a spin axis points relative to the vehicle). Returns the figure.
@@ -55,8 +56,12 @@ def plot_relative_motion(sol, *, title=None):
     bottom.set_title("the body's axis of largest moment C seen from the carrier (unit vector)",
                      fontsize=9)  # fmt: skip
     for k, name in enumerate("xyz"):
-        axes[0, 0].plot(t, sol.omega_r[:, k], label=f"ω_r,{name}")
+        (line,) = axes[0, 0].plot(t, sol.omega_r[:, k], label=f"ω_r,{name}: relative")
+        axes[0, 0].plot(t, sol.omega_absolute[:, k], ls="--", color=line.get_color(),
+                        label=f"ω_{name}: absolute")  # fmt: skip
         axes[0, 1].plot(t, sol.carrier_motion[:, k], label=f"ω_e,{name}")
+    axes[0, 0].set_title("both views: relative to the carrier (solid), in space (dashed)",
+                         fontsize=9)  # fmt: skip
     axes[0, 0].set_ylabel("ω_r [rad/s], body axes")
     axes[0, 1].set_ylabel("ω_e [rad/s], carrier axes")
     E = sol.relative_energy
