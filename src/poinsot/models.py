@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from .display import HTMLDisplay
+
 __all__ = [
     "MODELS",
     "Model",
@@ -30,7 +32,7 @@ __all__ = [
 
 
 @dataclass
-class Model:
+class Model(HTMLDisplay):
     """A canonical system with defaults and the geometry to draw it.
 
     Attributes
@@ -117,7 +119,9 @@ class Model:
         kwargs.setdefault("params", self.params)
         if self.guess:
             kwargs.setdefault("guess", self.guess)
-        return self.system.simulate(t_span, **kwargs)
+        sol = self.system.simulate(t_span, **kwargs)
+        sol.model = self  # its reactions named, its mechanism drawn (sol.plot(), sol.show())
+        return sol
 
 
 def notebook_body():

@@ -10,6 +10,7 @@ import numpy as np
 from . import _core
 from ._core import matrix_to_quat
 from ._io import atomic_path
+from .display import Displayable
 from .layout import STATE_SIZE, STATE_SLICES
 
 __all__ = ["Trajectory"]
@@ -21,7 +22,7 @@ def _readonly(a):
     return a
 
 
-class Trajectory:
+class Trajectory(Displayable):
     """Samples of a rigid-body motion and everything computed from them.
 
     Attributes

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..display import Displayable
 from ..layout import STATE_SIZE, STATE_SLICES
 
 __all__ = ["EnsembleResult"]
@@ -30,7 +31,7 @@ def _readonly(a):
 
 
 @dataclass
-class EnsembleResult:
+class EnsembleResult(Displayable):
     """N motions sampled at the same times.
 
     Attributes

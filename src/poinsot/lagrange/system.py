@@ -21,6 +21,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from functools import cached_property
 
+from ..display import HTMLDisplay
+
 __all__ = ["LagrangianSystem", "PointMass"]
 
 
@@ -56,7 +58,7 @@ def _as_zero_form(expr, name):
     return e
 
 
-class LagrangianSystem:
+class LagrangianSystem(HTMLDisplay):
     """A mechanical system in generalized coordinates, with constraints and applied forces.
 
     Parameters
@@ -673,6 +675,26 @@ class LagrangianSystem:
             f"LagrangianSystem(coordinates={self.coordinates}, holonomic={self.n_holonomic}, "
             f"nonholonomic={len(self.nonholonomic)})"
         )
+
+    def _repr_latex_(self) -> str:
+        """The equations of motion (6.60), one per coordinate, and the constraints, as LaTeX by
+        SymPy's printing (``q̇`` as a dot): the display of a system in a notebook.
+
+        Examples
+        --------
+        >>> from poinsot.models import pendulum_cartesian
+        >>> latex = pendulum_cartesian().system._repr_latex_()
+        >>> r"\ddot{x}" in latex and r"\lambda_{1}" in latex and latex.startswith("$")
+        True
+        """
+        from sympy.physics.vector.printing import vlatex
+
+        lines = [f"{vlatex(e.lhs)} &= {vlatex(e.rhs)}" for e in self.equations()]
+        for k, g in enumerate(self.holonomic):
+            relation = r"\geq" if k in self.unilateral else "="
+            lines.append(f"{vlatex(g)} &{relation} 0")
+        lines += [f"{vlatex(a)} &= 0" for a in self.nonholonomic]
+        return r"$\displaystyle \begin{aligned}" + r" \\ ".join(lines) + r"\end{aligned}$"
 
     # numeric side: poinsot.lagrange.numeric
     def simulate(self, t_span, *, q0, qd0=None, params=None, **kwargs):

@@ -16,6 +16,7 @@ import numpy as np
 
 from .. import _core
 from .._validation import as_array
+from ..display import Displayable
 from .polhodes import PolhodeMixin
 from .solution import SolutionMixin
 from .stability import StabilityMixin
@@ -28,7 +29,7 @@ __all__ = ["SYMMETRY_RTOL", "FreeRigidBody"]
 SYMMETRY_RTOL = _core.SYMMETRY_RTOL
 
 
-class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
+class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin, Displayable):
     """A torque-free rigid body given by its principal moments.
 
     Parameters

@@ -11,7 +11,14 @@ import numpy as np
 
 from .._core import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
 
-__all__ = ["SCENE_CAMERA", "energy_ellipsoid_figure", "omega_scene", "polhode_family_figure"]
+__all__ = [
+    "SCENE_CAMERA",
+    "energy_ellipsoid_figure",
+    "ensemble_histograms_figure",
+    "omega_scene",
+    "polhode_family_figure",
+    "relative_figure",
+]
 
 COLORS = {
     "around e1": "#1f77b4",
@@ -183,4 +190,62 @@ def energy_ellipsoid_figure(body, energy, momentum):
         height=640,
         scene=omega_scene(I),
     )
+    return fig
+
+
+def ensemble_histograms_figure(result):
+    """Histograms of an ensemble's per-member statistics (those of
+    :func:`poinsot.viz.ensemble.plot_ensemble_histograms`), one subplot each, errors on
+    logarithmic axes."""
+    from plotly.subplots import make_subplots
+
+    from .ensemble import LABELS, _values
+    from .report import _legend_per_subplot
+
+    go = _go()
+    names = [n for n in LABELS if _values(result, n)[0].size]
+    if not names:
+        raise ValueError("the ensemble has no statistic with a finite value to draw")
+    cols = min(3, len(names))
+    rows = -(-len(names) // cols)
+    fig = make_subplots(rows=rows, cols=cols, subplot_titles=[LABELS[n][0] for n in names],
+                        horizontal_spacing=0.08)  # fmt: skip
+    for k, name in enumerate(names):
+        values, _ = _values(result, name)
+        log = LABELS[name][1]
+        if log:
+            values = np.log10(values[values > 0])
+        fig.add_trace(go.Histogram(x=values, nbinsx=40, name=name, showlegend=False),
+                      row=k // cols + 1, col=k % cols + 1)  # fmt: skip
+        fig.update_xaxes(title_text="log₁₀ of the value" if log else LABELS[name][0],
+                         row=k // cols + 1, col=k % cols + 1)  # fmt: skip
+        fig.update_yaxes(title_text="members", row=k // cols + 1, col=k % cols + 1)
+    fig.update_layout(title=f"{len(result)} members, {result.method}")
+    _legend_per_subplot(fig, cols=cols)
+    return fig
+
+
+def relative_figure(sol):
+    """A motion relative to a carrier, both views: ω_r (relative, body axes) and the absolute
+    ω (dashed), and the relative energy, against time."""
+    from plotly.subplots import make_subplots
+
+    from .report import _legend_per_subplot
+
+    go = _go()
+    fig = make_subplots(rows=1, cols=2, horizontal_spacing=0.1, subplot_titles=(
+        "ω relative to the carrier (solid) and in space (dashed), body axes",
+        "relative energy ½ ω_r·Jω_r"))  # fmt: skip
+    colors = ("#1f77b4", "#ff7f0e", "#2ca02c")
+    for k, c in enumerate("xyz"):
+        fig.add_trace(go.Scatter(x=sol.t, y=sol.omega_r[:, k], name=f"ω_r,{c}",
+                                 line={"color": colors[k]}), row=1, col=1)  # fmt: skip
+        dashed = {"color": colors[k], "dash": "dash"}
+        fig.add_trace(go.Scatter(x=sol.t, y=sol.omega_absolute[:, k], name=f"ω_{c} absolute",
+                                 line=dashed), row=1, col=1)  # fmt: skip
+    fig.add_trace(go.Scatter(x=sol.t, y=sol.relative_energy, name="T_r"), row=1, col=2)
+    fig.update_yaxes(title_text="ω [rad/s]", row=1, col=1)
+    fig.update_yaxes(title_text="T_r [J]", row=1, col=2)
+    fig.update_xaxes(title_text="t [s]")
+    _legend_per_subplot(fig, cols=2, top=60)
     return fig
