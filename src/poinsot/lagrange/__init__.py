@@ -5,13 +5,15 @@
 generalized constraint forces, constraint residuals and energy (``engine="compiled"``: a
 generated, numba-compiled module stepped by the compiled drivers); ``system.simulate_ensemble``
 runs parameter ensembles; ``system.equilibria`` and ``system.linearize`` give equilibria,
-natural frequencies and stability.
+natural frequencies and stability; ``system.reaction_forces`` gives the forces of the
+constraints that minimal coordinates hide (:mod:`~poinsot.lagrange.reactions`).
 """
 
 from ..display import Displayable
 from .ensemble import LagrangianEnsemble, simulate_ensemble
 from .linear import Linearization, equilibria, linearize
 from .numeric import LagrangianSolution, simulate
+from .reactions import HiddenConstraint
 from .system import LagrangianSystem, PointMass
 
 # LagrangianSolution (lagrange/numeric.py, being moved into the compiled core) gains the
@@ -22,6 +24,7 @@ for _name in ("_repr_html_", "plot", "show"):
         setattr(LagrangianSolution, _name, getattr(Displayable, _name))
 
 __all__ = [
+    "HiddenConstraint",
     "LagrangianEnsemble",
     "LagrangianSolution",
     "LagrangianSystem",

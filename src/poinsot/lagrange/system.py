@@ -93,6 +93,13 @@ class LagrangianSystem(HTMLDisplay):
         ``g = 0`` while their multiplier λ ≥ 0 (the reaction ``λ ∇g`` pushes into ``g > 0``),
         released for the rest of the run when λ falls through zero (``simulate`` locates
         that instant). Listed after the holonomic constraints; no impacts on re-contact.
+    hidden : sequence of :class:`~poinsot.lagrange.reactions.HiddenConstraint`
+        Constraints that the coordinates satisfy by construction, declared so that their
+        forces can be had (:meth:`reaction_forces`): the expressions above may use each
+        one's auxiliary coordinate ρ(t) (a rod's length, a pivot's position) where the
+        constraint holds it at its ``value``. The system itself is the minimal one (ρ held,
+        substituted after the Lagrangian is formed); :attr:`augmented` is the system in the
+        coordinates and the ρ with the constraints ``ρ − value = 0``.
 
     Examples
     --------
@@ -126,10 +133,42 @@ class LagrangianSystem(HTMLDisplay):
         units=None,
         unilateral=(),
         frame=None,
+        hidden=(),
     ):
         sp = _sympy()
         self.frame = frame
         self.t = sp.Symbol("t")
+        self.hidden = ()
+        if hidden:
+            from .reactions import _check, _held
+
+            if isinstance(coordinates, str | bytes) or not hasattr(coordinates, "__iter__"):
+                raise TypeError("`coordinates` must be a sequence of functions of time")
+            coordinates = list(coordinates)
+            hidden = _check(hidden, coordinates, self.t)
+            holonomic, unilateral = list(holonomic), list(unilateral)
+            # the augmented system: the coordinates and the auxiliary ones, each held by its
+            # constraint ρ − value = 0 (after the user's holonomic ones, before one-sided ones)
+            augmented = LagrangianSystem(
+                coordinates + [h.coordinate for h in hidden], lagrangian, kinetic=kinetic,
+                potential=potential, bodies=bodies,
+                holonomic=holonomic + [h.coordinate - h.value for h in hidden],
+                nonholonomic=nonholonomic, forces=forces, units=units, unilateral=unilateral,
+                frame=frame)  # fmt: skip
+            # this system: the augmented one with every ρ held at its value, after the
+            # Lagrangian and the generalized forces are formed
+            n, nh = len(coordinates), len(holonomic)
+            lagrangian = _held(augmented.lagrangian, hidden)
+            kinetic = potential = None
+            bodies = ()
+            holonomic = [_held(g, hidden) for g in augmented.holonomic[:nh]]
+            unilateral = [_held(g, hidden) for g in augmented.holonomic[nh + len(hidden) :]]
+            nonholonomic = [_held(a, hidden) for a in augmented.nonholonomic]
+            forces = [{q: _held(Q, hidden)} for q, Q in
+                      zip(coordinates, augmented.generalized_forces[:n], strict=True)
+                      if Q != 0]  # fmt: skip
+            self.hidden = hidden
+            self._augmented = augmented
         if isinstance(coordinates, str | bytes) or not hasattr(coordinates, "__iter__"):
             raise TypeError(
                 "`coordinates` must be a sequence of functions of time (dynamicsymbols), found "
@@ -218,6 +257,36 @@ class LagrangianSystem(HTMLDisplay):
             if not isinstance(u, str):
                 raise TypeError(f"`units[{q}]` must be a string such as 'm' or 'rad'")
         return dict(units)
+
+    @property
+    def augmented(self) -> LagrangianSystem:
+        """The system in the coordinates and the auxiliary ones of :attr:`hidden`, with the
+        constraints ``ρ − value = 0`` whose multipliers are the hidden forces (itself when
+        nothing is hidden)."""
+        return getattr(self, "_augmented", self)
+
+    def reaction_forces(self, at, *, names=None, params=None, qd=None, t=0.0, inputs=None):
+        """The forces of the constraints the coordinates hide (:attr:`hidden`), by name:
+        along a run (``at`` a :class:`~poinsot.lagrange.LagrangianSolution` of this system:
+        arrays (n_samples,)) or at a state (``at`` = ``{coordinate: value}``, e.g. an
+        equilibrium, with ``params``, optional speeds ``qd`` (default at rest), ``t`` and
+        ``inputs``: floats). The multipliers of :attr:`augmented` at the very states given,
+        times each constraint's ``sign``; see :mod:`poinsot.lagrange.reactions`.
+
+        Examples
+        --------
+        The double pendulum hanging at rest: the rods carry the weights below them.
+
+        >>> from poinsot.models import double_pendulum
+        >>> model = double_pendulum()
+        >>> t1, t2 = model.system.coordinates
+        >>> forces = model.system.reaction_forces({t1: 0.0, t2: 0.0}, params=model.params)
+        >>> {k: round(v, 9) for k, v in forces.items()}
+        {'rod 1 tension T1': 19.62, 'rod 2 tension T2': 9.81}
+        """
+        from .reactions import reaction_forces
+
+        return reaction_forces(self, at, names=names, params=params, qd=qd, t=t, inputs=inputs)
 
     def released(self, index: int) -> LagrangianSystem:
         """This system without its holonomic constraint ``index`` (a one-sided constraint
@@ -677,7 +746,7 @@ class LagrangianSystem(HTMLDisplay):
         )
 
     def _repr_latex_(self) -> str:
-        """The equations of motion (6.60), one per coordinate, and the constraints, as LaTeX by
+        r"""The equations of motion (6.60), one per coordinate, and the constraints, as LaTeX by
         SymPy's printing (``q̇`` as a dot): the display of a system in a notebook.
 
         Examples
