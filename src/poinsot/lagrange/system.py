@@ -158,7 +158,8 @@ class LagrangianSystem(HTMLDisplay):
             # this system: the augmented one with every ρ held at its value, after the
             # Lagrangian and the generalized forces are formed
             n, nh = len(coordinates), len(holonomic)
-            lagrangian = _held(augmented.lagrangian, hidden)
+            # sin² + cos² = 1 collapsed (exact): the freed positions leave such sums behind
+            lagrangian = _pythagorean(_held(augmented.lagrangian, hidden))
             kinetic = potential = None
             bodies = ()
             holonomic = [_held(g, hidden) for g in augmented.holonomic[:nh]]

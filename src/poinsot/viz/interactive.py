@@ -102,7 +102,7 @@ def polhode_family_figure(body, energy=0.5, *, levels=9, omega=None, n=200):
             shown.add(p.family)
     for pts, color, symbol, name in (
         (stable, "green", "circle", "stable fixed points"),
-        (unstable, "red", "x", "unstable fixed points"),
+        (unstable, "red", "diamond", "unstable fixed points"),
     ):
         if pts:
             arr = body.principal_components(np.array(pts))

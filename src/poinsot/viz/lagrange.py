@@ -41,7 +41,7 @@ def lagrangian_panels(sol, model=None) -> list:
         curves = [(name, t, sol.q[:, j]) for j, name in members]
         panels.append((f"Generalized coordinates: {what}", label, False, curves))
     m = sol.multipliers.shape[1]
-    reactions = model.reaction_values(sol) if model is not None and model.reactions else {}
+    reactions = model.reaction_values(sol) if model is not None else {}
     if reactions:
         units = {u for _, u, _ in reactions.values()}
         panels.append(
@@ -56,7 +56,7 @@ def lagrangian_panels(sol, model=None) -> list:
         panels.append(
             (
                 "Lagrange multipliers λ (sign of eq. (6.60))",
-                "λ (constraint's units)",
+                "λ [the constraint's units]",
                 False,
                 [(f"λ{k + 1}", t, sol.multipliers[:, k]) for k in range(m)],
             )
@@ -71,11 +71,11 @@ def lagrangian_panels(sol, model=None) -> list:
         residuals.append(("max |G q̇ + b| (velocity level)", t, vel))
     if residuals:
         panels.append((f"Constraint residuals (stabilization: {sol.stabilization})",
-                       "residual (the constraints' units)", True, residuals))  # fmt: skip
+                       "residual [the constraints' units]", True, residuals))  # fmt: skip
     kept = sol.invariants
     if kept:
         panels.append(("Conserved by this system: relative change (integration error)",
-                       "relative change |x(t) − x(0)| / scale", True,
+                       "relative change |x(t) − x(0)| / scale (dimensionless)", True,
                        [(f"{i.symbol} [{i.unit}]" if i.unit else i.symbol, t, i.change + tiny)
                         for i in kept]))  # fmt: skip
     else:

@@ -220,7 +220,7 @@ def _polhode_figure(traj, go, free, levels):
     fig = polhode_family_figure(free, k, levels=levels, omega=w)
     fig.update_layout(
         title=f"This run's ω(t) on its energy ellipsoid (k = {k:.4g} J), with the polhodes "
-        "at that energy; ω in rad/s, body frame"
+        "at that energy; ω along the principal axes e₁, e₂, e₃"
     )
     return fig
 
@@ -606,6 +606,8 @@ def write_ensemble_report(path, summary: dict, images: dict) -> None:
     per-member statistics as a table, and the figures (``images``: caption → PNG bytes,
     embedded), with the raw summary JSON. Needs nothing beyond the standard library."""
     stats = summary.get("ensemble", {}).get("statistics", {})
+    units = {"first_flip": "s", "flip_interval": "s", "flip_count": "",
+             "energy_error": "1", "momentum_error": "1", "orthogonality_error": "1"}  # fmt: skip
     rows = []
     for name, entry in stats.items():
         if not entry.get("count"):
@@ -613,11 +615,14 @@ def write_ensemble_report(path, summary: dict, images: dict) -> None:
         cells = "".join(f"<td>{entry[k]:.4g}</td>" for k in ("min", "p05", "median", "p95", "max"))
         rows.append(
             f"<tr><th>{html.escape(name)}</th><td>{entry['count']}</td>{cells}"
+            f"<td class='unit'>{html.escape(units.get(name, ''))}</td>"
             f"<td class='meaning'>{html.escape(entry.get('meaning', ''))}</td></tr>"
         )
     table = (
         "<table class='numbers'><tr><th>statistic</th><th>members</th><th>min</th><th>5 %</th>"
-        "<th>median</th><th>95 %</th><th>max</th><th>meaning</th></tr>" + "".join(rows) + "</table>"
+        "<th>median</th><th>95 %</th><th>max</th><th>unit</th><th>meaning</th></tr>"
+        + "".join(rows)
+        + "</table>"
     )
     e = summary.get("ensemble", {})
     lead = (

@@ -85,8 +85,11 @@ def summarize_ensemble(scenario, res, free=None) -> dict:
     if e["distribution"] == "sphere":
         dist = {"description": f"ω uniform on the sphere |ω| = {e['speed']:g} rad/s"}
     else:
+        from ...viz.numbers import format_value
+
+        mean, std = format_value(e["mean"].tolist()), format_value(e["std"].tolist())
         dist = {
-            "description": f"ω ~ N({e['mean'].tolist()}, diag({e['std'].tolist()})²) rad/s",
+            "description": f"ω ~ N(mean {mean}, standard deviations {std}) rad/s, body frame",
             "mean": e["mean"].tolist(),
             "std": e["std"].tolist(),
         }
