@@ -234,6 +234,7 @@ def test_inertia_command(tmp_path, capsys):
     assert main(["inertia", str(path), "--json"]) == 0
     info = json.loads(capsys.readouterr().out)
     np.testing.assert_allclose(info["principal_moments"], [5 / 12, 10 / 12, 13 / 12])
+    assert info["units"]["principal_moments"] == "kg·m²" and info["units"]["mass"] == "kg"
     only_body = tmp_path / "only.toml"
     only_body.write_text('[body]\ntype = "sphere"\nmass = 2.0\nradius = 0.5\n')
     assert main(["inertia", str(only_body)]) == 0

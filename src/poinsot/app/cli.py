@@ -162,6 +162,8 @@ def _cmd_inertia(args):
             raise _BadInput(f"{path}: {exc}") from None
     info = body.mass_properties()
     if args.json:
+        info["units"] = {"mass": "kg", "center_of_mass": "m", "inertia": "kg·m²",
+                         "principal_moments": "kg·m²", "principal_axes": "1"}  # fmt: skip
         print(json.dumps(info, indent=2))
         return EXIT_OK
     import numpy as np

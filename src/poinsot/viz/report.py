@@ -684,9 +684,11 @@ figcaption {{ color: #555; font-size: 0.9em; }}
 def write_relative_report(path, summary: dict, images: dict) -> None:
     """A self-contained HTML page of a motion relative to a carrier: the carrier, the numbers
     (with units and meanings) and the figures (``images``: caption → PNG bytes)."""
+    from .numbers import format_value
+
     rows = []
     for name, (value, unit, meaning) in summary.get("table", {}).items():
-        shown = f"{value:.6g}" if isinstance(value, float) else html.escape(str(value))
+        shown = format_value(value) if isinstance(value, float) else html.escape(str(value))
         rows.append(
             f"<tr><th>{html.escape(name)}</th><td>{shown}</td><td>{html.escape(unit)}</td>"
             f"<td class='meaning'>{html.escape(meaning)}</td></tr>"
