@@ -53,8 +53,12 @@ def _axes3d(ax, figsize=(9.5, 6.5)):
 
 
 def _equal_3d(ax, radius, moments=None):
+    from matplotlib.ticker import MaxNLocator
+
     for setter in (ax.set_xlim, ax.set_ylim, ax.set_zlim):
         setter(-radius, radius)
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # few ticks: their labels never collide
+        axis.set_major_locator(MaxNLocator(5))
     ax.set_box_aspect((1, 1, 1), zoom=0.85)  # room for the tick and axis labels
     omega_axis_labels(ax, moments)
 
