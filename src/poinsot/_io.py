@@ -34,6 +34,7 @@ __all__ = [
     "atomic_path",
     "atomic_write_text",
     "safe_name",
+    "write_netcdf",
 ]
 
 #: The file that marks a folder as poinsot's output and lists what poinsot wrote in it.
@@ -104,6 +105,71 @@ def atomic_write_text(path, text: str) -> None:
     """Write ``text`` (UTF-8) to ``path`` atomically."""
     with atomic_path(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
+
+
+def write_netcdf(path, variables: dict, attrs: dict | None = None) -> None:
+    """Write a NetCDF-3 file (64-bit offsets) atomically with SciPy's writer, in every install
+    (no xarray needed; xarray, netCDF4 and ncdump read it).
+
+    ``variables``: ``name → (dims, data, attrs)``; a variable named like its dimension is that
+    dimension's coordinate. NetCDF-3 has no 64-bit integers: int64 is written as int32 (refused
+    if it does not fit), bool as int8, strings as characters along a ``NAME_strlen`` dimension
+    (xarray reads them back as strings). Attribute values are numbers or strings (UTF-8).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, numpy as np
+    >>> from scipy.io import netcdf_file
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "x.nc"
+    >>> write_netcdf(path, {"time": (("time",), np.arange(3.0), {"units": "s"}),
+    ...                     "E": (("time",), np.ones(3), {"units": "J"})}, {"method": "rk4"})
+    >>> with netcdf_file(path, mmap=False) as f:
+    ...     f.variables["E"].units, f.method
+    (b'J', b'rk4')
+    """
+    import numpy as np
+    from scipy.io import netcdf_file
+
+    sizes: dict[str, int] = {}
+    prepared = []
+    for name, (dims, data, var_attrs) in variables.items():
+        a = np.asarray(data)
+        dims = tuple(dims)
+        if a.dtype.kind in "US":  # strings: a character dimension of their longest length
+            width = max(1, max((len(str(x)) for x in a.ravel()), default=1))
+            a = np.array([[c.encode() for c in str(x).ljust(width)] for x in a.ravel()],
+                         dtype="S1").reshape(*a.shape, width)  # fmt: skip
+            dims = (*dims, f"{name}_strlen")
+            var_attrs = {**(var_attrs or {}), "_Encoding": "utf-8"}  # read back as str
+        elif a.dtype == bool:
+            a = a.astype(np.int8)
+        elif a.dtype.kind in "iu" and a.dtype.itemsize > 4:
+            if a.size and (a.max() > np.iinfo(np.int32).max or a.min() < np.iinfo(np.int32).min):
+                raise ValueError(f"`{name}`: integers beyond 32 bits cannot go into NetCDF-3")
+            a = a.astype(np.int32)
+        elif a.dtype.kind == "f":
+            a = a.astype(np.float64)
+        if a.ndim != len(dims):
+            raise ValueError(f"`{name}`: {a.ndim} axes but dimensions {dims}")
+        for d, n in zip(dims, a.shape, strict=True):
+            if sizes.setdefault(d, n) != n:
+                raise ValueError(f"dimension `{d}` has sizes {sizes[d]} and {n}")
+        prepared.append((name, dims, a, var_attrs or {}))
+    with atomic_path(path) as tmp:
+        f = netcdf_file(tmp, "w", version=2)
+        try:
+            for d, n in sizes.items():
+                f.createDimension(d, n)
+            for name, dims, a, var_attrs in prepared:
+                v = f.createVariable(name, a.dtype, dims)
+                if a.size:
+                    v[...] = a
+                for key, value in var_attrs.items():
+                    setattr(v, key, _attribute(value))
+            for key, value in (attrs or {}).items():
+                setattr(f, key, _attribute(value))
+        finally:
+            f.close()
 
 
 def _read_manifest(folder: Path) -> dict | None:
@@ -322,3 +388,8 @@ def _version() -> str:
 def is_disk_full(exc: BaseException) -> bool:
     """Whether ``exc`` is the operating system's "no space left" (or quota) error."""
     return isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT)
+
+
+def _attribute(value):
+    """A NetCDF-3 attribute: strings as UTF-8 bytes (SciPy's writer takes only ASCII text)."""
+    return value.encode("utf-8") if isinstance(value, str) else value

@@ -39,6 +39,17 @@ class UnphysicalInertiaWarning(UserWarning):
     """Principal moments that no mass distribution has (accepted with ``allow_unphysical``)."""
 
 
+class UnphysicalInertiaError(ValueError):
+    """Principal moments that no mass distribution has, refused. ``str()`` says how to accept
+    them anyway from Python (``allow_unphysical=True``); ``reason`` is the message without
+    that advice, for callers that offer their own way (a scenario's ``allow_unphysical``
+    key, a command-line option)."""
+
+    def __init__(self, reason: str, how: str = "allow_unphysical=True"):
+        self.reason = reason
+        super().__init__(f"{reason} ({how} to study the equations anyway)")
+
+
 def _readonly(a: np.ndarray) -> np.ndarray:
     a = np.array(a, dtype=float)
     a.flags.writeable = False
@@ -66,7 +77,7 @@ def _check_inertia(inertia, name: str = "inertia", allow_unphysical: bool = Fals
             f"I3 = {I3:.6g}"
         )
         if not allow_unphysical:
-            raise ValueError(message + " (allow_unphysical=True to study the equations anyway)")
+            raise UnphysicalInertiaError(message)
         warnings.warn(message + ": accepted with allow_unphysical", UnphysicalInertiaWarning,
                       stacklevel=3)  # fmt: skip
     return J

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from .display import HTMLDisplay
+
 __all__ = [
     "MODELS",
     "Model",
@@ -30,7 +32,7 @@ __all__ = [
 
 
 @dataclass
-class Model:
+class Model(HTMLDisplay):
     """A canonical system with defaults and the geometry to draw it.
 
     Attributes
@@ -59,6 +61,9 @@ class Model:
         ground) [m].
     view : str
         ``"xy"`` (a planar mechanism, y up) or ``"3d"``.
+    param_units : dict
+        ``{symbol: unit}`` of every parameter (SI: ``"kg"``, ``"m"``, ``"m/s²"``, ``"rad"``…),
+        for tables and reports.
     """
 
     name: str
@@ -75,6 +80,12 @@ class Model:
     outline: dict = field(default_factory=dict)
     view: str = "xy"
     trail: str | None = None
+    param_units: dict = field(default_factory=dict)
+
+    def unit_of_parameter(self, symbol) -> str:
+        """The unit of a parameter, by symbol or name ("" when not declared)."""
+        by_name = {str(k): u for k, u in self.param_units.items()}
+        return by_name.get(str(symbol), "")
 
     def positions(self, sol):
         """The mechanism's :attr:`points` along a solution: ``(names, array (n_samples,
@@ -95,11 +106,18 @@ class Model:
         }
 
     def reaction_values(self, sol) -> dict:
-        """:attr:`reactions` along a solution: ``name → (values (n_samples,), unit, meaning)``."""
-        return {
+        """:attr:`reactions` along a solution, then the forces of the constraints the
+        coordinates hide (``system.hidden``, :meth:`~poinsot.lagrange.LagrangianSystem.
+        reaction_forces`): ``name → (values (n_samples,), unit, meaning)``."""
+        out = {
             name: (sol.evaluate(expr), unit, meaning)
             for name, (expr, unit, meaning) in self.reactions.items()
         }
+        hidden = self.system.hidden
+        if hidden and not sol.releases:
+            forces = self.system.reaction_forces(sol)
+            out.update({h.name: (forces[h.name], h.unit, h.meaning) for h in hidden})
+        return out
 
     def simulate(self, t_span, **kwargs):
         """``system.simulate`` with the model's defaults (any of them overridable)."""
@@ -108,7 +126,9 @@ class Model:
         kwargs.setdefault("params", self.params)
         if self.guess:
             kwargs.setdefault("guess", self.guess)
-        return self.system.simulate(t_span, **kwargs)
+        sol = self.system.simulate(t_span, **kwargs)
+        sol.model = self  # its reactions named, its mechanism drawn (sol.plot(), sol.show())
+        return sol
 
 
 def notebook_body():
@@ -171,6 +191,7 @@ def pendulum_polar(theta0=1.0471975511965976) -> Model:
         {theta: 0.0},
         points={"pivot": (0, 0, 0), "bob": (l * sp.sin(theta), -l * sp.cos(theta), 0)},
         links=(("pivot", "bob"),),
+        param_units={m: "kg", g: "m/s²", l: "m"},
     )
 
 
@@ -210,23 +231,39 @@ def pendulum_cartesian(theta0=1.0471975511965976) -> Model:
         },
         points={"pivot": (0, 0, 0), "bob": (x, y, 0)},
         links=(("pivot", "bob"),),
+        param_units={m: "kg", g: "m/s²", l: "m"},
     )
 
 
 def double_pendulum() -> Model:
-    """Planar double pendulum in the two absolute angles from the downward vertical."""
+    """Planar double pendulum in the two absolute angles from the downward vertical.
+
+    The rods' lengths are hidden constraints (:class:`~poinsot.lagrange.HiddenConstraint`):
+    written with the lengths ρ1, ρ2 as auxiliary coordinates held at l1, l2, the model reports
+    both rod tensions (``system.reaction_forces``), though its coordinates are the angles."""
     sp, ds = _sp()
     t1, t2 = ds("theta1 theta2")
+    r1, r2 = ds("rho1 rho2")  # the rods' lengths, held at l1, l2 by the rods
     m1, m2, l1, l2, g = sp.symbols("m1 m2 l1 l2 g", positive=True)
+    X1, Y1 = r1 * sp.sin(t1), -r1 * sp.cos(t1)
+    X2, Y2 = X1 + r2 * sp.sin(t2), Y1 - r2 * sp.cos(t2)
     x1, y1 = l1 * sp.sin(t1), -l1 * sp.cos(t1)
     x2, y2 = x1 + l2 * sp.sin(t2), y1 - l2 * sp.cos(t2)
-    from .lagrange import LagrangianSystem, PointMass
+    from .lagrange import HiddenConstraint, LagrangianSystem, PointMass
 
     system = LagrangianSystem(
         [t1, t2],
-        bodies=[PointMass(m1, [x1, y1, 0]), PointMass(m2, [x2, y2, 0])],
-        potential=m1 * g * y1 + m2 * g * y2,
+        bodies=[PointMass(m1, [X1, Y1, 0]), PointMass(m2, [X2, Y2, 0])],
+        potential=m1 * g * Y1 + m2 * g * Y2,
         units={t1: "rad", t2: "rad"},
+        hidden=[
+            HiddenConstraint(
+                r1, l1, "rod 1 tension T1", "N", -1, "the pull of rod 1 on bob 1, toward the pivot"
+            ),
+            HiddenConstraint(
+                r2, l2, "rod 2 tension T2", "N", -1, "the pull of rod 2 on bob 2, toward bob 1"
+            ),
+        ],
     )
     return Model(
         "double-pendulum",
@@ -239,6 +276,7 @@ def double_pendulum() -> Model:
         points={"pivot": (0, 0, 0), "bob 1": (x1, y1, 0), "bob 2": (x2, y2, 0)},
         links=(("pivot", "bob 1"), ("bob 1", "bob 2")),
         trail="bob 2",
+        param_units={m1: "kg", m2: "kg", l1: "m", l2: "m", g: "m/s²"},
     )
 
 
@@ -265,6 +303,7 @@ def spherical_pendulum() -> Model:
         links=(("pivot", "bob"),),
         view="3d",
         trail="bob",
+        param_units={m: "kg", g: "m/s²", l: "m"},
     )
 
 
@@ -301,6 +340,7 @@ def bead_on_rotating_hoop() -> Model:
         outline={"axis of rotation": [(0, 0, -1.3 * R), (0, 0, 1.3 * R)]},
         view="3d",
         trail="bead",
+        param_units={m: "kg", R: "m", w: "rad/s", g: "m/s²"},
     )
 
 
@@ -348,6 +388,7 @@ def atwood_machine() -> Model:
             **rim,
         },
         links=(("#left", "mass 1"), ("#right", "mass 2"), ("pulley", "#spoke"), *rim_links),
+        param_units={m1: "kg", m2: "kg", I: "kg·m²", r: "m", g: "m/s²", c: "m"},
     )
 
 
@@ -377,6 +418,7 @@ def pendulum_on_cart() -> Model:
         points={"cart": (x, 0, 0), "bob": (x + l * sp.sin(th), -l * sp.cos(th), 0)},
         links=(("cart", "bob"),),
         outline={"rail": [(-2 * l, 0, 0), (2 * l, 0, 0)]},
+        param_units={M: "kg", m: "kg", l: "m", g: "m/s²"},
     )
 
 
@@ -421,6 +463,7 @@ def rolling_disk() -> Model:
         links=(("centre", "#mark"), ("centre", "contact"), *rim_links),
         view="3d",
         trail="contact",
+        param_units={m: "kg", R: "m"},
     )
 
 
@@ -462,6 +505,7 @@ def knife_edge() -> Model:
         links=(("#heel", "#toe"),),
         trail="contact",
         view="xy",
+        param_units={m: "kg", g: "m/s²", alpha: "rad", I: "kg·m²"},
     )
 
 
@@ -505,6 +549,7 @@ def sliding_ladder() -> Model:
         links=(("top", "foot"),),
         outline={"wall": [(0, 0, 0), (0, 1.1 * L, 0)], "floor": [(0, 0, 0), (1.6 * L, 0, 0)]},
         trail="top",
+        param_units={m: "kg", g: "m/s²", L: "m"},
     )
 
 
@@ -518,6 +563,7 @@ def rolling_coin() -> Model:
     from sympy.physics.mechanics import Point, ReferenceFrame, RigidBody, inertia
 
     x, y, psi, th, ph = ds("x y psi theta phi")
+    h = ds("h")  # the contact point's height: the table holds it at 0
     m, r, g = sp.symbols("m r g", positive=True)
     N = ReferenceFrame("N")
     Yf = N.orientnew("Y", "Axis", [psi, N.z])  # heading
@@ -525,24 +571,27 @@ def rolling_coin() -> Model:
     Rf = Lf.orientnew("R", "Axis", [ph, Lf.y])  # spin about the axle L.y
     O = Point("O")
     O.set_vel(N, 0)
-    C = O.locatenew("C", x * N.x + y * N.y)
-    C.set_vel(N, x.diff() * N.x + y.diff() * N.y)
+    C = O.locatenew("C", x * N.x + y * N.y + h * N.z)
+    C.set_vel(N, x.diff() * N.x + y.diff() * N.y + h.diff() * N.z)
     D = C.locatenew("D", r * Lf.z)
     D.set_vel(N, D.pos_from(O).dt(N))
     disc = RigidBody("disc", D, Rf, m, (inertia(Lf, m * r**2 / 4, m * r**2 / 2, m * r**2 / 4), D))
     slip = D.vel(N) + Rf.ang_vel_in(N).cross(-r * Lf.z)  # velocity of the contact material point
-    from .lagrange import LagrangianSystem
+    from .lagrange import HiddenConstraint, LagrangianSystem
 
     system = LagrangianSystem(
         [x, y, psi, th, ph],
         bodies=[disc],
-        potential=m * g * r * sp.cos(th),
+        potential=m * g * (h + r * sp.cos(th)),
         nonholonomic=[slip.dot(N.x), slip.dot(N.y)],
         frame=N,
         units={x: "m", y: "m", psi: "rad", th: "rad", ph: "rad"},
+        hidden=[
+            HiddenConstraint(h, 0, "normal force N", "N", 1, "the table's upward push on the coin")
+        ],
     )
     lam1, lam2 = system.lam_vec
-    centre = tuple(D.pos_from(O).to_matrix(N))
+    centre = tuple(D.pos_from(O).to_matrix(N).subs(h, 0))
     u, v = tuple(Rf.x.to_matrix(N)), tuple(Rf.z.to_matrix(N))
     rim, rim_links = _ring("rim", centre, u, v, r)
     return Model(
@@ -561,6 +610,7 @@ def rolling_coin() -> Model:
         links=(("centre", "rim#0"), ("centre", "contact"), *rim_links),
         view="3d",
         trail="contact",
+        param_units={m: "kg", r: "m", g: "m/s²"},
     )
 
 
@@ -607,16 +657,22 @@ def rolling_coin_kane():
 
 def heavy_symmetric_top() -> Model:
     """Heavy symmetric top on a fixed tip in z-x-z Euler angles (ψ, θ, φ):
-    ``L = ½ A (θ̇² + ψ̇² sin² θ) + ½ C (φ̇ + ψ̇ cos θ)² − M g l cos θ`` (A, C about the tip)."""
+    ``L = ½ A (θ̇² + ψ̇² sin² θ) + ½ C (φ̇ + ψ̇ cos θ)² − M g l cos θ`` (A, C about the tip).
+
+    The tip's position is a hidden constraint: written with the tip at (x_P, y_P, z_P),
+    auxiliary coordinates held at 0 (the centre of mass a point mass M at the tip + l e₃,
+    turning with the moments A − M l², C about it), the model reports the pivot's reaction
+    force on the top, F = M (a_c − g)."""
     sp, ds = _sp()
     psi, th, ph = ds("psi theta phi")
+    xp, yp, zp = ds("x_P y_P z_P")  # the tip, held at the origin by the pivot
     A, C, M, g, l = sp.symbols("A C M g l", positive=True)
-    L = (
-        A * (th.diff() ** 2 + psi.diff() ** 2 * sp.sin(th) ** 2) / 2
-        + C * (ph.diff() + psi.diff() * sp.cos(th)) ** 2 / 2
-        - M * g * l * sp.cos(th)
-    )
-    from .lagrange import LagrangianSystem
+    turning = (A - M * l**2) * (th.diff() ** 2 + psi.diff() ** 2 * sp.sin(th) ** 2) / 2 + C * (
+        ph.diff() + psi.diff() * sp.cos(th)
+    ) ** 2 / 2
+    axis = (sp.sin(psi) * sp.sin(th), -sp.cos(psi) * sp.sin(th), sp.cos(th))  # e₃ in space
+    centre = [p + l * a for p, a in zip((xp, yp, zp), axis, strict=True)]
+    from .lagrange import HiddenConstraint, LagrangianSystem, PointMass
 
     # body axes: columns of Rz(ψ) Rx(θ) Rz(φ); the rim of radius √(2C/M) (a disc with that C)
     Rz = lambda a: sp.Matrix([[sp.cos(a), -sp.sin(a), 0], [sp.sin(a), sp.cos(a), 0], [0, 0, 1]])  # noqa: E731
@@ -628,10 +684,28 @@ def heavy_symmetric_top() -> Model:
     # a cylinder of mass 1, radius 0.3, height 0.2, tip 0.5 below its centre of mass
     A_val = 1.0 * (3 * 0.3**2 + 0.2**2) / 12 + 1.0 * 0.5**2
     C_val = 0.5 * 1.0 * 0.3**2
+    system = LagrangianSystem(
+        [psi, th, ph],
+        kinetic=turning,
+        bodies=[PointMass(M, centre)],
+        potential=M * g * centre[2],
+        units={psi: "rad", th: "rad", ph: "rad"},
+        hidden=[
+            HiddenConstraint(
+                p,
+                0,
+                f"pivot reaction F_{c}",
+                "N",
+                1,
+                f"{c} component of the pivot's force on the top",
+            )
+            for p, c in ((xp, "x"), (yp, "y"), (zp, "z"))
+        ],
+    )
     return Model(
         "heavy-top-euler",
         "Heavy symmetric top in Euler angles",
-        LagrangianSystem([psi, th, ph], L, units={psi: "rad", th: "rad", ph: "rad"}),
+        system,
         {"psi": psi, "theta": th, "phi": ph, "A": A, "C": C, "M": M, "g": g, "l": l},
         {A: A_val, C: C_val, M: 1.0, g: 9.81, l: 0.5},
         {psi: 0.0, th: 0.6, ph: 0.0},
@@ -640,6 +714,7 @@ def heavy_symmetric_top() -> Model:
         links=(("tip", "centre of mass"), ("centre of mass", "rim#0"), *rim_links),
         view="3d",
         trail="centre of mass",
+        param_units={A: "kg·m²", C: "kg·m²", M: "kg", g: "m/s²", l: "m"},
     )
 
 

@@ -22,6 +22,7 @@ what it lacks: the angle-rate kinematics of eq. (13) and its inverse.
 from __future__ import annotations
 
 import warnings
+from typing import NamedTuple
 
 import numpy as np
 
@@ -30,10 +31,13 @@ from ._validation import as_array
 
 __all__ = [
     "EULER_SEQUENCES",
+    "EULER_SINGULAR",
+    "EulerSeries",
     "body_rates_from_euler",
     "euler_from_matrix",
     "euler_from_quat",
     "euler_rates_from_body",
+    "euler_series",
     "matrix_from_euler",
     "matrix_from_quat",
     "matrix_from_rotvec",
@@ -173,3 +177,73 @@ def euler_rates_from_body(angles, omega) -> np.ndarray:
     if np.any(np.abs(np.sin(a[..., 1])) < 1e-12):
         raise ValueError("`angles`: Euler rates are undefined at θ = 0 or π (gimbal lock)")
     return so3.zxz_angle_rates(a, w)
+
+
+#: ``|sin θ|`` below which the z-x-z angles are flagged singular (gimbal lock, θ = 0 or π): ψ and
+#: φ are then not separately defined (only ψ ± φ is), and their rates are infinite.
+EULER_SINGULAR = 1e-6
+
+
+class EulerSeries(NamedTuple):
+    """z-x-z Euler angles along a motion (:func:`euler_series`).
+
+    Attributes
+    ----------
+    angles : ndarray, shape (n, 3)
+        ``(ψ, θ, φ)`` in radians: θ in [0, π]; ψ and φ unwrapped (continuous in time, not
+        folded into (−π, π]), so that ``ψ(t)`` shows the accumulated precession.
+    rates : ndarray, shape (n, 3)
+        ``(ψ̇, θ̇, φ̇)`` in rad/s from the body rates by eq. (13) (the core's
+        ``zxz_angle_rates``); NaN at the singular samples.
+    singular : ndarray of bool, shape (n,)
+        Samples within :data:`EULER_SINGULAR` of θ = 0 or π, where ψ and φ are not separately
+        defined (poinsot then sets the third angle as :func:`euler_from_matrix` does).
+    """
+
+    angles: np.ndarray
+    rates: np.ndarray
+    singular: np.ndarray
+
+
+def euler_series(Q, omega, t=None) -> EulerSeries:
+    """z-x-z Euler angles ``(ψ, θ, φ)`` of the attitudes ``Q`` (n, 3, 3) of a motion with body
+    angular velocity ``omega`` (n, 3), their rates (eq. (13)) and the singular samples.
+
+    The angles come from :func:`euler_from_matrix` (intrinsic ``"ZXZ"``, ``Q = Rz(ψ) Rx(θ)
+    Rz(φ)``), the rates from the inverse of eq. (13) in the compiled core. ψ and φ are then
+    made continuous: between two samples each changes by the multiple of 2π that brings the
+    change nearest to the integral of its rate (trapezoidal rule, with the sample times ``t``;
+    without ``t`` or where a rate is undefined, nearest to no change). So a fast spin sampled
+    coarsely (φ̇ Δt > π) still unwraps correctly.
+
+    Examples
+    --------
+    A steady spin about the space z axis, sampled every 0.1 s at 40 rad/s (4 rad per sample):
+
+    >>> import numpy as np
+    >>> t = np.linspace(0, 1, 11)
+    >>> Q = matrix_from_euler(np.column_stack([0 * t, 0 * t + 0.5, 40 * t]))
+    >>> s = euler_series(Q, np.tile([0.0, 0.0, 40.0], (11, 1)), t)
+    >>> bool(np.allclose(s.angles[:, 2], 40 * t)), bool(np.allclose(s.rates[:, 2], 40.0))
+    (True, True)
+    """
+    Q = np.asarray(Q, dtype=float)
+    w = np.ascontiguousarray(omega, dtype=float)
+    if Q.ndim != 3 or Q.shape[1:] != (3, 3) or w.shape != (len(Q), 3):
+        raise ValueError(
+            f"`Q` and `omega` must have shapes (n, 3, 3) and (n, 3), found {Q.shape}, {w.shape}"
+        )
+    angles = np.ascontiguousarray(euler_from_matrix(Q, "ZXZ"))
+    singular = np.abs(np.sin(angles[:, 1])) < EULER_SINGULAR
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rates = np.asarray(so3.zxz_angle_rates(angles, w), dtype=float)
+    rates[singular] = np.nan
+    if len(angles) > 1:
+        dt = np.zeros(len(angles) - 1) if t is None else np.diff(np.asarray(t, dtype=float))
+        for k in (0, 2):
+            step = np.diff(angles[:, k])
+            expected = 0.5 * (rates[1:, k] + rates[:-1, k]) * dt
+            expected = np.where(np.isfinite(expected), expected, 0.0)
+            turns = np.round((expected - step) / (2 * np.pi))
+            angles[1:, k] = angles[0, k] + np.cumsum(step + 2 * np.pi * turns)
+    return EulerSeries(angles, rates, singular)

@@ -10,6 +10,7 @@ import numpy as np
 from . import _core
 from ._core import matrix_to_quat
 from ._io import atomic_path
+from .display import Displayable
 from .layout import STATE_SIZE, STATE_SLICES
 
 __all__ = ["Trajectory"]
@@ -21,7 +22,7 @@ def _readonly(a):
     return a
 
 
-class Trajectory:
+class Trajectory(Displayable):
     """Samples of a rigid-body motion and everything computed from them.
 
     Attributes
@@ -34,7 +35,8 @@ class Trajectory:
     omega : ndarray, shape (n, 3)
         Angular velocity in the body frame.
     method, nfev, nsteps, wall_time
-        How it was computed.
+        How it was computed (``wall_time``: seconds of the integration itself, in the
+        compiled core; nothing is compiled at run time).
     t_events, y_events : list of ndarray
         With ``simulate(..., events=)``: per event, the times and states of its zeros.
     """
@@ -165,6 +167,138 @@ class Trajectory:
     def positions(self):
         """Particle trajectories ``r_i = Q u_i + R``, shape (n, N, 3); needs a particle body."""
         return _core.particle_motion(self._c(self.R), self._c(self.Q), self._c(self.body.u))
+
+    # ----------------------------------------------------------------- attitude
+    def _frame(self, frame):
+        """``(Q F, ω F)``: attitudes and body rates in the body axes given by the columns of
+        ``F`` (body components): ``"body"`` (the identity), ``"principal"`` (e1, e2, e3) or a
+        rotation matrix (3, 3)."""
+        if isinstance(frame, str):
+            if frame == "body":
+                return self.Q, self.omega
+            if frame == "principal":
+                F = self.body.principal_axes
+            else:
+                raise ValueError(
+                    f"`frame` must be 'body', 'principal' or a rotation matrix (3, 3) whose "
+                    f"columns are body axes, found {frame!r}"
+                )
+        else:
+            from ._validation import as_rotation_matrix
+
+            F = as_rotation_matrix(frame, "frame")
+        return self.Q @ F, self.omega @ F
+
+    def _euler(self, frame):
+        from .rotation import euler_series
+
+        key = frame if isinstance(frame, str) else np.asarray(frame, float).tobytes()
+        cache = self.__dict__.setdefault("_euler_cache", {})
+        if key not in cache:
+            Q, w = self._frame(frame)
+            series = euler_series(Q, w, self.t)
+            cache[key] = type(series)(*(_readonly(a) for a in series))
+        return cache[key]
+
+    def euler_angles(self, frame="body") -> np.ndarray:
+        """z-x-z Euler angles ``(ψ, θ, φ)`` of the attitude (n, 3), radians: ``Q = Rz(ψ) Rx(θ)
+        Rz(φ)`` (the paper's precession, nutation and proper rotation, eq. (13)).
+
+        θ ∈ [0, π] is the tilt of the body's z axis from the space z axis; ψ and φ are
+        unwrapped (continuous in time; :func:`poinsot.rotation.euler_series`), so ``ψ(t)``
+        shows the accumulated precession. Near θ = 0 or π (:meth:`euler_singular`) ψ and φ
+        are not separately defined.
+
+        Parameters
+        ----------
+        frame : {"body", "principal"} or array_like (3, 3)
+            The body axes the angles describe: the body's own, its principal axes e1, e2, e3,
+            or the columns of a rotation matrix (body components; its third column is the
+            axis whose tilt θ is).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from poinsot import RigidBody, simulate
+        >>> top = RigidBody.cylinder(1.0, 0.3, 0.2)
+        >>> traj = simulate(top, (0, 0.5), omega0=(0, 0, 50), Q0=[[1, 0, 0], [0, np.cos(0.6),
+        ...                 -np.sin(0.6)], [0, np.sin(0.6), np.cos(0.6)]], t_eval=[0, 0.5])
+        >>> traj.euler_angles()[:, 1].round(12).tolist()  # torque-free: the axis keeps its tilt
+        [0.6, 0.6]
+        """
+        return self._euler(frame).angles
+
+    def euler_rates(self, frame="body") -> np.ndarray:
+        """``(ψ̇, θ̇, φ̇)`` (n, 3) in rad/s, from the body rates by the inverse of eq. (13)
+        (the core's ``zxz_angle_rates``); NaN at the singular samples (:meth:`euler_singular`).
+        ``frame`` as for :meth:`euler_angles`."""
+        return self._euler(frame).rates
+
+    def euler_singular(self, frame="body") -> np.ndarray:
+        """Samples (n,) of bool where θ is within ``1e-6`` of 0 or π (gimbal lock): ψ and φ are
+        not separately defined there and their rates are NaN."""
+        return self._euler(frame).singular
+
+    def _body_axis(self, axis):
+        names = {"x": 0, "y": 1, "z": 2}
+        if isinstance(axis, str):
+            if axis in names:
+                return np.eye(3)[names[axis]]
+            if axis in ("e1", "e2", "e3"):
+                return self.body.principal_axes[:, int(axis[1]) - 1]
+            raise ValueError(
+                f"`axis` must be 'x', 'y', 'z', 'e1', 'e2', 'e3' or a 3-vector (body "
+                f"components), found {axis!r}"
+            )
+        from ._validation import as_vector3
+
+        a = as_vector3(axis, "axis")
+        norm = float(np.linalg.norm(a))
+        if not norm > 0:
+            raise ValueError("`axis` must be a nonzero 3-vector (body components)")
+        return a / norm
+
+    def symmetry_axis(self) -> np.ndarray:
+        """The body's symmetry axis (body components, unit): the principal axis whose moment
+        differs from the two equal others (e3 of an oblate body, e1 of a prolate one).
+
+        Raises ``ValueError`` for an asymmetric body (no symmetry axis) and a spherical one
+        (every axis is one)."""
+        kind = self.body.symmetry
+        if kind not in ("oblate", "prolate"):
+            raise ValueError(
+                f"the body is {kind}: it has no single symmetry axis; give `axis` explicitly"
+            )
+        return self.body.principal_axes[:, 2 if kind == "oblate" else 0].copy()
+
+    def axis_trace(self, axis=None) -> np.ndarray:
+        """The direction in space of a body axis along the motion, ``Q a`` (n, 3): unit vectors,
+        its trace on the unit sphere. ``axis``: a body-frame 3-vector or ``"x"``, ``"y"``,
+        ``"z"``, ``"e1"``, ``"e2"``, ``"e3"``; default :meth:`symmetry_axis`.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from poinsot import RigidBody, simulate
+        >>> traj = simulate(RigidBody.cylinder(1.0, 0.3, 0.2), (0, 1), omega0=(0, 0, 5))
+        >>> bool(np.abs(traj.axis_trace() - [0, 0, 1]).max() < 1e-12)  # spinning about its axis
+        True
+        """
+        a = self.symmetry_axis() if axis is None else self._body_axis(axis)
+        return np.einsum("nij,j->ni", self.Q, a)
+
+    def axis_tilt(self, axis=None, vertical=(0.0, 0.0, 1.0)) -> np.ndarray:
+        """The angle (n,) in radians, in [0, π], between a body axis (as for :meth:`axis_trace`)
+        and the space direction ``vertical`` (default +z): ``atan2(|a × v|, a · v)``. The tilt of
+        the body's z axis is the Euler angle θ of :meth:`euler_angles`."""
+        from ._validation import as_vector3
+
+        v = as_vector3(vertical, "vertical")
+        if not np.linalg.norm(v) > 0:
+            raise ValueError("`vertical` must be a nonzero 3-vector")
+        v = v / np.linalg.norm(v)
+        a = self.axis_trace(axis)
+        return np.arctan2(np.linalg.norm(np.cross(a, v), axis=1), a @ v)
 
     # ----------------------------------------------------------------- diagnostics
     @cached_property
@@ -311,27 +445,41 @@ class Trajectory:
                 fmt="%.17g",
             )
 
+    def variables(self) -> dict:
+        """The samples as ``name → (dims, values, attrs)`` with a ``time`` dimension, units
+        in the attributes, coordinates included: what :meth:`to_xarray` and
+        :meth:`to_netcdf` write."""
+        vec = ("time", "axis")
+        return {
+            "R": (vec, self.R, {"units": "m"}),
+            "V": (vec, self.V, {"units": "m/s"}),
+            "Q": (("time", "row", "col"), self.Q, {"units": "1"}),
+            "omega": (vec, self.omega, {"units": "rad/s", "frame": "body"}),
+            "omega_space": (vec, self.omega_space, {"units": "rad/s", "frame": "space"}),
+            "quaternion": (("time", "component"), self.quaternion, {"units": "1"}),
+            "angular_momentum": (vec, self.angular_momentum, {"units": "kg m2/s"}),
+            "kinetic_energy": (("time",), self.kinetic_energy, {"units": "J"}),
+            "total_energy": (("time",), self.total_energy, {"units": "J"}),
+            "time": (("time",), self.t, {"units": "s"}),
+            "axis": (("axis",), np.array(list("xyz")), {}),
+            "component": (("component",), np.array(list("wxyz")), {}),
+        }
+
     def to_xarray(self):
-        """An ``xarray.Dataset`` with a ``time`` dimension (needs the ``xarray`` extra)."""
+        """An ``xarray.Dataset`` of :meth:`variables` (needs the ``xarray`` extra)."""
         try:
             import xarray as xr
         except ImportError as exc:  # pragma: no cover - depends on the environment
             raise ImportError("to_xarray needs xarray: pip install 'poinsot[xarray]'") from exc
-        vec = ("time", "axis")
-        ds = xr.Dataset(
-            {
-                "R": (vec, self.R, {"units": "m"}),
-                "V": (vec, self.V, {"units": "m/s"}),
-                "Q": (("time", "row", "col"), self.Q, {"units": "1"}),
-                "omega": (vec, self.omega, {"units": "rad/s", "frame": "body"}),
-                "omega_space": (vec, self.omega_space, {"units": "rad/s", "frame": "space"}),
-                "quaternion": (("time", "component"), self.quaternion, {"units": "1"}),
-                "angular_momentum": (vec, self.angular_momentum, {"units": "kg m2/s"}),
-                "kinetic_energy": ("time", self.kinetic_energy, {"units": "J"}),
-                "total_energy": ("time", self.total_energy, {"units": "J"}),
-            },
-            coords={"time": self.t, "axis": list("xyz"), "component": list("wxyz")},
-            attrs={"method": self.method, "summary": json.dumps(self.summary())},
-        )
-        ds["time"].attrs["units"] = "s"
-        return ds
+        from .ensemble.result import _dataset
+
+        return _dataset(xr, self.variables(), {"method": self.method,
+                                                "summary": json.dumps(self.summary())})  # fmt: skip
+
+    def to_netcdf(self, path) -> None:
+        """Write :meth:`variables` to a NetCDF-3 file (atomically, with SciPy's writer: no
+        xarray needed)."""
+        from ._io import write_netcdf
+
+        write_netcdf(path, self.variables(), {"method": self.method,
+                                              "summary": json.dumps(self.summary())})  # fmt: skip

@@ -234,6 +234,7 @@ def test_inertia_command(tmp_path, capsys):
     assert main(["inertia", str(path), "--json"]) == 0
     info = json.loads(capsys.readouterr().out)
     np.testing.assert_allclose(info["principal_moments"], [5 / 12, 10 / 12, 13 / 12])
+    assert info["units"]["principal_moments"] == "kg·m²" and info["units"]["mass"] == "kg"
     only_body = tmp_path / "only.toml"
     only_body.write_text('[body]\ntype = "sphere"\nmass = 2.0\nradius = 0.5\n')
     assert main(["inertia", str(only_body)]) == 0
@@ -475,7 +476,9 @@ def test_run_draws_the_runs_own_energy_and_the_sweep_apart(tmp_path):
     assert "k = 12.5 J" in title
     run_line = next(ln for ln in fig.axes[0].lines if ln.get_label() == "ω(t) of this run")
     data = np.load(tmp_path / "o" / "trajectory.npz")
-    np.testing.assert_allclose(np.array(run_line.get_data_3d()).T, data["omega"], rtol=1e-15)
+    E = scenario.body.principal_axes  # drawn along the principal axes e1, e2, e3
+    np.testing.assert_allclose(np.array(run_line.get_data_3d()).T, data["omega"] @ E,
+                               rtol=1e-15, atol=1e-15)  # fmt: skip
     assert "k = 0.5 J" in shown["polhodes_sweep.png"][0]
     assert (tmp_path / "o" / "polhodes_sweep.png").exists()
 
@@ -492,7 +495,7 @@ def test_mechanism_animation_has_a_frame_per_slider_step(tmp_path):
     assert len(fig.frames) == len(steps) == MAX_FRAMES
     assert [s.args[0][0] for s in steps] == [f.name for f in fig.frames]
     assert steps[0].label == "0" and steps[-1].label == "4"  # t [s], first and last sample
-    assert {b.label for b in fig.layout.updatemenus[0].buttons} == {"▶ play", "⏸ pause"}
+    assert {b.label for b in fig.layout.updatemenus[0].buttons} == {"▶ play", "❚❚ pause"}
     _, P = model.positions(sol)
     first = fig.frames[0].data[1]  # the named points at t = 0
     np.testing.assert_allclose(first.x, P[0, :, 0])

@@ -106,9 +106,14 @@ def test_mechanism_geometry_follows_the_coordinates():
 
 
 def test_panels_show_only_what_the_system_has():
-    dp = models.double_pendulum()
-    titles = [p[0] for p in lagrangian_panels(dp.simulate((0, 1)), dp)]
-    assert not any("multipliers" in t.lower() or "residual" in t.lower() for t in titles)
+    dp = models.double_pendulum()  # no constraint in its angles: no λ, no residuals
+    panels = lagrangian_panels(dp.simulate((0, 1)), dp)
+    titles = [p[0] for p in panels]
+    assert not any("lagrange multipliers" in t.lower() or "residual" in t.lower() for t in titles)
+    # but the rods' tensions, which its angles hide (HiddenConstraint), in newtons
+    (reactions,) = [p for p in panels if "reactions" in p[0]]
+    assert reactions[1] == "force [N]"
+    assert [c[0] for c in reactions[3]] == ["rod 1 tension T1", "rod 2 tension T2"]
     cart = models.pendulum_on_cart()
     panels = lagrangian_panels(cart.simulate((0, 1)), cart)
     by_title = {p[0]: p for p in panels}

@@ -32,9 +32,12 @@ def test_series_figure_has_one_legend_per_subplot_and_units(notebook):
     fig = _series_figure(notebook, go)
     legends = _legends(fig)
     assert len(legends) == 3 and all(len(axes) == 1 for axes in legends.values())
-    for name in legends:
-        assert fig.layout[name].x is not None  # placed inside its subplot
-    assert fig.layout.yaxis.title.text == "ω [rad/s]"
+    for name in legends:  # each below its own subplot, clear of its plotting area
+        legend = fig.layout[name]
+        ((xa, ya),) = legends[name]
+        assert legend.y < fig.layout[f"yaxis{ya[1:]}"].domain[0]
+        assert legend.x == fig.layout[f"xaxis{xa[1:]}"].domain[0]
+    assert fig.layout.yaxis.title.text == "ω along e₁, e₂, e₃ [rad/s]"
     assert "dimensionless" in fig.layout.yaxis3.title.text
 
 
@@ -62,5 +65,8 @@ def test_polhode_figure_is_at_the_runs_own_energy(notebook):
     k = free.invariants(notebook.omega[0])[0]
     assert f"k = {k:.4g} J" in fig.layout.title.text
     run = fig.data[-1]
-    np.testing.assert_allclose(np.column_stack([run.x, run.y, run.z]), notebook.omega)
-    assert fig.layout.scene.xaxis.title.text == "ω₁ [rad/s]"
+    # drawn by components along the principal axes, the notebook body's e1 being its z axis
+    drawn = np.column_stack([run.x, run.y, run.z])
+    np.testing.assert_allclose(drawn, notebook.omega @ free.principal_axes, atol=1e-15)
+    np.testing.assert_allclose(drawn[:, 0], notebook.omega[:, 2], atol=1e-15)
+    assert fig.layout.scene.xaxis.title.text.startswith("ω·e₁ (I₁ = 8.333)")

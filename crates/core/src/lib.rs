@@ -11,6 +11,7 @@
 //! * the physics: [`forces`], [`rigid`] (eqs (07)–(09), the free-rotor flows);
 //! * the exact torque-free motion: [`elliptic`] (with [`cmath`]), [`freebody`],
 //!   [`torque_free`];
+//! * the heavy symmetric top's steady precessions: [`tops`];
 //! * motion relative to a moving carrier: [`relative`] (eqs (1)–(18) of the paper);
 //! * a body carrying a spinning rotor, the gyrostat: [`gyrostat`] (§4);
 //! * a model's own expressions compiled at run time: [`expressions`];
@@ -48,6 +49,7 @@ pub mod steppers;
 pub mod system;
 pub mod systems;
 pub mod tableaux;
+pub mod tops;
 pub mod torque_free;
 
 pub mod version {

@@ -14,6 +14,7 @@ mod gyrostat;
 mod lagrange;
 mod relative;
 mod rigid;
+mod tops;
 
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -42,5 +43,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     ensemble::register(m)?;
     lagrange::register(m)?;
     gyrostat::register(m)?;
+    tops::register(m)?;
     Ok(())
 }

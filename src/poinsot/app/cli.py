@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import sys
 import time
@@ -122,8 +123,10 @@ def _cmd_examples(args):
 
         print(render_reference())
         return EXIT_OK
-    for name, description in list_examples().items():
-        print(f"{name:20s} {description}")
+    examples = list_examples()
+    width = max(map(len, examples), default=0)
+    for name, description in examples.items():
+        print(f"{name:{width}s}  {description}")
     return EXIT_OK
 
 
@@ -160,20 +163,29 @@ def _cmd_inertia(args):
             raise _BadInput(f"{path}: {exc}") from None
     info = body.mass_properties()
     if args.json:
+        info["units"] = {"mass": "kg", "center_of_mass": "m", "inertia": "kg·m²",
+                         "principal_moments": "kg·m²", "principal_axes": "1"}  # fmt: skip
         print(json.dumps(info, indent=2))
         return EXIT_OK
     import numpy as np
 
-    with np.printoptions(precision=6, suppress=True):
-        print(f"mass               {body.mass:.6g}")
-        print(f"centre of mass     {body.center_of_mass}")
-        print(f"inertia (about the centre of mass)\n{body.inertia}")
-        print(f"principal moments  {body.principal_moments}")
-        print(f"principal axes (columns e1, e2, e3)\n{body.principal_axes}")
-        print(
-            f"symmetry           {body.symmetry}"
-            + ("  (degenerate: all mass on a line)" if body.is_degenerate else "")
-        )
+    from ..viz.numbers import format_value
+
+    def vec(v):
+        return format_value(np.asarray(v).tolist())
+
+    def rows(m):
+        return "\n".join("  " + vec(r) for r in np.asarray(m))
+
+    print(f"mass               {format_value(float(body.mass))} kg")
+    print(f"centre of mass     {vec(body.center_of_mass)} m")
+    print(f"inertia about the centre of mass [kg·m²]\n{rows(body.inertia)}")
+    print(f"principal moments  {vec(body.principal_moments)} kg·m²")
+    print(f"principal axes (columns e1, e2, e3; dimensionless)\n{rows(body.principal_axes)}")
+    print(
+        f"symmetry           {body.symmetry}"
+        + ("  (degenerate: all mass on a line)" if body.is_degenerate else "")
+    )
     return EXIT_OK
 
 
@@ -182,10 +194,14 @@ def _cmd_polhodes(args):
 
     import numpy as np
 
+    from ..bodies import UnphysicalInertiaError
     from ..torquefree import FreeRigidBody
 
     try:
-        free = FreeRigidBody(args.moments)
+        free = FreeRigidBody(args.moments, allow_unphysical=args.allow_unphysical)
+    except UnphysicalInertiaError as exc:
+        raise _BadInput(f"--moments: {exc.reason} (add --allow-unphysical to study the "
+                        "equations anyway)") from None  # fmt: skip
     except ValueError as exc:
         raise _BadInput(f"--moments: {exc}") from None
     I = free.principal_moments
@@ -224,14 +240,34 @@ def _cmd_polhodes(args):
     if args.json:
         print(json.dumps(result, indent=2))
     else:
-        _say(args, f"principal moments {', '.join(f'{x:.6g}' for x in I)} ({free.symmetry})")
+        from ..viz.numbers import POLHODES, format_value
+
+        names = {path: name for _, name, path, _ in POLHODES}
+        moments = ", ".join(format_value(float(x)) for x in I)
+        _say(args, f"principal moments {moments} kg·m² ({free.symmetry})")
         for fp in result["fixed_points"]:
             _say(args, f"  fixed points {fp['set']}: {'stable' if fp['stable'] else 'unstable'}")
         for key in ("family", "energy", "momentum", "period", "flip_interval"):
             if key in result:
-                _say(args, f"  {key}: {result[key]} {result['units'].get(key, '')}".rstrip())
-        _say(args, f"  wrote {out}/")
+                value = result[key]
+                shown = format_value(value) if isinstance(value, float) else str(value)
+                _say(args, f"  {names[key]}: {shown} {result['units'].get(key, '')}".rstrip())
+        if "flip_interval" in result:
+            _say(args, f"  {flip_note(result)}")
+        _say(args, f"  wrote {out}/ (polhodes.json, polhodes.png, report.html)")
     return EXIT_OK
+
+
+def flip_note(result) -> str:
+    """What the time between sign changes of ω·e₂ means for this motion: a flip of the body
+    (e₂ turns over against L) or a wobble about a stable axis (nothing flips)."""
+    swing = result.get("e2_swing")
+    if result.get("flips"):
+        return (f"the body flips: e₂ turns over against L every half period (e₂ comes within "
+                f"{math.degrees(math.acos(min(swing, 1.0))):.3g}° of ±L)")  # fmt: skip
+    return (f"nothing flips: ω·e₂ changes sign as the body wobbles about {result['family'][-2:]}"
+            f" (e₂ stays within {math.degrees(math.asin(min(swing, 1.0))):.3g}° of the plane "
+            "perpendicular to L)")  # fmt: skip
 
 
 def _write_polhodes(out: Path, args, free, energy, result):
@@ -247,7 +283,7 @@ def _write_polhodes(out: Path, args, free, energy, result):
     from .._io import atomic_path, atomic_write_text
     from ..viz import plot_energy_ellipsoid, plot_polhode_family
 
-    fig = plot_polhode_family(free, energy)
+    path = None
     if args.omega0 is not None:  # ω0 fixes the energy: its ω(t) lies on this very ellipsoid
         w0 = np.array(args.omega0, dtype=float)
         t = np.linspace(
@@ -258,8 +294,7 @@ def _write_polhodes(out: Path, args, free, energy, result):
             400,
         )
         path = free.exact_omega(w0, t)
-        fig.axes[0].plot(*path.T, color="crimson", lw=3, label="ω(t) from ω0")
-        fig.axes[0].legend(loc="upper left", fontsize=8)
+    fig = plot_polhode_family(free, energy, omega=path, omega_label="ω(t) from ω0")
     with atomic_path(out / "polhodes.png") as tmp:
         fig.savefig(tmp, dpi=110, format="png")
     plt.close(fig)
@@ -279,7 +314,8 @@ def _write_polhodes(out: Path, args, free, energy, result):
             figures.append(energy_ellipsoid_figure(free, result["energy"], result["momentum"]))
         about = "Torque-free analysis: fixed points, invariants and the energy ellipsoid"
         page = {**result, "scenario": {"name": "polhodes", "description": about}}
-        write_figures_page(out / "report.html", figures, page, plotlyjs=args.plotly_js)
+        write_figures_page(out / "report.html", figures, page, plotlyjs=args.plotly_js,
+                           raw_link="polhodes.json")  # fmt: skip
     from ..viz.numbers import units_of
 
     result["units"] = units_of(result)
@@ -485,6 +521,9 @@ def _parser():
         metavar=("I1", "I2", "I3"),
         help="principal moments (kg m²)",
     )
+    pol.add_argument("--allow-unphysical", action="store_true",
+                     help="accept moments that break I1 + I2 ≥ I3 (no mass distribution has "
+                     "them; Euler's equation is still well posed)")  # fmt: skip
     pol.add_argument(
         "--energy",
         type=float,

@@ -248,7 +248,7 @@ MAX_LEVELS = 200
 def build_body(t: _Table, base_dir: Path, part: bool = False):
     """The :class:`~poinsot.bodies.RigidBody` described by a ``[body]`` table (``part``: one of
     ``[[body.parts]]``, where a pivot has no meaning)."""
-    from ..bodies import RigidBody
+    from ..bodies import RigidBody, UnphysicalInertiaError
 
     kind = t.get(
         "type", "string", "particles" if t.has("particles") else _MISSING, choices=BODY_TYPES
@@ -318,9 +318,15 @@ def build_body(t: _Table, base_dir: Path, part: bool = False):
                 t.get("mass", "positive"),
                 t.get("inertia", "matrix3"),
                 t.get("center_of_mass", "vector3", np.zeros(3)),
+                allow_unphysical=t.get("allow_unphysical", "bool", False),
             )
     except ScenarioError:
         raise
+    except UnphysicalInertiaError as exc:
+        raise ScenarioError(
+            f"{t.where('inertia')}: {exc.reason} (set allow_unphysical = true in "
+            f"[{t.path}] to study the equations anyway)"
+        ) from None
     except (ValueError, TypeError) as exc:
         raise ScenarioError(f"{t.path}: {exc}") from None
     if part and t.has("pivot"):

@@ -53,7 +53,7 @@ PROBES = (
             (
                 "mass_properties",
                 "inertia = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]]\n"
-                "center_of_mass = [0.0, 0.0, 0.0]",
+                "center_of_mass = [0.0, 0.0, 0.0]\nallow_unphysical = false",
             ),
             ("mesh", 'path = "a-mesh-that-is-not-there.stl"\ndensity = 1.0'),
         )

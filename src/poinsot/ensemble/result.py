@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..display import Displayable
 from ..layout import STATE_SIZE, STATE_SLICES
 
 __all__ = ["EnsembleResult"]
@@ -30,7 +31,7 @@ def _readonly(a):
 
 
 @dataclass
-class EnsembleResult:
+class EnsembleResult(Displayable):
     """N motions sampled at the same times.
 
     Attributes
@@ -286,14 +287,11 @@ class EnsembleResult:
         return out
 
     # ----------------------------------------------------------------- exports
-    def to_xarray(self):
-        """An ``xarray.Dataset`` with dims ``member``, ``time``, ``component`` (and ``row``,
-        ``col`` for Q); per-member statistics on ``member``. Needs the ``xarray`` extra."""
-        try:
-            import xarray as xr
-        except ImportError as exc:  # pragma: no cover - depends on the environment
-            raise ImportError("to_xarray needs xarray: pip install 'poinsot[datasets]'") from exc
-        members = np.arange(len(self))
+    def variables(self) -> dict:
+        """The data as ``name → (dims, values, attrs)`` with dims ``member``, ``time``,
+        ``component`` (and ``row``, ``col`` for Q), coordinates included (variables named like
+        their dimension); per-member statistics on ``member``. What :meth:`to_xarray` and
+        :meth:`to_netcdf` write."""
         data = {}
         if self._states is not None:
             dims = ("member", "time", "component")
@@ -308,16 +306,44 @@ class EnsembleResult:
         for name, meaning in STATISTICS.items():
             attrs = {"long_name": meaning, "units": units.get(name, "1")}
             data[name] = (("member",), self.statistic(name), attrs)
-        data["status"] = (("member",), self.status)
-        data["nsteps"] = (("member",), self.nsteps)
+        data["status"] = (("member",), self.status, {"long_name": "1: finished"})
+        data["nsteps"] = (("member",), self.nsteps, {"units": "1"})
         for name, value in self.reductions.items():
             extra = tuple(f"{name}_dim{k}" for k in range(1, value.ndim))
             if value.ndim >= 2 and value.shape[1] == len(self.t):
                 extra = ("time", *extra[1:])
-            data[name] = (("member", *extra), value)
-        coords = {"member": members, "time": ("time", self.t, {"units": "s"}),
-                  "component": ["x", "y", "z"], "row": [0, 1, 2], "col": [0, 1, 2]}  # fmt: skip
-        return xr.Dataset(data, coords=coords, attrs={"method": self.method})
+            data[name] = (("member", *extra), value, {})
+        coords = {
+            "member": (("member",), np.arange(len(self)), {}),
+            "time": (("time",), self.t, {"units": "s"}),
+            "component": (("component",), np.array(["x", "y", "z"]), {}),
+            "row": (("row",), np.arange(3), {}),
+            "col": (("col",), np.arange(3), {}),
+        }
+        return {**data, **coords}
+
+    def to_xarray(self):
+        """An ``xarray.Dataset`` of :meth:`variables` (needs the ``xarray`` extra)."""
+        try:
+            import xarray as xr
+        except ImportError as exc:  # pragma: no cover - depends on the environment
+            raise ImportError("to_xarray needs xarray: pip install 'poinsot[xarray]'") from exc
+        return _dataset(xr, self.variables(), {"method": self.method})
+
+    def to_netcdf(self, path, extra=None) -> None:
+        """Write :meth:`variables` (and ``extra``, more ``name → (dims, values, attrs)``) to a
+        NetCDF-3 file, atomically, with SciPy's writer: no xarray needed."""
+        from .._io import write_netcdf
+
+        write_netcdf(path, {**self.variables(), **(extra or {})}, {"method": self.method})
+
+
+def _dataset(xr, variables, attrs):
+    """An ``xarray.Dataset`` of ``name → (dims, values, attrs)``, the variables named like a
+    dimension as its coordinates."""
+    coords = {n: v for n, v in variables.items() if v[0] == (n,)}
+    data = {n: v for n, v in variables.items() if n not in coords}
+    return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
 def _describe(values) -> dict:

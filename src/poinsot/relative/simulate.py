@@ -9,6 +9,7 @@ import numpy as np
 
 from .. import _core
 from .._validation import as_rotation_matrix, as_vector3
+from ..display import Displayable
 from ..integrate.solve import check_run, solve
 from ..rotation import body_rates_from_euler, euler_from_matrix, euler_rates_from_body
 from ..trajectory import Trajectory
@@ -182,7 +183,7 @@ def _check_start(system, t0, y0):
             )
 
 
-class RelativeTrajectory:
+class RelativeTrajectory(Displayable):
     """Samples of a motion relative to a carrier frame, and the absolute motion they map to.
 
     Attributes

@@ -16,6 +16,7 @@ import numpy as np
 
 from .. import _core
 from .._validation import as_array
+from ..display import Displayable
 from .polhodes import PolhodeMixin
 from .solution import SolutionMixin
 from .stability import StabilityMixin
@@ -27,7 +28,7 @@ __all__ = ["SYMMETRY_RTOL", "FreeRigidBody"]
 SYMMETRY_RTOL = _core.SYMMETRY_RTOL
 
 
-class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
+class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin, Displayable):
     """A torque-free rigid body given by its principal moments.
 
     Parameters
@@ -72,7 +73,9 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
                 f"{s[0]:.6g} + {s[1]:.6g} < {s[2]:.6g}"
             )
             if not allow_unphysical:
-                raise ValueError(message + " (allow_unphysical=True to study the equation anyway)")
+                from ..bodies import UnphysicalInertiaError
+
+                raise UnphysicalInertiaError(message)
             warnings.warn(message + ": no mass distribution has these moments", stacklevel=2)
         self._setup(I, np.eye(3))
 
@@ -120,6 +123,19 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
         return self._S.copy()
 
     # ----------------------------------------------------------------- frames
+    def principal_components(self, vectors) -> np.ndarray:
+        """The components ``(v·e1, v·e2, v·e3)`` along the sorted principal axes of body-frame
+        vectors (..., 3): what the figures plot, so that a curve "around e1" circles the axis
+        labelled e₁ whatever the body's own axes are.
+
+        >>> import numpy as np
+        >>> from poinsot.models import notebook_body
+        >>> free = FreeRigidBody.from_body(notebook_body())  # e1 is the body's z axis
+        >>> free.principal_components([0.0, 0.0, 2.0]).round(12).tolist()
+        [2.0, 0.0, 0.0]
+        """
+        return np.asarray(vectors, dtype=float) @ self._S
+
     def _to_sorted(self, omega):
         return np.asarray(omega, dtype=float) @ self._S  # Sᵀ ω for row vectors
 

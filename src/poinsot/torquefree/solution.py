@@ -153,7 +153,10 @@ class SolutionMixin:
 
     def describe(self, omega0) -> dict:
         """A JSON-ready summary of the motion from ``omega0``: family, invariants, period,
-        flip interval (``"inf"`` on the separatrix; absent where undefined) and fixed points."""
+        flip interval (``"inf"`` on the separatrix; absent where undefined) and fixed points.
+
+        With a flip interval, also whether the body really flips (:meth:`flips`):
+        ``e2_swing`` and ``flips``."""
         k, a = self.invariants(omega0)
         out = {
             "family": self.classify(omega0),
@@ -167,7 +170,29 @@ class SolutionMixin:
             except ValueError:
                 continue
             out[name] = value if math.isfinite(value) else "inf"
+        if "flip_interval" in out and out["family"] in ("around e1", "around e3"):
+            out.update(self.flips(omega0))
         return out
+
+    def flips(self, omega0) -> dict:
+        """Whether the motion from ``omega0`` flips — the tennis racket: the body's intermediate
+        axis e₂ turns over against the angular momentum L every half period — or only wobbles
+        about the stable axis it circles, while ω·e₂ changes sign all the same.
+
+        From the exact polhode: ``e2_swing = max |e₂·L| / |L|`` over the motion (``L·e_k =
+        I_k ω_k``), and ``flips`` when e₂ comes within 45° of ±L (``e2_swing > cos 45°``).
+
+        Examples
+        --------
+        >>> from poinsot.torquefree import FreeRigidBody
+        >>> body = FreeRigidBody((1.0, 2.0, 3.0))
+        >>> body.flips((1e-3, 1.0, 1e-3))["flips"], body.flips((0.01, 0.0, 1.0))["flips"]
+        (True, False)
+        """
+        pts = self.principal_components(self.polhode(omega0).points)
+        L = pts * self._I
+        swing = float(np.max(np.abs(L[:, 1]) / np.linalg.norm(L, axis=1)))
+        return {"e2_swing": swing, "flips": bool(swing > math.cos(math.pi / 4))}
 
     # ----------------------------------------------------------------- oracle
     def error_series(self, trajectory) -> dict:

@@ -7,13 +7,16 @@ One module per concept, drawing what the library module of the same name compute
 :mod:`~poinsot.viz.identify` (an inertia identified from a gyro log) with matplotlib
 (PNG/SVG); :mod:`~poinsot.viz.interactive` (plotly figures),
 :mod:`~poinsot.viz.report` (the self-contained HTML report) and :mod:`~poinsot.viz.numbers`
-(names, groups and units of a summary's numbers).
+(names, groups and units of a summary's numbers); :mod:`~poinsot.viz.display` (the notebook
+displays, ``.plot()`` and ``.show()`` of the library's results, registered with
+:mod:`poinsot.display`).
 
 The figure functions below return the figure they drew on and accept ``ax=`` to draw into an
 existing axes. matplotlib is imported only when a function is called. The presentation
 imports the library, never the application (:mod:`poinsot.app`).
 """
 
+from . import display as display  # registers the notebook displays of the library's classes
 from .torquefree import (
     animate_tumbling,
     plot_attitude_frames,

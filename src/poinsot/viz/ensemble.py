@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._style import legend_outside
+
 __all__ = ["plot_ensemble_histograms", "plot_flip_intervals"]
 
 #: How each statistic is drawn: (axis label, logarithmic).
@@ -91,7 +93,7 @@ def plot_flip_intervals(result, exact, *, fig=None):
         ax1.hist(exact[ok], bins=edges, color="#bbbbbb", label="exact 2K(m)/λ")
         ax1.hist(measured[ok], bins=edges, histtype="step", color="crimson", lw=1.8,
                  label=f"measured ({result.method})")  # fmt: skip
-        ax1.legend(fontsize=8)
+        legend_outside(ax1)
         rel = measured[ok] / exact[ok] - 1
         ax2.plot(exact[ok], rel, ".", ms=3, color="#4477aa")
         ax2.axhline(0.0, color="#888", lw=0.8)

@@ -1,7 +1,8 @@
 """Interactive (plotly) figures of the torque-free body; needs the ``report`` extra.
 
 The same constructions as :mod:`poinsot.viz.torquefree`, as ``plotly.graph_objects.Figure``
-objects: rotate them in a browser, or ``fig.write_html(path)``.
+objects: rotate them in a browser, or ``fig.write_html(path)``. As there, angular velocities
+are drawn by their components along the sorted principal axes e1, e2, e3.
 """
 
 from __future__ import annotations
@@ -10,7 +11,14 @@ import numpy as np
 
 from .._core import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
 
-__all__ = ["energy_ellipsoid_figure", "polhode_family_figure"]
+__all__ = [
+    "SCENE_CAMERA",
+    "energy_ellipsoid_figure",
+    "ensemble_histograms_figure",
+    "omega_scene",
+    "polhode_family_figure",
+    "relative_figure",
+]
 
 COLORS = {
     "around e1": "#1f77b4",
@@ -20,9 +28,16 @@ COLORS = {
 }
 
 
-#: 3D axes of angular velocity, principal (body) frame.
-_OMEGA_SCENE = {"aspectmode": "data", "xaxis_title": "ω₁ [rad/s]", "yaxis_title": "ω₂ [rad/s]",
-                "zaxis_title": "ω₃ [rad/s]"}  # fmt: skip
+#: A 3D scene's camera far enough out that no tick or axis label is clipped at its edges.
+SCENE_CAMERA = {"eye": {"x": 1.55, "y": 1.55, "z": 1.05}}
+
+
+def omega_scene(moments=None) -> dict:
+    """3D axes of angular velocity, components along the principal axes e1, e2, e3."""
+    names = [f"ω·e{'₁₂₃'[k]}" + (f" (I{'₁₂₃'[k]} = {moments[k]:.4g})" if moments is not None
+                                 else "") + " [rad/s]" for k in range(3)]  # fmt: skip
+    return {"aspectmode": "data", "xaxis_title": names[0], "yaxis_title": names[1],
+            "zaxis_title": names[2], "camera": SCENE_CAMERA}  # fmt: skip
 
 
 def _go():
@@ -69,26 +84,28 @@ def _line(go, pts, family, show):
 
 def polhode_family_figure(body, energy=0.5, *, levels=9, omega=None, n=200):
     """The polhode family on the energy ellipsoid with fixed points (green stable, red
-    unstable) and, if given, a path ``omega`` (n, 3). ``body`` is a
-    :class:`~poinsot.torquefree.FreeRigidBody`. Returns a plotly figure."""
+    unstable) and, if given, a path ``omega`` (n, 3, body frame), in components along the
+    principal axes. ``body`` is a :class:`~poinsot.torquefree.FreeRigidBody`. Returns a
+    plotly figure."""
     go = _go()
     k = float(energy)
     semi = energy_ellipsoid_semi_axes(body.principal_moments, k)
-    data = [_ellipsoid(go, semi, body._S, "#9ecae1", "energy ellipsoid")]
+    data = [_ellipsoid(go, semi, np.eye(3), "#9ecae1", "energy ellipsoid")]
     shown = set()
     stable, unstable = [], []
     for p in body.polhode_family(k, levels=levels, n=n):
         if p.family == "fixed point":
             (stable if body.stability(p.points[0]).stable else unstable).append(p.points[0])
         elif p.family != "spherical":
-            data.append(_line(go, p.points, p.family, p.family not in shown))
+            pts = body.principal_components(p.points)
+            data.append(_line(go, pts, p.family, p.family not in shown))
             shown.add(p.family)
     for pts, color, symbol, name in (
         (stable, "green", "circle", "stable fixed points"),
-        (unstable, "red", "x", "unstable fixed points"),
+        (unstable, "red", "diamond", "unstable fixed points"),
     ):
         if pts:
-            arr = np.array(pts)
+            arr = body.principal_components(np.array(pts))
             data.append(
                 go.Scatter3d(
                     x=arr[:, 0],
@@ -100,7 +117,7 @@ def polhode_family_figure(body, energy=0.5, *, levels=9, omega=None, n=200):
                 )
             )
     if omega is not None:
-        w = np.asarray(omega)
+        w = body.principal_components(omega)
         data.append(
             go.Scatter3d(
                 x=w[:, 0],
@@ -114,8 +131,8 @@ def polhode_family_figure(body, energy=0.5, *, levels=9, omega=None, n=200):
     fig = go.Figure(data=data)
     fig.update_layout(
         title=f"Polhodes on the energy ellipsoid, k = {k:.4g} J",
-        height=600,
-        scene=_OMEGA_SCENE,
+        height=640,
+        scene=omega_scene(body.principal_moments),
     )
     return fig
 
@@ -129,13 +146,14 @@ def energy_ellipsoid_figure(body, energy, momentum):
     k, a = float(energy), float(momentum)
     D = body.check_feasible(k, a)
     I = body.principal_moments
+    E = np.eye(3)  # principal components: the ellipsoids' axes are the plot's axes
     data = [
-        _ellipsoid(go, energy_ellipsoid_semi_axes(I, k), body._S, "#9ecae1", "energy ellipsoid"),
+        _ellipsoid(go, energy_ellipsoid_semi_axes(I, k), E, "#9ecae1", "energy ellipsoid"),
         _ellipsoid(
-            go, momentum_ellipsoid_semi_axes(I, a), body._S, "#a1d99b", "momentum ellipsoid", 0.15
+            go, momentum_ellipsoid_semi_axes(I, a), E, "#a1d99b", "momentum ellipsoid", 0.15
         ),
     ]
-    curves = _intersection(body, k, a)
+    curves = [body.principal_components(c) for c in _intersection(body, k, a)]
     s = np.linspace(-1.35, 1.35, 25)
     if body.symmetry != "spherical":
         for i, pts in enumerate(curves):
@@ -169,7 +187,65 @@ def energy_ellipsoid_figure(body, energy, momentum):
     fig = go.Figure(data=data)
     fig.update_layout(
         title=f"Energy ellipsoid ∩ cone, k = {k:.4g} J, a²/2k = {D:.4g} kg·m²",
-        height=600,
-        scene=_OMEGA_SCENE,
+        height=640,
+        scene=omega_scene(I),
     )
+    return fig
+
+
+def ensemble_histograms_figure(result):
+    """Histograms of an ensemble's per-member statistics (those of
+    :func:`poinsot.viz.ensemble.plot_ensemble_histograms`), one subplot each, errors on
+    logarithmic axes."""
+    from plotly.subplots import make_subplots
+
+    from .ensemble import LABELS, _values
+    from .report import _legend_per_subplot
+
+    go = _go()
+    names = [n for n in LABELS if _values(result, n)[0].size]
+    if not names:
+        raise ValueError("the ensemble has no statistic with a finite value to draw")
+    cols = min(3, len(names))
+    rows = -(-len(names) // cols)
+    fig = make_subplots(rows=rows, cols=cols, subplot_titles=[LABELS[n][0] for n in names],
+                        horizontal_spacing=0.08)  # fmt: skip
+    for k, name in enumerate(names):
+        values, _ = _values(result, name)
+        log = LABELS[name][1]
+        if log:
+            values = np.log10(values[values > 0])
+        fig.add_trace(go.Histogram(x=values, nbinsx=40, name=name, showlegend=False),
+                      row=k // cols + 1, col=k % cols + 1)  # fmt: skip
+        fig.update_xaxes(title_text="log₁₀ of the value" if log else LABELS[name][0],
+                         row=k // cols + 1, col=k % cols + 1)  # fmt: skip
+        fig.update_yaxes(title_text="members", row=k // cols + 1, col=k % cols + 1)
+    fig.update_layout(title=f"{len(result)} members, {result.method}")
+    _legend_per_subplot(fig, cols=cols)
+    return fig
+
+
+def relative_figure(sol):
+    """A motion relative to a carrier, both views: ω_r (relative, body axes) and the absolute
+    ω (dashed), and the relative energy, against time."""
+    from plotly.subplots import make_subplots
+
+    from .report import _legend_per_subplot
+
+    go = _go()
+    fig = make_subplots(rows=1, cols=2, horizontal_spacing=0.1, subplot_titles=(
+        "ω relative to the carrier (solid) and in space (dashed), body axes",
+        "relative energy ½ ω_r·Jω_r"))  # fmt: skip
+    colors = ("#1f77b4", "#ff7f0e", "#2ca02c")
+    for k, c in enumerate("xyz"):
+        fig.add_trace(go.Scatter(x=sol.t, y=sol.omega_r[:, k], name=f"ω_r,{c}",
+                                 line={"color": colors[k]}), row=1, col=1)  # fmt: skip
+        dashed = {"color": colors[k], "dash": "dash"}
+        fig.add_trace(go.Scatter(x=sol.t, y=sol.omega_absolute[:, k], name=f"ω_{c} absolute",
+                                 line=dashed), row=1, col=1)  # fmt: skip
+    fig.add_trace(go.Scatter(x=sol.t, y=sol.relative_energy, name="T_r"), row=1, col=2)
+    fig.update_yaxes(title_text="ω [rad/s]", row=1, col=1)
+    fig.update_yaxes(title_text="T_r [J]", row=1, col=2)
+    fig.update_xaxes(title_text="t [s]")
+    _legend_per_subplot(fig, cols=2, top=60)
     return fig

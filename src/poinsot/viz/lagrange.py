@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._style import legend_below, legend_outside
 from .torquefree import _plt
 
 __all__ = ["lagrangian_panels", "plot_lagrangian_solution", "plot_mechanism_frames"]
@@ -40,7 +41,7 @@ def lagrangian_panels(sol, model=None) -> list:
         curves = [(name, t, sol.q[:, j]) for j, name in members]
         panels.append((f"Generalized coordinates: {what}", label, False, curves))
     m = sol.multipliers.shape[1]
-    reactions = model.reaction_values(sol) if model is not None and model.reactions else {}
+    reactions = model.reaction_values(sol) if model is not None else {}
     if reactions:
         units = {u for _, u, _ in reactions.values()}
         panels.append(
@@ -48,14 +49,14 @@ def lagrangian_panels(sol, model=None) -> list:
                 "Constraint reactions (from the multipliers)",
                 ("force [N]" if units == {"N"} else " / ".join(f"[{u}]" for u in sorted(units))),
                 False,
-                [(f"{n}: {meaning}", t, v) for n, (v, _, meaning) in reactions.items()],
+                [(n, t, v) for n, (v, _, _) in reactions.items()],
             )
         )
     elif m:
         panels.append(
             (
                 "Lagrange multipliers λ (sign of eq. (6.60))",
-                "λ (constraint's units)",
+                "λ [the constraint's units]",
                 False,
                 [(f"λ{k + 1}", t, sol.multipliers[:, k]) for k in range(m)],
             )
@@ -70,11 +71,11 @@ def lagrangian_panels(sol, model=None) -> list:
         residuals.append(("max |G q̇ + b| (velocity level)", t, vel))
     if residuals:
         panels.append((f"Constraint residuals (stabilization: {sol.stabilization})",
-                       "residual (the constraints' units)", True, residuals))  # fmt: skip
+                       "residual [the constraints' units]", True, residuals))  # fmt: skip
     kept = sol.invariants
     if kept:
         panels.append(("Conserved by this system: relative change (integration error)",
-                       "relative change |x(t) − x(0)| / scale", True,
+                       "relative change |x(t) − x(0)| / scale (dimensionless)", True,
                        [(f"{i.symbol} [{i.unit}]" if i.unit else i.symbol, t, i.change + tiny)
                         for i in kept]))  # fmt: skip
     else:
@@ -90,7 +91,7 @@ def plot_lagrangian_solution(sol, *, model=None, title=None):
     plt = _plt()
     panels = lagrangian_panels(sol, model)
     rows = (len(panels) + 1) // 2
-    fig, axes = plt.subplots(rows, 2, figsize=(12, 3.4 * rows + 0.6), squeeze=False)
+    fig, axes = plt.subplots(rows, 2, figsize=(12, 4.4 * rows + 0.6), squeeze=False)
     for ax, (panel, ylabel, log, curves) in zip(axes.ravel(), panels, strict=False):
         for label, x, y in curves:
             (ax.semilogy if log else ax.plot)(x, y, label=label)
@@ -98,7 +99,7 @@ def plot_lagrangian_solution(sol, *, model=None, title=None):
         ax.set_ylabel(ylabel)
         ax.set_xlabel("t [s]")
         ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=7)
+        legend_below(ax, fontsize=7, ncol=2)
     for ax in axes.ravel()[len(panels) :]:
         ax.remove()
     if title:
@@ -116,7 +117,7 @@ def plot_mechanism_frames(model, sol, *, frames=6, ax=None):
     idx = np.linspace(0, len(sol.t) - 1, frames).astype(int)
     three = model.view == "3d"
     if ax is None:
-        fig = plt.figure(figsize=(6.5, 6))
+        fig = plt.figure(figsize=(8.5, 6))
         ax = fig.add_subplot(projection="3d" if three else None)
     cols = slice(0, 3) if three else slice(0, 2)
     for name, pts in model.outlines(sol.params).items():
@@ -154,5 +155,6 @@ def plot_mechanism_frames(model, sol, *, frames=6, ax=None):
     title = f"{model.description}\nthe mechanism at {frames} instants (darker = later)"
     ax.set_title(title, fontsize=9)
     if model.outline or model.trail:
-        ax.legend(fontsize=7, loc="upper right")
+        legend_outside(ax, fontsize=7)
+        ax.figure.tight_layout() if not three else ax.figure.subplots_adjust(right=0.72)
     return ax.figure

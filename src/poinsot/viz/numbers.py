@@ -1,17 +1,34 @@
-"""The numbers of a run as a reader sees them: grouped, named in words, with units.
+"""The numbers of a run as a reader sees them: grouped, named in words, with units, rounded.
 
 One table per kind of run maps a key path of ``summary.json`` to a group, a human name and a
 unit. The same table gives the ``units`` map written into ``summary.json`` and the report's
 "Numbers" section, so the two cannot disagree. Quantities whose number depends on the run
 (the conserved quantities, the reactions, the compared integrators) are added from the
 summary itself, each with the unit it carries there.
+
+Shown values are rounded to their uncertainty (:func:`format_value`); ``summary.json`` keeps
+them unrounded.
 """
 
 from __future__ import annotations
 
 import html
+import math
 
-__all__ = ["numbers_html", "rows_of", "units_of"]
+__all__ = ["format_value", "numbers_html", "rows_of", "units_of"]
+
+#: Relative round-off of a computed quantity (a few operations in doubles): entries of a vector
+#: or matrix smaller than this times its largest entry are noise (5.6e-17 in a diagonal
+#: inertia tensor) and shown as 0.
+ROUNDOFF = 1e-12
+#: At most this many significant digits are shown (the JSON has them all).
+MAX_DIGITS = 6
+#: Key paths whose uncertainty another number of the summary states (an absolute error).
+UNCERTAINTY = {
+    "final.omega": "torque_free.exact_solution_error.omega",
+}
+#: Groups of error estimates: two significant digits say all they can.
+ERROR_GROUPS = ("Accuracy", "Integrators compared at the same step")
 
 #: ``(group, name, key path, unit)`` of a rigid-body run ("1": dimensionless).
 RIGID = (
@@ -28,9 +45,27 @@ RIGID = (
     ("Initial state", "|L| about the centre of mass", "initial.angular_momentum_magnitude",
      "kg·m²/s"),
     ("Initial state", "a²/2k (sets the polhode family)", "initial.a2_over_2k", "kg·m²"),
+    ("Heavy top", "A: moment about the tip, across the axis", "top.A", "kg·m²"),
+    ("Heavy top", "C: moment about the symmetry axis", "top.C", "kg·m²"),
+    ("Heavy top", "M g l", "top.mgl", "N·m"),
+    ("Heavy top", "spin ω₃ about the symmetry axis", "top.spin_omega3", "rad/s"),
+    ("Heavy top", "θ min (axis from the upward vertical)", "top.theta_min", "rad"),
+    ("Heavy top", "θ max", "top.theta_max", "rad"),
+    ("Heavy top", "mean θ", "top.theta_mean", "rad"),
+    ("Heavy top", "mean precession rate (slope of ψ(t))", "top.mean_precession_rate", "rad/s"),
+    ("Heavy top", "gyroscopic estimate M g l/(C ω₃)", "top.gyroscopic_precession_rate",
+     "rad/s"),
+    ("Heavy top", "steady precession at mean θ, slow", "top.steady_precession_rate_slow",
+     "rad/s"),
+    ("Heavy top", "steady precession at mean θ, fast", "top.steady_precession_rate_fast",
+     "rad/s"),
     ("Torque-free motion", "polhode family", "torque_free.family", ""),
     ("Torque-free motion", "period of ω(t)", "torque_free.period", "s"),
-    ("Torque-free motion", "time between flips", "torque_free.flip_interval", "s"),
+    ("Torque-free motion", "time between sign changes of ω·e₂ (half the period)",
+     "torque_free.flip_interval", "s"),
+    ("Torque-free motion", "the body flips (e₂ turns over against L; else it wobbles)",
+     "torque_free.flips", ""),
+    ("Torque-free motion", "max |e₂·L|/|L| over the motion", "torque_free.e2_swing", "1"),
     ("Integration", "method", "integration.method", ""),
     ("Integration", "backend", "integration.backend", ""),
     ("Integration", "start", "integration.t_start", "s"),
@@ -38,7 +73,8 @@ RIGID = (
     ("Integration", "steps", "integration.nsteps", ""),
     ("Integration", "right-hand-side evaluations", "integration.nfev", ""),
     ("Integration", "samples", "integration.samples", ""),
-    ("Integration", "wall time of the integration", "integration.wall_time_s", "s"),
+    ("Integration", "wall time of the integration (compiled core: nothing is compiled at run "
+     "time)", "integration.wall_time_s", "s"),
     ("Accuracy", "max |QᵀQ − I| (distance from a rotation)",
      "integration.diagnostics.orthogonality_error", "1"),
     ("Accuracy", "max change of a distance between body points",
@@ -52,7 +88,7 @@ RIGID = (
     ("Final state", "t", "final.t", "s"),
     ("Final state", "centre of mass R", "final.R", "m"),
     ("Final state", "angular velocity ω (body frame)", "final.omega", "rad/s"),
-    ("Run", "simulation", "timings.simulation_s", "s"),
+    ("Run", "simulation, with its set-up", "timings.simulation_s", "s"),
     ("Run", "total, with figures and files", "timings.total_s", "s"),
 )  # fmt: skip
 
@@ -71,7 +107,10 @@ LAGRANGIAN = (
     ("Accuracy", "max |g(q)|", "integration.max_constraint_residual", "constraint's unit"),
     ("Accuracy", "max |G q̇ + b|", "integration.max_velocity_residual", "constraint's unit/s"),
     ("Final state", "t", "final.t", "s"),
-    ("Run", "simulation", "timings.simulation_s", "s"),
+    ("Run", "symbolic derivation of the equations (SymPy; the model's first run in this "
+     "process)", "timings.derivation_s", "s"),
+    ("Run", "simulation: derivation, code generation (SymPy lambdify) and integration",
+     "timings.simulation_s", "s"),
     ("Run", "total, with figures and files", "timings.total_s", "s"),
 )  # fmt: skip
 
@@ -85,7 +124,19 @@ POLHODES = (
     ("Torque-free motion", "rotational energy k of the drawn ellipsoid", "energy", "J"),
     ("Torque-free motion", "|L|", "momentum", "kg·m²/s"),
     ("Torque-free motion", "period of ω(t)", "period", "s"),
-    ("Torque-free motion", "time between flips", "flip_interval", "s"),
+    (
+        "Torque-free motion",
+        "time between sign changes of ω·e₂ (half the period)",
+        "flip_interval",
+        "s",
+    ),
+    (
+        "Torque-free motion",
+        "the body flips (e₂ turns over against L; else it wobbles)",
+        "flips",
+        "",
+    ),
+    ("Torque-free motion", "max |e₂·L|/|L| over the motion", "e2_swing", "1"),
 )
 
 
@@ -136,21 +187,34 @@ def _dynamic_rows(summary):
     for fp in summary.get("fixed_points") or []:
         rows.append(("Torque-free motion", f"fixed points {fp['set']}",
                      "stable" if fp["stable"] else "unstable", ""))  # fmt: skip
+    units = _get(summary, "system.parameter_units") or {}
     for name, value in (_get(summary, "system.parameters") or {}).items():
-        rows.append(("System", f"parameter {name}", value, ""))
+        rows.append(("System", f"parameter {name}", value, units.get(name, "")))
     return rows
 
 
 def rows_of(summary: dict) -> list[tuple[str, str, object, str]]:
     """``[(group, name, value, unit)]`` of a run's summary, in reading order; keys the
-    summary does not have are skipped."""
+    summary does not have are skipped. Values are as in the summary (unrounded)."""
+    return [row[:4] for row in _rows(summary)]
+
+
+def _rows(summary):
+    """``[(group, name, value, unit, uncertainty)]``: the uncertainty an absolute number
+    where the summary states one (:data:`UNCERTAINTY`), else None (round-off)."""
     spec = _spec(summary)
-    rows = [(g, name, _get(summary, path), unit) for g, name, path, unit in spec]
-    rows = [r for r in rows if r[2] is not None]
-    order = ["System", "Body", "Initial state", "Invariants", "Reactions", "Torque-free motion",
+    rows = []
+    for g, name, path, unit in spec:
+        value = _get(summary, path)
+        if value is None:
+            continue
+        unc = _get(summary, UNCERTAINTY[path]) if path in UNCERTAINTY else None
+        rows.append((g, name, value, unit, unc if isinstance(unc, int | float) else None))
+    order = ["System", "Body", "Initial state", "Invariants", "Reactions", "Heavy top",
+             "Torque-free motion",
              "Integration", "Accuracy", "Integrators compared at the same step", "Final state",
              "Run"]  # fmt: skip
-    rows += _dynamic_rows(summary)
+    rows += [(*r, None) for r in _dynamic_rows(summary)]
     return sorted(rows, key=lambda r: order.index(r[0]) if r[0] in order else len(order))
 
 
@@ -160,16 +224,63 @@ def units_of(summary: dict) -> dict:
     return {path: unit for _, _, path, unit in spec if unit and _get(summary, path) is not None}
 
 
-def _format(value) -> str:
+def _scale(value) -> float:
+    """The largest magnitude among the numbers of ``value`` (a number or nested lists)."""
     if isinstance(value, bool):
-        return "yes" if value else "no"
-    if isinstance(value, float):
-        return f"{value:.6g}"
+        return 0.0
+    if isinstance(value, int | float):
+        return abs(value) if math.isfinite(value) else 0.0
     if isinstance(value, list):
-        if value and all(isinstance(v, list) for v in value):
-            return "<br>".join(_format(v) for v in value)
-        return "(" + ", ".join(_format(v) for v in value) + ")"
-    return html.escape(str(value))
+        return max((_scale(v) for v in value), default=0.0)
+    return 0.0
+
+
+def _round(x: float, unc: float, digits: int) -> str:
+    """``x`` to the digit of ``unc`` (at most ``digits`` significant digits); zero when
+    ``|x| < unc``; never ``-0``."""
+    if not math.isfinite(x):
+        return str(x)
+    if unc > 0 and abs(x) < unc:
+        return "0"
+    if x == 0:
+        return "0"
+    lead = math.floor(math.log10(abs(x)))
+    n = digits if not unc > 0 else min(digits, max(1, lead - math.floor(math.log10(unc)) + 1))
+    text = f"{x:.{n}g}"
+    return "0" if float(text) == 0 else text
+
+
+def format_value(value, uncertainty=None, *, digits=MAX_DIGITS) -> str:
+    """A summary's value as shown (HTML-escaped): numbers rounded to ``uncertainty`` (an
+    absolute number), by default the round-off of the quantity (:data:`ROUNDOFF` times its
+    largest entry, so that the noise of a vector or matrix shows as 0), at most ``digits``
+    significant digits; never ``-0``. Vectors in parentheses, matrices one row a line.
+
+    Examples
+    --------
+    >>> format_value([[21.666666666666668, -5.551115123125783e-17], [-0.0, 16.666666666666668]])
+    '(21.6667, 0)<br>(0, 16.6667)'
+    >>> format_value(0.9873084531, uncertainty=2.3e-4)
+    '0.9873'
+    """
+    if uncertainty is None or not uncertainty > 0:
+        uncertainty = ROUNDOFF * _scale(value)
+    unc = float(uncertainty)
+
+    def fmt(v):
+        if isinstance(v, bool):
+            return "yes" if v else "no"
+        if isinstance(v, int):
+            return str(v)
+        if isinstance(v, float):
+            return _round(v, unc, digits)
+        if isinstance(v, list):
+            if v and all(isinstance(x, list) for x in v):
+                return "<br>".join(fmt(x) for x in v)
+            return "(" + ", ".join(fmt(x) for x in v) + ")"
+        return html.escape(str(v))
+
+    return fmt(value)
 
 
 def numbers_html(summary: dict, raw_link: str = "summary.json") -> str:
@@ -177,16 +288,19 @@ def numbers_html(summary: dict, raw_link: str = "summary.json") -> str:
     link to the raw JSON."""
     parts = []
     group = None
-    for g, name, value, unit in rows_of(summary):
+    for g, name, value, unit, unc in _rows(summary):
         if g != group:
             if group is not None:
                 parts.append("</table>")
             parts.append(f"<h3>{html.escape(g)}</h3><table class='numbers'>")
             group = g
-        parts.append(f"<tr><th>{html.escape(name)}</th><td>{_format(value)}</td>"
+        shown = format_value(value, unc, digits=2 if g in ERROR_GROUPS else MAX_DIGITS)
+        parts.append(f"<tr><th>{html.escape(name)}</th><td>{shown}</td>"
                      f"<td class='unit'>{html.escape(unit)}</td></tr>")  # fmt: skip
     if group is not None:
         parts.append("</table>")
-    parts.append(f"<p>All numbers, unrounded: <a href='{html.escape(raw_link)}'>"
-                 f"{html.escape(raw_link)}</a> (also embedded in this page).</p>")  # fmt: skip
+    parts.append("<p>Values are rounded to their uncertainty (round-off, or the error against "
+                 "the exact solution where one is known). All numbers, unrounded: "
+                 f"<a href='{html.escape(raw_link)}'>{html.escape(raw_link)}</a> (also embedded "
+                 "in this page).</p>")  # fmt: skip
     return "\n".join(parts)

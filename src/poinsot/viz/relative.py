@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._style import legend_below, legend_outside
+
 __all__ = ["plot_hodograph", "plot_relative_motion"]
 
 
@@ -24,7 +26,8 @@ def _plt():
 
 
 def plot_relative_motion(sol, *, title=None):
-    """Panels over time: ω_r (body components), the carrier's ω_e (carrier components), the
+    """Panels over time: ω_r (body components) with the absolute ω (dashed: the same motion
+    seen from space), the carrier's ω_e (carrier components), the
     relative rotational energy ½ ω_r·Jω_r, the magnitudes of the transport and Coriolis inertia
     moments, and the direction of the body's axis of largest moment C in the carrier's axes
     (where a spin axis points relative to the vehicle). Returns the figure.
@@ -37,7 +40,7 @@ def plot_relative_motion(sol, *, title=None):
     ...                         carrier=Carrier(omega_e=(0, 0, 1)), hold_com=True)
     >>> fig = plot_relative_motion(sol)
     >>> [ax.get_ylabel() for ax in fig.axes][:2]
-    ['ω_r (rad/s), body axes', 'ω_e (rad/s), carrier axes']
+    ['ω_r [rad/s], body axes', 'ω_e [rad/s], carrier axes']
     """
     plt = _plt()
     fig = plt.figure(figsize=(11, 9.5), constrained_layout=True)
@@ -48,18 +51,22 @@ def plot_relative_motion(sol, *, title=None):
     axis_c = np.einsum("nij,j->ni", sol.Q_r, np.asarray(sol.body.principal_axes)[:, 2])
     for k, name in enumerate("xyz"):
         bottom.plot(t, axis_c[:, k], label=f"carrier {name}")
-    bottom.set_ylabel("axis of C, carrier axes (1)")
-    bottom.set_xlabel("t (s)")
+    bottom.set_ylabel("axis of C, carrier axes (dimensionless)")
+    bottom.set_xlabel("t [s]")
     bottom.set_title("the body's axis of largest moment C seen from the carrier (unit vector)",
                      fontsize=9)  # fmt: skip
     for k, name in enumerate("xyz"):
-        axes[0, 0].plot(t, sol.omega_r[:, k], label=f"ω_r,{name}")
+        (line,) = axes[0, 0].plot(t, sol.omega_r[:, k], label=f"ω_r,{name}: relative")
+        axes[0, 0].plot(t, sol.omega_absolute[:, k], ls="--", color=line.get_color(),
+                        label=f"ω_{name}: absolute")  # fmt: skip
         axes[0, 1].plot(t, sol.carrier_motion[:, k], label=f"ω_e,{name}")
-    axes[0, 0].set_ylabel("ω_r (rad/s), body axes")
-    axes[0, 1].set_ylabel("ω_e (rad/s), carrier axes")
+    axes[0, 0].set_title("both views: relative to the carrier (solid), in space (dashed)",
+                         fontsize=9)  # fmt: skip
+    axes[0, 0].set_ylabel("ω_r [rad/s], body axes")
+    axes[0, 1].set_ylabel("ω_e [rad/s], carrier axes")
     E = sol.relative_energy
     axes[1, 0].plot(t, E, color="tab:purple", label="½ ω_r·Jω_r")
-    axes[1, 0].set_ylabel("relative rotational energy (J)")
+    axes[1, 0].set_ylabel("relative rotational energy [J]")
     balanced = sol.system.balance_transport
     if balanced:
         axes[1, 0].set_title(
@@ -71,13 +78,13 @@ def plot_relative_motion(sol, *, title=None):
     axes[1, 1].plot(t, np.linalg.norm(sol.transport_moment, axis=1),
                     label="|M_e| transport" + (" (balanced)" if balanced else ""))  # fmt: skip
     axes[1, 1].plot(t, np.linalg.norm(sol.coriolis_moment, axis=1), label="|M_c| Coriolis")
-    axes[1, 1].set_ylabel("inertia moment (N·m)")
+    axes[1, 1].set_ylabel("inertia moment [N·m]")
     for ax in [*axes.ravel(), bottom]:
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8, loc="best")
+        legend_outside(ax)
         ax.ticklabel_format(axis="y", style="plain", useOffset=False)
     for ax in axes[1]:
-        ax.set_xlabel("t (s)")
+        ax.set_xlabel("t [s]")
     fig.suptitle(title or "Motion relative to the carrier")
     return fig
 
@@ -105,12 +112,12 @@ def plot_hodograph(sol, *, title=None):
                           cstride=2, label="energy ellipsoid (17), T_r(0)")  # fmt: skip
     ax.plot(w[:, 0], w[:, 1], w[:, 2], color="crimson", lw=1.2, label="ω_r(t)")
     ax.plot(*w[0], "o", color="k", ms=5, label="t = 0")
-    ax.set_xlabel("ω₁ (rad/s)")
-    ax.set_ylabel("ω₂ (rad/s)")
-    ax.set_zlabel("ω₃ (rad/s)")
     radius = max(float(semi.max()), float(np.abs(w).max()), 1e-300)
     _equal_3d(ax, 1.05 * radius)
-    ax.legend(loc="upper left", fontsize=8)
+    ax.set_xlabel("ω_r·e₁ (A) [rad/s]")
+    ax.set_ylabel("ω_r·e₂ (B) [rad/s]")
+    ax.set_zlabel("ω_r·e₃ (C) [rad/s]")
+    legend_below(ax, ncol=3, drop=10)
     ax.set_title("hodograph of ω_r, principal axes (A ≤ B ≤ C)", fontsize=10)
     n = np.linalg.norm(sol.omega_r, axis=1)
     ax2.plot(sol.t, n, color="crimson", label="|ω_r|")
@@ -118,13 +125,13 @@ def plot_hodograph(sol, *, title=None):
         ax2.axhline(semi[0], color="tab:blue", ls="--", lw=1, label="√(2T_r/A): largest semi-axis")
         ax2.axhline(semi[2], color="tab:green", ls="--", lw=1,
                     label="√(2T_r/C): smallest semi-axis")  # fmt: skip
-    ax2.set_xlabel("t (s)")
-    ax2.set_ylabel("|ω_r| (rad/s)")
+    ax2.set_xlabel("t [s]")
+    ax2.set_ylabel("|ω_r| [rad/s]")
     ratio, bound = sol.hodograph_ratio(), sol.hodograph_bound()
     state = "balanced transport moment, (16)" if balanced else "transport moment not balanced"
     ax2.set_title(f"max|ω_r| / min|ω_r| = {ratio:.4g}; bound √(C/A) = {bound:.4g} ({state})",
                   fontsize=9)  # fmt: skip
     ax2.grid(alpha=0.3)
-    ax2.legend(fontsize=8, loc="best")
+    legend_below(ax2, ncol=2)
     fig.suptitle(title or "Relative angular velocity on the energy ellipsoid")
     return fig

@@ -14,6 +14,7 @@ import json
 import numpy as np
 
 from .._io import atomic_write_text
+from .interactive import SCENE_CAMERA
 
 __all__ = [
     "PLOTLYJS_MODES",
@@ -139,8 +140,8 @@ def _body_figure(traj, go):
     where = "about the fixed pivot" if pivot is not None else "about the centre of mass"
     fig.update_layout(
         title=f"Body attitude {where} (animated; red e₁, green e₂, blue e₃)",
-        scene={**axes, "aspectmode": "cube"},
-        height=560,
+        scene={**axes, "aspectmode": "cube", "camera": SCENE_CAMERA},
+        height=640,
         **_animation_controls(fig.frames, traj.t[idx]),
     )
     return fig
@@ -153,14 +154,21 @@ def _frame_indices(n: int):
 
 def _animation_controls(frames, times) -> dict:
     """Play/pause buttons and a time slider for a plotly figure's ``frames`` (named by their
-    index, so that equal rounded times cannot collide), labelled by ``times`` [s]."""
+    index, so that equal rounded times cannot collide), labelled by ``times`` [s]. Both sit
+    under the plot, the buttons left of the slider: neither covers the other, nor the plot;
+    the bottom margin makes room for them."""
     return {
+        "margin": {"b": 150},
         "updatemenus": [
             {
                 "type": "buttons",
                 "showactive": False,
-                "x": 0.05,
-                "y": 0.05,
+                "direction": "down",
+                "x": 0.0,
+                "y": 0.0,
+                "xanchor": "left",
+                "yanchor": "top",
+                "pad": {"t": 45, "r": 10},
                 "buttons": [
                     {
                         "label": "▶ play",
@@ -171,7 +179,7 @@ def _animation_controls(frames, times) -> dict:
                         ],
                     },
                     {
-                        "label": "⏸ pause",
+                        "label": "❚❚ pause",
                         "method": "animate",
                         "args": [[None], {"mode": "immediate", "frame": {"duration": 0}}],
                     },
@@ -180,6 +188,12 @@ def _animation_controls(frames, times) -> dict:
         ],
         "sliders": [
             {
+                "x": 0.12,
+                "len": 0.88,
+                "y": 0.0,
+                "xanchor": "left",
+                "yanchor": "top",
+                "pad": {"t": 35, "b": 10},
                 "currentvalue": {"prefix": "t [s] = "},
                 "steps": [
                     {
@@ -207,7 +221,7 @@ def _polhode_figure(traj, go, free, levels):
     fig = polhode_family_figure(free, k, levels=levels, omega=w)
     fig.update_layout(
         title=f"This run's ω(t) on its energy ellipsoid (k = {k:.4g} J), with the polhodes "
-        "at that energy; ω in rad/s, body frame"
+        "at that energy; ω along the principal axes e₁, e₂, e₃"
     )
     return fig
 
@@ -221,10 +235,14 @@ def _series_figure(traj, go):
     lost = [i for i in traj.invariants if not i.conserved]
     middle = ("Conserved by this problem: relative change" if kept
               else "Total energy: not conserved here (forces do work)")  # fmt: skip
-    fig = make_subplots(rows=1, cols=3, subplot_titles=(
-        "Angular velocity (body frame)", middle, "Attitude: distance from a rotation"))  # fmt: skip
-    for i, name in enumerate(("ω₁", "ω₂", "ω₃")):
-        fig.add_trace(go.Scatter(x=traj.t, y=traj.omega[:, i], name=name), row=1, col=1)
+    from .trajectory import omega_components
+
+    fig = make_subplots(rows=1, cols=3, horizontal_spacing=0.09, subplot_titles=(
+        "Angular velocity along the principal axes", middle,
+        "Attitude: distance from a rotation"))  # fmt: skip
+    w, labels = omega_components(traj)
+    for i, name in enumerate(labels):
+        fig.add_trace(go.Scatter(x=traj.t, y=w[:, i], name=name), row=1, col=1)
     tiny = 1e-17
     if kept:
         for inv in kept:
@@ -239,29 +257,63 @@ def _series_figure(traj, go):
     fig.add_trace(go.Scatter(x=traj.t, y=traj.orthogonality_error + tiny,
                              name="max |QᵀQ − I|"), row=1, col=3)  # fmt: skip
     fig.update_yaxes(type="log", title_text="max |QᵀQ − I| (dimensionless)", row=1, col=3)
-    fig.update_yaxes(title_text="ω [rad/s]", row=1, col=1)
+    fig.update_yaxes(title_text="ω along e₁, e₂, e₃ [rad/s]", row=1, col=1)
     fig.update_xaxes(title_text="t [s]")
     note = ("Not conserved here: " + "; ".join(f"{i.symbol} ({i.reason})" for i in lost)
             if lost else None)  # fmt: skip
-    fig.update_layout(height=440, title=note)
-    _legend_per_subplot(fig)
+    fig.update_layout(title=note)
+    _legend_per_subplot(fig, cols=3)
     return fig
 
 
-def _legend_per_subplot(fig) -> None:
-    """Give each subplot its own legend, inside its top-right corner (plotly's ``legend2``…),
-    instead of one legend for the whole figure."""
+#: Pixel sizes of a row of subplots (:func:`_legend_per_subplot`): subplot title, plot,
+#: tick labels with the x-axis title, one legend entry, gap between rows.
+_ROW_PX = {"title": 40, "plot": 270, "axis": 62, "entry": 20, "gap": 18}
+
+
+def _legend_per_subplot(fig, cols=2, top=80) -> None:
+    """Give each subplot its own legend (plotly's ``legend2``…), below its plotting area and
+    its x-axis title, and size the figure so that every row of subplots has room for its
+    title, plot, axis labels and legend: a legend never covers a curve. ``cols``: the
+    columns of the ``make_subplots`` grid; ``top``: the margin above, for the title."""
     by_axes = {}
     for trace in fig.data:
         by_axes.setdefault((trace.xaxis or "x", trace.yaxis or "y"), []).append(trace)
-    for n, ((xa, ya), traces) in enumerate(by_axes.items()):
+    index = {key: int(key[0][1:] or 1) - 1 for key in by_axes}  # x, x2, …: row-major
+    rows = max(index.values()) // cols + 1 if index else 1
+    entries = [0] * rows
+    for key, traces in by_axes.items():
+        shown = sum(1 for t in traces if t.showlegend is not False)
+        entries[index[key] // cols] = max(entries[index[key] // cols], shown)
+    px = _ROW_PX
+    heights = [px["title"] + px["plot"] + px["axis"] + px["entry"] * n + px["gap"]
+               for n in entries]  # fmt: skip
+    area = sum(heights)
+    y = 1.0
+    tops = []
+    for r in range(rows):
+        upper = y - px["title"] / area
+        tops.append(upper)
+        for c in range(cols):
+            k = r * cols + c
+            axis = fig.layout[f"yaxis{k + 1 if k else ''}"]
+            if axis is not None:
+                axis.domain = [upper - px["plot"] / area, upper]
+        y -= heights[r] / area
+    titles = [a for a in fig.layout.annotations if a.yref == "paper" and a.yanchor == "bottom"]
+    for k, a in enumerate(titles):  # make_subplots' subplot titles, in subplot order
+        a.y = tops[k // cols]
+    for n, (key, traces) in enumerate(by_axes.items()):
         name = "legend" if n == 0 else f"legend{n + 1}"
+        xa, ya = key
         xdom = fig.layout[f"xaxis{xa[1:]}"].domain or (0, 1)
         ydom = fig.layout[f"yaxis{ya[1:]}"].domain or (0, 1)
         for trace in traces:
             trace.legend = name
-        fig.layout[name] = {"x": xdom[1], "y": ydom[1], "xanchor": "right", "yanchor": "top",
-                            "bgcolor": "rgba(255,255,255,0.75)", "font": {"size": 10}}  # fmt: skip
+        fig.layout[name] = {"x": xdom[0], "y": ydom[0] - px["axis"] / area, "xanchor": "left",
+                            "yanchor": "top", "orientation": "v", "font": {"size": 10},
+                            "bgcolor": "rgba(255,255,255,0)"}  # fmt: skip
+    fig.update_layout(height=int(area + top + 10), margin={"t": top, "b": 10})
 
 
 def _comparison_figure(t, errors, go):
@@ -270,7 +322,8 @@ def _comparison_figure(t, errors, go):
 
     from .trajectory import COMPARISON_PANELS
 
-    fig = make_subplots(rows=1, cols=3, subplot_titles=[p[1] for p in COMPARISON_PANELS])
+    fig = make_subplots(rows=1, cols=3, subplot_titles=[p[1] for p in COMPARISON_PANELS],
+                        horizontal_spacing=0.09)  # fmt: skip
     tiny = 1e-17
     for col, (key, _, ylabel) in enumerate(COMPARISON_PANELS, start=1):
         for n, (label, rows) in enumerate(errors.items()):
@@ -281,23 +334,90 @@ def _comparison_figure(t, errors, go):
                 fig.add_trace(trace, row=1, col=col)
         fig.update_yaxes(type="log", title_text=ylabel, row=1, col=col)
     fig.update_xaxes(title_text="t [s]")
-    fig.update_layout(height=430, title="Integrators against the exact torque-free solution, "
-                      "same step")  # fmt: skip
-    _legend_per_subplot(fig)
+    fig.update_layout(title="Integrators against the exact torque-free solution, same step")
+    _legend_per_subplot(fig, cols=3)
     return fig
 
 
 _COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd")
 
 
+def _top_figure(motion, go):
+    """A top's nutation θ(t) with its band and its precession ψ(t) with the mean rate, the
+    gyroscopic estimate and the steady precession (the plotly twin of
+    :func:`poinsot.viz.trajectory.plot_attitude`)."""
+    from plotly.subplots import make_subplots
+
+    m = motion
+    t = m.t
+    lo, hi = m.theta_band
+    fig = make_subplots(rows=1, cols=2, horizontal_spacing=0.1, subplot_titles=(
+        "Nutation: angle θ of the axis from the upward vertical",
+        "Precession: azimuth ψ of the axis about the vertical (unwrapped)"))  # fmt: skip
+    band = go.Scatter(x=[t[0], t[-1], t[-1], t[0], t[0]], y=[lo, lo, hi, hi, lo], fill="toself",
+                      mode="lines", line={"width": 0}, fillcolor="rgba(31,119,180,0.15)",
+                      name=f"nutation band {lo:.4g} – {hi:.4g} rad")  # fmt: skip
+    fig.add_trace(band, row=1, col=1)
+    fig.add_trace(go.Scatter(x=t, y=m.theta, name="θ(t)", line={"color": "#1f77b4"}),
+                  row=1, col=1)  # fmt: skip
+    fig.add_trace(go.Scatter(x=t, y=m.psi, name="ψ(t)", line={"color": "#2ca02c"}), row=1, col=2)
+    for rate, dash, color, name in (
+        (m.mean_precession_rate, "dash", "black", "mean rate (fit of ψ)"),
+        (m.gyroscopic_rate, "dot", "#d62728", "gyroscopic M g l/(C ω₃)"),
+        (m.steady_rates[0], "dashdot", "#9467bd", "steady precession at mean θ"),
+    ):
+        if np.isfinite(rate):
+            style = {"dash": dash, "color": color, "width": 1.5}
+            line = go.Scatter(x=t, y=m.psi[0] + rate * (t - t[0]),
+                              name=f"{name}: {rate:.5g} rad/s", line=style)  # fmt: skip
+            fig.add_trace(line, row=1, col=2)
+    fig.update_yaxes(title_text="θ [rad]", row=1, col=1)
+    fig.update_yaxes(title_text="ψ [rad]", row=1, col=2)
+    fig.update_xaxes(title_text="t [s]")
+    _legend_per_subplot(fig, cols=2, top=60)
+    return fig
+
+
+def _axis_trace_figure(trace, go):
+    """The symmetry axis's direction on the unit sphere: the nutation loops."""
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 48), np.linspace(0, np.pi, 24))
+    sphere = go.Surface(x=np.cos(u) * np.sin(v), y=np.sin(u) * np.sin(v), z=np.cos(v),
+                        opacity=0.12, showscale=False, colorscale=[[0, "#999"], [1, "#999"]],
+                        hoverinfo="skip", name="unit sphere", showlegend=True)  # fmt: skip
+    path = go.Scatter3d(x=trace[:, 0], y=trace[:, 1], z=trace[:, 2], mode="lines",
+                        line={"color": "#1f77b4", "width": 5},
+                        name="symmetry axis (tip → centre of mass)")  # fmt: skip
+    ends = go.Scatter3d(x=trace[[0, -1], 0], y=trace[[0, -1], 1], z=trace[[0, -1], 2],
+                        mode="markers", marker={"size": 5, "color": ["green", "red"]},
+                        name="start (green), end (red)")  # fmt: skip
+    fig = go.Figure(data=[sphere, path, ends])
+    scene = {f"{c}axis": {"range": [-1.05, 1.05], "title": f"{c} (dimensionless)"} for c in "xyz"}
+    fig.update_layout(title="The symmetry axis's direction on the unit sphere: precession and "
+                      "nutation loops", height=640,
+                      scene={**scene, "aspectmode": "cube", "camera": SCENE_CAMERA})  # fmt: skip
+    return fig
+
+
 def write_report(
-    path, traj, summary: dict, *, free=None, levels=7, comparison=None, plotlyjs="inline"
+    path,
+    traj,
+    summary: dict,
+    *,
+    free=None,
+    levels=7,
+    comparison=None,
+    top=None,
+    plotlyjs="inline",
 ) -> None:
     """Write the interactive report for ``traj`` to ``path`` (atomically); ``comparison``:
     the per-sample errors of :func:`poinsot.app.runs.rigid.compare_methods`, drawn second;
-    ``plotlyjs``: one of :data:`PLOTLYJS_MODES`."""
+    ``top``: a heavy top's :class:`~poinsot.tops.TopMotion` (its nutation, precession and
+    the trace of its axis); ``plotlyjs``: one of :data:`PLOTLYJS_MODES`."""
     go, pio = _plotly()
     figures = [_body_figure(traj, go)]
+    if top is not None:
+        figures.append(_top_figure(top, go))
+        figures.append(_axis_trace_figure(traj.axis_trace(), go))
     if comparison is not None:
         figures.append(_comparison_figure(traj.t, comparison, go))
     if free is not None and np.any(traj.omega[0]):
@@ -357,11 +477,12 @@ def _mechanism_figure(model, sol, go):
     title = f"{model.description} (animated)"
     if three:
         fig.update_layout(scene={**{f"{c}axis": {"range": ranges[c], "title": f"{c} [m]"}
-                                    for c in "xyz"}, "aspectmode": "cube"})  # fmt: skip
+                                    for c in "xyz"}, "aspectmode": "cube",
+                                 "camera": SCENE_CAMERA})  # fmt: skip
     else:
         fig.update_xaxes(range=ranges["x"], title_text="x [m]")
         fig.update_yaxes(range=ranges["y"], title_text="y [m]", scaleanchor="x", scaleratio=1)
-    fig.update_layout(title=title, height=560, **_animation_controls(fig.frames, sol.t[idx]))
+    fig.update_layout(title=title, height=640, **_animation_controls(fig.frames, sol.t[idx]))
     return fig
 
 
@@ -372,15 +493,15 @@ def _panels_figure(panels, go, title=None):
 
     rows = (len(panels) + 1) // 2
     fig = make_subplots(rows=rows, cols=2, subplot_titles=[p[0] for p in panels],
-                        vertical_spacing=0.12 / max(rows - 1, 1) + 0.06)  # fmt: skip
+                        horizontal_spacing=0.12)  # fmt: skip
     for n, (_, ylabel, log, curves) in enumerate(panels):
         row, col = n // 2 + 1, n % 2 + 1
         for label, x, y in curves:
             fig.add_trace(go.Scatter(x=x, y=y, name=label), row=row, col=col)
         fig.update_yaxes(title_text=ylabel, type="log" if log else "linear", row=row, col=col)
         fig.update_xaxes(title_text="t [s]", row=row, col=col)
-    fig.update_layout(height=330 * rows + 80, title=title)
-    _legend_per_subplot(fig)
+    fig.update_layout(title=title)
+    _legend_per_subplot(fig, cols=2, top=80 if title else 50)
     return fig
 
 
@@ -425,7 +546,7 @@ def _shared_plotlyjs(folder) -> str:
     return name
 
 
-def _write_page(path, figures, summary, pio, *, plotlyjs="inline"):
+def _write_page(path, figures, summary, pio, *, plotlyjs="inline", raw_link="summary.json"):
     from pathlib import Path
 
     from .numbers import numbers_html
@@ -466,17 +587,19 @@ table.numbers td.unit {{ font-family: system-ui, sans-serif; color: #666; }}
 {f'<p class="lead">{html.escape(lead)}</p>' if lead else ""}
 {"".join(f'<div class="plot">{p}</div>' for p in parts)}
 <h2>Numbers</h2>
-{numbers_html(summary)}
+{numbers_html(summary, raw_link)}
 <script type="application/json" id="poinsot-summary">{html.escape(json.dumps(summary))}</script>
 </body></html>
 """
     atomic_write_text(path, page)
 
 
-def write_figures_page(path, figures, summary: dict, *, plotlyjs="inline") -> None:
-    """A page of plotly ``figures`` with the summary's numbers (e.g. ``poinsot polhodes``)."""
+def write_figures_page(path, figures, summary: dict, *, plotlyjs="inline",
+                       raw_link="summary.json") -> None:  # fmt: skip
+    """A page of plotly ``figures`` with the summary's numbers (e.g. ``poinsot polhodes``);
+    ``raw_link``: the file beside it that holds the numbers unrounded."""
     _, pio = _plotly()
-    _write_page(path, figures, summary, pio, plotlyjs=plotlyjs)
+    _write_page(path, figures, summary, pio, plotlyjs=plotlyjs, raw_link=raw_link)
 
 
 def write_ensemble_report(path, summary: dict, images: dict) -> None:
@@ -484,6 +607,8 @@ def write_ensemble_report(path, summary: dict, images: dict) -> None:
     per-member statistics as a table, and the figures (``images``: caption → PNG bytes,
     embedded), with the raw summary JSON. Needs nothing beyond the standard library."""
     stats = summary.get("ensemble", {}).get("statistics", {})
+    units = {"first_flip": "s", "flip_interval": "s", "flip_count": "",
+             "energy_error": "1", "momentum_error": "1", "orthogonality_error": "1"}  # fmt: skip
     rows = []
     for name, entry in stats.items():
         if not entry.get("count"):
@@ -491,16 +616,21 @@ def write_ensemble_report(path, summary: dict, images: dict) -> None:
         cells = "".join(f"<td>{entry[k]:.4g}</td>" for k in ("min", "p05", "median", "p95", "max"))
         rows.append(
             f"<tr><th>{html.escape(name)}</th><td>{entry['count']}</td>{cells}"
+            f"<td class='unit'>{html.escape(units.get(name, ''))}</td>"
             f"<td class='meaning'>{html.escape(entry.get('meaning', ''))}</td></tr>"
         )
     table = (
         "<table class='numbers'><tr><th>statistic</th><th>members</th><th>min</th><th>5 %</th>"
-        "<th>median</th><th>95 %</th><th>max</th><th>meaning</th></tr>" + "".join(rows) + "</table>"
+        "<th>median</th><th>95 %</th><th>max</th><th>unit</th><th>meaning</th></tr>"
+        + "".join(rows)
+        + "</table>"
     )
     e = summary.get("ensemble", {})
     lead = (
         f"{e.get('members')} members ({summary.get('distribution', {}).get('description', '')}), "
-        f"{e.get('method')}; {e.get('succeeded')} finished in {e.get('wall_time_s', 0):.3g} s."
+        f"{e.get('method')}; {e.get('succeeded')} finished, integrated in "
+        f"{e.get('wall_time_s', 0):.3g} s (wall time in the compiled core; nothing is compiled "
+        "at run time)."
     )
     _image_page(path, summary, lead, "<h2>Per-member statistics</h2>" + table, images,
                 ("summary.json", "ensemble.nc"))  # fmt: skip
@@ -518,8 +648,14 @@ def _image_page(path, summary: dict, lead: str, body_html: str, images: dict, li
         "</figure>"
         for caption, png in images.items()
     )
+    from pathlib import Path
+
     scenario = summary.get("scenario", {})
     title = html.escape(f"poinsot — {scenario.get('name', 'run')}")
+    # a data file is linked only when it is there (``[output] data = false`` writes none);
+    # summary.json is always written, after the report, once the timings are in
+    here = Path(path).parent
+    links = [x for x in links if x == "summary.json" or (here / x).exists()]
     link_html = " · ".join(f'<a href="{html.escape(x)}">{html.escape(x)}</a>' for x in links)
     page = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>{title}</title>
@@ -549,9 +685,11 @@ figcaption {{ color: #555; font-size: 0.9em; }}
 def write_relative_report(path, summary: dict, images: dict) -> None:
     """A self-contained HTML page of a motion relative to a carrier: the carrier, the numbers
     (with units and meanings) and the figures (``images``: caption → PNG bytes)."""
+    from .numbers import format_value
+
     rows = []
     for name, (value, unit, meaning) in summary.get("table", {}).items():
-        shown = f"{value:.6g}" if isinstance(value, float) else html.escape(str(value))
+        shown = format_value(value) if isinstance(value, float) else html.escape(str(value))
         rows.append(
             f"<tr><th>{html.escape(name)}</th><td>{shown}</td><td>{html.escape(unit)}</td>"
             f"<td class='meaning'>{html.escape(meaning)}</td></tr>"

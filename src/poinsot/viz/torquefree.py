@@ -1,6 +1,9 @@
 """Figures of the torque-free body: Poinsot's construction in 3D, polhodes, ω(t), tumbling.
 
 These are the notebook's figures that never rendered ("3D rendering not yet implemented").
+Angular velocities are drawn by their components along the sorted principal axes e1, e2, e3
+(``ω·e_k``, :meth:`~poinsot.torquefree.FreeRigidBody.principal_components`), and the axes are
+labelled so: a curve "around e1" circles the axis labelled e₁ whatever the body's own axes are.
 """
 
 from __future__ import annotations
@@ -9,6 +12,7 @@ import numpy as np
 
 from .._core import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
 from .._io import atomic_path
+from ._style import legend_outside, omega_axis_labels
 
 __all__ = [
     "animate_tumbling",
@@ -40,7 +44,7 @@ def _plt():
     return plt
 
 
-def _axes3d(ax, figsize=(7, 6)):
+def _axes3d(ax, figsize=(9.5, 6.5)):
     plt = _plt()
     if ax is None:
         fig = plt.figure(figsize=figsize)
@@ -48,13 +52,23 @@ def _axes3d(ax, figsize=(7, 6)):
     return ax.figure, ax
 
 
-def _equal_3d(ax, radius):
+def _equal_3d(ax, radius, moments=None):
+    from matplotlib.ticker import MaxNLocator
+
     for setter in (ax.set_xlim, ax.set_ylim, ax.set_zlim):
         setter(-radius, radius)
-    ax.set_box_aspect((1, 1, 1))
-    ax.set_xlabel("ω₁ (rad/s)")
-    ax.set_ylabel("ω₂ (rad/s)")
-    ax.set_zlabel("ω₃ (rad/s)")
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # few ticks: their labels never collide
+        axis.set_major_locator(MaxNLocator(5))
+    ax.set_box_aspect((1, 1, 1), zoom=0.85)  # room for the tick and axis labels
+    omega_axis_labels(ax, moments)
+
+
+def _legend_3d(fig, ax):
+    """The legend to the right of a 3D axes, which is narrowed to make room for it."""
+    legend = legend_outside(ax, loc="upper left", bbox_to_anchor=(1.0, 0.95))
+    if legend is not None:
+        fig.subplots_adjust(left=0.0, right=0.68)
+    return legend
 
 
 def _ellipsoid_mesh(semi_axes, axes, n=40):
@@ -77,21 +91,21 @@ def plot_energy_ellipsoid(
     >>> from poinsot.torquefree import FreeRigidBody
     >>> fig = plot_energy_ellipsoid(FreeRigidBody((1, 2, 3)), 0.5, 1.6 ** 0.5)
     >>> fig.axes[0].get_title()
-    'Energy ellipsoid, k = 0.5, a²/2k = 1.6'
+    'Energy ellipsoid, k = 0.5 J, a²/2k = 1.6 kg·m²'
     """
     fig, ax = _axes3d(ax)
     I = body.principal_moments
-    S = body._S
+    S = np.eye(3)  # drawn in principal components: the ellipsoids' axes are the plot's axes
     k = float(energy)
     semi = energy_ellipsoid_semi_axes(np.asarray(I, float), k)
     x, y, z = _ellipsoid_mesh(semi, S)
     ax.plot_surface(x, y, z, color="tab:blue", alpha=0.12, linewidth=0, label="energy ellipsoid")
     ax.plot_wireframe(x, y, z, color="tab:blue", alpha=0.15, linewidth=0.3, rstride=2, cstride=2)
-    title = f"Energy ellipsoid, k = {k:g}"
+    title = f"Energy ellipsoid, k = {k:g} J"
     if momentum is not None:
         a = float(momentum)
         D = body.check_feasible(k, a)
-        title += f", a²/2k = {D:.4g}"
+        title += f", a²/2k = {D:.4g} kg·m²"
         if momentum_ellipsoid:
             xm, ym, zm = _ellipsoid_mesh(momentum_ellipsoid_semi_axes(np.asarray(I, float), a), S)
             ax.plot_wireframe(
@@ -105,7 +119,7 @@ def plot_energy_ellipsoid(
                 cstride=2,
                 label="momentum ellipsoid",
             )
-        curves = _intersection(body, k, a)
+        curves = [body.principal_components(c) for c in _intersection(body, k, a)]
         if cone and body.symmetry != "spherical":
             s = np.linspace(-1.35, 1.35, 25)
             for pts in curves:
@@ -126,9 +140,9 @@ def plot_energy_ellipsoid(
                 **style,
                 label="intersection (polhode)" if i == 0 else None,
             )
-    ax.set_title(title)
-    _equal_3d(ax, 1.05 * semi.max())
-    ax.legend(loc="upper left", fontsize=8)
+    ax.set_title(title, fontsize=10)
+    _equal_3d(ax, 1.05 * semi.max(), I)
+    _legend_3d(fig, ax)
     return fig
 
 
@@ -153,14 +167,25 @@ def _intersection(body, k, a):
     return [body.polhode(body.point_on_polhode(k, a, sgn)).points for sgn in (1.0, -1.0)]
 
 
-def plot_polhode_family(body, energy=0.5, *, levels=9, ax=None, n=300):
+def plot_polhode_family(body, energy=0.5, *, levels=9, ax=None, n=300, omega=None,
+                        omega_label="ω(t)"):  # fmt: skip
     """The polhode family on the energy ellipsoid (the notebook's sweep, k = ½, done exactly):
     closed curves around e1 and e3, the separatrices (black, dashed), stable fixed points
-    (green dots) and unstable ones (red crosses). Returns the figure."""
+    (green dots) and unstable ones (red crosses), in components along the principal axes e1,
+    e2, e3; ``omega`` (n, 3), a body-frame path (a run's ω(t)) drawn on it. Returns the
+    figure.
+
+    Examples
+    --------
+    >>> from poinsot.torquefree import FreeRigidBody
+    >>> ax = plot_polhode_family(FreeRigidBody((1, 2, 3)), 0.5, levels=3).axes[0]
+    >>> ax.get_xlabel(), ax.get_zlabel()
+    ('ω·e₁ (I₁ = 1) [rad/s]', 'ω·e₃ (I₃ = 3) [rad/s]')
+    """
     fig, ax = _axes3d(ax)
     I = body.principal_moments
     semi = energy_ellipsoid_semi_axes(np.asarray(I, float), float(energy))
-    x, y, z = _ellipsoid_mesh(semi, body._S)
+    x, y, z = _ellipsoid_mesh(semi, np.eye(3))
     ax.plot_surface(x, y, z, color="0.7", alpha=0.12, linewidth=0)
     seen = set()
     stable_pts, unstable_pts = [], []
@@ -175,13 +200,13 @@ def plot_polhode_family(body, energy=0.5, *, levels=9, ax=None, n=300):
         style = FAMILY_STYLE.get(p.family, {"color": "gray"})
         label = None if p.family in seen else p.family
         seen.add(p.family)
-        ax.plot(*p.points.T, **style, label=label)
+        ax.plot(*body.principal_components(p.points).T, **style, label=label)
     for pts, kw in (
         (stable_pts, {"c": "green", "marker": "o", "s": 50, "label": "stable"}),
         (unstable_pts, {"c": "red", "marker": "X", "s": 80, "label": "unstable"}),
     ):
         if pts:
-            arr = np.array(pts)
+            arr = body.principal_components(np.array(pts))
             ax.scatter(*arr.T, depthshade=False, **kw)
     for fp in body.fixed_points():
         if fp.kind == "plane":
@@ -189,17 +214,26 @@ def plot_polhode_family(body, energy=0.5, *, levels=9, ax=None, n=300):
             th = np.linspace(0, 2 * np.pi, 200)
             r = float(energy_ellipsoid_semi_axes(np.full(3, fp.moment), float(energy))[0])
             circ = r * (np.outer(np.cos(th), e1) + np.outer(np.sin(th), e2))
-            ax.plot(*circ.T, color="red", lw=2.5, label="unstable plane of fixed points")
+            ax.plot(*body.principal_components(circ).T, color="red", lw=2.5,
+                    label="unstable plane of fixed points")  # fmt: skip
+    if omega is not None:
+        path = body.principal_components(omega)
+        ax.plot(*path.T, color="crimson", lw=2.5, label=omega_label)
     ax.set_title(
-        f"Polhodes on the energy ellipsoid, k = {energy:g}, I = " + ", ".join(f"{v:.4g}" for v in I)
+        f"Polhodes on the energy ellipsoid, k = {energy:g} J, I = "
+        + ", ".join(f"{v:.4g}" for v in I)
+        + " kg·m²",
+        fontsize=10,
     )
-    _equal_3d(ax, 1.05 * semi.max())
-    ax.legend(loc="upper left", fontsize=8)
+    _equal_3d(ax, 1.05 * semi.max(), I)
+    _legend_3d(fig, ax)
     return fig
 
 
-def plot_omega(t, omega, *, ax=None, exact=None, labels=("ω₁", "ω₂", "ω₃")):
-    """ω(t) components (n, 3) against t; ``exact`` (n, 3) overlaid dashed if given."""
+def plot_omega(t, omega, *, ax=None, exact=None, labels=("ω·e₁", "ω·e₂", "ω·e₃")):
+    """ω(t) components (n, 3) against t [s]; ``exact`` (n, 3) overlaid dashed if given. The
+    ``labels`` name the components (default: along the principal axes; give the body's
+    ``("ω_x", "ω_y", "ω_z")`` for body-frame components)."""
     plt = _plt()
     if ax is None:
         fig, ax = plt.subplots(figsize=(8, 4))
@@ -210,10 +244,10 @@ def plot_omega(t, omega, *, ax=None, exact=None, labels=("ω₁", "ω₂", "ω�
             ax.plot(
                 t, exact[:, i], ls="--", color=line.get_color(), lw=1, label=f"{labels[i]} exact"
             )
-    ax.set_xlabel("t")
-    ax.set_ylabel("ω (body frame)")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("ω [rad/s]")
     ax.grid(alpha=0.3)
-    ax.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), fontsize=8)
+    legend_outside(ax)
     fig.tight_layout()
     return fig
 
@@ -285,7 +319,7 @@ def animate_tumbling(Q, t, path, *, half_extents=(0.3, 0.5, 0.8), fps=20, angula
         L = np.asarray(angular_momentum, float)
         L = L / np.linalg.norm(L)
         ax.plot([0, 1.2 * L[0]], [0, 1.2 * L[1]], [0, 1.2 * L[2]], color="k", ls=":", label="L")
-        ax.legend(loc="upper left")
+        legend_outside(ax, bbox_to_anchor=(0.98, 0.98))
     r = 1.1 * float(np.linalg.norm(half_extents))
     for setter in (ax.set_xlim, ax.set_ylim, ax.set_zlim):
         setter(-r, r)
@@ -302,7 +336,7 @@ def animate_tumbling(Q, t, path, *, half_extents=(0.3, 0.5, 0.8), fps=20, angula
             tip = Q[i][:, k] * r * 0.9
             line.set_data([0, tip[0]], [0, tip[1]])
             line.set_3d_properties([0, tip[2]])
-        title.set_text(f"t = {t[i]:.2f}")
+        title.set_text(f"t = {t[i]:.2f} s")
         return [*lines, *axes_lines, title]
 
     anim = animation.FuncAnimation(fig, frame, frames=len(Q), interval=1000 / fps, blit=False)

@@ -4,9 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._style import legend_below, legend_outside
 from .torquefree import _plt
 
 __all__ = [
+    "omega_components",
+    "plot_attitude",
+    "plot_axis_trace",
     "plot_center_of_mass_path",
     "plot_conservation",
     "plot_method_comparison",
@@ -14,25 +18,112 @@ __all__ = [
 ]
 
 
+def omega_components(traj):
+    """``(components (n, 3), labels)``: ω along the body's sorted principal axes e1, e2, e3
+    (``ω·e_k``), each label naming its axis and moment."""
+    E = traj.body.principal_axes
+    I = traj.body.principal_moments
+    labels = [f"ω·e{'₁₂₃'[k]} (I{'₁₂₃'[k]} = {I[k]:.4g} kg·m²)" for k in range(3)]
+    return traj.omega @ E, labels
+
+
 def plot_omega_series(traj, *, ax=None):
-    """ω (body frame) and ``|ω|`` against time."""
+    """ω against time, by its components along the principal axes e1, e2, e3 (ascending
+    moments), and ``|ω|``.
+
+    Examples
+    --------
+    >>> from poinsot import simulate
+    >>> from poinsot.models import notebook_body
+    >>> ax = plot_omega_series(simulate(notebook_body(), (0, 1), omega0=(0, 0, 1))).axes[0]
+    >>> ax.get_lines()[0].get_ydata()[0], ax.get_legend().get_texts()[0].get_text()
+    (np.float64(1.0), 'ω·e₁ (I₁ = 8.333 kg·m²)')
+    """
     plt = _plt()
     if ax is None:
-        _, ax = plt.subplots(figsize=(8, 3.8))
-    for i, name in enumerate(("ω₁", "ω₂", "ω₃")):
-        ax.plot(traj.t, traj.omega[:, i], label=name)
+        _, ax = plt.subplots(figsize=(9.5, 3.8))
+    w, labels = omega_components(traj)
+    for i, name in enumerate(labels):
+        ax.plot(traj.t, w[:, i], label=name)
     ax.plot(traj.t, np.linalg.norm(traj.omega, axis=1), "k--", lw=1, label="|ω|")
     ax.set_xlabel("t [s]")
-    ax.set_ylabel("ω, body frame [rad/s]")
-    ax.set_title(f"Angular velocity ({traj.method})")
+    ax.set_ylabel("ω along e₁, e₂, e₃ [rad/s]")
+    ax.set_title(f"Angular velocity along the principal axes ({traj.method})")
     ax.grid(alpha=0.3)
-    ax.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), fontsize=8)
+    legend_outside(ax)
     ax.figure.tight_layout()
     return ax.figure
 
 
+def plot_attitude(motion, *, axes=None, title=None):
+    """A top's nutation and precession (:class:`~poinsot.tops.TopMotion`): θ(t) with its
+    nutation band, and the unwrapped ψ(t) with its mean precession rate against the
+    gyroscopic estimate ``M g l/(C ω₃)`` and the slow steady precession at the mean θ."""
+    plt = _plt()
+    if axes is None:
+        fig, axes = plt.subplots(1, 2, figsize=(13, 4.4))
+    m = motion
+    t = m.t
+    ax = axes[0]
+    lo, hi = m.theta_band
+    band = f"nutation band {lo:.4g} – {hi:.4g} rad"
+    ax.fill_between(t, lo, hi, color="tab:blue", alpha=0.12, label=band)
+    ax.plot(t, m.theta, color="tab:blue", lw=1, label="θ(t): tilt of the axis")
+    ax.axhline(m.theta_mean, color="0.3", ls=":", lw=1, label=f"mean θ = {m.theta_mean:.4g} rad")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("θ [rad]")
+    ax.set_title("Nutation: the symmetry axis's angle from the upward vertical", fontsize=10)
+    ax.grid(alpha=0.3)
+    legend_below(ax, ncol=1, bbox_to_anchor=(0.0, -0.16))
+    ax = axes[1]
+    ax.plot(t, m.psi, color="tab:green", lw=1.2, label="ψ(t): azimuth of the axis")
+    psi0 = m.psi[0]
+    for rate, style, name in (
+        (m.mean_precession_rate, {"color": "black", "ls": "--"}, "mean rate (fit of ψ)"),
+        (m.gyroscopic_rate, {"color": "tab:red", "ls": ":"}, "gyroscopic M g l/(C ω₃)"),
+        (m.steady_rates[0], {"color": "tab:purple", "ls": "-."}, "steady precession at mean θ"),
+    ):
+        if np.isfinite(rate):
+            ax.plot(t, psi0 + rate * (t - t[0]), lw=1, **style, label=f"{name}: {rate:.5g} rad/s")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("ψ [rad] (unwrapped)")
+    ax.set_title("Precession: the axis's turn about the vertical", fontsize=10)
+    ax.grid(alpha=0.3)
+    legend_below(ax, ncol=1, bbox_to_anchor=(0.0, -0.16))
+    fig = axes[0].figure
+    if title:
+        fig.suptitle(title, fontsize=11)
+    fig.tight_layout()
+    return fig
+
+
+def plot_axis_trace(trace, *, ax=None, title="Trace of the symmetry axis on the unit sphere"):
+    """The path of a body axis's direction (n, 3 unit vectors, :meth:`~poinsot.trajectory.
+    Trajectory.axis_trace`) on the unit sphere (3D, equal axes, dimensionless)."""
+    plt = _plt()
+    if ax is None:
+        fig = plt.figure(figsize=(8.5, 6.5))
+        ax = fig.add_subplot(projection="3d")
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 36), np.linspace(0, np.pi, 19))
+    ax.plot_wireframe(np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v), color="0.8",
+                      lw=0.4)  # fmt: skip
+    ax.plot(*trace.T, color="tab:blue", lw=1.2, label="axis direction")
+    ax.scatter(*trace[0], color="green", depthshade=False, label="start")
+    ax.scatter(*trace[-1], color="red", depthshade=False, label="end")
+    for setter in (ax.set_xlim, ax.set_ylim, ax.set_zlim):
+        setter(-1, 1)
+    ax.set_box_aspect((1, 1, 1), zoom=0.85)
+    ax.set_xlabel("x (dimensionless)")
+    ax.set_ylabel("y (dimensionless)")
+    ax.set_zlabel("z (dimensionless)")
+    ax.set_title(title, fontsize=10)
+    legend_outside(ax, bbox_to_anchor=(1.0, 0.95))
+    ax.figure.subplots_adjust(left=0.0, right=0.72)
+    return ax.figure
+
+
 def plot_conservation(traj, *, axes=None):
-    """What this problem conserves, and how well the run kept it.
+    """What this problem conserves, and how well the run kept it (legend under the panel).
 
     Left: the relative change ``|x(t) − x(0)| / |x(0)|`` of each quantity the problem conserves
     (:attr:`~poinsot.trajectory.Trajectory.invariants`: total energy, the momenta its forces
@@ -43,7 +134,7 @@ def plot_conservation(traj, *, axes=None):
     """
     plt = _plt()
     if axes is None:
-        _, axes = plt.subplots(1, 2, figsize=(11, 3.9), gridspec_kw={"width_ratios": [1.5, 1]})
+        _, axes = plt.subplots(1, 2, figsize=(11, 4.8), gridspec_kw={"width_ratios": [1.5, 1]})
     tiny = 1e-17
     ax = axes[0]
     kept = [i for i in traj.invariants if i.conserved]
@@ -51,9 +142,9 @@ def plot_conservation(traj, *, axes=None):
     if kept:
         for inv in kept:
             ax.semilogy(traj.t, inv.change + tiny, label=f"{inv.symbol} [{inv.unit}]: {inv.name}")
-        ax.set_ylabel("relative change |x(t) − x(0)| / scale")
+        ax.set_ylabel("relative change |x(t) − x(0)| / scale (dimensionless)")
         title = "Conserved by this problem: the plotted change is integration error"
-        ax.legend(fontsize=7, loc="lower right")
+        legend_below(ax, ncol=1, fontsize=7, bbox_to_anchor=(0.0, -0.18))
     else:
         E = traj.total_energy
         ax.plot(traj.t, E - E[0], color="tab:red")
@@ -106,7 +197,7 @@ def plot_center_of_mass_path(traj, *, ax=None):
     ax.set_ylabel("y [m]")
     ax.set_zlabel("z [m]")
     ax.set_title("Centre of mass path")
-    ax.legend(fontsize=8)
+    legend_outside(ax, bbox_to_anchor=(1.0, 0.95))
     return ax.figure
 
 
@@ -132,7 +223,7 @@ def plot_method_comparison(t, errors, *, title=None):
     title : str, optional
     """
     plt = _plt()
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4.0), sharex=True)
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.8), sharex=True)
     tiny = 1e-17  # log axes: an exact zero is drawn at the floor
     for ax, (key, panel, ylabel) in zip(axes, COMPARISON_PANELS, strict=True):
         for n, (label, rows) in enumerate(errors.items()):
@@ -148,7 +239,7 @@ def plot_method_comparison(t, errors, *, title=None):
         ax.set_xlabel("t [s]")
         ax.set_ylabel(ylabel)
         ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=8)
+        legend_below(ax, ncol=1, bbox_to_anchor=(0.0, -0.18))
     if title:
         fig.suptitle(title, fontsize=11)
     fig.tight_layout()

@@ -6,7 +6,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ..._io import atomic_path
 from ...torquefree.scope import flip_reference
 from .base import Run, jsonable, png_images, pyplot, scenario_header
 
@@ -60,7 +59,8 @@ class EnsembleRun(Run):
         e = summary["ensemble"]
         lines = [
             f"  {e['members']} members ({summary['distribution']['description']}), "
-            f"{e['method']}: {e['succeeded']} finished in {e['wall_time_s']:.3g} s"
+            f"{e['method']}: {e['succeeded']} finished, integrated in {e['wall_time_s']:.3g} s "
+            "(compiled core; nothing is compiled at run time)"
         ]
         stats = e["statistics"]
         if stats.get("first_flip", {}).get("count"):
@@ -85,8 +85,11 @@ def summarize_ensemble(scenario, res, free=None) -> dict:
     if e["distribution"] == "sphere":
         dist = {"description": f"ω uniform on the sphere |ω| = {e['speed']:g} rad/s"}
     else:
+        from ...viz.numbers import format_value
+
+        mean, std = format_value(e["mean"].tolist()), format_value(e["std"].tolist())
         dist = {
-            "description": f"ω ~ N({e['mean'].tolist()}, diag({e['std'].tolist()})²) rad/s",
+            "description": f"ω ~ N(mean {mean}, standard deviations {std}) rad/s, body frame",
             "mean": e["mean"].tolist(),
             "std": e["std"].tolist(),
         }
@@ -118,17 +121,10 @@ def _describe(values):
 
 
 def _write_ensemble_dataset(path: Path, res, free):
-    """ensemble.nc: the members' statistics, their initial ω and the exact flip intervals."""
-    try:
-        ds = res.to_xarray()
-    except ImportError:
-        return
+    """ensemble.nc: the members' statistics, their initial ω and the exact flip intervals
+    (NetCDF-3 by SciPy's writer: written in every install)."""
     W0 = res.initial_state[:, 15:18]
-    ds["omega0"] = (("member", "component"), W0, {"units": "rad/s", "frame": "body"})
+    extra = {"omega0": (("member", "component"), W0, {"units": "rad/s", "frame": "body"})}
     if free is not None:
-        ds["exact_flip_interval"] = (("member",), free.flip_interval(W0), {"units": "s"})
-    for name in list(ds.variables):  # NetCDF-3 (SciPy's writer) has no 64-bit integers
-        if ds[name].dtype == np.int64:
-            ds[name] = ds[name].astype(np.int32)
-    with atomic_path(path) as tmp:
-        ds.to_netcdf(tmp, engine="scipy")
+        extra["exact_flip_interval"] = (("member",), free.flip_interval(W0), {"units": "s"})
+    res.to_netcdf(path, extra)

@@ -9,7 +9,7 @@ import numpy as np
 from ..._io import atomic_path
 from .base import Run, jsonable, png_images, pyplot, scenario_header
 
-__all__ = ["RelativeRun", "summarize_relative"]
+__all__ = ["RelativeRun", "carrier_only_note", "summarize_relative"]
 
 
 class RelativeRun(Run):
@@ -63,6 +63,21 @@ class RelativeRun(Run):
         return lines
 
 
+def carrier_only_note(sol) -> str:
+    """A sentence when the body does not turn in space (its absolute |ω| stays at round-off
+    beside the relative one): its relative motion is then the carrier's, seen backwards."""
+    absolute = float(np.linalg.norm(sol.omega_absolute, axis=1).max())
+    relative = float(np.linalg.norm(sol.omega_r, axis=1).max())
+    if relative > 0 and absolute <= 1e-9 * relative:
+        return (
+            f" The body does not turn in space (max |ω| absolute = {absolute:.1g} rad/s, "
+            f"max |ω_r| = {relative:.3g} rad/s): the carrier turns under it, and its whole "
+            "relative motion is the carrier's motion seen backwards, ω_r = −Q_rᵀ ω_e; the "
+            "transport and Coriolis moments are what that change of frame looks like."
+        )
+    return ""
+
+
 def summarize_relative(scenario, sol) -> dict:
     """The numbers of a motion relative to ``[carrier]``, JSON-ready, with a ``table`` of
     ``name → (value, unit, meaning)`` for the report and the terminal."""
@@ -97,6 +112,11 @@ def summarize_relative(scenario, sol) -> dict:
             "relative angular velocity",
         ),
         "final |ω_r|": (float(np.linalg.norm(sol.omega_r[-1])), "rad/s", ""),
+        "max |ω| absolute": (
+            float(np.linalg.norm(sol.omega_absolute, axis=1).max()),
+            "rad/s",
+            "the body's angular velocity in space (inertial frame)",
+        ),
         "relative energy T_r(0)": (float(E[0]), "J", "½ ω_r·Jω_r"),
         "relative energy at the end": (float(E[-1]), "J", ""),
     }
@@ -133,6 +153,7 @@ def summarize_relative(scenario, sol) -> dict:
                 "Integrated in the carrier frame with the compact relative Euler equation "
                 "(11)–(12)"
                 + ("; the transport moment is balanced (16)." if c["balance_transport"] else ".")
+                + carrier_only_note(sol)
             ),
             "body": body.mass_properties(),
             "relative_energy": {

@@ -8,11 +8,18 @@ from pathlib import Path
 
 import numpy as np
 
-from ..._io import PoinsotWarning, atomic_path
+from ..._io import PoinsotWarning
 from ...torquefree.scope import check_motion_energy, exact_solution_applies, free_rotation
 from .base import Run, add_units, jsonable, pyplot, save_png, scenario_header
 
-__all__ = ["COMPARED_METHODS", "RigidRun", "compare_methods", "comparison_lead", "summarize"]
+__all__ = [
+    "COMPARED_METHODS",
+    "RigidRun",
+    "compare_methods",
+    "comparison_lead",
+    "summarize",
+    "top_lead",
+]
 
 #: The integrators a fixed-step torque-free run is compared with: the notebook's classical
 #: RK4 and the Lie-group RKMK4 of the same order, which keeps the attitude on SO(3).
@@ -27,6 +34,7 @@ class RigidRun(Run):
 
     free = None  # the torque-free analysis, where it applies
     comparison = None  # (errors, table) of compare_methods, where it applies
+    top = None  # a heavy top's TopMotion (nutation, precession), where the body is one
 
     def simulate(self, progress=None):
         self.result = self.scenario.simulate(progress=progress)
@@ -44,6 +52,14 @@ class RigidRun(Run):
                 self.free = None
         summary = summarize(scenario, traj, self.free)
         self.comparison = compare_methods(scenario, traj, self.free)
+        from ...tops import heavy_top, top_motion
+
+        top = heavy_top(scenario.body, scenario.pivot, scenario.forces)
+        if top is not None:
+            self.top = top_motion(traj, top)
+            summary["top"] = jsonable({"A": top.A, "C": top.C, "mgl": top.mgl,
+                                       "length": top.length, **self.top.summary()})  # fmt: skip
+            summary["lead"] = top_lead(self.top)
         add_units(summary)
         if self.comparison is not None:
             summary["method_comparison"] = self.comparison[1]
@@ -54,16 +70,11 @@ class RigidRun(Run):
         traj = self.result
         traj.to_npz(folder / "trajectory.npz")
         traj.to_csv(folder / "trajectory.csv")
-        try:
-            ds = traj.to_xarray()
-        except ImportError:
-            return
-        with atomic_path(folder / "trajectory.nc") as tmp:
-            ds.to_netcdf(tmp, engine="scipy")
+        traj.to_netcdf(folder / "trajectory.nc")
 
     def figures(self, folder, *, for_report):
         if folder is not None:  # the report draws its own, interactive figures
-            _figures(folder, self.scenario, self.result, self.free, self.comparison)
+            _figures(folder, self.scenario, self.result, self.free, self.comparison, self.top)
         return {}
 
     def write_report(self, path, summary, images, *, plotlyjs="inline"):
@@ -71,7 +82,7 @@ class RigidRun(Run):
 
         comparison = None if self.comparison is None else self.comparison[0]
         write_report(path, self.result, summary, free=self.free, comparison=comparison,
-                     plotlyjs=plotlyjs)  # fmt: skip
+                     top=self.top, plotlyjs=plotlyjs)  # fmt: skip
 
     def finish(self, summary):
         add_units(summary)
@@ -101,6 +112,14 @@ class RigidRun(Run):
             lines.append(f"  conserved by this problem, largest relative change: {changes}")
         else:
             lines.append("  nothing is conserved by this problem (its forces do work)")
+        if "top" in summary:
+            tp = summary["top"]
+            lines.append(
+                f"  heavy top: θ between {tp['theta_min']:.4g} and {tp['theta_max']:.4g} rad, "
+                f"mean precession {tp['mean_precession_rate']:.4g} rad/s (gyroscopic estimate "
+                f"{tp['gyroscopic_precession_rate']:.4g}, steady "
+                f"{tp['steady_precession_rate_slow']:.4g} rad/s; attitude.png)"
+            )
         if "torque_free" in summary:
             tf = summary["torque_free"]
             lines.append(f"  torque-free motion: polhode family {tf['family']!r}")
@@ -121,7 +140,8 @@ class RigidRun(Run):
                     f"  {m} at the same step: max |QᵀQ − I| {v['orthogonality']:.2e}, "
                     f"max |Q − Q_exact| {v['attitude']:.2e} (methods.png)"
                 )
-        lines.append(f"  wrote {out}/ (summary.json, trajectory.npz/.csv, figures, report.html)")
+        lines.append(f"  wrote {out}/ (summary.json, trajectory.npz/.csv/.nc, figures, "
+                     "report.html)")  # fmt: skip
         return lines
 
 
@@ -157,7 +177,22 @@ def summarize(scenario, traj, free=None) -> dict:
     return jsonable(out)
 
 
-def _figures(folder: Path, scenario, traj, free, comparison=None):
+def top_lead(motion) -> str:
+    """One sentence stating what a heavy top's run shows: its nutation band and its mean
+    precession against the gyroscopic estimate and the steady precession."""
+    m = motion
+    slow, fast = m.steady_rates
+    return (
+        f"A heavy top spinning at ω₃ = {m.spin:.4g} rad/s: its axis nutates between "
+        f"θ = {m.theta_band[0]:.4g} and {m.theta_band[1]:.4g} rad from the upward vertical and "
+        f"precesses at a mean {m.mean_precession_rate:.4g} rad/s (slope of ψ(t)); the "
+        f"gyroscopic estimate M g l/(C ω₃) gives {m.gyroscopic_rate:.4g} rad/s, and the exact "
+        f"steady precessions at the mean θ = {m.theta_mean:.4g} rad are {slow:.4g} rad/s "
+        f"(slow) and {fast:.4g} rad/s (fast)."
+    )
+
+
+def _figures(folder: Path, scenario, traj, free, comparison=None, top=None):
     from ..._core import equivalent_box_half_extents
     from ...viz import (
         plot_attitude_frames,
@@ -184,6 +219,11 @@ def _figures(folder: Path, scenario, traj, free, comparison=None):
             "methods.png",
         )
     save(plot_conservation(traj), "conservation.png")
+    if top is not None:
+        from ...viz.trajectory import plot_attitude, plot_axis_trace
+
+        save(plot_attitude(top, title=scenario.name), "attitude.png")
+        save(plot_axis_trace(traj.axis_trace()), "axis_trace.png")
     if np.ptp(traj.R, axis=0).max() > 0:  # a centre of mass at rest has no path to draw
         save(plot_center_of_mass_path(traj), "center_of_mass.png")
     half = equivalent_box_half_extents(scenario.body.principal_moments, scenario.body.mass)
@@ -199,12 +239,11 @@ def _figures(folder: Path, scenario, traj, free, comparison=None):
         )
         levels = scenario.analysis.get("levels", 9)
         if k_traj > 0:  # the run's ω(t) on its own energy ellipsoid, with the family there
-            fig = plot_polhode_family(free, k_traj, levels=levels)
-            ax = fig.axes[0]
-            ax.plot(*traj.omega.T, color="crimson", lw=2.5, label="ω(t) of this run")
-            ax.set_title(f"This run's ω(t) (rad/s, body frame) on its energy ellipsoid, "
-                         f"k = {k_traj:.4g} J\nwith the polhodes at that energy")  # fmt: skip
-            ax.legend(loc="upper left", fontsize=8)
+            fig = plot_polhode_family(free, k_traj, levels=levels, omega=traj.omega,
+                                      omega_label="ω(t) of this run")  # fmt: skip
+            fig.axes[0].set_title(f"This run's ω(t) on its energy ellipsoid, k = {k_traj:.4g} J,"
+                                  "\nwith the polhodes at that energy (ω along e₁, e₂, e₃)",
+                                  fontsize=10)  # fmt: skip
             save(fig, "polhodes.png")
         if energy is not None and not np.isclose(energy, k_traj, rtol=1e-12):
             fig = plot_polhode_family(free, energy, levels=levels)  # [analysis] energy's sweep

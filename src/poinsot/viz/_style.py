@@ -1,0 +1,49 @@
+"""Shared placement rules of the matplotlib figures: legends outside the plotting area (a
+legend never covers a curve), and the labels of principal-axis components."""
+
+from __future__ import annotations
+
+__all__ = ["PRINCIPAL_LABELS", "legend_outside", "omega_axis_labels"]
+
+#: Axis labels of angular-velocity components along the sorted principal axes e1, e2, e3.
+PRINCIPAL_LABELS = ("ω·e₁ [rad/s]", "ω·e₂ [rad/s]", "ω·e₃ [rad/s]")
+
+
+def legend_outside(ax, *, fontsize=8, **kwargs):
+    """The legend of ``ax`` to the right of its plotting area (upper left corner at the axes'
+    upper right), or none when nothing is labelled (no "No artists with labels" warning).
+    Returns the legend or None."""
+    handles, labels = ax.get_legend_handles_labels()
+    if not handles:
+        return None
+    kwargs.setdefault("loc", "upper left")
+    kwargs.setdefault("bbox_to_anchor", (1.02, 1.0))
+    kwargs.setdefault("borderaxespad", 0.0)
+    return ax.legend(handles, labels, fontsize=fontsize, **kwargs)
+
+
+def legend_below(ax, *, fontsize=8, ncol=None, drop=40.0, **kwargs):
+    """The legend of ``ax`` below its plotting area, ``drop`` points under the axes' bottom
+    edge (clear of the tick labels and the x-axis label), in ``ncol`` columns; none when
+    nothing is labelled."""
+    from matplotlib.transforms import offset_copy
+
+    handles, labels = ax.get_legend_handles_labels()
+    if not handles:
+        return None
+    kwargs.pop("bbox_to_anchor", None)
+    return ax.legend(handles, labels, fontsize=fontsize, ncol=ncol or min(len(handles), 2),
+                     loc="upper left", bbox_to_anchor=(0.0, 0.0), borderaxespad=0.0,
+                     bbox_transform=offset_copy(ax.transAxes, fig=ax.figure, y=-drop,
+                                                units="points"), **kwargs)  # fmt: skip
+
+
+def omega_axis_labels(ax, moments=None):
+    """Label the three axes of a 3D axes as ω components along e1, e2, e3 (with the moments
+    I1 ≤ I2 ≤ I3 when given)."""
+    labels = list(PRINCIPAL_LABELS)
+    if moments is not None:
+        labels = [f"ω·e{'₁₂₃'[k]} (I{'₁₂₃'[k]} = {moments[k]:.4g}) [rad/s]" for k in range(3)]
+    ax.set_xlabel(labels[0])
+    ax.set_ylabel(labels[1])
+    ax.set_zlabel(labels[2])
