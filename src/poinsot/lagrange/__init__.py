@@ -10,19 +10,11 @@ natural frequencies and stability; ``system.reaction_forces`` gives the forces o
 constraints that minimal coordinates hide (:mod:`~poinsot.lagrange.reactions`).
 """
 
-from ..display import Displayable
 from .ensemble import LagrangianEnsemble, simulate_ensemble
 from .linear import Linearization, equilibria, linearize
 from .numeric import LagrangianSolution, simulate
 from .reactions import HiddenConstraint
 from .system import LagrangianSystem, PointMass
-
-# LagrangianSolution (lagrange/numeric.py, being moved into the compiled core) gains the
-# notebook displays and figures of every result here, without an edit of that module: its
-# ``_repr_html_``, ``plot`` and ``show`` are those of :class:`~poinsot.display.Displayable`.
-for _name in ("_repr_html_", "plot", "show"):
-    if not hasattr(LagrangianSolution, _name):
-        setattr(LagrangianSolution, _name, getattr(Displayable, _name))
 
 __all__ = [
     "HiddenConstraint",

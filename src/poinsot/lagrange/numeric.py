@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import as_scalar
+from ..display import Displayable
 from .engine import _floats
 
 __all__ = ["LagrangianSolution", "simulate"]
@@ -303,8 +304,9 @@ class _NativeODE(_ODE):
     from_internal = to_internal
 
 
-class LagrangianSolution:
-    """Samples of a Lagrangian motion.
+class LagrangianSolution(Displayable):
+    """Samples of a Lagrangian motion (with the notebook displays and figures of every
+    result: ``_repr_html_``, ``.plot()``, ``.show()``).
 
     Attributes
     ----------
