@@ -168,6 +168,10 @@ GOOD = "\n" + BOX_SCENARIO
             GOOD + "[analysis]\nenergy = 0.5\nmomentum = 100.0\n",
             r"analysis\.momentum: infeasible invariants: every motion has I1 ≤ a²/\(2k\) ≤ I3",
         ),
+        (  # a² alone overflows (OverflowError in the parser before issue 26)
+            GOOD + "[analysis]\nenergy = 0.5\nmomentum = 1e300\n",
+            r"analysis\.momentum: infeasible invariants: .* a²/\(2k\) = inf",
+        ),
         (GOOD.replace('type = "box"', 'type = "boks"'), r"body\.type: .*did you mean 'box'"),
         (
             GOOD + '[integrator]\nmethod = "rk4"\n',

@@ -15,7 +15,7 @@ import warnings
 import numpy as np
 
 from .. import _core
-from .._validation import as_array
+from .._validation import as_array, as_scalar
 from .polhodes import PolhodeMixin
 from .solution import SolutionMixin
 from .stability import StabilityMixin
@@ -146,14 +146,17 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
 
     def check_feasible(self, energy, momentum) -> float:
         """Return ``D = a²/(2k)`` after checking condition (33) ``I1 ≤ a²/(2k) ≤ I3``."""
-        k = float(energy)
-        a = float(momentum)
-        if not (np.isfinite(k) and k > 0):
+        k = as_scalar(energy, "energy")
+        a = as_scalar(momentum, "momentum")
+        if not k > 0:
             raise ValueError(f"`energy` must be a positive number, found {energy}")
-        if not (np.isfinite(a) and a >= 0):
+        if not a >= 0:
             raise ValueError(f"`momentum` must be a non-negative number, found {momentum}")
         self.check_energy_range(k)
-        D = (a / math.sqrt(2 * k)) ** 2
+        # a²/(2k) as (a/√(2k))²: a² alone leaves the double range long before the ratio does
+        # (a = 1e300); a product that overflows is inf, which the check below refuses
+        s = a / math.sqrt(2 * k)
+        D = s * s
         I1, _, I3 = self._I
         if D < I1 * (1 - 1e-12) or D > I3 * (1 + 1e-12):
             raise ValueError(
@@ -165,7 +168,7 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin):
     def check_energy_range(self, energy) -> float:
         """Refuse an energy whose polhodes leave the double range: the ellipsoid's points
         ``ω = √(2k/I)`` and momenta ``a = √(2kI)`` must stay finite and nonzero."""
-        k = float(energy)
+        k = as_scalar(energy, "energy")
         I1, I3 = self._I[0], self._I[2]
         with np.errstate(over="ignore", under="ignore"):
             values = (2 * k * I3, 2 * k / I1, 2 * k * I1, 2 * k / I3)
