@@ -15,6 +15,7 @@ import numpy as np
 
 __all__ = [
     "as_array",
+    "as_gains",
     "as_positive_scalar",
     "as_rotation_matrices",
     "as_rotation_matrix",
@@ -113,6 +114,39 @@ def as_positive_scalar(value, name: str) -> float:
     if x <= 0:
         raise ValueError(f"`{name}` must be a positive number, found {x}")
     return x
+
+
+def as_gains(value, name: str, n: int = 2, what: str = "(alpha, beta)") -> tuple[float, ...]:
+    """``n`` non-negative finite real numbers given as a sequence, e.g. Baumgarte's gains
+    ``(alpha, beta)``; anything else (None, one number, a string, complex numbers, a
+    negative, NaN or infinite gain) is refused, named.
+
+    Examples
+    --------
+    >>> as_gains((10, 0.0), "baumgarte")
+    (10.0, 0.0)
+    >>> as_gains(5.0, "baumgarte")
+    Traceback (most recent call last):
+    ...
+    TypeError: `baumgarte` must be a pair (alpha, beta) of non-negative numbers, found float
+    """
+    rule = f"a {'pair' if n == 2 else f'sequence of {n}'} {what} of non-negative numbers"
+    if (
+        value is None
+        or isinstance(value, str | bytes | dict | set | numbers.Number)
+        or (isinstance(value, np.ndarray) and value.ndim == 0)
+    ):
+        raise TypeError(f"`{name}` must be {rule}, found {type(value).__name__}")
+    if not hasattr(value, "__len__") or len(value) != n:
+        found = f"{len(value)} values" if hasattr(value, "__len__") else type(value).__name__
+        raise ValueError(f"`{name}` must be {rule}, found {found}")
+    out = []
+    for i, x in enumerate(value):
+        g = as_scalar(x, f"{name}[{i}]")
+        if g < 0:
+            raise ValueError(f"`{name}[{i}]` must be non-negative, found {g}")
+        out.append(g)
+    return tuple(out)
 
 
 def as_positive_array(value, name: str, shape: tuple[int | None, ...]) -> np.ndarray:

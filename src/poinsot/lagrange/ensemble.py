@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import as_scalar
+from .._validation import as_gains, as_scalar
 from .numeric import DEFAULT_BAUMGARTE, check_run_options
 
 __all__ = ["LagrangianEnsemble", "simulate_ensemble"]
@@ -145,6 +145,7 @@ def simulate_ensemble(
     threads=None,
     chunk_size=None,
     tol=1e-9,
+    max_steps=None,
 ) -> LagrangianEnsemble:
     """Integrate N members of ``system``, each with its own parameters, inputs and initial
     state, with the compiled engine.
@@ -172,6 +173,11 @@ def simulate_ensemble(
         Members per chunk (default: the members spread over the threads, 1000 at most).
     tol : float
         Largest relative constraint residual accepted in an initial state.
+    max_steps : int, optional
+        The most steps a member may take (default
+        :data:`~poinsot.integrate.solve.DEFAULT_MAX_STEPS`): with a fixed-step method, a run
+        whose members need more is refused before it starts, with the count. (The compiled
+        adaptive lanes do not stop at it yet.)
 
     Returns
     -------
@@ -197,7 +203,7 @@ def simulate_ensemble(
 
     from ..ensemble.executors import available_cpus
     from ..integrate.control import StepSizeController
-    from ..integrate.solve import check_sampling, check_t_span, check_tolerances
+    from ..integrate.solve import check_budget, check_sampling, check_t_span, check_tolerances
     from ..kernels import ensemble as kens
     from ..kernels.observers import NoObserver
     from .engine import compile_system
@@ -206,8 +212,8 @@ def simulate_ensemble(
     solver = check_run_options(method, stabilization)
     t_eval, _, dt = check_sampling(t_eval, t0, t1, 1, dt)
     rtol, atol = check_tolerances(rtol, atol)
-    if not solver.adaptive and dt is None:
-        raise ValueError(f"method {solver.name!r} is fixed-step: `dt` must be given")
+    gains = as_gains(baumgarte, "baumgarte")
+    check_budget(solver, t0, t1, dt, max_steps)  # per member; refuses a fixed step without dt
     times = np.linspace(t0, t1, 201) if t_eval is None else np.asarray(t_eval, dtype=float)
     if threads is not None and (not isinstance(threads, int) or threads < 1):
         raise ValueError(f"`threads` must be a positive integer, found {threads!r}")
@@ -237,7 +243,7 @@ def simulate_ensemble(
         _complete_states(system, engine, t0, Z0, P, U, tol)
     _check_consistent(engine, t0, Z0, P, U, tol)
 
-    gains = tuple(float(x) for x in baumgarte) if stabilization == "baumgarte" else (0.0, 0.0)
+    gains = gains if stabilization == "baumgarte" else (0.0, 0.0)
     projection = stabilization == "projection" and m > 0
     Y = np.empty((N, len(times), 2 * n))
     status = np.zeros(N, dtype=np.int64)

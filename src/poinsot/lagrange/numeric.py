@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import as_scalar
+from .._validation import as_gains, as_scalar
 from .engine import _floats
 
 __all__ = ["LagrangianSolution", "simulate"]
@@ -713,6 +713,7 @@ def simulate(
     t_eval, _, dt = check_sampling(t_eval, t0, t1, 1, dt)
     rtol, atol = check_tolerances(rtol, atol)
     budget = check_budget(solver, t0, t1, dt, max_steps)
+    gains = as_gains(baumgarte, "baumgarte")
     if engine == "compiled" and not events and not system.unilateral:
         from .engine import compile_system
 
@@ -728,7 +729,6 @@ def simulate(
     qd_init = _keyed(qd0, system, "qd0", allow_missing=True)
     guess_arr = _keyed(guess, system, "guess", allow_missing=True) if guess else None
     q_init, qd_init = consistent_initial_state(system, num, t0, q_init, qd_init, guess_arr)
-    gains = tuple(float(x) for x in baumgarte)
     if t_eval is None:
         t_eval = np.linspace(t0, t1, 201)
     adaptive = solver.adaptive
