@@ -24,7 +24,7 @@ from ..dynamics import RigidBodySystem
 from ..forces import BodyFrame
 from ..integrate.base import get_solver
 from ..integrate.driver import check_solver_fits
-from ..integrate.solve import check_t_span, check_tolerances
+from ..integrate.solve import check_budget, check_t_span, check_tolerances
 from .executors import run_chunks
 from .result import EnsembleResult
 from .tasks import ChunkTask, EnsembleSpec
@@ -268,6 +268,7 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
         step = as_scalar(dt, "dt")
         if not step > 0:
             raise ValueError(f"`dt` must be a positive number, found {step}")
+        check_budget(solver, t0, t1, step)  # each member's steps within DEFAULT_MAX_STEPS
         control = np.zeros(0)
     times = np.array([t1]) if t_eval is None else as_sample_times(t_eval, t0, t1)
     if len(times) == 0:
