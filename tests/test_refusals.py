@@ -171,7 +171,7 @@ BODY = RigidBody.box(1.0, (1.0, 2.0, 3.0))
         ({"atol": True}, TypeError, r"`atol` must be a real number, found bool"),
         ({"rtol": 1e154}, ValueError, r"`rtol` must be below 1"),
         ({"rtol": {}}, TypeError, r"`rtol` must be a real number, found dict"),
-        ({"t_eval": []}, ValueError, r"`t_eval` must hold at least one time"),
+        ({"t_eval": [0.0, np.inf]}, ValueError, r"`t_eval\[1\]` must be finite"),
         ({"Q0": {"w": 1}}, TypeError, r"`Q0` must be numeric, found dict"),
         ({"Q0": object()}, TypeError, r"`Q0` must be numeric, found object"),
         ({"Q0": [[1, 0], [0, 1, 0]]}, ValueError, r"`Q0` must be a regular array .* ragged"),

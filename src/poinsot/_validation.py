@@ -21,6 +21,7 @@ __all__ = [
     "as_rotation_matrix",
     "as_sample_times",
     "as_scalar",
+    "as_times",
     "as_vector3",
     "as_vectors",
 ]
@@ -273,11 +274,32 @@ def as_rotation_matrices(value, name: str, n: int | None = None) -> np.ndarray:
     return u @ vt
 
 
+def as_times(t, name: str = "t") -> np.ndarray:
+    """Times at which something is evaluated: one finite real number or a 1-D array of them,
+    as a float array (n,) (a number gives n = 1). An empty array is allowed and gives empty
+    results wherever times are taken (``docs/reliability.md``); NaN and ±inf are refused,
+    named with their index.
+
+    Examples
+    --------
+    >>> as_times(2), as_times([]).shape
+    (array([2.]), (0,))
+    >>> as_times([0.0, float("inf")])
+    Traceback (most recent call last):
+    ...
+    ValueError: `t[1]` must be finite, found inf
+    """
+    if np.ndim(t) == 0 and not isinstance(t, str | bytes | dict | set):
+        return np.array([as_scalar(t, name)])
+    return as_array(t, name, (None,))
+
+
 def as_sample_times(t_eval, t0: float, t1: float, name: str = "t_eval") -> np.ndarray:
-    """Sample times (n,): finite, strictly increasing, within ``[t0, t1]``."""
+    """Sample times (n,): finite, strictly increasing, within ``[t0, t1]``; an empty array
+    asks for no samples (the run is still integrated to ``t1``)."""
     t = as_array(t_eval, name, (None,))
     if not len(t):
-        raise ValueError(f"`{name}` must hold at least one time, found an empty array")
+        return t
     if (t[1:] <= t[:-1]).any():
         k = int(np.argmax(t[1:] <= t[:-1])) + 1
         raise ValueError(

@@ -101,7 +101,8 @@ def simulate_ensemble(
     rtol, atol : float, optional
         Tolerances of adaptive methods.
     t_eval : array_like (n,), optional
-        Sample times. Without them only the final state is kept (n = 1, at ``t_span[1]``).
+        Sample times. Without them only the final state is kept (n = 1, at ``t_span[1]``);
+        an empty array keeps no samples (n = 0; the final states and statistics remain).
     chunk_size : int, optional
         Members per compiled call (default: about 32 MiB of samples per chunk, and at least
         four chunks per thread when N is large).
@@ -145,9 +146,12 @@ def simulate_ensemble(
     True
     """
     start = time.perf_counter()
+    no_samples = t_eval is not None and np.size(t_eval) == 0  # the run, none of its states
+    if no_samples and reductions:
+        raise ValueError("`reductions` are evaluated at the samples: an empty `t_eval` has none")
     spec, members = _prepare(
         body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, method, dt, rtol,
-        atol, t_eval, flips, reductions, keep_states,
+        atol, None if no_samples else t_eval, flips, reductions, keep_states,
     )  # fmt: skip
     N = members.n
     n = len(spec.t_eval)
@@ -156,6 +160,8 @@ def simulate_ensemble(
     tasks = (members.task(i0, min(i0 + chunk, N)) for i0 in range(0, N, chunk))
     run_chunks(spec, tasks, N, chunk, result.absorb, threads=threads, client=client,
                progress=progress)  # fmt: skip
+    if no_samples:
+        result.drop_samples()
     result.wall_time = time.perf_counter() - start
     return result
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -128,8 +128,16 @@ def integrate(
     default when every force is built-in) or ``"python"``. A non-finite state or a step size
     that underflows stops the run with an :class:`IntegrationError` naming the time and the
     quantity, carrying the samples computed until then; so does a run that reaches
-    ``max_steps`` steps (default: no limit) before ``t_span[1]``.
+    ``max_steps`` steps (default: no limit) before ``t_span[1]``. An empty ``t_eval`` asks
+    for no samples: the run is integrated to ``t_span[1]`` (its failures raise as usual) and
+    the result holds none of its states, as :func:`scipy.integrate.solve_ivp` does.
     """
+    if t_eval is not None and np.size(t_eval) == 0:  # the run, none of its states
+        full = integrate(system, method, t_span, y0, t_eval=[float(t_span[1])], dt=dt,
+                         rtol=rtol, atol=atol, solver_options=solver_options,
+                         progress=progress, backend=backend, observer=observer,
+                         max_steps=max_steps)  # fmt: skip
+        return replace(full, t=full.t[:0], y=full.y[:0])
     cls = get_solver(method)
     solver: Solver = cls()
     options = dict(solver_options or {})

@@ -214,7 +214,11 @@ def simulate_ensemble(
     rtol, atol = check_tolerances(rtol, atol)
     gains = as_gains(baumgarte, "baumgarte")
     check_budget(solver, t0, t1, dt, max_steps)  # per member; refuses a fixed step without dt
-    times = np.linspace(t0, t1, 201) if t_eval is None else np.asarray(t_eval, dtype=float)
+    no_samples = t_eval is not None and len(t_eval) == 0  # the run to t1, none of its states
+    if t_eval is None:
+        times = np.linspace(t0, t1, 201)
+    else:
+        times = np.array([t1]) if no_samples else np.asarray(t_eval, dtype=float)
     if threads is not None and (not isinstance(threads, int) or threads < 1):
         raise ValueError(f"`threads` must be a positive integer, found {threads!r}")
     if chunk_size is not None and (not isinstance(chunk_size, int) or chunk_size < 1):
@@ -275,6 +279,8 @@ def simulate_ensemble(
     else:
         with ThreadPoolExecutor(min(workers, len(starts))) as pool:
             list(pool.map(run, starts))
+    if no_samples:
+        times, Y = times[:0], Y[:, :0]
     return LagrangianEnsemble(system, engine, times, Y, P, U, status, nsteps, nfev,
                               solver.name, stabilization)  # fmt: skip
 

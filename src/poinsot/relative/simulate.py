@@ -313,6 +313,8 @@ class RelativeTrajectory:
         """``max |ω_r| / min |ω_r|`` over the samples; under the balancing moment it never
         exceeds :meth:`hodograph_bound` (18)."""
         n = np.linalg.norm(self.omega_r, axis=1)
+        if not len(n):  # no samples (an empty t_eval)
+            return float("nan")
         return float(n.max() / n.min()) if n.min() > 0 else float("inf")
 
     def hodograph_bound(self) -> float:
@@ -348,5 +350,5 @@ class RelativeTrajectory:
         return euler_rates_from_body(angles, self.omega_r)
 
     def __repr__(self):
-        return (f"RelativeTrajectory({len(self.t)} samples, t = [{self.t[0]:g}, {self.t[-1]:g}], "
-                f"{self.method}, {self.carrier!r})")  # fmt: skip
+        span = f"t = [{self.t[0]:g}, {self.t[-1]:g}], " if len(self.t) else ""
+        return f"RelativeTrajectory({len(self.t)} samples, {span}{self.method}, {self.carrier!r})"

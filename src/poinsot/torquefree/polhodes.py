@@ -169,13 +169,27 @@ class PolhodeMixin:
         """The herpolhode: ω in space, in the invariable frame (z along L), (n, 3).
 
         Its z-component is the constant ``2k/a`` (the invariable plane); (x, y) trace the curve
-        on which Poinsot's ellipsoid rolls.
+        on which Poinsot's ellipsoid rolls. ``t``: one time or an array (n,) of finite times
+        (empty: an empty result, (0, 3)).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from poinsot import FreeRigidBody
+        >>> body = FreeRigidBody((1.0, 2.0, 3.0))
+        >>> h = body.herpolhode((0.1, 1.0, 0.1), [0.0, 1.0, 2.0])
+        >>> k, a = body.invariants((0.1, 1.0, 0.1))
+        >>> bool(np.allclose(h[:, 2], 2 * k / a)), body.herpolhode((0.1, 1.0, 0.1), []).shape
+        (True, (0, 3))
         """
         w_body = as_vector3(omega0, "omega0")
+        if not np.any(w_body):
+            raise ValueError("`omega0` must not be zero: a body at rest has no herpolhode")
         Q = self.exact_attitude(w_body, t, Q0)
         w = self.exact_omega(w_body, t)
         space = np.einsum("nij,nj->ni", Q, w)
-        L = Q[0] @ (self.inertia @ w[0])
+        Q_start = np.eye(3) if Q0 is None else self.exact_attitude(w_body, 0.0, Q0)[0]
+        L = Q_start @ (self.inertia @ w_body)  # conserved: the invariable frame of any t
         ez = L / np.linalg.norm(L)
         ex = np.cross([0.0, 0, 1] if abs(ez[2]) < 0.9 else [1.0, 0, 0], ez)
         ex /= np.linalg.norm(ex)

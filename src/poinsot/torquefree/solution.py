@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from .. import _core
-from .._validation import as_array, as_rotation_matrices, as_vectors
+from .._validation import as_rotation_matrices, as_times, as_vectors
 
 __all__ = ["SolutionMixin"]
 
@@ -41,9 +41,9 @@ class SolutionMixin:
 
     @staticmethod
     def _times(t):
-        if np.ndim(t):
-            return np.ascontiguousarray(as_array(t, "t", (None,)))
-        return as_array([t], "t", (1,))
+        """Times (n,): one finite number or a 1-D array of them; empty gives empty results
+        (:func:`poinsot._validation.as_times`)."""
+        return np.ascontiguousarray(as_times(t, "t"))
 
     def _regimes(self, W):
         """The regime rows (N, ``REGIME["size"]``) of the body-frame ω ``W`` (N, 3)."""

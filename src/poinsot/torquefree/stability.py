@@ -147,7 +147,7 @@ class StabilityMixin:
         w = as_vector3(omega, "omega")
         if not self.is_fixed_point(w):
             raise ValueError(f"`omega` = {w.tolist()} is not a fixed point: ω × Aω ≠ 0")
-        t = np.atleast_1d(np.asarray(t, dtype=float))
+        t = self._times(t)
         Q0 = np.eye(3) if Q0 is None else as_rotation_matrix(Q0, "Q0")
         if method == "rodrigues":
             return _core.fixed_point_attitudes(w, np.ascontiguousarray(Q0, dtype=float), t)
