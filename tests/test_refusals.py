@@ -43,7 +43,7 @@ def _grid(counts):
         (
             BASE + '[[forces]]\ntype = "linear_drag"\ncoefficient = 0.1\n'
             '[integrator]\nmethod = "splitting"\ndt = 0.01\n',
-            r"integrator\.method: method 'splitting' needs forces .* LinearDrag",
+            r"integrator\.method: `method` 'splitting' needs forces .* LinearDrag",
         ),
         (
             BASE.replace(
@@ -76,7 +76,7 @@ def _grid(counts):
         (
             '[model]\nname = "double-pendulum"\nparams = {m1 = 0.0, m2 = 0.0}\n'
             "[time]\nspan = [0.0, 1.0]\n",
-            r"model: the equations of motion cannot be solved .* singular",
+            r"model: `q0`, `params`: the equations of motion cannot be solved .* singular",
         ),
     ],
 )

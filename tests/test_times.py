@@ -133,3 +133,32 @@ def test_an_event_that_never_fires_leaves_empty_logs():
     """``y_events`` of an event without zeros is (0, 18) (it raised a reshape error)."""
     tr = simulate(BOX, (0, 1), omega0=(0, 1, 1), events=lambda t, y: y[2] + 100.0)
     assert tr.t_events[0].shape == (0,) and tr.y_events[0].shape == (0, 18)
+
+
+@pytest.mark.parametrize("name", ["exact_omega", "exact_attitude", "herpolhode"])
+def test_times_beyond_what_double_precision_resolves_are_refused(name):
+    """|ω| |t| beyond 2⁵² rad: the phase is lost to rounding (a spin of 1e300 rad/s gave NaN
+    attitudes at t = 1, and t = 1e100 gave noise); the same motion at resolvable times is
+    finite and keeps its invariants."""
+    fn = getattr(FREE, name)
+    for w, t in (((0.0, 0.0, 1e300), 1.0), (W0, 1e100), (W0, [0.0, -1e17])):
+        with pytest.raises(ValueError, match=r"`t` = .* is beyond what double precision"):
+            fn(w, t)
+    fast = np.array([0.0, 0.0, 1e300])
+    out = fn(fast, [0.0, 1e-300, 2e-300])
+    assert np.isfinite(out).all()
+    with pytest.raises(ValueError, match="beyond what double precision"):
+        FREE.fixed_point_attitude(fast, 1.0)
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-150, 1.0, 1e150, 1e300])
+def test_fixed_points_and_the_herpolhode_are_judged_at_any_scale(scale):
+    """ω × Aω = 0 is a property of ω's direction: a spin of 1e-300 rad/s off the axes is not a
+    fixed point (every tiny ω was one), and the invariable plane of a tiny ω exists."""
+    assert FREE.is_fixed_point(np.array([0.0, 1.0, 0.0]) * scale)
+    assert not FREE.is_fixed_point(np.array(W0) * scale)
+    w = np.array(W0) * scale
+    h = FREE.herpolhode(w, np.array([0.0, 1.0]) / scale)
+    assert np.isfinite(h).all()
+    k, a = FREE.invariants(W0)
+    np.testing.assert_allclose(h[:, 2] / scale, 2 * k / a, rtol=1e-12)

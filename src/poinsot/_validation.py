@@ -78,6 +78,10 @@ def _real_array(value, name: str) -> np.ndarray:
         raise TypeError(f"`{name}` must be real, found complex values")
     if raw.dtype.kind == "b":
         raise TypeError(f"`{name}` must be numeric, found booleans")
+    if raw.dtype.kind in "US" or (
+        raw.dtype == object and any(isinstance(v, str | bytes) for v in raw.flat)
+    ):  # NumPy would read "1" as 1.0
+        raise TypeError(f"`{name}` must be numeric, found text")
     if raw.dtype.kind in "iuf":
         return raw.astype(float, copy=False)
     try:
@@ -289,9 +293,10 @@ def as_times(t, name: str = "t") -> np.ndarray:
     ...
     ValueError: `t[1]` must be finite, found inf
     """
-    if np.ndim(t) == 0 and not isinstance(t, str | bytes | dict | set):
-        return np.array([as_scalar(t, name)])
-    return as_array(t, name, (None,))
+    arr = _real_array(t, name)
+    if arr.ndim == 0:
+        return np.array([as_scalar(arr, name)])
+    return as_array(arr, name, (None,))
 
 
 def as_sample_times(t_eval, t0: float, t1: float, name: str = "t_eval") -> np.ndarray:

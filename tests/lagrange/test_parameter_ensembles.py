@@ -122,6 +122,6 @@ def test_bad_input_is_refused_named(kwargs, error, match):
 def test_an_inconsistent_member_is_named():
     mdl = models.pendulum_cartesian()
     x, y = mdl.symbols["x"], mdl.symbols["y"]
-    with pytest.raises(ValueError, match="member 2: inconsistent initial conditions"):
+    with pytest.raises(ValueError, match="member 2: `q0`: inconsistent initial conditions"):
         mdl.system.simulate_ensemble((0, 1), q0={x: [0.0, 0.6, 0.9], y: [-1.0, -0.8, -0.9]},
                                      params=mdl.params)  # fmt: skip

@@ -146,7 +146,8 @@ def simulate_ensemble(
     True
     """
     start = time.perf_counter()
-    no_samples = t_eval is not None and np.size(t_eval) == 0  # the run, none of its states
+    # an empty t_eval: the run, none of its states
+    no_samples = isinstance(t_eval, list | tuple | np.ndarray) and len(t_eval) == 0
     if no_samples and reductions:
         raise ValueError("`reductions` are evaluated at the samples: an empty `t_eval` has none")
     spec, members = _prepare(
@@ -241,7 +242,7 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
         )
     check_solver_fits(solver, system)
     if solver.kind not in CORE_METHODS:
-        raise ValueError(f"method {solver.name!r} has no step in the compiled core")
+        raise ValueError(f"`method` {solver.name!r} has no step in the compiled core")
     omega = as_vectors(omega0, "omega0", single_ok=False)
     N = len(omega)
     if N == 0:
@@ -270,7 +271,7 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
         step = 0.0
     else:
         if dt is None:
-            raise ValueError(f"method {solver.name!r} is fixed-step: `dt` must be given")
+            raise ValueError(f"`method` {solver.name!r} is fixed-step: `dt` must be given")
         step = as_scalar(dt, "dt")
         if not step > 0:
             raise ValueError(f"`dt` must be a positive number, found {step}")

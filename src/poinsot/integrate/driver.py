@@ -90,12 +90,12 @@ def check_solver_fits(cls, system) -> None:
     structure, or a splitting method with velocity-dependent forces (it takes kicks)."""
     rigid = getattr(system, "structure", None) == "rigid"
     if not rigid and cls.requires == "rigid":
-        raise ValueError(f"method {cls.name!r} needs a rigid-body system")
+        raise ValueError(f"`method` {cls.name!r} needs a rigid-body system")
     if rigid and getattr(cls, "needs_position_only_forces", False):
         bad = [f.name for f in system.forces if not f.position_only]
         if bad:
             raise ValueError(
-                f"method {cls.name!r} needs forces that depend only on time, position and "
+                f"`method` {cls.name!r} needs forces that depend only on time, position and "
                 f"attitude (kicks); these depend on velocities: {', '.join(bad)}"
             )
 
@@ -160,7 +160,7 @@ def integrate(
         )
     else:
         if dt is None:
-            raise ValueError(f"method {cls.name!r} is fixed-step: `dt` must be given")
+            raise ValueError(f"`method` {cls.name!r} is fixed-step: `dt` must be given")
         if not (np.isfinite(dt) and dt > 0):
             raise ValueError(f"`dt` must be a positive number, found {dt}")
         controller = None
@@ -256,8 +256,11 @@ def integrate(
         if backend == "compiled":  # compiled code raises no floating-point warnings
             status = driver(*args, min(per_call, left))
         else:
-            with quiet:
-                status = driver(*args, min(per_call, left))
+            try:
+                with quiet:
+                    status = driver(*args, min(per_call, left))
+            except (ZeroDivisionError, OverflowError):  # Python arithmetic where compiled
+                status = _drv.STEP_TOO_SMALL  # code gives 0 or inf: a step size out of range
         if progress is not None:
             progress(float(clock[0]))
         if status == _drv.FINISHED:
@@ -315,7 +318,7 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
         )
     kind = problem.kind_of(solver.kind)
     if kind is None:
-        raise ValueError(f"method {cls.name!r} has no step in the compiled core for this system")
+        raise ValueError(f"`method` {cls.name!r} has no step in the compiled core for this system")
     z = system.to_internal(y0)
     n = z.size
     times = saveat.times

@@ -83,9 +83,14 @@ class RunSettings:
 
 def check_t_span(t_span) -> tuple[float, float]:
     """``(t0, t1)`` from a pair of real numbers with ``t0 < t1``."""
-    if not (type(t_span) in (tuple, list) and len(t_span) == 2) and (
-        isinstance(t_span, str) or np.ndim(t_span) != 1 or len(t_span) != 2
-    ):
+    from collections.abc import Sequence
+
+    if isinstance(t_span, np.ndarray):
+        pair = t_span.shape == (2,)
+    else:
+        pair = isinstance(t_span, Sequence) and not isinstance(t_span, str | bytes)
+        pair = pair and len(t_span) == 2
+    if not pair:
         raise ValueError(f"`t_span` must be a pair (t0, t1), found {t_span!r}")
     t0 = as_scalar(t_span[0], "t_span[0]")
     t1 = as_scalar(t_span[1], "t_span[1]")
@@ -159,7 +164,7 @@ def check_budget(solver, t0, t1, dt, max_steps=None) -> int:
     budget = check_max_steps(max_steps)
     if not solver.adaptive:
         if dt is None:
-            raise ValueError(f"method {solver.name!r} is fixed-step: `dt` must be given")
+            raise ValueError(f"`method` {solver.name!r} is fixed-step: `dt` must be given")
         ratio = (t1 - t0) / dt
         needed = math.ceil(ratio) if math.isfinite(ratio) else math.inf
         if needed > budget:

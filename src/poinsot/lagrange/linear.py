@@ -271,11 +271,22 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
         return _ODE(bound, None, (0.0, 0.0)).rhs(t, y)
 
     y0 = np.concatenate([q0, v0])
-    f0 = rhs_at(y0, u0)
+    unsolvable = ValueError(
+        "`equilibrium`, `params`: the equations of motion cannot be solved at the operating "
+        "point (a singular mass matrix: zero masses, lengths or inertia?)"
+    )
+    try:
+        with np.errstate(all="ignore"):
+            f0 = rhs_at(y0, u0)
+    except np.linalg.LinAlgError:
+        raise unsolvable from None
+    if not np.isfinite(f0).all():
+        raise unsolvable
     what = "a steady motion" if np.any(v0) else "an equilibrium"
     if np.max(np.abs(f0[n:])) > 1e-8 * (1 + np.max(np.abs(f0))):
         raise ValueError(
-            f"the operating point is not {what}: accelerations {np.round(f0[n:], 10).tolist()}"
+            f"`equilibrium`: the operating point is not {what}: accelerations "
+            f"{np.round(f0[n:], 10).tolist()}"
         )
     J = np.empty((2 * n, 2 * n))
     for j in range(2 * n):
@@ -300,7 +311,7 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
                  and not np.any(G[:nh, j])]  # fmt: skip
     reduced = verdict
     if ignorable:
-        keep = np.array([j for j in range(n) if j not in ignorable])
+        keep = np.array([j for j in range(n) if j not in ignorable], dtype=int)
         rows = np.concatenate([keep, np.arange(n, 2 * n)])
         Ar, _ = _on_manifold(J[np.ix_(rows, rows)], Bfull[rows], G, nh, keep)
         reduced = _verdict(Ar, np.linalg.eigvals(Ar), scale) if Ar.size else "spectrally stable"
@@ -352,7 +363,7 @@ def operating_point(system, equilibrium, speeds=None):
         x = as_scalar(value, label)
         if not np.isnan(v0[i]) and v0[i] != x:
             raise ValueError(f"the velocity of {system.coordinates[i]} is given twice with two "
-                             f"values: {origin[i]} = {v0[i]} and {label} = {x}")  # fmt: skip
+                             f"values: `{origin[i]}` = {v0[i]} and `{label}` = {x}")  # fmt: skip
         v0[i], origin[i] = x, label
 
     for name, given in (("equilibrium", equilibrium), ("speeds", speeds)):

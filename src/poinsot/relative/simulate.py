@@ -124,7 +124,7 @@ def simulate_relative(
     solver = run.solver
     if solver.requires == "rigid":
         raise ValueError(
-            f"method {solver.name!r} needs the rigid-body structure; relative motion runs with "
+            f"`method` {solver.name!r} needs the rigid-body structure; relative motion runs with "
             "'dop853' or an explicit Runge–Kutta method such as 'rk4'"
         )
     if isinstance(forces, str) or not hasattr(forces, "__iter__"):
@@ -177,8 +177,9 @@ def _check_start(system, t0, y0):
     for name, sl in RELATIVE_SLICES.items():
         if not np.all(np.isfinite(f[sl])):
             raise ValueError(
-                f"the relative motion is undefined at the initial state: non-finite rate of "
-                f"{name} (a force or the carrier's motion is not finite at t = {t0:g})"
+                f"the relative motion is undefined at the initial state (`omega_r0`, `forces`, "
+                f"`carrier`): non-finite rate of {name} (a force or the carrier's motion is not "
+                f"finite at t = {t0:g}, or the state is beyond the double range)"
             )
 
 
