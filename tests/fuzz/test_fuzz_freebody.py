@@ -13,6 +13,7 @@ from hypothesis import event, given
 from hypothesis import strategies as st
 
 from poinsot import FreeRigidBody
+from poinsot.torquefree.solution import MAX_PHASE
 
 SHAPES = st.sampled_from([(1.0, 2.0, 3.0), (1.0, 1.0, 2.0), (2.0, 2.0, 1.0), (1.0, 1.0, 1.0),
                           (1.3, 1.7, 2.9), (3.0, 2.0, 1.0)])  # fmt: skip
@@ -103,8 +104,8 @@ def _call(case):
                 w = free.exact_omega(w0, t)
                 L = np.einsum("nij,jk,nk->ni", out, free.inertia, w)
                 _rel(L, np.broadcast_to(free.inertia @ w0, L.shape), 1e-7)
-        elif name == "period":  # ω(t + T) = ω(t)
-            if math.isfinite(out):
+        elif name == "period":  # ω(t + T) = ω(t), where double precision resolves t + T
+            if math.isfinite(out) and 4 * np.abs(w0).max() * out < MAX_PHASE:
                 assert out > 0
                 s = np.array([0.0, 0.37 * out])
                 _rel(free.exact_omega(w0, s + out), free.exact_omega(w0, s), 1e-6)
@@ -124,8 +125,8 @@ def _call(case):
                     a, rel=1e-12
                 )
         elif name == "herpolhode":  # on the invariable plane z = 2k/a
-            if len(out):
-                k, a = free.invariants(w0)
+            k, a = free.invariants(w0)
+            if len(out) and a > 0 and math.isfinite(2 * k / a):
                 np.testing.assert_allclose(out[:, 2], 2 * k / a, rtol=1e-8)
         elif name == "fixed_point_attitude":  # Rodrigues against the real Jordan form
             jordan = free.fixed_point_attitude(w0, t, method="jordan")

@@ -5,7 +5,7 @@ and turns a failure into a :class:`SimulationError` carrying the samples compute
 ``simulate``, ``simulate_relative``, the ensembles and the Lagrangian ``simulate`` all check
 their run with :func:`check_run`; the single-body front-ends then run it with :func:`solve`.
 
-Two promises hold for every run (documented in ``docs/integrators.md``):
+Two promises hold for every run (documented in ``docs/reliability.md``):
 
 * **A bounded cost.** A run takes at most ``max_steps`` steps (default
   :data:`DEFAULT_MAX_STEPS`). A fixed-step run that needs more is refused before it starts,

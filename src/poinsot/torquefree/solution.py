@@ -38,14 +38,29 @@ class SolutionMixin:
 
     # ----------------------------------------------------------------- inputs
     def _initial(self, omega0, name="omega0"):
-        """``(W, single)``: body-frame ω (N, 3) and whether one (3,) was given."""
+        """``(W, single)``: body-frame ω (N, 3) (:meth:`_spin`) and whether one (3,) was
+        given."""
         W = as_vectors(omega0, name)
-        return np.ascontiguousarray(W), np.ndim(_real_array(omega0, name)) == 1
+        single = np.ndim(_real_array(omega0, name)) == 1
+        big = np.abs(W).max(axis=1) if len(W) else np.zeros(0)
+        bad = np.flatnonzero((big > 0) & (big < np.finfo(float).tiny))
+        if len(bad):
+            self._spin(W[bad[0]], name if single else f"{name}[{int(bad[0])}]")
+        return np.ascontiguousarray(W), single
 
     @staticmethod
     def _spin(omega, name):
-        """A body-frame ω (3,), finite."""
-        return as_vector3(omega, name)
+        """A body-frame ω (3,), finite, zero or with a normal number among its components:
+        an ω whose components are all subnormal (below 2.2e-308, where the compiled core
+        flushes them to zero) is refused."""
+        w = as_vector3(omega, name)
+        big = float(np.abs(w).max())
+        if 0 < big < np.finfo(float).tiny:
+            raise ValueError(
+                f"`{name}` = {w.tolist()} is below the range of double precision: its largest "
+                "component is subnormal (< 2.2e-308); choose other units, or give 0"
+            )
+        return w
 
     @staticmethod
     def _resolved(W, t, name="t"):
