@@ -78,6 +78,11 @@ def _grid(counts):
             "[time]\nspan = [0.0, 1.0]\n",
             r"model: `q0`, `params`: the equations of motion cannot be solved .* singular",
         ),
+        (
+            '[model]\nname = "pendulum-cartesian"\nparams = {m = 1.0, g = 9.81, l = -1.0}\n'
+            "[time]\nspan = [0.0, 1.0]\n",
+            r"model: `params\[l\]` must be positive \(l is declared positive\), found -1",
+        ),
     ],
 )
 def test_loader_refuses_with_the_key(tmp_path, text, match):

@@ -136,3 +136,34 @@ def test_lagrangian_runs_and_ensembles_refuse_an_impossible_step_count(t_span, d
     with pytest.raises(ValueError, match="needs 50 steps"):
         mdl.system.simulate_ensemble((0, 0.5), q0=mdl.q0, params=mdl.params, method="rk4",
                                      dt=1e-2, max_steps=49)  # fmt: skip
+
+
+def test_a_first_step_of_1e_300_is_harmless():
+    """``dt`` is only the first step of an adaptive method: the issue's run of the Lagrangian
+    pendulum with ``dt = 1e-300`` ends promptly, on the rod."""
+    from bounded import deadline
+
+    with deadline(120, "pendulum_cartesian().simulate((0, 0.5), dt=1e-300)"):
+        sol = models.pendulum_cartesian().simulate((0, 0.5), dt=1e-300)
+    assert np.abs(sol.constraint_residual).max() < 1e-8
+
+
+def test_parameters_keep_their_declared_sign():
+    """The equations were derived with m, g, l > 0 (SymPy simplifies √(l²) to l): a value of
+    the other sign is refused by name, in a run and in an ensemble; an unknown symbol too."""
+    mdl = models.pendulum_polar()
+    l = mdl.symbols["l"]
+    for bad in (0.0, -1.0):
+        with pytest.raises(ValueError, match=r"`params\[l\]` must be positive"):
+            mdl.simulate((0, 1), params={**mdl.params, l: bad})
+        with pytest.raises(ValueError, match=r"`params\[l\]` must be positive"):
+            mdl.system.simulate_ensemble((0, 1), q0=mdl.q0,
+                                         params={**mdl.params, l: [1.0, bad]})  # fmt: skip
+    with pytest.raises(ValueError, match=r"`params`: L is not a parameter"):
+        mdl.simulate((0, 1), params={**mdl.params, sp.Symbol("L"): 1.0})
+    # a symbol without the assumption, of the same name, means the parameter (once)
+    others = {k: v for k, v in mdl.params.items() if k != l}
+    sol = mdl.simulate((0, 1), params={**others, sp.Symbol("l"): 2.0}, t_eval=[1.0])
+    assert sol.params[l] == 2.0
+    with pytest.raises(ValueError, match=r"`params`: l is given twice with two values"):
+        mdl.simulate((0, 1), params={**mdl.params, sp.Symbol("l"): 2.0})

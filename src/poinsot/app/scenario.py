@@ -763,11 +763,11 @@ def _parse_model(root: _Table, name: str, description: str, source: str) -> Lagr
         outputs,
         source,
     )
-    try:  # consistency of the initial conditions, before anything runs
-        from ..lagrange.numeric import _keyed, _numeric, consistent_initial_state
+    try:  # the parameters' signs and the initial conditions, before anything runs
+        from ..lagrange.numeric import _keyed, _numeric, as_params, consistent_initial_state
 
         system = model.system
-        num = _numeric(system, params)
+        num = _numeric(system, as_params(params, system))
         consistent_initial_state(
             system,
             num,

@@ -52,6 +52,13 @@ def _by_key(values, keys, name, required):
             raise TypeError(f"`{name}[{key}]`: an ensemble takes numbers (one or one per "
                             "member), not functions")  # fmt: skip
         out[k] = _column(value, f"{name}[{key}]")
+        # a parameter's declared sign, under which the equations were derived (as `simulate`)
+        sign = "positive" if getattr(k, "is_positive", None) else (
+            "non-negative" if getattr(k, "is_nonnegative", None) else None)  # fmt: skip
+        if sign and np.any(out[k] <= 0 if sign == "positive" else out[k] < 0):
+            i = int(np.argmax(out[k] <= 0 if sign == "positive" else out[k] < 0))
+            raise ValueError(f"`{name}[{key}]` must be {sign} ({k} is declared {sign}), found "
+                             f"{out[k][i]} (member {i})")  # fmt: skip
     missing = [str(k).replace("(t)", "") for k in keys if k not in out]
     if required and missing:
         raise ValueError(f"`{name}` must give every {required}: missing {', '.join(missing)}")

@@ -502,7 +502,11 @@ def as_params(params, system) -> dict:
                 f"`params`: {key!r} is not a parameter of the system (parameters: "
                 f"{', '.join(by_name) or 'none'})"
             )
-        out[symbol] = as_scalar(value, f"params[{key}]")
+        x = as_scalar(value, f"params[{key}]")
+        if symbol in out and out[symbol] != x:
+            raise ValueError(f"`params`: {symbol} is given twice with two values, "
+                             f"{out[symbol]} and {x}")  # fmt: skip
+        out[symbol] = x
         # the equations were derived under the symbol's assumptions (√(l²) = l for l > 0)
         if symbol.is_positive and not out[symbol] > 0:
             raise ValueError(f"`params[{key}]` must be positive ({symbol} is declared "
