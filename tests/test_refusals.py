@@ -76,7 +76,7 @@ def _grid(counts):
         (
             '[model]\nname = "double-pendulum"\nparams = {m1 = 0.0, m2 = 0.0}\n'
             "[time]\nspan = [0.0, 1.0]\n",
-            r"model: `q0`, `params`: the equations of motion cannot be solved .* singular",
+            r"model: `params\[m1\]` must be positive \(m1 is declared positive\), found 0",
         ),
         (
             '[model]\nname = "pendulum-cartesian"\nparams = {m = 1.0, g = 9.81, l = -1.0}\n'
