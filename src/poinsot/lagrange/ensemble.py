@@ -52,6 +52,13 @@ def _by_key(values, keys, name, required):
             raise TypeError(f"`{name}[{key}]`: an ensemble takes numbers (one or one per "
                             "member), not functions")  # fmt: skip
         out[k] = _column(value, f"{name}[{key}]")
+        tiny = (out[k] != 0) & (np.abs(out[k]) < np.finfo(float).tiny) & (name == "params")
+        if tiny.any():
+            i = int(np.argmax(tiny))
+            raise ValueError(
+                f"`{name}[{key}]` = {out[k][i]:g} (member {i}) is below the range "
+                "of double precision (subnormal); choose other units, or give 0"
+            )
         # a parameter's declared sign, under which the equations were derived (as `simulate`)
         sign = "positive" if getattr(k, "is_positive", None) else (
             "non-negative" if getattr(k, "is_nonnegative", None) else None)  # fmt: skip

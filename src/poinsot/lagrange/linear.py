@@ -289,17 +289,23 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
             f"{np.round(f0[n:], 10).tolist()}"
         )
     J = np.empty((2 * n, 2 * n))
-    for j in range(2 * n):
-        h = 1e-6 * (1 + abs(y0[j]))
-        e = np.zeros(2 * n)
-        e[j] = h
-        J[:, j] = (rhs_at(y0 + e, u0) - rhs_at(y0 - e, u0)) / (2 * h)
     Bfull = np.empty((2 * n, k))
-    for j in range(k):
-        h = 1e-6 * (1 + abs(u0[j]))
-        e = np.zeros(k)
-        e[j] = h
-        Bfull[:, j] = (rhs_at(y0, u0 + e) - rhs_at(y0, u0 - e)) / (2 * h)
+    with np.errstate(all="ignore"):  # judged below: the result must be finite
+        for j in range(2 * n):
+            h = 1e-6 * (1 + abs(y0[j]))
+            e = np.zeros(2 * n)
+            e[j] = h
+            J[:, j] = (rhs_at(y0 + e, u0) - rhs_at(y0 - e, u0)) / (2 * h)
+        for j in range(k):
+            h = 1e-6 * (1 + abs(u0[j]))
+            e = np.zeros(k)
+            e[j] = h
+            Bfull[:, j] = (rhs_at(y0, u0 + e) - rhs_at(y0, u0 - e)) / (2 * h)
+    if not (np.isfinite(J).all() and np.isfinite(Bfull).all()):
+        raise ValueError(
+            "`equilibrium`, `params`: the linearisation is not finite at the operating point "
+            "(values beyond the double range: choose other units)"
+        )
     G = num.mat(num.G, q0, v0, t, (m, n)) if m else np.zeros((0, n))
     A, B = _on_manifold(J, Bfull, G, nh, np.arange(n))
     eig = np.linalg.eigvals(A)

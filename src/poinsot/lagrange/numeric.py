@@ -503,6 +503,10 @@ def as_params(params, system) -> dict:
                 f"{', '.join(by_name) or 'none'})"
             )
         x = as_scalar(value, f"params[{key}]")
+        if 0 < abs(x) < np.finfo(float).tiny:
+            raise ValueError(f"`params[{key}]` = {x:g} is below the range of double precision "
+                             "(subnormal: products with it lose their digits); choose other "
+                             "units, or give 0")  # fmt: skip
         if symbol in out and out[symbol] != x:
             raise ValueError(f"`params`: {symbol} is given twice with two values, "
                              f"{out[symbol]} and {x}")  # fmt: skip
