@@ -12,14 +12,22 @@ Anything else (another exception, a message that names nothing, a hang) fails th
 from __future__ import annotations
 
 import warnings
+from datetime import timedelta
 
 import numpy as np
-from hypothesis import event, settings
+from hypothesis import HealthCheck, event, settings
 from hypothesis import strategies as st
 
 from bounded import deadline
 from poinsot.integrate.solve import SimulationError
 
+# Hypothesis profiles of the fuzz tests: "fuzz", a few examples per entry point (the default
+# suite), and "fuzz-many", many (-m slow); both with a deadline on every example, and
+# :func:`outcome` puts a hard one on every call.
+_quiet = [HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large]
+settings.register_profile("fuzz", max_examples=12, deadline=timedelta(seconds=30),
+                          suppress_health_check=_quiet, print_blob=True)  # fmt: skip
+settings.register_profile("fuzz-many", parent=settings.get_profile("fuzz"), max_examples=300)
 FEW = settings(settings.get_profile("fuzz"))
 MANY = settings(settings.get_profile("fuzz-many"))
 #: Seconds one call may take before it counts as a hang.

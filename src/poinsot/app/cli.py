@@ -20,6 +20,7 @@ import sys
 import time
 
 from .. import __version__
+from .interrupts import flush_streams, guard  # light: the handlers come before any heavy import
 
 __all__ = ["main"]
 
@@ -460,18 +461,18 @@ def main(argv=None) -> int:
     message is written. Called with ``argv`` (from Python), the previous signal handlers come
     back when it returns.
     """
-    from .interrupts import guard
-
     process = argv is None
     g = guard(process=process)  # first: before argparse, NumPy and the rest are imported
     try:
-        code = _run(argv, g)
-    finally:
-        g.finish()
+        try:
+            code = _run(argv, g)
+        finally:
+            g.finish()  # from here on a signal in the command's process ends it at once
+    except KeyboardInterrupt:  # a signal in the last moments, after _run's own handling
+        print(g.message(), file=sys.stderr)
+        code = g.exit_code
     if process and g.signum is not None:  # interrupted: skip the interpreter's slow teardown
-        from .interrupts import _flush
-
-        _flush()
+        flush_streams()
         os._exit(code)
     return code
 

@@ -37,7 +37,7 @@ import sys
 import threading
 import time
 
-__all__ = ["GRACE", "Guard", "Terminated", "TimeLimitReached", "guard"]
+__all__ = ["GRACE", "Guard", "Terminated", "TimeLimitReached", "flush_streams", "guard"]
 
 #: Seconds the watchdog lets the program end on its own after a signal.
 GRACE = 0.6
@@ -109,7 +109,7 @@ class Guard:
     # ----------------------------------------------------------------- the handlers
     def _handler(self, signum, frame):
         if self._finished:  # the command is done: its output is whole; end now
-            _flush()
+            flush_streams()
             os._exit(_exit_code(signum))
         if self.signum is None:
             self.signum = signum
@@ -214,7 +214,8 @@ class Guard:
         os._exit(self.exit_code)
 
 
-def _flush() -> None:
+def flush_streams() -> None:
+    """Flush stdout and stderr, saying nothing if they are closed or broken."""
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(Exception):  # a closed or broken stream: nothing more to say
             stream.flush()
