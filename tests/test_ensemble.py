@@ -263,7 +263,7 @@ def test_dask_is_bit_identical_to_the_local_run(dask_client, case):
         ({"chunk_size": 0}, ValueError, r"`chunk_size` must be a positive integer"),
         ({"threads": 0}, ValueError, r"`threads` must be a positive integer"),
         ({"t_eval": [0.5, 0.2]}, ValueError, r"`t_eval` must be strictly increasing"),
-        ({"t_eval": []}, ValueError, r"`t_eval` must hold at least one time"),
+        ({"t_eval": [0.0, np.inf]}, ValueError, r"`t_eval\[1\]` must be finite"),
     ],
 )
 def test_bad_input_is_named(kwargs, error, match):
@@ -360,8 +360,8 @@ def test_ctrl_c_stops_a_running_ensemble():
         body = RigidBody.box(1.0, (1.0, 2.0, 3.0))
         w = np.random.default_rng(0).normal(size=(8, 3))
         threading.Timer(1.0, _thread.interrupt_main).start()
-        try:  # 10⁹ steps per member: hours, unless interrupted
-            simulate_ensemble(body, (0, 1e6), omega0=w, dt=1e-3, threads=2, progress=False)
+        try:  # 10⁸ steps per member (the whole step budget): minutes, unless interrupted
+            simulate_ensemble(body, (0, 1e5), omega0=w, dt=1e-3, threads=2, progress=False)
         except KeyboardInterrupt:
             print("interrupted")
         """

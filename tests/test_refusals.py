@@ -43,7 +43,7 @@ def _grid(counts):
         (
             BASE + '[[forces]]\ntype = "linear_drag"\ncoefficient = 0.1\n'
             '[integrator]\nmethod = "splitting"\ndt = 0.01\n',
-            r"integrator\.method: method 'splitting' needs forces .* LinearDrag",
+            r"integrator\.method: `method` 'splitting' needs forces .* LinearDrag",
         ),
         (
             BASE.replace(
@@ -76,7 +76,12 @@ def _grid(counts):
         (
             '[model]\nname = "double-pendulum"\nparams = {m1 = 0.0, m2 = 0.0}\n'
             "[time]\nspan = [0.0, 1.0]\n",
-            r"model: the equations of motion cannot be solved .* singular",
+            r"model: `params\[m1\]` must be positive \(m1 is declared positive\), found 0",
+        ),
+        (
+            '[model]\nname = "pendulum-cartesian"\nparams = {m = 1.0, g = 9.81, l = -1.0}\n'
+            "[time]\nspan = [0.0, 1.0]\n",
+            r"model: `params\[l\]` must be positive \(l is declared positive\), found -1",
         ),
     ],
 )
@@ -171,7 +176,7 @@ BODY = RigidBody.box(1.0, (1.0, 2.0, 3.0))
         ({"atol": True}, TypeError, r"`atol` must be a real number, found bool"),
         ({"rtol": 1e154}, ValueError, r"`rtol` must be below 1"),
         ({"rtol": {}}, TypeError, r"`rtol` must be a real number, found dict"),
-        ({"t_eval": []}, ValueError, r"`t_eval` must hold at least one time"),
+        ({"t_eval": [0.0, np.inf]}, ValueError, r"`t_eval\[1\]` must be finite"),
         ({"Q0": {"w": 1}}, TypeError, r"`Q0` must be numeric, found dict"),
         ({"Q0": object()}, TypeError, r"`Q0` must be numeric, found object"),
         ({"Q0": [[1, 0], [0, 1, 0]]}, ValueError, r"`Q0` must be a regular array .* ragged"),

@@ -272,7 +272,7 @@ def test_period_and_flip_errors():
         fb.flip_interval((0.0, 0.0, 1.0))
     with pytest.raises(ValueError, match="has no period"):
         fb.period((1.0, 0.0, 0.0))
-    with pytest.raises(ValueError, match="needs three distinct moments; this body is oblate"):
+    with pytest.raises(ValueError, match="needs three distinct `moments`; this body is oblate"):
         FreeRigidBody((1, 1, 2)).flip_interval((0.1, 0.2, 1.0))
     assert FreeRigidBody((1, 1, 2)).period((0.1, 0.2, 1.0)) == pytest.approx(2 * math.pi)
 

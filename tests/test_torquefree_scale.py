@@ -53,3 +53,35 @@ def test_energy_out_of_the_double_range_is_refused_with_the_range():
     with pytest.raises(ValueError, match=r"out of range: 2k·I3 and 2k/I1 must lie within"):
         body.polhode_family(1e308)
     assert len(body.polhode_family(1e300)) > 0
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(-300, 300), st.integers(-300, 300), st.integers(-100, 100), st.floats(1.0, 9.99))
+def test_the_feasibility_check_is_exact_over_the_whole_double_range(e_k, e_a, e_I, mant):
+    """Condition (33) ``I1 ≤ a²/(2k) ≤ I3`` judged against exact rational arithmetic
+    (``fractions.Fraction`` of the very floats given): every verdict agrees, and no input
+    raises anything but a ValueError (``momentum = 1e300`` raised OverflowError)."""
+    from fractions import Fraction
+
+    body = FreeRigidBody(np.array([1.0, 2.0, 3.0]) * 10.0**e_I)
+    k, a = 10.0**e_k, mant * 10.0**e_a
+    I1, _, I3 = (Fraction(x) for x in body.principal_moments)
+    try:
+        body.check_energy_range(k)
+    except ValueError:
+        with pytest.raises(ValueError, match="out of range"):
+            body.check_feasible(k, a)
+        return
+    D = Fraction(a) ** 2 / (2 * Fraction(k))
+    tol = Fraction(1, 10**12)
+    if I1 * (1 - tol) <= D <= I3 * (1 + tol):
+        assert body.check_feasible(k, a) == pytest.approx(float(min(max(D, I1), I3)), rel=1e-12)
+    else:
+        with pytest.raises(ValueError, match="infeasible invariants"):
+            body.check_feasible(k, a)
+
+
+@pytest.mark.parametrize("bad", [("x", 1.0), (1.0, "x"), (1.0, complex(1, 1)), (None, 1.0)])
+def test_the_invariants_given_to_check_feasible_are_named(bad):
+    with pytest.raises(TypeError, match=r"`(energy|momentum)` must be a real number"):
+        FreeRigidBody((1.0, 2.0, 3.0)).check_feasible(*bad)

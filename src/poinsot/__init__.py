@@ -8,7 +8,8 @@ core ``poinsot._core``, built with the package.
 from __future__ import annotations
 
 import importlib
-from typing import TYPE_CHECKING
+
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (mypy and pyright read it)
 
 __version__ = "0.1.0"
 

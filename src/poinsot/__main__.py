@@ -2,7 +2,10 @@
 
 import sys
 
-from .app.cli import main
+try:
+    from .app.cli import main
+except KeyboardInterrupt:  # Ctrl-C in the milliseconds before main() installs its handler
+    sys.exit(130)
 
 if __name__ == "__main__":
     sys.exit(main())

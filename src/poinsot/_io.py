@@ -9,6 +9,10 @@
   poinsot's. Everything is checked before the work starts: a path that is not a folder, a
   folder that is not writable, a disk without room, a folder that poinsot did not write.
 * Outputs follow the user's umask (``tempfile`` alone would leave 0600 files in 0700 folders).
+* :func:`critical`: the moves that complete an output (and the removal of an unfinished one)
+  are not cut in half by a signal: SIGINT, SIGTERM and SIGALRM that arrive meanwhile are held
+  and delivered when the moves are done. :func:`emergency_cleanup` removes what this process
+  is writing, for a program that must end at once (``poinsot.app.interrupts``).
 """
 
 from __future__ import annotations
@@ -19,8 +23,10 @@ import json
 import os
 import re
 import shutil
+import signal
 import socket
 import tempfile
+import threading
 import time
 import warnings
 from pathlib import Path
@@ -57,6 +63,88 @@ class OutputExistsError(OutputError, FileExistsError):
     """The output folder exists and ``force`` was not given."""
 
 
+#: The signals :func:`critical` holds back.
+HELD_SIGNALS = tuple(
+    getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGALRM") if hasattr(signal, name)
+)
+#: What this process is writing now: unfinished output folders and temporary files, and the
+#: folders it created for them (removed by :func:`emergency_cleanup`).
+_WRITING: dict[Path, str] = {}
+_critical_depth = 0
+
+
+def in_critical() -> bool:
+    """Whether a :func:`critical` block is running (an output being moved into place)."""
+    return _critical_depth > 0
+
+
+@contextlib.contextmanager
+def critical():
+    """Hold back SIGINT, SIGTERM and SIGALRM for the block, then deliver the first that came
+    (to whatever handler was installed): the block is never cut in half by them. Elsewhere
+    than in the main thread (where Python runs signal handlers) it only marks the block."""
+    global _critical_depth
+    held: list[int] = []
+    previous = {}
+    if threading.current_thread() is threading.main_thread():
+
+        def hold(signum, frame):
+            held.append(signum)
+
+        for sig in HELD_SIGNALS:
+            previous[sig] = signal.signal(sig, hold)
+    _critical_depth += 1
+    try:
+        yield
+    finally:
+        _critical_depth -= 1
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        if held:
+            signal.raise_signal(held[0])
+
+
+def emergency_cleanup() -> None:
+    """Remove what this process is writing (unfinished output folders and temporary files,
+    then the folders created for them, if empty): for a program about to end without
+    unwinding (``os._exit``). Safe to call from any thread; errors are ignored."""
+    for path, kind in list(_WRITING.items()):
+        if kind == "created":
+            continue
+        for _ in range(3):  # a file may appear while the tree is removed
+            if kind == "folder":
+                shutil.rmtree(path, ignore_errors=True)
+            else:
+                with contextlib.suppress(OSError):
+                    os.unlink(path)
+            if not os.path.lexists(path):
+                break
+    created = [p for p, kind in _WRITING.items() if kind == "created"]
+    for path in sorted(created, key=lambda p: len(p.parts), reverse=True):
+        with contextlib.suppress(OSError):
+            os.rmdir(path)
+
+
+def _make_parents(folder: Path) -> list[Path]:
+    """``folder.mkdir(parents=True, exist_ok=True)``; returns the folders it created,
+    outermost first."""
+    missing = []
+    for p in (folder, *folder.parents):
+        if os.path.lexists(p):
+            break
+        missing.append(p)
+    folder.mkdir(parents=True, exist_ok=True)
+    return missing[::-1]
+
+
+def _remove_created(created: list[Path]) -> None:
+    """Remove the folders :func:`_make_parents` created, innermost first, if still empty."""
+    for p in reversed(created):
+        with contextlib.suppress(OSError):
+            os.rmdir(p)
+        _WRITING.pop(p, None)
+
+
 def _umask() -> int:
     mask = os.umask(0o022)  # read it: os.umask has no getter
     os.umask(mask)
@@ -86,18 +174,24 @@ def safe_name(name: str, fallback: str = "scenario") -> str:
 def atomic_path(path, suffix: str | None = None):
     """Yield a temporary path beside ``path``; on success it replaces ``path`` atomically."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    created = _make_parents(path.parent)
     fd, tmp = tempfile.mkstemp(
         prefix=f".{path.name}.", suffix=suffix or path.suffix or ".tmp", dir=path.parent
     )
     os.close(fd)
+    _WRITING[Path(tmp)] = "file"
     try:
         yield Path(tmp)
         _follow_umask(Path(tmp))
-        os.replace(tmp, path)
+        with critical():
+            os.replace(tmp, path)
+            _WRITING.pop(Path(tmp), None)
     except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
+        with critical():
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(tmp)
+            _WRITING.pop(Path(tmp), None)
+            _remove_created(created)
         raise
 
 
@@ -321,10 +415,12 @@ class OutputFolder:
         On any exception (``KeyboardInterrupt`` included) it is removed and ``out`` is as
         it was."""
         out = self.out
-        out.parent.mkdir(parents=True, exist_ok=True)
+        created = _make_parents(out.parent)
+        _WRITING.update(dict.fromkeys(created, "created"))
         work = Path(
             tempfile.mkdtemp(prefix=f".{safe_name(out.name, 'out')}.partial-", dir=out.parent)
         )
+        _WRITING[work] = "folder"
         try:
             _follow_umask(work, folder=True)
             (work / PARTIAL_MARKER).write_text(f"{os.getpid()}@{socket.gethostname()}")
@@ -339,9 +435,16 @@ class OutputFolder:
                 "files": files,
             }
             atomic_write_text(work / MANIFEST, json.dumps(manifest, indent=2))
-            self._commit(work, files)
+            with critical():  # the folder appears whole, or not at all
+                self._commit(work, files)
+                _WRITING.pop(work, None)
+                for p in created:
+                    _WRITING.pop(p, None)
         except BaseException:
-            shutil.rmtree(work, ignore_errors=True)
+            with critical():
+                shutil.rmtree(work, ignore_errors=True)
+                _WRITING.pop(work, None)
+                _remove_created(created)
             raise
 
     def _commit(self, work: Path, files: list[str]) -> None:

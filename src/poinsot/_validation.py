@@ -15,11 +15,13 @@ import numpy as np
 
 __all__ = [
     "as_array",
+    "as_gains",
     "as_positive_scalar",
     "as_rotation_matrices",
     "as_rotation_matrix",
     "as_sample_times",
     "as_scalar",
+    "as_times",
     "as_vector3",
     "as_vectors",
 ]
@@ -76,6 +78,10 @@ def _real_array(value, name: str) -> np.ndarray:
         raise TypeError(f"`{name}` must be real, found complex values")
     if raw.dtype.kind == "b":
         raise TypeError(f"`{name}` must be numeric, found booleans")
+    if raw.dtype.kind in "US" or (
+        raw.dtype == object and any(isinstance(v, str | bytes) for v in raw.flat)
+    ):  # NumPy would read "1" as 1.0
+        raise TypeError(f"`{name}` must be numeric, found text")
     if raw.dtype.kind in "iuf":
         return raw.astype(float, copy=False)
     try:
@@ -113,6 +119,39 @@ def as_positive_scalar(value, name: str) -> float:
     if x <= 0:
         raise ValueError(f"`{name}` must be a positive number, found {x}")
     return x
+
+
+def as_gains(value, name: str, n: int = 2, what: str = "(alpha, beta)") -> tuple[float, ...]:
+    """``n`` non-negative finite real numbers given as a sequence, e.g. Baumgarte's gains
+    ``(alpha, beta)``; anything else (None, one number, a string, complex numbers, a
+    negative, NaN or infinite gain) is refused, named.
+
+    Examples
+    --------
+    >>> as_gains((10, 0.0), "baumgarte")
+    (10.0, 0.0)
+    >>> as_gains(5.0, "baumgarte")
+    Traceback (most recent call last):
+    ...
+    TypeError: `baumgarte` must be a pair (alpha, beta) of non-negative numbers, found float
+    """
+    rule = f"a {'pair' if n == 2 else f'sequence of {n}'} {what} of non-negative numbers"
+    if (
+        value is None
+        or isinstance(value, str | bytes | dict | set | numbers.Number)
+        or (isinstance(value, np.ndarray) and value.ndim == 0)
+    ):
+        raise TypeError(f"`{name}` must be {rule}, found {type(value).__name__}")
+    if not hasattr(value, "__len__") or len(value) != n:
+        found = f"{len(value)} values" if hasattr(value, "__len__") else type(value).__name__
+        raise ValueError(f"`{name}` must be {rule}, found {found}")
+    out = []
+    for i, x in enumerate(value):
+        g = as_scalar(x, f"{name}[{i}]")
+        if g < 0:
+            raise ValueError(f"`{name}[{i}]` must be non-negative, found {g}")
+        out.append(g)
+    return tuple(out)
 
 
 def as_positive_array(value, name: str, shape: tuple[int | None, ...]) -> np.ndarray:
@@ -239,11 +278,33 @@ def as_rotation_matrices(value, name: str, n: int | None = None) -> np.ndarray:
     return u @ vt
 
 
+def as_times(t, name: str = "t") -> np.ndarray:
+    """Times at which something is evaluated: one finite real number or a 1-D array of them,
+    as a float array (n,) (a number gives n = 1). An empty array is allowed and gives empty
+    results wherever times are taken (``docs/reliability.md``); NaN and ±inf are refused,
+    named with their index.
+
+    Examples
+    --------
+    >>> as_times(2), as_times([]).shape
+    (array([2.]), (0,))
+    >>> as_times([0.0, float("inf")])
+    Traceback (most recent call last):
+    ...
+    ValueError: `t[1]` must be finite, found inf
+    """
+    arr = _real_array(t, name)
+    if arr.ndim == 0:
+        return np.array([as_scalar(arr, name)])
+    return as_array(arr, name, (None,))
+
+
 def as_sample_times(t_eval, t0: float, t1: float, name: str = "t_eval") -> np.ndarray:
-    """Sample times (n,): finite, strictly increasing, within ``[t0, t1]``."""
+    """Sample times (n,): finite, strictly increasing, within ``[t0, t1]``; an empty array
+    asks for no samples (the run is still integrated to ``t1``)."""
     t = as_array(t_eval, name, (None,))
     if not len(t):
-        raise ValueError(f"`{name}` must hold at least one time, found an empty array")
+        return t
     if (t[1:] <= t[:-1]).any():
         k = int(np.argmax(t[1:] <= t[:-1])) + 1
         raise ValueError(

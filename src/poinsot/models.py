@@ -351,7 +351,8 @@ def atwood_machine() -> Model:
     mass 1; the acceleration is ``(m1 − m2) g / (m1 + m2 + I/r²)``."""
     sp, ds = _sp()
     y1, y2, ph = ds("y1 y2 phi")
-    m1, m2, I, r, g, c = sp.symbols("m1 m2 I r g c", positive=True)
+    m1, m2, I, r, g = sp.symbols("m1 m2 I r g", positive=True)
+    c = sp.Symbol("c", real=True)  # the rope's constant: zero when y1, y2 are displacements
     T = (m1 * y1.diff() ** 2 + m2 * y2.diff() ** 2 + I * ph.diff() ** 2) / 2
     U = m1 * g * y1 + m2 * g * y2
     from .lagrange import LagrangianSystem

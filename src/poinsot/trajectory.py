@@ -75,8 +75,9 @@ class Trajectory(Displayable):
 
     def __repr__(self):
         return (
-            f"Trajectory(n={len(self.t)}, t=[{self.t[0]:.6g}, {self.t[-1]:.6g}], "
-            f"method={self.method!r}, nfev={self.nfev})"
+            f"Trajectory(n={len(self.t)}, "
+            + (f"t=[{self.t[0]:.6g}, {self.t[-1]:.6g}], " if len(self.t) else "")
+            + f"method={self.method!r}, nfev={self.nfev})"
         )
 
     # ----------------------------------------------------------------- state
@@ -340,12 +341,14 @@ class Trajectory(Displayable):
         forces and constraint leave constant (:func:`poinsot.conservation.invariants_of`)."""
         from .conservation import invariants_of
 
-        return tuple(invariants_of(self))
+        return tuple(invariants_of(self)) if len(self.t) else ()
 
     @cached_property
     def energy_drift(self):
         """Relative change of total energy ``(E(t) − E(0))/|E(0)|`` (n,) (absolute if E(0)=0)."""
         E = self.total_energy
+        if not len(E):  # no samples (an empty t_eval): no drift either
+            return _readonly(E)
         return _readonly((E - E[0]) / (abs(E[0]) or 1.0))
 
     @cached_property
@@ -355,17 +358,24 @@ class Trajectory(Displayable):
         when a force has a torque about the centre of mass (see :attr:`invariants` for what
         the problem conserves)."""
         L = self.angular_momentum_com
+        if not len(L):
+            return _readonly(np.zeros(0))
         scale = float(np.abs(L[0]).max()) or 1.0  # so that |L|² cannot overflow near 1e300
         dL = np.linalg.norm((L - L[0]) / scale, axis=1)
         return _readonly(dL / (np.linalg.norm(L[0] / scale) or 1.0))
 
     def diagnostics(self) -> dict:
-        """Largest orthogonality, rigidity, energy and momentum errors over the run."""
+        """Largest orthogonality, rigidity, energy and momentum errors over the run (NaN for
+        a trajectory without samples: nothing was measured)."""
+
+        def largest(a):
+            return float(np.max(a)) if len(a) else float("nan")
+
         return {
-            "orthogonality_error": float(self.orthogonality_error.max()),
-            "rigidity_error": float(self.rigidity_error.max()),
-            "energy_drift": float(np.abs(self.energy_drift).max()),
-            "momentum_drift": float(self.momentum_drift.max()),
+            "orthogonality_error": largest(self.orthogonality_error),
+            "rigidity_error": largest(self.rigidity_error),
+            "energy_drift": largest(np.abs(self.energy_drift)),
+            "momentum_drift": largest(self.momentum_drift),
             "energy_conserved_by_model": self.is_conservative,
             "invariants": {i.name: i.describe() for i in self.invariants},
         }
@@ -378,8 +388,8 @@ class Trajectory(Displayable):
             "success": self.success,
             "message": self.message,
             "samples": len(self.t),
-            "t_start": float(self.t[0]),
-            "t_end": float(self.t[-1]),
+            "t_start": float(self.t[0]) if len(self.t) else None,
+            "t_end": float(self.t[-1]) if len(self.t) else None,
             "nfev": int(self.nfev),
             "nsteps": int(self.nsteps),
             "wall_time_s": float(self.wall_time),

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -13,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from bounded import deadline
 from poinsot.app.cli import main
 from poinsot.app.scenario import list_examples
 from scenario_texts import BOX_SCENARIO
@@ -166,7 +168,11 @@ GOOD = "\n" + BOX_SCENARIO
         ),
         (
             GOOD + "[analysis]\nenergy = 0.5\nmomentum = 100.0\n",
-            r"analysis\.momentum: infeasible invariants: every motion has I1 ≤ a²/\(2k\) ≤ I3",
+            r"analysis\.momentum: infeasible invariants .*: every motion has I1 ≤ a²/\(2k\) ≤ I3",
+        ),
+        (  # a² alone overflows (OverflowError in the parser before issue 26)
+            GOOD + "[analysis]\nenergy = 0.5\nmomentum = 1e300\n",
+            r"analysis\.momentum: infeasible invariants .* a²/\(2k\) = inf",
         ),
         (GOOD.replace('type = "box"', 'type = "boks"'), r"body\.type: .*did you mean 'box'"),
         (
@@ -384,7 +390,7 @@ def test_report_in_a_headless_browser(tmp_path):
         (
             '[model]\nname = "pendulum-cartesian"\nq0 = { x = 0.5, y = 0.5 }\n[time]\n'
             "span = [0, 1]\n",
-            r"model: inconsistent initial conditions",
+            r"model: `q0`: inconsistent initial conditions",
         ),
         (
             '[model]\nname = "atwood"\n[integrator]\nstabilization = "springs"\n[time]\n'
@@ -577,6 +583,43 @@ def test_a_run_beyond_the_step_budget_is_refused_without_a_traceback(tmp_path):
         timeout=120,
     )
     assert proc.returncode == 2, proc.stderr
-    assert "the run needs 1e+" in proc.stderr and "max_steps" in proc.stderr
+    assert "integrator.dt: the run needs 1e+" in proc.stderr
+    assert "a run may take at most 1e+08 steps" in proc.stderr
     assert "Traceback" not in proc.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["tiny.toml"]
+
+
+def _with_integrator(text: str, integrator: str, span: str | None = None) -> str:
+    """A bundled example's text with its [integrator] replaced (and its time.span)."""
+    import re
+
+    text = re.sub(r"\[integrator\][^\[]*", "", text)
+    if span is not None:
+        text = re.sub(r"span = \[[^\]]*\]", f"span = {span}", text)
+    return text + "\n[integrator]\n" + integrator + "\n"
+
+
+@pytest.mark.parametrize("example", ["notebook", "rolling-disk", "tennis-racket-ensemble",
+                                     "turntable-spin-up"])  # fmt: skip
+@pytest.mark.parametrize(("integrator", "span", "needs"), [
+    ('method = "rk4"\ndt = 1e-300', None, r"1e\+301|2e\+301"),
+    ('method = "rk4"\ndt = 0.001', "[0.0, 9.2e18]", r"9\.2e\+21"),
+])  # fmt: skip
+def test_every_kind_of_scenario_refuses_an_impossible_step_count_up_front(
+    example, integrator, span, needs, tmp_path, capsys
+):
+    """A rigid body, a Lagrangian model, an ensemble and a relative motion alike: exit 2 before
+    anything runs, both keys named, nothing written (the ensemble ran until killed before)."""
+    from poinsot.app.scenario import example_text
+
+    path = tmp_path / "s.toml"
+    path.write_text(_with_integrator(example_text(example), integrator, span))
+    with deadline(60, f"poinsot run {example}"):
+        code = main(["run", str(path), "--out", str(tmp_path / "out"), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert re.search(
+        rf"integrator\.dt: the run needs ({needs}) steps of dt = .* over time\.span", err
+    )
+    assert "a run may take at most 1e+08 steps" in err and "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]

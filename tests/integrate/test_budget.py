@@ -9,8 +9,9 @@ import warnings
 import numpy as np
 import pytest
 
+from bounded import deadline
 from poinsot import RigidBody, simulate
-from poinsot.integrate.solve import DEFAULT_MAX_STEPS, RTOL_FLOOR, SimulationError
+from poinsot.integrate.solve import DEFAULT_MAX_STEPS, RTOL_FLOOR, SimulationError, StepBudgetError
 from poinsot.models import pendulum_cartesian
 from poinsot.relative import Carrier, simulate_relative
 
@@ -29,6 +30,13 @@ def test_the_refusal_holds_for_every_front_end():
                           method="rk4", dt=1e-300)  # fmt: skip
     with pytest.raises(ValueError, match="`max_steps`"):
         pendulum_cartesian().simulate((0, 0.5), q0={}, method="rk4", dt=1e-300)
+    from poinsot.ensemble import simulate_ensemble
+
+    with deadline(60, "simulate_ensemble"), pytest.raises(StepBudgetError, match="`max_steps`"):
+        simulate_ensemble(BODY, (0, 1), omega0=[(0, 1, 1)] * 4, method="rk4", dt=1e-300)
+    long = r"needs 9\.2e\+21 steps"
+    with deadline(60, "simulate_ensemble"), pytest.raises(StepBudgetError, match=long):
+        simulate_ensemble(BODY, (0, 9.2e18), omega0=[(0, 1, 1)], method="rkmk4", dt=1e-3)
 
 
 def test_max_steps_is_an_option_and_its_default_documented():

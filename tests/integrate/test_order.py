@@ -125,5 +125,5 @@ def test_splitting_refuses_velocity_dependent_forces():
 
 
 def test_fixed_step_needs_dt():
-    with pytest.raises(ValueError, match="method 'rk4' is fixed-step: `dt` must be given"):
+    with pytest.raises(ValueError, match="`method` 'rk4' is fixed-step: `dt` must be given"):
         simulate(BODY, (0, 1), omega0=OMEGA0, method="rk4")

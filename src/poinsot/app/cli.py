@@ -7,22 +7,21 @@
     poinsot identify LOG.csv [--map MAP.toml] [--json] [--out DIR] [column, scale, rotor options]
 
 Exit codes: 0 success; 2 bad input (the message on stderr names the file and the key) or an
-output folder that cannot or may not be written; 1 numerical failure (with the diagnostic) or a
-disk that filled while writing; 130 interrupted (Ctrl-C), 143 terminated (SIGTERM): in all
-failures nothing half-written is left. 141: stdout was closed early (``--json | head``).
+output folder that cannot or may not be written; 1 numerical failure (with the diagnostic), a
+disk that filled while writing, or ``--time-limit`` reached (saying how far the run got); 130
+interrupted (Ctrl-C), 143 terminated (SIGTERM), at any moment, within a second and without a
+traceback (:mod:`poinsot.app.interrupts`): in all failures nothing half-written is left. 141:
+stdout was closed early (``--json | head``).
 """
 
 from __future__ import annotations
 
-import argparse
-import json
-import math
 import os
 import sys
 import time
-from pathlib import Path
 
 from .. import __version__
+from .interrupts import flush_streams, guard  # light: the handlers come before any heavy import
 
 __all__ = ["main"]
 
@@ -32,29 +31,41 @@ DEFAULT_EXAMPLE = "notebook"
 
 
 class _Progress:
-    """A one-line progress bar on stderr, shown only on a terminal and after one second.
+    """How far the simulation got: recorded for the time limit's message (``guard``), and
+    drawn as a one-line bar on stderr, only on a terminal and after one second. Called with
+    the time reached, or (:meth:`members`) with the members of an ensemble done.
 
     Written here rather than taken from tqdm/rich: it is twenty lines, and the core
     dependencies stay numpy, scipy, sympy and matplotlib.
     """
 
-    def __init__(self, t0, t1, enabled):
+    def __init__(self, t0, t1, enabled, guard=None):
         self.t0, self.t1 = t0, t1
         self.enabled = enabled and sys.stderr.isatty()
+        self.guard = guard
         self.start = time.monotonic()
         self.last = 0.0
         self.shown = False
 
     def __call__(self, t):
+        frac = min(max((t - self.t0) / (self.t1 - self.t0), 0.0), 1.0)
+        self._show(frac, f"t = {t:.4g} s of [{self.t0:g}, {self.t1:g}] s ({100 * frac:.0f} %)")
+
+    def members(self, done, total):
+        frac = done / total if total else 1.0
+        self._show(frac, f"{done} of {total} members done ({100 * frac:.0f} %)")
+
+    def _show(self, frac, where):
+        if self.guard is not None:
+            self.guard.at("simulating", where)
         if not self.enabled:
             return
         now = time.monotonic()
         if now - self.start < 1.0 or now - self.last < 0.1:
             return
         self.last = now
-        frac = min(max((t - self.t0) / (self.t1 - self.t0), 0.0), 1.0)
         bar = "#" * int(30 * frac) + "." * (30 - int(30 * frac))
-        sys.stderr.write(f"\r[{bar}] {100 * frac:5.1f}%  t = {t:.4g} / {self.t1:.4g}")
+        sys.stderr.write(f"\r[{bar}] {100 * frac:5.1f}%  {where}")
         sys.stderr.flush()
         self.shown = True
 
@@ -69,6 +80,10 @@ def _say(args, *text):
 
 
 def _cmd_run(args):
+    from pathlib import Path
+
+    guard = args.guard
+    guard.at("loading the scenario")
     from .._io import safe_name
     from .job import run_scenario
     from .runs import run_for
@@ -82,14 +97,16 @@ def _cmd_run(args):
         scenario = load_example(args.example or DEFAULT_EXAMPLE)
     out = _output_folder(args, safe_name(scenario.name))
     _say(args, f"poinsot: {scenario.name} — {scenario.description}")
-    progress = _Progress(*scenario.t_span, enabled=not args.quiet)
+    progress = _Progress(*scenario.t_span, enabled=not args.quiet, guard=guard)
     try:
-        summary = run_scenario(
-            scenario, out, force=args.force, progress=progress, plotlyjs=args.plotly_js
-        )
+        summary = run_scenario(scenario, out, force=args.force, progress=progress,
+                               plotlyjs=args.plotly_js, on_stage=guard.at)  # fmt: skip
     finally:
         progress.close()
+    guard.at("printing the summary")
     if args.json:
+        import json
+
         print(json.dumps(summary, indent=2))
     else:
         for line in run_for(scenario).terminal_lines(summary, out):
@@ -97,10 +114,12 @@ def _cmd_run(args):
     return EXIT_OK
 
 
-def _output_folder(args, name: str) -> Path:
+def _output_folder(args, name: str):
     """``--out`` as given; without it ``./poinsot-out/NAME``, or when that exists (and no
     ``--force``) its first free sibling ``NAME-2``, ``NAME-3``, … so that a command can be
     run twice. The folder used is printed by the command."""
+    from pathlib import Path
+
     if args.out:
         return Path(args.out)
     base = Path("poinsot-out") / name
@@ -131,6 +150,9 @@ def _cmd_examples(args):
 
 
 def _cmd_inertia(args):
+    import json
+    from pathlib import Path
+
     from .scenario import ScenarioError, _Table, build_body, load_scenario
 
     path = Path(args.body)
@@ -190,6 +212,7 @@ def _cmd_inertia(args):
 
 
 def _cmd_polhodes(args):
+    import json
     import math
 
     import numpy as np
@@ -261,6 +284,8 @@ def _cmd_polhodes(args):
 def flip_note(result) -> str:
     """What the time between sign changes of ω·e₂ means for this motion: a flip of the body
     (e₂ turns over against L) or a wobble about a stable axis (nothing flips)."""
+    import math
+
     swing = result.get("e2_swing")
     if result.get("flips"):
         return (f"the body flips: e₂ turns over against L every half period (e₂ comes within "
@@ -270,9 +295,11 @@ def flip_note(result) -> str:
             "perpendicular to L)")  # fmt: skip
 
 
-def _write_polhodes(out: Path, args, free, energy, result):
+def _write_polhodes(out, args, free, energy, result):
     """polhodes.png (+ energy_ellipsoid.png with --omega0), one interactive report.html of
     both when plotly is installed, and polhodes.json (with units), into the folder ``out``."""
+
+    import json
 
     import matplotlib
     import numpy as np
@@ -323,7 +350,9 @@ def _write_polhodes(out: Path, args, free, energy, result):
 
 
 def _cmd_identify(args):
+    import json
     import warnings
+    from pathlib import Path
 
     from ..identify import (
         LogMap,
@@ -416,7 +445,10 @@ def _number_or_text(value: str):
         return value
 
 
-def _write_identify(out: Path, args, res, data):
+def _write_identify(out, args, res, data):
+    import json
+    from pathlib import Path
+
     import matplotlib
 
     matplotlib.use("Agg")
@@ -436,11 +468,28 @@ class _BadInput(ValueError):
     pass
 
 
+def _seconds(text: str) -> float:
+    """``--time-limit``: a positive, finite number of seconds."""
+    import argparse
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds, found {text!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"expected a positive number of seconds, found {text}")
+    return value
+
+
 def _parser():
+    import argparse
+
     p = argparse.ArgumentParser(
         prog="poinsot",
         description="Dynamics of rigid bodies and constrained mechanical systems.",
-        epilog="Exit codes: 0 success, 2 bad input, 1 numerical failure, 130 interrupted.",
+        epilog="Exit codes: 0 success, 2 bad input, 1 numerical failure or --time-limit "
+        "reached, 130 interrupted (Ctrl-C), 143 terminated (SIGTERM).",
     )
     p.add_argument("--version", action="version", version=f"poinsot {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
@@ -478,6 +527,13 @@ def _parser():
     )
     run.add_argument("--quiet", action="store_true", help="print nothing but errors")
     run.add_argument("--json", action="store_true", help="print the summary as JSON on stdout")
+    run.add_argument(
+        "--time-limit",
+        type=_seconds,
+        metavar="SECONDS",
+        help="stop when the command has run this long (wall clock): exit 1, saying how far "
+        "the run got, with nothing written",
+    )
     run.set_defaults(func=_cmd_run)
 
     ex = sub.add_parser(
@@ -600,53 +656,80 @@ def _parser():
     return p
 
 
-class _Terminated(KeyboardInterrupt):
-    """SIGTERM, raised where the program is so that the same clean-up as Ctrl-C runs."""
-
-
-def _on_sigterm(signum, frame):
-    raise _Terminated
-
-
 def _show_warning(message, category, filename, lineno, file=None, line=None):
     print(f"poinsot: warning: {message}", file=sys.stderr)
 
 
 def main(argv=None) -> int:
-    """Entry point of the ``poinsot`` console script; returns the exit code."""
-    import signal
-    import threading
+    """Entry point of the ``poinsot`` console script; returns the exit code.
+
+    Called without ``argv`` (the console script, ``python -m poinsot``) it runs as the
+    process's own command: a signal ends it within a second with its exit code
+    (:mod:`poinsot.app.interrupts`), and after an interrupt the process ends as soon as the
+    message is written. Called with ``argv`` (from Python), the previous signal handlers come
+    back when it returns.
+    """
+    process = argv is None
+    g = guard(process=process)  # first: before argparse, NumPy and the rest are imported
+    try:
+        try:
+            code = _run(argv, g)
+        finally:
+            g.finish()  # from here on a signal in the command's process ends it at once
+    except KeyboardInterrupt:  # a signal in the last moments, after _run's own handling
+        print(g.message(), file=sys.stderr)
+        code = g.exit_code
+    if process and g.signum is not None:  # interrupted: skip the interpreter's slow teardown
+        flush_streams()
+        os._exit(code)
+    return code
+
+
+def _run(argv, g) -> int:
     import warnings
 
-    parser = _parser()
-    args = parser.parse_args(argv)
-    if args.command is None:
-        parser.print_help()
-        return EXIT_BAD_INPUT
-    previous = None
-    if threading.current_thread() is threading.main_thread():
-        previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
+        parser = _parser()
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help()
+            return EXIT_BAD_INPUT
+        if getattr(args, "time_limit", None) is not None:
+            g.limit(args.time_limit)
+        args.guard = g
         with warnings.catch_warnings():
             if getattr(args, "quiet", False):
                 warnings.simplefilter("ignore")
             else:
                 warnings.showwarning = _show_warning
             return _dispatch(args)
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+    except KeyboardInterrupt:  # Ctrl-C, SIGTERM or the time limit, wherever it landed
+        print(g.message(), file=sys.stderr)
+        return g.exit_code
 
 
 def _dispatch(args) -> int:
+    g = args.guard
+    try:
+        code = args.func(args)
+        sys.stdout.flush()  # here, so that a closed pipe is met inside this try
+        return code
+    except KeyboardInterrupt:
+        raise
+    except BaseException as exc:
+        if g.signum is not None:  # a library turned the interrupt into an error of its own
+            raise KeyboardInterrupt from exc
+        return _failure(exc)
+
+
+def _failure(exc) -> int:
+    """The exit code and message of a command that failed with ``exc``."""
     from .._io import OutputError, is_disk_full
     from ..simulation import SimulationError
     from .scenario import ScenarioError
 
     try:
-        code = args.func(args)
-        sys.stdout.flush()  # here, so that a closed pipe is met inside this try
-        return code
+        raise exc
     except (ScenarioError, _BadInput, OutputError) as exc:
         print(f"poinsot: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -656,12 +739,6 @@ def _dispatch(args) -> int:
     except ValueError as exc:  # the library refusing a run before it starts (e.g. max_steps)
         print(f"poinsot: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except _Terminated:
-        print("poinsot: terminated; no partial output was left", file=sys.stderr)
-        return EXIT_TERMINATED
-    except KeyboardInterrupt:
-        print("poinsot: interrupted; no partial output was left", file=sys.stderr)
-        return EXIT_INTERRUPTED
     except BrokenPipeError:  # `poinsot ... --json | head`: the reader left; say nothing more
         import os
 

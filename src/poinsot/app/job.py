@@ -22,7 +22,7 @@ __all__ = ["OutputError", "OutputExistsError", "run_scenario"]
 
 
 def run_scenario(
-    scenario, out, *, force=False, progress=None, report=True, plotlyjs="inline"
+    scenario, out, *, force=False, progress=None, report=True, plotlyjs="inline", on_stage=None
 ) -> dict:
     """Simulate ``scenario`` and write its outputs to the folder ``out``; return the summary.
 
@@ -30,25 +30,34 @@ def run_scenario(
     :class:`OutputError` if ``out`` cannot or may not be written (both checked before any
     work; see :class:`~poinsot._io.OutputFolder`), and
     :class:`~poinsot.simulation.SimulationError` on a numerical failure. ``plotlyjs``: how the
-    report gets plotly.js (:data:`poinsot.viz.report.PLOTLYJS_MODES`).
+    report gets plotly.js (:data:`poinsot.viz.report.PLOTLYJS_MODES`). ``on_stage``: called
+    with the name of each stage as it begins ("simulating", "drawing the figures", …), to say
+    how far a run got when it is stopped.
     """
+    stage = on_stage or (lambda name: None)
     run = run_for(scenario)
     folder = OutputFolder(out, force=force, command="run", needs_bytes=run.estimated_bytes())
     start = time.perf_counter()
+    stage("simulating")
     run.simulate(progress=progress)
     sim_time = time.perf_counter() - start
+    stage("summarising the run")
     summary = run.summarise()
     wanted = scenario.outputs
     figures = wanted.get("figures", True)
     with_report = report and wanted.get("report", True)
     with folder.writing() as work:
         if wanted.get("data", True):
+            stage("writing the data")
             run.write_data(work, summary)
         images = {}
         if figures or with_report:
+            stage("drawing the figures")
             images = run.figures(work if figures else None, for_report=with_report)
         if with_report:
+            stage("writing the report")
             run.write_report(work / "report.html", summary, images, plotlyjs=plotlyjs)
+        stage("writing the summary")
         summary["timings"] = {"simulation_s": sim_time, "total_s": time.perf_counter() - start}
         run.finish(summary)
         atomic_write_text(work / "summary.json", json.dumps(jsonable(summary), indent=2))

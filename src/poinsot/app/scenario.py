@@ -707,6 +707,22 @@ def _time(root: _Table):
     return (float(span[0]), float(span[1])), samples
 
 
+def _check_steps(method, dt, t_span):
+    """Refuse, before anything runs, a fixed-step run that needs more steps than a run may
+    take (:data:`~poinsot.integrate.solve.DEFAULT_MAX_STEPS`), naming both keys."""
+    from ..integrate.base import get_solver
+    from ..integrate.solve import StepBudgetError, check_budget
+
+    try:
+        check_budget(get_solver(method), t_span[0], t_span[1], dt)
+    except StepBudgetError as exc:
+        raise ScenarioError(
+            f"integrator.dt: the run needs {exc.needed:.3g} steps of dt = {dt:g} over "
+            f"time.span = [{t_span[0]:g}, {t_span[1]:g}]; a run may take at most "
+            f"{exc.budget:.3g} steps (take a larger integrator.dt or a shorter time.span)"
+        ) from None
+
+
 def _outputs(root: _Table):
     """``[output]``: which of data, figures and report to write."""
     ot = root.table("output", None)
@@ -733,6 +749,7 @@ def _parse_model(root: _Table, name: str, description: str, source: str) -> Lagr
     )
     stab = more["stabilization"]
     t_span, samples = _time(root)
+    _check_steps(method, dt, t_span)
     outputs = _outputs(root)
     root.finish()
     scenario = LagrangianScenario(
@@ -752,11 +769,11 @@ def _parse_model(root: _Table, name: str, description: str, source: str) -> Lagr
         outputs,
         source,
     )
-    try:  # consistency of the initial conditions, before anything runs
-        from ..lagrange.numeric import _keyed, _numeric, consistent_initial_state
+    try:  # the parameters' signs and the initial conditions, before anything runs
+        from ..lagrange.numeric import _keyed, _numeric, as_params, consistent_initial_state
 
         system = model.system
-        num = _numeric(system, params)
+        num = _numeric(system, as_params(params, system))
         consistent_initial_state(
             system,
             num,
@@ -791,6 +808,7 @@ def _parse(data: dict, source: str, base_dir: Path):
     )
     method, dt, rtol, atol, _ = _integrator(root, METHOD_NAMES)
     t_span, samples = _time(root)
+    _check_steps(method, dt, t_span)
     outputs = _outputs(root)
     ensemble = _ensemble(root.table("ensemble"), initial) if has_ensemble else None
     carrier = _carrier(root.table("carrier"), initial, pivot) if root.has("carrier") else None

@@ -116,6 +116,13 @@ class EnsembleResult(Displayable):
                 self.reductions[name] = np.empty((self._N, *value.shape[1:]), dtype=value.dtype)
             self.reductions[name][s] = value
 
+    def drop_samples(self) -> None:
+        """Keep none of the samples (an empty ``t_eval``): ``t`` (0,) and ``state``
+        (N, 0, 18); the final states and the per-member statistics of the run remain."""
+        self.t = _readonly(self.t[:0].copy())
+        if self._states is not None:
+            self._states = self._states[:, :0]
+
     # ----------------------------------------------------------------- samples
     def __len__(self):
         return len(self.final_state)

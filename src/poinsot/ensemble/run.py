@@ -24,7 +24,7 @@ from ..dynamics import RigidBodySystem
 from ..forces import BodyFrame
 from ..integrate.base import get_solver
 from ..integrate.driver import check_solver_fits
-from ..integrate.solve import check_t_span, check_tolerances
+from ..integrate.solve import check_budget, check_t_span, check_tolerances
 from .executors import run_chunks
 from .result import EnsembleResult
 from .tasks import ChunkTask, EnsembleSpec
@@ -101,7 +101,8 @@ def simulate_ensemble(
     rtol, atol : float, optional
         Tolerances of adaptive methods.
     t_eval : array_like (n,), optional
-        Sample times. Without them only the final state is kept (n = 1, at ``t_span[1]``).
+        Sample times. Without them only the final state is kept (n = 1, at ``t_span[1]``);
+        an empty array keeps no samples (n = 0; the final states and statistics remain).
     chunk_size : int, optional
         Members per compiled call (default: about 32 MiB of samples per chunk, and at least
         four chunks per thread when N is large).
@@ -145,9 +146,13 @@ def simulate_ensemble(
     True
     """
     start = time.perf_counter()
+    # an empty t_eval: the run, none of its states
+    no_samples = isinstance(t_eval, list | tuple | np.ndarray) and len(t_eval) == 0
+    if no_samples and reductions:
+        raise ValueError("`reductions` are evaluated at the samples: an empty `t_eval` has none")
     spec, members = _prepare(
         body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, method, dt, rtol,
-        atol, t_eval, flips, reductions, keep_states,
+        atol, None if no_samples else t_eval, flips, reductions, keep_states,
     )  # fmt: skip
     N = members.n
     n = len(spec.t_eval)
@@ -156,6 +161,8 @@ def simulate_ensemble(
     tasks = (members.task(i0, min(i0 + chunk, N)) for i0 in range(0, N, chunk))
     run_chunks(spec, tasks, N, chunk, result.absorb, threads=threads, client=client,
                progress=progress)  # fmt: skip
+    if no_samples:
+        result.drop_samples()
     result.wall_time = time.perf_counter() - start
     return result
 
@@ -235,7 +242,7 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
         )
     check_solver_fits(solver, system)
     if solver.kind not in CORE_METHODS:
-        raise ValueError(f"method {solver.name!r} has no step in the compiled core")
+        raise ValueError(f"`method` {solver.name!r} has no step in the compiled core")
     omega = as_vectors(omega0, "omega0", single_ok=False)
     N = len(omega)
     if N == 0:
@@ -264,10 +271,11 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
         step = 0.0
     else:
         if dt is None:
-            raise ValueError(f"method {solver.name!r} is fixed-step: `dt` must be given")
+            raise ValueError(f"`method` {solver.name!r} is fixed-step: `dt` must be given")
         step = as_scalar(dt, "dt")
         if not step > 0:
             raise ValueError(f"`dt` must be a positive number, found {step}")
+        check_budget(solver, t0, t1, step)  # each member's steps within DEFAULT_MAX_STEPS
         control = np.zeros(0)
     times = np.array([t1]) if t_eval is None else as_sample_times(t_eval, t0, t1)
     if len(times) == 0:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -98,12 +98,12 @@ def check_solver_fits(cls, system) -> None:
     structure, or a splitting method with velocity-dependent forces (it takes kicks)."""
     rigid = getattr(system, "structure", None) == "rigid"
     if not rigid and cls.requires == "rigid":
-        raise ValueError(f"method {cls.name!r} needs a rigid-body system")
+        raise ValueError(f"`method` {cls.name!r} needs a rigid-body system")
     if rigid and getattr(cls, "needs_position_only_forces", False):
         bad = [f.name for f in system.forces if not f.position_only]
         if bad:
             raise ValueError(
-                f"method {cls.name!r} needs forces that depend only on time, position and "
+                f"`method` {cls.name!r} needs forces that depend only on time, position and "
                 f"attitude (kicks); these depend on velocities: {', '.join(bad)}"
             )
 
@@ -137,8 +137,16 @@ def integrate(
     default when every force is built-in) or ``"python"``. A non-finite state or a step size
     that underflows stops the run with an :class:`IntegrationError` naming the time and the
     quantity, carrying the samples computed until then; so does a run that reaches
-    ``max_steps`` steps (default: no limit) before ``t_span[1]``.
+    ``max_steps`` steps (default: no limit) before ``t_span[1]``. An empty ``t_eval`` asks
+    for no samples: the run is integrated to ``t_span[1]`` (its failures raise as usual) and
+    the result holds none of its states, as :func:`scipy.integrate.solve_ivp` does.
     """
+    if t_eval is not None and np.size(t_eval) == 0:  # the run, none of its states
+        full = integrate(system, method, t_span, y0, t_eval=[float(t_span[1])], dt=dt,
+                         rtol=rtol, atol=atol, solver_options=solver_options,
+                         progress=progress, backend=backend, observer=observer,
+                         max_steps=max_steps)  # fmt: skip
+        return replace(full, t=full.t[:0], y=full.y[:0])
     cls = get_solver(method)
     solver: Solver = cls()
     options = dict(solver_options or {})
@@ -160,7 +168,7 @@ def integrate(
         )
     else:
         if dt is None:
-            raise ValueError(f"method {cls.name!r} is fixed-step: `dt` must be given")
+            raise ValueError(f"`method` {cls.name!r} is fixed-step: `dt` must be given")
         if not (np.isfinite(dt) and dt > 0):
             raise ValueError(f"`dt` must be a positive number, found {dt}")
         controller = None
@@ -212,7 +220,7 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
         )
     kind = problem.kind_of(solver.kind)
     if kind is None:
-        raise ValueError(f"method {cls.name!r} has no step in the compiled core for this system")
+        raise ValueError(f"`method` {cls.name!r} has no step in the compiled core for this system")
     z = system.to_internal(y0)
     n = z.size
     times = saveat.times

@@ -107,7 +107,7 @@ def integrate_with_events(segment, events, t0, y0, t1, times, *, resolution=2001
         if stop is not None:
             break
     log.t_events = [np.array(v) for v in log.t_events]
-    log.y_events = [np.array(v).reshape(len(v), -1) for v in log.y_events]
+    log.y_events = [np.array(v, dtype=float).reshape(len(v), Y.shape[1]) for v in log.y_events]
     keep = np.isin(grid, times)
     t, y = grid[keep], Y[keep]
     if stop is not None:

@@ -5,7 +5,7 @@ and turns a failure into a :class:`SimulationError` carrying the samples compute
 ``simulate``, ``simulate_relative``, the ensembles and the Lagrangian ``simulate`` all check
 their run with :func:`check_run`; the single-body front-ends then run it with :func:`solve`.
 
-Two promises hold for every run (documented in ``docs/integrators.md``):
+Two promises hold for every run (documented in ``docs/reliability.md``):
 
 * **A bounded cost.** A run takes at most ``max_steps`` steps (default
   :data:`DEFAULT_MAX_STEPS`). A fixed-step run that needs more is refused before it starts,
@@ -31,6 +31,7 @@ __all__ = [
     "RTOL_FLOOR",
     "RunSettings",
     "SimulationError",
+    "StepBudgetError",
     "check_budget",
     "check_run",
     "solve",
@@ -40,6 +41,19 @@ __all__ = [
 DEFAULT_MAX_STEPS = 100_000_000
 #: The smallest relative tolerance an adaptive method is given (SciPy's 100 ε).
 RTOL_FLOOR = 100 * np.finfo(float).eps
+
+
+class StepBudgetError(ValueError):
+    """A fixed-step run that needs more steps than its budget, refused before it starts;
+    :attr:`needed` (a float: it may exceed any integer) and :attr:`budget` say by how much."""
+
+    def __init__(self, needed: float, budget: int, dt: float, t0: float, t1: float):
+        self.needed, self.budget, self.dt, self.t0, self.t1 = needed, budget, dt, t0, t1
+        super().__init__(
+            f"the run needs {needed:.3g} steps of dt = {dt:g} over [{t0:g}, {t1:g}]; "
+            f"the limit is `max_steps` = {budget} (take a larger `dt`, a shorter span, or "
+            "raise `max_steps`)"
+        )
 
 
 class SimulationError(RuntimeError):
@@ -69,9 +83,14 @@ class RunSettings:
 
 def check_t_span(t_span) -> tuple[float, float]:
     """``(t0, t1)`` from a pair of real numbers with ``t0 < t1``."""
-    if not (type(t_span) in (tuple, list) and len(t_span) == 2) and (
-        isinstance(t_span, str) or np.ndim(t_span) != 1 or len(t_span) != 2
-    ):
+    from collections.abc import Sequence
+
+    if isinstance(t_span, np.ndarray):
+        pair = t_span.shape == (2,)
+    else:
+        pair = isinstance(t_span, Sequence) and not isinstance(t_span, str | bytes)
+        pair = pair and len(t_span) == 2
+    if not pair:
         raise ValueError(f"`t_span` must be a pair (t0, t1), found {t_span!r}")
     t0 = as_scalar(t_span[0], "t_span[0]")
     t1 = as_scalar(t_span[1], "t_span[1]")
@@ -140,19 +159,16 @@ def check_run(t_span, method, *, dt=None, rtol=None, atol=None, t_eval=None, sav
 
 def check_budget(solver, t0, t1, dt, max_steps=None) -> int:
     """The run's step budget (:func:`check_max_steps`); a fixed-step method must have ``dt``,
-    and a fixed-step run that needs more steps than the budget is refused, with the count."""
+    and a fixed-step run that needs more steps than the budget is refused, with the count
+    (:class:`StepBudgetError`)."""
     budget = check_max_steps(max_steps)
     if not solver.adaptive:
         if dt is None:
-            raise ValueError(f"method {solver.name!r} is fixed-step: `dt` must be given")
+            raise ValueError(f"`method` {solver.name!r} is fixed-step: `dt` must be given")
         ratio = (t1 - t0) / dt
         needed = math.ceil(ratio) if math.isfinite(ratio) else math.inf
         if needed > budget:
-            raise ValueError(
-                f"the run needs {float(needed):.3g} steps of dt = {dt:g} over [{t0:g}, {t1:g}]; "
-                f"the limit is `max_steps` = {budget} (take a larger `dt`, a shorter span, or "
-                "raise `max_steps`)"
-            )
+            raise StepBudgetError(float(needed), budget, dt, t0, t1)
     return budget
 
 

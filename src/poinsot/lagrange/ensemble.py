@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import as_scalar
+from .._validation import as_gains, as_scalar
 from .numeric import DEFAULT_BAUMGARTE, check_run_options
 
 __all__ = ["LagrangianEnsemble", "simulate_ensemble"]
@@ -53,6 +53,20 @@ def _by_key(values, keys, name, required):
             raise TypeError(f"`{name}[{key}]`: an ensemble takes numbers (one or one per "
                             "member), not functions")  # fmt: skip
         out[k] = _column(value, f"{name}[{key}]")
+        tiny = (out[k] != 0) & (np.abs(out[k]) < np.finfo(float).tiny) & (name == "params")
+        if tiny.any():
+            i = int(np.argmax(tiny))
+            raise ValueError(
+                f"`{name}[{key}]` = {out[k][i]:g} (member {i}) is below the range "
+                "of double precision (subnormal); choose other units, or give 0"
+            )
+        # a parameter's declared sign, under which the equations were derived (as `simulate`)
+        sign = "positive" if getattr(k, "is_positive", None) else (
+            "non-negative" if getattr(k, "is_nonnegative", None) else None)  # fmt: skip
+        if sign and np.any(out[k] <= 0 if sign == "positive" else out[k] < 0):
+            i = int(np.argmax(out[k] <= 0 if sign == "positive" else out[k] < 0))
+            raise ValueError(f"`{name}[{key}]` must be {sign} ({k} is declared {sign}), found "
+                             f"{out[k][i]} (member {i})")  # fmt: skip
     missing = [str(k).replace("(t)", "") for k in keys if k not in out]
     if required and missing:
         raise ValueError(f"`{name}` must give every {required}: missing {', '.join(missing)}")
@@ -146,6 +160,7 @@ def simulate_ensemble(
     threads=None,
     chunk_size=None,
     tol=1e-9,
+    max_steps=None,
 ) -> LagrangianEnsemble:
     """Integrate N members of ``system``, each with its own parameters, inputs and initial
     state, with the compiled engine.
@@ -173,6 +188,11 @@ def simulate_ensemble(
         Members per chunk (default: the members spread over the threads, 1000 at most).
     tol : float
         Largest relative constraint residual accepted in an initial state.
+    max_steps : int, optional
+        The most steps a member may take (default
+        :data:`~poinsot.integrate.solve.DEFAULT_MAX_STEPS`): with a fixed-step method, a run
+        whose members need more is refused before it starts, with the count. (The compiled
+        adaptive lanes do not stop at it yet.)
 
     Returns
     -------
@@ -196,16 +216,20 @@ def simulate_ensemble(
     """
     from ..ensemble.executors import available_cpus
     from ..integrate.control import StepSizeController
-    from ..integrate.solve import check_sampling, check_t_span, check_tolerances
+    from ..integrate.solve import check_budget, check_sampling, check_t_span, check_tolerances
     from .engine import compile_system
 
     t0, t1 = check_t_span(t_span)
     solver = check_run_options(method, stabilization)
     t_eval, _, dt = check_sampling(t_eval, t0, t1, 1, dt)
     rtol, atol = check_tolerances(rtol, atol)
-    if not solver.adaptive and dt is None:
-        raise ValueError(f"method {solver.name!r} is fixed-step: `dt` must be given")
-    times = np.linspace(t0, t1, 201) if t_eval is None else np.asarray(t_eval, dtype=float)
+    gains = as_gains(baumgarte, "baumgarte")
+    check_budget(solver, t0, t1, dt, max_steps)  # per member; refuses a fixed step without dt
+    no_samples = t_eval is not None and len(t_eval) == 0  # the run to t1, none of its states
+    if t_eval is None:
+        times = np.linspace(t0, t1, 201)
+    else:
+        times = np.array([t1]) if no_samples else np.asarray(t_eval, dtype=float)
     if threads is not None and (not isinstance(threads, int) or threads < 1):
         raise ValueError(f"`threads` must be a positive integer, found {threads!r}")
     if chunk_size is not None and (not isinstance(chunk_size, int) or chunk_size < 1):
@@ -234,7 +258,7 @@ def simulate_ensemble(
         _complete_states(system, engine, t0, Z0, P, U, tol)
     _check_consistent(engine, t0, Z0, P, U, tol)
 
-    gains = tuple(float(x) for x in baumgarte) if stabilization == "baumgarte" else (0.0, 0.0)
+    gains = gains if stabilization == "baumgarte" else (0.0, 0.0)
     projection = stabilization == "projection" and m > 0
     workers = threads or available_cpus()
     chunk = chunk_size or max(1, min(1000, -(-N // workers)))
@@ -254,6 +278,8 @@ def simulate_ensemble(
             P[i0:i1], U[i0:i1], Z0[i0:i1], gains[0], gains[1], projection, kind, A, B, C,
             step, control, t0, t1, times, workers))  # fmt: skip
     Y, status, nsteps, nfev = (np.concatenate(col) for col in zip(*parts, strict=True))
+    if no_samples:
+        times, Y = times[:0], Y[:, :0]
     return LagrangianEnsemble(system, engine, times, Y, P, U, status, nsteps, nfev,
                               solver.name, stabilization)  # fmt: skip
 

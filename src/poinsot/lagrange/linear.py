@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Equilibrium", "Linearization", "equilibria", "linearize"]
+__all__ = ["Equilibrium", "Linearization", "equilibria", "linearize", "operating_point"]
 
 
 @dataclass(frozen=True)
@@ -125,7 +125,14 @@ def equilibria(system, params=None, *, bounds=None, starts=None, t=0.0, tol=1e-1
     """
     from scipy.optimize import least_squares, root
 
+    from .._validation import as_scalar
     from .numeric import input_function
+
+    t = as_scalar(t, "t")
+    tol = as_scalar(tol, "tol")
+    whole = isinstance(starts, int | np.integer) and not isinstance(starts, bool)
+    if starts is not None and not (whole and starts >= 1):
+        raise ValueError(f"`starts` must be a positive integer, found {starts!r}")
 
     num = _numeric(system, params)
     u_of = input_function(inputs, system)
@@ -135,9 +142,17 @@ def equilibria(system, params=None, *, bounds=None, starts=None, t=0.0, tol=1e-1
     zeros = np.zeros(n)
     lo = np.full(n, -np.pi)
     hi = np.full(n, np.pi)
-    for q, (a, b) in (bounds or {}).items():
+    if bounds is not None and not isinstance(bounds, dict):
+        raise TypeError(f"`bounds` must be a dict {{coordinate: (low, high)}}, found "
+                        f"{type(bounds).__name__}")  # fmt: skip
+    for q, box in (bounds or {}).items():
         if q not in system.coordinates:
-            raise ValueError(f"`bounds`: {q} is not a coordinate of the system")
+            raise ValueError(f"`bounds`: {q!r} is not a coordinate of the system")
+        if isinstance(box, str | bytes) or not hasattr(box, "__len__") or len(box) != 2:
+            raise ValueError(f"`bounds[{q}]` must be a pair (low, high), found {box!r}")
+        a, b = as_scalar(box[0], f"bounds[{q}][0]"), as_scalar(box[1], f"bounds[{q}][1]")
+        if not a < b:
+            raise ValueError(f"`bounds[{q}]` must have low < high, found ({a}, {b})")
         lo[system.coordinates.index(q)], hi[system.coordinates.index(q)] = a, b
 
     def parts(q):
@@ -221,11 +236,16 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
     Parameters
     ----------
     equilibrium : dict {coordinate: value}
-        The operating point's coordinates.
+        The operating point: every coordinate, and optionally velocities keyed by the speeds
+        ``q.diff(t)`` (``Derivative(q, t)``, the entries of ``system.speeds``), as one
+        operating-point dict for SymPy's ``Linearizer.linearize(op_point=...)`` holds both.
+        A key that is neither a coordinate nor a speed is refused, named (see
+        :func:`operating_point`).
     speeds : dict {coordinate: value}, optional
-        Its velocities (default zero: an equilibrium). With speeds the point must be a steady
-        motion: the accelerations vanish there (a spinning top's steady precession, a disk
-        rolling upright).
+        Its velocities, by coordinate (or by speed), the same as velocities in
+        ``equilibrium`` (default zero: an equilibrium); a velocity given both ways must agree.
+        With speeds the point must be a steady motion: the accelerations vanish there (a
+        spinning top's steady precession, a disk rolling upright).
     inputs : dict {input: number}, optional
         The inputs' values at the operating point (every input of ``system.inputs``).
 
@@ -236,19 +256,13 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
         of ``δẋ = A δx + B δu`` on the constraint manifold, by central differences of the
         compiled equations, with eigenvalues, frequencies and the stability verdict.
     """
+    from .._validation import as_scalar
     from .numeric import _ODE, input_function
 
+    t = as_scalar(t, "t")
+    q0, v0 = operating_point(system, equilibrium, speeds)
     num = _numeric(system, params)
     n, m, nh = system.n_coordinates, num.m, num.n_hol
-    q0, v0 = np.empty(n), np.zeros(n)
-    for i, q in enumerate(system.coordinates):
-        if q not in equilibrium:
-            raise ValueError(f"`equilibrium` must give every coordinate: missing {q}")
-        q0[i] = float(equilibrium[q])
-    for q, value in (speeds or {}).items():
-        if q not in system.coordinates:
-            raise ValueError(f"`speeds`: {q} is not a coordinate of the system")
-        v0[system.coordinates.index(q)] = float(value)
     k = len(system.inputs)
     u_of = input_function(inputs, system)
     u0 = u_of(t, q0, v0) if u_of is not None else np.zeros(0)
@@ -258,24 +272,41 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
         return _ODE(bound, None, (0.0, 0.0)).rhs(t, y)
 
     y0 = np.concatenate([q0, v0])
-    f0 = rhs_at(y0, u0)
+    unsolvable = ValueError(
+        "`equilibrium`, `params`: the equations of motion cannot be solved at the operating "
+        "point (a singular mass matrix: zero masses, lengths or inertia?)"
+    )
+    try:
+        with np.errstate(all="ignore"):
+            f0 = rhs_at(y0, u0)
+    except np.linalg.LinAlgError:
+        raise unsolvable from None
+    if not np.isfinite(f0).all():
+        raise unsolvable
     what = "a steady motion" if np.any(v0) else "an equilibrium"
     if np.max(np.abs(f0[n:])) > 1e-8 * (1 + np.max(np.abs(f0))):
         raise ValueError(
-            f"the operating point is not {what}: accelerations {np.round(f0[n:], 10).tolist()}"
+            f"`equilibrium`: the operating point is not {what}: accelerations "
+            f"{np.round(f0[n:], 10).tolist()}"
         )
     J = np.empty((2 * n, 2 * n))
-    for j in range(2 * n):
-        h = 1e-6 * (1 + abs(y0[j]))
-        e = np.zeros(2 * n)
-        e[j] = h
-        J[:, j] = (rhs_at(y0 + e, u0) - rhs_at(y0 - e, u0)) / (2 * h)
     Bfull = np.empty((2 * n, k))
-    for j in range(k):
-        h = 1e-6 * (1 + abs(u0[j]))
-        e = np.zeros(k)
-        e[j] = h
-        Bfull[:, j] = (rhs_at(y0, u0 + e) - rhs_at(y0, u0 - e)) / (2 * h)
+    with np.errstate(all="ignore"):  # judged below: the result must be finite
+        for j in range(2 * n):
+            h = 1e-6 * (1 + abs(y0[j]))
+            e = np.zeros(2 * n)
+            e[j] = h
+            J[:, j] = (rhs_at(y0 + e, u0) - rhs_at(y0 - e, u0)) / (2 * h)
+        for j in range(k):
+            h = 1e-6 * (1 + abs(u0[j]))
+            e = np.zeros(k)
+            e[j] = h
+            Bfull[:, j] = (rhs_at(y0, u0 + e) - rhs_at(y0, u0 - e)) / (2 * h)
+    if not (np.isfinite(J).all() and np.isfinite(Bfull).all()):
+        raise ValueError(
+            "`equilibrium`, `params`: the linearisation is not finite at the operating point "
+            "(values beyond the double range: choose other units)"
+        )
     G = num.mat(num.G, q0, v0, t, (m, n)) if m else np.zeros((0, n))
     A, B = _on_manifold(J, Bfull, G, nh, np.arange(n))
     eig = np.linalg.eigvals(A)
@@ -287,12 +318,12 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
                  and not np.any(G[:nh, j])]  # fmt: skip
     reduced = verdict
     if ignorable:
-        keep = np.array([j for j in range(n) if j not in ignorable])
+        keep = np.array([j for j in range(n) if j not in ignorable], dtype=int)
         rows = np.concatenate([keep, np.arange(n, 2 * n)])
         Ar, _ = _on_manifold(J[np.ix_(rows, rows)], Bfull[rows], G, nh, keep)
         reduced = _verdict(Ar, np.linalg.eigvals(Ar), scale) if Ar.size else "spectrally stable"
     return Linearization(
-        dict(equilibrium),
+        {q: float(x) for q, x in zip(system.coordinates, q0, strict=True)},
         A,
         eig,
         freqs,
@@ -303,6 +334,66 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
         tuple(system.coordinates[j] for j in ignorable),
         reduced,
     )
+
+
+def operating_point(system, equilibrium, speeds=None):
+    """``(q, q̇)`` arrays (n,) of an operating point: ``equilibrium`` keyed by coordinates
+    (all of them) and optionally by speeds ``q.diff(t)``; ``speeds`` keyed by coordinates or
+    speeds (missing velocities are zero). Unknown keys, non-numbers and a velocity given twice
+    with two values are refused, named.
+
+    Examples
+    --------
+    >>> from poinsot.models import pendulum_polar
+    >>> system = pendulum_polar().system
+    >>> th = system.coordinates[0]
+    >>> operating_point(system, {th: 0.5, th.diff(): 2.0})
+    (array([0.5]), array([2.]))
+    >>> operating_point(system, {th: 0.5, "omega": 2.0})  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: `equilibrium`: 'omega' is neither a coordinate of the system nor a speed (...)
+    """
+    from collections.abc import Mapping
+
+    from .._validation import as_scalar
+
+    n = system.n_coordinates
+    coords = {q: i for i, q in enumerate(system.coordinates)}  # hashing: no SymPy comparison
+    rates = {v: i for i, v in enumerate(system.speeds)}
+    known = (f"coordinates: {', '.join(map(str, system.coordinates))}; speeds: "
+             f"{', '.join(map(str, system.speeds))}")  # fmt: skip
+    q0, v0 = np.full(n, np.nan), np.full(n, np.nan)
+    origin = [""] * n  # where each velocity was given
+
+    def velocity(i, value, label):
+        x = as_scalar(value, label)
+        if not np.isnan(v0[i]) and v0[i] != x:
+            raise ValueError(f"the velocity of {system.coordinates[i]} is given twice with two "
+                             f"values: `{origin[i]}` = {v0[i]} and `{label}` = {x}")  # fmt: skip
+        v0[i], origin[i] = x, label
+
+    for name, given in (("equilibrium", equilibrium), ("speeds", speeds)):
+        if given is None and name == "speeds":
+            continue
+        if not isinstance(given, Mapping):
+            raise TypeError(f"`{name}` must be a dict {{coordinate: value}}, found "
+                            f"{type(given).__name__}")  # fmt: skip
+        for key, value in given.items():
+            i, j = coords.get(key), rates.get(key)
+            if j is not None:
+                velocity(j, value, f"{name}[{key}]")
+            elif i is not None and name == "speeds":
+                velocity(i, value, f"{name}[{key}]")
+            elif i is not None:
+                q0[i] = as_scalar(value, f"{name}[{key}]")
+            else:
+                raise ValueError(f"`{name}`: {key!r} is neither a coordinate of the system nor "
+                                 f"a speed ({known})")  # fmt: skip
+    missing = [str(system.coordinates[i]) for i in np.flatnonzero(np.isnan(q0))]
+    if missing:
+        raise ValueError(f"`equilibrium` must give every coordinate: missing {', '.join(missing)}")
+    return q0, np.nan_to_num(v0, nan=0.0)
 
 
 def _on_manifold(J, B, G, nh, positions):

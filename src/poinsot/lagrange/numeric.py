@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import as_scalar
+from .._validation import as_gains, as_scalar
 from ..display import Displayable
 from .engine import _floats
 
@@ -510,15 +510,31 @@ def as_params(params, system) -> dict:
             f"{type(params).__name__}"
         )
     by_name = {str(p): p for p in system.parameters}
+    known = set(system.parameters)
     out = {}
     for key, value in params.items():
-        symbol = by_name.get(key) if isinstance(key, str) else key
+        symbol = key if key in known else by_name.get(str(key))  # by symbol or by name
         if symbol is None:
             raise ValueError(
                 f"`params`: {key!r} is not a parameter of the system (parameters: "
                 f"{', '.join(by_name) or 'none'})"
             )
-        out[symbol] = as_scalar(value, f"params[{key}]")
+        x = as_scalar(value, f"params[{key}]")
+        if 0 < abs(x) < np.finfo(float).tiny:
+            raise ValueError(f"`params[{key}]` = {x:g} is below the range of double precision "
+                             "(subnormal: products with it lose their digits); choose other "
+                             "units, or give 0")  # fmt: skip
+        if symbol in out and out[symbol] != x:
+            raise ValueError(f"`params`: {symbol} is given twice with two values, "
+                             f"{out[symbol]} and {x}")  # fmt: skip
+        out[symbol] = x
+        # the equations were derived under the symbol's assumptions (√(l²) = l for l > 0)
+        if symbol.is_positive and not out[symbol] > 0:
+            raise ValueError(f"`params[{key}]` must be positive ({symbol} is declared "
+                             f"positive), found {out[symbol]}")  # fmt: skip
+        if symbol.is_nonnegative and not out[symbol] >= 0:
+            raise ValueError(f"`params[{key}]` must be non-negative ({symbol} is declared "
+                             f"non-negative), found {out[symbol]}")  # fmt: skip
     return out
 
 
@@ -653,9 +669,10 @@ def consistent_initial_state(system, num, t0, q0, qd0, guess=None, tol=1e-9):
         g = num.mat(num.g, q, np.zeros(n), t0, (nh,))
         scale = 1 + np.max(np.abs(q))
         if np.max(np.abs(g)) > tol * scale:
+            solved = " (the coordinates solved for from `guess`)" if free_q.any() else ""
             raise ValueError(
-                f"inconsistent initial conditions: the holonomic constraints are "
-                f"violated by max |g(q0)| = {np.max(np.abs(g)):.3g}"
+                f"`q0`: inconsistent initial conditions: the holonomic constraints are "
+                f"violated by max |g(q0)| = {np.max(np.abs(g)):.3g}{solved}"
             )
     free_v = np.isnan(qd)
     if m:
@@ -669,7 +686,7 @@ def consistent_initial_state(system, num, t0, q0, qd0, guess=None, tol=1e-9):
         r = G @ qd + b
         if np.max(np.abs(r)) > tol * (1 + np.max(np.abs(qd))):
             raise ValueError(
-                f"inconsistent initial conditions: the velocity constraints are "
+                f"`qd0`: inconsistent initial conditions: the velocity constraints are "
                 f"violated by max |G q̇0 + b| = {np.max(np.abs(r)):.3g}"
             )
     elif free_v.any():
@@ -680,7 +697,8 @@ def consistent_initial_state(system, num, t0, q0, qd0, guess=None, tol=1e-9):
         qdd = np.array([np.nan])
     if not np.isfinite(qdd).all():
         raise ValueError(
-            "the equations of motion cannot be solved at the initial state: the mass matrix "
+            "`q0`, `params`: the equations of motion cannot be solved at the initial state: "
+            "the mass matrix "
             "(with the constraint Jacobian) is singular — zero masses or inertia, or a "
             "coordinate that does not enter the kinetic energy"
         )
@@ -698,7 +716,7 @@ def check_run_options(method, stabilization):
     solver = get_solver(method)
     if solver.requires != "ode":
         raise ValueError(
-            f"method {solver.name!r} integrates rigid bodies; use 'dop853' or "
+            f"`method` {solver.name!r} integrates rigid bodies; use 'dop853' or "
             "'rk4' for Lagrangian systems"
         )
     return solver
@@ -782,6 +800,7 @@ def simulate(
     t_eval, _, dt = check_sampling(t_eval, t0, t1, 1, dt)
     rtol, atol = check_tolerances(rtol, atol)
     budget = check_budget(solver, t0, t1, dt, max_steps)
+    gains = as_gains(baumgarte, "baumgarte")
     if engine == "compiled":
         from .engine import compile_system
 
@@ -797,7 +816,6 @@ def simulate(
     qd_init = _keyed(qd0, system, "qd0", allow_missing=True)
     guess_arr = _keyed(guess, system, "guess", allow_missing=True) if guess else None
     q_init, qd_init = consistent_initial_state(system, num, t0, q_init, qd_init, guess_arr)
-    gains = tuple(float(x) for x in baumgarte)
     if t_eval is None:
         t_eval = np.linspace(t0, t1, 201)
     adaptive = solver.adaptive

@@ -26,7 +26,7 @@ import numbers
 
 import numpy as np
 
-from .._validation import as_rotation_matrix, as_vector3
+from .._validation import as_rotation_matrix, as_times, as_vector3
 
 __all__ = ["Carrier"]
 
@@ -482,9 +482,9 @@ class Carrier:
                 f"{self.name}: the attitude is known in closed form only for a carrier given by "
                 "`euler_angles`, `rotation` or `quaternion`; see the trajectory's Q_carrier"
             )
-        t = np.asarray(t, dtype=float)
-        out = np.array([np.array(self._attitude(float(s)), dtype=float) for s in t.ravel()])
-        return out.reshape(*t.shape, 3, 3)
+        times = as_times(t, "t")
+        out = np.array([np.array(self._attitude(float(s)), dtype=float) for s in times])
+        return out.reshape(*np.shape(t), 3, 3) if np.ndim(t) == 0 else out.reshape(-1, 3, 3)
 
     def motion(self, t: float) -> np.ndarray:
         """``(ω_e, ε_e, a_O)`` (9,) at the time ``t``, carrier components."""
@@ -494,7 +494,7 @@ class Carrier:
         """``(ω_e, ε_e, a_O)`` at the times ``t`` (n,) → (n, 9), carrier components."""
         from .. import _core
 
-        t = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
+        t = np.ascontiguousarray(as_times(t, "t"))
         if self.kind != "python":
             return _core.carrier_motions(self.engine, t)
         out = np.empty((len(t), 9))

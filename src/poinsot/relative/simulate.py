@@ -125,7 +125,7 @@ def simulate_relative(
     solver = run.solver
     if solver.requires == "rigid":
         raise ValueError(
-            f"method {solver.name!r} needs the rigid-body structure; relative motion runs with "
+            f"`method` {solver.name!r} needs the rigid-body structure; relative motion runs with "
             "'dop853' or an explicit Runge–Kutta method such as 'rk4'"
         )
     if isinstance(forces, str) or not hasattr(forces, "__iter__"):
@@ -178,8 +178,9 @@ def _check_start(system, t0, y0):
     for name, sl in RELATIVE_SLICES.items():
         if not np.all(np.isfinite(f[sl])):
             raise ValueError(
-                f"the relative motion is undefined at the initial state: non-finite rate of "
-                f"{name} (a force or the carrier's motion is not finite at t = {t0:g})"
+                f"the relative motion is undefined at the initial state (`omega_r0`, `forces`, "
+                f"`carrier`): non-finite rate of {name} (a force or the carrier's motion is not "
+                f"finite at t = {t0:g}, or the state is beyond the double range)"
             )
 
 
@@ -314,6 +315,8 @@ class RelativeTrajectory(Displayable):
         """``max |ω_r| / min |ω_r|`` over the samples; under the balancing moment it never
         exceeds :meth:`hodograph_bound` (18)."""
         n = np.linalg.norm(self.omega_r, axis=1)
+        if not len(n):  # no samples (an empty t_eval)
+            return float("nan")
         return float(n.max() / n.min()) if n.min() > 0 else float("inf")
 
     def hodograph_bound(self) -> float:
@@ -349,5 +352,5 @@ class RelativeTrajectory(Displayable):
         return euler_rates_from_body(angles, self.omega_r)
 
     def __repr__(self):
-        return (f"RelativeTrajectory({len(self.t)} samples, t = [{self.t[0]:g}, {self.t[-1]:g}], "
-                f"{self.method}, {self.carrier!r})")  # fmt: skip
+        span = f"t = [{self.t[0]:g}, {self.t[-1]:g}], " if len(self.t) else ""
+        return f"RelativeTrajectory({len(self.t)} samples, {span}{self.method}, {self.carrier!r})"

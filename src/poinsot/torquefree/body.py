@@ -15,7 +15,7 @@ import warnings
 import numpy as np
 
 from .. import _core
-from .._validation import as_array
+from .._validation import _real_array, as_array, as_scalar
 from ..display import Displayable
 from .polhodes import PolhodeMixin
 from .solution import SolutionMixin
@@ -39,6 +39,13 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin, Displayable):
     allow_unphysical : bool
         Accept moments that break the triangle inequality, with a warning: Euler's equation is
         still well posed (the source notebook's example (3, 3, 9) is such a case).
+
+    Notes
+    -----
+    Any scale of the moments and of ω is taken (the closed forms run on moments scaled to
+    I3 ~ 1). Times must be finite, and within what double precision resolves for the motion:
+    ``|ω| |t|`` at most :data:`~poinsot.torquefree.solution.MAX_PHASE` = 2⁵² rad (beyond, the
+    angle's rounding error exceeds a radian). An empty array of times gives empty results.
 
     Examples
     --------
@@ -69,7 +76,7 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin, Displayable):
         s = np.sort(I)
         if s[0] + s[1] < s[2] * (1 - 1e-12):
             message = (
-                "principal moments must satisfy I1 + I2 ≥ I3, found "
+                "`moments`: principal moments must satisfy I1 + I2 ≥ I3, found "
                 f"{s[0]:.6g} + {s[1]:.6g} < {s[2]:.6g}"
             )
             if not allow_unphysical:
@@ -161,18 +168,22 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin, Displayable):
 
     def check_feasible(self, energy, momentum) -> float:
         """Return ``D = a²/(2k)`` after checking condition (33) ``I1 ≤ a²/(2k) ≤ I3``."""
-        k = float(energy)
-        a = float(momentum)
-        if not (np.isfinite(k) and k > 0):
+        k = as_scalar(energy, "energy")
+        a = as_scalar(momentum, "momentum")
+        if not k > 0:
             raise ValueError(f"`energy` must be a positive number, found {energy}")
-        if not (np.isfinite(a) and a >= 0):
+        if not a >= 0:
             raise ValueError(f"`momentum` must be a non-negative number, found {momentum}")
         self.check_energy_range(k)
-        D = (a / math.sqrt(2 * k)) ** 2
+        # a²/(2k) as (a/√(2k))²: a² alone leaves the double range long before the ratio does
+        # (a = 1e300); a product that overflows is inf, which the check below refuses
+        s = a / math.sqrt(2 * k)
+        D = s * s
         I1, _, I3 = self._I
         if D < I1 * (1 - 1e-12) or D > I3 * (1 + 1e-12):
             raise ValueError(
-                "infeasible invariants: every motion has I1 ≤ a²/(2k) ≤ I3 (33), found "
+                f"infeasible invariants `energy` = {k:.6g}, `momentum` = {a:.6g}: every motion "
+                "has I1 ≤ a²/(2k) ≤ I3 (33), found "
                 f"I1 = {I1:.6g}, a²/(2k) = {D:.6g}, I3 = {I3:.6g}"
             )
         return min(max(D, I1), I3)
@@ -180,7 +191,7 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin, Displayable):
     def check_energy_range(self, energy) -> float:
         """Refuse an energy whose polhodes leave the double range: the ellipsoid's points
         ``ω = √(2k/I)`` and momenta ``a = √(2kI)`` must stay finite and nonzero."""
-        k = float(energy)
+        k = as_scalar(energy, "energy")
         I1, I3 = self._I[0], self._I[2]
         with np.errstate(over="ignore", under="ignore"):
             values = (2 * k * I3, 2 * k / I1, 2 * k * I1, 2 * k / I3)
@@ -194,7 +205,10 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin, Displayable):
     def euler_rhs(self, omega) -> np.ndarray:
         """``ω̇`` from Euler's equation (20) in principal components (27)–(29), for ω (..., 3)
         in the body frame."""
-        w = np.asarray(omega, dtype=float)
+        raw = _real_array(omega, "omega")
+        if raw.ndim == 0 or raw.shape[-1] != 3:
+            raise ValueError(f"`omega` must have shape (..., 3), found shape {raw.shape}")
+        w = as_array(raw, "omega", (None,) * (raw.ndim - 1) + (3,))
         S = self._S
         w_sorted = np.ascontiguousarray(w.reshape(-1, 3) @ S)
         return (_core.euler_omega_dot_free(self._I, w_sorted) @ S.T).reshape(w.shape)

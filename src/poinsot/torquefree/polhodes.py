@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validation import as_positive_scalar, as_vector3
+from .._validation import as_positive_scalar
 from .solution import REGIME
 
 __all__ = ["Polhode", "PolhodeMixin"]
@@ -52,7 +52,7 @@ class PolhodeMixin:
             if energy is None or momentum is None:
                 raise ValueError("give `omega0`, or both `energy` and `momentum`")
             omega0 = self.point_on_polhode(energy, momentum)
-        w_body = as_vector3(omega0, "omega0")
+        w_body = self._spin(omega0, "omega0")
         k, a = self.invariants(w_body)
         family = self.classify(w_body)
         if family in ("fixed point", "spherical"):
@@ -136,7 +136,7 @@ class PolhodeMixin:
         sech terms fall to ``reach``."""
         if self.symmetry != "asymmetric":
             raise ValueError(
-                f"a separatrix needs three distinct moments; this body is {self.symmetry}"
+                f"a separatrix needs three distinct `moments`; this body is {self.symmetry}"
             )
         I1, I2, I3 = self._I
         k = float(energy)
@@ -169,13 +169,28 @@ class PolhodeMixin:
         """The herpolhode: ω in space, in the invariable frame (z along L), (n, 3).
 
         Its z-component is the constant ``2k/a`` (the invariable plane); (x, y) trace the curve
-        on which Poinsot's ellipsoid rolls.
+        on which Poinsot's ellipsoid rolls. ``t``: one time or an array (n,) of finite times
+        (empty: an empty result, (0, 3)).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from poinsot import FreeRigidBody
+        >>> body = FreeRigidBody((1.0, 2.0, 3.0))
+        >>> h = body.herpolhode((0.1, 1.0, 0.1), [0.0, 1.0, 2.0])
+        >>> k, a = body.invariants((0.1, 1.0, 0.1))
+        >>> bool(np.allclose(h[:, 2], 2 * k / a)), body.herpolhode((0.1, 1.0, 0.1), []).shape
+        (True, (0, 3))
         """
-        w_body = as_vector3(omega0, "omega0")
+        w_body = self._spin(omega0, "omega0")
+        if not np.any(w_body):
+            raise ValueError("`omega0` must not be zero: a body at rest has no herpolhode")
         Q = self.exact_attitude(w_body, t, Q0)
         w = self.exact_omega(w_body, t)
         space = np.einsum("nij,nj->ni", Q, w)
-        L = Q[0] @ (self.inertia @ w[0])
+        Q_start = np.eye(3) if Q0 is None else self.exact_attitude(w_body, 0.0, Q0)[0]
+        L = Q_start @ (self.inertia @ w_body)  # conserved: the invariable frame of any t
+        L = L / np.abs(L).max()  # scaled first: |L| of a tiny ω underflows
         ez = L / np.linalg.norm(L)
         ex = np.cross([0.0, 0, 1] if abs(ez[2]) < 0.9 else [1.0, 0, 0], ez)
         ex /= np.linalg.norm(ex)

@@ -18,10 +18,13 @@ import math
 import numpy as np
 
 from .. import _core
-from .._validation import as_array, as_rotation_matrices, as_vectors
+from .._validation import _real_array, as_rotation_matrices, as_times, as_vector3, as_vectors
 
-__all__ = ["SolutionMixin"]
+__all__ = ["MAX_PHASE", "SolutionMixin"]
 
+#: The largest angle ``|ω| |t|`` (rad) at which the closed forms are evaluated: 2⁵², where the
+#: spacing of doubles reaches 1 (the phase of the motion is then lost to rounding).
+MAX_PHASE = 2.0**52
 #: Offsets of the regime row (``poinsot._core.torque_free_regimes``): ``"case"``, ``"u0"``,
 #: ``"lam"``, … and ``"size"``.
 REGIME = _core.REGIME_OFFSETS
@@ -35,15 +38,52 @@ class SolutionMixin:
 
     # ----------------------------------------------------------------- inputs
     def _initial(self, omega0, name="omega0"):
-        """``(W, single)``: body-frame ω (N, 3) and whether one (3,) was given."""
-        single = np.ndim(omega0) == 1
-        return np.ascontiguousarray(as_vectors(omega0, name)), single
+        """``(W, single)``: body-frame ω (N, 3) (:meth:`_spin`) and whether one (3,) was
+        given."""
+        W = as_vectors(omega0, name)
+        single = np.ndim(_real_array(omega0, name)) == 1
+        big = np.abs(W).max(axis=1) if len(W) else np.zeros(0)
+        bad = np.flatnonzero((big > 0) & (big < np.finfo(float).tiny))
+        if len(bad):
+            self._spin(W[bad[0]], name if single else f"{name}[{int(bad[0])}]")
+        return np.ascontiguousarray(W), single
+
+    @staticmethod
+    def _spin(omega, name):
+        """A body-frame ω (3,), finite, zero or with a normal number among its components:
+        an ω whose components are all subnormal (below 2.2e-308, where the compiled core
+        flushes them to zero) is refused."""
+        w = as_vector3(omega, name)
+        big = float(np.abs(w).max())
+        if 0 < big < np.finfo(float).tiny:
+            raise ValueError(
+                f"`{name}` = {w.tolist()} is below the range of double precision: its largest "
+                "component is subnormal (< 2.2e-308); choose other units, or give 0"
+            )
+        return w
+
+    @staticmethod
+    def _resolved(W, t, name="t"):
+        """Refuse times at which the motion has turned so far that double precision no longer
+        resolves its phase: ``|ω| |t|`` beyond :data:`MAX_PHASE` radians (the rounding error
+        of the angle exceeds a radian; the closed forms would return noise or NaN)."""
+        if not len(W) or not len(t):
+            return
+        with np.errstate(over="ignore"):
+            phase = float(np.abs(W).max()) * float(np.abs(t).max()) * math.sqrt(3)
+        if phase > MAX_PHASE:
+            k = int(np.argmax(np.abs(t)))
+            raise ValueError(
+                f"`{name}` = {t[k]:g} is beyond what double precision resolves for this motion: "
+                f"|ω| |t| ≈ {phase:.3g} rad, at most {MAX_PHASE:.3g} rad (the rounding error of "
+                "the angle would exceed a radian)"
+            )
 
     @staticmethod
     def _times(t):
-        if np.ndim(t):
-            return np.ascontiguousarray(as_array(t, "t", (None,)))
-        return as_array([t], "t", (1,))
+        """Times (n,): one finite number or a 1-D array of them; empty gives empty results
+        (:func:`poinsot._validation.as_times`)."""
+        return np.ascontiguousarray(as_times(t, "t"))
 
     def _regimes(self, W):
         """The regime rows (N, ``REGIME["size"]``) of the body-frame ω ``W`` (N, 3)."""
@@ -96,7 +136,7 @@ class SolutionMixin:
         W, single = self._initial(omega0)
         if self.symmetry != "asymmetric" and single:
             raise ValueError(
-                f"flip_interval needs three distinct moments; this body is {self.symmetry}"
+                f"flip_interval needs three distinct `moments`; this body is {self.symmetry}"
             )
         out = _core.torque_free_flip_intervals(self._In, self._S, self._symmetry_code, W)
         if single and math.isnan(out[0]):
@@ -125,7 +165,9 @@ class SolutionMixin:
         (2, 2, 3)
         """
         W, single = self._initial(omega0)
-        out = _core.torque_free_omegas(self._In, self._S, self._symmetry_code, W, self._times(t))
+        t = self._times(t)
+        self._resolved(W, t)
+        out = _core.torque_free_omegas(self._In, self._S, self._symmetry_code, W, t)
         return out[0] if single else out
 
     def exact_attitude(self, omega0, t, Q0=None) -> np.ndarray:
@@ -146,8 +188,10 @@ class SolutionMixin:
         """
         W, single = self._initial(omega0)
         Q = np.eye(3)[None] if Q0 is None else as_rotation_matrices(Q0, "Q0", len(W))
+        t = self._times(t)
+        self._resolved(W, t)
         out = _core.torque_free_attitudes(
-            self._In, self._S, self._symmetry_code, W, np.ascontiguousarray(Q), self._times(t)
+            self._In, self._S, self._symmetry_code, W, np.ascontiguousarray(Q), t
         )
         return out[0] if single else out
 

@@ -16,7 +16,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _core
-from .._validation import as_vector3
 
 __all__ = ["FixedPointSet", "Stability", "StabilityMixin"]
 
@@ -97,21 +96,24 @@ class StabilityMixin:
 
     def is_fixed_point(self, omega, rtol=1e-10) -> bool:
         """True when ``ω × Aω = 0`` (ω is an eigenvector of A)."""
-        w = as_vector3(omega, "omega")
-        Aw = self.inertia @ w
+        w = self._spin(omega, "omega")
+        big = float(np.abs(w).max())
+        if big == 0:
+            return True
+        u = w / big  # scale-free: a tiny or huge ω is judged by its direction
+        Au = self.inertia @ u / np.abs(self.inertia).max()
         return bool(
-            np.linalg.norm(np.cross(w, Aw))
-            <= rtol * max(np.linalg.norm(w) * np.linalg.norm(Aw), 1e-300)
+            np.linalg.norm(np.cross(u, Au)) <= rtol * np.linalg.norm(u) * np.linalg.norm(Au)
         )
 
     def jacobian(self, omega) -> np.ndarray:
         """``∂ω̇/∂ω = A⁻¹(hat(Aω) − hat(ω) A)`` (3, 3), body frame."""
-        w = as_vector3(omega, "omega")
+        w = self._spin(omega, "omega")
         return _core.euler_jacobian(np.ascontiguousarray(self.inertia, dtype=float), w)
 
     def stability(self, omega) -> Stability:
         """Linear stability of the fixed point ``omega`` (body frame); see :class:`Stability`."""
-        w = as_vector3(omega, "omega")
+        w = self._spin(omega, "omega")
         if not self.is_fixed_point(w):
             raise ValueError(f"`omega` = {w.tolist()} is not a fixed point: ω × Aω ≠ 0")
         J = self.jacobian(w)
@@ -144,10 +146,11 @@ class StabilityMixin:
         """
         from .._validation import as_rotation_matrix
 
-        w = as_vector3(omega, "omega")
+        w = self._spin(omega, "omega")
         if not self.is_fixed_point(w):
             raise ValueError(f"`omega` = {w.tolist()} is not a fixed point: ω × Aω ≠ 0")
-        t = np.atleast_1d(np.asarray(t, dtype=float))
+        t = self._times(t)
+        self._resolved(w[None], t)
         Q0 = np.eye(3) if Q0 is None else as_rotation_matrix(Q0, "Q0")
         if method == "rodrigues":
             return _core.fixed_point_attitudes(w, np.ascontiguousarray(Q0, dtype=float), t)

@@ -23,8 +23,11 @@ class EnsembleRun(Run):
         return 10_000_000 + 2_000 * int(self.scenario.ensemble["members"])
 
     def simulate(self, progress=None):
-        del progress  # an ensemble reports no progress of its own
-        self.result = self.scenario.simulate_ensemble(progress=None)
+        # members done, where the progress object counts them (the command line's does)
+        members = getattr(progress, "members", None)
+        if members is not None:
+            members(0, int(self.scenario.ensemble["members"]))
+        self.result = self.scenario.simulate_ensemble(progress=members)
 
     def summarise(self):
         s = self.scenario
