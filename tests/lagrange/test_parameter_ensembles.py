@@ -125,3 +125,17 @@ def test_an_inconsistent_member_is_named():
     with pytest.raises(ValueError, match="member 2: `q0`: inconsistent initial conditions"):
         mdl.system.simulate_ensemble((0, 1), q0={x: [0.0, 0.6, 0.9], y: [-1.0, -0.8, -0.9]},
                                      params=mdl.params)  # fmt: skip
+
+
+def test_an_adaptive_member_stops_at_the_step_budget():
+    """The budget holds for adaptive members too: a member that reaches ``max_steps`` stops
+    there (status 0, NaN samples); with room enough the same ensemble finishes."""
+    from poinsot.models import pendulum_polar
+
+    mdl = pendulum_polar()
+    th, l = mdl.symbols["theta"], mdl.symbols["l"]
+    kw = {"q0": {th: 1.0}, "params": {**mdl.params, l: [0.5, 1.0]}}
+    cut = mdl.system.simulate_ensemble((0, 50), max_steps=20, **kw)
+    assert (cut.status == 0).all() and np.isnan(cut.q).all() and (cut.nsteps == 20).all()
+    done = mdl.system.simulate_ensemble((0, 50), **kw)
+    assert done.success.all() and np.isfinite(done.q).all()

@@ -632,7 +632,9 @@ pub struct MemberRun {
 const STEPS_PER_CALL: u64 = 4096;
 
 /// Integrate one member: parameters `p`, constant inputs `u`, initial state `y0` (2n), its
-/// samples at `t_eval` into `samples` (len(t_eval) · 2n; NaN when the run fails).
+/// samples at `t_eval` into `samples` (len(t_eval) · 2n; NaN when the run fails). A run that
+/// takes `max_steps` steps before its end stops there, with the status
+/// [`Status::Running`] (NaN samples), as one stopped by `stop`.
 #[allow(clippy::too_many_arguments)]
 pub fn run_member(
     model: &Model,
@@ -646,6 +648,7 @@ pub fn run_member(
     dt: f64,
     t_eval: &[f64],
     samples: &mut [f64],
+    max_steps: u64,
     stop: &AtomicBool,
 ) -> MemberRun {
     let sys = match Lagrangian::new(model, p, Constant(u), stabilization, None) {
@@ -677,6 +680,7 @@ pub fn run_member(
         Method::Dop853(control) => {
             let mut state = AdaptiveState { f: vec![0.0; dim] };
             loop {
+                let chunk = STEPS_PER_CALL.min(max_steps.saturating_sub(k.n_steps));
                 let s = run_adaptive(
                     &sys,
                     &mut NoObserver,
@@ -687,9 +691,9 @@ pub fn run_member(
                     &sampling,
                     &mut out,
                     &mut k,
-                    STEPS_PER_CALL,
+                    chunk,
                 );
-                if s != Status::Running || stop.load(Ordering::Relaxed) {
+                if s != Status::Running || stop.load(Ordering::Relaxed) || k.n_steps >= max_steps {
                     break s;
                 }
             }
@@ -697,6 +701,7 @@ pub fn run_member(
         Method::Erk(tab) => {
             let mut m = Erk::new(tab, dim);
             loop {
+                let chunk = STEPS_PER_CALL.min(max_steps.saturating_sub(k.n_steps));
                 let s = run_fixed(
                     &sys,
                     &mut m,
@@ -707,9 +712,9 @@ pub fn run_member(
                     &sampling,
                     &mut out,
                     &mut k,
-                    STEPS_PER_CALL,
+                    chunk,
                 );
-                if s != Status::Running || stop.load(Ordering::Relaxed) {
+                if s != Status::Running || stop.load(Ordering::Relaxed) || k.n_steps >= max_steps {
                     break s;
                 }
             }
@@ -742,6 +747,7 @@ pub fn run_members(
     dt: f64,
     t_eval: &[f64],
     samples: &mut [f64],
+    max_steps: u64,
     stop: &AtomicBool,
 ) -> Vec<MemberRun> {
     let s = model.shape;
@@ -771,6 +777,7 @@ pub fn run_members(
                 dt,
                 t_eval,
                 rows,
+                max_steps,
                 stop,
             )
         })
@@ -990,6 +997,7 @@ mod tests {
             0.0,
             &t_eval,
             &mut a,
+            u64::MAX,
             &stop,
         );
         assert_eq!(run.status, Status::Finished);
@@ -1006,6 +1014,7 @@ mod tests {
             0.0,
             &t_eval,
             &mut b,
+            u64::MAX,
             &stop,
         );
         assert_eq!(run.status, Status::Finished);
@@ -1102,9 +1111,29 @@ mod tests {
             1e-3,
             &t_eval,
             &mut all,
+            u64::MAX,
             &stop,
         );
         assert!(runs.iter().all(|r| r.status == Status::Finished));
+        // a budget below the run's 4000 steps stops every member there
+        let mut cut = vec![0.0; all.len()];
+        let runs = run_members(
+            &model,
+            &params,
+            &[],
+            &y0,
+            st,
+            Method::Erk(tab),
+            0.0,
+            4.0,
+            1e-3,
+            &t_eval,
+            &mut cut,
+            1000,
+            &stop,
+        );
+        assert!(runs.iter().all(|r| r.status == Status::Running && r.n_steps == 1000));
+        assert!(cut.iter().all(|x| x.is_nan()));
         for (i, &l) in ls.iter().enumerate() {
             let mut one = vec![0.0; t_eval.len() * 2];
             run_member(
@@ -1119,6 +1148,7 @@ mod tests {
                 1e-3,
                 &t_eval,
                 &mut one,
+                u64::MAX,
                 &stop,
             );
             assert_eq!(&all[i * one.len()..(i + 1) * one.len()], &one[..]);

@@ -395,8 +395,9 @@ impl LagrangianModel {
     }
 
     /// Integrate members with parameters `P` (k, np), constant inputs `U` (k, nu) and initial
-    /// states `Y0` (k, 2n) on a pool of `threads`: `(samples (k, len(t_eval), 2n), status,
-    /// steps, evaluations)` per member. `method` `"erk"` (the tableau `a`, `b`, `c`, step
+    /// states `Y0` (k, 2n) on a pool of `threads`, each at most `max_steps` steps (a member
+    /// stopped there has the status `RUNNING` and NaN samples): `(samples (k, len(t_eval),
+    /// 2n), status, steps, evaluations)` per member. `method` `"erk"` (the tableau `a`, `b`, `c`, step
     /// `dt`) or `"dop853"` (the controller's 7 numbers `control`).
     #[allow(clippy::too_many_arguments, clippy::type_complexity)]
     fn run_ensemble<'py>(
@@ -418,6 +419,7 @@ impl LagrangianModel {
         t1: f64,
         t_eval: PyReadonlyArray1<'py, f64>,
         threads: usize,
+        max_steps: u64,
     ) -> PyResult<(
         Bound<'py, PyArray3<f64>>,
         Bound<'py, PyArray1<i64>>,
@@ -481,7 +483,7 @@ impl LagrangianModel {
             let samples = &mut samples;
             interruptible(py, &pool, move |stop| {
                 run_members(
-                    model, &pv, &uv, &zv, st, method, t0, t1, dt, t_eval, samples, stop,
+                    model, &pv, &uv, &zv, st, method, t0, t1, dt, t_eval, samples, max_steps, stop,
                 )
             })?
         };

@@ -91,7 +91,8 @@ class LagrangianEnsemble:
     q, qd : (N, S, n) coordinates and velocities (NaN for a member whose run failed)
     parameters : dict {symbol: (N,)} every member's parameter values
     inputs : dict {input: (N,)} every member's (constant) input values
-    status : (N,) int, the driver's status (1: finished; 2: non-finite state; 3: step too small)
+    status : (N,) int, the driver's status (1: finished; 2: non-finite state; 3: step too small;
+        0: stopped at ``max_steps``)
     nfev, nsteps : (N,) int
     """
 
@@ -191,8 +192,8 @@ def simulate_ensemble(
     max_steps : int, optional
         The most steps a member may take (default
         :data:`~poinsot.integrate.solve.DEFAULT_MAX_STEPS`): with a fixed-step method, a run
-        whose members need more is refused before it starts, with the count. (The compiled
-        adaptive lanes do not stop at it yet.)
+        whose members need more is refused before it starts, with the count; an adaptive
+        member that reaches it stops there (status 0, NaN samples).
 
     Returns
     -------
@@ -224,7 +225,7 @@ def simulate_ensemble(
     t_eval, _, dt = check_sampling(t_eval, t0, t1, 1, dt)
     rtol, atol = check_tolerances(rtol, atol)
     gains = as_gains(baumgarte, "baumgarte")
-    check_budget(solver, t0, t1, dt, max_steps)  # per member; refuses a fixed step without dt
+    budget = check_budget(solver, t0, t1, dt, max_steps)  # per member; fixed steps: up front
     no_samples = t_eval is not None and len(t_eval) == 0  # the run to t1, none of its states
     if t_eval is None:
         times = np.linspace(t0, t1, 201)
@@ -276,7 +277,7 @@ def simulate_ensemble(
         i1 = min(i0 + chunk, N)
         parts.append(engine.model.run_ensemble(
             P[i0:i1], U[i0:i1], Z0[i0:i1], gains[0], gains[1], projection, kind, A, B, C,
-            step, control, t0, t1, times, workers))  # fmt: skip
+            step, control, t0, t1, times, workers, budget))  # fmt: skip
     Y, status, nsteps, nfev = (np.concatenate(col) for col in zip(*parts, strict=True))
     if no_samples:
         times, Y = times[:0], Y[:, :0]
