@@ -180,7 +180,7 @@ def case_ensemble(repeat):
             per_step_mj,
             float(np.abs(res.final_omega[:n_mj] - w_mj).max()),
             None,
-            "target ≥ 500×; error column: |Δω| against MuJoCo",
+            "goal ≥ 1000×; error column: |Δω| against MuJoCo",
         )
     )
     return rows
