@@ -1,6 +1,4 @@
-//! Jacobi elliptic functions and elliptic integrals that take `m1 = 1 − m` directly
-//! (the port of `poinsot.kernels.elliptic`, formula for formula and in the same order of
-//! operations, so that both round alike).
+//! Jacobi elliptic functions and elliptic integrals that take `m1 = 1 − m` directly.
 //!
 //! Near the separatrix of the free rigid body `1 − m` can be 1e-14 or smaller, and forming `m`
 //! first rounds most of its digits away; so the descending arithmetic–geometric-mean algorithm
@@ -10,8 +8,13 @@
 //! The integrals are Carlson's symmetric forms `R_F`, `R_J` and `R_C` by the duplication
 //! algorithm (B. C. Carlson, "Numerical computation of real or complex elliptic integrals",
 //! *Numer. Algorithms* 10 (1995) 13–26; DLMF §19.36(i)). From them: the complete integral
-//! `K(m) = R_F(0, m1, 1)` (DLMF 19.25.1), the incomplete integrals of the first and third
-//! kinds (DLMF 19.25.5, 19.25.14), and the inverse of `(sn, cn)`.
+//! `K(m) = R_F(0, m1, 1)` (DLMF 19.25.1) and the incomplete integrals of the first and third
+//! kinds (DLMF 19.25.5, 19.25.14).
+//!
+//! The torque-free motion's own functions share one AGM sequence per parameter ([`Agm`]):
+//! `K(m)`, the Jacobi functions (Bulirsch's `sncndn`) and the inverse of `(sn, cn)`
+//! (Bulirsch's `el1`). They are generic over [`Real`], so that the same code evaluates one
+//! motion (`f64`) or many in SIMD lanes ([`crate::real::Wide`]), bit for bit alike.
 
 use crate::cmath;
 use crate::real::{atan, py_max, sin_cos_small, Mask, Real};

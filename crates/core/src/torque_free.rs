@@ -1,6 +1,5 @@
 //! The torque-free rotation in closed form (`docs/theory.md` §1, "Torque-free body",
-//! eqs (20)–(33); `docs/torque_free.md`): the port of `poinsot.kernels.torque_free`, formula
-//! for formula and in the same order of operations.
+//! eqs (20)–(33); `docs/torque_free.md`).
 //!
 //! Every function works in the *sorted principal frame*: moments ascending `I1 ≤ I2 ≤ I3`, ω in
 //! those axes. The batched functions at the end map body-frame inputs through the sorted axes
@@ -30,6 +29,14 @@
 //! `n = −I_p (I2 − I1)/(I1 (I3 − I2))` (pole e3; swap 1 ↔ 3 for pole e1), n < 0 (Landau &
 //! Lifshitz, *Mechanics*, §37; Whittaker, *Analytical Dynamics*, §69). Symmetric bodies:
 //! `Q(t) = exp(t L̂/I⊥) Q0 exp(ν t ê_s)`; fixed points: `Q0 exp(Ω t)`.
+//!
+//! **Ensembles in lanes.** The Jacobi form's formulas (the polhode radii, the Jacobi form, the
+//! AGM sequence, `u0`, ω(t)) are written once, generic over [`Real`]: [`Regime::with`] and
+//! [`Regime::omega_at`] run them on `f64` for one motion; [`exact_omegas`] runs them on
+//! [`WIDTH`] motions at a time in SIMD lanes ([`omegas_in_lanes`]: structure of arrays, the
+//! member loop innermost, the instruction set chosen at run time), each lane computing bit for
+//! bit what its single run computes. Members off the plain elliptic case (fixed points, the
+//! separatrix and `m1 <` [`NEAR_ONE`], extreme scales, symmetric bodies) run one by one.
 
 use crate::cmath::{frexp, ldexp};
 use crate::elliptic::{
@@ -245,8 +252,8 @@ pub struct Regime {
     pub axis: u8,
     /// The transverse moment `I⊥` of a symmetric body.
     pub i_perp: f64,
-    /// The AGM sequence of `m1` (elliptic cases with `m1 ≥` [`NEAR_ONE`]), made once for
-    /// every time of ω(t).
+    /// The AGM sequence of `m1` (elliptic cases off the separatrix), made once for every time
+    /// of ω(t) (the Jacobi functions use it for `m1 ≥` [`NEAR_ONE`]).
     pub agm: Agm,
 }
 
@@ -806,7 +813,9 @@ unsafe fn omegas_in_lanes_avx2<const N: usize>(
     omegas_in_lanes_any::<N>(moments, s, radicals, ws, ts, out)
 }
 
-/// The lanes' loop, inlined into each target's copy of it.
+/// The lanes' loop, inlined into each target's copy of it: whole groups of `N` members in
+/// the lanes; each member left over alone, its times in the lanes (or one by one when they
+/// are fewer than the lanes).
 #[inline(always)]
 fn omegas_in_lanes_any<const N: usize>(
     moments: Vec3,
@@ -817,24 +826,27 @@ fn omegas_in_lanes_any<const N: usize>(
     out: &mut [Vec3],
 ) {
     let n = ts.len();
-    for (wg, og) in ws.chunks(N).zip(out.chunks_mut(N * n)) {
-        let lanes = wg.len();
-        // structure of arrays; lanes past the last member repeat it (their results dropped)
+    let whole = ws.len() / N * N;
+    let (out_whole, out_rest) = out.split_at_mut(whole * n);
+    for (wg, og) in ws[..whole]
+        .chunks_exact(N)
+        .zip(out_whole.chunks_exact_mut(N * n))
+    {
+        // structure of arrays
         let mut w = [Wide::<N>::default(); 3];
         for l in 0..N {
-            let v = wg[l.min(lanes - 1)];
             for c in 0..3 {
-                w[c].0[l] = v[c];
+                w[c].0[l] = wg[l][c];
             }
         }
         let (motion, plain) = LaneMotion::new(moments, radicals, to_sorted(s, w));
         for (j, &t) in ts.iter().enumerate() {
             let v = from_sorted(s, motion.omega_at(Wide::<N>::splat(t)));
-            for l in 0..lanes {
+            for l in 0..N {
                 og[l * n + j] = [v[0].0[l], v[1].0[l], v[2].0[l]];
             }
         }
-        for l in 0..lanes {
+        for l in 0..N {
             if !plain.get(l) {
                 omegas_one_by_one(
                     moments,
@@ -848,6 +860,42 @@ fn omegas_in_lanes_any<const N: usize>(
             }
         }
     }
+    for (w, o) in ws[whole..].iter().zip(out_rest.chunks_exact_mut(n)) {
+        if n < N || !times_in_lanes::<N>(moments, s, radicals, *w, ts, o) {
+            omegas_one_by_one(moments, s, radicals, 0, *w, ts, o);
+        }
+    }
+}
+
+/// ω (body frame) of one member at the times `ts`, `N` times at once in the lanes (the member
+/// in every lane); `false` (nothing written) where the member is not a plain lane
+/// ([`LaneMotion::new`]).
+#[inline(always)]
+fn times_in_lanes<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    radicals: &Radicals,
+    w: Vec3,
+    ts: &[f64],
+    out: &mut [Vec3],
+) -> bool {
+    let w = [Wide::splat(w[0]), Wide::splat(w[1]), Wide::splat(w[2])];
+    let (motion, plain) = LaneMotion::<N>::new(moments, radicals, to_sorted(s, w));
+    if !plain.get(0) {
+        return false;
+    }
+    for (tc, oc) in ts.chunks(N).zip(out.chunks_mut(N)) {
+        // lanes past the last time repeat it (their results dropped)
+        let mut t = [0.0; N];
+        for l in 0..N {
+            t[l] = tc[l.min(tc.len() - 1)];
+        }
+        let v = from_sorted(s, motion.omega_at(Wide(t)));
+        for (l, o) in oc.iter_mut().enumerate() {
+            *o = [v[0].0[l], v[1].0[l], v[2].0[l]];
+        }
+    }
+    true
 }
 
 /// `Q(t)` (body → space) of the torque-free motions from the body-frame ω `ws` and attitudes
@@ -1148,7 +1196,9 @@ mod tests {
     /// and the lanes carry the ordinary members (not only the single runs' fallback).
     #[test]
     fn lanes_equal_single_runs_bit_for_bit() {
-        let ts = [0.0, 0.3, 1.0, 7.7, 100.0, -3.0, 1e4, 2.5e-10];
+        // more times than lanes, not a multiple of them
+        let mut ts = vec![0.0, 0.3, 1.0, 7.7, 100.0, -3.0, 1e4, 2.5e-10];
+        ts.extend((0..WIDTH + 3).map(|j| 0.61 * j as f64 - 2.0));
         let ws = sample_omegas();
         for moments in [
             [1.0, 2.0, 3.0],
@@ -1183,6 +1233,11 @@ mod tests {
             // the batched entry point, on rayon's threads
             exact_omegas(moments, &s, 0, &ws, &ts, &mut got);
             runs.push(("exact_omegas", got.clone()));
+            // members left over (fewer than the lanes), alone: their times in the lanes
+            for (w, o) in ws.iter().zip(got.chunks_mut(ts.len())) {
+                exact_omegas(moments, &s, 0, &[*w], &ts, o);
+            }
+            runs.push(("one member, times in lanes", got.clone()));
             for (name, got) in &runs {
                 for (i, (a, b)) in got.iter().zip(&want).enumerate() {
                     assert!(
