@@ -472,13 +472,6 @@ pub fn atan<T: Real>(x: T) -> T {
     let r1 = ax.ge(c(0.6875));
     let r2 = ax.ge(c(1.1875));
     let r3 = ax.ge(c(2.4375));
-    let pick = |v: [f64; 4]| {
-        T::select(
-            r3,
-            c(v[3]),
-            T::select(r2, c(v[2]), T::select(r1, c(v[1]), c(v[0]))),
-        )
-    };
     // reduced argument: (2x − 1)/(2 + x), (x − 1)/(x + 1), (x − 1.5)/(1 + 1.5x), −1/x
     let num = T::select(
         r3,
@@ -506,7 +499,26 @@ pub fn atan<T: Real>(x: T) -> T {
             + w * (c(AT[2]) + w * (c(AT[4]) + w * (c(AT[6]) + w * (c(AT[8]) + w * c(AT[10]))))));
     let s2 = w * (c(AT[1]) + w * (c(AT[3]) + w * (c(AT[5]) + w * (c(AT[7]) + w * c(AT[9])))));
     let small = t - t * (s1 + s2);
-    let reduced = pick(ATAN_HI) - ((t * (s1 + s2) - pick(ATAN_LO)) - t);
+    // atan of the range's breakpoint, high and low parts
+    let hi = T::select(
+        r3,
+        c(ATAN_HI[3]),
+        T::select(
+            r2,
+            c(ATAN_HI[2]),
+            T::select(r1, c(ATAN_HI[1]), c(ATAN_HI[0])),
+        ),
+    );
+    let lo = T::select(
+        r3,
+        c(ATAN_LO[3]),
+        T::select(
+            r2,
+            c(ATAN_LO[2]),
+            T::select(r1, c(ATAN_LO[1]), c(ATAN_LO[0])),
+        ),
+    );
+    let reduced = hi - ((t * (s1 + s2) - lo) - t);
     T::select(r0, reduced.copysign(x), small)
 }
 
