@@ -813,9 +813,9 @@ unsafe fn omegas_in_lanes_avx2<const N: usize>(
     omegas_in_lanes_any::<N>(moments, s, radicals, ws, ts, out)
 }
 
-/// The lanes' loop, inlined into each target's copy of it: whole groups of `N` members in
-/// the lanes; each member left over alone, its times in the lanes (or one by one when they
-/// are fewer than the lanes).
+/// The lanes' loop, inlined into each target's copy of it: groups of `N` members in the
+/// lanes; the members left over in one more group when they fill a quarter of it, else each
+/// alone, its times in the lanes (or one by one when they are fewer than the lanes).
 #[inline(always)]
 fn omegas_in_lanes_any<const N: usize>(
     moments: Vec3,
@@ -826,43 +826,62 @@ fn omegas_in_lanes_any<const N: usize>(
     out: &mut [Vec3],
 ) {
     let n = ts.len();
-    let whole = ws.len() / N * N;
+    let whole = if ws.len() % N * 4 >= N {
+        ws.len()
+    } else {
+        ws.len() / N * N
+    };
     let (out_whole, out_rest) = out.split_at_mut(whole * n);
-    for (wg, og) in ws[..whole]
-        .chunks_exact(N)
-        .zip(out_whole.chunks_exact_mut(N * n))
-    {
-        // structure of arrays
-        let mut w = [Wide::<N>::default(); 3];
-        for l in 0..N {
-            for c in 0..3 {
-                w[c].0[l] = wg[l][c];
-            }
-        }
-        let (motion, plain) = LaneMotion::new(moments, radicals, to_sorted(s, w));
-        for (j, &t) in ts.iter().enumerate() {
-            let v = from_sorted(s, motion.omega_at(Wide::<N>::splat(t)));
-            for l in 0..N {
-                og[l * n + j] = [v[0].0[l], v[1].0[l], v[2].0[l]];
-            }
-        }
-        for l in 0..N {
-            if !plain.get(l) {
-                omegas_one_by_one(
-                    moments,
-                    s,
-                    radicals,
-                    0,
-                    wg[l],
-                    ts,
-                    &mut og[l * n..(l + 1) * n],
-                );
-            }
-        }
+    for (wg, og) in ws[..whole].chunks(N).zip(out_whole.chunks_mut(N * n)) {
+        members_in_lanes::<N>(moments, s, radicals, wg, ts, og);
     }
     for (w, o) in ws[whole..].iter().zip(out_rest.chunks_exact_mut(n)) {
         if n < N || !times_in_lanes::<N>(moments, s, radicals, *w, ts, o) {
             omegas_one_by_one(moments, s, radicals, 0, *w, ts, o);
+        }
+    }
+}
+
+/// ω (body frame) of up to `N` members `wg` at the times `ts`, one member per lane (lanes past
+/// the last member repeat it, their results dropped); the members the lanes do not cover
+/// ([`LaneMotion::new`]) one by one.
+#[inline(always)]
+fn members_in_lanes<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    radicals: &Radicals,
+    wg: &[Vec3],
+    ts: &[f64],
+    og: &mut [Vec3],
+) {
+    let n = ts.len();
+    let lanes = wg.len();
+    // structure of arrays
+    let mut w = [Wide::<N>::default(); 3];
+    for l in 0..N {
+        let v = wg[l.min(lanes - 1)];
+        for c in 0..3 {
+            w[c].0[l] = v[c];
+        }
+    }
+    let (motion, plain) = LaneMotion::new(moments, radicals, to_sorted(s, w));
+    for (j, &t) in ts.iter().enumerate() {
+        let v = from_sorted(s, motion.omega_at(Wide::<N>::splat(t)));
+        for l in 0..lanes {
+            og[l * n + j] = [v[0].0[l], v[1].0[l], v[2].0[l]];
+        }
+    }
+    for l in 0..lanes {
+        if !plain.get(l) {
+            omegas_one_by_one(
+                moments,
+                s,
+                radicals,
+                0,
+                wg[l],
+                ts,
+                &mut og[l * n..(l + 1) * n],
+            );
         }
     }
 }
@@ -1296,6 +1315,10 @@ mod tests {
                 "8 lanes",
                 "16 lanes",
                 "32 lanes",
+                "64 lanes",
+                "32 lanes, AVX2",
+                "16 lanes, AVX2",
+                "16 lanes, baseline",
             ] {
                 let mut best = f64::INFINITY;
                 for _ in 0..5 {
@@ -1316,6 +1339,60 @@ mod tests {
                             &mut out,
                         ),
                         "16 lanes" => omegas_in_lanes::<16>(
+                            [1.0, 2.0, 3.0],
+                            &EYE,
+                            &radicals,
+                            ws,
+                            &ts,
+                            &mut out,
+                        ),
+                        #[cfg(target_arch = "x86_64")]
+                        "16 lanes, AVX2" => {
+                            if !std::arch::is_x86_feature_detected!("avx2")
+                                || !std::arch::is_x86_feature_detected!("fma")
+                            {
+                                break;
+                            }
+                            // SAFETY: the CPU has the features.
+                            unsafe {
+                                omegas_in_lanes_avx2::<16>(
+                                    [1.0, 2.0, 3.0],
+                                    &EYE,
+                                    &radicals,
+                                    ws,
+                                    &ts,
+                                    &mut out,
+                                )
+                            }
+                        }
+                        "64 lanes" => omegas_in_lanes::<64>(
+                            [1.0, 2.0, 3.0],
+                            &EYE,
+                            &radicals,
+                            ws,
+                            &ts,
+                            &mut out,
+                        ),
+                        #[cfg(target_arch = "x86_64")]
+                        "32 lanes, AVX2" => {
+                            if !std::arch::is_x86_feature_detected!("avx2")
+                                || !std::arch::is_x86_feature_detected!("fma")
+                            {
+                                break;
+                            }
+                            // SAFETY: the CPU has the features.
+                            unsafe {
+                                omegas_in_lanes_avx2::<32>(
+                                    [1.0, 2.0, 3.0],
+                                    &EYE,
+                                    &radicals,
+                                    ws,
+                                    &ts,
+                                    &mut out,
+                                )
+                            }
+                        }
+                        "16 lanes, baseline" => omegas_in_lanes_any::<16>(
                             [1.0, 2.0, 3.0],
                             &EYE,
                             &radicals,
