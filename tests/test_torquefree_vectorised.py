@@ -91,6 +91,55 @@ def test_vectorised_against_dop853():
         assert np.abs(Q[i] - ref.Q).max() <= 1e-10
 
 
+def _landau_reference(moments, w, ts, mp):
+    """ω(t) at 40 digits by Landau & Lifshitz, *Mechanics* §37, in mpmath (sorted moments,
+    a member off the separatrix); and the rate λ of its argument."""
+    I1, I2, I3 = (mp.mpf(x) for x in moments)
+    w1, w2, w3 = (mp.mpf(x) for x in w)
+    E2 = I1 * w1**2 + I2 * w2**2 + I3 * w3**2  # 2E
+    M2 = (I1 * w1) ** 2 + (I2 * w2) ** 2 + (I3 * w3) ** 2
+    a1 = mp.sqrt((E2 * I3 - M2) / (I1 * (I3 - I1)))
+    a3 = mp.sqrt((M2 - E2 * I1) / (I3 * (I3 - I1)))
+    if M2 > E2 * I2:  # around e3: (a1 cn, ±a2 sn, ±a3 dn), the signs of ω2 and ω3 tied
+        a2 = mp.sqrt((E2 * I3 - M2) / (I2 * (I3 - I2)))
+        lam = mp.sqrt((I3 - I2) * (M2 - E2 * I1) / (I1 * I2 * I3))
+        m = (I2 - I1) * (E2 * I3 - M2) / ((I3 - I2) * (M2 - E2 * I1))
+        sign, kinds, amps = mp.sign(w3), ("cn", "sn", "dn"), (a1, a2, a3)
+        signs, c0 = (1, sign, sign), w1 / a1
+    else:  # around e1: (±a1 dn, ±a2 sn, a3 cn)
+        a2 = mp.sqrt((M2 - E2 * I1) / (I2 * (I2 - I1)))
+        lam = mp.sqrt((I2 - I1) * (E2 * I3 - M2) / (I1 * I2 * I3))
+        m = (I3 - I2) * (M2 - E2 * I1) / ((I2 - I1) * (E2 * I3 - M2))
+        sign, kinds, amps = mp.sign(w1), ("dn", "sn", "cn"), (a1, a2, a3)
+        signs, c0 = (sign, sign, 1), w3 / a3
+    u0 = mp.ellipf(mp.atan2(w2 / (sign * a2), c0), m)
+    rows = [
+        [
+            float(s * a * mp.ellipfun(k, u0 + lam * mp.mpf(t), m=m))
+            for s, a, k in zip(signs, amps, kinds, strict=True)
+        ]
+        for t in ts
+    ]
+    return np.array(rows), float(lam)
+
+
+def test_exact_omega_against_mpmath():
+    """Members in SIMD lanes against Landau's solution at 40 digits (mpmath): the error is
+    round-off, within 6 eps |ω0| (1 + λt) — the argument u = u0 + λt carries eps |u|."""
+    mp = pytest.importorskip("mpmath")
+    mp.mp.dps = 40
+    rng = np.random.default_rng(5)
+    W = rng.normal(size=(200, 3)) * np.exp(rng.normal(size=(200, 1)))
+    W[::7, 1] *= 1e-6  # near the stable ends of the polhodes
+    ts = np.array([0.0, 0.7, 3.0, 10.0, 31.0])
+    fb = FreeRigidBody(I123)
+    got = fb.exact_omega(W, ts)
+    for i, w in enumerate(W):
+        ref, lam = _landau_reference(I123, w, ts, mp)
+        bound = 6 * 2.2e-16 * np.abs(w).max() * (1 + lam * ts)
+        assert (np.abs(got[i] - ref).max(axis=1) <= bound).all(), (w, got[i] - ref)
+
+
 # components are 0 or at least 1e-100, so that s ω0 stays representable for every s below
 COMPONENT = st.floats(-2, 2).map(lambda x: x if abs(x) > 1e-100 else 0.0)
 

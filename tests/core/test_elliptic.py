@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from poinsot._core import jacobi_sn_cn_dn_am
@@ -61,6 +63,29 @@ def test_first_kind_and_inverse(m):
         sn, cn, _ = elliptic.jacobi(np.array([u]), m, m1)
         if abs(u) < 2 * elliptic.ellipk(m1):
             assert elliptic.first_kind_from_sn_cn(sn[0], cn[0], m, m1) == pytest.approx(u)
+
+
+@pytest.mark.parametrize("m1", [0.8, 0.3, 1e-3, 1e-5, 1e-9, 1e-15, 1e-40])
+def test_first_kind_from_sn_cn_against_mpmath(m1):
+    """The inverse of (sn, cn) (Bulirsch's el1 on the AGM sequence) against mpmath's F(φ|m)
+    at 80 digits (m = 1 − m1 keeps m1's digits), over the whole period (−2K, 2K], with tiny
+    cn (φ by π/2, where the body lingers by its unstable axis) and tiny sn: within 3 eps of
+    K + |u|."""
+    mp = pytest.importorskip("mpmath")
+    mp.mp.dps = 80
+    m = 1 - m1
+    mm = 1 - mp.mpf(m1)
+    K = elliptic.ellipk(m1)
+    phis = list(np.linspace(-np.pi, np.pi, 41)[1:])
+    for tiny in (1e-300, 1e-17, 1e-9):
+        phis += [np.pi / 2 - tiny, np.pi / 2 + tiny, -np.pi / 2 + tiny, tiny, -tiny, np.pi - tiny]
+    for phi in phis:
+        s, c = math.sin(phi), math.cos(phi)
+        # the exact u of these two doubles: F of the reduced amplitude, on c's branch
+        f = mp.ellipf(mp.atan(abs(mp.mpf(s)) / abs(mp.mpf(c))), mm) if c else mp.ellipk(mm)
+        ref = math.copysign(1, s) * (f if c >= 0 else 2 * mp.ellipk(mm) - f)
+        got = elliptic.first_kind_from_sn_cn(s, c, m, m1)
+        assert abs(got - float(ref)) <= 3 * 2.2e-16 * (K + abs(float(ref))), (phi, got, ref)
 
 
 @pytest.mark.parametrize(("n", "m"), [(-0.5, 0.3), (-3.0, 0.8), (-1.5, 1 - 1e-10), (-2.0, 1.0)])

@@ -1,6 +1,4 @@
-//! Jacobi elliptic functions and elliptic integrals that take `m1 = 1 − m` directly
-//! (the port of `poinsot.kernels.elliptic`, formula for formula and in the same order of
-//! operations, so that both round alike).
+//! Jacobi elliptic functions and elliptic integrals that take `m1 = 1 − m` directly.
 //!
 //! Near the separatrix of the free rigid body `1 − m` can be 1e-14 or smaller, and forming `m`
 //! first rounds most of its digits away; so the descending arithmetic–geometric-mean algorithm
@@ -10,10 +8,16 @@
 //! The integrals are Carlson's symmetric forms `R_F`, `R_J` and `R_C` by the duplication
 //! algorithm (B. C. Carlson, "Numerical computation of real or complex elliptic integrals",
 //! *Numer. Algorithms* 10 (1995) 13–26; DLMF §19.36(i)). From them: the complete integral
-//! `K(m) = R_F(0, m1, 1)` (DLMF 19.25.1), the incomplete integrals of the first and third
-//! kinds (DLMF 19.25.5, 19.25.14), and the inverse of `(sn, cn)`.
+//! `K(m) = R_F(0, m1, 1)` (DLMF 19.25.1) and the incomplete integrals of the first and third
+//! kinds (DLMF 19.25.5, 19.25.14).
+//!
+//! The torque-free motion's own functions share one AGM sequence per parameter ([`Agm`]):
+//! `K(m)`, the Jacobi functions (Bulirsch's `sncndn`) and the inverse of `(sn, cn)`
+//! (Bulirsch's `el1`). They are generic over [`Real`], so that the same code evaluates one
+//! motion (`f64`) or many in SIMD lanes ([`crate::real::Wide`]), bit for bit alike.
 
 use crate::cmath;
+use crate::real::{atan, py_max, sin_cos_small, Mask, Real};
 use std::f64::consts::PI;
 
 const EPS: f64 = 2.220446049250313e-16;
@@ -32,16 +36,6 @@ pub const TINY_M1: f64 = 1e-32;
 const RF_FACTOR: f64 = 379.82022430228585;
 /// The same for R_J: `(r/4)^(-1/6)`.
 const RJ_FACTOR: f64 = 574.7005687343988;
-
-/// Python's `max(a, b)`: `a` unless `b > a`.
-#[inline(always)]
-fn py_max(a: f64, b: f64) -> f64 {
-    if b > a {
-        b
-    } else {
-        a
-    }
-}
 
 /// `(sn, cn, dn, am)` of one argument `u` by the descending AGM (A&S 16.4), with `m1 = 1 − m`
 /// given separately (it carries the precision when `m` is close to 1). `am` is the amplitude φ
@@ -108,80 +102,133 @@ pub fn jacobi_near_one(u: f64, m: f64, m1: f64) -> (f64, f64, f64) {
 /// of the next step, quadratic, is then below eps).
 const BULIRSCH_CA: f64 = 1.4901161193847656e-8;
 
+/// Levels the AGM sequence may hold: from `m1 = 1e-300` (the smallest the solution uses) it
+/// needs 10.
+const AGM_LEVELS: usize = 16;
+
 /// The descending arithmetic–geometric-mean sequence of `(1, √m1)` (A&S 17.6), once per
 /// parameter: the complete integral `K = π / (2 AGM(1, √m1))` (DLMF 19.8.5) and the Jacobi
-/// functions of any argument ([`Agm::sncndn`]) share it.
+/// functions of any argument ([`Agm::sncndn`]) share it. Generic over [`Real`]: one sequence
+/// per lane, each as long as its own parameter needs.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Agm {
+pub struct Agm<T: Real = f64> {
     /// The means `a_i` and geometric means `√(a_i b_i)` of each level.
-    em: [f64; 16],
-    en: [f64; 16],
-    /// The last level.
-    levels: usize,
+    em: [T; AGM_LEVELS],
+    en: [T; AGM_LEVELS],
+    /// The lanes that use each level.
+    live: [T::Mask; AGM_LEVELS],
+    /// The last level any lane uses.
+    top: usize,
     /// The final mean.
-    mean: f64,
+    mean: T,
 }
 
-impl Agm {
+impl<T: Real> Agm<T> {
     /// The sequence for `0 < m1 ≤ 1`, to Bulirsch's stopping rule (the last difference below
-    /// `√eps` of the mean: the next, quadratic, step is then exact to eps).
-    pub fn new(m1: f64) -> Agm {
-        let mut g = Agm::default();
-        let mut a = 1.0f64;
+    /// `√eps` of the mean: the next, quadratic, step is then exact to eps). In lanes, a lane
+    /// whose sequence has ended keeps its values while the others go on.
+    #[inline(always)]
+    pub fn new(m1: T) -> Agm<T> {
+        let mut g = Agm::<T>::default();
+        let mut a = T::splat(1.0);
         let mut emc = m1;
-        let mut c = 1.0f64;
-        for i in 0..16 {
-            g.levels = i;
+        let mut c = T::splat(1.0);
+        let mut going = T::Mask::splat(true);
+        for i in 0..AGM_LEVELS {
+            g.top = i;
+            g.live[i] = going;
             g.em[i] = a;
-            emc = emc.sqrt();
+            emc = T::select(going, emc.sqrt(), emc);
             g.en[i] = emc;
-            c = 0.5 * (a + emc);
-            if (a - emc).abs() <= BULIRSCH_CA * a {
+            c = T::select(going, T::splat(0.5) * (a + emc), c);
+            going = going & !(a - emc).abs().le(T::splat(BULIRSCH_CA) * a);
+            if !going.any() {
                 break;
             }
-            emc *= a;
-            a = c;
+            emc = T::select(going, emc * a, emc);
+            a = T::select(going, c, a);
         }
         g.mean = c;
         g
     }
 
     /// `K(m) = π / (2 AGM(1, √m1))`.
-    #[inline]
-    pub fn quarter(&self) -> f64 {
-        PI / (2.0 * self.mean)
+    #[inline(always)]
+    pub fn quarter(&self) -> T {
+        T::splat(PI) / (T::splat(2.0) * self.mean)
+    }
+
+    /// `F(φ | m)` for `0 ≤ φ ≤ π/2` from `y = cot φ ≥ 0` (`∞` at φ = 0), on this sequence:
+    /// Bulirsch's procedure `el1` (Bulirsch 1965, *Numer. Math.* 7, 78–90), whose means are
+    /// this sequence's scaled by `2^i` at level `i` (so that it is written here in the
+    /// sequence's own scale, exactly): `y ← (y − a_i b_i / y)/2` on each level, `l` counting
+    /// the branches of the arctangent, and `F = (atan(AGM/y) + π l) / (2^(n+1) AGM)` after
+    /// the last level `n`. One division per level and one arctangent ([`atan`]): no inverse
+    /// sine, no square root (the sequence is the one `K` and the Jacobi functions use).
+    #[inline(always)]
+    pub fn first_kind_cot(&self, y: T) -> T {
+        let (zero, one, two) = (T::splat(0.0), T::splat(1.0), T::splat(2.0));
+        let mut y = y;
+        let mut branches = zero;
+        let mut scale = one; // 2^(levels passed)
+        for i in 0..=self.top {
+            let live = self.live[i];
+            let more = if i < self.top {
+                self.live[i + 1]
+            } else {
+                T::Mask::splat(false)
+            };
+            let ab = self.em[i] * self.en[i];
+            y = T::select(live, T::splat(0.5) * (y - ab / y), y);
+            let crossed = T::select(y.lt(zero), one, zero);
+            branches = T::select(
+                live,
+                T::select(more, two * branches, branches) + crossed,
+                branches,
+            );
+            scale = T::select(live, two * scale, scale);
+        }
+        (atan(self.mean / y) + T::splat(PI) * branches) / (scale * self.mean)
     }
 
     /// `(sn, cn, dn)` of `u` for `0 < m < 1` by the descending Landen (Gauss) transformation
     /// in Bulirsch's form (R. Bulirsch, "Numerical calculation of elliptic integrals and
     /// elliptic functions", *Numer. Math.* 7 (1965) 78–90, procedure `sncndn`): one sine and
-    /// one cosine of the scaled argument, then rational steps back up the sequence (no
-    /// inverse sine per level, unlike [`jacobi_agm`]). For |u| ≤ K/2 ([`jacobi_reduced`]).
-    #[inline]
-    pub fn sncndn(&self, u: f64) -> (f64, f64, f64) {
-        if u.abs() < 1e-9 {
-            // sn = u (1 + O(u²)), cn = dn = 1 − O(u²): exact in double precision; the
-            // recurrence below would overflow through cot(c u) for tiny u
-            return (u, 1.0, 1.0);
+    /// one cosine of the scaled argument ([`sin_cos_small`]: `|AGM · u| ≤ π/4`), then rational
+    /// steps back up the sequence (no inverse sine per level, unlike [`jacobi_agm`]). For
+    /// |u| ≤ K/2 ([`jacobi_reduced`]).
+    #[inline(always)]
+    pub fn sncndn(&self, u: T) -> (T, T, T) {
+        let one = T::splat(1.0);
+        // sn = u (1 + O(u²)), cn = dn = 1 − O(u²): exact in double precision; the recurrence
+        // below would overflow through cot(c u) for tiny u
+        let tiny = u.abs().lt(T::splat(1e-9));
+        if tiny.all() {
+            return (u, one, one);
         }
         let mut c = self.mean;
-        let mut dn = 1.0f64;
-        let (mut sn, mut cn) = (c * u).sin_cos();
-        if sn != 0.0 {
-            let mut a = cn / sn;
-            c *= a;
-            for ii in (0..=self.levels).rev() {
-                let b = self.em[ii];
-                a *= c;
-                c *= dn;
-                dn = (self.en[ii] + a) / (b + a);
-                a = c / b;
-            }
-            let r = 1.0 / (c * c + 1.0).sqrt();
-            sn = if sn >= 0.0 { r } else { -r };
-            cn = c * sn;
+        let mut dn = one;
+        let (sn, cn) = sin_cos_small(c * u);
+        let mut a = cn / sn;
+        c = c * a;
+        for ii in (0..=self.top).rev() {
+            let live = self.live[ii];
+            let b = self.em[ii];
+            let a1 = a * c;
+            let c1 = c * dn;
+            dn = T::select(live, (self.en[ii] + a1) / (b + a1), dn);
+            a = T::select(live, c1 / b, a);
+            c = T::select(live, c1, c);
         }
-        (sn, cn, dn)
+        let r = one / (c * c + one).sqrt();
+        let s = T::select(sn.ge(T::splat(0.0)), r, -r);
+        // sn = 0 (only at u = 0) is its own result
+        let nonzero = sn.unequal(T::splat(0.0)) & !tiny;
+        (
+            T::select(nonzero, s, T::select(tiny, u, sn)),
+            T::select(nonzero, c * s, T::select(tiny, one, cn)),
+            T::select(nonzero, dn, one),
+        )
     }
 }
 
@@ -246,48 +293,96 @@ pub fn jacobi_reduced_with(
         let (sn, cn, dn, _) = jacobi_agm(u, m, m1);
         return (sn, cn, dn, 0.0, u);
     }
-    let p = (u / (2.0 * k)).round_ties_even();
-    let v = u - 2.0 * k * p;
-    let (sn, cn, dn) = if v.abs() > 0.5 * k {
-        let (sx, cx, dx) = base(k - v.abs(), m, m1, agm);
-        let r = m1.sqrt();
-        (1f64.copysign(v) * cx / dx, r * sx / dx, r / dx)
-    } else {
-        base(v, m, m1, agm)
-    };
+    reduce_quarter(u, m1.sqrt(), k, &Base { m, m1, agm })
+}
+
+/// The Jacobi functions on |v| ≤ K/2 that the quarter-period reduction ([`reduce_quarter`])
+/// starts from.
+pub trait HalfQuarter<T: Real> {
+    /// `(sn v, cn v, dn v)` for |v| ≤ K/2.
+    fn sncndn(&self, v: T) -> (T, T, T);
+}
+
+impl<T: Real> HalfQuarter<T> for Agm<T> {
+    #[inline(always)]
+    fn sncndn(&self, v: T) -> (T, T, T) {
+        Agm::sncndn(self, v)
+    }
+}
+
+/// [`base`] as a [`HalfQuarter`].
+struct Base<'a> {
+    m: f64,
+    m1: f64,
+    agm: &'a Agm,
+}
+
+impl HalfQuarter<f64> for Base<'_> {
+    #[inline(always)]
+    fn sncndn(&self, v: f64) -> (f64, f64, f64) {
+        base(v, self.m, self.m1, self.agm)
+    }
+}
+
+/// The quarter-period reduction of [`jacobi_reduced`] for finite `k = K(m)`, with
+/// `rm1 = √m1` and `base` the Jacobi functions on |v| ≤ K/2: `(sn, cn, dn, p, v)` with
+/// `u = 2pK + v`, |v| ≤ K. Generic over [`Real`] (`base` is evaluated once, on `K − |v|`
+/// or on `v`).
+#[inline(always)]
+pub fn reduce_quarter<T: Real>(u: T, rm1: T, k: T, base: &impl HalfQuarter<T>) -> (T, T, T, T, T) {
+    let two_k = T::splat(2.0) * k;
+    let p = (u / two_k).round_ties_even();
+    let v = u - two_k * p;
+    let shift = v.abs().gt(T::splat(0.5) * k);
+    let (sx, cx, dx) = base.sncndn(T::select(shift, k - v.abs(), v));
+    let sn = T::select(shift, T::splat(1.0).copysign(v) * cx / dx, sx);
+    let cn = T::select(shift, rm1 * sx / dx, cx);
+    let dn = T::select(shift, rm1 / dx, dx);
     // (−1)^p, p an integer (exact below 2⁵³)
-    let parity = if (0.5 * p).fract() == 0.0 { 1.0 } else { -1.0 };
+    let half = T::splat(0.5) * p;
+    let even = (half - half.trunc()).equal(T::splat(0.0));
+    let parity = T::select(even, T::splat(1.0), T::splat(-1.0));
     (parity * sn, parity * cn, dn, p, v)
 }
 
 // ------------------------------------------------------------------------- Carlson's forms
 
 /// `R_F(x, y, z) = ½ ∫₀^∞ dt / √((t + x)(t + y)(t + z))` for `x, y, z ≥ 0`, at most one zero
-/// (DLMF 19.16.1), by duplication (Carlson 1995, algorithm 1; DLMF 19.36.1).
-pub fn carlson_rf(mut x: f64, mut y: f64, mut z: f64) -> f64 {
-    let a0 = (x + y + z) / 3.0;
-    let q = RF_FACTOR * py_max(py_max((a0 - x).abs(), (a0 - y).abs()), (a0 - z).abs());
+/// (DLMF 19.16.1), by duplication (Carlson 1995, algorithm 1; DLMF 19.36.1). Generic over
+/// [`Real`]: in lanes, each lane stops duplicating where its own run stops.
+#[inline(always)]
+pub fn carlson_rf<T: Real>(x: T, y: T, z: T) -> T {
+    let (mut x, mut y, mut z) = (x, y, z);
+    let quarter = T::splat(0.25);
+    let a0 = (x + y + z) / T::splat(3.0);
+    let q = T::splat(RF_FACTOR) * py_max(py_max((a0 - x).abs(), (a0 - y).abs()), (a0 - z).abs());
     let dx = a0 - x;
     let dy = a0 - y;
     let mut a = a0;
-    let mut scale = 1.0; // 4^-n
-    while scale * q >= a.abs() && scale > 0.0 {
+    let mut scale = T::splat(1.0); // 4^-n
+    loop {
+        let going = (scale * q).ge(a.abs()) & scale.gt(T::splat(0.0));
+        if !going.any() {
+            break;
+        }
         let sx = x.sqrt();
         let sy = y.sqrt();
         let sz = z.sqrt();
         let lam = sx * sy + sx * sz + sy * sz;
-        a = 0.25 * (a + lam);
-        x = 0.25 * (x + lam);
-        y = 0.25 * (y + lam);
-        z = 0.25 * (z + lam);
-        scale *= 0.25;
+        a = T::select(going, quarter * (a + lam), a);
+        x = T::select(going, quarter * (x + lam), x);
+        y = T::select(going, quarter * (y + lam), y);
+        z = T::select(going, quarter * (z + lam), z);
+        scale = T::select(going, scale * quarter, scale);
     }
     let xx = dx * scale / a;
     let yy = dy * scale / a;
     let zz = -(xx + yy);
     let e2 = xx * yy - zz * zz;
     let e3 = xx * yy * zz;
-    (1.0 - e2 / 10.0 + e3 / 14.0 + e2 * e2 / 24.0 - 3.0 * e2 * e3 / 44.0) / a.sqrt()
+    let c = T::splat;
+    (c(1.0) - e2 / c(10.0) + e3 / c(14.0) + e2 * e2 / c(24.0) - c(3.0) * e2 * e3 / c(44.0))
+        / a.sqrt()
 }
 
 /// `R_J(x, y, z, p) = 3/2 ∫₀^∞ dt / ((t + p) √((t + x)(t + y)(t + z)))` for `x, y, z ≥ 0` (at
@@ -296,7 +391,7 @@ pub fn carlson_rf(mut x: f64, mut y: f64, mut z: f64) -> f64 {
 pub fn carlson_rj(mut x: f64, mut y: f64, mut z: f64, mut p: f64) -> f64 {
     let a0 = (x + y + z + 2.0 * p) / 5.0;
     let q = RJ_FACTOR
-        * py_max(
+        * py_max::<f64>(
             py_max(py_max((a0 - x).abs(), (a0 - y).abs()), (a0 - z).abs()),
             (a0 - p).abs(),
         );
@@ -411,10 +506,8 @@ pub fn ellippi(n: f64, phi: f64, m: f64, m1: f64) -> f64 {
 
 /// The argument `u` in (−2K, 2K] with `sn u = s`, `cn u = c` (`s² + c² = 1`).
 ///
-/// Carlson's form on the branch of `c`: `u = s R_F(c², c² + m1 s², 1)` for `c ≥ 0`, and
-/// `sign(s)·2K − s R_F(…)` for `c < 0` — no angle is formed, so a tiny `c` keeps its digits
-/// (an `atan2` would round the amplitude to ±π/2). On the separatrix (`m1 = 0`)
-/// `sn = tanh u`, `cn = sech u`: `u = asinh(s/c)`.
+/// [`first_kind_in_period`] with `cot = |c/s|`; on the separatrix (`m1 = 0`) `sn = tanh u`,
+/// `cn = sech u`: `u = asinh(s/c)`.
 pub fn first_kind_from_sn_cn(s: f64, c: f64, _m: f64, m1: f64) -> f64 {
     if m1 == 0.0 {
         if c > 0.0 {
@@ -422,12 +515,20 @@ pub fn first_kind_from_sn_cn(s: f64, c: f64, _m: f64, m1: f64) -> f64 {
         }
         return f64::INFINITY.copysign(s);
     }
-    let c2 = c * c;
-    let r = s * carlson_rf(c2, c2 + m1 * s * s, 1.0);
-    if c >= 0.0 {
-        return r;
-    }
-    (if s >= 0.0 { 1.0 } else { -1.0 }) * 2.0 * ellipk_m1(m1) - r
+    let agm = Agm::new(m1);
+    first_kind_in_period((c / s).abs(), s, c, &agm, agm.quarter())
+}
+
+/// The argument `u` in (−2K, 2K] with `sn u` of the sign of `s` and `cn u` of the sign of
+/// `c`, and `|cn u / sn u| = cot` (`m1 > 0`; `agm` the sequence of `m1`, `k = K(m)`):
+/// `u = ±F(φ)` with `cot φ = cot`, φ ∈ [0, π/2] ([`Agm::first_kind_cot`]) for `c ≥ 0`, and
+/// `sign(s)·2K ∓ F(φ)` for `c < 0`. No angle is formed, so a tiny `cn` keeps its digits (an
+/// `atan2` would round the amplitude to ±π/2). Generic over [`Real`].
+#[inline(always)]
+pub fn first_kind_in_period<T: Real>(cot: T, s: T, c: T, agm: &Agm<T>, k: T) -> T {
+    let r = agm.first_kind_cot(cot).copysign(s);
+    let sign = T::select(s.ge(T::splat(0.0)), T::splat(1.0), T::splat(-1.0));
+    T::select(c.ge(T::splat(0.0)), r, sign * T::splat(2.0) * k - r)
 }
 
 /// `∫₀^u du/(1 − n tanh²u)` (m = 1, sn = tanh) for `n < 1`: with ν = −n,
@@ -643,5 +744,51 @@ mod tests {
         assert!(rel(d, 1.0 / (1.0 - n * u.tanh().powi(2))) < 1e-9);
         let d = (third_kind_separatrix(0.4, u + h) - third_kind_separatrix(0.4, u - h)) / (2.0 * h);
         assert!(rel(d, 1.0 / (1.0 - 0.4 * u.tanh().powi(2))) < 1e-9);
+    }
+
+    /// The first kind by Bulirsch's `el1` on the AGM sequence equals Carlson's form
+    /// `s R_F(c², c² + m1 s², 1)` (DLMF 19.25.5; `sign(s) 2K − …` for c < 0) to round-off,
+    /// from m1 = 1 to 1e-300, over the whole period, tiny `cn` and tiny `sn` included.
+    #[test]
+    fn el1_equals_carlsons_form() {
+        let carlson = |s: f64, c: f64, m1: f64, k: f64| {
+            let r = s * carlson_rf(c * c, c * c + m1 * s * s, 1.0);
+            if c >= 0.0 {
+                r
+            } else {
+                (if s >= 0.0 { 1.0 } else { -1.0 }) * 2.0 * k - r
+            }
+        };
+        let mut worst: f64 = 0.0;
+        let mut m1 = 1.0f64;
+        while m1 > 1e-300 {
+            let agm = Agm::new(m1);
+            let k = agm.quarter();
+            let mut angles: Vec<f64> = (-200..=200).map(|i| PI * i as f64 / 200.0).collect();
+            for tiny in [1e-300, 1e-200, 1e-17, 1e-12, 1e-8, 1e-4] {
+                for base in [0.0, FRAC_PI_2, -FRAC_PI_2, PI] {
+                    angles.extend([base + tiny, base - tiny]);
+                }
+            }
+            for phi in angles {
+                let (s, c) = phi.sin_cos();
+                let a = first_kind_in_period((c / s).abs(), s, c, &agm, k);
+                let b = carlson(s, c, m1, k);
+                // R_F's own error is a few ulps of u; el1's is measured against K
+                let err = (a - b).abs() / (EPS * (k + b.abs()));
+                worst = worst.max(err);
+                assert!(err < 3.0, "m1 {m1} φ {phi}: {a} {b} ({err} eps)");
+                assert!(
+                    a.signum() == b.signum() || a == 0.0 && b == 0.0,
+                    "{m1} {phi}"
+                );
+            }
+            m1 *= 0.1;
+        }
+        eprintln!("el1 against R_F: worst {worst} eps (K + |u|)");
+        // the levels suffice down to the smallest parameter
+        let deep = Agm::new(5e-324);
+        assert!(deep.top < AGM_LEVELS - 1, "{}", deep.top);
+        eprintln!("AGM levels at m1 = 5e-324: {}", deep.top + 1);
     }
 }

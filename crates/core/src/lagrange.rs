@@ -1132,7 +1132,9 @@ mod tests {
             1000,
             &stop,
         );
-        assert!(runs.iter().all(|r| r.status == Status::Running && r.n_steps == 1000));
+        assert!(runs
+            .iter()
+            .all(|r| r.status == Status::Running && r.n_steps == 1000));
         assert!(cut.iter().all(|x| x.is_nan()));
         for (i, &l) in ls.iter().enumerate() {
             let mut one = vec![0.0; t_eval.len() * 2];

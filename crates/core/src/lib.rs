@@ -41,6 +41,7 @@ pub mod lanes;
 pub mod layout;
 pub mod linalg;
 pub mod observers;
+pub mod real;
 pub mod relative;
 pub mod rigid;
 pub mod shapes;

@@ -1,6 +1,5 @@
 //! The torque-free rotation in closed form (`docs/theory.md` §1, "Torque-free body",
-//! eqs (20)–(33); `docs/torque_free.md`): the port of `poinsot.kernels.torque_free`, formula
-//! for formula and in the same order of operations.
+//! eqs (20)–(33); `docs/torque_free.md`).
 //!
 //! Every function works in the *sorted principal frame*: moments ascending `I1 ≤ I2 ≤ I3`, ω in
 //! those axes. The batched functions at the end map body-frame inputs through the sorted axes
@@ -30,12 +29,22 @@
 //! `n = −I_p (I2 − I1)/(I1 (I3 − I2))` (pole e3; swap 1 ↔ 3 for pole e1), n < 0 (Landau &
 //! Lifshitz, *Mechanics*, §37; Whittaker, *Analytical Dynamics*, §69). Symmetric bodies:
 //! `Q(t) = exp(t L̂/I⊥) Q0 exp(ν t ê_s)`; fixed points: `Q0 exp(Ω t)`.
+//!
+//! **Ensembles in lanes.** The Jacobi form's formulas (the polhode radii, the Jacobi form, the
+//! AGM sequence, `u0`, ω(t)) are written once, generic over [`Real`]: [`Regime::with`] and
+//! [`Regime::omega_at`] run them on `f64` for one motion; [`exact_omegas`] runs them on
+//! [`WIDTH`] motions at a time in SIMD lanes ([`omegas_in_lanes`]: structure of arrays, the
+//! member loop innermost, the instruction set chosen at run time), each lane computing bit for
+//! bit what its single run computes. Members off the plain elliptic case (fixed points, the
+//! separatrix and `m1 <` [`NEAR_ONE`], extreme scales, symmetric bodies) run one by one.
 
 use crate::cmath::{frexp, ldexp};
 use crate::elliptic::{
-    ellipk_m1, first_kind_from_sn_cn, jacobi_reduced_with, third_kind_u, Agm, NEAR_ONE,
+    first_kind_from_sn_cn, first_kind_in_period, jacobi_reduced_with, reduce_quarter, third_kind_u,
+    Agm, NEAR_ONE,
 };
 use crate::invariants::principal_invariants;
+use crate::real::{py_max, py_min, Mask, Real, Wide, WideMask, WIDTH};
 use crate::so3::{exp_so3, matmul, Mat3, Vec3};
 use rayon::prelude::*;
 
@@ -86,32 +95,21 @@ pub mod row {
     pub const SIZE: usize = 18;
 }
 
-/// Python's `max(a, b)` (`a` unless `b > a`) and `min(a, b)` (`a` unless `b < a`).
-#[inline(always)]
-fn py_max(a: f64, b: f64) -> f64 {
-    if b > a {
-        b
-    } else {
-        a
-    }
-}
-#[inline(always)]
-fn py_min(a: f64, b: f64) -> f64 {
-    if b < a {
-        b
-    } else {
-        a
-    }
-}
-
 /// The square roots of a body's moments that every motion's regime uses:
-/// `√(I1 (I3 − I1))`, `√(I2 (I3 − I2))`, `√(I2 (I2 − I1))`, `√(I3 (I3 − I1))` (sorted moments).
+/// `√(I1 (I3 − I1))`, `√(I2 (I3 − I2))`, `√(I2 (I2 − I1))`, `√(I3 (I3 − I1))`, and the rates
+/// `√((I3 − I2)/(I1 I2 I3))`, `√((I2 − I1)/(I1 I2 I3))` of `λ` (sorted moments).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Radicals {
     pub r13: f64,
     pub r23: f64,
     pub r12: f64,
     pub r33: f64,
+    pub rate3: f64,
+    pub rate1: f64,
+    /// `√(I1 (I3 − I1)) / √(I2 (I3 − I2))` and `√(I3 (I3 − I1)) / √(I2 (I2 − I1))`: the ratios
+    /// `|cn u0 / sn u0| = cot3 |ω1/ω2|` (pole e3) and `cot1 |ω3/ω2|` (pole e1).
+    pub cot3: f64,
+    pub cot1: f64,
 }
 
 impl Radicals {
@@ -122,20 +120,104 @@ impl Radicals {
             r23: (i2 * (i3 - i2)).sqrt(),
             r12: (i2 * (i2 - i1)).sqrt(),
             r33: (i3 * (i3 - i1)).sqrt(),
+            rate3: ((i3 - i2) / (i1 * i2 * i3)).sqrt(),
+            rate1: ((i2 - i1) / (i1 * i2 * i3)).sqrt(),
+            cot3: (i1 * (i3 - i1)).sqrt() / (i2 * (i3 - i2)).sqrt(),
+            cot1: (i3 * (i3 - i1)).sqrt() / (i2 * (i2 - i1)).sqrt(),
         }
     }
 }
 
-/// `√(a² + b²)`: the square root of the sum where the squares neither overflow nor underflow
-/// (the regime's scaled values), else `hypot`.
+/// `(√P3, √P1)`, `P3 = 2k I3 − a²`, `P1 = a² − 2k I1` as sums of squares (no cancellation):
+/// `P3 = I1 (I3 − I1) x1² + I2 (I3 − I2) x2²`, `P1 = I2 (I2 − I1) x2² + I3 (I3 − I1) x3²`
+/// (scaled ω `x`; [`Real::norm2`], which clears `plain` in the lanes it leaves to `f64`).
 #[inline(always)]
-fn norm2(a: f64, b: f64) -> f64 {
-    let s = a * a + b * b;
-    if s.is_normal() && s < 1e300 {
-        s.sqrt()
-    } else {
-        a.hypot(b)
+fn polhode_radii<T: Real>(r: &Radicals, x: [T; 3], plain: &mut T::Mask) -> (T, T) {
+    let c = T::splat;
+    let q3 = T::norm2(c(r.r13) * x[0], c(r.r23) * x[1], plain);
+    let q1 = T::norm2(c(r.r12) * x[1], c(r.r33) * x[2], plain);
+    (q3, q1)
+}
+
+/// The Jacobi form of a motion of a body with three distinct moments, off the fixed points
+/// (`√P3 = q3 > 0`, `√P1 = q1 > 0`), from the scaled ω `x` (see the module docs): amplitudes
+/// and rate in the scale of `x`. Generic over [`Real`].
+#[derive(Clone, Copy, Debug, Default)]
+struct JacobiForm<T: Real> {
+    /// `(α1, α2, α3)` and `λ` (scaled).
+    alpha: [T; 3],
+    lam: T,
+    /// `m` and `m1` (clamped to [0, 1]; `(1, 0)` for a subnormal `m1`).
+    m: T,
+    m1: T,
+    /// `σ1`, `σ3`.
+    s1: T,
+    s3: T,
+    /// Of the signs of `sn u0` and `cn u0`, and `|cn u0 / sn u0|`.
+    sn0: T,
+    cn0: T,
+    cot0: T,
+    /// Where the polhode circles e3 (else e1).
+    e3: T::Mask,
+}
+
+impl<T: Real> JacobiForm<T> {
+    #[inline(always)]
+    fn new(moments: Vec3, r: &Radicals, x: [T; 3], q3: T, q1: T) -> JacobiForm<T> {
+        let c = T::splat;
+        let [i1, i2, i3] = moments;
+        let [x0, x1, x2] = x;
+        let d2 = c(i3 * (i3 - i2)) * x2 * x2 - c(i1 * (i2 - i1)) * x0 * x0; // a² − 2k I2
+                                                                            // around e3 (d2 > 0), or the separatrix (d2 = 0); else around e1
+        let e3 = d2.ge(c(0.0));
+        // e3: (q3, q1), e1: (q1, q3)
+        let (qa, qb) = (T::select(e3, q3, q1), T::select(e3, q1, q3));
+        let a0 = q3 / c(r.r13);
+        let a1 = qa / T::select(e3, c(r.r23), c(r.r12));
+        let a2 = q1 / c(r.r33);
+        let lam = qb * T::select(e3, c(r.rate3), c(r.rate1));
+        let ratio = qa / qb;
+        let m = T::select(e3, c((i2 - i1) / (i3 - i2)), c((i3 - i2) / (i2 - i1))) * ratio * ratio;
+        let m1 =
+            c(i3 - i1) * T::select(e3, d2, -d2) / (T::select(e3, c(i3 - i2), c(i2 - i1)) * qb * qb);
+        let m = py_min(py_max(m, c(0.0)), c(1.0));
+        let m1 = py_min(py_max(m1, c(0.0)), c(1.0));
+        // subnormal: the separatrix is the orbit to within O(m1)
+        let sep = m1.lt(c(1e-300));
+        let m = T::select(sep, c(1.0), m);
+        let m1 = T::select(sep, c(0.0), m1);
+        // Signs: the ODE needs σ1 = σ2 σ3. Off the separatrix cn takes both signs, so the sign
+        // of the cn-component is +1 (absorbed in the phase); on the separatrix cn = sech u > 0
+        // and each of the four arcs keeps the signs of both ω1 and ω3.
+        let off = m1.unequal(c(0.0));
+        let s1 = T::select(e3 & off, c(1.0), T::select(x0.gt(c(0.0)), c(1.0), c(-1.0)));
+        let s3 = T::select(!e3 & off, c(1.0), T::select(x2.gt(c(0.0)), c(1.0), c(-1.0)));
+        // sn u0 = σ1 σ3 ω2/α2, cn u0 = σ1 ω1/α1 (pole e3) or σ3 ω3/α3 (pole e1)
+        let sn0 = s1 * s3 * x1;
+        let xc = T::select(e3, x0, x2);
+        let cn0 = T::select(e3, s1, s3) * xc;
+        let cot0 = xc.abs() * T::select(e3, c(r.cot3), c(r.cot1)) / x1.abs();
+        JacobiForm {
+            alpha: [a0, a1, a2],
+            lam,
+            m,
+            m1,
+            s1,
+            s3,
+            sn0,
+            cn0,
+            cot0,
+            e3,
+        }
     }
+}
+
+/// ω (sorted principal frame) from the Jacobi functions: `(cn, sn, dn)` (pole e3) or
+/// `(dn, sn, cn)` (pole e1) times the signed amplitudes `σ_i α_i`.
+#[inline(always)]
+fn jacobi_omega<T: Real>(e3: T::Mask, sa: [T; 3], sn: T, cn: T, dn: T) -> [T; 3] {
+    let (first, last) = (T::select(e3, cn, dn), T::select(e3, dn, cn));
+    [sa[0] * first, sa[1] * sn, sa[2] * last]
 }
 
 /// The regime of one torque-free motion: everything the closed form needs of `ω(0)` (see the
@@ -170,8 +252,8 @@ pub struct Regime {
     pub axis: u8,
     /// The transverse moment `I⊥` of a symmetric body.
     pub i_perp: f64,
-    /// The AGM sequence of `m1` (elliptic cases with `m1 ≥` [`NEAR_ONE`]), made once for
-    /// every time of ω(t).
+    /// The AGM sequence of `m1` (elliptic cases off the separatrix), made once for every time
+    /// of ω(t) (the Jacobi functions use it for `m1 ≥` [`NEAR_ONE`]).
     pub agm: Agm,
 }
 
@@ -232,88 +314,41 @@ impl Regime {
             reg.i_perp = i_perp;
             return reg;
         }
-        let [i1, i2, i3] = moments;
         if py_max(x0.abs(), x2.abs()) <= NEAR_UNSTABLE_AXIS * x1.abs() {
             reg.case = FIXED;
             return reg;
         }
-        let Radicals { r13, r23, r12, r33 } = *radicals;
-        let q3 = norm2(r13 * x0, r23 * x1); // √P3, P3 = 2k I3 − a² (scaled)
-        let q1 = norm2(r12 * x1, r33 * x2); // √P1, P1 = a² − 2k I1
+        let x = [x0, x1, x2];
+        let (q3, q1) = polhode_radii(radicals, x, &mut true);
         if q3 == 0.0 || q1 == 0.0 {
             // on e3 or on e1
             reg.case = FIXED;
             return reg;
         }
-        let d2 = i3 * (i3 - i2) * x2 * x2 - i1 * (i2 - i1) * x0 * x0; // a² − 2k I2
-        let (a0, a1, a2, lam, mut m, mut m1, pole);
-        if d2 >= 0.0 {
-            // around e3, or the separatrix (d2 = 0)
-            a0 = q3 / r13;
-            a1 = q3 / r23;
-            a2 = q1 / r33;
-            lam = q1 * ((i3 - i2) / (i1 * i2 * i3)).sqrt();
-            let ratio = q3 / q1;
-            m = (i2 - i1) / (i3 - i2) * ratio * ratio;
-            m1 = (i3 - i1) * d2 / ((i3 - i2) * q1 * q1);
-            pole = 2u8;
-        } else {
-            // around e1
-            a0 = q3 / r13;
-            a1 = q1 / r12;
-            a2 = q1 / r33;
-            lam = q3 * ((i2 - i1) / (i1 * i2 * i3)).sqrt();
-            let ratio = q1 / q3;
-            m = (i3 - i2) / (i2 - i1) * ratio * ratio;
-            m1 = (i3 - i1) * (-d2) / ((i2 - i1) * q3 * q3);
-            pole = 0u8;
-        }
-        m = py_min(py_max(m, 0.0), 1.0);
-        m1 = py_min(py_max(m1, 0.0), 1.0);
-        if m1 < 1e-300 {
-            // subnormal: the separatrix is the orbit to within O(m1)
-            m = 1.0;
-            m1 = 0.0;
-        }
-        let mut s1 = if x0 > 0.0 { 1.0 } else { -1.0 };
-        let mut s3 = if x2 > 0.0 { 1.0 } else { -1.0 };
-        // Signs: the ODE needs σ1 = σ2 σ3. Off the separatrix cn takes both signs, so the sign
-        // of the cn-component is +1 (absorbed in the phase); on the separatrix cn = sech u > 0
-        // and each of the four arcs keeps the signs of both ω1 and ω3.
-        let (sn0, cn0);
-        if pole == 2 {
-            if m1 != 0.0 {
-                s1 = 1.0;
-            }
-            sn0 = s1 * s3 * x1 / a1;
-            cn0 = s1 * x0 / a0;
-        } else {
-            if m1 != 0.0 {
-                s3 = 1.0;
-            }
-            sn0 = s1 * s3 * x1 / a1;
-            cn0 = s3 * x2 / a2;
-        }
-        reg.u0 = first_kind_from_sn_cn(sn0, cn0, m, m1);
+        let f = JacobiForm::new(moments, radicals, x, q3, q1);
+        let (m, m1) = (f.m, f.m1);
         reg.case = if m1 == 0.0 {
             SEPARATRIX
-        } else if pole == 2 {
+        } else if f.e3 {
             AROUND_E3
         } else {
             AROUND_E1
         };
-        reg.alpha = [ldexp(a0, e), ldexp(a1, e), ldexp(a2, e)];
-        reg.lam = ldexp(lam, e);
-        reg.m = m;
-        reg.m1 = m1;
-        reg.signs = [s1, s1 * s3, s3];
-        reg.pole = pole;
-        if m1 >= NEAR_ONE && m > 0.0 {
+        if m1 == 0.0 {
+            reg.quarter = f64::INFINITY;
+            let a_cn = if f.e3 { f.alpha[0] } else { f.alpha[2] };
+            reg.u0 = first_kind_from_sn_cn(f.sn0 / f.alpha[1], f.cn0 / a_cn, m, m1);
+        } else {
             reg.agm = Agm::new(m1);
             reg.quarter = reg.agm.quarter(); // = ellipk_m1(m1), the same sequence
-        } else {
-            reg.quarter = ellipk_m1(m1);
+            reg.u0 = first_kind_in_period(f.cot0, f.sn0, f.cn0, &reg.agm, reg.quarter);
         }
+        reg.alpha = f.alpha.map(|a| ldexp(a, e));
+        reg.lam = ldexp(f.lam, e);
+        reg.m = m;
+        reg.m1 = m1;
+        reg.signs = [f.s1, f.s1 * f.s3, f.s3];
+        reg.pole = if f.e3 { 2 } else { 0 };
         reg
     }
 
@@ -385,12 +420,8 @@ impl Regime {
                     self.quarter,
                     &self.agm,
                 );
-                let (first, last) = if self.pole == 2 { (cn, dn) } else { (dn, cn) };
-                [
-                    self.signs[0] * self.alpha[0] * first,
-                    self.signs[1] * self.alpha[1] * sn,
-                    self.signs[2] * self.alpha[2] * last,
-                ]
+                let sa = [0, 1, 2].map(|i| self.signs[i] * self.alpha[i]);
+                jacobi_omega(self.pole == 2, sa, sn, cn, dn)
             }
         }
     }
@@ -545,21 +576,23 @@ pub fn attitude_at(
 
 /// `Sᵀ ω`: body-frame ω in the sorted principal frame.
 #[inline(always)]
-fn to_sorted(s: &Mat3, w: Vec3) -> Vec3 {
+fn to_sorted<T: Real>(s: &Mat3, w: [T; 3]) -> [T; 3] {
+    let c = T::splat;
     [
-        s[0][0] * w[0] + s[1][0] * w[1] + s[2][0] * w[2],
-        s[0][1] * w[0] + s[1][1] * w[1] + s[2][1] * w[2],
-        s[0][2] * w[0] + s[1][2] * w[1] + s[2][2] * w[2],
+        c(s[0][0]) * w[0] + c(s[1][0]) * w[1] + c(s[2][0]) * w[2],
+        c(s[0][1]) * w[0] + c(s[1][1]) * w[1] + c(s[2][1]) * w[2],
+        c(s[0][2]) * w[0] + c(s[1][2]) * w[1] + c(s[2][2]) * w[2],
     ]
 }
 
 /// `S v`: sorted-frame `v` in the body frame.
 #[inline(always)]
-fn from_sorted(s: &Mat3, v: Vec3) -> Vec3 {
+fn from_sorted<T: Real>(s: &Mat3, v: [T; 3]) -> [T; 3] {
+    let c = T::splat;
     [
-        s[0][0] * v[0] + s[0][1] * v[1] + s[0][2] * v[2],
-        s[1][0] * v[0] + s[1][1] * v[1] + s[1][2] * v[2],
-        s[2][0] * v[0] + s[2][1] * v[1] + s[2][2] * v[2],
+        c(s[0][0]) * v[0] + c(s[0][1]) * v[1] + c(s[0][2]) * v[2],
+        c(s[1][0]) * v[0] + c(s[1][1]) * v[1] + c(s[1][2]) * v[2],
+        c(s[2][0]) * v[0] + c(s[2][1]) * v[1] + c(s[2][2]) * v[2],
     ]
 }
 
@@ -574,7 +607,9 @@ pub fn regime_of(moments: Vec3, s: &Mat3, symmetry: u8, w: Vec3) -> Regime {
 
 /// ω(t), body frame, of the torque-free motions from the body-frame ω `ws` at the times `ts`
 /// (from t = 0), into `out` (`ws.len() · ts.len()` vectors, member-major). One pass per member:
-/// the regime, then every time. Members are shared among rayon's threads.
+/// the regime, then every time. Bodies with three distinct moments run [`WIDTH`] members at a
+/// time in SIMD lanes ([`omegas_in_lanes`]), each lane computing bit for bit what its single
+/// run computes; blocks of members are shared among rayon's threads.
 pub fn exact_omegas(
     moments: Vec3,
     s: &Mat3,
@@ -593,22 +628,293 @@ pub fn exact_omegas(
         return;
     }
     let radicals = Radicals::new(moments);
-    let member = |w: &Vec3, block: &mut [Vec3]| {
-        let ws = to_sorted(s, *w);
-        let reg = Regime::with(moments, &radicals, symmetry, ws);
-        for (o, &t) in block.iter_mut().zip(ts) {
-            *o = from_sorted(s, reg.omega_at(moments, ws, t));
+    let block = |ws: &[Vec3], out: &mut [Vec3]| {
+        if symmetry == 0 {
+            omegas_in_lanes::<WIDTH>(moments, s, &radicals, ws, ts, out);
+        } else {
+            for (w, o) in ws.iter().zip(out.chunks_mut(n)) {
+                omegas_one_by_one(moments, s, &radicals, symmetry, *w, ts, o);
+            }
         }
     };
     if ws.len() > 1 && ws.len() * n >= PARALLEL_MIN {
-        ws.par_iter()
-            .zip(out.par_chunks_mut(n))
-            .for_each(|(w, block)| member(w, block));
+        ws.par_chunks(LANES_BLOCK)
+            .zip(out.par_chunks_mut(n * LANES_BLOCK))
+            .for_each(|(w, o)| block(w, o));
     } else {
-        ws.iter()
-            .zip(out.chunks_mut(n))
-            .for_each(|(w, block)| member(w, block));
+        block(ws, out);
     }
+}
+
+/// Members per rayon task of [`exact_omegas`].
+const LANES_BLOCK: usize = 256;
+
+/// ω(t) (body frame) of one member at the times `ts`: its [`Regime`], then every time.
+#[inline]
+fn omegas_one_by_one(
+    moments: Vec3,
+    s: &Mat3,
+    radicals: &Radicals,
+    symmetry: u8,
+    w: Vec3,
+    ts: &[f64],
+    out: &mut [Vec3],
+) {
+    let ws = to_sorted(s, w);
+    let reg = Regime::with(moments, radicals, symmetry, ws);
+    for (o, &t) in out.iter_mut().zip(ts) {
+        *o = from_sorted(s, reg.omega_at(moments, ws, t));
+    }
+}
+
+/// What ω(t) needs of [`WIDTH`] motions in lanes (a body with three distinct moments): the
+/// [`Regime`]'s elliptic fields, with `rm1 = √m1` and `sa = σ α`.
+struct LaneMotion<const N: usize> {
+    u0: Wide<N>,
+    lam: Wide<N>,
+    rm1: Wide<N>,
+    quarter: Wide<N>,
+    sa: [Wide<N>; 3],
+    e3: WideMask<N>,
+    agm: Agm<Wide<N>>,
+}
+
+/// `x` times `2^e` for integer `e` in [−1022, 1023] (a power of two made from its bits).
+#[inline(always)]
+fn times_pow2<const N: usize>(x: Wide<N>, e: Wide<N>) -> Wide<N> {
+    let mut p = [0.0; N];
+    for l in 0..N {
+        p[l] = f64::from_bits(((e.0[l] as i64 + 1023) as u64) << 52);
+    }
+    x * Wide(p)
+}
+
+impl<const N: usize> LaneMotion<N> {
+    /// The motions from the sorted-frame ω `w`, and the lanes where they are what
+    /// [`Regime::with`] makes ("plain": a normal scale, off the fixed points, `m1 ≥`
+    /// [`NEAR_ONE`], `m > 0`, every sum of squares safe, normal amplitudes). The other lanes'
+    /// values are meaningless; they are evaluated one at a time.
+    #[inline(always)]
+    fn new(moments: Vec3, radicals: &Radicals, w: [Wide<N>; 3]) -> (LaneMotion<N>, WideMask<N>) {
+        let c = Wide::<N>::splat;
+        let big = py_max(py_max(w[0].abs(), w[1].abs()), w[2].abs());
+        // frexp's exponent of a normal `big` (ω scaled by 2^-e exactly, as `Regime::with`)
+        let mut e = [0.0; N];
+        let mut plain = WideMask::<N>::splat(true);
+        for l in 0..N {
+            let biased = (big.0[l].to_bits() >> 52) & 0x7ff;
+            plain.and_lane(l, (1..=2044).contains(&biased));
+            e[l] = biased as f64 - 1022.0;
+        }
+        let e = Wide(e);
+        let x = [
+            times_pow2(w[0], -e),
+            times_pow2(w[1], -e),
+            times_pow2(w[2], -e),
+        ];
+        // off the intermediate axis (`NEAR_UNSTABLE_AXIS`)
+        plain = plain & py_max(x[0].abs(), x[2].abs()).gt(c(NEAR_UNSTABLE_AXIS) * x[1].abs());
+        let (q3, q1) = polhode_radii(radicals, x, &mut plain);
+        let f = JacobiForm::new(moments, radicals, x, q3, q1);
+        plain = plain & f.m1.ge(c(NEAR_ONE)) & f.m.gt(c(0.0));
+        // benign values in the other lanes, where the loops below end at once
+        let m1 = Wide::<N>::select(plain, f.m1, c(0.5));
+        let agm = Agm::new(m1);
+        let quarter = agm.quarter();
+        let u0 = first_kind_in_period(f.cot0, f.sn0, f.cn0, &agm, quarter);
+        let alpha = [
+            times_pow2(f.alpha[0], e),
+            times_pow2(f.alpha[1], e),
+            times_pow2(f.alpha[2], e),
+        ];
+        let lam = times_pow2(f.lam, e);
+        for l in 0..N {
+            let normal = alpha[0].0[l].is_normal()
+                && alpha[1].0[l].is_normal()
+                && alpha[2].0[l].is_normal()
+                && lam.0[l].is_normal();
+            plain.and_lane(l, normal);
+        }
+        let s2 = f.s1 * f.s3;
+        let motion = LaneMotion {
+            u0,
+            lam,
+            rm1: m1.sqrt(),
+            quarter,
+            sa: [f.s1 * alpha[0], s2 * alpha[1], f.s3 * alpha[2]],
+            e3: f.e3,
+            agm,
+        };
+        (motion, plain)
+    }
+
+    /// ω(t) (sorted principal frame) in every lane: as [`Regime::omega_at`].
+    #[inline(always)]
+    fn omega_at(&self, t: Wide<N>) -> [Wide<N>; 3] {
+        let u = self.u0 + self.lam * t;
+        let (sn, cn, dn, _, _) = reduce_quarter(u, self.rm1, self.quarter, &self.agm);
+        jacobi_omega(self.e3, self.sa, sn, cn, dn)
+    }
+}
+
+/// [`exact_omegas`] for a body with three distinct moments, [`WIDTH`] members at a time in
+/// SIMD lanes; a lane off the plain elliptic case ([`LaneMotion::new`]: fixed points, the
+/// separatrix and its neighbourhood `m1 <` [`NEAR_ONE`], extreme scales) is evaluated on its own.
+/// The instruction set is chosen at run time (AVX-512, AVX2, the baseline), as in
+/// [`crate::lanes`].
+pub fn omegas_in_lanes<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    radicals: &Radicals,
+    ws: &[Vec3],
+    ts: &[f64],
+    out: &mut [Vec3],
+) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512dq")
+        {
+            // SAFETY: the CPU has the features the function is compiled for.
+            return unsafe { omegas_in_lanes_avx512::<N>(moments, s, radicals, ws, ts, out) };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: as above.
+            return unsafe { omegas_in_lanes_avx2::<N>(moments, s, radicals, ws, ts, out) };
+        }
+    }
+    omegas_in_lanes_any::<N>(moments, s, radicals, ws, ts, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma,bmi2")]
+unsafe fn omegas_in_lanes_avx512<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    radicals: &Radicals,
+    ws: &[Vec3],
+    ts: &[f64],
+    out: &mut [Vec3],
+) {
+    omegas_in_lanes_any::<N>(moments, s, radicals, ws, ts, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi2")]
+unsafe fn omegas_in_lanes_avx2<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    radicals: &Radicals,
+    ws: &[Vec3],
+    ts: &[f64],
+    out: &mut [Vec3],
+) {
+    omegas_in_lanes_any::<N>(moments, s, radicals, ws, ts, out)
+}
+
+/// The lanes' loop, inlined into each target's copy of it: groups of `N` members in the
+/// lanes; the members left over in one more group when they fill a quarter of it, else each
+/// alone, its times in the lanes (or one by one when they are fewer than the lanes).
+#[inline(always)]
+fn omegas_in_lanes_any<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    radicals: &Radicals,
+    ws: &[Vec3],
+    ts: &[f64],
+    out: &mut [Vec3],
+) {
+    let n = ts.len();
+    let whole = if ws.len() % N * 4 >= N {
+        ws.len()
+    } else {
+        ws.len() / N * N
+    };
+    let (out_whole, out_rest) = out.split_at_mut(whole * n);
+    for (wg, og) in ws[..whole].chunks(N).zip(out_whole.chunks_mut(N * n)) {
+        members_in_lanes::<N>(moments, s, radicals, wg, ts, og);
+    }
+    for (w, o) in ws[whole..].iter().zip(out_rest.chunks_exact_mut(n)) {
+        if n < N || !times_in_lanes::<N>(moments, s, radicals, *w, ts, o) {
+            omegas_one_by_one(moments, s, radicals, 0, *w, ts, o);
+        }
+    }
+}
+
+/// ω (body frame) of up to `N` members `wg` at the times `ts`, one member per lane (lanes past
+/// the last member repeat it, their results dropped); the members the lanes do not cover
+/// ([`LaneMotion::new`]) one by one.
+#[inline(always)]
+fn members_in_lanes<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    radicals: &Radicals,
+    wg: &[Vec3],
+    ts: &[f64],
+    og: &mut [Vec3],
+) {
+    let n = ts.len();
+    let lanes = wg.len();
+    // structure of arrays
+    let mut w = [Wide::<N>::default(); 3];
+    for l in 0..N {
+        let v = wg[l.min(lanes - 1)];
+        for c in 0..3 {
+            w[c].0[l] = v[c];
+        }
+    }
+    let (motion, plain) = LaneMotion::new(moments, radicals, to_sorted(s, w));
+    for (j, &t) in ts.iter().enumerate() {
+        let v = from_sorted(s, motion.omega_at(Wide::<N>::splat(t)));
+        for l in 0..lanes {
+            og[l * n + j] = [v[0].0[l], v[1].0[l], v[2].0[l]];
+        }
+    }
+    for l in 0..lanes {
+        if !plain.get(l) {
+            omegas_one_by_one(
+                moments,
+                s,
+                radicals,
+                0,
+                wg[l],
+                ts,
+                &mut og[l * n..(l + 1) * n],
+            );
+        }
+    }
+}
+
+/// ω (body frame) of one member at the times `ts`, `N` times at once in the lanes (the member
+/// in every lane); `false` (nothing written) where the member is not a plain lane
+/// ([`LaneMotion::new`]).
+#[inline(always)]
+fn times_in_lanes<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    radicals: &Radicals,
+    w: Vec3,
+    ts: &[f64],
+    out: &mut [Vec3],
+) -> bool {
+    let w = [Wide::splat(w[0]), Wide::splat(w[1]), Wide::splat(w[2])];
+    let (motion, plain) = LaneMotion::<N>::new(moments, radicals, to_sorted(s, w));
+    if !plain.get(0) {
+        return false;
+    }
+    for (tc, oc) in ts.chunks(N).zip(out.chunks_mut(N)) {
+        // lanes past the last time repeat it (their results dropped)
+        let mut t = [0.0; N];
+        for l in 0..N {
+            t[l] = tc[l.min(tc.len() - 1)];
+        }
+        let v = from_sorted(s, motion.omega_at(Wide(t)));
+        for (l, o) in oc.iter_mut().enumerate() {
+            *o = [v[0].0[l], v[1].0[l], v[2].0[l]];
+        }
+    }
+    true
 }
 
 /// `Q(t)` (body → space) of the torque-free motions from the body-frame ω `ws` and attitudes
@@ -850,5 +1156,266 @@ mod tests {
         assert_eq!(r[row::CASE], AROUND_E3 as f64);
         assert_eq!(r[row::LAM], a.lam);
         assert_eq!(r[row::QUARTER], a.quarter);
+    }
+
+    /// Initial ω across every regime: random directions and magnitudes, the fixed points and
+    /// their neighbourhoods, the separatrix and its neighbourhood (m1 from 1e-3 to 1e-12, on
+    /// both sides), extreme and subnormal scales, zero.
+    fn sample_omegas() -> Vec<Vec3> {
+        let mut ws = Vec::new();
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut uniform = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for i in 0..3000 {
+            let scale = [1.0, 1e-3, 7.5, 1e150, 1e-150][i % 5];
+            ws.push([uniform(), uniform(), uniform()].map(|x| scale * x));
+        }
+        let r3 = 3f64.sqrt();
+        for d in [1e-3, 1e-5, 1e-6, 1e-9, 1e-12, -1e-3, -1e-6, -1e-12, 0.0] {
+            ws.push([r3 * (1.0 + d), 0.4, 1.0]);
+            ws.push([-r3 * (1.0 + d), -0.4, 1.0]);
+        }
+        for special in [
+            [0.0, 1.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, 0.0],
+            [1e-150, 1.0, 1e-150],
+            [1e-130, 1.0, -1e-130],
+            [1e-8, 1.0, 1e-8],
+            [1.0, 1e-12, 1e-12],
+            [1e-12, 1e-12, 1.0],
+            [1e300, 1e300, 1e300],
+            [1e-310, 2e-310, -1e-310],
+            [5e-324, 0.0, 5e-324],
+            [1.7e308, 1.0, 1.0],
+            [f64::NAN, 1.0, 0.5],
+            [f64::INFINITY, 0.2, 1.0],
+            [0.3, 1.0, 0.2],
+        ] {
+            ws.push(special);
+        }
+        // the specials again, each inside a block of ordinary members
+        for j in 0..40 {
+            let k = ws.len() - 1 - j % 30;
+            ws.push(ws[k]);
+            ws.push([0.3, -0.2 + 0.01 * j as f64, 0.9]);
+        }
+        ws
+    }
+
+    fn same(a: f64, b: f64) -> bool {
+        a.to_bits() == b.to_bits() || a.is_nan() && b.is_nan()
+    }
+
+    /// Members in SIMD lanes compute bit for bit what each member's single run (its `Regime`
+    /// and `omega_at`) computes, in every regime, on every instruction set the CPU offers;
+    /// and the lanes carry the ordinary members (not only the single runs' fallback).
+    #[test]
+    fn lanes_equal_single_runs_bit_for_bit() {
+        // more times than lanes, not a multiple of them
+        let mut ts = vec![0.0, 0.3, 1.0, 7.7, 100.0, -3.0, 1e4, 2.5e-10];
+        ts.extend((0..WIDTH + 3).map(|j| 0.61 * j as f64 - 2.0));
+        let ws = sample_omegas();
+        for moments in [
+            [1.0, 2.0, 3.0],
+            [0.2, 1.5, 10.0],
+            [1.0, 2.0, 2.25],
+            [1.0, 1.0 + 1e-9, 2.0],
+        ] {
+            let s = zxz_matrix(0.3, 1.1, -0.7);
+            let radicals = Radicals::new(moments);
+            let mut want = vec![[0.0; 3]; ws.len() * ts.len()];
+            for (w, o) in ws.iter().zip(want.chunks_mut(ts.len())) {
+                omegas_one_by_one(moments, &s, &radicals, 0, *w, &ts, o);
+            }
+            let mut runs: Vec<(&str, Vec<Vec3>)> = Vec::new();
+            let mut got = vec![[0.0; 3]; want.len()];
+            omegas_in_lanes::<WIDTH>(moments, &s, &radicals, &ws, &ts, &mut got);
+            runs.push(("dispatched", got.clone()));
+            omegas_in_lanes::<8>(moments, &s, &radicals, &ws, &ts, &mut got);
+            runs.push(("dispatched, 8 lanes", got.clone()));
+            omegas_in_lanes_any::<WIDTH>(moments, &s, &radicals, &ws, &ts, &mut got);
+            runs.push(("baseline", got.clone()));
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+            {
+                // SAFETY: the CPU has the features.
+                unsafe {
+                    omegas_in_lanes_avx2::<WIDTH>(moments, &s, &radicals, &ws, &ts, &mut got)
+                };
+                runs.push(("avx2", got.clone()));
+            }
+            // the batched entry point, on rayon's threads
+            exact_omegas(moments, &s, 0, &ws, &ts, &mut got);
+            runs.push(("exact_omegas", got.clone()));
+            // members left over (fewer than the lanes), alone: their times in the lanes
+            for (w, o) in ws.iter().zip(got.chunks_mut(ts.len())) {
+                exact_omegas(moments, &s, 0, &[*w], &ts, o);
+            }
+            runs.push(("one member, times in lanes", got.clone()));
+            for (name, got) in &runs {
+                for (i, (a, b)) in got.iter().zip(&want).enumerate() {
+                    assert!(
+                        (0..3).all(|c| same(a[c], b[c])),
+                        "{name} {moments:?} member {:?} t {}: {a:?} {b:?}",
+                        ws[i / ts.len()],
+                        ts[i % ts.len()]
+                    );
+                }
+            }
+            // most members run in the lanes proper
+            let mut plain = 0;
+            for chunk in ws.chunks(WIDTH) {
+                let mut w = [Wide::<WIDTH>::default(); 3];
+                for l in 0..WIDTH {
+                    for c in 0..3 {
+                        w[c].0[l] = chunk[l.min(chunk.len() - 1)][c];
+                    }
+                }
+                let (_, p) = LaneMotion::new(moments, &radicals, to_sorted(&s, w));
+                plain += (0..chunk.len()).filter(|&l| p.get(l)).count();
+            }
+            assert!(
+                plain * 10 > ws.len() * 9,
+                "{moments:?}: {plain} of {}",
+                ws.len()
+            );
+        }
+    }
+
+    /// The time of 10⁶ closed forms at one time each (run with `--ignored --nocapture`).
+    #[test]
+    #[ignore]
+    fn time_exact_omegas() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let ws: Vec<Vec3> = (0..1_000_000)
+            .map(|_| {
+                [0; 3].map(|_| {
+                    state ^= state << 13;
+                    state ^= state >> 7;
+                    state ^= state << 17;
+                    (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+                })
+            })
+            .collect();
+        for nt in [1usize, 10, 100] {
+            let ts: Vec<f64> = (0..nt).map(|j| 1.0 + 0.3 * j as f64).collect();
+            let ws = &ws[..ws.len() / nt.min(10)];
+            let mut out = vec![[0.0; 3]; ws.len() * nt];
+            let radicals = Radicals::new([1.0, 2.0, 3.0]);
+            for name in [
+                "exact_omegas",
+                "one by one",
+                "8 lanes",
+                "16 lanes",
+                "32 lanes",
+                "64 lanes",
+                "32 lanes, AVX2",
+                "16 lanes, AVX2",
+                "16 lanes, baseline",
+            ] {
+                let mut best = f64::INFINITY;
+                for _ in 0..5 {
+                    let t0 = std::time::Instant::now();
+                    match name {
+                        "exact_omegas" => exact_omegas([1.0, 2.0, 3.0], &EYE, 0, ws, &ts, &mut out),
+                        "one by one" => {
+                            for (w, o) in ws.iter().zip(out.chunks_mut(nt)) {
+                                omegas_one_by_one([1.0, 2.0, 3.0], &EYE, &radicals, 0, *w, &ts, o)
+                            }
+                        }
+                        "8 lanes" => omegas_in_lanes::<8>(
+                            [1.0, 2.0, 3.0],
+                            &EYE,
+                            &radicals,
+                            ws,
+                            &ts,
+                            &mut out,
+                        ),
+                        "16 lanes" => omegas_in_lanes::<16>(
+                            [1.0, 2.0, 3.0],
+                            &EYE,
+                            &radicals,
+                            ws,
+                            &ts,
+                            &mut out,
+                        ),
+                        #[cfg(target_arch = "x86_64")]
+                        "16 lanes, AVX2" => {
+                            if !std::arch::is_x86_feature_detected!("avx2")
+                                || !std::arch::is_x86_feature_detected!("fma")
+                            {
+                                break;
+                            }
+                            // SAFETY: the CPU has the features.
+                            unsafe {
+                                omegas_in_lanes_avx2::<16>(
+                                    [1.0, 2.0, 3.0],
+                                    &EYE,
+                                    &radicals,
+                                    ws,
+                                    &ts,
+                                    &mut out,
+                                )
+                            }
+                        }
+                        "64 lanes" => omegas_in_lanes::<64>(
+                            [1.0, 2.0, 3.0],
+                            &EYE,
+                            &radicals,
+                            ws,
+                            &ts,
+                            &mut out,
+                        ),
+                        #[cfg(target_arch = "x86_64")]
+                        "32 lanes, AVX2" => {
+                            if !std::arch::is_x86_feature_detected!("avx2")
+                                || !std::arch::is_x86_feature_detected!("fma")
+                            {
+                                break;
+                            }
+                            // SAFETY: the CPU has the features.
+                            unsafe {
+                                omegas_in_lanes_avx2::<32>(
+                                    [1.0, 2.0, 3.0],
+                                    &EYE,
+                                    &radicals,
+                                    ws,
+                                    &ts,
+                                    &mut out,
+                                )
+                            }
+                        }
+                        "16 lanes, baseline" => omegas_in_lanes_any::<16>(
+                            [1.0, 2.0, 3.0],
+                            &EYE,
+                            &radicals,
+                            ws,
+                            &ts,
+                            &mut out,
+                        ),
+                        _ => omegas_in_lanes::<32>(
+                            [1.0, 2.0, 3.0],
+                            &EYE,
+                            &radicals,
+                            ws,
+                            &ts,
+                            &mut out,
+                        ),
+                    }
+                    best = best.min(t0.elapsed().as_secs_f64());
+                }
+                eprintln!(
+                    "{nt:4} times, {name:18}: {:.3e} /s",
+                    (ws.len() * nt) as f64 / best
+                );
+            }
+        }
     }
 }

@@ -5,7 +5,10 @@
 //! as `RuntimeError`, never as a crash or a `PanicException`.
 
 use numpy::ndarray::{Array1, Array2, Array3, Array4, ArrayD, IxDyn};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayDyn, PyReadonlyArrayDyn};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayDyn, PyReadonlyArrayDyn,
+    PyUntypedArrayMethods,
+};
 use poinsot_core::so3::{Mat3, Vec3};
 use poinsot_core::{elliptic, freebody, torque_free};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -65,9 +68,14 @@ fn vecs3(a: &Arr<'_>, name: &str) -> PyResult<Vec<Vec3>> {
     if v.ndim() != 2 || v.shape()[1] != 3 {
         return Err(shape_error(name, "(N, 3)", v.shape()));
     }
-    Ok((0..v.shape()[0])
-        .map(|i| [v[[i, 0]], v[[i, 1]], v[[i, 2]]])
-        .collect())
+    if let Some(flat) = a.is_c_contiguous().then(|| a.as_slice().ok()).flatten() {
+        // C order: the rows one after another
+        return Ok(flat.chunks_exact(3).map(|r| [r[0], r[1], r[2]]).collect());
+    }
+    let v = v
+        .into_dimensionality::<numpy::ndarray::Ix2>()
+        .expect("two axes");
+    Ok(v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect())
 }
 
 fn mats3(a: &Arr<'_>, name: &str) -> PyResult<Vec<Mat3>> {
