@@ -250,7 +250,7 @@ def case_exact_ensemble(repeat):
             per_loop,
             err,
             None,
-            "target ≥ 10⁶ members/s; error column: vectorised vs single",
+            "goal ≥ 10⁷ closed forms/s; error column: vectorised vs single",
         )
     ]
 
