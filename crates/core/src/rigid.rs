@@ -353,87 +353,6 @@ pub fn initial_state(
     out
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::invariants::principal_invariants;
-
-    fn body(moments: Vec3, rotor: i32) -> Body {
-        let a = [
-            [moments[0], 0.0, 0.0],
-            [0.0, moments[1], 0.0],
-            [0.0, 0.0, moments[2]],
-        ];
-        Body::from_slice(&Body::vector(
-            1.0, moments, [0.0; 3], &a, [0.0; 3], false, rotor,
-        ))
-        .unwrap()
-    }
-
-    #[test]
-    fn torque_free_euler_keeps_energy_and_momentum_rates_zero() {
-        // d/dt (½ Σ I ω²) = Σ I ω ω̇ = 0 and d/dt |Iω|² = 0 under (27)–(29)
-        let m = [1.0, 2.0, 3.5];
-        let inv = [1.0, 0.5, 1.0 / 3.5];
-        let w = [0.3, -1.1, 0.8];
-        let d = omega_dot_principal(m, inv, w, [0.0; 3]);
-        let de: f64 = (0..3).map(|k| m[k] * w[k] * d[k]).sum();
-        let dl: f64 = (0..3).map(|k| m[k] * m[k] * w[k] * d[k]).sum();
-        assert!(de.abs() < 1e-15 && dl.abs() < 1e-15);
-    }
-
-    #[test]
-    fn free_rotor_flows_keep_momentum_and_energy() {
-        for (moments, rotor) in [
-            ([1.0, 2.0, 3.0], -1),
-            ([1.0, 3.0, 3.0], 0),
-            ([2.0, 2.0, 3.0], 2),
-        ] {
-            let b = body(moments, rotor);
-            let mut z = [0.0; STATE_SIZE];
-            z[Q_AT] = 1.0;
-            z[Q_AT + 4] = 1.0;
-            z[Q_AT + 8] = 1.0;
-            let pi0 = [0.4, 1.3, -0.7];
-            z[OMEGA_AT..OMEGA_AT + 3].copy_from_slice(&pi0);
-            let spatial = |z: &[f64]| {
-                let p = [z[OMEGA_AT], z[OMEGA_AT + 1], z[OMEGA_AT + 2]];
-                [0, 1, 2].map(|r| (0..3).map(|k| z[Q_AT + 3 * r + k] * p[k]).sum::<f64>())
-            };
-            let l0 = spatial(&z);
-            for _ in 0..1000 {
-                free_rotor_step(&b, &mut z, 0.01);
-            }
-            let l1 = spatial(&z);
-            for k in 0..3 {
-                assert!((l0[k] - l1[k]).abs() < 1e-12, "{rotor} {}", l0[k] - l1[k]);
-            }
-            assert!(orthogonality_error(&z) < 1e-13);
-            if rotor >= 0 {
-                // the symmetric rotor's flow is exact: energy kept to round-off
-                let w0 = [0, 1, 2].map(|k| pi0[k] / moments[k]);
-                let w1 = [0, 1, 2].map(|k| z[OMEGA_AT + k] / moments[k]);
-                let (k0, _) = principal_invariants(moments, w0);
-                let (k1, _) = principal_invariants(moments, w1);
-                assert!((k0 - k1).abs() < 1e-13);
-            }
-        }
-    }
-
-    #[test]
-    fn frames_round_trip() {
-        let axes = exp_so3([0.3, -0.2, 0.9]);
-        let y: Vec<f64> = (0..STATE_SIZE).map(|k| (k as f64).sin()).collect();
-        let mut z = [0.0; STATE_SIZE];
-        let mut back = [0.0; STATE_SIZE];
-        state_to_principal(&axes, &y, &mut z);
-        state_from_principal(&axes, &z, &mut back);
-        for k in 0..STATE_SIZE {
-            assert!((back[k] - y[k]).abs() < 1e-15);
-        }
-    }
-}
-
 /// Position of a particle of a rigid motion, `r = Q u + R` (the rigidity theorem of
 /// `docs/theory.md` §1).
 #[inline(always)]
@@ -558,4 +477,85 @@ pub fn body_parameters(
         rotor_code(m, SYMMETRY_RTOL),
     );
     (params, degenerate)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::invariants::principal_invariants;
+
+    fn body(moments: Vec3, rotor: i32) -> Body {
+        let a = [
+            [moments[0], 0.0, 0.0],
+            [0.0, moments[1], 0.0],
+            [0.0, 0.0, moments[2]],
+        ];
+        Body::from_slice(&Body::vector(
+            1.0, moments, [0.0; 3], &a, [0.0; 3], false, rotor,
+        ))
+        .unwrap()
+    }
+
+    #[test]
+    fn torque_free_euler_keeps_energy_and_momentum_rates_zero() {
+        // d/dt (½ Σ I ω²) = Σ I ω ω̇ = 0 and d/dt |Iω|² = 0 under (27)–(29)
+        let m = [1.0, 2.0, 3.5];
+        let inv = [1.0, 0.5, 1.0 / 3.5];
+        let w = [0.3, -1.1, 0.8];
+        let d = omega_dot_principal(m, inv, w, [0.0; 3]);
+        let de: f64 = (0..3).map(|k| m[k] * w[k] * d[k]).sum();
+        let dl: f64 = (0..3).map(|k| m[k] * m[k] * w[k] * d[k]).sum();
+        assert!(de.abs() < 1e-15 && dl.abs() < 1e-15);
+    }
+
+    #[test]
+    fn free_rotor_flows_keep_momentum_and_energy() {
+        for (moments, rotor) in [
+            ([1.0, 2.0, 3.0], -1),
+            ([1.0, 3.0, 3.0], 0),
+            ([2.0, 2.0, 3.0], 2),
+        ] {
+            let b = body(moments, rotor);
+            let mut z = [0.0; STATE_SIZE];
+            z[Q_AT] = 1.0;
+            z[Q_AT + 4] = 1.0;
+            z[Q_AT + 8] = 1.0;
+            let pi0 = [0.4, 1.3, -0.7];
+            z[OMEGA_AT..OMEGA_AT + 3].copy_from_slice(&pi0);
+            let spatial = |z: &[f64]| {
+                let p = [z[OMEGA_AT], z[OMEGA_AT + 1], z[OMEGA_AT + 2]];
+                [0, 1, 2].map(|r| (0..3).map(|k| z[Q_AT + 3 * r + k] * p[k]).sum::<f64>())
+            };
+            let l0 = spatial(&z);
+            for _ in 0..1000 {
+                free_rotor_step(&b, &mut z, 0.01);
+            }
+            let l1 = spatial(&z);
+            for k in 0..3 {
+                assert!((l0[k] - l1[k]).abs() < 1e-12, "{rotor} {}", l0[k] - l1[k]);
+            }
+            assert!(orthogonality_error(&z) < 1e-13);
+            if rotor >= 0 {
+                // the symmetric rotor's flow is exact: energy kept to round-off
+                let w0 = [0, 1, 2].map(|k| pi0[k] / moments[k]);
+                let w1 = [0, 1, 2].map(|k| z[OMEGA_AT + k] / moments[k]);
+                let (k0, _) = principal_invariants(moments, w0);
+                let (k1, _) = principal_invariants(moments, w1);
+                assert!((k0 - k1).abs() < 1e-13);
+            }
+        }
+    }
+
+    #[test]
+    fn frames_round_trip() {
+        let axes = exp_so3([0.3, -0.2, 0.9]);
+        let y: Vec<f64> = (0..STATE_SIZE).map(|k| (k as f64).sin()).collect();
+        let mut z = [0.0; STATE_SIZE];
+        let mut back = [0.0; STATE_SIZE];
+        state_to_principal(&axes, &y, &mut z);
+        state_from_principal(&axes, &z, &mut back);
+        for k in 0..STATE_SIZE {
+            assert!((back[k] - y[k]).abs() < 1e-15);
+        }
+    }
 }
