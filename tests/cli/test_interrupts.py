@@ -228,8 +228,9 @@ def test_the_watchdog_ends_a_program_that_swallows_the_interrupt(tmp_path):
             (work / "half.png").write_bytes(b"half")
             print("writing", flush=True)
             while True:
-                try:
-                    time.sleep(0.05)
+                try:  # the whole loop inside: the interrupt is swallowed wherever it lands
+                    while True:
+                        time.sleep(0.05)
                 except KeyboardInterrupt:
                     pass  # swallowed
         """)], env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
