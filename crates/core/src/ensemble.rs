@@ -5,7 +5,7 @@
 //! (its own inertia, or the body every member shares), its principal axes, its built-in
 //! forces and its body-frame initial state. [`run_member`] integrates it with the systems of
 //! [`crate::systems`] ([`TorqueFree`] without forces or pivot, [`Rigid`] otherwise) and the
-//! drivers of [`crate::drivers`] ([`run_fixed`] with any [`FixedMethod`], [`run_adaptive`]),
+//! drivers of [`crate::drivers`] ([`crate::drivers::run_fixed`] with any [`FixedMethod`], [`run_adaptive`]),
 //! watching its flips with the [`FlipObserver`]; [`run_members`] runs a chunk of members on
 //! the current rayon pool. A member's arithmetic depends on nothing but its own data, so its
 //! result is the same bit for bit whatever the chunking or the number of threads, and equal to
@@ -25,8 +25,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rayon::prelude::*;
 
 use crate::drivers::{
-    run_adaptive, run_fixed, AdaptiveState, Clock, Counters, Erk, FixedMethod, Output, Rk4Rigid,
-    Rkmk, Sampling, Splitting, Status,
+    run_adaptive, run_fixed_native, AdaptiveState, Clock, Counters, Erk, FixedMethod, Output,
+    Rk4Rigid, Rkmk, Sampling, Splitting, Status,
 };
 use crate::forces::Force;
 use crate::inertia::{parallel_axis, principal_decomposition};
@@ -399,7 +399,7 @@ fn integrate<S: RigidStructure, O: Observer>(
         Method::Rk4 => fixed(sys, &mut Rk4Rigid, z0, &mut z, |m, z| {
             resume(stop, || {
                 let (c, o, k) = (&mut clock, &mut out, &mut k);
-                run_fixed(
+                run_fixed_native(
                     sys,
                     m,
                     obs,
@@ -416,7 +416,7 @@ fn integrate<S: RigidStructure, O: Observer>(
         Method::Erk(tab) => fixed(sys, &mut Erk::new(tab, STATE_SIZE), z0, &mut z, |m, z| {
             resume(stop, || {
                 let (c, o, k) = (&mut clock, &mut out, &mut k);
-                run_fixed(
+                run_fixed_native(
                     sys,
                     m,
                     obs,
@@ -433,7 +433,7 @@ fn integrate<S: RigidStructure, O: Observer>(
         Method::Rkmk(tab) => fixed(sys, &mut Rkmk::new(tab, STATE_SIZE), z0, &mut z, |m, z| {
             resume(stop, || {
                 let (c, o, k) = (&mut clock, &mut out, &mut k);
-                run_fixed(
+                run_fixed_native(
                     sys,
                     m,
                     obs,
@@ -450,7 +450,7 @@ fn integrate<S: RigidStructure, O: Observer>(
         Method::Splitting => fixed(sys, &mut Splitting, z0, &mut z, |m, z| {
             resume(stop, || {
                 let (c, o, k) = (&mut clock, &mut out, &mut k);
-                run_fixed(
+                run_fixed_native(
                     sys,
                     m,
                     obs,
@@ -762,7 +762,7 @@ mod tests {
         let mut t_out = vec![0.0; t_eval.len()];
         let mut y_out = vec![0.0; t_eval.len() * STATE_SIZE];
         let mut k = Counters::default();
-        let status = run_fixed(
+        let status = run_fixed_native(
             &sys,
             &mut Rk4Rigid,
             &mut NoObserver,

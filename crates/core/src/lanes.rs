@@ -159,16 +159,16 @@ impl Observer for BlockFlips {
         if !any {
             return;
         }
+        // the lanes that flipped take the new time, the others keep theirs: written without
+        // branches, so that the whole block is a few vector instructions
         for l in 0..LANES {
             let (a, b) = (a[l], b[l]);
-            if (a < 0.0 && b >= 0.0) || (a > 0.0 && b <= 0.0) {
-                let t = t0 + (t1 - t0) * a / (a - b);
-                if self.count[l] == 0.0 {
-                    self.first[l] = t;
-                }
-                self.last[l] = t;
-                self.count[l] += 1.0;
-            }
+            let flip = (a < 0.0 && b >= 0.0) | (a > 0.0 && b <= 0.0);
+            let t = t0 + (t1 - t0) * a / (a - b);
+            let fresh = flip & (self.count[l] == 0.0);
+            self.first[l] = if fresh { t } else { self.first[l] };
+            self.last[l] = if flip { t } else { self.last[l] };
+            self.count[l] += if flip { 1.0 } else { 0.0 };
         }
     }
 }

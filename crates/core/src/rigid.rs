@@ -45,20 +45,40 @@ pub fn omega_dot_free(c: Vec3, w: Vec3) -> Vec3 {
     [c[0] * w[1] * w[2], c[1] * w[2] * w[0], c[2] * w[0] * w[1]]
 }
 
-/// `Q̇ = QΩ` (09): row i of `Q̇` is `q_i × ω` (Q row-major, ω body components).
+/// Row `i` of `Q̇ = QΩ` (09): `q_i × ω` (`q_i` row i of Q, ω body components). Each row of
+/// the attitude moves on its own, driven by ω.
+#[inline(always)]
+pub fn attitude_row_rate(q: &[f64; 3], w: Vec3) -> [f64; 3] {
+    attitude_row_rate_f::<false>(q, w)
+}
+
+/// [`attitude_row_rate`], each difference of products fused (one rounding) or not.
+#[inline(always)]
+pub fn attitude_row_rate_f<const FUSED: bool>(q: &[f64; 3], w: Vec3) -> [f64; 3] {
+    let [w0, w1, w2] = w;
+    if FUSED {
+        [
+            q[1].mul_add(w2, -(q[2] * w1)),
+            q[2].mul_add(w0, -(q[0] * w2)),
+            q[0].mul_add(w1, -(q[1] * w0)),
+        ]
+    } else {
+        [
+            q[1] * w2 - q[2] * w1,
+            q[2] * w0 - q[0] * w2,
+            q[0] * w1 - q[1] * w0,
+        ]
+    }
+}
+
+/// `Q̇ = QΩ` (09), row by row ([`attitude_row_rate`]; Q row-major, ω body components).
 #[inline(always)]
 pub fn attitude_rate(q: &[f64], w: Vec3) -> [f64; 9] {
-    let [w0, w1, w2] = w;
+    let r0 = attitude_row_rate(&[q[0], q[1], q[2]], w);
+    let r1 = attitude_row_rate(&[q[3], q[4], q[5]], w);
+    let r2 = attitude_row_rate(&[q[6], q[7], q[8]], w);
     [
-        q[1] * w2 - q[2] * w1,
-        q[2] * w0 - q[0] * w2,
-        q[0] * w1 - q[1] * w0,
-        q[4] * w2 - q[5] * w1,
-        q[5] * w0 - q[3] * w2,
-        q[3] * w1 - q[4] * w0,
-        q[7] * w2 - q[8] * w1,
-        q[8] * w0 - q[6] * w2,
-        q[6] * w1 - q[7] * w0,
+        r0[0], r0[1], r0[2], r1[0], r1[1], r1[2], r2[0], r2[1], r2[2],
     ]
 }
 

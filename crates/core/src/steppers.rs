@@ -118,6 +118,87 @@ pub fn rk4_registers<const N: usize>(
     o
 }
 
+/// Classical RK4 on an autonomous *driver* `x' = f(x)`: the new value and the four stage
+/// points `x, x + h/2 k1, x + h/2 k2, x + h k3` at which a driven state is evaluated
+/// ([`rk4_driven`]). The driver's part of [`rk4_registers`] on the pair, bit for bit.
+#[inline(always)]
+pub fn rk4_driver<const N: usize, const FUSED: bool>(
+    f: impl Fn(&[f64; N]) -> [f64; N],
+    x: &[f64; N],
+    h: f64,
+) -> ([f64; N], [[f64; N]; 4]) {
+    let half = 0.5 * h;
+    let k1 = f(x);
+    let x2 = axpy_f::<N, FUSED>(x, half, &k1);
+    let k2 = f(&x2);
+    let x3 = axpy_f::<N, FUSED>(x, half, &k2);
+    let k3 = f(&x3);
+    let x4 = axpy_f::<N, FUSED>(x, h, &k3);
+    let k4 = f(&x4);
+    (
+        rk4_update::<N, FUSED>(x, h, [&k1, &k2, &k3, &k4]),
+        [*x, x2, x3, x4],
+    )
+}
+
+/// `a b + c`, fused (one rounding) or not.
+#[inline(always)]
+pub fn madd<const FUSED: bool>(a: f64, b: f64, c: f64) -> f64 {
+    if FUSED {
+        a.mul_add(b, c)
+    } else {
+        a * b + c
+    }
+}
+
+#[inline(always)]
+fn axpy_f<const N: usize, const FUSED: bool>(y: &[f64; N], a: f64, k: &[f64; N]) -> [f64; N] {
+    let mut o = [0.0; N];
+    for i in 0..N {
+        o[i] = madd::<FUSED>(a, k[i], y[i]);
+    }
+    o
+}
+
+/// RK4's update `y + h/6 (k1 + 2 k2 + 2 k3 + k4)`.
+#[inline(always)]
+fn rk4_update<const N: usize, const FUSED: bool>(
+    y: &[f64; N],
+    h: f64,
+    k: [&[f64; N]; 4],
+) -> [f64; N] {
+    let c = h / 6.0;
+    let mut o = [0.0; N];
+    for i in 0..N {
+        o[i] = if FUSED {
+            let s = 2.0f64.mul_add(k[2][i], 2.0f64.mul_add(k[1][i], k[0][i])) + k[3][i];
+            c.mul_add(s, y[i])
+        } else {
+            y[i] + c * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i])
+        };
+    }
+    o
+}
+
+/// Classical RK4 on a state `z' = g(z, x)` driven by a driver whose stage points are given
+/// ([`rk4_driver`]): the driven part of [`rk4_registers`] on the pair `(z, x)`, bit for bit,
+/// with only `z`'s numbers live — a system that splits into a driver and small driven parts
+/// keeps each part in registers.
+#[inline(always)]
+pub fn rk4_driven<const M: usize, const N: usize, const FUSED: bool>(
+    g: impl Fn(&[f64; M], [f64; N]) -> [f64; M],
+    z: &[f64; M],
+    stages: &[[f64; N]; 4],
+    h: f64,
+) -> [f64; M] {
+    let half = 0.5 * h;
+    let k1 = g(z, stages[0]);
+    let k2 = g(&axpy_f::<M, FUSED>(z, half, &k1), stages[1]);
+    let k3 = g(&axpy_f::<M, FUSED>(z, half, &k2), stages[2]);
+    let k4 = g(&axpy_f::<M, FUSED>(z, h, &k3), stages[3]);
+    rk4_update::<M, FUSED>(z, h, [&k1, &k2, &k3, &k4])
+}
+
 /// `Q_out = Q_y E` on the attitude blocks of two states.
 #[inline(always)]
 fn rotate_attitude(y: &[f64], e: &Mat3, out: &mut [f64]) {

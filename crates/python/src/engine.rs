@@ -7,8 +7,8 @@ use std::cell::RefCell;
 
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadwriteArray1, PyReadwriteArray2};
 use poinsot_core::drivers::{
-    run_adaptive, run_fixed, AdaptiveState, Clock, Counters, Erk, FixedMethod, Output, Rk4Rigid,
-    Rkmk, Sampling, Splitting, Status,
+    run_adaptive, run_fixed_native, AdaptiveState, Clock, Counters, Erk, FixedMethod, Output,
+    Rk4Rigid, Rkmk, Sampling, Splitting, Status,
 };
 use poinsot_core::layout::STATE_SIZE;
 use poinsot_core::observers::{FlipObserver, NoObserver, Observer};
@@ -311,7 +311,7 @@ fn fixed<S: VectorField + ?Sized, M: FixedMethod<S>, O: Observer>(
     k: &mut Counters,
     steps: u64,
 ) -> Status {
-    run_fixed(
+    run_fixed_native(
         sys,
         m,
         obs,
