@@ -917,6 +917,152 @@ fn times_in_lanes<const N: usize>(
     true
 }
 
+/// What an ensemble asks of each motion without its time history: the polhode family (the
+/// case code of [`Regime`]), the period of ω(t) ([`Regime::period`]) and the time between
+/// flips ([`Regime::flip_interval`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Family {
+    pub case: u8,
+    pub period: f64,
+    pub flip_interval: f64,
+}
+
+impl Family {
+    /// The family, period and flip interval of a regime.
+    pub fn of(reg: &Regime) -> Family {
+        Family {
+            case: reg.case,
+            period: reg.period(),
+            flip_interval: reg.flip_interval(),
+        }
+    }
+}
+
+/// [`Family`] of each torque-free motion from the body-frame ω `ws` into `out`: bodies with
+/// three distinct moments [`WIDTH`] members at a time in SIMD lanes (the regime's elliptic
+/// fields as [`LaneMotion::new`] makes them for ω(t): `4K/λ`, `2K/λ`, the pole), each lane
+/// bit for bit its member's [`regime_of`]; the lanes off the plain elliptic case, and
+/// symmetric bodies, one by one. Blocks of members are shared among rayon's threads.
+pub fn families(moments: Vec3, s: &Mat3, symmetry: u8, ws: &[Vec3], out: &mut [Family]) {
+    assert_eq!(out.len(), ws.len(), "families: `out` has the wrong length");
+    let radicals = Radicals::new(moments);
+    let block = |ws: &[Vec3], out: &mut [Family]| {
+        if symmetry == 0 {
+            families_in_lanes::<WIDTH>(moments, s, &radicals, ws, out);
+        } else {
+            for (w, o) in ws.iter().zip(out.iter_mut()) {
+                *o = Family::of(&Regime::with(
+                    moments,
+                    &radicals,
+                    symmetry,
+                    to_sorted(s, *w),
+                ));
+            }
+        }
+    };
+    if ws.len() >= PARALLEL_MIN {
+        ws.par_chunks(FAMILY_BLOCK)
+            .zip(out.par_chunks_mut(FAMILY_BLOCK))
+            .for_each(|(w, o)| block(w, o));
+    } else {
+        block(ws, out);
+    }
+}
+
+/// Members per rayon task of [`families`].
+const FAMILY_BLOCK: usize = 4096;
+
+/// [`families`] of a body with three distinct moments in lanes, the instruction set chosen at
+/// run time (as [`omegas_in_lanes`]).
+fn families_in_lanes<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    radicals: &Radicals,
+    ws: &[Vec3],
+    out: &mut [Family],
+) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512dq")
+        {
+            // SAFETY: the CPU has the features the function is compiled for.
+            return unsafe { families_in_lanes_avx512::<N>(moments, s, radicals, ws, out) };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: as above.
+            return unsafe { families_in_lanes_avx2::<N>(moments, s, radicals, ws, out) };
+        }
+    }
+    families_in_lanes_any::<N>(moments, s, radicals, ws, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma,bmi2")]
+unsafe fn families_in_lanes_avx512<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    radicals: &Radicals,
+    ws: &[Vec3],
+    out: &mut [Family],
+) {
+    families_in_lanes_any::<N>(moments, s, radicals, ws, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi2")]
+unsafe fn families_in_lanes_avx2<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    radicals: &Radicals,
+    ws: &[Vec3],
+    out: &mut [Family],
+) {
+    families_in_lanes_any::<N>(moments, s, radicals, ws, out)
+}
+
+/// Groups of `N` members in the lanes (lanes past the last member repeat it, their results
+/// dropped); a lane off the plain case gets its member's own [`Regime`].
+#[inline(always)]
+fn families_in_lanes_any<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    radicals: &Radicals,
+    ws: &[Vec3],
+    out: &mut [Family],
+) {
+    for (wg, og) in ws.chunks(N).zip(out.chunks_mut(N)) {
+        let lanes = wg.len();
+        let mut w = [Wide::<N>::default(); 3];
+        for l in 0..N {
+            let v = wg[l.min(lanes - 1)];
+            for c in 0..3 {
+                w[c].0[l] = v[c];
+            }
+        }
+        let (motion, plain) = LaneMotion::new(moments, radicals, to_sorted(s, w));
+        // the formulas of Regime::period and Regime::flip_interval, lane by lane
+        let period = Wide::<N>::splat(4.0) * motion.quarter / motion.lam;
+        let flip = Wide::<N>::splat(2.0) * motion.quarter / motion.lam;
+        for (l, o) in og.iter_mut().enumerate() {
+            *o = if plain.get(l) {
+                Family {
+                    case: if motion.e3.get(l) {
+                        AROUND_E3
+                    } else {
+                        AROUND_E1
+                    },
+                    period: period.0[l],
+                    flip_interval: flip.0[l],
+                }
+            } else {
+                Family::of(&Regime::with(moments, radicals, 0, to_sorted(s, wg[l])))
+            };
+        }
+    }
+}
+
 /// `Q(t)` (body → space) of the torque-free motions from the body-frame ω `ws` and attitudes
 /// `q0s` (one per member, or one shared), at the times `ts`, into `out` (member-major).
 pub fn exact_attitudes(
@@ -1286,6 +1432,58 @@ mod tests {
                 "{moments:?}: {plain} of {}",
                 ws.len()
             );
+        }
+    }
+
+    #[test]
+    fn families_in_lanes_equal_each_members_regime_bit_for_bit() {
+        // the members of the ω lanes' test (near the axes, the separatrix, extreme scales),
+        // many of them, so that the threads' blocks and a partial group of lanes run
+        let base = sample_omegas();
+        let ws: Vec<Vec3> = (0..PARALLEL_MIN + 77)
+            .map(|i| base[i % base.len()].map(|x| x * (1.0 + (i / base.len()) as f64 * 1e-3)))
+            .collect();
+        for (moments, symmetry) in [
+            ([1.0, 2.0, 3.0], 0),
+            ([0.2, 1.5, 10.0], 0),
+            ([1.0, 2.0, 2.25], 0),
+            ([1.0, 2.0, 2.0], 2),
+        ] {
+            let s = zxz_matrix(0.3, 1.1, -0.7);
+            let want: Vec<Family> = ws
+                .iter()
+                .map(|w| Family::of(&regime_of(moments, &s, symmetry, *w)))
+                .collect();
+            let mut got = vec![Family::default(); ws.len()];
+            let mut runs: Vec<(&str, Vec<Family>)> = Vec::new();
+            families(moments, &s, symmetry, &ws, &mut got);
+            runs.push(("families", got.clone()));
+            families(moments, &s, symmetry, &ws[..100], &mut got[..100]);
+            runs.push(("few members, one thread", got.clone()));
+            if symmetry == 0 {
+                let radicals = Radicals::new(moments);
+                families_in_lanes_any::<WIDTH>(moments, &s, &radicals, &ws, &mut got);
+                runs.push(("baseline", got.clone()));
+                families_in_lanes::<8>(moments, &s, &radicals, &ws, &mut got);
+                runs.push(("8 lanes", got.clone()));
+            }
+            for (name, got) in &runs {
+                for (i, (a, b)) in got.iter().zip(&want).enumerate() {
+                    assert!(
+                        a.case == b.case
+                            && same(a.period, b.period)
+                            && same(a.flip_interval, b.flip_interval),
+                        "{name} {moments:?} member {:?}: {a:?} {b:?}",
+                        ws[i]
+                    );
+                }
+            }
+            // every family occurs where the body has them
+            if symmetry == 0 {
+                for case in [AROUND_E1, AROUND_E3, FIXED] {
+                    assert!(want.iter().any(|f| f.case == case), "{moments:?} {case}");
+                }
+            }
         }
     }
 

@@ -266,57 +266,33 @@ fn torque_free_regimes<'py>(
     Ok(a.into_pyarray(py))
 }
 
-fn per_member<'py>(
+/// The family code, period of ω(t) and flip interval (N, 3) of the motions from body-frame ω
+/// `w` (N, 3): `torque_free::families` (`Regime::case`, `Regime::period`,
+/// `Regime::flip_interval`, in SIMD lanes and on rayon's threads).
+#[pyfunction]
+fn torque_free_families<'py>(
     py: Python<'py>,
     moments: Arr<'py>,
     axes: Arr<'py>,
     symmetry: i64,
     w: Arr<'py>,
-    f: fn(&torque_free::Regime) -> f64,
-) -> PyResult<Bound<'py, PyArray1<f64>>> {
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let (i, s, code, ws) = (
         vec3(&moments, "moments")?,
         mat3(&axes, "axes")?,
         self::symmetry(symmetry)?,
         vecs3(&w, "w")?,
     );
-    let out = detached(py, || {
-        ws.iter()
-            .map(|&w| f(&torque_free::regime_of(i, &s, code, w)))
+    let rows = detached(py, || {
+        let mut out = vec![torque_free::Family::default(); ws.len()];
+        torque_free::families(i, &s, code, &ws, &mut out);
+        out.iter()
+            .flat_map(|f| [f.case as f64, f.period, f.flip_interval])
             .collect::<Vec<f64>>()
     })?;
-    Ok(Array1::from(out).into_pyarray(py))
-}
-
-/// The periods of ω(t) (N,) of the motions from `w` (N, 3): `Regime::period`.
-#[pyfunction]
-fn torque_free_periods<'py>(
-    py: Python<'py>,
-    moments: Arr<'py>,
-    axes: Arr<'py>,
-    symmetry: i64,
-    w: Arr<'py>,
-) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    per_member(py, moments, axes, symmetry, w, torque_free::Regime::period)
-}
-
-/// The flip intervals (N,) of the motions from `w` (N, 3): `Regime::flip_interval`.
-#[pyfunction]
-fn torque_free_flip_intervals<'py>(
-    py: Python<'py>,
-    moments: Arr<'py>,
-    axes: Arr<'py>,
-    symmetry: i64,
-    w: Arr<'py>,
-) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    per_member(
-        py,
-        moments,
-        axes,
-        symmetry,
-        w,
-        torque_free::Regime::flip_interval,
-    )
+    let a = Array2::from_shape_vec((ws.len(), 3), rows)
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok(a.into_pyarray(py))
 }
 
 /// ω(t) (N, n, 3), body frame, of the motions from body-frame ω `w` (N, 3) at the times `t`
@@ -552,8 +528,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(carlson_rf, m)?)?;
     m.add_function(wrap_pyfunction!(carlson_rj, m)?)?;
     m.add_function(wrap_pyfunction!(torque_free_regimes, m)?)?;
-    m.add_function(wrap_pyfunction!(torque_free_periods, m)?)?;
-    m.add_function(wrap_pyfunction!(torque_free_flip_intervals, m)?)?;
+    m.add_function(wrap_pyfunction!(torque_free_families, m)?)?;
     m.add_function(wrap_pyfunction!(torque_free_omegas, m)?)?;
     m.add_function(wrap_pyfunction!(torque_free_attitudes, m)?)?;
     m.add_function(wrap_pyfunction!(fixed_point_attitudes, m)?)?;

@@ -90,6 +90,10 @@ class SolutionMixin:
         """The regime rows (N, ``REGIME["size"]``) of the body-frame ω ``W`` (N, 3)."""
         return _core.torque_free_regimes(self._In, self._S, self._symmetry_code, W)
 
+    def _families(self, W):
+        """``(case, period, flip interval)`` (N, 3) of the body-frame ω ``W`` (N, 3)."""
+        return _core.torque_free_families(self._In, self._S, self._symmetry_code, W)
+
     # ----------------------------------------------------------------- invariants
     def invariants(self, omega):
         """``(k, a)``: rotational kinetic energy ``2k = Σ I_i ω_i²`` (30) and ``a = |L|`` (31);
@@ -112,7 +116,7 @@ class SolutionMixin:
         ``"separatrix"``, ``"fixed point"``, ``"symmetric"`` or ``"spherical"`` (an array of
         names for (N, 3))."""
         W, single = self._initial(omega0)
-        cases = self._regimes(W)[:, REGIME["case"]].astype(int)
+        cases = self._families(W)[:, 0].astype(int)
         names = np.array(CASE_NAMES)[cases]
         return str(names[0]) if single else names
 
@@ -121,7 +125,7 @@ class SolutionMixin:
         ``inf`` on the separatrix. At a fixed point, where ω is constant, one ``omega0`` raises
         ``ValueError`` and an array gives NaN."""
         W, single = self._initial(omega0)
-        out = _core.torque_free_periods(self._In, self._S, self._symmetry_code, W)
+        out = self._families(W)[:, 1]
         if single and math.isnan(out[0]):
             raise ValueError("`omega0` is a fixed point: ω(t) is constant and has no period")
         return float(out[0]) if single else out
@@ -139,7 +143,7 @@ class SolutionMixin:
             raise ValueError(
                 f"flip_interval needs three distinct `moments`; this body is {self.symmetry}"
             )
-        out = _core.torque_free_flip_intervals(self._In, self._S, self._symmetry_code, W)
+        out = self._families(W)[:, 2]
         if single and math.isnan(out[0]):
             raise ValueError("`omega0` is a fixed point: ω2 never changes sign, no flips")
         return float(out[0]) if single else out
