@@ -87,3 +87,70 @@ def test_non_terminal_events_count_every_crossing():
                                       resolution=101)  # fmt: skip
     np.testing.assert_allclose(log.t_events[0], [np.pi, 2 * np.pi, 3 * np.pi], rtol=1e-12)
     assert log.terminated_by is None and len(t) == 11
+
+
+@pytest.mark.parametrize("direction", [0, 1, -1])
+def test_an_event_evaluated_on_the_grid_at_once_finds_what_the_pointwise_event_finds(direction):
+    # sin t and cos 3t on a trivial segment, each event given pointwise and with `batch`:
+    # the same zeros, in the event's direction (sin: π, 2π, 3π; cos 3t: every π/3 from π/6)
+    def segment(ta, ya, tb, times):
+        return np.array([[np.sin(t), np.cos(3 * t)] for t in times])
+
+    def pointwise(c):
+        def g(t, y):
+            return y[c]
+
+        g.direction = direction
+        return g
+
+    def batched(c):
+        g = pointwise(c)
+        calls = []
+
+        def many(t, Y):
+            calls.append(len(t))
+            return Y[:, c]
+
+        g.batch = many
+        return g, calls
+
+    times = np.linspace(0, 10, 11)
+    plain = integrate_with_events(segment, [pointwise(0), pointwise(1)], 0.0, [0.0, 1.0], 10.0,
+                                  times, resolution=201)  # fmt: skip
+    (g0, c0), (g1, c1) = batched(0), batched(1)
+    fast = integrate_with_events(segment, [g0, g1], 0.0, [0.0, 1.0], 10.0, times,
+                                 resolution=201)  # fmt: skip
+    assert c0 == c1 == [201]  # the grid in one call each
+    for k in range(2):
+        np.testing.assert_array_equal(plain[2].t_events[k], fast[2].t_events[k])
+    zeros_sin = np.pi * np.arange(1, 4)
+    zeros_cos = np.pi / 6 + np.pi / 3 * np.arange(10)
+    zeros_cos = zeros_cos[zeros_cos < 10]
+    # sin falls through zero at odd multiples of π; cos 3t falls at π/6 + 2kπ/3
+    want_sin = {0: zeros_sin, 1: zeros_sin[1::2], -1: zeros_sin[::2]}[direction]
+    want_cos = {0: zeros_cos, 1: zeros_cos[1::2], -1: zeros_cos[::2]}[direction]
+    np.testing.assert_allclose(fast[2].t_events[0], want_sin, rtol=1e-12)
+    np.testing.assert_allclose(fast[2].t_events[1], want_cos, rtol=1e-12)
+
+
+def test_a_release_is_found_the_same_with_the_multipliers_of_the_grid_in_one_call(monkeypatch):
+    # the ladder's release with its multipliers evaluated state by state on the grid (the
+    # `batch` attribute hidden) and all at once: the same instant, bit for bit
+    import poinsot.integrate.events as ev
+
+    mdl = models.sliding_ladder()
+    th = mdl.symbols["theta"]
+    run = dict(q0={th: 0.3}, t_eval=np.linspace(0, 0.85, 86))
+    fast = mdl.simulate((0, 0.85), **run)
+    original = ev.normalize_events
+
+    def pointwise_only(events):
+        out = []
+        for g, terminal, direction in original(events):
+            out.append((lambda t, y, g=g: g(t, y), terminal, direction))
+        return out
+
+    monkeypatch.setattr(ev, "normalize_events", pointwise_only)
+    slow = mdl.simulate((0, 0.85), **run)
+    assert fast.releases[0][0] == slow.releases[0][0]
+    np.testing.assert_array_equal(fast.q, slow.q)

@@ -2,7 +2,10 @@
 :func:`scipy.integrate.solve_ivp`.
 
 An event is a callable ``g(t, y)`` with optional attributes ``terminal`` (bool: stop the run
-at its first zero) and ``direction`` (> 0: only rising zeros, < 0: only falling, 0: both).
+at its first zero), ``direction`` (> 0: only rising zeros, < 0: only falling, 0: both) and
+``batch`` (``batch(t, Y)`` → the values at many times ``t`` (S,) and states ``Y`` (S, d) at
+once, equal to ``g``'s: the grid below is then one call, as for the constrained systems'
+release of a one-sided constraint, whose multipliers the core computes for all states).
 :func:`integrate_with_events` runs any integrator given as a *segment* function
 ``segment(ta, ya, tb, times) → states at times`` (the integrator restarted from a state):
 
@@ -52,15 +55,14 @@ def normalize_events(events):
     return out
 
 
-def _crossed(a, b, direction):
-    if not (np.isfinite(a) and np.isfinite(b)) or a == b:
-        return False
-    rising, falling = a < 0 <= b, a > 0 >= b
-    if direction > 0:
-        return rising
-    if direction < 0:
-        return falling
-    return rising or falling
+def _crossings(G, directions):
+    """``hits[i, k]``: event k changes sign in its direction between grid points i and i + 1
+    (both values finite and different), for values ``G`` (len(grid), len(events))."""
+    a, b = G[:-1], G[1:]
+    ok = np.isfinite(a) & np.isfinite(b) & (a != b)
+    rising, falling = (a < 0) & (b >= 0), (a > 0) & (b <= 0)
+    d = np.asarray(directions, dtype=float).reshape(1, -1)
+    return ok & np.where(d > 0, rising, np.where(d < 0, falling, rising | falling))
 
 
 def integrate_with_events(segment, events, t0, y0, t1, times, *, resolution=2001):
@@ -84,11 +86,18 @@ def integrate_with_events(segment, events, t0, y0, t1, times, *, resolution=2001
     if not events:
         keep = np.isin(grid, times)
         return grid[keep], Y[keep], log
-    G = np.array([[float(g(t, y)) for g, _, _ in events] for t, y in zip(grid, Y, strict=True)])
+    G = np.empty((len(grid), len(events)))
+    for k, (g, _, _) in enumerate(events):
+        many = getattr(g, "batch", None)
+        if many is not None:  # the whole grid in one call
+            G[:, k] = np.asarray(many(grid, Y), dtype=float).reshape(len(grid))
+        else:
+            G[:, k] = [float(g(t, y)) for t, y in zip(grid, Y, strict=True)]
     stop = None
-    for i in range(len(grid) - 1):
-        for k, (g, terminal, direction) in enumerate(events):
-            if not _crossed(G[i, k], G[i + 1, k], direction):
+    hits = _crossings(G, [direction for _, _, direction in events])
+    for i in np.flatnonzero(hits.any(axis=1)):  # the grid intervals with a sign change
+        for k, (g, terminal, _) in enumerate(events):
+            if not hits[i, k]:
                 continue
             ta, ya = grid[i], Y[i]
 

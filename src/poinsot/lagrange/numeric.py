@@ -336,15 +336,7 @@ class LagrangianSolution(Displayable):
         self.system = system
         self.params = dict(num.params)
         #: values of the system's inputs at each sample (n_samples, k)
-        constant = getattr(num.u_of, "constant", None)
-        if num.u_of is None:
-            self.inputs = np.zeros((len(t), 0))
-        elif constant is not None:
-            self.inputs = np.tile(constant, (len(t), 1))
-        else:  # the user's functions, sample by sample
-            rows = zip(t, np.asarray(y)[:, :n], np.asarray(y)[:, n:], strict=True)
-            self.inputs = np.array([num.u_of(ti, qi, qdi) for ti, qi, qdi in rows])
-        self.inputs = self.inputs.reshape(len(t), len(system.inputs))
+        self.inputs = _input_values(num.u_of, t, y, n, len(system.inputs))
         self.coordinates = list(system.coordinates)
         self.t = np.asarray(t, dtype=float)
         self.q = np.asarray(y)[:, :n]
@@ -851,6 +843,19 @@ def simulate(
                             events, event_resolution, stabilization)  # fmt: skip
 
 
+def _input_values(u_of, t, y, n, k):
+    """The inputs ``u_of`` at samples ``t`` (S,), ``y`` (S, 2n): (S, k)."""
+    constant = getattr(u_of, "constant", None)
+    if u_of is None:
+        out = np.zeros((len(t), 0))
+    elif constant is not None:
+        out = np.tile(constant, (len(t), 1))
+    else:  # the user's functions, sample by sample
+        rows = zip(t, np.asarray(y)[:, :n], np.asarray(y)[:, n:], strict=True)
+        out = np.array([u_of(ti, qi, qdi) for ti, qi, qdi in rows])
+    return out.reshape(len(t), k)
+
+
 def _core_inputs(u_of):
     """The inputs as the core takes them: constants (an array), compiled expressions, or the
     Python function ``(t, q, qd)`` (the slow path)."""
@@ -900,7 +905,13 @@ def _simulate_phases(system, num, params, u_of, run, ode_of, y0, t0, t1, t_eval,
             def release(t, y, index=index, anum=anum, n=system.n_coordinates):
                 return anum.accelerations(t, y[:n], y[n:])[1][index]
 
-            release.terminal, release.direction = True, -1
+            def released(t, Y, column=k, anum=anum, n=system.n_coordinates):
+                # every grid state's multipliers in one call (the core's samples: λ of all
+                # constraints, NaN where not in play; NumPy's: the phase system's)
+                u = _input_values(u_of, t, Y, n, len(system.inputs))
+                return anum.batch(t, Y[:, :n], Y[:, n:], u)["lam"][:, column]
+
+            release.terminal, release.direction, release.batch = True, -1, released
             watch.append(release)
         times = t_eval[(t_eval >= ta) & (t_eval <= t1)]
         t, y, log = integrate_with_events(
