@@ -396,3 +396,44 @@ def test_the_core_names_bad_arguments(change, match):
     }  # fmt: skip
     with pytest.raises(ValueError, match=match):
         _core.run_ensemble(**{**args, **change})
+
+
+def _unaligned(a):
+    """A copy of ``a`` one byte into a buffer: C-contiguous but not aligned, as an array can
+    arrive on a Dask worker (unpickled from a message)."""
+    raw = np.zeros(a.nbytes + 1, dtype=np.uint8)
+    out = np.frombuffer(raw.data, dtype=a.dtype, count=a.size, offset=1).reshape(a.shape)
+    out[...] = a
+    assert not out.flags.aligned
+    return out
+
+
+@pytest.mark.parametrize("case", ["free rk4", "own moments rk4", "heavy top rk4"])
+def test_a_chunk_runs_the_same_from_unaligned_arrays(case):
+    # a Dask worker in another process can receive the chunk's arrays at odd offsets of the
+    # message; the core reads aligned memory, so they are realigned (copied) at the call
+    import dataclasses
+
+    from poinsot.ensemble.run import _prepare
+    from poinsot.ensemble.tasks import run_chunk
+
+    kw = dict(CASES[case])
+    spec, members = _prepare(
+        BODY, (0, T_END), W0, Q0, None, None, kw.pop("moments", None), None,
+        kw.pop("forces", ()), kw.pop("pivot", None), kw.pop("method"), kw.pop("dt", None),
+        None, None, T_EVAL, True, None, True,
+    )  # fmt: skip
+    task = members.task(2, 9)
+
+    def odd(obj):
+        fields = {
+            f.name: _unaligned(v)
+            for f in dataclasses.fields(obj)
+            if isinstance(v := getattr(obj, f.name), np.ndarray) and v.size
+        }
+        return dataclasses.replace(obj, **fields)
+
+    want, got = run_chunk(spec, task), run_chunk(odd(spec), odd(task))
+    assert np.isfinite(want.final).all()
+    np.testing.assert_array_equal(got.final, want.final)
+    np.testing.assert_array_equal(got.Y, want.Y)

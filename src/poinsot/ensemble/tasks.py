@@ -100,6 +100,13 @@ class ChunkSamples:
     V: np.ndarray
 
 
+def _native(x):
+    """``x`` as the core reads arrays: C-contiguous and aligned. An array unpickled on a
+    Dask worker can sit at an unaligned offset of the message's buffer; it is copied then,
+    else passed as it is (None too)."""
+    return None if x is None else np.require(x, requirements=("C", "A"))
+
+
 def run_chunk(spec: EnsembleSpec, task: ChunkTask, threads: int = 1) -> ChunkOutput:
     """Integrate one chunk in one call of the compiled core (:func:`poinsot._core.run_ensemble`,
     the members in parallel on ``threads`` threads): initial states, bodies and forces by
@@ -107,21 +114,23 @@ def run_chunk(spec: EnsembleSpec, task: ChunkTask, threads: int = 1) -> ChunkOut
     from .. import _core
 
     line = [0.0] * 3  # degenerate bodies are refused before any chunk runs
-    Y0 = _core.initial_states(task.Q, task.omega, task.R, task.V, list(spec.com), list(spec.c),
-                              list(spec.pivot), spec.has_pivot, line)  # fmt: skip
+    a = _native
+    Y0 = _core.initial_states(a(task.Q), a(task.omega), a(task.R), a(task.V), list(spec.com),
+                              list(spec.c), list(spec.pivot), spec.has_pivot, line)  # fmt: skip
     if task.inertia is not None:
-        bodies, axes, _ = _core.member_bodies(spec.mass, task.inertia, list(spec.c),
+        bodies, axes, _ = _core.member_bodies(spec.mass, a(task.inertia), list(spec.c),
                                               spec.has_pivot)  # fmt: skip
         inertia = task.inertia
     else:
         bodies, axes, inertia = spec.body_params[None], spec.axes, spec.inertia
     params = spec.force_params[None] if task.force_params is None else task.force_params
     keep = spec.keep_states or bool(spec.reductions)
+    a = _native  # arrays that crossed to a Dask worker may come unaligned
     (Y, final, energy, momentum, orthogonality, first, last, count, status, nsteps,
      nfev) = _core.run_ensemble(
-        spec.method_kind, spec.A, spec.B, spec.C, spec.control, spec.t0, spec.t1, spec.dt,
-        spec.t_eval, inertia, np.ascontiguousarray(bodies), axes, spec.force_kind,
-        np.ascontiguousarray(params), Y0, flips=spec.flips, keep_samples=keep, threads=threads,
+        spec.method_kind, a(spec.A), a(spec.B), a(spec.C), a(spec.control), spec.t0, spec.t1,
+        spec.dt, a(spec.t_eval), a(inertia), a(bodies), a(axes), a(spec.force_kind), a(params),
+        Y0, flips=spec.flips, keep_samples=keep, threads=threads,
     )  # fmt: skip
     return ChunkOutput(
         task.start, task.stop, Y if spec.keep_states else None, final, Y0, energy, momentum,
