@@ -154,3 +154,58 @@ def test_a_release_is_found_the_same_with_the_multipliers_of_the_grid_in_one_cal
     slow = mdl.simulate((0, 0.85), **run)
     assert fast.releases[0][0] == slow.releases[0][0]
     np.testing.assert_array_equal(fast.q, slow.q)
+
+
+@pytest.mark.parametrize("direction", [0, 1, -1])
+def test_an_expression_event_is_compiled_and_finds_the_functions_zeros(direction):
+    # the bob's horizontal offset l sin θ − 0.1 (a parameter in it), and θ̇: as SymPy
+    # expressions compiled in the core, and as Python functions of y = [θ, θ̇]: the same zeros
+    import sympy as sp
+
+    from poinsot.integrate.events import Event
+
+    mdl = models.pendulum_polar()
+    s = mdl.symbols
+    th, ell = s["theta"], s["l"]
+    length = mdl.params[ell]
+
+    def offset(t, y):
+        return length * np.sin(y[0]) - 0.1
+
+    def rate(t, y):
+        return y[1]
+
+    offset.direction = rate.direction = direction
+    by_function = mdl.simulate((0, 6), events=[offset, rate])
+    by_expression = mdl.simulate(
+        (0, 6),
+        events=[
+            Event(ell * sp.sin(th) - sp.Rational(1, 10), direction=direction),
+            Event(sp.diff(th), direction=direction),
+        ],
+    )
+    for k in range(2):
+        assert len(by_function.t_events[k]) >= 2
+        np.testing.assert_allclose(by_expression.t_events[k], by_function.t_events[k],
+                                   rtol=0, atol=1e-12)  # fmt: skip
+        np.testing.assert_allclose(by_expression.y_events[k], by_function.y_events[k],
+                                   rtol=0, atol=1e-10)  # fmt: skip
+    # a terminal expression ends the run at its zero, as the function does
+    stop = mdl.simulate((0, 6), events=Event(sp.diff(th), terminal=True, direction=1))
+    assert stop.terminated and stop.t[-1] == pytest.approx(stop.t_events[0][0], abs=0)
+
+
+def test_expression_events_are_refused_where_they_cannot_be_compiled():
+    import sympy as sp
+
+    from poinsot.integrate.events import Event
+
+    mdl = models.pendulum_polar()
+    stranger = sp.Symbol("stranger")
+    with pytest.raises(ValueError, match=r"`events\[1\]` = stranger.*stranger"):
+        mdl.simulate((0, 1), events=[lambda t, y: y[0], stranger])
+    # a rigid body's run takes functions: an expression is refused, named, with the reason
+    with pytest.raises(TypeError, match=r"`events\[0\]`.*constrained system"):
+        simulate(RigidBody(1.0, np.eye(3)), (0, 1), omega0=(0, 0, 1), events=Event(stranger))
+    with pytest.raises(TypeError, match=r"`events\[0\]` must be a function g\(t, y\) or an Event"):
+        simulate(RigidBody(1.0, np.eye(3)), (0, 1), omega0=(0, 0, 1), events=[3.0])

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["EventLog", "integrate_with_events", "normalize_events"]
+__all__ = ["Event", "EventLog", "integrate_with_events", "normalize_events"]
 
 
 @dataclass
@@ -40,19 +40,70 @@ class EventLog:
     terminated_by: int | None = None
 
 
+@dataclass(frozen=True)
+class Event:
+    """An event and its options, for a function or an expression that cannot carry them as
+    attributes.
+
+    Parameters
+    ----------
+    g : callable or SymPy expression
+        ``g(t, y)``, or (for a :class:`~poinsot.lagrange.LagrangianSystem`) an expression in
+        its coordinates, their derivatives, time and parameters, compiled to machine code and
+        evaluated on the whole detection grid in one call.
+    terminal : bool
+        Stop the run at the first zero.
+    direction : float
+        > 0: rising zeros only; < 0: falling zeros only; 0: both.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from poinsot import models
+    >>> from poinsot.integrate.events import Event
+    >>> pendulum = models.pendulum_polar()
+    >>> theta = pendulum.symbols["theta"]
+    >>> sol = pendulum.simulate((0, 10), events=Event(sp.diff(theta), terminal=True,
+    ...                                                direction=1))
+    >>> bool(0 < sol.t_events[0][0] < 10)
+    True
+    """
+
+    g: object
+    terminal: bool = False
+    direction: float = 0.0
+
+
 def normalize_events(events):
-    """A list of ``(g, terminal, direction)`` from a callable or a sequence of callables;
-    non-callables are refused, named."""
+    """A list of ``(g, terminal, direction)`` from a callable, an :class:`Event` or a
+    sequence of them; anything else (an expression outside a constrained system's run
+    included) is refused, named."""
     if events is None:
         return []
-    items = [events] if callable(events) else list(events)
+    single = callable(events) or isinstance(events, Event) or not _is_sequence(events)
+    items = [events] if single else list(events)
     out = []
     for i, g in enumerate(items):
+        terminal, direction = getattr(g, "terminal", False), getattr(g, "direction", 0.0)
+        if isinstance(g, Event):
+            g = g.g
         if not callable(g):
-            raise TypeError(f"`events[{i}]` must be a function g(t, y), found {type(g).__name__}")
-        direction = float(getattr(g, "direction", 0.0))
-        out.append((g, bool(getattr(g, "terminal", False)), np.sign(direction)))
+            hint = (
+                "; an expression is compiled only by a constrained system's run "
+                "(LagrangianSystem.simulate)"
+                if hasattr(g, "free_symbols")
+                else ""
+            )
+            raise TypeError(
+                f"`events[{i}]` must be a function g(t, y) or an Event, found "
+                f"{type(g).__name__}{hint}"
+            )
+        out.append((g, bool(terminal), np.sign(float(direction))))
     return out
+
+
+def _is_sequence(x) -> bool:
+    return isinstance(x, list | tuple)
 
 
 def _crossings(G, directions):

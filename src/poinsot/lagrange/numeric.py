@@ -758,10 +758,13 @@ def simulate(
         A value for every specified input of the system (``system.inputs``, by function or
         name): a number, a function of ``t``, or a function of ``(t, q, q̇)`` (feedback; ``q``
         and ``q̇`` arrays in the order of the coordinates). A missing input is refused, named.
-    events : callable or sequence of callables, optional
+    events : callable, expression, Event or a sequence of them, optional
         Functions ``g(t, y)`` of the state ``y = [q, q̇]`` whose zeros are located, as in
-        :func:`scipy.integrate.solve_ivp` (attributes ``terminal`` and ``direction``); found
-        in ``sol.t_events``, ``sol.y_events``. A terminal event ends the run there.
+        :func:`scipy.integrate.solve_ivp` (attributes ``terminal`` and ``direction``), or
+        SymPy expressions in the coordinates, their derivatives, time and the parameters
+        (options by :class:`~poinsot.integrate.events.Event`), compiled to machine code and
+        evaluated on the detection grid in one call; found in ``sol.t_events``,
+        ``sol.y_events``. A terminal event ends the run there.
     event_resolution : int
         Grid points on which events, and the release of one-sided constraints
         (``system.unilateral``), are detected before they are located to the integrator's
@@ -804,6 +807,7 @@ def simulate(
     u_of = input_function(inputs, system)
     if u_of is not None:
         num = num.bound(u_of)
+    events = _expression_events(events, system, params)
     q_init = _keyed(q0, system, "q0", allow_missing=system.n_holonomic > 0)
     qd_init = _keyed(qd0, system, "qd0", allow_missing=True)
     guess_arr = _keyed(guess, system, "guess", allow_missing=True) if guess else None
@@ -841,6 +845,58 @@ def simulate(
     times = np.asarray(t_eval, float)
     return _simulate_phases(system, num, params, u_of, run, ode_of, y_init, t0, t1, times,
                             events, event_resolution, stabilization)  # fmt: skip
+
+
+def _expression_events(events, system, params):
+    """``events`` with each SymPy expression (bare, or the ``g`` of an
+    :class:`~poinsot.integrate.events.Event`) compiled to machine code in the state
+    ``[q, q̇]``, time and the parameters' values: a function ``g(t, y)`` with its options
+    and a ``batch(t, Y)`` that evaluates the whole detection grid in one call. Functions pass
+    through; an expression in anything else (an input, an unknown symbol) is refused,
+    named."""
+    from ..expressions import ExpressionError, compile_expressions
+    from ..integrate.events import Event
+
+    if events is None:
+        return None
+    single = callable(events) or isinstance(events, Event) or not isinstance(events, list | tuple)
+    items = [events] if single else list(events)
+    import sympy as sp
+
+    names = system.plain
+    inputs = [*names.q, *names.v, system.t]
+    out = []
+    for i, item in enumerate(items):
+        g = item.g if isinstance(item, Event) else item
+        if callable(g) or not isinstance(g, sp.Basic):
+            out.append(item)  # a function, or refused by normalize_events
+            continue
+        expr = names.of(g).xreplace({k: sp.Float(v) for k, v in params.items()})
+        try:
+            fn = compile_expressions([expr], inputs)
+        except ExpressionError as exc:
+            allowed = ", ".join(str(c) for c in (*system.coordinates, *system.parameters))
+            reason = (
+                f"{sorted(map(str, expr.free_symbols - set(inputs)))[0]} is not a coordinate, "
+                f"its derivative, t or a parameter ({allowed})"
+                if expr.free_symbols - set(inputs)
+                else str(exc)
+            )
+            raise ValueError(f"`events[{i}]` = {g}: {reason}") from None
+
+        def one(t, y, fn=fn):
+            return float(fn(np.append(np.asarray(y, dtype=float), t)[None])[0, 0])
+
+        def many(t, Y, fn=fn):
+            return fn(np.column_stack([np.asarray(Y, dtype=float), np.asarray(t, dtype=float)]))[
+                :, 0
+            ]
+
+        one.batch = many
+        one.terminal = bool(getattr(item, "terminal", False))
+        one.direction = float(getattr(item, "direction", 0.0))
+        out.append(one)
+    return out
 
 
 def _input_values(u_of, t, y, n, k):
