@@ -434,30 +434,26 @@ mod tests {
                 let mut z = states[l];
                 let mut t_out = vec![0.0; t_eval.len()];
                 let mut y_out = vec![0.0; t_eval.len() * STATE_SIZE];
-                let args = (
-                    &mut Clock { t: t0, h: 0.0 },
-                    &Sampling {
-                        t_end: t1,
-                        t_eval: &t_eval,
-                        every: 1,
-                    },
-                );
+                let sampling = Sampling {
+                    t_end: t1,
+                    t_eval: &t_eval,
+                    every: 1,
+                };
                 let mut out = Output {
                     t: &mut t_out,
                     y: &mut y_out,
                 };
-                let mut k = Counters::default();
                 let run = if native { run_fixed_native } else { run_fixed };
                 let status = run(
                     &sys[0],
                     &mut Rk4Rigid,
                     &mut NoObserver,
-                    args.0,
+                    &mut Clock { t: t0, h: 0.0 },
                     &mut z,
                     dt,
-                    args.1,
+                    &sampling,
                     &mut out,
-                    &mut k,
+                    &mut Counters::default(),
                     u64::MAX,
                 );
                 assert_eq!(status, Status::Finished);

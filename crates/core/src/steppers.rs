@@ -78,15 +78,6 @@ pub fn erk_step<S: VectorField + ?Sized>(
 
 type State = [f64; STATE_SIZE];
 
-#[inline(always)]
-fn axpy<const N: usize>(y: &[f64; N], a: f64, k: &[f64; N]) -> [f64; N] {
-    let mut o = [0.0; N];
-    for i in 0..N {
-        o[i] = y[i] + a * k[i];
-    }
-    o
-}
-
 /// One step of classical RK4 on a rigid state held in registers: the system's own
 /// [`RigidStructure::rk4`] (by default [`rk4_registers`] on the whole state).
 #[inline(always)]
@@ -107,15 +98,10 @@ pub fn rk4_registers<const N: usize>(
 ) -> [f64; N] {
     let half = 0.5 * h;
     let k1 = f(t, y);
-    let k2 = f(t + half, &axpy(y, half, &k1));
-    let k3 = f(t + half, &axpy(y, half, &k2));
-    let k4 = f(t + h, &axpy(y, h, &k3));
-    let c = h / 6.0;
-    let mut o = [0.0; N];
-    for i in 0..N {
-        o[i] = y[i] + c * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-    }
-    o
+    let k2 = f(t + half, &axpy_f::<N, false>(y, half, &k1));
+    let k3 = f(t + half, &axpy_f::<N, false>(y, half, &k2));
+    let k4 = f(t + h, &axpy_f::<N, false>(y, h, &k3));
+    rk4_update::<N, false>(y, h, [&k1, &k2, &k3, &k4])
 }
 
 /// Classical RK4 on an autonomous *driver* `x' = f(x)`: the new value and the four stage
@@ -151,6 +137,7 @@ pub fn madd<const FUSED: bool>(a: f64, b: f64, c: f64) -> f64 {
     }
 }
 
+/// `y + a k`, each component fused (one rounding) or not.
 #[inline(always)]
 fn axpy_f<const N: usize, const FUSED: bool>(y: &[f64; N], a: f64, k: &[f64; N]) -> [f64; N] {
     let mut o = [0.0; N];

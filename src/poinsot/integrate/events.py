@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Event", "EventLog", "integrate_with_events", "normalize_events"]
+__all__ = ["Event", "EventLog", "event_items", "integrate_with_events", "normalize_events"]
 
 
 @dataclass
@@ -78,12 +78,8 @@ def normalize_events(events):
     """A list of ``(g, terminal, direction)`` from a callable, an :class:`Event` or a
     sequence of them; anything else (an expression outside a constrained system's run
     included) is refused, named."""
-    if events is None:
-        return []
-    single = callable(events) or isinstance(events, Event) or not _is_sequence(events)
-    items = [events] if single else list(events)
     out = []
-    for i, g in enumerate(items):
+    for i, g in enumerate(event_items(events)):
         terminal, direction = getattr(g, "terminal", False), getattr(g, "direction", 0.0)
         if isinstance(g, Event):
             g = g.g
@@ -102,8 +98,12 @@ def normalize_events(events):
     return out
 
 
-def _is_sequence(x) -> bool:
-    return isinstance(x, list | tuple)
+def event_items(events) -> list:
+    """The items of ``events``: none for None, one for a single event (a function, an
+    :class:`Event`, an expression), else the sequence's."""
+    if events is None:
+        return []
+    return list(events) if isinstance(events, list | tuple) else [events]
 
 
 def _crossings(G, directions):

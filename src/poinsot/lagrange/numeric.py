@@ -854,19 +854,15 @@ def _expression_events(events, system, params):
     and a ``batch(t, Y)`` that evaluates the whole detection grid in one call. Functions pass
     through; an expression in anything else (an input, an unknown symbol) is refused,
     named."""
-    from ..expressions import ExpressionError, compile_expressions
-    from ..integrate.events import Event
-
-    if events is None:
-        return None
-    single = callable(events) or isinstance(events, Event) or not isinstance(events, list | tuple)
-    items = [events] if single else list(events)
     import sympy as sp
+
+    from ..expressions import ExpressionError, compile_expressions
+    from ..integrate.events import Event, event_items
 
     names = system.plain
     inputs = [*names.q, *names.v, system.t]
     out = []
-    for i, item in enumerate(items):
+    for i, item in enumerate(event_items(events)):
         g = item.g if isinstance(item, Event) else item
         if callable(g) or not isinstance(g, sp.Basic):
             out.append(item)  # a function, or refused by normalize_events
@@ -875,22 +871,21 @@ def _expression_events(events, system, params):
         try:
             fn = compile_expressions([expr], inputs)
         except ExpressionError as exc:
+            strangers = sorted(map(str, expr.free_symbols - set(inputs)))
             allowed = ", ".join(str(c) for c in (*system.coordinates, *system.parameters))
             reason = (
-                f"{sorted(map(str, expr.free_symbols - set(inputs)))[0]} is not a coordinate, "
-                f"its derivative, t or a parameter ({allowed})"
-                if expr.free_symbols - set(inputs)
+                f"{strangers[0]} is not a coordinate, its derivative, t or a parameter ({allowed})"
+                if strangers
                 else str(exc)
             )
             raise ValueError(f"`events[{i}]` = {g}: {reason}") from None
 
-        def one(t, y, fn=fn):
-            return float(fn(np.append(np.asarray(y, dtype=float), t)[None])[0, 0])
-
         def many(t, Y, fn=fn):
-            return fn(np.column_stack([np.asarray(Y, dtype=float), np.asarray(t, dtype=float)]))[
-                :, 0
-            ]
+            x = np.column_stack([np.asarray(Y, dtype=float), np.asarray(t, dtype=float)])
+            return fn(x)[:, 0]
+
+        def one(t, y, many=many):
+            return float(many(np.array([t], dtype=float), np.asarray(y, dtype=float)[None])[0])
 
         one.batch = many
         one.terminal = bool(getattr(item, "terminal", False))
