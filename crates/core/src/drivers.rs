@@ -278,8 +278,9 @@ fn save<S: VectorField + ?Sized, M: FixedMethod<S>>(
 /// [`run_fixed`] in a copy compiled for AVX2 + FMA where the CPU has them (else the
 /// baseline), chosen at run time as the ensembles' lanes choose theirs
 /// ([`crate::lanes::run_block`]): a step written with fused multiply-adds
-/// ([`crate::steppers::madd`]) then runs them in hardware. A single run is scalar code, so
-/// AVX-512 adds nothing (its copy measured 35 ns per torque-free RK4 step against 31). A fused multiply-add is rounded
+/// ([`crate::systems::TorqueFree::rk4_points`]) then runs them in hardware. A single run is
+/// scalar code, so AVX-512 adds nothing (its copy measured 35 ns per torque-free RK4 step
+/// against 31). A fused multiply-add is rounded
 /// once wherever it runs (a baseline CPU computes it in software, slowly), so every copy
 /// gives the same numbers, and a single run equals its ensemble member bit for bit.
 #[allow(clippy::too_many_arguments)]

@@ -45,30 +45,40 @@ pub fn omega_dot_free(c: Vec3, w: Vec3) -> Vec3 {
     [c[0] * w[1] * w[2], c[1] * w[2] * w[0], c[2] * w[0] * w[1]]
 }
 
+/// `b + a ω̇` for the torque-free Euler equation (20) ([`omega_dot_free`]): each component
+/// one product and one fused multiply-add (the accumulated rate of the stage-point RK4,
+/// [`crate::steppers::rk4_points_driver`]).
+#[inline(always)]
+pub fn omega_dot_free_acc(c: Vec3, b: &Vec3, a: f64, w: &Vec3) -> Vec3 {
+    [
+        (a * c[0] * w[1]).mul_add(w[2], b[0]),
+        (a * c[1] * w[2]).mul_add(w[0], b[1]),
+        (a * c[2] * w[0]).mul_add(w[1], b[2]),
+    ]
+}
+
 /// Row `i` of `Q̇ = QΩ` (09): `q_i × ω` (`q_i` row i of Q, ω body components). Each row of
 /// the attitude moves on its own, driven by ω.
 #[inline(always)]
 pub fn attitude_row_rate(q: &[f64; 3], w: Vec3) -> [f64; 3] {
-    attitude_row_rate_f::<false>(q, w)
+    let [w0, w1, w2] = w;
+    [
+        q[1] * w2 - q[2] * w1,
+        q[2] * w0 - q[0] * w2,
+        q[0] * w1 - q[1] * w0,
+    ]
 }
 
-/// [`attitude_row_rate`], each difference of products fused (one rounding) or not.
+/// `b + a (q_i × ω)`: [`attitude_row_rate`] accumulated, `q_i × (a ω)` with two fused
+/// multiply-adds per component (`a ω` is the same for the three rows of Q).
 #[inline(always)]
-pub fn attitude_row_rate_f<const FUSED: bool>(q: &[f64; 3], w: Vec3) -> [f64; 3] {
-    let [w0, w1, w2] = w;
-    if FUSED {
-        [
-            q[1].mul_add(w2, -(q[2] * w1)),
-            q[2].mul_add(w0, -(q[0] * w2)),
-            q[0].mul_add(w1, -(q[1] * w0)),
-        ]
-    } else {
-        [
-            q[1] * w2 - q[2] * w1,
-            q[2] * w0 - q[0] * w2,
-            q[0] * w1 - q[1] * w0,
-        ]
-    }
+pub fn attitude_row_acc(b: &[f64; 3], a: f64, q: &[f64; 3], w: &Vec3) -> [f64; 3] {
+    let s = [a * w[0], a * w[1], a * w[2]];
+    [
+        q[1].mul_add(s[2], (-q[2]).mul_add(s[1], b[0])),
+        q[2].mul_add(s[0], (-q[0]).mul_add(s[2], b[1])),
+        q[0].mul_add(s[1], (-q[1]).mul_add(s[0], b[2])),
+    ]
 }
 
 /// `Q̇ = QΩ` (09), row by row ([`attitude_row_rate`]; Q row-major, ω body components).

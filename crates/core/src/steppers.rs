@@ -4,7 +4,8 @@
 //! nothing between calls (diffrax's "pure step"). Every driver calls these same functions.
 //!
 //! * [`erk_step`]: an explicit Runge–Kutta method given by its tableau (RK4 and any user
-//!   tableau); [`rk4_rigid_step`]: RK4 on a rigid state held in registers.
+//!   tableau); [`rk4_rigid_step`]: RK4 on a rigid state held in registers, in the
+//!   stage-point form ([`rk4_points_driver`], [`rk4_points_driven`]) where a system splits.
 //! * [`rkmk_step`]: Runge–Kutta–Munthe-Kaas on R⁹ × SO(3): the attitude advances as
 //!   `Q = Q_n exp(θ̂)` with `θ̇ = dexp⁻¹_{−θ}(ω)` (Munthe-Kaas 1999, BIT 39; Iserles et al.
 //!   2000, Acta Numerica §5).
@@ -98,92 +99,96 @@ pub fn rk4_registers<const N: usize>(
 ) -> [f64; N] {
     let half = 0.5 * h;
     let k1 = f(t, y);
-    let k2 = f(t + half, &axpy_f::<N, false>(y, half, &k1));
-    let k3 = f(t + half, &axpy_f::<N, false>(y, half, &k2));
-    let k4 = f(t + h, &axpy_f::<N, false>(y, h, &k3));
-    rk4_update::<N, false>(y, h, [&k1, &k2, &k3, &k4])
+    let k2 = f(t + half, &axpy(y, half, &k1));
+    let k3 = f(t + half, &axpy(y, half, &k2));
+    let k4 = f(t + h, &axpy(y, h, &k3));
+    rk4_update(y, h, [&k1, &k2, &k3, &k4])
 }
 
-/// Classical RK4 on an autonomous *driver* `x' = f(x)`: the new value and the four stage
-/// points `x, x + h/2 k1, x + h/2 k2, x + h k3` at which a driven state is evaluated
-/// ([`rk4_driven`]). The driver's part of [`rk4_registers`] on the pair, bit for bit.
+/// Classical RK4 in its stage-point form, on an autonomous *driver* `x' = f(x)` given as the
+/// accumulation `acc(b, a, x) = b + a f(x)`:
+///
+/// `x2 = x + h/2 f(x)`, `x3 = x + h/2 f(x2)`, `x4 = x + h f(x3)`,
+/// `x⁺ = (x2 + 2 x3 + x4 − x)/3 + h/6 f(x4)`.
+///
+/// In exact arithmetic this is `x + h/6 (k1 + 2 k2 + 2 k3 + k4)` of [`rk4_registers`]
+/// (`h k1 = 2 (x2 − x)`, `h k2 = 2 (x3 − x)`, `h k3 = x4 − x`); the stage derivatives are
+/// never formed, so a rate that is a sum of products (Euler's equation (20), a cross
+/// product) costs two fused multiply-adds per component and stage where `k = f(x)` and
+/// `x + a k` cost three. Returns `x⁺` and the four stage points `x, x2, x3, x4` at which a
+/// driven state is evaluated ([`rk4_points_driven`]).
 #[inline(always)]
-pub fn rk4_driver<const N: usize, const FUSED: bool>(
-    f: impl Fn(&[f64; N]) -> [f64; N],
+pub fn rk4_points_driver<const N: usize>(
+    acc: impl Fn(&[f64; N], f64, &[f64; N]) -> [f64; N],
     x: &[f64; N],
     h: f64,
 ) -> ([f64; N], [[f64; N]; 4]) {
     let half = 0.5 * h;
-    let k1 = f(x);
-    let x2 = axpy_f::<N, FUSED>(x, half, &k1);
-    let k2 = f(&x2);
-    let x3 = axpy_f::<N, FUSED>(x, half, &k2);
-    let k3 = f(&x3);
-    let x4 = axpy_f::<N, FUSED>(x, h, &k3);
-    let k4 = f(&x4);
+    let x2 = acc(x, half, x);
+    let x3 = acc(x, half, &x2);
+    let x4 = acc(x, h, &x3);
     (
-        rk4_update::<N, FUSED>(x, h, [&k1, &k2, &k3, &k4]),
+        acc(&rk4_points_mean(x, &x2, &x3, &x4), h / 6.0, &x4),
         [*x, x2, x3, x4],
     )
 }
 
-/// `a b + c`, fused (one rounding) or not.
+/// Classical RK4 in stage-point form ([`rk4_points_driver`]) on a state `z' = g(z, x)` driven
+/// by a driver whose stage points are given, `g` as the accumulation
+/// `acc(b, a, z, x) = b + a g(z, x)`: in exact arithmetic RK4 on the pair `(z, x)`. A system
+/// that splits into a driver and small driven parts keeps only one part's numbers live.
 #[inline(always)]
-pub fn madd<const FUSED: bool>(a: f64, b: f64, c: f64) -> f64 {
-    if FUSED {
-        a.mul_add(b, c)
-    } else {
-        a * b + c
-    }
+pub fn rk4_points_driven<const M: usize, const N: usize>(
+    acc: impl Fn(&[f64; M], f64, &[f64; M], &[f64; N]) -> [f64; M],
+    z: &[f64; M],
+    stages: &[[f64; N]; 4],
+    h: f64,
+) -> [f64; M] {
+    let half = 0.5 * h;
+    let z2 = acc(z, half, z, &stages[0]);
+    let z3 = acc(z, half, &z2, &stages[1]);
+    let z4 = acc(z, h, &z3, &stages[2]);
+    acc(&rk4_points_mean(z, &z2, &z3, &z4), h / 6.0, &z4, &stages[3])
 }
 
-/// `y + a k`, each component fused (one rounding) or not.
+/// `(x2 + 2 x3 + x4 − x)/3`: the part of the stage-point RK4 update made of stage points,
+/// formed as `x + (x2 + 2 x3 + x4 − 4x)/3` so that the rounding of `1/3` (a relative bias of
+/// −2⁻⁵⁴, the same sign at every step) touches only the step's increment, not the state.
 #[inline(always)]
-fn axpy_f<const N: usize, const FUSED: bool>(y: &[f64; N], a: f64, k: &[f64; N]) -> [f64; N] {
+fn rk4_points_mean<const N: usize>(
+    x: &[f64; N],
+    x2: &[f64; N],
+    x3: &[f64; N],
+    x4: &[f64; N],
+) -> [f64; N] {
+    const THIRD: f64 = 1.0 / 3.0;
     let mut o = [0.0; N];
     for i in 0..N {
-        o[i] = madd::<FUSED>(a, k[i], y[i]);
+        let s = (-4.0f64).mul_add(x[i], 2.0f64.mul_add(x3[i], x2[i]) + x4[i]);
+        o[i] = s.mul_add(THIRD, x[i]);
+    }
+    o
+}
+
+/// `y + a k`.
+#[inline(always)]
+fn axpy<const N: usize>(y: &[f64; N], a: f64, k: &[f64; N]) -> [f64; N] {
+    let mut o = [0.0; N];
+    for i in 0..N {
+        o[i] = y[i] + a * k[i];
     }
     o
 }
 
 /// RK4's update `y + h/6 (k1 + 2 k2 + 2 k3 + k4)`.
 #[inline(always)]
-fn rk4_update<const N: usize, const FUSED: bool>(
-    y: &[f64; N],
-    h: f64,
-    k: [&[f64; N]; 4],
-) -> [f64; N] {
+fn rk4_update<const N: usize>(y: &[f64; N], h: f64, k: [&[f64; N]; 4]) -> [f64; N] {
     let c = h / 6.0;
     let mut o = [0.0; N];
     for i in 0..N {
-        o[i] = if FUSED {
-            let s = 2.0f64.mul_add(k[2][i], 2.0f64.mul_add(k[1][i], k[0][i])) + k[3][i];
-            c.mul_add(s, y[i])
-        } else {
-            y[i] + c * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i])
-        };
+        o[i] = y[i] + c * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
     }
     o
-}
-
-/// Classical RK4 on a state `z' = g(z, x)` driven by a driver whose stage points are given
-/// ([`rk4_driver`]): the driven part of [`rk4_registers`] on the pair `(z, x)`, bit for bit,
-/// with only `z`'s numbers live — a system that splits into a driver and small driven parts
-/// keeps each part in registers.
-#[inline(always)]
-pub fn rk4_driven<const M: usize, const N: usize, const FUSED: bool>(
-    g: impl Fn(&[f64; M], [f64; N]) -> [f64; M],
-    z: &[f64; M],
-    stages: &[[f64; N]; 4],
-    h: f64,
-) -> [f64; M] {
-    let half = 0.5 * h;
-    let k1 = g(z, stages[0]);
-    let k2 = g(&axpy_f::<M, FUSED>(z, half, &k1), stages[1]);
-    let k3 = g(&axpy_f::<M, FUSED>(z, half, &k2), stages[2]);
-    let k4 = g(&axpy_f::<M, FUSED>(z, h, &k3), stages[3]);
-    rk4_update::<M, FUSED>(z, h, [&k1, &k2, &k3, &k4])
 }
 
 /// `Q_out = Q_y E` on the attitude blocks of two states.
