@@ -39,6 +39,14 @@ CASES = {
     },
     "spring dop853": {"method": "dop853", "forces": [Spring((0.5, 0, 0), (1, 1, 1), 3.0)]},
     "own moments rk4": {"method": "rk4", "dt": 1e-2, "moments": MOMENTS},
+    "own moments rkmk4": {"method": "rkmk4", "dt": 1e-2, "moments": MOMENTS},
+    "own moments splitting": {"method": "splitting", "dt": 1e-2, "moments": MOMENTS},
+    "heavy top rkmk4": {
+        "method": "rkmk4",
+        "dt": 1e-2,
+        "pivot": (0.0, 0.0, 0.0),
+        "forces": [Gravity((0.0, 0.0, -9.8))],
+    },
 }
 
 
@@ -74,10 +82,23 @@ def test_every_member_equals_a_single_simulate(case):
         assert res.nsteps[i] == tr.nsteps
 
 
-@pytest.mark.parametrize("case", ["free rk4", "heavy top rk4", "own moments rk4"])
+@pytest.mark.parametrize(
+    "case",
+    [
+        "free rk4",
+        "heavy top rk4",
+        "own moments rk4",
+        "free rkmk4",
+        "own moments rkmk4",
+        "free splitting",
+        "own moments splitting",
+        "heavy top rkmk4",
+    ],
+)
 def test_members_in_simd_lanes_equal_their_single_runs(case):
-    """RK4 members run in blocks of SIMD lanes (the core's ``lanes``: 128 members a block,
-    a short last block padded): every member equals its single ``simulate`` bit for bit, and
+    """RK4 members, and free bodies' RKMK4 and splitting members, run in blocks of SIMD lanes
+    (the core's ``lanes``: 128 members a block, a short last block padded; a body under forces
+    runs RKMK4 member by member): every member equals its single ``simulate`` bit for bit, and
     chunks of 40 or 7 (the latter too few for lanes: member by member) change nothing."""
     n = 150
     rng = np.random.default_rng(7)

@@ -136,6 +136,25 @@ def test_exact_attitude_conserves_L_and_satisfies_kinematics(omega0, t0):
     np.testing.assert_allclose(Q.T @ Q, np.eye(3), atol=1e-13)
 
 
+def test_a_subnormal_component_is_zero_to_round_off():
+    # ω = (2.2e-313, 0, 1/8) is the steady spin about e3 to within 1e-312: the closed forms
+    # give that rotation to round-off (they used to work with the subnormal's few digits and
+    # landed 3e-11 off), and ω(t) stays on the axis; a relatively tiny normal component keeps
+    # its own, physical, motion
+    fb = FreeRigidBody((1.0, 2.5, 3.0))
+    Q0 = exp_so3([0.3, -0.2, 0.5])
+    t = np.array([-1e-5, 1e-5, 1.0, 7.0])
+    for w0 in ([2.22507386e-313, 0.0, 0.125], [0.0, -3e-320, 0.125], [-1e-310, 1e-315, 0.125]):
+        Q = fb.exact_attitude(w0, t, Q0)
+        for Qk, tk in zip(Q, t, strict=True):
+            c, s = math.cos(0.125 * tk), math.sin(0.125 * tk)
+            ref = Q0 @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+            assert np.abs(Qk - ref).max() < 4e-16, (w0, tk)
+        np.testing.assert_array_equal(np.abs(fb.exact_omega(w0, t)), [[0.0, 0.0, 0.125]] * 4)
+    w = fb.exact_omega([1e-200, 0.0, 0.125], [1.0])[0]
+    assert 0 < np.abs(w[:2]).max() < 1e-199
+
+
 @pytest.mark.parametrize(
     "moments", [(1.0, 1.0, 2.0), (2.0, 1.0, 1.0), (1.5, 1.5, 1.5), (3.0, 1.0, 2.0)]
 )

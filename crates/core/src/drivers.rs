@@ -242,6 +242,53 @@ impl<S: VectorField + ?Sized> FixedMethod<S> for Rkmk<'_> {
     }
 }
 
+/// Runge–Kutta–Munthe-Kaas on a rigid body: with the classical RK4 tableau, the system's
+/// own step in registers where it has one ([`RigidStructure::rkmk4`]: the free body, whose
+/// ensembles run it in lanes), else the generic [`Rkmk`].
+pub struct RkmkRigid<'a> {
+    generic: Rkmk<'a>,
+    rk4: bool,
+}
+
+impl<'a> RkmkRigid<'a> {
+    pub fn new(tab: Tableau<'a>) -> Self {
+        RkmkRigid {
+            rk4: is_rk4(&tab),
+            generic: Rkmk::new(tab, STATE_SIZE),
+        }
+    }
+}
+
+/// Whether a tableau is the classical RK4's ([`crate::tableaux::RK4_A`], `RK4_B`, `RK4_C`).
+pub fn is_rk4(tab: &Tableau) -> bool {
+    use crate::tableaux::{RK4_A, RK4_B, RK4_C};
+    tab.stages() == 4
+        && tab
+            .a
+            .iter()
+            .zip(RK4_A.iter().flatten())
+            .all(|(x, y)| x == y)
+        && tab.b == RK4_B
+        && tab.c == RK4_C
+}
+
+impl<S: RigidStructure + ?Sized> FixedMethod<S> for RkmkRigid<'_> {
+    fn evals_per_step(&self) -> u64 {
+        FixedMethod::<S>::evals_per_step(&self.generic)
+    }
+    #[inline(always)]
+    fn step(&mut self, sys: &S, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
+        if self.rk4 {
+            if let Some(y1) = sys.rkmk4(t, &load(z), h) {
+                out[..STATE_SIZE].copy_from_slice(&y1);
+                sys.project(t + h, out);
+                return;
+            }
+        }
+        self.generic.step(sys, t, z, h, out);
+    }
+}
+
 /// The splitting method on the momentum state.
 pub struct Splitting;
 
@@ -251,7 +298,10 @@ impl<S: RigidStructure + ?Sized> FixedMethod<S> for Splitting {
     }
     #[inline(always)]
     fn step(&mut self, sys: &S, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
-        splitting_step(sys, t, z, h, out);
+        match sys.splitting(t, &load(z), h) {
+            Some(z1) => out[..STATE_SIZE].copy_from_slice(&z1),
+            None => splitting_step(sys, t, z, h, out),
+        }
     }
     fn init(&self, sys: &S, y: &[f64], z: &mut [f64]) {
         velocity_to_momentum(sys, y, z);

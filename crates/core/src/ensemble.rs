@@ -25,13 +25,16 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rayon::prelude::*;
 
 use crate::drivers::{
-    run_adaptive, run_fixed_native, AdaptiveState, Clock, Counters, Erk, FixedMethod, Output,
-    Rk4Rigid, Rkmk, Sampling, Splitting, Status,
+    is_rk4, run_adaptive, run_fixed_native, AdaptiveState, Clock, Counters, Erk, FixedMethod,
+    Output, Rk4Rigid, RkmkRigid, Sampling, Splitting, Status,
 };
 use crate::forces::Force;
 use crate::inertia::{parallel_axis, principal_decomposition};
 use crate::invariants::{angular_momentum_body, kinetic_energy};
-use crate::lanes::{block_state, lane_samples, run_block, Block, LANES};
+use crate::lanes::{
+    block_state, lane_samples, run_block, Block, BlockRk4, BlockRkmk4, BlockRun, BlockSplitting,
+    LANES,
+};
 use crate::layout::{Body, BODY_SIZE, OMEGA_AT, Q_AT, STATE_SIZE, V_AT};
 use crate::observers::{FlipObserver, NoObserver, Observer};
 use crate::rigid::{
@@ -430,7 +433,7 @@ fn integrate<S: RigidStructure, O: Observer>(
                 )
             })
         }),
-        Method::Rkmk(tab) => fixed(sys, &mut Rkmk::new(tab, STATE_SIZE), z0, &mut z, |m, z| {
+        Method::Rkmk(tab) => fixed(sys, &mut RkmkRigid::new(tab), z0, &mut z, |m, z| {
             resume(stop, || {
                 let (c, o, k) = (&mut clock, &mut out, &mut k);
                 run_fixed_native(
@@ -510,8 +513,9 @@ pub fn run_members(
     if let Some(y) = &samples {
         assert_eq!(y.len(), m * per, "samples: m · n · 18");
     }
-    if matches!(schedule.method, Method::Rk4) {
-        // RK4: blocks of LANES members in SIMD lanes (crate::lanes), bit for bit the single runs
+    if in_lanes(&schedule.method) {
+        // RK4 and RKMK4: blocks of LANES members in SIMD lanes (crate::lanes), bit for bit the
+        // single runs
         let blocks = finals
             .par_chunks_mut(STATE_SIZE * LANES)
             .zip(summaries.par_chunks_mut(LANES))
@@ -560,6 +564,47 @@ pub fn run_members(
     }
 }
 
+/// The methods whose blocks of members run in lanes: RK4, and for free bodies RKMK with RK4's
+/// tableau and the splitting method (a block with forces runs those member by member).
+fn in_lanes(method: &Method) -> bool {
+    match method {
+        Method::Rk4 | Method::Splitting => true,
+        Method::Rkmk(tab) => is_rk4(tab),
+        _ => false,
+    }
+}
+
+/// A block of free bodies in lanes, with the schedule's method ([`in_lanes`]).
+#[allow(clippy::too_many_arguments)]
+fn run_free_block<const SHARED: bool>(
+    block: &Block<'_, TorqueFree, SHARED>,
+    schedule: &Schedule,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> BlockRun {
+    let s = schedule;
+    let (t0, t1, dt, t_eval, flips) = (s.t0, s.t1, s.dt, s.t_eval, s.flips);
+    match s.method {
+        Method::Rkmk(_) => run_block(
+            block, BlockRkmk4, t0, t1, dt, t_eval, flips, z, samples, stop,
+        ),
+        Method::Splitting => run_block(
+            block,
+            BlockSplitting,
+            t0,
+            t1,
+            dt,
+            t_eval,
+            flips,
+            z,
+            samples,
+            stop,
+        ),
+        _ => run_block(block, BlockRk4, t0, t1, dt, t_eval, flips, z, samples, stop),
+    }
+}
+
 /// Members run one at a time (their samples, finals and summaries as [`run_lanes`]'s).
 fn one_by_one(
     schedule: &Schedule,
@@ -577,7 +622,7 @@ fn one_by_one(
     }
 }
 
-/// Up to [`LANES`] members with RK4 in one block of lanes: their samples into `samples`
+/// Up to [`LANES`] members in one block of lanes ([`in_lanes`]'s methods): their samples into `samples`
 /// (members · n · 18, body frame), final states into `finals`, summaries into `summaries`.
 /// A block that does not finish cleanly (a member's state not finite) runs again member by
 /// member, so that each gets its own status at its own step.
@@ -616,17 +661,23 @@ fn run_lanes(
     let torque_free = block
         .iter()
         .all(|m| m.forces.is_empty() && !m.body.has_pivot);
+    if !matches!(schedule.method, Method::Rk4) && !torque_free {
+        one_by_one(schedule, block, samples, finals, summaries, stop);
+        return;
+    }
     let mut rigid: Vec<Rigid> = Vec::new();
-    let run = if torque_free && block.iter().all(|m| m.body == block[0].body) {
-        let sys = [TorqueFree::new(block[0].body)];
-        let b = Block::<_, true> { systems: &sys };
-        run_block(&b, t0, t1, dt, t_eval, flips, &mut z, &mut lanes, stop)
-    } else if torque_free {
-        let sys: Vec<TorqueFree> = (0..LANES)
+    let run = if torque_free {
+        let shared = block.iter().all(|m| m.body == block[0].body);
+        let sys: Vec<TorqueFree> = (0..if shared { 1 } else { LANES })
             .map(|l| TorqueFree::new(padded(l).body))
             .collect();
-        let b = Block::<_, false> { systems: &sys };
-        run_block(&b, t0, t1, dt, t_eval, flips, &mut z, &mut lanes, stop)
+        if shared {
+            let b = Block::<_, true> { systems: &sys };
+            run_free_block(&b, schedule, &mut z, &mut lanes, stop)
+        } else {
+            let b = Block::<_, false> { systems: &sys };
+            run_free_block(&b, schedule, &mut z, &mut lanes, stop)
+        }
     } else {
         rigid = (0..LANES)
             .map(|l| {
@@ -635,7 +686,9 @@ fn run_lanes(
             })
             .collect();
         let b = Block::<_, false> { systems: &rigid };
-        run_block(&b, t0, t1, dt, t_eval, flips, &mut z, &mut lanes, stop)
+        run_block(
+            &b, BlockRk4, t0, t1, dt, t_eval, flips, &mut z, &mut lanes, stop,
+        )
     };
     if !matches!(run.status, Status::Finished | Status::Running) {
         // a member failed: every member alone, each with its own status

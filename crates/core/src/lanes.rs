@@ -18,8 +18,9 @@ use crate::drivers::{run_fixed, Clock, Counters, FixedMethod, Output, Sampling, 
 use crate::layout::{OMEGA_AT, STATE_SIZE};
 use crate::observers::Observer;
 use crate::rigid::State;
-use crate::steppers::rk4_rigid_step;
+use crate::steppers::{momentum_to_velocity, rk4_rigid_step, velocity_to_momentum};
 use crate::system::{RigidStructure, VectorField};
+use crate::systems::{TorqueFree, ANY_ROTOR, SYMMETRIC, TRIAXIAL};
 
 /// Members per block: sixteen vectors of AVX-512 doubles, a state of 18 KiB (in the L1 cache;
 /// measured a little faster than 32 or 64 lanes, against the ensemble's ceiling kernel).
@@ -110,6 +111,7 @@ impl<S: RigidStructure, const SHARED: bool> VectorField for Block<'_, S, SHARED>
 
 /// Classical RK4 on every lane, each a single run's [`rk4_rigid_step`] constrained after the
 /// step (as [`crate::drivers::Rk4Rigid`]).
+#[derive(Clone, Copy, Default)]
 pub struct BlockRk4;
 
 impl<S: RigidStructure, const SHARED: bool> FixedMethod<Block<'_, S, SHARED>> for BlockRk4 {
@@ -123,6 +125,91 @@ impl<S: RigidStructure, const SHARED: bool> FixedMethod<Block<'_, S, SHARED>> fo
             let s = sys.lane(l);
             let y1 = s.constrain(t + h, rk4_rigid_step(s, t, &gather(z, l), h));
             scatter(&y1, l, out);
+        }
+    }
+}
+
+/// Runge–Kutta–Munthe-Kaas with the classical RK4 tableau on every lane of free bodies, each
+/// its single run's [`TorqueFree::rkmk4_step`] (as [`crate::drivers::RkmkRigid`]): the sines
+/// and cosines of its exponentials are polynomials ([`crate::real::sin_cos`]), so the lanes
+/// run in vector instructions too.
+#[derive(Clone, Copy, Default)]
+pub struct BlockRkmk4;
+
+impl<const SHARED: bool> FixedMethod<Block<'_, TorqueFree, SHARED>> for BlockRkmk4 {
+    fn evals_per_step(&self) -> u64 {
+        4
+    }
+    #[inline(always)]
+    fn step(
+        &mut self,
+        sys: &Block<'_, TorqueFree, SHARED>,
+        _t: f64,
+        z: &[f64],
+        h: f64,
+        out: &mut [f64],
+    ) {
+        let (z, out) = (block(z), block_mut(out));
+        for l in 0..LANES {
+            scatter(&sys.lane(l).rkmk4_step(&gather(z, l), h), l, out);
+        }
+    }
+}
+
+/// The splitting method (kick–drift–kick, [`crate::drivers::Splitting`]) on every lane of free
+/// bodies, each its single run's step ([`TorqueFree::splitting_free`]) on the lane's
+/// momentum state: the block
+/// enters the momentum state once ([`FixedMethod::init`]) and leaves it at every sample. The
+/// free rotor's sub-flows turn by [`crate::real::sin_cos`], so the lanes run in vector
+/// instructions.
+#[derive(Clone, Copy, Default)]
+pub struct BlockSplitting;
+
+impl<const SHARED: bool> FixedMethod<Block<'_, TorqueFree, SHARED>> for BlockSplitting {
+    fn evals_per_step(&self) -> u64 {
+        2
+    }
+    #[inline(always)]
+    fn step(
+        &mut self,
+        sys: &Block<'_, TorqueFree, SHARED>,
+        _t: f64,
+        z: &[f64],
+        h: f64,
+        out: &mut [f64],
+    ) {
+        let (z, out) = (block(z), block_mut(out));
+        // the rotor's kind chosen once for a shared body, so that the lane loop has no branch
+        let rotor = sys.lane(0).body.rotor;
+        if SHARED && rotor < 0 {
+            for l in 0..LANES {
+                let z1 = sys.lane(l).splitting_free::<TRIAXIAL>(&gather(z, l), h);
+                scatter(&z1, l, out);
+            }
+        } else if SHARED {
+            for l in 0..LANES {
+                let z1 = sys.lane(l).splitting_free::<SYMMETRIC>(&gather(z, l), h);
+                scatter(&z1, l, out);
+            }
+        } else {
+            for l in 0..LANES {
+                let z1 = sys.lane(l).splitting_free::<ANY_ROTOR>(&gather(z, l), h);
+                scatter(&z1, l, out);
+            }
+        }
+    }
+    fn init(&self, sys: &Block<'_, TorqueFree, SHARED>, y: &[f64], z: &mut [f64]) {
+        let (y, z) = (block(y), block_mut(z));
+        for l in 0..LANES {
+            let mut m = [0.0; STATE_SIZE];
+            velocity_to_momentum(sys.lane(l), &gather(y, l), &mut m);
+            scatter(&m, l, z);
+        }
+    }
+    fn output(&self, sys: &Block<'_, TorqueFree, SHARED>, z: &[f64], y: &mut [f64]) {
+        let (z, y) = (block(z), block_mut(y));
+        for l in 0..LANES {
+            scatter(&momentum_to_velocity(sys.lane(l), &gather(z, l)), l, y);
         }
     }
 }
@@ -188,14 +275,21 @@ pub struct BlockRun {
     pub flips: Option<BlockFlips>,
 }
 
-/// Integrate a block with RK4 from `t0` to `t1` in steps of `dt`, landing on every time of
+/// Integrate a block with a fixed-step `method` ([`BlockRk4`], [`BlockRkmk4`]) from `t0` to
+/// `t1` in steps of `dt`, landing on every time of
 /// `t_eval`: `z` (18 · LANES) the initial states, advanced in place; `samples`
 /// (len(t_eval) · 18 · LANES) the block's states at the sample times. The driver is the
 /// single runs' [`run_fixed`], resumed [`crate::ensemble::STEPS_PER_CALL`] steps at a time
 /// until it ends or `stop` is raised.
 #[allow(clippy::too_many_arguments)]
-pub fn run_block<S: RigidStructure + Sync, const SHARED: bool>(
-    block: &Block<'_, S, SHARED>,
+pub fn run_block<
+    'a,
+    S: RigidStructure + Sync,
+    M: FixedMethod<Block<'a, S, SHARED>> + Copy,
+    const SHARED: bool,
+>(
+    block: &Block<'a, S, SHARED>,
+    method: M,
     t0: f64,
     t1: f64,
     dt: f64,
@@ -211,22 +305,32 @@ pub fn run_block<S: RigidStructure + Sync, const SHARED: bool>(
             && std::arch::is_x86_feature_detected!("avx512dq")
         {
             // SAFETY: the CPU has the features the function is compiled for.
-            return unsafe { run_block_avx512(block, t0, t1, dt, t_eval, flips, z, samples, stop) };
+            return unsafe {
+                run_block_avx512(block, method, t0, t1, dt, t_eval, flips, z, samples, stop)
+            };
         }
         if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
         {
             // SAFETY: as above.
-            return unsafe { run_block_avx2(block, t0, t1, dt, t_eval, flips, z, samples, stop) };
+            return unsafe {
+                run_block_avx2(block, method, t0, t1, dt, t_eval, flips, z, samples, stop)
+            };
         }
     }
-    run_block_any(block, t0, t1, dt, t_eval, flips, z, samples, stop)
+    run_block_any(block, method, t0, t1, dt, t_eval, flips, z, samples, stop)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma,bmi2")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn run_block_avx512<S: RigidStructure + Sync, const SHARED: bool>(
-    block: &Block<'_, S, SHARED>,
+unsafe fn run_block_avx512<
+    'a,
+    S: RigidStructure + Sync,
+    M: FixedMethod<Block<'a, S, SHARED>> + Copy,
+    const SHARED: bool,
+>(
+    block: &Block<'a, S, SHARED>,
+    method: M,
     t0: f64,
     t1: f64,
     dt: f64,
@@ -240,7 +344,7 @@ unsafe fn run_block_avx512<S: RigidStructure + Sync, const SHARED: bool>(
     // registers spilled in the loop land on whole cache lines
     let anchor = Line([0.0; 8]);
     std::hint::black_box(&anchor);
-    run_block_any(block, t0, t1, dt, t_eval, flips, z, samples, stop)
+    run_block_any(block, method, t0, t1, dt, t_eval, flips, z, samples, stop)
 }
 
 /// One cache line of doubles.
@@ -251,8 +355,14 @@ struct Line([f64; 8]);
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,bmi2")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn run_block_avx2<S: RigidStructure + Sync, const SHARED: bool>(
-    block: &Block<'_, S, SHARED>,
+unsafe fn run_block_avx2<
+    'a,
+    S: RigidStructure + Sync,
+    M: FixedMethod<Block<'a, S, SHARED>> + Copy,
+    const SHARED: bool,
+>(
+    block: &Block<'a, S, SHARED>,
+    method: M,
     t0: f64,
     t1: f64,
     dt: f64,
@@ -262,14 +372,20 @@ unsafe fn run_block_avx2<S: RigidStructure + Sync, const SHARED: bool>(
     samples: &mut [f64],
     stop: &AtomicBool,
 ) -> BlockRun {
-    run_block_any(block, t0, t1, dt, t_eval, flips, z, samples, stop)
+    run_block_any(block, method, t0, t1, dt, t_eval, flips, z, samples, stop)
 }
 
 /// The block's time loop, inlined into each target's copy of it.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn run_block_any<S: RigidStructure + Sync, const SHARED: bool>(
-    block: &Block<'_, S, SHARED>,
+fn run_block_any<
+    'a,
+    S: RigidStructure + Sync,
+    M: FixedMethod<Block<'a, S, SHARED>> + Copy,
+    const SHARED: bool,
+>(
+    block: &Block<'a, S, SHARED>,
+    method: M,
     t0: f64,
     t1: f64,
     dt: f64,
@@ -292,11 +408,15 @@ fn run_block_any<S: RigidStructure + Sync, const SHARED: bool>(
     let mut clock = Clock { t: t0, h: 0.0 };
     let mut k = Counters::default();
     let mut obs = BlockFlips::default();
+    let mut method = method;
+    // the method's own state (the splitting method's momenta), once per run
+    let y0 = z.to_vec();
+    method.init(block, &y0, z);
     let status = loop {
         let s = if flips {
             run_fixed(
                 block,
-                &mut BlockRk4,
+                &mut method,
                 &mut obs,
                 &mut clock,
                 z,
@@ -309,7 +429,7 @@ fn run_block_any<S: RigidStructure + Sync, const SHARED: bool>(
         } else {
             run_fixed(
                 block,
-                &mut BlockRk4,
+                &mut method,
                 &mut NoFlips,
                 &mut clock,
                 z,
@@ -359,11 +479,37 @@ mod tests {
     use crate::observers::NoObserver;
     use crate::systems::TorqueFree;
 
-    /// The torque-free step's fused multiply-adds round once on every instruction set: the
-    /// block's AVX-512, AVX2 + FMA and baseline copies (fma in software) give the same
+    /// The torque-free RK4 step's fused multiply-adds round once on every instruction set:
+    /// the block's AVX-512, AVX2 + FMA and baseline copies (fma in software) give the same
     /// numbers, and so do the single runs' baseline and native loops, lane for member.
     #[test]
     fn every_instruction_set_gives_the_same_numbers() {
+        same_numbers_everywhere(BlockRk4, || Rk4Rigid);
+    }
+
+    /// RKMK4 and the splitting method in lanes (sines and cosines by polynomials, no fused
+    /// operations): every copy and every single run gives the same numbers, lane for member
+    /// (the splitting method's samples leave its momentum state).
+    #[test]
+    fn rkmk4_and_splitting_lanes_are_their_single_runs() {
+        use crate::drivers::{RkmkRigid, Splitting};
+        use crate::steppers::Tableau;
+        use crate::tableaux::{RK4_A, RK4_B, RK4_C};
+        let a: Vec<f64> = RK4_A.iter().flatten().copied().collect();
+        let tab = Tableau {
+            a: &a,
+            b: &RK4_B,
+            c: &RK4_C,
+        };
+        same_numbers_everywhere(BlockRkmk4, || RkmkRigid::new(tab));
+        same_numbers_everywhere(BlockSplitting, || Splitting);
+    }
+
+    fn same_numbers_everywhere<M, N>(method: M, single: impl Fn() -> N)
+    where
+        M: for<'a> FixedMethod<Block<'a, TorqueFree, true>> + Copy,
+        N: FixedMethod<TorqueFree>,
+    {
         let moments = [1.0, 2.0, 3.5];
         let a = [0, 1, 2].map(|r| [0, 1, 2].map(|c| if r == c { moments[r] } else { 0.0 }));
         let body = Body::from_slice(&Body::vector(
@@ -397,13 +543,13 @@ mod tests {
             (
                 "dispatched",
                 run(&|z, y| {
-                    run_block(&block, t0, t1, dt, &t_eval, true, z, y, &stop);
+                    run_block(&block, method, t0, t1, dt, &t_eval, true, z, y, &stop);
                 }),
             ),
             (
                 "baseline",
                 run(&|z, y| {
-                    run_block_any(&block, t0, t1, dt, &t_eval, true, z, y, &stop);
+                    run_block_any(&block, method, t0, t1, dt, &t_eval, true, z, y, &stop);
                 }),
             ),
         ];
@@ -414,7 +560,9 @@ mod tests {
                 "avx2",
                 run(&|z, y| {
                     // SAFETY: the CPU has the features.
-                    unsafe { run_block_avx2(&block, t0, t1, dt, &t_eval, true, z, y, &stop) };
+                    unsafe {
+                        run_block_avx2(&block, method, t0, t1, dt, &t_eval, true, z, y, &stop)
+                    };
                 }),
             ));
         }
@@ -431,7 +579,9 @@ mod tests {
         // each lane is its member's single run, with the baseline loop and the native one
         for l in [0, 1, 77, LANES - 1] {
             for native in [false, true] {
-                let mut z = states[l];
+                let mut m = single();
+                let mut z = [0.0; STATE_SIZE];
+                m.init(&sys[0], &states[l], &mut z);
                 let mut t_out = vec![0.0; t_eval.len()];
                 let mut y_out = vec![0.0; t_eval.len() * STATE_SIZE];
                 let sampling = Sampling {
@@ -446,7 +596,7 @@ mod tests {
                 let run = if native { run_fixed_native } else { run_fixed };
                 let status = run(
                     &sys[0],
-                    &mut Rk4Rigid,
+                    &mut m,
                     &mut NoObserver,
                     &mut Clock { t: t0, h: 0.0 },
                     &mut z,

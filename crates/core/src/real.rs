@@ -10,8 +10,8 @@
 //! the data runs until no lane needs another step, a lane that has finished keeping its values
 //! (its own run's result).
 //!
-//! The sine and cosine of a small argument ([`sin_cos_small`]) are polynomials, so that they
-//! run in lanes too.
+//! The sine and cosine ([`sin_cos_small`], and [`sin_cos`] with its argument reduced) are
+//! polynomials and selections, so that they run in lanes too.
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
@@ -412,6 +412,14 @@ mod fdlibm {
     pub const C5: f64 = 2.087_572_321_298_174_827_90e-09;
     pub const C6: f64 = -1.135_964_755_778_819_482_65e-11;
 
+    // fdlibm's `__rem_pio2`: 2/π, and π/2 in three parts of 33, 33 and 53 bits (the first two
+    // times an integer below 2²⁰ are exact)
+    pub const INV_PIO2: f64 = 6.366_197_723_675_813_824_33e-01;
+    pub const PIO2_1: f64 = 1.570_796_326_734_125_614_17e+00;
+    pub const PIO2_2: f64 = 6.077_100_506_303_965_976_60e-11;
+    pub const PIO2_3: f64 = 2.022_266_248_711_166_455_80e-21;
+    pub const PIO2_3T: f64 = 8.478_427_660_368_899_569_97e-32;
+
     // fdlibm's `atan` (`s_atan.c`): atan of the breakpoints 0.5, 1, 1.5, ∞ (high and low parts)
     // and the polynomial of the reduced argument
     pub const ATAN_HI: [f64; 4] = [
@@ -459,6 +467,26 @@ pub fn sin_cos_small<T: Real>(x: T) -> (T, T) {
     let hz = c(0.5) * z;
     let one_minus = c(1.0) - hz;
     let cos = one_minus + (((c(1.0) - one_minus) - hz) + z * r);
+    (sin, cos)
+}
+
+/// `(sin x, cos x)` for the angles of a step, `|x| < 2²⁰ π/2` (1.6·10⁶), within two ulps:
+/// `x = n π/2 + r` with `n` the nearest integer to `2x/π` and `r` formed with π/2 in three
+/// parts (fdlibm's `__rem_pio2` for medium arguments, every product `n · part` exact), then
+/// [`sin_cos_small`] of `r` and the quadrant `n mod 4` chosen by selection, so that it runs in
+/// lanes. For `|x| ≤ π/4`, `n = 0` and this is [`sin_cos_small`] itself. Beyond 2²⁰ π/2 the
+/// reduction loses digits (the result stays in [−1, 1]); infinities and NaN give NaN.
+#[inline(always)]
+pub fn sin_cos<T: Real>(x: T) -> (T, T) {
+    let c = T::splat;
+    let n = (x * c(INV_PIO2)).round_ties_even();
+    let r = (((x - n * c(PIO2_1)) - n * c(PIO2_2)) - n * c(PIO2_3)) - n * c(PIO2_3T);
+    let (s, co) = sin_cos_small(r);
+    // n mod 4 in 0..4: floor(n/4) is the nearest integer to n/4 − 3/8
+    let q = n - c(4.0) * (n * c(0.25) - c(0.375)).round_ties_even();
+    let (q1, q2, q3) = (q.equal(c(1.0)), q.equal(c(2.0)), q.equal(c(3.0)));
+    let sin = T::select(q1, co, T::select(q2, -s, T::select(q3, -co, s)));
+    let cos = T::select(q1, -s, T::select(q2, -co, T::select(q3, s, co)));
     (sin, cos)
 }
 
@@ -572,6 +600,68 @@ mod tests {
         assert!(worst.0 <= 1 && worst.1 <= 1, "{worst:?}");
         eprintln!("sin_cos_small: worst (sin, cos) ulps {worst:?}");
         assert_eq!(sin_cos_small(0.0), (0.0, 1.0));
+    }
+
+    /// The reduced sine and cosine against the standard library's over the angles of a step
+    /// (log-uniform up to 10⁶, near multiples of π/2, the quadrants' edges), and equal to
+    /// the kernel polynomials where no reduction is needed; lanes give the same bits.
+    #[test]
+    fn sin_cos_is_within_two_ulps_of_std() {
+        let mut xs: Vec<f64> = Vec::new();
+        let mut s = 0x1234_5678_9abc_def1u64;
+        for _ in 0..300_000 {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            let u = (s >> 11) as f64 / (1u64 << 53) as f64;
+            xs.push(10f64.powf(-8.0 + 14.0 * u)); // 1e-8 … 1e6
+            xs.push(20.0 * u); // the first quadrants, densely
+        }
+        for k in 1..200 {
+            let m = k as f64 * std::f64::consts::FRAC_PI_2;
+            for d in -3..=3 {
+                xs.push(f64::from_bits(m.to_bits().wrapping_add_signed(d)));
+            }
+            xs.push(m * 1000.0);
+        }
+        xs.extend([0.0, 5e-324, 1e-300, std::f64::consts::FRAC_PI_4, 1.6e6]);
+        // everywhere within 2⁻⁵² of the correctly rounded values (near a zero of sin or cos
+        // the absolute error is what the reduction bounds), and within two ulps away from
+        // the zeros; the kernel polynomials themselves where no reduction is needed
+        for &x in &xs {
+            for x in [x, -x] {
+                let (sn, cs) = sin_cos(x);
+                assert!((sn - x.sin()).abs() <= f64::EPSILON, "{x}");
+                assert!((cs - x.cos()).abs() <= f64::EPSILON, "{x}");
+                if x.abs() <= std::f64::consts::FRAC_PI_4 {
+                    assert_eq!((sn, cs), sin_cos_small(x), "{x}");
+                }
+            }
+        }
+        let mut worst_ulps = (0u64, 0u64);
+        for &x in &xs {
+            let (sn, cs) = sin_cos(x);
+            if x.sin().abs() > 1e-3 {
+                worst_ulps.0 = worst_ulps.0.max(ulps(sn, x.sin()));
+            }
+            if x.cos().abs() > 1e-3 {
+                worst_ulps.1 = worst_ulps.1.max(ulps(cs, x.cos()));
+            }
+        }
+        assert!(worst_ulps.0 <= 2 && worst_ulps.1 <= 2, "{worst_ulps:?}");
+        eprintln!("sin_cos: worst ulps {worst_ulps:?}");
+        assert!(sin_cos(f64::INFINITY).0.is_nan() && sin_cos(f64::NAN).1.is_nan());
+        let lanes = Wide::<WIDTH>(std::array::from_fn(|l| {
+            xs[131 * l] * if l % 3 == 0 { -1.0 } else { 1.0 }
+        }));
+        let (sw, cw) = sin_cos(lanes);
+        for l in 0..WIDTH {
+            let (a, b) = sin_cos(lanes.0[l]);
+            assert_eq!(
+                (sw.0[l].to_bits(), cw.0[l].to_bits()),
+                (a.to_bits(), b.to_bits())
+            );
+        }
     }
 
     /// Every lane computes what `f64` computes, bit for bit.

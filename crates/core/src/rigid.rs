@@ -265,7 +265,8 @@ pub fn state_from_principal(axes: &Mat3, z: &[f64], out: &mut [f64]) {
 /// state `z` (the body momentum π in the ω slot): `π ← Rotᵀ π`, `Q ← Q Rot`.
 #[inline(always)]
 pub fn rotate_pair(axis: usize, angle: f64, z: &mut [f64]) {
-    let (s, c) = angle.sin_cos();
+    // polynomials, so that ensembles run the sub-flows in lanes
+    let (s, c) = crate::real::sin_cos(angle);
     let i = (axis + 1) % 3;
     let j = (axis + 2) % 3;
     let pi_i = z[OMEGA_AT + i];
@@ -296,20 +297,32 @@ pub fn rotate_pair(axis: usize, angle: f64, z: &mut [f64]) {
 #[inline(always)]
 pub fn free_rotor_step(body: &Body, z: &mut [f64], h: f64) {
     if body.rotor < 0 {
-        for k in 0..5 {
-            let axis = match k {
-                0 | 4 => 0,
-                1 | 3 => 1,
-                _ => 2,
-            };
-            let frac = if k == 2 { 1.0 } else { 0.5 };
-            let ik = body.moments[axis];
-            if ik > 0.0 {
-                rotate_pair(axis, frac * h * z[OMEGA_AT + axis] / ik, z);
-            }
-        }
-        return;
+        free_rotor_triaxial(body, z, h);
+    } else {
+        free_rotor_symmetric(body, z, h);
     }
+}
+
+/// [`free_rotor_step`] of a body with three distinct moments: the five sub-flows, each about
+/// an axis known at compile time, a zero moment turning by 0 (its 1/I is 0), so that the
+/// ensembles' lanes run the step without gathers or branches.
+#[inline(always)]
+pub fn free_rotor_triaxial(body: &Body, z: &mut [f64], h: f64) {
+    let inv = body.inv_moments;
+    let sub = |axis: usize, frac: f64, z: &mut [f64]| {
+        rotate_pair(axis, frac * h * z[OMEGA_AT + axis] * inv[axis], z)
+    };
+    sub(0, 0.5, z);
+    sub(1, 0.5, z);
+    sub(2, 1.0, z);
+    sub(1, 0.5, z);
+    sub(0, 0.5, z);
+}
+
+/// [`free_rotor_step`] of a symmetric body (`body.rotor` its symmetry axis): the turn about π
+/// and the spin about the axis (none for a rod, whose π_s is 0).
+#[inline(always)]
+pub fn free_rotor_symmetric(body: &Body, z: &mut [f64], h: f64) {
     let s = body.rotor as usize;
     let ie = body.moments[(s + 1) % 3];
     let c = h / ie;
@@ -327,9 +340,14 @@ pub fn free_rotor_step(body: &Body, z: &mut [f64], h: f64) {
             z[Q_AT + 3 * r + k] = p[r][k];
         }
     }
-    let is = body.moments[s];
-    if is > 0.0 {
-        rotate_pair(s, h * (1.0 / is - 1.0 / ie) * z[OMEGA_AT + s], z);
+    let spin = |s: usize, z: &mut [f64]| {
+        let rate = body.inv_moments[s] - 1.0 / ie;
+        rotate_pair(s, h * rate * z[OMEGA_AT + s], z)
+    };
+    match s {
+        0 => spin(0, z),
+        1 => spin(1, z),
+        _ => spin(2, z),
     }
 }
 

@@ -2,6 +2,8 @@
 //! its derivative (used by the Lie-group steppers and the closed forms at fixed points,
 //! `docs/theory.md` §1, eqs (22)–(23)).
 
+use crate::real::{sin_cos, Real};
+
 /// A 3×3 matrix, row-major rows.
 pub type Mat3 = [[f64; 3]; 3];
 /// A 3-vector.
@@ -18,58 +20,79 @@ pub fn hat(w: Vec3) -> Mat3 {
 
 /// `exp(hat(w))` by Rodrigues' formula:
 /// `exp(Ŵ) = I + (sin θ/θ) Ŵ + ((1 − cos θ)/θ²) Ŵ²`, θ = |w|, with the Taylor series of both
-/// coefficients below [`SMALL_ANGLE`].
+/// coefficients below [`SMALL_ANGLE`]. Generic over [`Real`], so that it runs on one rotation
+/// or on many in lanes (the sine and cosine are [`sin_cos`]'s, both coefficients computed
+/// and the series selected).
 #[inline(always)]
-pub fn exp_so3(w: Vec3) -> Mat3 {
+pub fn exp_so3<T: Real>(w: [T; 3]) -> [[T; 3]; 3] {
+    let c = T::splat;
     let [x, y, z] = w;
     let t2 = x * x + y * y + z * z;
-    let (a, b) = if t2 < SMALL_ANGLE * SMALL_ANGLE {
-        (
-            1.0 - t2 / 6.0 + t2 * t2 / 120.0,
-            0.5 - t2 / 24.0 + t2 * t2 / 720.0,
-        )
-    } else {
-        let theta = t2.sqrt();
-        (theta.sin() / theta, (1.0 - theta.cos()) / t2)
-    };
+    let theta = t2.sqrt();
+    let (s, co) = sin_cos(theta);
+    let small = t2.lt(c(SMALL_ANGLE * SMALL_ANGLE));
+    // one division: sin θ/θ = θ sin θ/θ², (1 − cos θ)/θ²; the series' constants as products
+    let inv = c(1.0) / t2;
+    let a = T::select(
+        small,
+        c(1.0) - t2 * c(1.0 / 6.0) + t2 * t2 * c(1.0 / 120.0),
+        theta * s * inv,
+    );
+    let b = T::select(
+        small,
+        c(0.5) - t2 * c(1.0 / 24.0) + t2 * t2 * c(1.0 / 720.0),
+        (c(1.0) - co) * inv,
+    );
+    let one = c(1.0);
     // I + a Ŵ + b Ŵ², with Ŵ² = w wᵀ − θ² I
     [
-        [1.0 + b * (x * x - t2), b * x * y - a * z, b * x * z + a * y],
-        [b * x * y + a * z, 1.0 + b * (y * y - t2), b * y * z - a * x],
-        [b * x * z - a * y, b * y * z + a * x, 1.0 + b * (z * z - t2)],
+        [one + b * (x * x - t2), b * x * y - a * z, b * x * z + a * y],
+        [b * x * y + a * z, one + b * (y * y - t2), b * y * z - a * x],
+        [b * x * z - a * y, b * y * z + a * x, one + b * (z * z - t2)],
     ]
 }
 
 /// `dexp⁻¹_u(v) = v − ½ u × v + c(θ) u × (u × v)`, `c = (1 − (θ/2) cot(θ/2))/θ²` (series
 /// `1/12 + θ²/720 + θ⁴/30240` near 0), θ = |u| (Iserles, Munthe-Kaas, Nørsett & Zanna 2000,
-/// Acta Numerica, §2.4). Used by the Runge–Kutta–Munthe-Kaas steps.
+/// Acta Numerica, §2.4). Used by the Runge–Kutta–Munthe-Kaas steps; generic over [`Real`]
+/// as [`exp_so3`].
 #[inline(always)]
-pub fn dexpinv3(u: Vec3, v: Vec3) -> Vec3 {
+pub fn dexpinv3<T: Real>(u: [T; 3], v: [T; 3]) -> [T; 3] {
+    let k = T::splat;
     let [u0, u1, u2] = u;
     let t2 = u0 * u0 + u1 * u1 + u2 * u2;
-    let c = if t2 < 1e-6 {
-        1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0
-    } else {
-        let half = 0.5 * t2.sqrt();
-        (1.0 - half * half.cos() / half.sin()) / t2
-    };
-    let a = cross(u, v);
-    let b = cross(u, a);
+    let half = k(0.5) * t2.sqrt();
+    let (s, co) = sin_cos(half);
+    // 1 − (θ/2) cot(θ/2) over θ², in one division
+    let c = T::select(
+        t2.lt(k(1e-6)),
+        k(1.0 / 12.0) + t2 * k(1.0 / 720.0) + t2 * t2 * k(1.0 / 30240.0),
+        (s - half * co) / (s * t2),
+    );
+    let a = cross_t(u, v);
+    let b = cross_t(u, a);
+    let h = k(0.5);
     [
-        v[0] - 0.5 * a[0] + c * b[0],
-        v[1] - 0.5 * a[1] + c * b[1],
-        v[2] - 0.5 * a[2] + c * b[2],
+        v[0] - h * a[0] + c * b[0],
+        v[1] - h * a[1] + c * b[1],
+        v[2] - h * a[2] + c * b[2],
+    ]
+}
+
+/// `a × b` over [`Real`].
+#[inline(always)]
+pub fn cross_t<T: Real>(a: [T; 3], b: [T; 3]) -> [T; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
     ]
 }
 
 /// `a × b`.
 #[inline(always)]
 pub fn cross(a: Vec3, b: Vec3) -> Vec3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
+    cross_t(a, b)
 }
 
 /// `A B` for 3×3 matrices.
@@ -354,6 +377,64 @@ mod tests {
         let d = SMALL_ANGLE / 3f64.sqrt();
         let (lo, hi) = (exp_so3([d * 0.999999, d, d]), exp_so3([d * 1.000001, d, d]));
         assert!(close(&lo, &hi, 1e-9));
+    }
+
+    #[test]
+    fn exp_and_dexpinv_over_many_angles_and_in_lanes() {
+        // exp against the rotation of the unit quaternion (cos θ/2, sin θ/2 n) with the
+        // standard library's trigonometry, and dexp⁻¹ against the inverse of dexp's closed
+        // form, over angles from 1e-9 to 20 rad (both sides of the series' thresholds); the
+        // lanes give each rotation's numbers bit for bit
+        use crate::real::Wide;
+        let mut ws = Vec::new();
+        for (k, v) in sample_vectors(4000, 1.0).into_iter().enumerate() {
+            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(1e-3);
+            let angle = 10f64.powf(-9.0 + 10.3 * (k as f64 / 4000.0));
+            ws.push(v.map(|x| x / n * angle));
+        }
+        let us = sample_vectors(4000, 1.0);
+        for (w, v) in ws.iter().zip(&us) {
+            let th = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+            let (sh, ch) = (0.5 * th).sin_cos();
+            let f = if th > 0.0 { sh / th } else { 0.5 };
+            let q = quat_to_matrix([ch, f * w[0], f * w[1], f * w[2]]);
+            assert!(close(&exp_so3(*w), &q, 4e-16 * (1.0 + th)), "{w:?}");
+            // dexp_w(v) = v + (1 − cos θ)/θ² w×v + (θ − sin θ)/θ³ w×(w×v), near 0 its series
+            let t2 = th * th;
+            let (c1, c2) = if th < 1e-3 {
+                (0.5 - t2 / 24.0, 1.0 / 6.0 - t2 / 120.0)
+            } else {
+                ((1.0 - th.cos()) / t2, (th - th.sin()) / (t2 * th))
+            };
+            let a = cross(*w, *v);
+            let b = cross(*w, a);
+            let d = [0, 1, 2].map(|i| v[i] + c1 * a[i] + c2 * b[i]);
+            if th < 6.0 {
+                let back = dexpinv3(*w, d);
+                for i in 0..3 {
+                    assert!((back[i] - v[i]).abs() < 1e-12 * (1.0 + t2), "{w:?} {i}");
+                }
+            }
+        }
+        const L: usize = 8;
+        for chunk in ws.chunks_exact(L).zip(us.chunks_exact(L)) {
+            let (w, v) = chunk;
+            let wide = |x: &[Vec3], i: usize| Wide::<L>(std::array::from_fn(|l| x[l][i]));
+            let e = exp_so3([wide(w, 0), wide(w, 1), wide(w, 2)]);
+            let d = dexpinv3(
+                [wide(w, 0), wide(w, 1), wide(w, 2)],
+                [wide(v, 0), wide(v, 1), wide(v, 2)],
+            );
+            for l in 0..L {
+                let (e1, d1) = (exp_so3(w[l]), dexpinv3(w[l], v[l]));
+                for i in 0..3 {
+                    assert_eq!(d[i].0[l].to_bits(), d1[i].to_bits());
+                    for j in 0..3 {
+                        assert_eq!(e[i][j].0[l].to_bits(), e1[i][j].to_bits());
+                    }
+                }
+            }
+        }
     }
 
     #[test]

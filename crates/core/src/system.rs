@@ -54,4 +54,18 @@ pub trait RigidStructure: VectorField {
     fn rk4(&self, t: f64, y: &[f64; STATE_SIZE], h: f64) -> [f64; STATE_SIZE] {
         crate::steppers::rk4_registers(|t, y| self.rates(t, y), t, y, h)
     }
+    /// One Runge–Kutta–Munthe-Kaas step with the classical RK4 tableau on the state in
+    /// registers (before [`VectorField::project`]), for a system with a step of its own;
+    /// `None` (the default): the generic [`crate::steppers::rkmk_step`] runs.
+    #[inline(always)]
+    fn rkmk4(&self, _t: f64, _y: &[f64; STATE_SIZE], _h: f64) -> Option<[f64; STATE_SIZE]> {
+        None
+    }
+    /// One step of the splitting method on the momentum state in registers, for a system with
+    /// a step of its own; `None` (the default): the generic
+    /// [`crate::steppers::splitting_step`] runs.
+    #[inline(always)]
+    fn splitting(&self, _t: f64, _z: &[f64; STATE_SIZE], _h: f64) -> Option<[f64; STATE_SIZE]> {
+        None
+    }
 }

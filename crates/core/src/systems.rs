@@ -12,11 +12,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use crate::forces::{total_potential, total_wrench, Force};
 use crate::layout::{load, Body, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
 use crate::rigid::{
-    attitude_rate, attitude_row_acc, euler_free_coefficients, omega_dot_free, omega_dot_free_acc,
+    attitude_rate, attitude_row_acc, euler_free_coefficients, free_rotor_step,
+    free_rotor_symmetric, free_rotor_triaxial, omega_dot_free, omega_dot_free_acc,
     pivot_constrained, rigid_rates, shift_torque_to_pivot, state_from_principal, State,
 };
 
-use crate::so3::{Mat3, Vec3};
+use crate::so3::{dexpinv3, exp_so3, Mat3, Vec3};
 use crate::steppers::{rk4_points_driven, rk4_points_driver};
 use crate::system::{RigidStructure, VectorField};
 
@@ -106,9 +107,89 @@ impl RigidStructure for TorqueFree {
     fn rk4(&self, _: f64, y: &State, h: f64) -> State {
         self.rk4_points(y, h)
     }
+    /// RKMK4 in registers ([`TorqueFree::rkmk4_step`]).
+    #[inline(always)]
+    fn rkmk4(&self, _: f64, y: &State, h: f64) -> Option<State> {
+        Some(self.rkmk4_step(y, h))
+    }
+    /// The splitting step without forces ([`TorqueFree::splitting_free`]).
+    #[inline(always)]
+    fn splitting(&self, _: f64, z: &State, h: f64) -> Option<State> {
+        Some(self.splitting_free::<ANY_ROTOR>(z, h))
+    }
 }
 
 impl TorqueFree {
+    /// The splitting method's step ([`crate::steppers::splitting_step`]) for the free body, on
+    /// the momentum state `[R, V, Q, π]`: the kicks have no force to give, so the step is the
+    /// drift alone, the exact free rotor ([`free_rotor_step`]; `ROTOR` [`TRIAXIAL`] or
+    /// [`SYMMETRIC`] names the branch the body takes, so that a block of lanes has none) and
+    /// `R += hV` (the generic step's numbers up to the sign of a zero).
+    #[inline(always)]
+    pub fn splitting_free<const ROTOR: u8>(&self, z: &State, h: f64) -> State {
+        let mut out = *z;
+        match ROTOR {
+            TRIAXIAL => free_rotor_triaxial(&self.body, &mut out, h),
+            SYMMETRIC => free_rotor_symmetric(&self.body, &mut out, h),
+            _ => free_rotor_step(&self.body, &mut out, h),
+        }
+        for k in 0..3 {
+            out[R_AT + k] += h * out[V_AT + k];
+        }
+        out
+    }
+
+    /// Runge–Kutta–Munthe-Kaas with the classical RK4 tableau (`RK4_A`, `RK4_B`): the step of
+    /// [`crate::steppers::rkmk_step`] for the free body, bit for bit in Q and ω. ω's rates (20) do not depend on the
+    /// attitude, so the stages need no rotated attitude, only the increments of the
+    /// exponential coordinates: `θ_i = h Σ_j a_ij kθ_j`, `kθ_i = dexp⁻¹_{−θ_i}(ω_i)` (`kθ_1 = ω`),
+    /// and Q moves once, `Q exp(h Σ_i b_i kθ_i)` (on SO(3) to round-off). The centre of mass
+    /// moves by `R + hV`. No fused operations, so every
+    /// instruction set gives the same numbers, and the ensembles run it in lanes
+    /// ([`crate::lanes::BlockRkmk4`]).
+    #[inline(always)]
+    pub fn rkmk4_step(&self, y: &State, h: f64) -> State {
+        use crate::tableaux::{RK4_A, RK4_B};
+        let c = self.euler;
+        let w = [y[OMEGA_AT], y[OMEGA_AT + 1], y[OMEGA_AT + 2]];
+        // a stage point `x + h (a k)`, as the generic step forms it
+        let at = |x: &Vec3, a: f64, k: &Vec3| [0, 1, 2].map(|i| x[i] + h * (a * k[i]));
+        let k1 = omega_dot_free(c, w);
+        let (a21, a32, a43) = (RK4_A[1][0], RK4_A[2][1], RK4_A[3][2]);
+        let w2 = at(&w, a21, &k1);
+        let th2 = at(&[0.0; 3], a21, &w);
+        let kt2 = dexpinv3(th2.map(|x| -x), w2);
+        let k2 = omega_dot_free(c, w2);
+        let w3 = at(&w, a32, &k2);
+        let th3 = at(&[0.0; 3], a32, &kt2);
+        let kt3 = dexpinv3(th3.map(|x| -x), w3);
+        let k3 = omega_dot_free(c, w3);
+        let w4 = at(&w, a43, &k3);
+        let th4 = at(&[0.0; 3], a43, &kt3);
+        let kt4 = dexpinv3(th4.map(|x| -x), w4);
+        let k4 = omega_dot_free(c, w4);
+        let b = RK4_B;
+        let mean = |k: [&Vec3; 4]| {
+            [0, 1, 2]
+                .map(|i| 0.0 + b[0] * k[0][i] + b[1] * k[1][i] + b[2] * k[2][i] + b[3] * k[3][i])
+        };
+        let dw = mean([&k1, &k2, &k3, &k4]);
+        let th = mean([&w, &kt2, &kt3, &kt4]);
+        let e = exp_so3([h * th[0], h * th[1], h * th[2]]);
+        let mut out = *y;
+        for r in 0..3 {
+            let q = [y[Q_AT + 3 * r], y[Q_AT + 3 * r + 1], y[Q_AT + 3 * r + 2]];
+            for k in 0..3 {
+                out[Q_AT + 3 * r + k] = q[0] * e[0][k] + q[1] * e[1][k] + q[2] * e[2][k];
+            }
+        }
+        for i in 0..3 {
+            out[R_AT + i] = y[R_AT + i] + h * y[V_AT + i];
+            out[OMEGA_AT + i] = w[i] + h * dw[i];
+        }
+        out
+    }
+
     /// Classical RK4 on `[Q, ω]` in stage-point form ([`rk4_points_driver`] for ω,
     /// [`rk4_points_driven`] for each row of Q on ω's stage points): in exact arithmetic the
     /// RK4 step of [`crate::steppers::rk4_registers`] on the whole state, with every sum of
@@ -147,6 +228,12 @@ impl TorqueFree {
         ]
     }
 }
+
+/// [`TorqueFree::splitting_free`]'s rotor: whichever the body is, three distinct moments, or
+/// symmetric.
+pub const ANY_ROTOR: u8 = 0;
+pub const TRIAXIAL: u8 = 1;
+pub const SYMMETRIC: u8 = 2;
 
 /// A body under built-in forces and the user's, free or about a pivot.
 pub struct Rigid<U: UserWrench = NoUser> {
@@ -241,6 +328,70 @@ impl<U: UserWrench> RigidStructure for Rigid<U> {
 mod tests {
     use super::*;
     use crate::steppers::rk4_registers;
+
+    #[test]
+    fn torque_free_rkmk4_step_is_the_generic_rkmk_step() {
+        // the same numbers as rkmk_step with the RK4 tableau on the whole state, bit for bit
+        // in Q and ω, for small and large steps (the series and the formulas of exp and
+        // dexp⁻¹), the centre of mass in free flight
+        use crate::steppers::rkmk_step;
+        use crate::steppers::Tableau;
+        use crate::tableaux::{RK4_A, RK4_B, RK4_C};
+        let a: Vec<f64> = RK4_A.iter().flatten().copied().collect();
+        let tab = Tableau {
+            a: &a,
+            b: &RK4_B,
+            c: &RK4_C,
+        };
+        for moments in [[1.0, 2.0, 3.5], [2.0, 2.0, 3.0], [0.7, 1.9, 1.9]] {
+            let a = [0, 1, 2].map(|r| [0, 1, 2].map(|c| if r == c { moments[r] } else { 0.0 }));
+            let body = Body::from_slice(&Body::vector(
+                4.0, moments, [0.0; 3], &a, [0.0; 3], false, -1,
+            ))
+            .unwrap();
+            let sys = TorqueFree::new(body);
+            let mut y = [0.0; STATE_SIZE];
+            for (k, v) in y.iter_mut().enumerate() {
+                *v = (1.7 * k as f64 + 0.3).sin();
+            }
+            let q = exp_so3([0.4, -1.2, 2.0]);
+            for i in 0..3 {
+                y[Q_AT + 3 * i..Q_AT + 3 * i + 3].copy_from_slice(&q[i]);
+            }
+            for h in [1e-6, 1e-3, 0.05, 0.7] {
+                let mut z = y;
+                let (mut k, mut ytmp, mut kth) =
+                    (vec![0.0; 4 * STATE_SIZE], [0.0; STATE_SIZE], [[0.0; 3]; 4]);
+                for _ in 0..50 {
+                    let mut generic = [0.0; STATE_SIZE];
+                    rkmk_step(
+                        &sys,
+                        &tab,
+                        0.0,
+                        &z,
+                        h,
+                        &mut k,
+                        &mut ytmp,
+                        &mut kth,
+                        &mut generic,
+                    );
+                    let own = sys.rkmk4(0.0, &z, h).unwrap();
+                    for k in Q_AT..STATE_SIZE {
+                        assert_eq!(
+                            own[k].to_bits(),
+                            generic[k].to_bits(),
+                            "{moments:?} {h} {k}"
+                        );
+                    }
+                    for k in 0..3 {
+                        assert_eq!(own[R_AT + k], z[R_AT + k] + h * z[V_AT + k]);
+                        assert_eq!(own[V_AT + k], z[V_AT + k]);
+                    }
+                    z = own;
+                }
+            }
+        }
+    }
 
     #[test]
     fn torque_free_stage_point_step_is_rk4_on_the_whole_state() {

@@ -8,7 +8,7 @@ use std::cell::RefCell;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadwriteArray1, PyReadwriteArray2};
 use poinsot_core::drivers::{
     run_adaptive, run_fixed_native, AdaptiveState, Clock, Counters, Erk, FixedMethod, Output,
-    Rk4Rigid, Rkmk, Sampling, Splitting, Status,
+    Rk4Rigid, RkmkRigid, Sampling, Splitting, Status,
 };
 use poinsot_core::layout::STATE_SIZE;
 use poinsot_core::observers::{FlipObserver, NoObserver, Observer};
@@ -285,15 +285,7 @@ fn chunk<S: RigidStructure + ?Sized, O: Observer>(
         }),
         "rkmk" => in_chunk(r, |r, clock, k| {
             let tab = r.tab;
-            fixed(
-                sys,
-                &mut Rkmk::new(tab, STATE_SIZE),
-                obs,
-                clock,
-                r,
-                k,
-                steps,
-            )
+            fixed(sys, &mut RkmkRigid::new(tab), obs, clock, r, k, steps)
         }),
         "splitting" => in_chunk(r, |r, clock, k| {
             fixed(sys, &mut Splitting, obs, clock, r, k, steps)
