@@ -278,3 +278,15 @@ def test_lagrangian_system_arguments():
     assert sp.simplify(by_eq.holonomic[0] - (x**2 + y**2 - l**2)) == 0
     with pytest.raises(TypeError, match=r"`holonomic\[0\]` must be an expression"):
         LagrangianSystem([x, y], kinetic=T, holonomic=[x > 0])
+
+
+def test_a_huge_quaternion_is_refused_without_a_warning():
+    # its norm overflows to inf: the refusal says so, and numpy's overflow warning (found by
+    # the rigid-body fuzz test) does not reach the user
+    import warnings
+
+    body = RigidBody.box(1.0, (1.0, 2.0, 3.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=r"`Q0` is not a rotation: .* norm inf"):
+            simulate(body, (0, 1), omega0=(0, 1, 1), Q0=(1e300, 1e300, 0.0, 0.0))

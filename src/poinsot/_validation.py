@@ -194,7 +194,8 @@ def as_rotation_matrix(value, name: str) -> np.ndarray:
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"`{name}` must be finite, found {arr.tolist()}")
     if arr.shape == (4,):
-        norm = float(np.linalg.norm(arr))
+        with np.errstate(over="ignore"):  # a huge quaternion's norm is inf: refused below
+            norm = float(np.linalg.norm(arr))
         if abs(norm - 1.0) > ROTATION_TOLERANCE:
             raise ValueError(
                 f"`{name}` is not a rotation: the quaternion {_QUAT_ORDER[True]} has norm "
@@ -254,7 +255,8 @@ def as_rotation_matrices(value, name: str, n: int | None = None) -> np.ndarray:
         bad = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
         raise ValueError(f"`{name}{_fmt_index(bad)}` must be finite, found {arr[bad]}")
     if arr.ndim == 2:  # quaternions
-        norms = np.linalg.norm(arr, axis=1)
+        with np.errstate(over="ignore"):  # a huge quaternion's norm is inf: refused below
+            norms = np.linalg.norm(arr, axis=1)
         bad = np.flatnonzero(np.abs(norms - 1.0) > ROTATION_TOLERANCE)
         if len(bad):
             i = int(bad[0])
