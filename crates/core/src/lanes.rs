@@ -239,9 +239,12 @@ impl Observer for BlockFlips {
             &y0[at(OMEGA_AT + 1, 0)..at(OMEGA_AT + 2, 0)],
             &y1[at(OMEGA_AT + 1, 0)..at(OMEGA_AT + 2, 0)],
         );
+        // a flip has a · b ≤ 0, which one product and one compare per vector tell (the exact
+        // rule below, four compares, runs for the rare step where some lane may have flipped:
+        // a product of zero, an underflow, a flip)
         let mut any = false;
         for l in 0..LANES {
-            any |= (a[l] < 0.0 && b[l] >= 0.0) | (a[l] > 0.0 && b[l] <= 0.0);
+            any |= a[l] * b[l] <= 0.0;
         }
         if !any {
             return;
