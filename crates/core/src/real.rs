@@ -470,7 +470,9 @@ pub fn sin_cos_small<T: Real>(x: T) -> (T, T) {
     (sin, cos)
 }
 
-/// `(sin x, cos x)` for the angles of a step, `|x| < 2²⁰ π/2` (1.6·10⁶), within two ulps:
+/// `(sin x, cos x)` for the angles of a step, `|x| < 2²⁰ π/2` (1.6·10⁶): within two ulps
+/// away from the zeros of sin and cos, and within 2⁻⁵² of the true values everywhere (tested
+/// against the standard library):
 /// `x = n π/2 + r` with `n` the nearest integer to `2x/π` and `r` formed with π/2 in three
 /// parts (fdlibm's `__rem_pio2` for medium arguments, every product `n · part` exact), then
 /// [`sin_cos_small`] of `r` and the quadrant `n mod 4` chosen by selection, so that it runs in
