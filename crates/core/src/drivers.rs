@@ -259,17 +259,10 @@ impl<'a> RkmkRigid<'a> {
     }
 }
 
-/// Whether a tableau is the classical RK4's ([`crate::tableaux::RK4_A`], `RK4_B`, `RK4_C`).
+/// Whether a tableau is the classical RK4's ([`crate::steppers::RK4`]).
 pub fn is_rk4(tab: &Tableau) -> bool {
-    use crate::tableaux::{RK4_A, RK4_B, RK4_C};
-    tab.stages() == 4
-        && tab
-            .a
-            .iter()
-            .zip(RK4_A.iter().flatten())
-            .all(|(x, y)| x == y)
-        && tab.b == RK4_B
-        && tab.c == RK4_C
+    let rk4 = crate::steppers::RK4;
+    tab.a == rk4.a && tab.b == rk4.b && tab.c == rk4.c
 }
 
 impl<S: RigidStructure + ?Sized> FixedMethod<S> for RkmkRigid<'_> {

@@ -29,9 +29,8 @@ use crate::drivers::{run_fixed, Clock, Counters, Erk, Output, Sampling, Status};
 use crate::observers::NoObserver;
 use crate::rigid::omega_dot_principal;
 use crate::so3::{cross, Mat3, Vec3};
-use crate::steppers::Tableau;
+use crate::steppers::RK4;
 use crate::system::VectorField;
-use crate::tableaux::{RK4_A, RK4_B, RK4_C};
 
 /// `Eᵀ v`: the components along the columns of `axes` of a vector given in the body frame.
 #[inline(always)]
@@ -277,13 +276,7 @@ pub fn gyrostat_omegas(
         return Status::Finished;
     }
     let sys = Gyrostat::new(moments, *axes, rotor);
-    let a: Vec<f64> = RK4_A.iter().flatten().copied().collect();
-    let tab = Tableau {
-        a: &a,
-        b: &RK4_B,
-        c: &RK4_C,
-    };
-    let mut method = Erk::new(tab, 3);
+    let mut method = Erk::new(RK4, 3);
     let mut z = sys.state_of(t[0], omega0).to_vec();
     let span = t[n - 1] - t[0];
     let dt = if max_step > 0.0 {

@@ -22,7 +22,7 @@ use crate::so3::{dexpinv3, exp_so3, Mat3};
 use crate::system::{RigidStructure, VectorField};
 use crate::tableaux::{
     DOP853_A, DOP853_C, DOP853_D, DOP853_E3, DOP853_E5, DOP853_INTERPOLATOR_POWER, DOP853_STAGES,
-    DOP853_STAGES_EXTENDED,
+    DOP853_STAGES_EXTENDED, RK4_A, RK4_B, RK4_C,
 };
 
 /// An explicit Runge–Kutta tableau: `a` row-major `s × s` (strictly lower), `b` and `c` (s).
@@ -40,6 +40,24 @@ impl Tableau<'_> {
         self.b.len()
     }
 }
+
+/// RK4's `A` row-major, as a [`Tableau`] holds it.
+const RK4_A_ROWS: [f64; 16] = {
+    let mut a = [0.0; 16];
+    let mut i = 0;
+    while i < 16 {
+        a[i] = RK4_A[i / 4][i % 4];
+        i += 1;
+    }
+    a
+};
+
+/// The classical RK4 tableau ([`RK4_A`], [`RK4_B`], [`RK4_C`]).
+pub const RK4: Tableau<'static> = Tableau {
+    a: &RK4_A_ROWS,
+    b: &RK4_B,
+    c: &RK4_C,
+};
 
 /// One step of the explicit Runge–Kutta method `tab`: stages
 /// `k_i = f(t + C_i h, y + h Σ_j A_ij k_j)`, result `y + h Σ_i B_i k_i` in `out`.

@@ -329,31 +329,29 @@ mod tests {
     use super::*;
     use crate::steppers::rk4_registers;
 
+    /// A free body of principal moments `moments` (mass 4) and a state of mixed signs and
+    /// sizes (its attitude not a rotation).
+    fn free_body_and_state(moments: Vec3) -> (TorqueFree, State) {
+        let a = [0, 1, 2].map(|r| [0, 1, 2].map(|c| if r == c { moments[r] } else { 0.0 }));
+        let body = Body::from_slice(&Body::vector(
+            4.0, moments, [0.0; 3], &a, [0.0; 3], false, -1,
+        ))
+        .unwrap();
+        let mut y = [0.0; STATE_SIZE];
+        for (k, v) in y.iter_mut().enumerate() {
+            *v = (1.7 * k as f64 + 0.3).sin();
+        }
+        (TorqueFree::new(body), y)
+    }
+
     #[test]
     fn torque_free_rkmk4_step_is_the_generic_rkmk_step() {
         // the same numbers as rkmk_step with the RK4 tableau on the whole state, bit for bit
         // in Q and ω, for small and large steps (the series and the formulas of exp and
         // dexp⁻¹), the centre of mass in free flight
-        use crate::steppers::rkmk_step;
-        use crate::steppers::Tableau;
-        use crate::tableaux::{RK4_A, RK4_B, RK4_C};
-        let a: Vec<f64> = RK4_A.iter().flatten().copied().collect();
-        let tab = Tableau {
-            a: &a,
-            b: &RK4_B,
-            c: &RK4_C,
-        };
+        use crate::steppers::{rkmk_step, RK4};
         for moments in [[1.0, 2.0, 3.5], [2.0, 2.0, 3.0], [0.7, 1.9, 1.9]] {
-            let a = [0, 1, 2].map(|r| [0, 1, 2].map(|c| if r == c { moments[r] } else { 0.0 }));
-            let body = Body::from_slice(&Body::vector(
-                4.0, moments, [0.0; 3], &a, [0.0; 3], false, -1,
-            ))
-            .unwrap();
-            let sys = TorqueFree::new(body);
-            let mut y = [0.0; STATE_SIZE];
-            for (k, v) in y.iter_mut().enumerate() {
-                *v = (1.7 * k as f64 + 0.3).sin();
-            }
+            let (sys, mut y) = free_body_and_state(moments);
             let q = exp_so3([0.4, -1.2, 2.0]);
             for i in 0..3 {
                 y[Q_AT + 3 * i..Q_AT + 3 * i + 3].copy_from_slice(&q[i]);
@@ -366,7 +364,7 @@ mod tests {
                     let mut generic = [0.0; STATE_SIZE];
                     rkmk_step(
                         &sys,
-                        &tab,
+                        &RK4,
                         0.0,
                         &z,
                         h,
@@ -399,16 +397,7 @@ mod tests {
         // centre of mass in free flight, to round-off at every step (the same formulas in
         // exact arithmetic, rounded differently), with R + hV fused
         for moments in [[1.0, 2.0, 3.5], [2.0, 2.0, 3.0], [0.7, 1.9, 1.9]] {
-            let a = [0, 1, 2].map(|r| [0, 1, 2].map(|c| if r == c { moments[r] } else { 0.0 }));
-            let body = Body::from_slice(&Body::vector(
-                4.0, moments, [0.0; 3], &a, [0.0; 3], false, -1,
-            ))
-            .unwrap();
-            let sys = TorqueFree::new(body);
-            let mut y = [0.0; STATE_SIZE];
-            for (k, v) in y.iter_mut().enumerate() {
-                *v = (1.7 * k as f64 + 0.3).sin();
-            }
+            let (sys, y) = free_body_and_state(moments);
             for h in [1e-3, 0.05, 0.7] {
                 let mut z = y;
                 for _ in 0..50 {
