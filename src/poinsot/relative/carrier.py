@@ -43,6 +43,10 @@ def _is_sympy(value) -> bool:
 
 
 def _is_spline(value) -> bool:
+    # scipy.interpolate is imported only for a value from it (its import costs most of a
+    # second of a cold start); a spline's class, or a class it derives from, lives there
+    if not any(c.__module__.startswith("scipy.interpolate") for c in type(value).__mro__):
+        return False
     from scipy.interpolate import BSpline, PPoly
 
     return isinstance(value, PPoly | BSpline)
