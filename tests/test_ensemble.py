@@ -402,6 +402,12 @@ def test_ctrl_c_stops_a_running_ensemble():
         ({"t_eval": np.array([1.0, 0.5])}, r"`t_eval` must be non-decreasing"),
         ({"t_eval": np.array([2.0])}, r"`t_eval` must lie within"),
         ({"threads": 0}, r"`threads` must be a positive integer"),
+        ({"samples_out": np.zeros((3, 2, 18))}, r"`samples_out` must have shape \(3, 1, 18\)"),
+        ({"samples_out": np.zeros((3, 1, 18)), "keep_samples": False}, r"with `keep_samples`"),
+        ({"samples_out": np.zeros((18, 1, 3)).T}, r"`samples_out` must be C-contiguous"),
+        ({"y0": np.zeros((18, 3)).T}, r"`y0` must be C-contiguous"),
+        ({"finals_out": np.zeros((2, 18))}, r"`finals_out` must have shape \(3, 18\)"),
+        ({"finals_out": np.zeros((18, 3)).T}, r"`finals_out` must be C-contiguous"),
     ],
 )
 def test_the_core_names_bad_arguments(change, match):
@@ -458,3 +464,38 @@ def test_a_chunk_runs_the_same_from_unaligned_arrays(case):
     assert np.isfinite(want.final).all()
     np.testing.assert_array_equal(got.final, want.final)
     np.testing.assert_array_equal(got.Y, want.Y)
+
+
+@pytest.mark.parametrize("keep_states", [True, False])
+@pytest.mark.parametrize("case", ["free rk4", "free dop853", "heavy top rk4"])
+def test_a_chunk_written_in_place_equals_its_returned_arrays(case, keep_states):
+    # run in this process, a chunk writes its states into the result's arrays (MuJoCo's
+    # rollout style); on a Dask worker it returns new ones: the two are bit-identical
+    from poinsot.ensemble.run import _prepare
+    from poinsot.ensemble.tasks import ChunkViews, run_chunk
+
+    kw = dict(CASES[case])
+    spec, members = _prepare(
+        BODY, (0, T_END), W0, Q0, None, None, None, None, kw.pop("forces", ()),
+        kw.pop("pivot", None), kw.pop("method"), kw.pop("dt", None), None, None, T_EVAL, True,
+        None, keep_states,
+    )  # fmt: skip
+    task = members.task(2, 9)
+    m = task.stop - task.start
+    views = ChunkViews(
+        np.full((m, len(T_EVAL), 18), np.nan) if keep_states else None,
+        np.full((m, 18), np.nan),
+        np.full((m, 18), np.nan),
+    )
+    want, got = run_chunk(spec, task), run_chunk(spec, task, out=views)
+    assert got.in_place and not want.in_place
+    assert got.final is views.final and got.Y0 is views.Y0
+    assert np.isfinite(want.final).all()
+    np.testing.assert_array_equal(views.final, want.final)
+    np.testing.assert_array_equal(views.Y0, want.Y0)
+    if keep_states:
+        np.testing.assert_array_equal(views.Y, want.Y)
+    else:
+        assert got.Y is None and want.Y is None
+    for name in ("energy", "momentum", "first_flip", "status", "nsteps"):
+        np.testing.assert_array_equal(getattr(got, name), getattr(want, name))

@@ -11,7 +11,8 @@ use std::time::Duration;
 
 use numpy::ndarray::{Array1, Array2, Array3, ArrayView3};
 use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2,
+    PyReadonlyArray3, PyReadwriteArray2, PyReadwriteArray3, PyUntypedArrayMethods,
 };
 use poinsot_core::ensemble::{member_body, run_members, Member, MemberSummary, Method, Schedule};
 use poinsot_core::forces::{Force, ForceKind};
@@ -38,6 +39,15 @@ fn shared_or_per_member(rows: usize, m: usize, name: &str, shape: &str) -> PyRes
         )));
     }
     Ok(())
+}
+
+/// An array's memory as a slice in C order (rust-numpy also gives a slice for Fortran order,
+/// whose elements would be read in the wrong order).
+pub(crate) fn c_order<S, E>(c_contiguous: bool, slice: Result<S, E>, name: &str) -> PyResult<S> {
+    match slice {
+        Ok(s) if c_contiguous => Ok(s),
+        _ => Err(value_error(format!("`{name}` must be C-contiguous"))),
+    }
 }
 
 fn mats<'a>(
@@ -220,12 +230,13 @@ fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
         .unwrap_or_else(|| "unknown panic".into())
 }
 
-/// What `run_ensemble` returns: samples (m, n, 18) or None, final states (m, 18), the drifts
+/// What `run_ensemble` returns: samples (m, n, 18) or None (not kept, or written to
+/// `samples_out`), final states (m, 18) or None (written to `finals_out`), the drifts
 /// (energy, momentum, orthogonality), the flips (first, last, count), and status, steps and
 /// evaluations per member.
 type Outputs<'py> = (
     Option<Bound<'py, PyArray3<f64>>>,
-    Bound<'py, PyArray2<f64>>,
+    Option<Bound<'py, PyArray2<f64>>>,
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray1<f64>>,
@@ -246,11 +257,14 @@ type Outputs<'py> = (
 /// (parameter vectors, principal frame, pivot not placed), `axes` (principal axes, columns),
 /// `force_params` (k forces of kinds `force_kind`, lowered in the member's principal frame);
 /// `y0` (m, 18) the body-frame initial states. `keep_samples`: return the samples (else only
-/// the final states); `threads`: the pool's size.
+/// the final states); `threads`: the pool's size. `samples_out` (m, n, 18) and `finals_out`
+/// (m, 18), C-contiguous, receive the samples and final states in place (MuJoCo's `rollout`
+/// style: the caller's result arrays, no copy), and None is returned for them.
 #[pyfunction]
 #[pyo3(signature = (
     method, a, b, c, control, t0, t1, dt, t_eval, inertia, bodies, axes, force_kind,
-    force_params, y0, flips=true, keep_samples=true, threads=1
+    force_params, y0, flips=true, keep_samples=true, threads=1, samples_out=None,
+    finals_out=None
 ))]
 #[allow(clippy::too_many_arguments)]
 fn run_ensemble<'py>(
@@ -273,6 +287,8 @@ fn run_ensemble<'py>(
     flips: bool,
     keep_samples: bool,
     threads: i64,
+    samples_out: Option<PyReadwriteArray3<'py, f64>>,
+    finals_out: Option<PyReadwriteArray2<'py, f64>>,
 ) -> PyResult<Outputs<'py>> {
     // the schedule
     if !METHODS.contains(&method) {
@@ -280,7 +296,8 @@ fn run_ensemble<'py>(
             "`method` must be one of {METHODS:?}, found {method:?}"
         )));
     }
-    let (a_s, b_s, c_s) = (a.as_slice()?, b.as_slice()?, c.as_slice()?);
+    let a_s = c_order(a.is_c_contiguous(), a.as_slice(), "a")?;
+    let (b_s, c_s) = (b.as_slice()?, c.as_slice()?);
     let s = b_s.len();
     if a_s.len() != s * s || c_s.len() != s {
         return Err(value_error(
@@ -365,14 +382,13 @@ fn run_ensemble<'py>(
         flips,
     };
     // the members
-    let y0 = y0.as_array();
-    if y0.ncols() != STATE_SIZE {
+    if y0.shape()[1] != STATE_SIZE {
         return Err(value_error(format!(
             "`y0` must have shape (m, {STATE_SIZE}), found {:?}",
             y0.shape()
         )));
     }
-    let m = y0.nrows();
+    let m = y0.shape()[0];
     let inertia = mats(&inertia, m, "inertia")?;
     let axes = mats(&axes, m, "axes")?;
     let bodies = bodies.as_array();
@@ -388,37 +404,81 @@ fn run_ensemble<'py>(
         .collect::<PyResult<Vec<Body>>>()?;
     let forces = member_forces(force_kind.as_slice()?, &force_params, m)?;
     let pick = |len: usize, i: usize| if len > 1 { i } else { 0 };
+    let y0 = c_order(y0.is_c_contiguous(), y0.as_slice(), "y0")?;
     let members: Vec<Member> = (0..m)
         .map(|i| {
-            let y: Vec<f64> = y0.row(i).to_vec();
             Member::new(
                 bodies[pick(bodies.len(), i)],
                 mat(&axes, i),
                 mat(&inertia, i),
                 &forces[pick(forces.len(), i)],
-                load(&y),
+                load(&y0[i * STATE_SIZE..(i + 1) * STATE_SIZE]),
             )
         })
         .collect();
-    // the run: workers on the pool, this thread looking for an interrupt
+    // the outputs: the caller's arrays, or new ones
     let n = times.len();
-    let mut samples = vec![0.0; if keep_samples { m * n * STATE_SIZE } else { 0 }];
-    let mut finals = vec![0.0; m * STATE_SIZE];
+    let mut samples_out = samples_out;
+    let mut finals_out = finals_out;
+    if let Some(a) = &samples_out {
+        if !keep_samples || a.shape() != [m, n, STATE_SIZE] {
+            return Err(value_error(format!(
+                "`samples_out` must have shape ({m}, {n}, {STATE_SIZE}) with `keep_samples`, \
+                 found {:?}",
+                a.shape()
+            )));
+        }
+    }
+    if let Some(a) = &finals_out {
+        if a.shape() != [m, STATE_SIZE] {
+            return Err(value_error(format!(
+                "`finals_out` must have shape ({m}, {STATE_SIZE}), found {:?}",
+                a.shape()
+            )));
+        }
+    }
+    let mut own_samples = Vec::new();
+    let mut own_finals = Vec::new();
+    let samples: Option<&mut [f64]> = match &mut samples_out {
+        Some(a) => Some(c_order(
+            a.is_c_contiguous(),
+            a.as_slice_mut(),
+            "samples_out",
+        )?),
+        None if keep_samples => {
+            own_samples = vec![0.0; m * n * STATE_SIZE];
+            Some(&mut own_samples[..])
+        }
+        None => None,
+    };
+    let finals: &mut [f64] = match &mut finals_out {
+        Some(a) => c_order(a.is_c_contiguous(), a.as_slice_mut(), "finals_out")?,
+        None => {
+            own_finals = vec![0.0; m * STATE_SIZE];
+            &mut own_finals[..]
+        }
+    };
+    // the run: workers on the pool, this thread looking for an interrupt
     let mut summaries = vec![MemberSummary::default(); m];
     let pool = pool(threads as usize)?;
     {
-        let (samples, finals, summaries) = (&mut samples, &mut finals, &mut summaries);
+        let summaries = &mut summaries;
         let (schedule, members) = (&schedule, &members);
         interruptible(py, &pool, move |stop| {
-            let samples = keep_samples.then_some(&mut samples[..]);
             run_members(schedule, members, samples, finals, summaries, stop)
         })?;
     }
-    let samples = keep_samples
-        .then(|| Array3::from_shape_vec((m, n, STATE_SIZE), samples).map(|a| a.into_pyarray(py)))
+    let returned = keep_samples && samples_out.is_none();
+    let samples = returned
+        .then(|| {
+            Array3::from_shape_vec((m, n, STATE_SIZE), own_samples).map(|a| a.into_pyarray(py))
+        })
         .transpose()
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    let finals = Array2::from_shape_vec((m, STATE_SIZE), finals)
+    let finals = finals_out
+        .is_none()
+        .then(|| Array2::from_shape_vec((m, STATE_SIZE), own_finals).map(|a| a.into_pyarray(py)))
+        .transpose()
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     let column =
         |f: fn(&MemberSummary) -> f64| Array1::from_iter(summaries.iter().map(f)).into_pyarray(py);
@@ -426,7 +486,7 @@ fn run_ensemble<'py>(
         |f: fn(&MemberSummary) -> i64| Array1::from_iter(summaries.iter().map(f)).into_pyarray(py);
     Ok((
         samples,
-        finals.into_pyarray(py),
+        finals,
         column(|s| s.energy),
         column(|s| s.momentum),
         column(|s| s.orthogonality),

@@ -4,7 +4,8 @@
 
 use numpy::ndarray::{Array1, Array2, Array3, ArrayView3};
 use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2,
+    PyReadonlyArray3, PyReadwriteArray2, PyUntypedArrayMethods,
 };
 use poinsot_core::forces::total_potential;
 use poinsot_core::invariants::{angular_momentum_body, kinetic_energy, rotational_energy};
@@ -74,8 +75,10 @@ fn states_principal<'py>(
 }
 
 /// Body-frame initial states (N, 18), by the rules of `poinsot.simulate`: `q` (1 or N, 3, 3),
-/// `omega` (N, 3); `r`, `v` (1 or N, 3, or 0 rows: the default).
+/// `omega` (N, 3); `r`, `v` (1 or N, 3, or 0 rows: the default). With `out` (N, 18),
+/// C-contiguous, they are written there and None is returned.
 #[pyfunction]
+#[pyo3(signature = (q, omega, r, v, com, c, pivot, has_pivot, line, out=None))]
 #[allow(clippy::too_many_arguments)]
 fn initial_states<'py>(
     py: Python<'py>,
@@ -88,24 +91,44 @@ fn initial_states<'py>(
     pivot: [f64; 3],
     has_pivot: bool,
     line: [f64; 3],
-) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    out: Option<PyReadwriteArray2<'py, f64>>,
+) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
     let q = mats(&q, "Q")?;
     let w = rows(&omega, 3, "omega")?;
     let r = rows(&r, 3, "R")?;
     let v = rows(&v, 3, "V")?;
     let n = w.nrows();
+    let mut out = out;
+    let mut own = Vec::new();
+    let dest: &mut [f64] = match &mut out {
+        Some(a) => {
+            if a.shape() != [n, STATE_SIZE] {
+                return Err(value_error(format!(
+                    "`out` must have shape ({n}, {STATE_SIZE}), found {:?}",
+                    a.shape()
+                )));
+            }
+            crate::ensemble::c_order(a.is_c_contiguous(), a.as_slice_mut(), "out")?
+        }
+        None => {
+            own = vec![0.0; n * STATE_SIZE];
+            &mut own[..]
+        }
+    };
     let pick = |len: usize, i: usize| if len > 1 { i } else { 0 };
-    let mut out = Array2::<f64>::zeros((n, STATE_SIZE));
-    for i in 0..n {
+    for (i, row) in dest.chunks_exact_mut(STATE_SIZE).enumerate() {
         let qi = m3(&q, pick(q.shape()[0], i));
         let ri = (r.nrows() > 0).then(|| v3(&r, pick(r.nrows(), i)));
         let vi = (v.nrows() > 0).then(|| v3(&v, pick(v.nrows(), i)));
         let y = initial_state(&qi, v3(&w, i), ri, vi, com, c, pivot, has_pivot, line);
-        for k in 0..STATE_SIZE {
-            out[[i, k]] = y[k];
-        }
+        row.copy_from_slice(&y);
     }
-    Ok(out.into_pyarray(py))
+    if out.is_some() {
+        return Ok(None);
+    }
+    Array2::from_shape_vec((n, STATE_SIZE), own)
+        .map(|a| Some(a.into_pyarray(py)))
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
 }
 
 /// Where the pivot is in space for an engine state: `P = R − Q c`.

@@ -78,9 +78,11 @@ class _Progress:
             self.bar.close()
 
 
-def run_chunks(spec, tasks, total, chunk, absorb, *, threads=None, client=None, progress=None):
+def run_chunks(spec, tasks, total, chunk, absorb, *, threads=None, client=None, progress=None,
+               views=None):  # fmt: skip
     """Run every :class:`~poinsot.ensemble.tasks.ChunkTask` of ``tasks`` (an iterator) and hand
-    each output to ``absorb``."""
+    each output to ``absorb``. In this process, ``views(start, stop)`` (when given) says where
+    a chunk writes its states in place."""
     n_chunks = -(-total // chunk)
     bar = _Progress(progress, total, n_chunks)
     try:
@@ -91,7 +93,7 @@ def run_chunks(spec, tasks, total, chunk, absorb, *, threads=None, client=None, 
             raise ValueError(f"`threads` must be a positive integer, found {threads!r}")
         workers = threads or available_cpus()
         for task in tasks:
-            out = run_chunk(spec, task, workers)
+            out = run_chunk(spec, task, workers, views and views(task.start, task.stop))
             absorb(out)
             bar.update(out.stop - out.start)
     finally:

@@ -96,13 +96,24 @@ class EnsembleResult(Displayable):
         res._N = N
         return res
 
+    def views(self, start, stop):
+        """Where the chunk of members ``start … stop − 1`` run in this process writes its
+        states (:class:`~poinsot.ensemble.tasks.ChunkViews`)."""
+        from .tasks import ChunkViews
+
+        s = slice(start, stop)
+        Y = None if self._states is None else self._states[s]
+        return ChunkViews(Y, self.final_state[s], self.initial_state[s])
+
     def absorb(self, out) -> None:
-        """Copy one chunk's output into place (called as chunks finish, in any order)."""
+        """Copy one chunk's output into place (called as chunks finish, in any order); its
+        states are there already when it ran :meth:`in place <views>`."""
         s = slice(out.start, out.stop)
-        if self._states is not None:
-            self._states[s] = out.Y
-        self.final_state[s] = out.final
-        self.initial_state[s] = out.Y0
+        if not out.in_place:
+            if self._states is not None:
+                self._states[s] = out.Y
+            self.final_state[s] = out.final
+            self.initial_state[s] = out.Y0
         for name in ("energy", "momentum", "orthogonality"):
             getattr(self, f"{name}_error")[s] = getattr(out, name)
         self.first_flip[s] = out.first_flip

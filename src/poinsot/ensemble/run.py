@@ -2,11 +2,11 @@
 
 The thin layer of MuJoCo's ``rollout``: check shapes once, cut the ensemble into chunks, make
 one call of the compiled core per chunk (``poinsot._core.run_ensemble``,
-``crates/core/src/ensemble.rs``) and gather the results into preallocated arrays. No Python
-object per member and no Python per step. A chunk's members run in parallel on the core's
-threads (the GIL released), or chunks run on the workers of a Dask cluster; every member's
-arithmetic is independent of the chunk it falls in, so the results do not depend on
-``chunk_size``, ``threads`` or ``client``, bit for bit.
+``crates/core/src/ensemble.rs``), which writes the states into the preallocated result in
+place. No Python object per member and no Python per step. A chunk's members run in
+parallel on the core's threads (the GIL released), or chunks run on the workers of a Dask
+cluster; every member's arithmetic is independent of the chunk it falls in, so the results
+do not depend on ``chunk_size``, ``threads`` or ``client``, bit for bit.
 """
 
 from __future__ import annotations
@@ -160,7 +160,7 @@ def simulate_ensemble(
     result = EnsembleResult.allocate(spec, N, keep_states, body, members)
     tasks = (members.task(i0, min(i0 + chunk, N)) for i0 in range(0, N, chunk))
     run_chunks(spec, tasks, N, chunk, result.absorb, threads=threads, client=client,
-               progress=progress)  # fmt: skip
+               progress=progress, views=result.views)  # fmt: skip
     if no_samples:
         result.drop_samples()
     result.wall_time = time.perf_counter() - start

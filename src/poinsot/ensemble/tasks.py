@@ -13,7 +13,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["ChunkOutput", "ChunkSamples", "ChunkTask", "EnsembleSpec", "run_chunk"]
+__all__ = [
+    "ChunkOutput",
+    "ChunkSamples",
+    "ChunkTask",
+    "ChunkViews",
+    "EnsembleSpec",
+    "run_chunk",
+]
 
 
 @dataclass(frozen=True)
@@ -64,11 +71,24 @@ class ChunkTask:
     force_params: np.ndarray | None = None
 
 
+@dataclass(frozen=True)
+class ChunkViews:
+    """Where a chunk run in this process writes its states in place (MuJoCo's ``rollout``
+    style, no copy): views of the result's arrays for its members, samples ``Y``
+    (m, n, 18, or None when the states are not kept), final states and initial states
+    (m, 18), all C-contiguous."""
+
+    Y: np.ndarray | None
+    final: np.ndarray
+    Y0: np.ndarray
+
+
 @dataclass
 class ChunkOutput:
     """What a chunk returns: samples ``Y`` (m, n, 18, body frame; None unless the states are
     kept), final states (m, 18), initial states ``Y0`` (m, 18), per-member statistics and run
-    counters, and the user reductions."""
+    counters, and the user reductions. ``in_place``: the states were written to the
+    :class:`ChunkViews` given, and ``Y``, ``final`` and ``Y0`` are those views."""
 
     start: int
     stop: int
@@ -85,6 +105,7 @@ class ChunkOutput:
     nsteps: np.ndarray
     nfev: np.ndarray
     reductions: dict
+    in_place: bool = False
 
 
 @dataclass(frozen=True)
@@ -107,16 +128,24 @@ def _native(x):
     return None if x is None else np.require(x, requirements=("C", "A"))
 
 
-def run_chunk(spec: EnsembleSpec, task: ChunkTask, threads: int = 1) -> ChunkOutput:
+def run_chunk(
+    spec: EnsembleSpec, task: ChunkTask, threads: int = 1, out: ChunkViews | None = None
+) -> ChunkOutput:
     """Integrate one chunk in one call of the compiled core (:func:`poinsot._core.run_ensemble`,
     the members in parallel on ``threads`` threads): initial states, bodies and forces by
-    member, the run, the statistics streamed per member."""
+    member, the run, the statistics streamed per member. With ``out``, the states are written
+    to its views (a run in this process); else new arrays are returned (a Dask worker)."""
     from .. import _core
 
     line = [0.0] * 3  # degenerate bodies are refused before any chunk runs
-    a = _native
-    Y0 = _core.initial_states(a(task.Q), a(task.omega), a(task.R), a(task.V), list(spec.com),
-                              list(spec.c), list(spec.pivot), spec.has_pivot, line)  # fmt: skip
+    a = _native  # arrays that crossed to a Dask worker may come unaligned
+    args = (a(task.Q), a(task.omega), a(task.R), a(task.V), list(spec.com), list(spec.c),
+            list(spec.pivot), spec.has_pivot, line)  # fmt: skip
+    if out is not None:
+        _core.initial_states(*args, out=out.Y0)
+        Y0 = out.Y0
+    else:
+        Y0 = _core.initial_states(*args)
     if task.inertia is not None:
         bodies, axes, _ = _core.member_bodies(spec.mass, a(task.inertia), list(spec.c),
                                               spec.has_pivot)  # fmt: skip
@@ -125,17 +154,23 @@ def run_chunk(spec: EnsembleSpec, task: ChunkTask, threads: int = 1) -> ChunkOut
         bodies, axes, inertia = spec.body_params[None], spec.axes, spec.inertia
     params = spec.force_params[None] if task.force_params is None else task.force_params
     keep = spec.keep_states or bool(spec.reductions)
-    a = _native  # arrays that crossed to a Dask worker may come unaligned
+    in_place = out is not None
+    Y_out = out.Y if in_place and spec.keep_states else None
     (Y, final, energy, momentum, orthogonality, first, last, count, status, nsteps,
      nfev) = _core.run_ensemble(
         spec.method_kind, a(spec.A), a(spec.B), a(spec.C), a(spec.control), spec.t0, spec.t1,
         spec.dt, a(spec.t_eval), a(inertia), a(bodies), a(axes), a(spec.force_kind), a(params),
-        Y0, flips=spec.flips, keep_samples=keep, threads=threads,
+        Y0, flips=spec.flips, keep_samples=keep, threads=threads, samples_out=Y_out,
+        finals_out=out.final if in_place else None,
     )  # fmt: skip
+    if Y_out is not None:
+        Y = Y_out
+    if in_place:
+        final = out.final
     return ChunkOutput(
         task.start, task.stop, Y if spec.keep_states else None, final, Y0, energy, momentum,
         orthogonality, first, last, count, status, nsteps, nfev,
-        _user_reductions(spec, task, Y),
+        _user_reductions(spec, task, Y), in_place,
     )  # fmt: skip
 
 
