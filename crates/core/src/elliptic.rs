@@ -338,11 +338,17 @@ pub fn reduce_quarter<T: Real>(u: T, rm1: T, k: T, base: &impl HalfQuarter<T>) -
     let sn = T::select(shift, T::splat(1.0).copysign(v) * cx / dx, sx);
     let cn = T::select(shift, rm1 * sx / dx, cx);
     let dn = T::select(shift, rm1 / dx, dx);
-    // (−1)^p, p an integer (exact below 2⁵³)
+    let parity = parity(p);
+    (parity * sn, parity * cn, dn, p, v)
+}
+
+/// `(−1)^p` for an integer `p` (exact below 2⁵³): the sign [`reduce_quarter`] gives `sn` and
+/// `cn` of `u = 2pK + v` from those of `v`, so that `sn v = (−1)^p sn u`, exactly.
+#[inline(always)]
+pub fn parity<T: Real>(p: T) -> T {
     let half = T::splat(0.5) * p;
     let even = (half - half.trunc()).equal(T::splat(0.0));
-    let parity = T::select(even, T::splat(1.0), T::splat(-1.0));
-    (parity * sn, parity * cn, dn, p, v)
+    T::select(even, T::splat(1.0), T::splat(-1.0))
 }
 
 // ------------------------------------------------------------------------- Carlson's forms
@@ -431,6 +437,67 @@ pub fn carlson_rj(mut x: f64, mut y: f64, mut z: f64, mut p: f64) -> f64 {
         - 9.0 * e2 * e3 / 52.0
         + 3.0 * e5 / 26.0;
     scale * series / (a * a.sqrt()) + 6.0 * total
+}
+
+/// [`carlson_rj`] where `p ≥ max(x, y, z)` (so that every `R_C(1, 1 + e)` of the duplication
+/// has `e ≥ 0`: `atan(√e)/√e`, with [`atan`]), generic over [`Real`]: the form of the
+/// third-kind integral `Π(n; ·)` with `n ≤ 0` that the attitude of a free body needs
+/// ([`third_kind_reduced`]), in lanes each lane duplicating until its own run stops (DLMF
+/// 19.36.1, Carlson 1995, algorithm 3).
+#[inline(always)]
+pub fn carlson_rj_above<T: Real>(x: T, y: T, z: T, p: T) -> T {
+    let c = T::splat;
+    let (mut x, mut y, mut z, mut p) = (x, y, z, p);
+    let a0 = (x + y + z + c(2.0) * p) / c(5.0);
+    let q = c(RJ_FACTOR)
+        * py_max(
+            py_max(py_max((a0 - x).abs(), (a0 - y).abs()), (a0 - z).abs()),
+            (a0 - p).abs(),
+        );
+    let delta = (p - x) * (p - y) * (p - z);
+    let dx = a0 - x;
+    let dy = a0 - y;
+    let dz = a0 - z;
+    let mut a = a0;
+    let mut scale = c(1.0); // 4^-m
+    let mut total = c(0.0);
+    let quarter = c(0.25);
+    loop {
+        let going = (scale * q).ge(a.abs()) & scale.gt(c(0.0));
+        if !going.any() {
+            break;
+        }
+        let sx = x.sqrt();
+        let sy = y.sqrt();
+        let sz = z.sqrt();
+        let sp = p.sqrt();
+        let lam = sx * sy + sx * sz + sy * sz;
+        let d = (sp + sx) * (sp + sy) * (sp + sz);
+        let e = scale * scale * scale * delta / (d * d);
+        // R_C(1, 1 + e) = atan(√e)/√e, 1 at e = 0
+        let r = e.sqrt();
+        let rc = T::select(e.gt(c(0.0)), atan(r) / r, c(1.0));
+        total = T::select(going, total + scale * rc / d, total);
+        a = T::select(going, quarter * (a + lam), a);
+        x = T::select(going, quarter * (x + lam), x);
+        y = T::select(going, quarter * (y + lam), y);
+        z = T::select(going, quarter * (z + lam), z);
+        p = T::select(going, quarter * (p + lam), p);
+        scale = T::select(going, scale * quarter, scale);
+    }
+    let xx = dx * scale / a;
+    let yy = dy * scale / a;
+    let zz = dz * scale / a;
+    let pp = c(-0.5) * (xx + yy + zz);
+    let e2 = xx * yy + xx * zz + yy * zz - c(3.0) * pp * pp;
+    let e3 = xx * yy * zz + c(2.0) * e2 * pp + c(4.0) * pp * pp * pp;
+    let e4 = (c(2.0) * xx * yy * zz + e2 * pp + c(3.0) * pp * pp * pp) * pp;
+    let e5 = xx * yy * zz * pp * pp;
+    let series = c(1.0) - c(3.0) * e2 / c(14.0) + e3 / c(6.0) + c(9.0) * e2 * e2 / c(88.0)
+        - c(3.0) * e4 / c(22.0)
+        - c(9.0) * e2 * e3 / c(52.0)
+        + c(3.0) * e5 / c(26.0);
+    scale * series / (a * a.sqrt()) + c(6.0) * total
 }
 
 /// `R_C(1, 1 + e)` for `e > −1` (DLMF 19.2.17–19): `atan(√e)/√e` for e > 0,
@@ -544,6 +611,21 @@ pub fn third_kind_separatrix(n: f64, u: f64) -> f64 {
     u / (1.0 - n) - r / (1.0 - n) * cmath::atanh(r * u.tanh())
 }
 
+/// [`third_kind_u`] for `n ≤ 0` from the quarter-period reduction `u = 2pK + v` of its
+/// argument ([`reduce_quarter`]): `s = sn v`, `c = cn v ≥ 0`, `d = dn v` and `p`, with
+/// `Π(n|m)` given: `2p Π(n|m) + s R_F(c², d², 1) + (n/3) s³ R_J(c², d², 1, 1 − n s²)`
+/// (DLMF 19.25.14). Generic over [`Real`] (the attitude of free bodies in lanes); the
+/// reduction is the one ω(t) already made.
+#[inline(always)]
+pub fn third_kind_reduced<T: Real>(n: T, s: T, c: T, d: T, p: T, pi_complete: T) -> T {
+    let k = T::splat;
+    let c2 = c * c;
+    let d2 = d * d;
+    let g = s * carlson_rf(c2, d2, k(1.0))
+        + n / k(3.0) * s * s * s * carlson_rj_above(c2, d2, k(1.0), k(1.0) - n * s * s);
+    T::select(p.unequal(k(0.0)), g + k(2.0) * p * pi_complete, g)
+}
+
 /// `∫₀^u du' / (1 − n sn²u')  (= Π(n; am u | m))` for `n < 1`, accurate for every u;
 /// `k = K(m)`.
 ///
@@ -579,6 +661,63 @@ pub fn third_kind_u(n: f64, u: f64, m: f64, m1: f64, k: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `R_J` for `p ≥ max(x, y, z)` with the lanes' `atan` equals the scalar `R_J` (libm's
+    /// `atan` in `R_C`) to round-off, and lanes compute what `f64` computes, bit for bit.
+    #[test]
+    fn carlson_rj_above_equals_carlson_rj() {
+        use crate::real::Wide;
+        let mut args = Vec::new();
+        for &x in &[0.0, 1e-300, 1e-12, 0.3, 0.99, 1.0] {
+            for &y in &[1e-9, 0.2, 0.7, 1.0] {
+                for &p in &[1.0, 1.0 + 1e-12, 1.3, 4.0, 1e3, 1e12] {
+                    args.push((x, y, 1.0, p));
+                }
+            }
+        }
+        for &(x, y, z, p) in &args {
+            let (a, b) = (carlson_rj_above(x, y, z, p), carlson_rj(x, y, z, p));
+            assert!((a - b).abs() <= 2e-15 * b.abs(), "{x} {y} {z} {p}: {a} {b}");
+        }
+        for chunk in args.chunks(8) {
+            let g = |k: usize| {
+                let mut v = [0.0; 8];
+                for (l, a) in chunk.iter().enumerate() {
+                    v[l] = [a.0, a.1, a.2, a.3][k];
+                }
+                Wide(v)
+            };
+            let lanes = carlson_rj_above(g(0), g(1), g(2), g(3));
+            for (l, &(x, y, z, p)) in chunk.iter().enumerate() {
+                assert_eq!(lanes.0[l].to_bits(), carlson_rj_above(x, y, z, p).to_bits());
+            }
+        }
+    }
+
+    /// `Π(u)` from the reduction ω(t) makes equals `third_kind_u` to round-off, across
+    /// periods and toward the separatrix.
+    #[test]
+    fn third_kind_from_the_reduction_equals_third_kind_u() {
+        for &m1 in &[0.9, 0.5, 0.1, 1e-3, 1e-6, 1e-12] {
+            let m = 1.0 - m1;
+            let k = ellipk_m1(m1);
+            let agm = Agm::new(m1);
+            for &n in &[-0.1, -0.6, -3.0] {
+                let pi = ellippi_complete(n, m, m1);
+                for i in -40..=40 {
+                    let u = 0.173 * k * i as f64;
+                    let (sn, cn, dn, p, _) = jacobi_reduced_with(u, m, m1, k, &agm);
+                    let par = parity(p);
+                    let a = third_kind_reduced(n, par * sn, par * cn, dn, p, pi);
+                    let b = third_kind_u(n, u, m, m1, k);
+                    assert!(
+                        (a - b).abs() <= 4e-15 * (1.0 + b.abs()),
+                        "m1 {m1} n {n} u {u}: {a} {b}"
+                    );
+                }
+            }
+        }
+    }
 
     /// K(m) by the AGM equals Carlson's `R_F(0, m1, 1)` (DLMF 19.25.1) to round-off (a few ulps of
     /// the duplication algorithm), from

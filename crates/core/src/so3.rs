@@ -304,6 +304,16 @@ pub fn zxz_matrix(psi: f64, theta: f64, phi: f64) -> Mat3 {
     let (sps, cps) = (psi.sin(), psi.cos());
     let (st, ct) = (theta.sin(), theta.cos());
     let (sph, cph) = (phi.sin(), phi.cos());
+    zxz_matrix_sc([sps, cps], [st, ct], [sph, cph])
+}
+
+/// [`zxz_matrix`] from the angles' sines and cosines `[sin, cos]` of ψ, θ and φ, generic over
+/// [`Real`] (the attitude of free bodies in lanes, whose angles come as ratios).
+#[inline(always)]
+pub fn zxz_matrix_sc<T: Real>(psi: [T; 2], theta: [T; 2], phi: [T; 2]) -> [[T; 3]; 3] {
+    let [sps, cps] = psi;
+    let [st, ct] = theta;
+    let [sph, cph] = phi;
     [
         [
             cps * cph - sps * ct * sph,

@@ -35,17 +35,22 @@
 //! [`Regime::omega_at`] run them on `f64` for one motion; [`exact_omegas`] runs them on
 //! [`WIDTH`] motions at a time in SIMD lanes ([`omegas_in_lanes`]: structure of arrays, the
 //! member loop innermost, the instruction set chosen at run time), each lane computing bit for
-//! bit what its single run computes. Members off the plain elliptic case (fixed points, the
-//! separatrix and `m1 <` [`NEAR_ONE`], extreme scales, symmetric bodies) run one by one.
+//! bit what its single run computes. The attitude's formulas are generic too
+//! ([`EllipticMotion`]: `Π(u)` from the reduction of `u` that ω(t) makes, by Carlson's `R_F`
+//! and `R_J` with a polynomial `atan`; θ and φ as ratios of the body momentum's components;
+//! ψ's sine and cosine by [`sin_cos`]): [`attitude_at`] runs them on `f64`,
+//! [`exact_attitudes`] in lanes ([`attitudes_in_lanes`]). Members off the plain elliptic case
+//! (fixed points, the separatrix and `m1 <` [`NEAR_ONE`], extreme scales, symmetric bodies)
+//! run one by one.
 
 use crate::cmath::{frexp, ldexp};
 use crate::elliptic::{
-    first_kind_from_sn_cn, first_kind_in_period, jacobi_reduced_with, reduce_quarter, third_kind_u,
-    Agm, NEAR_ONE,
+    ellippi_complete, first_kind_from_sn_cn, first_kind_in_period, jacobi_reduced_with, parity,
+    reduce_quarter, third_kind_reduced, third_kind_u, Agm, NEAR_ONE, TINY_M1,
 };
 use crate::invariants::principal_invariants;
-use crate::real::{py_max, py_min, Mask, Real, Wide, WideMask, WIDTH};
-use crate::so3::{exp_so3, matmul, Mat3, Vec3};
+use crate::real::{py_max, py_min, sin_cos, Mask, Real, Wide, WideMask, WIDTH};
+use crate::so3::{exp_so3, matmul, zxz_matrix_sc, Mat3, Vec3};
 use rayon::prelude::*;
 
 /// Case: a spherical body (ω constant).
@@ -464,6 +469,18 @@ pub struct AttitudeSetup {
     pub i_other: f64,
     /// `Π(u0) = ∫₀^u0 du/(1 − n sn² u)`.
     pub pi_u0: f64,
+    /// The complete integral `Π(n|m)` (zero on the separatrix and where `m1 <` [`TINY_M1`]).
+    pub pi_complete: f64,
+    /// `ψ`'s factor of `Π(u) − Π(u0)`: `a (I_p − I_q)/(I_p I_q λ)`.
+    pub psi_pi: f64,
+}
+
+/// Whether the attitude of an elliptic regime takes `Π(u)` from the reduction ω(t) made
+/// ([`third_kind_reduced`], in lanes too): off the separatrix and `m1 ≥` [`TINY_M1`] (below,
+/// [`third_kind_u`]'s separatrix forms).
+#[inline(always)]
+fn reduced_third_kind(reg: &Regime) -> bool {
+    reg.m1 >= TINY_M1 && reg.quarter.is_finite()
 }
 
 impl AttitudeSetup {
@@ -497,14 +514,162 @@ impl AttitudeSetup {
                 p0[r][c] = qb[r][0] * r0[c][0] + qb[r][1] * r0[c][1] + qb[r][2] * r0[c][2];
             }
         }
-        AttitudeSetup {
+        let a = reg.momentum;
+        let mut att = AttitudeSetup {
             p0,
             n,
             i_pole: ip,
             i_other: iq,
-            pi_u0: third_kind_u(n, reg.u0, reg.m, reg.m1, reg.quarter),
+            pi_u0: 0.0,
+            pi_complete: 0.0,
+            psi_pi: a * (ip - iq) / (ip * iq * reg.lam),
+        };
+        att.pi_u0 = if reduced_third_kind(reg) {
+            att.pi_complete = ellippi_complete(n, reg.m, reg.m1);
+            // Π at t = 0 by the very route of every later time, so that ψ(0) = 0 exactly
+            let (sn, cn, dn, p, _) =
+                jacobi_reduced_with(reg.u0, reg.m, reg.m1, reg.quarter, &reg.agm);
+            EllipticMotion::of(reg, &att).third_kind(sn, cn, dn, p)
+        } else {
+            third_kind_u(n, reg.u0, reg.m, reg.m1, reg.quarter)
+        };
+        att
+    }
+}
+
+/// What `Q(t)` of an elliptic motion needs at each time beyond the reduction of `u = u0 + λt`
+/// (see the module docs), generic over [`Real`]: one motion (`f64`, [`attitude_at`]) or one
+/// per lane ([`exact_attitudes`]), each lane bit for bit its single run.
+#[derive(Clone, Copy, Debug, Default)]
+struct EllipticMotion<T: Real> {
+    /// The signed amplitudes `σ_i α_i` and the pole (e3 where set).
+    sa: [T; 3],
+    e3: T::Mask,
+    /// [`AttitudeSetup`]'s `n`, `Π(n|m)`, `Π(u0)`, ψ's factor; `a`, `I_p`; the invariable frame.
+    n: T,
+    pi_complete: T,
+    pi_u0: T,
+    psi_pi: T,
+    momentum: T,
+    i_pole: T,
+    p0: [[T; 3]; 3],
+}
+
+impl EllipticMotion<f64> {
+    fn of(reg: &Regime, att: &AttitudeSetup) -> EllipticMotion<f64> {
+        EllipticMotion {
+            sa: [0, 1, 2].map(|i| reg.signs[i] * reg.alpha[i]),
+            e3: reg.pole == 2,
+            n: att.n,
+            pi_complete: att.pi_complete,
+            pi_u0: att.pi_u0,
+            psi_pi: att.psi_pi,
+            momentum: reg.momentum,
+            i_pole: att.i_pole,
+            p0: att.p0,
         }
     }
+}
+
+impl<const N: usize> EllipticMotion<Wide<N>> {
+    /// Lane `l` holds `motions[l]`.
+    #[inline(always)]
+    fn gather(motions: &[EllipticMotion<f64>; N]) -> EllipticMotion<Wide<N>> {
+        let wide = |f: &dyn Fn(&EllipticMotion<f64>) -> f64| {
+            let mut x = [0.0; N];
+            for (xl, m) in x.iter_mut().zip(motions) {
+                *xl = f(m);
+            }
+            Wide(x)
+        };
+        let mut e3 = WideMask::<N>::splat(true);
+        for (l, m) in motions.iter().enumerate() {
+            e3.and_lane(l, m.e3);
+        }
+        EllipticMotion {
+            sa: [0, 1, 2].map(|i| wide(&|m| m.sa[i])),
+            e3,
+            n: wide(&|m| m.n),
+            pi_complete: wide(&|m| m.pi_complete),
+            pi_u0: wide(&|m| m.pi_u0),
+            psi_pi: wide(&|m| m.psi_pi),
+            momentum: wide(&|m| m.momentum),
+            i_pole: wide(&|m| m.i_pole),
+            p0: [0, 1, 2].map(|r| [0, 1, 2].map(|c| wide(&|m| m.p0[r][c]))),
+        }
+    }
+}
+
+impl<T: Real> EllipticMotion<T> {
+    /// `Π(u) = ∫₀^u du/(1 − n sn² u)` from the reduction `(sn u, cn u, dn u, p)`
+    /// ([`third_kind_reduced`] on `sn v = (−1)^p sn u`, `cn v = (−1)^p cn u`).
+    #[inline(always)]
+    fn third_kind(&self, sn: T, cn: T, dn: T, p: T) -> T {
+        let par = parity(p);
+        third_kind_reduced(self.n, par * sn, par * cn, dn, p, self.pi_complete)
+    }
+
+    /// `Q(t)` (sorted principal frame → space) from the reduction `(sn, cn, dn, p)` of
+    /// `u = u0 + λt`: ω(t) in the Jacobi form, the angles θ, φ of the body momentum `π = Iω`
+    /// (relabelled `(π3, −π2, π1)` about e1) as ratios, `cos θ = π_p/a`,
+    /// `tan φ = π_1'/π_2'`, and `ψ = a t/I_p + a (I_p − I_q)/(I_p I_q λ) [Π(u) − Π(u0)]`:
+    /// `Q = P0 Rzxz(ψ, θ, φ)` (columns relabelled back about e1). `plain` is cleared in the
+    /// lanes whose sums of squares `f64` would take by `hypot` ([`Real::norm2`]).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn attitude(
+        &self,
+        moments: Vec3,
+        t: T,
+        sn: T,
+        cn: T,
+        dn: T,
+        p: T,
+        plain: &mut T::Mask,
+    ) -> [[T; 3]; 3] {
+        let c = T::splat;
+        let v = jacobi_omega(self.e3, self.sa, sn, cn, dn);
+        let big_pi = self.third_kind(sn, cn, dn, p) - self.pi_u0;
+        let psi = self.momentum * t / self.i_pole + self.psi_pi * big_pi;
+        let pi = [
+            c(moments[0]) * v[0],
+            c(moments[1]) * v[1],
+            c(moments[2]) * v[2],
+        ];
+        let b0 = T::select(self.e3, pi[0], pi[2]);
+        let b1 = T::select(self.e3, pi[1], -pi[1]);
+        let b2 = T::select(self.e3, pi[2], pi[0]);
+        let rho = T::norm2(b0, b1, plain);
+        let r = T::norm2(rho, b2, plain);
+        let flat = rho.equal(c(0.0)); // θ = 0 or π: φ = atan2(0, 0) = 0
+        let phi = [
+            T::select(flat, c(0.0), b0 / rho),
+            T::select(flat, c(1.0), b1 / rho),
+        ];
+        let (sps, cps) = sin_cos(psi);
+        let rot = zxz_matrix_sc([sps, cps], [rho / r, b2 / r], phi);
+        let mut x = [[c(0.0); 3]; 3];
+        for (xr, pr) in x.iter_mut().zip(&self.p0) {
+            for (k, xk) in xr.iter_mut().enumerate() {
+                *xk = pr[0] * rot[0][k] + pr[1] * rot[1][k] + pr[2] * rot[2][k];
+            }
+        }
+        // about e1 the columns of (P0 R) B: (x2, −x1, x0)
+        x.map(|row| {
+            [
+                T::select(self.e3, row[0], row[2]),
+                T::select(self.e3, row[1], -row[1]),
+                T::select(self.e3, row[2], row[0]),
+            ]
+        })
+    }
+}
+
+/// `Q Sᵀ`: an attitude with the sorted principal frame as body frame, turned to the body frame.
+#[inline(always)]
+fn sorted_to_body<T: Real>(qs: &[[T; 3]; 3], s: &Mat3) -> [[T; 3]; 3] {
+    let c = T::splat;
+    qs.map(|row| [0, 1, 2].map(|k| row[0] * c(s[k][0]) + row[1] * c(s[k][1]) + row[2] * c(s[k][2])))
 }
 
 /// `Q(t) = Q0 exp(Ω t)`: the attitude at a fixed point of Euler's equation, where ω is constant
@@ -548,19 +713,22 @@ pub fn attitude_at(
             }
             out
         }
+        _ if reduced_third_kind(reg) => {
+            // the reduction of u that ω(t) makes ([`Regime::omega_at`]), shared with Π(u)
+            let u = reg.u0 + reg.lam * t;
+            let (sn, cn, dn, p, _) = jacobi_reduced_with(u, reg.m, reg.m1, reg.quarter, &reg.agm);
+            EllipticMotion::of(reg, att).attitude(moments, t, sn, cn, dn, p, &mut true)
+        }
         _ => {
             let v = reg.omega_at(moments, w, t);
             let (theta, phi) = relabelled_angles(
                 reg.pole,
                 [moments[0] * v[0], moments[1] * v[1], moments[2] * v[2]],
             );
-            let ip = att.i_pole;
-            let iq = att.i_other;
-            let lam = reg.lam;
-            let a = reg.momentum;
-            let u = reg.u0 + lam * t;
+            // the separatrix and m1 < TINY_M1: Π(u) by its separatrix forms
+            let u = reg.u0 + reg.lam * t;
             let big_pi = third_kind_u(att.n, u, reg.m, reg.m1, reg.quarter) - att.pi_u0;
-            let psi = a * t / ip + a * (ip - iq) / (ip * iq * lam) * big_pi; // ψ(0) = 0
+            let psi = reg.momentum * t / att.i_pole + att.psi_pi * big_pi; // ψ(0) = 0
             let x = matmul(&att.p0, &zxz_matrix(psi, theta, phi));
             if reg.pole == 2 {
                 x
@@ -1070,7 +1238,10 @@ fn families_in_lanes_any<const N: usize>(
 }
 
 /// `Q(t)` (body → space) of the torque-free motions from the body-frame ω `ws` and attitudes
-/// `q0s` (one per member, or one shared), at the times `ts`, into `out` (member-major).
+/// `q0s` (one per member, or one shared), at the times `ts`, into `out` (member-major). Bodies
+/// with three distinct moments run [`WIDTH`] members at a time in SIMD lanes
+/// ([`attitudes_in_lanes`]), each lane computing bit for bit what its single run
+/// ([`attitude_at`]) computes; blocks of members are shared among rayon's threads.
 pub fn exact_attitudes(
     moments: Vec3,
     s: &Mat3,
@@ -1093,33 +1264,305 @@ pub fn exact_attitudes(
     if n == 0 {
         return;
     }
-    let member = |i: usize, block: &mut [Mat3]| {
-        let q = &q0s[if q0s.len() > 1 { i } else { 0 }];
-        let q0s_sorted = matmul(q, s); // Q0 S: sorted principal frame → space
-        let w = to_sorted(s, ws[i]);
-        let reg = Regime::new(moments, symmetry, w);
-        let att = AttitudeSetup::new(moments, &reg, w, &q0s_sorted);
-        for (o, &t) in block.iter_mut().zip(ts) {
-            let qs = attitude_at(moments, &reg, &att, w, &q0s_sorted, t);
-            let mut q = [[0.0; 3]; 3];
-            for r in 0..3 {
-                for c in 0..3 {
-                    // Q = Qs Sᵀ
-                    q[r][c] = qs[r][0] * s[c][0] + qs[r][1] * s[c][1] + qs[r][2] * s[c][2];
-                }
+    let block = |i0: usize, ws: &[Vec3], out: &mut [Mat3]| {
+        let q0s = if q0s.len() > 1 {
+            &q0s[i0..i0 + ws.len()]
+        } else {
+            q0s
+        };
+        if symmetry == 0 {
+            attitudes_in_lanes::<WIDTH>(moments, s, ws, q0s, ts, out);
+        } else {
+            for (i, (w, o)) in ws.iter().zip(out.chunks_mut(n)).enumerate() {
+                let q0 = &q0s[if q0s.len() > 1 { i } else { 0 }];
+                attitudes_one_by_one(moments, s, symmetry, *w, q0, ts, o);
             }
-            *o = q;
         }
     };
     if ws.len() > 1 && ws.len() * n >= PARALLEL_MIN / 8 {
-        out.par_chunks_mut(n)
+        ws.par_chunks(ATTITUDE_BLOCK)
+            .zip(out.par_chunks_mut(n * ATTITUDE_BLOCK))
             .enumerate()
-            .for_each(|(i, block)| member(i, block));
+            .for_each(|(b, (w, o))| block(b * ATTITUDE_BLOCK, w, o));
     } else {
-        out.chunks_mut(n)
-            .enumerate()
-            .for_each(|(i, block)| member(i, block));
+        block(0, ws, out);
     }
+}
+
+/// Members per rayon task of [`exact_attitudes`].
+const ATTITUDE_BLOCK: usize = 64;
+
+/// The regime and attitude setup of one member (sorted frame), and `Q0 S`.
+#[inline]
+fn attitude_member(
+    moments: Vec3,
+    s: &Mat3,
+    symmetry: u8,
+    w: Vec3,
+    q0: &Mat3,
+) -> (Vec3, Regime, AttitudeSetup, Mat3) {
+    let q0s_sorted = matmul(q0, s); // Q0 S: sorted principal frame → space
+    let w = to_sorted(s, w);
+    let reg = Regime::new(moments, symmetry, w);
+    let att = AttitudeSetup::new(moments, &reg, w, &q0s_sorted);
+    (w, reg, att, q0s_sorted)
+}
+
+/// `Q(t)` (body frame) of one member at the times `ts`: its regime, then every time.
+fn attitudes_one_by_one(
+    moments: Vec3,
+    s: &Mat3,
+    symmetry: u8,
+    w: Vec3,
+    q0: &Mat3,
+    ts: &[f64],
+    out: &mut [Mat3],
+) {
+    let (w, reg, att, q0s_sorted) = attitude_member(moments, s, symmetry, w, q0);
+    for (o, &t) in out.iter_mut().zip(ts) {
+        *o = sorted_to_body(&attitude_at(moments, &reg, &att, w, &q0s_sorted, t), s);
+    }
+}
+
+/// The elliptic motion of a member as the lanes run it, when it is a plain lane: three
+/// distinct moments, off the fixed points and the separatrix, `m1 ≥` [`NEAR_ONE`] (the Jacobi
+/// functions from the AGM sequence) and `m > 0`.
+#[inline]
+fn plain_motion(
+    moments: Vec3,
+    s: &Mat3,
+    w: Vec3,
+    q0: &Mat3,
+) -> Option<(Regime, EllipticMotion<f64>)> {
+    let (_, reg, att, _) = attitude_member(moments, s, 0, w, q0);
+    let plain = reg.is_elliptic()
+        && reduced_third_kind(&reg)
+        && reg.m1 >= NEAR_ONE
+        && reg.m > 0.0
+        && att.psi_pi.is_finite()
+        && att.pi_u0.is_finite();
+    plain.then(|| (reg, EllipticMotion::of(&reg, &att)))
+}
+
+/// `u = u0 + λt` and its quarter-period reduction in lanes, as [`Regime::omega_at`] makes it.
+struct LaneReduction<const N: usize> {
+    u0: Wide<N>,
+    lam: Wide<N>,
+    rm1: Wide<N>,
+    quarter: Wide<N>,
+    agm: Agm<Wide<N>>,
+}
+
+impl<const N: usize> LaneReduction<N> {
+    #[inline(always)]
+    fn gather(regs: &[Regime; N]) -> LaneReduction<N> {
+        let wide = |f: fn(&Regime) -> f64| {
+            let mut x = [0.0; N];
+            for (xl, r) in x.iter_mut().zip(regs) {
+                *xl = f(r);
+            }
+            Wide(x)
+        };
+        let m1 = wide(|r| r.m1);
+        LaneReduction {
+            u0: wide(|r| r.u0),
+            lam: wide(|r| r.lam),
+            rm1: m1.sqrt(),
+            quarter: wide(|r| r.quarter),
+            agm: Agm::new(m1),
+        }
+    }
+
+    /// `Q(t)` (body frame) in every lane of `motion`, `plain` cleared where a lane leaves
+    /// the sums of squares the lanes take.
+    #[inline(always)]
+    fn attitude(
+        &self,
+        motion: &EllipticMotion<Wide<N>>,
+        moments: Vec3,
+        s: &Mat3,
+        t: Wide<N>,
+        plain: &mut WideMask<N>,
+    ) -> [[Wide<N>; 3]; 3] {
+        let u = self.u0 + self.lam * t;
+        let (sn, cn, dn, p, _) = reduce_quarter(u, self.rm1, self.quarter, &self.agm);
+        sorted_to_body(&motion.attitude(moments, t, sn, cn, dn, p, plain), s)
+    }
+}
+
+#[inline(always)]
+fn lane_matrix<const N: usize>(q: &[[Wide<N>; 3]; 3], l: usize) -> Mat3 {
+    q.map(|row| row.map(|x| x.0[l]))
+}
+
+/// [`exact_attitudes`] of a body with three distinct moments in lanes, the instruction set
+/// chosen at run time (as [`omegas_in_lanes`]); `q0s` one per member or one shared.
+pub fn attitudes_in_lanes<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    ws: &[Vec3],
+    q0s: &[Mat3],
+    ts: &[f64],
+    out: &mut [Mat3],
+) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512dq")
+        {
+            // SAFETY: the CPU has the features the function is compiled for.
+            return unsafe { attitudes_in_lanes_avx512::<N>(moments, s, ws, q0s, ts, out) };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: as above.
+            return unsafe { attitudes_in_lanes_avx2::<N>(moments, s, ws, q0s, ts, out) };
+        }
+    }
+    attitudes_in_lanes_any::<N>(moments, s, ws, q0s, ts, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma,bmi2")]
+unsafe fn attitudes_in_lanes_avx512<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    ws: &[Vec3],
+    q0s: &[Mat3],
+    ts: &[f64],
+    out: &mut [Mat3],
+) {
+    attitudes_in_lanes_any::<N>(moments, s, ws, q0s, ts, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi2")]
+unsafe fn attitudes_in_lanes_avx2<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    ws: &[Vec3],
+    q0s: &[Mat3],
+    ts: &[f64],
+    out: &mut [Mat3],
+) {
+    attitudes_in_lanes_any::<N>(moments, s, ws, q0s, ts, out)
+}
+
+/// The lanes' loop, inlined into each target's copy: groups of `N` members in the lanes (the
+/// last group when it fills a quarter of them), the members left over each alone, its times in
+/// the lanes (or one by one when they are fewer than the lanes).
+#[inline(always)]
+fn attitudes_in_lanes_any<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    ws: &[Vec3],
+    q0s: &[Mat3],
+    ts: &[f64],
+    out: &mut [Mat3],
+) {
+    let n = ts.len();
+    let q0 = |i: usize| &q0s[if q0s.len() > 1 { i } else { 0 }];
+    let whole = if ws.len() % N * 4 >= N {
+        ws.len()
+    } else {
+        ws.len() / N * N
+    };
+    let (out_whole, out_rest) = out.split_at_mut(whole * n);
+    for (g, og) in out_whole.chunks_mut(N * n).enumerate() {
+        let i0 = g * N;
+        let lanes = (whole - i0).min(N);
+        let members: Vec<usize> = (i0..i0 + lanes).collect();
+        members_attitudes_in_lanes::<N>(moments, s, &members, ws, q0s, ts, og);
+    }
+    for (k, o) in out_rest.chunks_exact_mut(n).enumerate() {
+        let i = whole + k;
+        if n < N || !times_attitudes_in_lanes::<N>(moments, s, ws[i], q0(i), ts, o) {
+            attitudes_one_by_one(moments, s, 0, ws[i], q0(i), ts, o);
+        }
+    }
+}
+
+/// `Q(t)` (body frame) of the members `members` (up to `N`), one per lane (lanes past the last
+/// repeat a plain member, their results dropped), at the times `ts`; the members off the plain
+/// lanes one by one.
+#[inline(always)]
+fn members_attitudes_in_lanes<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    members: &[usize],
+    ws: &[Vec3],
+    q0s: &[Mat3],
+    ts: &[f64],
+    og: &mut [Mat3],
+) {
+    let n = ts.len();
+    let q0 = |i: usize| &q0s[if q0s.len() > 1 { i } else { 0 }];
+    let found: Vec<Option<(Regime, EllipticMotion<f64>)>> = members
+        .iter()
+        .map(|&i| plain_motion(moments, s, ws[i], q0(i)))
+        .collect();
+    let mut plain = WideMask::<N>::splat(true);
+    if let Some(&(reg0, mot0)) = found.iter().flatten().next() {
+        // lanes without a plain motion take the first plain one (benign values)
+        let mut regs = [reg0; N];
+        let mut motions = [mot0; N];
+        for l in 0..N {
+            match found.get(l) {
+                Some(Some((reg, mot))) => {
+                    regs[l] = *reg;
+                    motions[l] = *mot;
+                }
+                _ => plain.and_lane(l, false),
+            }
+        }
+        let red = LaneReduction::gather(&regs);
+        let motion = EllipticMotion::gather(&motions);
+        for (j, &t) in ts.iter().enumerate() {
+            let q = red.attitude(&motion, moments, s, Wide::splat(t), &mut plain);
+            for l in 0..members.len() {
+                og[l * n + j] = lane_matrix(&q, l);
+            }
+        }
+    } else {
+        plain = WideMask::splat(false);
+    }
+    for (l, &i) in members.iter().enumerate() {
+        if !plain.get(l) {
+            let o = &mut og[l * n..(l + 1) * n];
+            attitudes_one_by_one(moments, s, 0, ws[i], q0(i), ts, o);
+        }
+    }
+}
+
+/// `Q(t)` (body frame) of one member at the times `ts`, `N` times at once in the lanes;
+/// `false` (nothing kept) where the member is not a plain lane at every time.
+#[inline(always)]
+fn times_attitudes_in_lanes<const N: usize>(
+    moments: Vec3,
+    s: &Mat3,
+    w: Vec3,
+    q0: &Mat3,
+    ts: &[f64],
+    out: &mut [Mat3],
+) -> bool {
+    let Some((reg, mot)) = plain_motion(moments, s, w, q0) else {
+        return false;
+    };
+    let red = LaneReduction::gather(&[reg; N]);
+    let motion = EllipticMotion::gather(&[mot; N]);
+    let mut plain = WideMask::<N>::splat(true);
+    for (tc, oc) in ts.chunks(N).zip(out.chunks_mut(N)) {
+        // lanes past the last time repeat it (their results dropped)
+        let mut t = [0.0; N];
+        for l in 0..N {
+            t[l] = tc[l.min(tc.len() - 1)];
+        }
+        let q = red.attitude(&motion, moments, s, Wide(t), &mut plain);
+        for (l, o) in oc.iter_mut().enumerate() {
+            *o = lane_matrix(&q, l);
+        }
+    }
+    plain.all()
 }
 
 #[cfg(test)]
@@ -1438,6 +1881,129 @@ mod tests {
                 "{moments:?}: {plain} of {}",
                 ws.len()
             );
+        }
+    }
+
+    /// The attitudes in lanes compute bit for bit what each member's single run
+    /// (`attitude_at`) computes, in every regime (the members off the plain lanes run alone),
+    /// on every instruction set the CPU offers, one Q0 shared or one per member; and the lanes
+    /// carry the ordinary members.
+    #[test]
+    fn attitude_lanes_equal_single_runs_bit_for_bit() {
+        let mut ts = vec![0.0, 0.3, 1.0, 7.7, 100.0, -3.0, 1e4, 2.5e-10];
+        ts.extend((0..WIDTH + 3).map(|j| 0.61 * j as f64 - 2.0));
+        let ws = sample_omegas();
+        let q0s: Vec<Mat3> = (0..ws.len())
+            .map(|i| zxz_matrix(0.1 * i as f64, 0.3 + 0.01 * i as f64, -0.2 * i as f64))
+            .collect();
+        for moments in [
+            [1.0, 2.0, 3.0],
+            [0.2, 1.5, 10.0],
+            [1.0, 2.0, 2.25],
+            [1.0, 1.0 + 1e-9, 2.0],
+        ] {
+            let s = zxz_matrix(0.3, 1.1, -0.7);
+            for q0 in [&q0s[..], &q0s[..1]] {
+                let pick = |i: usize| &q0[if q0.len() > 1 { i } else { 0 }];
+                let mut want = vec![[[0.0; 3]; 3]; ws.len() * ts.len()];
+                for (i, (w, o)) in ws.iter().zip(want.chunks_mut(ts.len())).enumerate() {
+                    attitudes_one_by_one(moments, &s, 0, *w, pick(i), &ts, o);
+                }
+                let mut runs: Vec<(&str, Vec<Mat3>)> = Vec::new();
+                let mut got = vec![[[0.0; 3]; 3]; want.len()];
+                attitudes_in_lanes::<WIDTH>(moments, &s, &ws, q0, &ts, &mut got);
+                runs.push(("dispatched", got.clone()));
+                attitudes_in_lanes::<8>(moments, &s, &ws, q0, &ts, &mut got);
+                runs.push(("dispatched, 8 lanes", got.clone()));
+                attitudes_in_lanes_any::<WIDTH>(moments, &s, &ws, q0, &ts, &mut got);
+                runs.push(("baseline", got.clone()));
+                #[cfg(target_arch = "x86_64")]
+                if std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("fma")
+                {
+                    // SAFETY: the CPU has the features.
+                    unsafe {
+                        attitudes_in_lanes_avx2::<WIDTH>(moments, &s, &ws, q0, &ts, &mut got)
+                    };
+                    runs.push(("avx2", got.clone()));
+                }
+                exact_attitudes(moments, &s, 0, &ws, q0, &ts, &mut got);
+                runs.push(("exact_attitudes", got.clone()));
+                for (i, (w, o)) in ws.iter().zip(got.chunks_mut(ts.len())).enumerate() {
+                    exact_attitudes(moments, &s, 0, &[*w], &[*pick(i)], &ts, o);
+                }
+                runs.push(("one member, times in lanes", got.clone()));
+                for (name, got) in &runs {
+                    for (i, (a, b)) in got.iter().zip(&want).enumerate() {
+                        assert!(
+                            (0..9).all(|k| same(a[k / 3][k % 3], b[k / 3][k % 3])),
+                            "{name} {moments:?} member {:?} t {}: {a:?} {b:?}",
+                            ws[i / ts.len()],
+                            ts[i % ts.len()]
+                        );
+                    }
+                }
+            }
+            // most members run in the lanes proper
+            let plain = ws
+                .iter()
+                .filter(|w| plain_motion(moments, &s, **w, &q0s[0]).is_some())
+                .count();
+            assert!(
+                plain * 10 > ws.len() * 8,
+                "{moments:?}: {plain} of {}",
+                ws.len()
+            );
+        }
+    }
+
+    /// The attitude from the reduction ω(t) makes (`third_kind_reduced`, `carlson_rj_above`,
+    /// the angles as ratios) equals the one from the angles by atan2 and `third_kind_u`
+    /// (libm's atan, the integral's own reduction) to round-off.
+    #[test]
+    fn the_reduced_attitude_equals_the_angle_route() {
+        for moments in [[1.0, 2.0, 3.0], [0.2, 1.5, 10.0], [1.0, 2.0, 2.25]] {
+            for w in [
+                [0.3, 1.0, 0.2],
+                [1.0, 0.2, -0.1],
+                [-0.05, 1.0, 0.01],
+                [0.9, -0.4, 1.3],
+            ] {
+                let q0 = zxz_matrix(0.4, 0.9, -1.2);
+                let reg = Regime::new(moments, 0, w);
+                assert!(reg.is_elliptic() && reduced_third_kind(&reg));
+                let att = AttitudeSetup::new(moments, &reg, w, &q0);
+                for t in [0.0, 0.7, 3.1, 25.0, -11.0, 400.0] {
+                    let got = attitude_at(moments, &reg, &att, w, &q0, t);
+                    // the angle route
+                    let v = reg.omega_at(moments, w, t);
+                    let (theta, phi) = relabelled_angles(
+                        reg.pole,
+                        [moments[0] * v[0], moments[1] * v[1], moments[2] * v[2]],
+                    );
+                    let u = reg.u0 + reg.lam * t;
+                    let u0 = reg.u0;
+                    let big = third_kind_u(att.n, u, reg.m, reg.m1, reg.quarter)
+                        - third_kind_u(att.n, u0, reg.m, reg.m1, reg.quarter);
+                    let psi = reg.momentum * t / att.i_pole + att.psi_pi * big;
+                    let x = matmul(&att.p0, &zxz_matrix(psi, theta, phi));
+                    let want = if reg.pole == 2 {
+                        x
+                    } else {
+                        x.map(|row| [row[2], -row[1], row[0]])
+                    };
+                    let tol = 4e-15 * (1.0 + psi.abs());
+                    for k in 0..9 {
+                        let (a, b) = (got[k / 3][k % 3], want[k / 3][k % 3]);
+                        assert!((a - b).abs() <= tol, "{moments:?} {w:?} t {t}: {a} {b}");
+                    }
+                }
+                // ψ(0) = 0 exactly: Q(0) = Q0 to the round-off of the frame's products
+                let q = attitude_at(moments, &reg, &att, w, &q0, 0.0);
+                for k in 0..9 {
+                    assert!((q[k / 3][k % 3] - q0[k / 3][k % 3]).abs() < 2e-15);
+                }
+            }
         }
     }
 
