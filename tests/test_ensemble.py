@@ -41,6 +41,7 @@ CASES = {
     "own moments rk4": {"method": "rk4", "dt": 1e-2, "moments": MOMENTS},
     "own moments rkmk4": {"method": "rkmk4", "dt": 1e-2, "moments": MOMENTS},
     "own moments splitting": {"method": "splitting", "dt": 1e-2, "moments": MOMENTS},
+    "own moments dop853": {"method": "dop853", "moments": MOMENTS},
     "heavy top rkmk4": {
         "method": "rkmk4",
         "dt": 1e-2,
@@ -93,13 +94,16 @@ def test_every_member_equals_a_single_simulate(case):
         "free splitting",
         "own moments splitting",
         "heavy top rkmk4",
+        "free dop853",
+        "own moments dop853",
     ],
 )
 def test_members_in_simd_lanes_equal_their_single_runs(case):
-    """RK4 members, and free bodies' RKMK4 and splitting members, run in blocks of SIMD lanes
-    (the core's ``lanes``: 128 members a block, a short last block padded; a body under forces
-    runs RKMK4 member by member): every member equals its single ``simulate`` bit for bit, and
-    chunks of 40 or 7 (the latter too few for lanes: member by member) change nothing."""
+    """RK4 members, and free bodies' RKMK4, splitting and DOP853 members (each its own step
+    sizes), run in blocks of SIMD lanes (the core's ``lanes``: 128 members a block, a short
+    last block padded; a body under forces runs RKMK4 member by member): every member equals
+    its single ``simulate`` bit for bit, and chunks of 40 or 7 (the latter too few for lanes:
+    member by member) change nothing, step counts included."""
     n = 150
     rng = np.random.default_rng(7)
     w0 = rng.normal(size=(n, 3))
@@ -114,6 +118,8 @@ def test_members_in_simd_lanes_equal_their_single_runs(case):
     for other in runs[1:]:
         np.testing.assert_array_equal(other.state, runs[0].state)
         np.testing.assert_array_equal(other.flip_count, runs[0].flip_count)
+        np.testing.assert_array_equal(other.nsteps, runs[0].nsteps)
+        np.testing.assert_array_equal(other.nfev, runs[0].nfev)
     kw.pop("moments", None)
     for i in (0, 77, 127, 128, n - 1):
         body = BODY if moments is None else RigidBody(2.0, np.diag(moments[i]),

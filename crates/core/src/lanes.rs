@@ -14,13 +14,20 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use crate::drivers::{run_fixed, Clock, Counters, FixedMethod, Output, Sampling, Status};
+use crate::drivers::{next_up, run_fixed, Clock, Counters, FixedMethod, Output, Sampling, Status};
 use crate::layout::{OMEGA_AT, STATE_SIZE};
 use crate::observers::Observer;
 use crate::rigid::State;
-use crate::steppers::{momentum_to_velocity, rk4_rigid_step, velocity_to_momentum};
+use crate::steppers::{
+    dop853_dense, dop853_interpolate, initial_step_size, momentum_to_velocity, rk4_rigid_step,
+    step_size_factor, velocity_to_momentum, Control,
+};
 use crate::system::{RigidStructure, VectorField};
 use crate::systems::{TorqueFree, ANY_ROTOR, SYMMETRIC, TRIAXIAL};
+use crate::tableaux::{
+    DOP853_A, DOP853_C, DOP853_E3, DOP853_E5, DOP853_INTERPOLATOR_POWER, DOP853_STAGES,
+    DOP853_STAGES_EXTENDED,
+};
 
 /// Members per block: sixteen vectors of AVX-512 doubles, a state of 18 KiB (in the L1 cache;
 /// measured a little faster than 32 or 64 lanes, against the ensemble's ceiling kernel).
@@ -452,6 +459,366 @@ fn run_block_any<
     BlockRun {
         status,
         counters: k,
+        flips: flips.then_some(obs),
+    }
+}
+
+/// What a block's adaptive run leaves: each lane's status and counters (every lane its own
+/// steps), and (when watched) the flips.
+pub struct BlockAdaptiveRun {
+    pub status: [Status; LANES],
+    pub counters: [Counters; LANES],
+    pub flips: Option<BlockFlips>,
+}
+
+/// Adaptive Dormand–Prince 8(5,3) on every lane of free bodies, each lane with its own step
+/// sizes, bit for bit its single run ([`crate::drivers::run_adaptive`]): the lanes step in lock
+/// step, one trial step (accepted or rejected) per lane per round. The twelve stages and the
+/// error norms run for all lanes at once (structure of arrays, each lane's step size its own);
+/// the controller, the flips, the samples (dense output where a sample falls inside a step)
+/// and the checks run lane by lane, with the single run's own functions. `z` (18 · LANES) the
+/// initial states, advanced in place; `samples` (len(t_eval) · 18 · LANES). The instruction
+/// set is chosen at run time, as [`run_block`].
+#[allow(clippy::too_many_arguments)]
+pub fn run_block_dop853<const SHARED: bool>(
+    block: &Block<'_, TorqueFree, SHARED>,
+    control: &Control,
+    t0: f64,
+    t1: f64,
+    t_eval: &[f64],
+    flips: bool,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> BlockAdaptiveRun {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512dq")
+        {
+            // SAFETY: the CPU has the features the function is compiled for.
+            return unsafe {
+                dop853_avx512(block, control, t0, t1, t_eval, flips, z, samples, stop)
+            };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: as above.
+            return unsafe { dop853_avx2(block, control, t0, t1, t_eval, flips, z, samples, stop) };
+        }
+    }
+    dop853_any(block, control, t0, t1, t_eval, flips, z, samples, stop)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma,bmi2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn dop853_avx512<const SHARED: bool>(
+    block: &Block<'_, TorqueFree, SHARED>,
+    control: &Control,
+    t0: f64,
+    t1: f64,
+    t_eval: &[f64],
+    flips: bool,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> BlockAdaptiveRun {
+    dop853_any(block, control, t0, t1, t_eval, flips, z, samples, stop)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn dop853_avx2<const SHARED: bool>(
+    block: &Block<'_, TorqueFree, SHARED>,
+    control: &Control,
+    t0: f64,
+    t1: f64,
+    t_eval: &[f64],
+    flips: bool,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> BlockAdaptiveRun {
+    dop853_any(block, control, t0, t1, t_eval, flips, z, samples, stop)
+}
+
+/// The stages of one DOP853 trial step on every lane, as [`dop853_step`] computes them for
+/// one: `k` (16 · 18 · LANES) holds the stages (row 0 the lanes' `f`), `z_new` the 8th-order
+/// solutions; then each lane's error norm ([`dop853_error_norm`]'s sums, in its order).
+#[inline(always)]
+fn dop853_stages<const SHARED: bool>(
+    block: &Block<'_, TorqueFree, SHARED>,
+    t: &[f64; LANES],
+    h: &[f64; LANES],
+    z: &BlockState,
+    k: &mut [f64],
+    z_new: &mut BlockState,
+) {
+    let row = STATE_SIZE * LANES;
+    let mut ytmp = [0.0; STATE_SIZE * LANES];
+    for st in 1..=DOP853_STAGES {
+        for c in 0..STATE_SIZE {
+            // the sum over the stages in their order, each lane's own
+            let mut acc = [0.0; LANES];
+            for (m, a) in DOP853_A[st][..st].iter().enumerate() {
+                let km = &k[m * row + at(c, 0)..m * row + at(c, 0) + LANES];
+                for l in 0..LANES {
+                    acc[l] += a * km[l];
+                }
+            }
+            for l in 0..LANES {
+                ytmp[at(c, l)] = z[at(c, l)] + h[l] * acc[l];
+            }
+        }
+        if st == DOP853_STAGES {
+            z_new.copy_from_slice(&ytmp);
+        }
+        let kr: &mut BlockState = (&mut k[st * row..(st + 1) * row])
+            .try_into()
+            .expect("a stage");
+        for l in 0..LANES {
+            let y = block
+                .lane(l)
+                .rates(t[l] + DOP853_C[st] * h[l], &gather(&ytmp, l));
+            scatter(&y, l, kr);
+        }
+    }
+}
+
+/// Each lane's error norm of the last trial step ([`dop853_error_norm`], its sums in its
+/// order).
+#[inline(always)]
+fn dop853_errors(
+    k: &[f64],
+    h: &[f64; LANES],
+    z: &BlockState,
+    z_new: &BlockState,
+    control: &Control,
+) -> [f64; LANES] {
+    let row = STATE_SIZE * LANES;
+    let (rtol, atol) = (control.rtol, control.atol);
+    let mut e5 = [0.0; LANES];
+    let mut e3 = [0.0; LANES];
+    for c in 0..STATE_SIZE {
+        let mut a5 = [0.0; LANES];
+        let mut a3 = [0.0; LANES];
+        for s in 0..=DOP853_STAGES {
+            let ks = &k[s * row + at(c, 0)..s * row + at(c, 0) + LANES];
+            for l in 0..LANES {
+                a5[l] += DOP853_E5[s] * ks[l];
+                a3[l] += DOP853_E3[s] * ks[l];
+            }
+        }
+        for l in 0..LANES {
+            let i = at(c, l);
+            let scale = atol + z[i].abs().max(z_new[i].abs()) * rtol;
+            let (b5, b3) = (a5[l] / scale, a3[l] / scale);
+            e5[l] += b5 * b5;
+            e3[l] += b3 * b3;
+        }
+    }
+    let mut err = [0.0; LANES];
+    for l in 0..LANES {
+        err[l] = if e5[l] == 0.0 && e3[l] == 0.0 {
+            0.0
+        } else {
+            h[l].abs() * e5[l] / ((e5[l] + 0.01 * e3[l]) * STATE_SIZE as f64).sqrt()
+        };
+    }
+    err
+}
+
+/// The lanes' adaptive loop, inlined into each target's copy of it: the single run's
+/// [`crate::drivers::run_adaptive`] lane by lane, the stages and error norms in lanes.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn dop853_any<const SHARED: bool>(
+    block: &Block<'_, TorqueFree, SHARED>,
+    control: &Control,
+    t0: f64,
+    t1: f64,
+    t_eval: &[f64],
+    flips: bool,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> BlockAdaptiveRun {
+    let n = STATE_SIZE;
+    let row = STATE_SIZE * LANES;
+    let n_eval = t_eval.len();
+    let z = block_mut(z);
+    let mut k = vec![0.0; DOP853_STAGES_EXTENDED * row];
+    let mut z_new = vec![0.0; row];
+    let mut f = vec![0.0; row];
+    let mut obs = BlockFlips::default();
+    let mut status = [Status::Running; LANES];
+    let mut counters = [Counters::default(); LANES];
+    let mut t = [t0; LANES];
+    let mut h_abs = [0.0; LANES];
+    let mut h = [0.0; LANES];
+    let mut t_new = [t0; LANES];
+    let mut min_step = [0.0; LANES];
+    let mut rejected = [false; LANES];
+    let mut fresh = [true; LANES]; // the lane's next trial starts a step
+    let (mut ytmp, mut fnew) = ([0.0; STATE_SIZE], [0.0; STATE_SIZE]);
+    let store = |samples: &mut [f64], i: usize, y: &State, l: usize| {
+        let r: &mut BlockState = (&mut samples[i * row..(i + 1) * row])
+            .try_into()
+            .expect("a sample");
+        scatter(y, l, r);
+    };
+    // each lane's start: f, the samples at t0, the first step
+    for l in 0..LANES {
+        let sys = block.lane(l);
+        let y = gather(z, l);
+        let fl = sys.rates(t0, &y);
+        scatter(&fl, l, block_mut(&mut f));
+        let c = &mut counters[l];
+        c.n_fev = 1;
+        while c.next_sample < n_eval && t_eval[c.next_sample] <= t0 {
+            store(samples, c.n_out, &y, l);
+            c.n_out += 1;
+            c.next_sample += 1;
+        }
+        h_abs[l] = if control.first_step > 0.0 {
+            control.first_step
+        } else {
+            c.n_fev += 1;
+            initial_step_size(sys, t0, &y, &fl, t1, 7.0, control, &mut ytmp, &mut fnew)
+        };
+        if t0 >= t1 || c.next_sample >= n_eval {
+            status[l] = Status::Finished;
+        }
+    }
+    let mut rounds: u64 = 0;
+    while status.contains(&Status::Running) {
+        rounds += 1;
+        if rounds % crate::ensemble::STEPS_PER_CALL == 0 && stop.load(Ordering::Relaxed) {
+            break;
+        }
+        // each running lane's trial step size (the single run's clamps and checks)
+        for l in 0..LANES {
+            h[l] = 0.0;
+            if status[l] != Status::Running {
+                continue;
+            }
+            if fresh[l] {
+                min_step[l] = 10.0 * (next_up(t[l]) - t[l]).abs();
+                if h_abs[l] > control.max_step {
+                    h_abs[l] = control.max_step;
+                } else if h_abs[l] < min_step[l] {
+                    h_abs[l] = min_step[l];
+                }
+                rejected[l] = false;
+                fresh[l] = false;
+            }
+            if h_abs[l] < min_step[l] {
+                status[l] = Status::StepTooSmall;
+                continue;
+            }
+            t_new[l] = t[l] + h_abs[l];
+            if t_new[l] > t1 {
+                t_new[l] = t1;
+            }
+            h[l] = t_new[l] - t[l];
+            h_abs[l] = h[l].abs();
+        }
+        k[..row].copy_from_slice(&f);
+        let zn: &mut BlockState = (&mut z_new[..]).try_into().expect("a block");
+        dop853_stages(block, &t, &h, z, &mut k, zn);
+        let err = dop853_errors(&k, &h, z, zn, control);
+        // each lane: accept or retry; an accepted step observed, sampled and taken
+        let zn: &BlockState = (&z_new[..]).try_into().expect("a block");
+        for l in 0..LANES {
+            if status[l] != Status::Running {
+                continue;
+            }
+            let c = &mut counters[l];
+            c.n_fev += DOP853_STAGES as u64;
+            h_abs[l] *= step_size_factor(err[l], 7.0, rejected[l], control);
+            if err[l] >= 1.0 {
+                rejected[l] = true;
+                c.n_rejected += 1;
+                continue;
+            }
+            fresh[l] = true;
+            c.n_steps += 1;
+            let y0 = gather(z, l);
+            let y1 = gather(zn, l);
+            if flips {
+                let mut one = crate::observers::FlipObserver {
+                    first: &mut obs.first,
+                    last: &mut obs.last,
+                    count: &mut obs.count,
+                    offset: 0,
+                };
+                one.observe(l, t[l], &y0, t_new[l], &y1);
+            }
+            let y1_finite = y1.iter().all(|x| x.is_finite());
+            if !y1_finite {
+                scatter(&y1, l, z);
+                t[l] = t_new[l];
+                status[l] = Status::NonFinite;
+                continue;
+            }
+            let mut dense: Option<[f64; DOP853_INTERPOLATOR_POWER * STATE_SIZE]> = None;
+            while c.next_sample < n_eval && t_eval[c.next_sample] <= t_new[l] {
+                let te = t_eval[c.next_sample];
+                if te == t_new[l] {
+                    store(samples, c.n_out, &y1, l);
+                } else {
+                    let fd = dense.get_or_insert_with(|| {
+                        // the lane's stages, three more, and the interpolant (the single
+                        // run's dop853_dense on the lane's numbers)
+                        let mut kl = [0.0; DOP853_STAGES_EXTENDED * STATE_SIZE];
+                        for s in 0..=DOP853_STAGES {
+                            for cc in 0..n {
+                                kl[s * n + cc] = k[s * row + at(cc, l)];
+                            }
+                        }
+                        let fl: State = kl[DOP853_STAGES * n..(DOP853_STAGES + 1) * n]
+                            .try_into()
+                            .expect("f");
+                        let mut fd = [0.0; DOP853_INTERPOLATOR_POWER * STATE_SIZE];
+                        dop853_dense(
+                            block.lane(l),
+                            t[l],
+                            h[l],
+                            &y0,
+                            &y1,
+                            &fl,
+                            &mut kl,
+                            &mut ytmp,
+                            &mut fd,
+                        );
+                        c.n_fev += (DOP853_STAGES_EXTENDED - DOP853_STAGES - 1) as u64;
+                        fd
+                    });
+                    let mut sample = [0.0; STATE_SIZE];
+                    dop853_interpolate(fd, &y0, (te - t[l]) / h[l], &mut sample);
+                    store(samples, c.n_out, &sample, l);
+                }
+                c.n_out += 1;
+                c.next_sample += 1;
+            }
+            if c.next_sample >= n_eval {
+                status[l] = Status::Finished;
+            }
+            scatter(&y1, l, z);
+            for cc in 0..n {
+                f[at(cc, l)] = k[DOP853_STAGES * row + at(cc, l)];
+            }
+            t[l] = t_new[l];
+            if t[l] >= t1 {
+                status[l] = Status::Finished;
+            }
+        }
+    }
+    BlockAdaptiveRun {
+        status,
+        counters,
         flips: flips.then_some(obs),
     }
 }
