@@ -505,3 +505,22 @@ def test_a_chunk_written_in_place_equals_its_returned_arrays(case, keep_states):
         assert got.Y is None and want.Y is None
     for name in ("energy", "momentum", "first_flip", "status", "nsteps"):
         np.testing.assert_array_equal(getattr(got, name), getattr(want, name))
+
+
+@pytest.mark.parametrize("method", ["dop853", "rk4"])
+def test_a_member_whose_rates_overflow_fails_alike_in_lanes_and_alone(method):
+    # ω so large that Euler's equation overflows: the adaptive step's error norm is NaN, which
+    # the lanes must reject as the single run does (`err < 1` fails), so that each member ends
+    # with the single run's status and counts in lanes (40 members) and alone (chunks of 7)
+    w0 = np.tile([1e200, 1e200, 1e200], (40, 1))
+    w0[::3] = [0.1, 1.0, 0.2]
+    kw = {"method": method, "dt": 1e-2} if method == "rk4" else {"method": method}
+    lanes, alone = (
+        simulate_ensemble(BODY, (0, 1), omega0=w0, chunk_size=c, progress=False, **kw)
+        for c in (None, 7)
+    )
+    np.testing.assert_array_equal(lanes.status, alone.status)
+    np.testing.assert_array_equal(lanes.nsteps, alone.nsteps)
+    np.testing.assert_array_equal(lanes.nfev, alone.nfev)
+    np.testing.assert_array_equal(lanes.state, alone.state)
+    assert lanes.success[::3].all() and not lanes.success[1::3].any()

@@ -290,3 +290,19 @@ def test_a_huge_quaternion_is_refused_without_a_warning():
         warnings.simplefilter("error")
         with pytest.raises(ValueError, match=r"`Q0` is not a rotation: .* norm inf"):
             simulate(body, (0, 1), omega0=(0, 1, 1), Q0=(1e300, 1e300, 0.0, 0.0))
+
+
+def test_an_omega_whose_square_overflows_fails_cleanly():
+    """ω = 1e200: Euler's equation overflows; the run fails with its named error, and no
+    numpy overflow warning escapes on the way (the degenerate-spin check used |ω|²)."""
+    import warnings
+
+    import numpy as np
+
+    from poinsot import RigidBody, SimulationError, simulate
+
+    body = RigidBody(1.0, np.diag([1.0, 2.0, 3.0]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        with pytest.raises(SimulationError, match="step size fell below"):
+            simulate(body, (0, 1), omega0=(1e200, 1e200, 1e200), method="dop853")

@@ -291,7 +291,7 @@ class RigidBodySystem:
             raise ValueError("`V0` must be omitted with a `pivot`: it follows from `omega0`")
         line = self.degenerate_line()
         spin = float(w @ line)
-        if abs(spin) > 1e-12 * max(np.linalg.norm(w), 1e-300):
+        if abs(spin) > 1e-12 * max(float(np.abs(w).max()), 1e-300):  # |w|² may overflow
             warnings.warn(
                 "the body is degenerate (all mass on a line): its spin about that line is "
                 f"undefined and is dropped (component {spin:.6g} of omega0)",

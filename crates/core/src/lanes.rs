@@ -738,7 +738,9 @@ fn dop853_any<const SHARED: bool>(
             let c = &mut counters[l];
             c.n_fev += DOP853_STAGES as u64;
             h_abs[l] *= step_size_factor(err[l], 7.0, rejected[l], control);
-            if err[l] >= 1.0 {
+            let accepted = err[l] < 1.0;
+            if !accepted {
+                // rejected (a NaN norm too, as the single run's `err < 1` test)
                 rejected[l] = true;
                 c.n_rejected += 1;
                 continue;
