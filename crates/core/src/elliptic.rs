@@ -394,49 +394,8 @@ pub fn carlson_rf<T: Real>(x: T, y: T, z: T) -> T {
 /// `R_J(x, y, z, p) = 3/2 ∫₀^∞ dt / ((t + p) √((t + x)(t + y)(t + z)))` for `x, y, z ≥ 0` (at
 /// most one zero) and `p > 0` (DLMF 19.16.2), by duplication (Carlson 1995, algorithm 3;
 /// DLMF 19.36.1), with `R_C(1, 1 + e)` in its cancellation-free form ([`carlson_rc1p`]).
-pub fn carlson_rj(mut x: f64, mut y: f64, mut z: f64, mut p: f64) -> f64 {
-    let a0 = (x + y + z + 2.0 * p) / 5.0;
-    let q = RJ_FACTOR
-        * py_max::<f64>(
-            py_max(py_max((a0 - x).abs(), (a0 - y).abs()), (a0 - z).abs()),
-            (a0 - p).abs(),
-        );
-    let delta = (p - x) * (p - y) * (p - z);
-    let dx = a0 - x;
-    let dy = a0 - y;
-    let dz = a0 - z;
-    let mut a = a0;
-    let mut scale = 1.0; // 4^-m
-    let mut total = 0.0;
-    while scale * q >= a.abs() && scale > 0.0 {
-        let sx = x.sqrt();
-        let sy = y.sqrt();
-        let sz = z.sqrt();
-        let sp = p.sqrt();
-        let lam = sx * sy + sx * sz + sy * sz;
-        let d = (sp + sx) * (sp + sy) * (sp + sz);
-        let e = scale * scale * scale * delta / (d * d);
-        total += scale * carlson_rc1p(e) / d;
-        a = 0.25 * (a + lam);
-        x = 0.25 * (x + lam);
-        y = 0.25 * (y + lam);
-        z = 0.25 * (z + lam);
-        p = 0.25 * (p + lam);
-        scale *= 0.25;
-    }
-    let xx = dx * scale / a;
-    let yy = dy * scale / a;
-    let zz = dz * scale / a;
-    let pp = -0.5 * (xx + yy + zz);
-    let e2 = xx * yy + xx * zz + yy * zz - 3.0 * pp * pp;
-    let e3 = xx * yy * zz + 2.0 * e2 * pp + 4.0 * pp * pp * pp;
-    let e4 = (2.0 * xx * yy * zz + e2 * pp + 3.0 * pp * pp * pp) * pp;
-    let e5 = xx * yy * zz * pp * pp;
-    let series = 1.0 - 3.0 * e2 / 14.0 + e3 / 6.0 + 9.0 * e2 * e2 / 88.0
-        - 3.0 * e4 / 22.0
-        - 9.0 * e2 * e3 / 52.0
-        + 3.0 * e5 / 26.0;
-    scale * series / (a * a.sqrt()) + 6.0 * total
+pub fn carlson_rj(x: f64, y: f64, z: f64, p: f64) -> f64 {
+    carlson_rj_by(x, y, z, p, carlson_rc1p)
 }
 
 /// [`carlson_rj`] where `p ≥ max(x, y, z)` (so that every `R_C(1, 1 + e)` of the duplication
@@ -446,6 +405,17 @@ pub fn carlson_rj(mut x: f64, mut y: f64, mut z: f64, mut p: f64) -> f64 {
 /// 19.36.1, Carlson 1995, algorithm 3).
 #[inline(always)]
 pub fn carlson_rj_above<T: Real>(x: T, y: T, z: T, p: T) -> T {
+    carlson_rj_by(x, y, z, p, |e: T| {
+        // R_C(1, 1 + e) = atan(√e)/√e, 1 at e = 0
+        let r = e.sqrt();
+        T::select(e.gt(T::splat(0.0)), atan(r) / r, T::splat(1.0))
+    })
+}
+
+/// Carlson's duplication for `R_J` (DLMF 19.36.1, Carlson 1995, algorithm 3), generic over
+/// [`Real`], with `R_C(1, 1 + e)` given: each lane duplicates until its own run stops.
+#[inline(always)]
+fn carlson_rj_by<T: Real>(x: T, y: T, z: T, p: T, rc1p: impl Fn(T) -> T) -> T {
     let c = T::splat;
     let (mut x, mut y, mut z, mut p) = (x, y, z, p);
     let a0 = (x + y + z + c(2.0) * p) / c(5.0);
@@ -474,10 +444,7 @@ pub fn carlson_rj_above<T: Real>(x: T, y: T, z: T, p: T) -> T {
         let lam = sx * sy + sx * sz + sy * sz;
         let d = (sp + sx) * (sp + sy) * (sp + sz);
         let e = scale * scale * scale * delta / (d * d);
-        // R_C(1, 1 + e) = atan(√e)/√e, 1 at e = 0
-        let r = e.sqrt();
-        let rc = T::select(e.gt(c(0.0)), atan(r) / r, c(1.0));
-        total = T::select(going, total + scale * rc / d, total);
+        total = T::select(going, total + scale * rc1p(e) / d, total);
         a = T::select(going, quarter * (a + lam), a);
         x = T::select(going, quarter * (x + lam), x);
         y = T::select(going, quarter * (y + lam), y);

@@ -32,8 +32,8 @@ use crate::forces::Force;
 use crate::inertia::{parallel_axis, principal_decomposition};
 use crate::invariants::{angular_momentum_body, kinetic_energy};
 use crate::lanes::{
-    block_state, lane_samples, run_block, run_block_dop853, Block, BlockRk4, BlockRkmk4, BlockRun,
-    BlockSplitting, LANES,
+    block_state, lane_samples, run_block, run_block_dop853, Block, BlockFlips, BlockRk4,
+    BlockRkmk4, BlockRun, BlockSplitting, LANES,
 };
 use crate::layout::{Body, BODY_SIZE, OMEGA_AT, Q_AT, STATE_SIZE, V_AT};
 use crate::observers::{FlipObserver, NoObserver, Observer};
@@ -682,17 +682,26 @@ fn run_lanes(
                 &b, &control, t0, t1, t_eval, flips, &mut z, &mut lanes, stop,
             )
         };
-        for (l, member) in block.iter().enumerate() {
-            let y = &mut samples[l * per..(l + 1) * per];
-            lane_samples(&lanes, l, y);
-            let flips = run
-                .flips
-                .as_ref()
-                .map(|f| (f.first[l], f.last[l], f.count[l]));
-            let (status, k) = (run.status[l], &run.counters[l]);
-            summaries[l] = finish_member(schedule, member, status, k, flips, y, |_, _| 0.0);
-            finals[l * STATE_SIZE..(l + 1) * STATE_SIZE].copy_from_slice(&y[per - STATE_SIZE..]);
-        }
+        finish_lanes(
+            block,
+            &lanes,
+            run.flips.as_ref(),
+            per,
+            samples,
+            finals,
+            summaries,
+            |l, m, f, y| {
+                finish_member(
+                    schedule,
+                    m,
+                    run.status[l],
+                    &run.counters[l],
+                    f,
+                    y,
+                    |_, _| 0.0,
+                )
+            },
+        );
         return;
     }
     let mut rigid: Vec<Rigid> = Vec::new();
@@ -725,35 +734,45 @@ fn run_lanes(
         one_by_one(schedule, block, samples, finals, summaries, stop);
         return;
     }
+    finish_lanes(
+        block,
+        &lanes,
+        run.flips.as_ref(),
+        per,
+        samples,
+        finals,
+        summaries,
+        |l, m, f, y| {
+            let (status, k) = (run.status, &run.counters);
+            if torque_free {
+                finish_member(schedule, m, status, k, f, y, |_, _| 0.0)
+            } else {
+                let sys = &rigid[l];
+                finish_member(schedule, m, status, k, f, y, |t, z| sys.potential(t, z))
+            }
+        },
+    );
+}
+
+/// Each lane's samples out of the block's `lanes` into `samples` (members · n · 18), its
+/// summary (`summary(lane, member, flips, its samples)`: [`finish_member`] with the lane's run)
+/// and its final state.
+#[allow(clippy::too_many_arguments)]
+fn finish_lanes(
+    block: &[Member],
+    lanes: &[f64],
+    flips: Option<&BlockFlips>,
+    per: usize,
+    samples: &mut [f64],
+    finals: &mut [f64],
+    summaries: &mut [MemberSummary],
+    summary: impl Fn(usize, &Member, Option<(f64, f64, f64)>, &mut [f64]) -> MemberSummary,
+) {
     for (l, member) in block.iter().enumerate() {
         let y = &mut samples[l * per..(l + 1) * per];
-        lane_samples(&lanes, l, y);
-        let flips = run
-            .flips
-            .as_ref()
-            .map(|f| (f.first[l], f.last[l], f.count[l]));
-        summaries[l] = if torque_free {
-            finish_member(
-                schedule,
-                member,
-                run.status,
-                &run.counters,
-                flips,
-                y,
-                |_, _| 0.0,
-            )
-        } else {
-            let sys = &rigid[l];
-            finish_member(
-                schedule,
-                member,
-                run.status,
-                &run.counters,
-                flips,
-                y,
-                |t, z| sys.potential(t, z),
-            )
-        };
+        lane_samples(lanes, l, y);
+        let f = flips.map(|f| (f.first[l], f.last[l], f.count[l]));
+        summaries[l] = summary(l, member, f, y);
         finals[l * STATE_SIZE..(l + 1) * STATE_SIZE].copy_from_slice(&y[per - STATE_SIZE..]);
     }
 }
