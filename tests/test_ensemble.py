@@ -38,6 +38,11 @@ CASES = {
         "forces": [Gravity((0.0, 0.0, -9.8))],
     },
     "spring dop853": {"method": "dop853", "forces": [Spring((0.5, 0, 0), (1, 1, 1), 3.0)]},
+    "heavy top dop853": {
+        "method": "dop853",
+        "pivot": (0.0, 0.0, 0.0),
+        "forces": [Gravity((0.0, 0.0, -9.8))],
+    },
     "own moments rk4": {"method": "rk4", "dt": 1e-2, "moments": MOMENTS},
     "own moments rkmk4": {"method": "rkmk4", "dt": 1e-2, "moments": MOMENTS},
     "own moments splitting": {"method": "splitting", "dt": 1e-2, "moments": MOMENTS},
@@ -96,11 +101,13 @@ def test_every_member_equals_a_single_simulate(case):
         "heavy top rkmk4",
         "free dop853",
         "own moments dop853",
+        "spring dop853",
+        "heavy top dop853",
     ],
 )
 def test_members_in_simd_lanes_equal_their_single_runs(case):
-    """RK4 members, and free bodies' RKMK4, splitting and DOP853 members (each its own step
-    sizes), run in blocks of SIMD lanes (the core's ``lanes``: 128 members a block, a short
+    """RK4 and DOP853 members (each its own step sizes), and free bodies' RKMK4 and splitting
+    members, run in blocks of SIMD lanes (the core's ``lanes``: 128 members a block, a short
     last block padded; a body under forces runs RKMK4 member by member): every member equals
     its single ``simulate`` bit for bit, and chunks of 40 or 7 (the latter too few for lanes:
     member by member) change nothing, step counts included."""

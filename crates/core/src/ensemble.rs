@@ -564,9 +564,9 @@ pub fn run_members(
     }
 }
 
-/// The methods whose blocks of members run in lanes: RK4, and for free bodies RKMK with RK4's
-/// tableau, the splitting method and DOP853 (each lane its own steps); a block with forces
-/// runs those member by member.
+/// The methods whose blocks of members run in lanes: RK4 and DOP853 (each lane its own steps),
+/// and for free bodies RKMK with RK4's tableau and the splitting method (a block with forces
+/// runs those two member by member).
 fn in_lanes(method: &Method) -> bool {
     match method {
         Method::Rk4 | Method::Splitting | Method::Dop853(_) => true,
@@ -662,25 +662,47 @@ fn run_lanes(
     let torque_free = block
         .iter()
         .all(|m| m.forces.is_empty() && !m.body.has_pivot);
-    if !matches!(schedule.method, Method::Rk4) && !torque_free {
+    if !matches!(schedule.method, Method::Rk4 | Method::Dop853(_)) && !torque_free {
         one_by_one(schedule, block, samples, finals, summaries, stop);
         return;
     }
-    if let (Method::Dop853(control), true) = (schedule.method, torque_free) {
-        let shared = block.iter().all(|m| m.body == block[0].body);
-        let sys: Vec<TorqueFree> = (0..if shared { 1 } else { LANES })
-            .map(|l| TorqueFree::new(padded(l).body))
-            .collect();
-        let run = if shared {
-            let b = Block::<_, true> { systems: &sys };
-            run_block_dop853(
-                &b, &control, t0, t1, t_eval, flips, &mut z, &mut lanes, stop,
-            )
+    if let Method::Dop853(control) = schedule.method {
+        let run = if torque_free {
+            let shared = block.iter().all(|m| m.body == block[0].body);
+            let sys: Vec<TorqueFree> = (0..if shared { 1 } else { LANES })
+                .map(|l| TorqueFree::new(padded(l).body))
+                .collect();
+            if shared {
+                let b = Block::<_, true> { systems: &sys };
+                run_block_dop853(
+                    &b, &control, t0, t1, t_eval, flips, &mut z, &mut lanes, stop,
+                )
+            } else {
+                let b = Block::<_, false> { systems: &sys };
+                run_block_dop853(
+                    &b, &control, t0, t1, t_eval, flips, &mut z, &mut lanes, stop,
+                )
+            }
         } else {
-            let b = Block::<_, false> { systems: &sys };
-            run_block_dop853(
+            let rigid = rigid_systems(block);
+            let b = Block::<_, false> { systems: &rigid };
+            let run = run_block_dop853(
                 &b, &control, t0, t1, t_eval, flips, &mut z, &mut lanes, stop,
-            )
+            );
+            finish_lanes(
+                block,
+                &lanes,
+                run.flips.as_ref(),
+                per,
+                samples,
+                finals,
+                summaries,
+                |l, m, f, y| {
+                    let (status, k, sys) = (run.status[l], &run.counters[l], &rigid[l]);
+                    finish_member(schedule, m, status, k, f, y, |t, z| sys.potential(t, z))
+                },
+            );
+            return;
         };
         finish_lanes(
             block,
@@ -691,15 +713,8 @@ fn run_lanes(
             finals,
             summaries,
             |l, m, f, y| {
-                finish_member(
-                    schedule,
-                    m,
-                    run.status[l],
-                    &run.counters[l],
-                    f,
-                    y,
-                    |_, _| 0.0,
-                )
+                let (status, k) = (run.status[l], &run.counters[l]);
+                finish_member(schedule, m, status, k, f, y, |_, _| 0.0)
             },
         );
         return;
@@ -718,12 +733,7 @@ fn run_lanes(
             run_free_block(&b, schedule, &mut z, &mut lanes, stop)
         }
     } else {
-        rigid = (0..LANES)
-            .map(|l| {
-                let m = padded(l);
-                Rigid::new(m.body, m.forces.to_vec(), m.axes, None)
-            })
-            .collect();
+        rigid = rigid_systems(block);
         let b = Block::<_, false> { systems: &rigid };
         run_block(
             &b, BlockRk4, t0, t1, dt, t_eval, flips, &mut z, &mut lanes, stop,
@@ -752,6 +762,16 @@ fn run_lanes(
             }
         },
     );
+}
+
+/// The lanes' systems of a block under forces (lanes past the last member repeat it).
+fn rigid_systems(block: &[Member]) -> Vec<Rigid> {
+    (0..LANES)
+        .map(|l| {
+            let m = &block[l.min(block.len() - 1)];
+            Rigid::new(m.body, m.forces.to_vec(), m.axes, None)
+        })
+        .collect()
 }
 
 /// Each lane's samples out of the block's `lanes` into `samples` (members · n · 18), its
@@ -899,9 +919,9 @@ mod tests {
     /// RK4 and DOP853 members in SIMD lanes (DOP853: each lane its own step sizes, samples
     /// between steps from its dense output) equal their single runs bit for bit — samples,
     /// finals, counters, drifts and flips — with one shared body, with a body per member, under
-    /// forces about a pivot (DOP853 member by member), in a partial block (padded lanes), and
-    /// (RK4) with a member whose state stops being finite (the block then runs member by
-    /// member, each with its own status).
+    /// forces about a pivot (the state projected after each step and at each sample), in a
+    /// partial block (padded lanes), and (RK4) with a member whose state stops being finite
+    /// (the block then runs member by member, each with its own status).
     #[test]
     fn members_in_lanes_are_their_single_runs() {
         let t_eval: Vec<f64> = (0..=8).map(|k| 0.125 * k as f64).collect();

@@ -471,8 +471,8 @@ pub struct BlockAdaptiveRun {
     pub flips: Option<BlockFlips>,
 }
 
-/// Adaptive Dormand–Prince 8(5,3) on every lane of free bodies, each lane with its own step
-/// sizes, bit for bit its single run ([`crate::drivers::run_adaptive`]): the lanes step in lock
+/// Adaptive Dormand–Prince 8(5,3) on every lane (free bodies, or built-in forces and a pivot),
+/// each lane with its own step sizes, bit for bit its single run ([`crate::drivers::run_adaptive`]): the lanes step in lock
 /// step, one trial step (accepted or rejected) per lane per round. The twelve stages and the
 /// error norms run for all lanes at once (structure of arrays, each lane's step size its own);
 /// the controller, the flips, the samples (dense output where a sample falls inside a step)
@@ -480,8 +480,8 @@ pub struct BlockAdaptiveRun {
 /// initial states, advanced in place; `samples` (len(t_eval) · 18 · LANES). The instruction
 /// set is chosen at run time, as [`run_block`].
 #[allow(clippy::too_many_arguments)]
-pub fn run_block_dop853<const SHARED: bool>(
-    block: &Block<'_, TorqueFree, SHARED>,
+pub fn run_block_dop853<S: RigidStructure + VectorField, const SHARED: bool>(
+    block: &Block<'_, S, SHARED>,
     control: &Control,
     t0: f64,
     t1: f64,
@@ -513,8 +513,8 @@ pub fn run_block_dop853<const SHARED: bool>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma,bmi2")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn dop853_avx512<const SHARED: bool>(
-    block: &Block<'_, TorqueFree, SHARED>,
+unsafe fn dop853_avx512<S: RigidStructure + VectorField, const SHARED: bool>(
+    block: &Block<'_, S, SHARED>,
     control: &Control,
     t0: f64,
     t1: f64,
@@ -530,8 +530,8 @@ unsafe fn dop853_avx512<const SHARED: bool>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,bmi2")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn dop853_avx2<const SHARED: bool>(
-    block: &Block<'_, TorqueFree, SHARED>,
+unsafe fn dop853_avx2<S: RigidStructure + VectorField, const SHARED: bool>(
+    block: &Block<'_, S, SHARED>,
     control: &Control,
     t0: f64,
     t1: f64,
@@ -548,8 +548,8 @@ unsafe fn dop853_avx2<const SHARED: bool>(
 /// one: `k` (16 · 18 · LANES) holds the stages (row 0 the lanes' `f`), `z_new` the 8th-order
 /// solutions; then each lane's error norm ([`dop853_error_norm`]'s sums, in its order).
 #[inline(always)]
-fn dop853_stages<const SHARED: bool>(
-    block: &Block<'_, TorqueFree, SHARED>,
+fn dop853_stages<S: RigidStructure + VectorField, const SHARED: bool>(
+    block: &Block<'_, S, SHARED>,
     t: &[f64; LANES],
     h: &[f64; LANES],
     z: &BlockState,
@@ -634,8 +634,8 @@ fn dop853_errors(
 /// [`crate::drivers::run_adaptive`] lane by lane, the stages and error norms in lanes.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn dop853_any<const SHARED: bool>(
-    block: &Block<'_, TorqueFree, SHARED>,
+fn dop853_any<S: RigidStructure + VectorField, const SHARED: bool>(
+    block: &Block<'_, S, SHARED>,
     control: &Control,
     t0: f64,
     t1: f64,
@@ -746,9 +746,19 @@ fn dop853_any<const SHARED: bool>(
                 continue;
             }
             fresh[l] = true;
-            c.n_steps += 1;
+            let sys = block.lane(l);
             let y0 = gather(z, l);
-            let y1 = gather(zn, l);
+            let mut y1 = gather(zn, l);
+            let mut f1: State = [0.0; STATE_SIZE];
+            for cc in 0..n {
+                f1[cc] = k[DOP853_STAGES * row + at(cc, l)];
+            }
+            if sys.project(t_new[l], &mut y1) {
+                // about a pivot: the state put back on the constraint, its derivative anew
+                sys.rhs(t_new[l], &y1, &mut f1);
+                c.n_fev += 1;
+            }
+            c.n_steps += 1;
             if flips {
                 let mut one = crate::observers::FlipObserver {
                     first: &mut obs.first,
@@ -780,26 +790,14 @@ fn dop853_any<const SHARED: bool>(
                                 kl[s * n + cc] = k[s * row + at(cc, l)];
                             }
                         }
-                        let fl: State = kl[DOP853_STAGES * n..(DOP853_STAGES + 1) * n]
-                            .try_into()
-                            .expect("f");
                         let mut fd = [0.0; DOP853_INTERPOLATOR_POWER * STATE_SIZE];
-                        dop853_dense(
-                            block.lane(l),
-                            t[l],
-                            h[l],
-                            &y0,
-                            &y1,
-                            &fl,
-                            &mut kl,
-                            &mut ytmp,
-                            &mut fd,
-                        );
+                        dop853_dense(sys, t[l], h[l], &y0, &y1, &f1, &mut kl, &mut ytmp, &mut fd);
                         c.n_fev += (DOP853_STAGES_EXTENDED - DOP853_STAGES - 1) as u64;
                         fd
                     });
                     let mut sample = [0.0; STATE_SIZE];
                     dop853_interpolate(fd, &y0, (te - t[l]) / h[l], &mut sample);
+                    sys.project(te, &mut sample);
                     store(samples, c.n_out, &sample, l);
                 }
                 c.n_out += 1;
@@ -809,9 +807,7 @@ fn dop853_any<const SHARED: bool>(
                 status[l] = Status::Finished;
             }
             scatter(&y1, l, z);
-            for cc in 0..n {
-                f[at(cc, l)] = k[DOP853_STAGES * row + at(cc, l)];
-            }
+            scatter(&f1, l, block_mut(&mut f));
             t[l] = t_new[l];
             if t[l] >= t1 {
                 status[l] = Status::Finished;
