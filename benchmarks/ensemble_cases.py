@@ -10,6 +10,10 @@
 * ``exact_ensemble``: 10⁶ closed-form ω at one time, against a loop of single evaluations.
 * ``exact_families``: the period, flip interval and polhode family of 10⁶ motions, against a
   loop of single evaluations.
+* ``exact_attitudes``: Q(t) of 10⁵ members at 10 times (in SIMD lanes), against a loop of
+  single evaluations.
+* ``dop853_lanes``: DOP853 members (each its own step sizes) in lanes against the same members
+  run one at a time (chunks of 31, too few for lanes), the tolerances of a grading run.
 * ``dask``: the same RK4 ensemble on a 2-worker ``LocalCluster``, beside the local run.
 """
 
@@ -294,6 +298,68 @@ def case_exact_families(repeat):
     return rows
 
 
+def case_exact_attitudes(repeat):
+    from run import row, timed
+
+    from poinsot.torquefree import FreeRigidBody
+
+    free = FreeRigidBody((1.0, 2.0, 3.0))
+    rng = np.random.default_rng(5)
+    W = rng.normal(size=(100_000, 3))
+    t = np.linspace(0.0, 20.0, 10)
+    t_vec, Q = timed(lambda: free.exact_attitude(W, t), repeat)
+    sample = rng.choice(len(W), 300, replace=False)
+
+    def loop():
+        return np.array([free.exact_attitude(W[i], t) for i in sample])
+
+    t_loop, single = timed(loop, max(1, repeat // 2))
+    err = float(np.abs(Q[sample] - single).max())
+    n = len(W) * len(t)
+    return [
+        row(
+            f"exact Q(t) of 10⁵ members at 10 times ({n / t_vec:.3g} attitudes/s)",
+            "FreeRigidBody.exact_attitude((10⁵, 3), t)",
+            t_vec,
+            "one call per member (extrapolated from 300)",
+            t_loop / len(sample) * len(W),
+            err,
+            None,
+            "error column: vectorised vs single",
+        )
+    ]
+
+
+def case_dop853_lanes(repeat):
+    from run import row, timed
+
+    from poinsot.ensemble import simulate_ensemble
+
+    body, W0 = _inputs(4000)
+
+    def run(chunk):
+        return simulate_ensemble(body, (0, 100.0), omega0=W0, method="dop853", rtol=1e-10,
+                                 atol=1e-12, chunk_size=chunk, progress=False)  # fmt: skip
+
+    t_lanes, a = timed(lambda: run(None), max(1, repeat // 2))
+    t_alone, b = timed(lambda: run(31), max(1, repeat // 2))
+    err = float(np.abs(a.state - b.state).max())
+    steps = int(a.nsteps.sum())
+    return [
+        row(
+            f"DOP853 ensemble, 4000 members over [0, 100], rtol 1e-10 ({steps / t_lanes:.3g} "
+            "body-steps/s)",
+            "lanes, each member its own steps",
+            t_lanes,
+            "the same members one at a time (chunks of 31)",
+            t_alone,
+            err,
+            None,
+            "error column: lanes vs one at a time (bit for bit: 0)",
+        )
+    ]
+
+
 def case_dask(repeat):
     from run import row, timed
 
@@ -344,5 +410,7 @@ CASES = {
     "ensemble_methods": case_ensemble_methods,
     "exact_ensemble": case_exact_ensemble,
     "exact_families": case_exact_families,
+    "exact_attitudes": case_exact_attitudes,
+    "dop853_lanes": case_dop853_lanes,
     "dask": case_dask,
 }
