@@ -7,6 +7,7 @@ import re
 import warnings
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
@@ -78,3 +79,29 @@ def test_identify_returns_a_checked_result_or_names_the_argument(log):
     res.check()
     assert np.all(np.isfinite(res.inertia)) and np.isfinite(res.residual_ratio)
     assert t[0] <= res.window[0] < res.window[1] <= t[-1]
+
+
+def _assert_named_or_checked(t, w, kw):
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            res = identify(t, w, **kw)
+    except (ValueError, TypeError) as exc:
+        assert _NAMED.search(str(exc)), str(exc)
+        return
+    res.check()
+    assert np.all(np.isfinite(res.inertia)) and np.isfinite(res.residual_ratio)
+
+
+def test_logs_the_fuzz_found_are_refused_by_name():
+    # constant ω (a steady spin: the linear fits are singular, LAPACK's eigensolver failed or
+    # the output-error fit started from I3 = 0), with and without a rotor; nearly constant ω
+    t = np.arange(68) * 0.01
+    w = np.ones((68, 3))
+    w[1, 0] = 0.0
+    _assert_named_or_checked(t, w, {})
+    _assert_named_or_checked(4 + np.arange(61) * 0.01, np.full((61, 3), 5.0), {})
+    rotor = {"rotor_speed": np.zeros(30), "rotor_axis": np.ones(3), "rotor_inertia": 1e-13}
+    _assert_named_or_checked(np.arange(30) * 0.01, np.full((30, 3), 2.0), rotor)
+    with pytest.raises(ValueError, match="`omega`: ω is constant"):
+        identify(np.arange(30) * 0.01, np.full((30, 3), 2.0), **rotor)

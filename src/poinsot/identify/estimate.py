@@ -190,8 +190,7 @@ def identify(
     >>> bool(abs(res.trace / np.trace(throw.inertia) - 1) < 0.02)
     True
     """
-    from .equation_error import equation_error
-    from .output_error import LOSSES, output_error
+    from .output_error import LOSSES
 
     t = _times(t)
     n = len(t)
@@ -250,7 +249,41 @@ def identify(
             "e1, e2, e3 are not identifiable; throw it with more spin or give a longer window",
             ("I1/I3", "I2/I3", "e1", "e2", "e3"),
         )
+    if not np.ptp(ws, axis=0).max() > 0:
+        raise NotIdentifiableError(
+            f"`omega`: ω is constant over {where}, a steady spin about one axis that excites "
+            "nothing else: the ratios I1/I3, I2/I3 and the axes e1, e2, e3 are not "
+            "identifiable; throw it tumbling (spinning about a direction between the axes)",
+            ("I1/I3", "I2/I3", "e1", "e2", "e3"),
+        )
     sp = None if speed is None else speed[sl]
+    try:
+        oe, nfev = _fit(ts, ws, sp, axis, J, seg, loss, max_nfev)
+        oe = replace(oe, nfev=oe.nfev + nfev)
+    except (np.linalg.LinAlgError, ZeroDivisionError, FloatingPointError) as exc:
+        # a log so degenerate that the linear algebra of the fits breaks down
+        raise NotIdentifiableError(
+            f"`omega`: the readings in {where} do not determine the inertia (the fit broke "
+            f"down: {exc}); the ratios I1/I3, I2/I3 and the axes e1, e2, e3 are not "
+            "identifiable from them",
+            ("I1/I3", "I2/I3", "e1", "e2", "e3"),
+        ) from exc
+    result = _result(oe, ts, ws, flight, speed is not None, J, loss != "linear")
+    if not result.residual_ratio > MISMATCH_RATIO:
+        # standard errors mean something only when the model explains the readings; when it
+        # does not, the result is returned flagged (its standard errors inflated by the misfit)
+        _refuse_unidentifiable(result, where, cone, rotation)
+    for f in result.flags:
+        warnings.warn(f, ModelMismatchWarning, stacklevel=2)
+    return result
+
+
+def _fit(ts, ws, sp, axis, J, seg, loss, max_nfev):
+    """The equation-error fit, the output-error trials it leaves ambiguous, and the
+    output-error fit: ``(fit, evaluations of the trials)``."""
+    from .equation_error import equation_error
+    from .output_error import output_error
+
     eq = equation_error(ts, ws, rotor_speed=sp, rotor_axis=axis, rotor_inertia=J)
     common = dict(rotor_speed=sp, rotor_axis=axis, rotor_inertia=J, segment=seg, loss=loss)
     start, start_J, w0 = eq.inertia, eq.rotor_inertia, None
@@ -274,15 +307,7 @@ def identify(
             start_J, w0 = best.rotor_inertia, best.omega0
     oe = output_error(ts, ws, start, omega0=w0, initial_rotor_inertia=start_J,
                       max_nfev=max_nfev, **common)  # fmt: skip
-    oe = replace(oe, nfev=oe.nfev + nfev)
-    result = _result(oe, ts, ws, flight, speed is not None, J, loss != "linear")
-    if not result.residual_ratio > MISMATCH_RATIO:
-        # standard errors mean something only when the model explains the readings; when it
-        # does not, the result is returned flagged (its standard errors inflated by the misfit)
-        _refuse_unidentifiable(result, where, cone, rotation)
-    for f in result.flags:
-        warnings.warn(f, ModelMismatchWarning, stacklevel=2)
-    return result
+    return oe, nfev
 
 
 def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyResult:

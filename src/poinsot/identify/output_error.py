@@ -339,6 +339,8 @@ def output_error(
     m0 = np.maximum(m0, 1e-3 * m0.max())
     E0 = np.asarray(E0, float)
     I3_0 = float(m0[2])
+    if not (I3_0 > 0 and np.isfinite(m0).all()):
+        _no_start(I3_0)
     if max_step is None:
         top = float(np.max(np.linalg.norm(omega, axis=1))) if n else 0.0
         interval = float(np.max(np.diff(t))) if n > 1 else 0.0
@@ -363,6 +365,8 @@ def output_error(
         x0.append(float(J0) / I3_0)
     x0 += [0.0, 0.0, 0.0]
     x0 = np.array(x0, dtype=float)
+    if not np.isfinite(x0).all():
+        _no_start(I3_0)
     # the ratios are fitted as their logarithms (positive without bounds, which lets MINPACK's
     # Levenberg–Marquardt run: it needs no LAPACK call, whose threads cost more than the
     # solve on a busy machine)
@@ -524,3 +528,14 @@ def _loss_weight(loss: str, z):
     if loss == "arctan":
         return 1.0 / (1.0 + z**2)
     return np.ones_like(z)
+
+
+def _no_start(I3_0):
+    """The readings leave the output-error fit no starting point: refused, named."""
+    from .result import NotIdentifiableError
+
+    raise NotIdentifiableError(
+        "`omega`: the readings give the output-error fit no finite starting point (a starting "
+        f"inertia with I3 = {I3_0:.3g}): the inertia is not identifiable from them",
+        ("I1/I3", "I2/I3", "e1", "e2", "e3"),
+    )
