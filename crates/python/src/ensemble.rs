@@ -21,6 +21,7 @@ use poinsot_core::so3::Mat3;
 use poinsot_core::steppers::{Control, Tableau};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
+use rayon::prelude::*;
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
 use crate::engine::{body_from, value_error};
@@ -405,17 +406,17 @@ fn run_ensemble<'py>(
     let forces = member_forces(force_kind.as_slice()?, &force_params, m)?;
     let pick = |len: usize, i: usize| if len > 1 { i } else { 0 };
     let y0 = c_order(y0.is_c_contiguous(), y0.as_slice(), "y0")?;
-    let members: Vec<Member> = (0..m)
-        .map(|i| {
-            Member::new(
-                bodies[pick(bodies.len(), i)],
-                mat(&axes, i),
-                mat(&inertia, i),
-                &forces[pick(forces.len(), i)],
-                load(&y0[i * STATE_SIZE..(i + 1) * STATE_SIZE]),
-            )
-        })
-        .collect();
+    // each member's body, axes, inertia, forces and initial state, made on the pool's threads
+    // with the run (the GIL released)
+    let member = |i: usize| {
+        Member::new(
+            bodies[pick(bodies.len(), i)],
+            mat(&axes, i),
+            mat(&inertia, i),
+            &forces[pick(forces.len(), i)],
+            load(&y0[i * STATE_SIZE..(i + 1) * STATE_SIZE]),
+        )
+    };
     // the outputs: the caller's arrays, or new ones
     let n = times.len();
     let mut samples_out = samples_out;
@@ -463,9 +464,10 @@ fn run_ensemble<'py>(
     let pool = pool(threads as usize)?;
     {
         let summaries = &mut summaries;
-        let (schedule, members) = (&schedule, &members);
+        let schedule = &schedule;
         interruptible(py, &pool, move |stop| {
-            run_members(schedule, members, samples, finals, summaries, stop)
+            let members: Vec<Member> = (0..m).into_par_iter().map(member).collect();
+            run_members(schedule, &members, samples, finals, summaries, stop)
         })?;
     }
     let returned = keep_samples && samples_out.is_none();
