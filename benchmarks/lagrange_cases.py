@@ -219,4 +219,72 @@ def case_lagrange_integrate(repeat):
     return rows
 
 
-CASES = {"lagrange_engine": case_lagrange_engine, "lagrange_integrate": case_lagrange_integrate}
+def case_lagrange_events(repeat):
+    """Events located inside the core's time loop. (1) The pendulum (θ0 = 1 rad) over
+    [0, 20] at rtol 1e-10 with its passages through the bottom as an event (a compiled
+    expression) against SciPy's ``solve_ivp`` DOP853 with the same event on a NumPy
+    right-hand side; errors: the largest event time's distance from the closed form
+    (T/4 + kT/2, T = 4K(sin²(θ0/2))/√(g/l)). (2) The sliding ladder's release (the wall's
+    reaction falling through zero, a one-sided constraint) on the compiled engine against the
+    NumPy engine's route (a detection grid, Brent's method over restarted runs); errors:
+    |cos θ − ⅔ cos θ0| at the release (Kleppner & Kolenkow 7.9)."""
+    from run import row, timed
+    from scipy.integrate import solve_ivp
+    from scipy.special import ellipk
+
+    from poinsot import models
+    from poinsot.integrate.events import Event
+
+    rows = []
+    mdl = models.pendulum_polar()
+    th = mdl.symbols["theta"]
+    th0, g = 1.0, 9.81
+    T = 4 * ellipk(np.sin(th0 / 2) ** 2) / np.sqrt(g)
+    tol = {"rtol": 1e-10, "atol": 1e-12}
+
+    def ours():
+        return mdl.simulate((0, 20), q0={th: th0}, events=Event(th), **tol)
+
+    def rhs(t, y):
+        return [y[1], -g * np.sin(y[0])]
+
+    def bottom(t, y):
+        return y[0]
+
+    def peer():
+        return solve_ivp(rhs, (0, 20), [th0, 0.0], method="DOP853", events=bottom,
+                         t_eval=np.linspace(0, 20, 201), **tol)  # fmt: skip
+
+    t_ours, sol = timed(ours, repeat)
+    t_peer, ref = timed(peer, repeat)
+    want = T / 4 + T / 2 * np.arange(len(sol.t_events[0]))
+    err_ours = float(np.abs(sol.t_events[0] - want).max())
+    err_peer = float(np.abs(ref.t_events[0] - want[: len(ref.t_events[0])]).max())
+    rows.append(row("pendulum, bottom passages over [0, 20], rtol 1e-10 (201 samples)",
+                    "simulate, compiled event", t_ours, "solve_ivp DOP853, events=",
+                    t_peer, err_ours, err_peer,
+                    note=f"{len(sol.t_events[0])} and {len(ref.t_events[0])} zeros"))  # fmt: skip
+
+    ladder = models.sliding_ladder()
+    theta = ladder.symbols["theta"]
+    run = {"q0": {theta: 0.3}, "t_eval": np.linspace(0, 0.85, 86)}
+
+    def core():
+        return ladder.simulate((0, 0.85), **run)
+
+    def numpy_route():
+        return ladder.simulate((0, 0.85), engine="numpy", **run)
+
+    t_core, a = timed(core, repeat)
+    t_np, b = timed(numpy_route, repeat)
+    target = 2 / 3 * np.cos(0.3)
+    rows.append(row("sliding ladder leaves the wall (one-sided constraint), 86 samples",
+                    "compiled engine, release in the core", t_core,
+                    "NumPy engine, detection grid + Brent", t_np,
+                    abs(np.cos(a.releases[0][2][2]) - target),
+                    abs(np.cos(b.releases[0][2][2]) - target)))  # fmt: skip
+    return rows
+
+
+CASES = {"lagrange_engine": case_lagrange_engine, "lagrange_integrate": case_lagrange_integrate,
+         "lagrange_events": case_lagrange_events}  # fmt: skip

@@ -133,27 +133,63 @@ def test_an_event_evaluated_on_the_grid_at_once_finds_what_the_pointwise_event_f
     np.testing.assert_allclose(fast[2].t_events[1], want_cos, rtol=1e-12)
 
 
-def test_a_release_is_found_the_same_with_the_multipliers_of_the_grid_in_one_call(monkeypatch):
-    # the ladder's release with its multipliers evaluated state by state on the grid (the
-    # `batch` attribute hidden) and all at once: the same instant, bit for bit
-    import poinsot.integrate.events as ev
-
+@pytest.mark.parametrize("method", ["dop853", "rk4"])
+def test_the_core_locates_a_release_where_the_numpy_engine_does(method):
+    # the ladder's release located inside the core's time loop (compiled engine) and by the
+    # NumPy engine's detection grid and Brent's method on restarted runs: the same instant,
+    # the same state, and the same motion after it
     mdl = models.sliding_ladder()
     th = mdl.symbols["theta"]
-    run = dict(q0={th: 0.3}, t_eval=np.linspace(0, 0.85, 86))
-    fast = mdl.simulate((0, 0.85), **run)
-    original = ev.normalize_events
+    run = dict(q0={th: 0.3}, t_eval=np.linspace(0, 0.85, 86), method=method)
+    if method == "rk4":
+        run["dt"] = 1e-3
+    core = mdl.simulate((0, 0.85), **run)
+    numpy = mdl.simulate((0, 0.85), engine="numpy", **run)
+    ((t_core, name, y_core),), ((t_np, name_np, y_np),) = core.releases, numpy.releases
+    assert name == name_np
+    tol = 1e-9 if method == "dop853" else 1e-7
+    assert t_core == pytest.approx(t_np, rel=tol)
+    np.testing.assert_allclose(y_core, y_np, rtol=tol, atol=tol)
+    np.testing.assert_allclose(core.q, numpy.q, rtol=1e-6, atol=1e-6)
+    # Kleppner & Kolenkow 7.9: cos θ = ⅔ cos θ0 at the release
+    assert np.cos(y_core[2]) == pytest.approx(2 / 3 * np.cos(0.3), rel=tol)
 
-    def pointwise_only(events):
-        out = []
-        for g, terminal, direction in original(events):
-            out.append((lambda t, y, g=g: g(t, y), terminal, direction))
-        return out
 
-    monkeypatch.setattr(ev, "normalize_events", pointwise_only)
-    slow = mdl.simulate((0, 0.85), **run)
-    assert fast.releases[0][0] == slow.releases[0][0]
-    np.testing.assert_array_equal(fast.q, slow.q)
+@pytest.mark.parametrize("method", ["dop853", "rk4"])
+def test_core_events_with_each_method_match_the_pendulums_closed_form(method):
+    # the pendulum's bottom passages (T/4, 3T/4, ...) as a compiled expression and as a
+    # Python function (the slow path, called back from the core), with the adaptive and a
+    # fixed-step method: the zeros of the closed form, T by the elliptic integral
+    from scipy.special import ellipk
+
+    from poinsot.integrate.events import Event
+
+    mdl = models.pendulum_polar()
+    s = mdl.symbols
+    th0 = 0.3
+    T = 4 * ellipk(np.sin(th0 / 2) ** 2) / np.sqrt(9.81)
+    options = {"dt": 1e-3} if method == "rk4" else {}
+    sol = mdl.simulate((0, 5), q0={s["theta"]: th0}, method=method,
+                       events=[Event(s["theta"]), lambda t, y: y[0]], **options)  # fmt: skip
+    want = T / 4 + T / 2 * np.arange(int((5 - T / 4) // (T / 2)) + 1)
+    tol = 1e-9 if method == "dop853" else 1e-10
+    for k in range(2):
+        np.testing.assert_allclose(sol.t_events[k], want, rtol=tol)
+        np.testing.assert_allclose(sol.y_events[k][:, 0], 0, atol=1e-12)
+    np.testing.assert_array_equal(sol.t_events[0], sol.t_events[1])
+    assert not sol.terminated and sol.t[-1] == 5
+
+
+def test_an_event_function_that_raises_stops_the_run_with_its_error():
+    mdl = models.pendulum_polar()
+
+    def broken(t, y):
+        if t > 0.5:
+            raise ZeroDivisionError("the user's event broke")
+        return y[0] - 1.0
+
+    with pytest.raises(ZeroDivisionError, match="the user's event broke"):
+        mdl.simulate((0, 1), events=broken)
 
 
 @pytest.mark.parametrize("direction", [0, 1, -1])

@@ -36,6 +36,9 @@ pub enum Status {
     OutputFull = 4,
     /// A call out of the engine (a user callback) failed; its error is kept by the caller.
     CallbackFailed = 5,
+    /// A terminal event ended the run ([`crate::events::Watch`]): the time and the state are
+    /// those of its zero.
+    Terminated = 6,
 }
 
 /// Counters a run keeps between calls.
@@ -469,15 +472,37 @@ where
         let lands = run < budget;
         let t_checked = t;
         checkpoint.copy_from_slice(&a);
-        let done = if lands { run + 1 } else { run };
-        for i in 0..done {
+        let planned = if lands { run + 1 } else { run };
+        let mut done = 0;
+        let mut ended = None;
+        while done < planned {
+            let i = done;
             let h = if i < run { dt } else { target - t };
             method.step(sys, t, &a, h, &mut b);
             observer.observe(0, t, &a, t + h, &b);
+            let t1 = if i < run { t + h } else { target };
+            done += 1;
+            if O::WATCHES {
+                // the state within the step: the step from t, shortened
+                let (ta, za) = (t, &a);
+                let at = &mut |s: f64, out: &mut [f64]| method.step(sys, ta, za, s - ta, out);
+                if let Some(tz) = observer.watch(t, &a, t1, &b, at) {
+                    if tz < t1 {
+                        method.step(sys, t, &a, tz - t, &mut b);
+                    }
+                    std::mem::swap(&mut a, &mut b);
+                    t = tz;
+                    ended = Some(tz);
+                    break;
+                }
+                if observer.watch_failed() {
+                    break;
+                }
+            }
             std::mem::swap(&mut a, &mut b);
-            t = if i < run { t + h } else { target };
+            t = t1;
         }
-        if sys.failed() {
+        if sys.failed() || observer.watch_failed() {
             nsteps += done;
             nfev += done * per_step;
             status = Status::CallbackFailed;
@@ -511,12 +536,15 @@ where
             if k >= n_eval {
                 status = Status::Finished;
             }
-        } else if nsteps % save_every == 0 || t >= t_end {
+        } else if ended.is_none() && (nsteps % save_every == 0 || t >= t_end) {
             save(method, sys, t, &a, out, nout);
             nout += 1;
         }
         if t >= t_end {
             status = Status::Finished;
+        }
+        if ended.is_some() {
+            status = Status::Terminated;
         }
     }
     z.copy_from_slice(&a);
@@ -668,9 +696,30 @@ where
             status = Status::NonFinite;
             break;
         }
+        let mut dense = false;
+        let mut ended = None;
+        if O::WATCHES {
+            // the state within the step: the dense output, projected
+            let extra = (DOP853_STAGES_EXTENDED - DOP853_STAGES - 1) as u64;
+            let (za, zb, fb) = (&*z, &znew, &fnew);
+            let at = &mut |s: f64, out: &mut [f64]| {
+                if !dense {
+                    dop853_dense(sys, t, h, za, zb, fb, &mut kk, &mut ytmp, &mut fd);
+                    nfev += extra;
+                    dense = true;
+                }
+                dop853_interpolate(&fd, za, (s - t) / h, out);
+                sys.project(s, out);
+            };
+            ended = observer.watch(t, za, t_new, zb, at);
+            if observer.watch_failed() {
+                status = Status::CallbackFailed;
+                break;
+            }
+        }
+        let t_stop = ended.unwrap_or(t_new);
         if use_eval {
-            let mut dense = false;
-            while k < n_eval && t_eval[k] <= t_new {
+            while k < n_eval && t_eval[k] <= t_stop {
                 if t_eval[k] == t_new {
                     store(out, nout, t_new, &znew);
                 } else {
@@ -689,9 +738,28 @@ where
             if k >= n_eval {
                 status = Status::Finished;
             }
-        } else if nsteps % save_every == 0 || t_new >= t_end {
+        } else if ended.is_none() && (nsteps % save_every == 0 || t_new >= t_end) {
             store(out, nout, t_new, &znew);
             nout += 1;
+        }
+        if let Some(tz) = ended {
+            if tz < t_new {
+                if !dense {
+                    dop853_dense(sys, t, h, z, &znew, &fnew, &mut kk, &mut ytmp, &mut fd);
+                    nfev += (DOP853_STAGES_EXTENDED - DOP853_STAGES - 1) as u64;
+                }
+                dop853_interpolate(&fd, z, (tz - t) / h, &mut sample);
+                sys.project(tz, &mut sample);
+                z.copy_from_slice(&sample);
+                sys.rhs(tz, z, f);
+                nfev += 1;
+            } else {
+                z.copy_from_slice(&znew);
+                f.copy_from_slice(&fnew);
+            }
+            t = tz;
+            status = Status::Terminated;
+            break;
         }
         z.copy_from_slice(&znew);
         f.copy_from_slice(&fnew);

@@ -623,6 +623,17 @@ fn one_by_one(
     }
 }
 
+/// The torque-free systems of a block's lanes, and whether they are shared: one system when
+/// every member has the same body, else one per lane (the last member padding the block).
+fn free_systems(block: &[Member]) -> (Vec<TorqueFree>, bool) {
+    let shared = block.iter().all(|m| m.body == block[0].body);
+    let lanes = if shared { 1 } else { LANES };
+    let sys = (0..lanes)
+        .map(|l| TorqueFree::new(block[l.min(block.len() - 1)].body))
+        .collect();
+    (sys, shared)
+}
+
 /// Up to [`LANES`] members in one block of lanes ([`in_lanes`]'s methods): their samples into `samples`
 /// (members · n · 18, body frame), final states into `finals`, summaries into `summaries`.
 /// A block that does not finish cleanly (a member's state not finite) runs again member by
@@ -651,7 +662,6 @@ fn run_lanes(
     let z0: Vec<State> = block.iter().map(|m| principal(&m.axes, &m.y0)).collect();
     let mut z = block_state(&z0);
     let mut lanes = vec![0.0; n * STATE_SIZE * LANES];
-    let padded = |l: usize| &block[l.min(block.len() - 1)];
     let (t0, t1, dt, t_eval, flips) = (
         schedule.t0,
         schedule.t1,
@@ -668,10 +678,7 @@ fn run_lanes(
     }
     if let Method::Dop853(control) = schedule.method {
         let run = if torque_free {
-            let shared = block.iter().all(|m| m.body == block[0].body);
-            let sys: Vec<TorqueFree> = (0..if shared { 1 } else { LANES })
-                .map(|l| TorqueFree::new(padded(l).body))
-                .collect();
+            let (sys, shared) = free_systems(block);
             if shared {
                 let b = Block::<_, true> { systems: &sys };
                 run_block_dop853(
@@ -721,10 +728,7 @@ fn run_lanes(
     }
     let mut rigid: Vec<Rigid> = Vec::new();
     let run = if torque_free {
-        let shared = block.iter().all(|m| m.body == block[0].body);
-        let sys: Vec<TorqueFree> = (0..if shared { 1 } else { LANES })
-            .map(|l| TorqueFree::new(padded(l).body))
-            .collect();
+        let (sys, shared) = free_systems(block);
         if shared {
             let b = Block::<_, true> { systems: &sys };
             run_free_block(&b, schedule, &mut z, &mut lanes, stop)

@@ -20,7 +20,9 @@
 //! * constraints that can let go (one-sided): a mask of the constraints in play, so that a
 //!   released constraint's row leaves the system;
 //! * the physical multipliers, generalized constraint forces `Gᵀλ`, residuals and energy at
-//!   samples.
+//!   samples;
+//! * a run's events ([`LagrangeEvents`]): the user's compiled expressions or callbacks, and
+//!   the multipliers of one-sided constraints, whose zeros [`crate::events::Watch`] locates.
 
 use std::cell::{Cell, RefCell};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -30,6 +32,7 @@ use rayon::prelude::*;
 use crate::drivers::{
     run_adaptive, run_fixed, AdaptiveState, Clock, Counters, Erk, Output, Sampling, Status,
 };
+use crate::events::EventFunctions;
 use crate::expressions::{Function, Program, Scratch};
 use crate::linalg::{min_norm_solve, solve_augmented, solve_spd_augmented};
 use crate::observers::NoObserver;
@@ -547,6 +550,164 @@ impl<I: Inputs> VectorField for Lagrangian<'_, I> {
     }
 }
 
+/// Where an event of a constrained system's run comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// Output `k` of the compiled event expressions, a [`Function`] of `[q, q̇, t]`.
+    Expression(usize),
+    /// The user's callback `k` (the slow path: a Python function).
+    Callback(usize),
+    /// The physical multiplier λ_c of constraint `c` (numbered among all the model's
+    /// constraints), which must be in play: a one-sided constraint lets go where it falls
+    /// through zero (its reaction would have to pull).
+    Release(usize),
+}
+
+/// Event functions the engine calls out for (the user's Python functions, in the bindings).
+pub trait Callbacks {
+    /// Callback `k` at `(t, y)`; `None` when it failed (its error kept by the implementor).
+    fn value(&self, k: usize, t: f64, y: &[f64]) -> Option<f64>;
+}
+
+/// No callbacks: a run whose events are all compiled.
+pub struct NoCallbacks;
+
+impl Callbacks for NoCallbacks {
+    fn value(&self, _: usize, _: f64, _: &[f64]) -> Option<f64> {
+        None
+    }
+}
+
+/// The events of a constrained system's run ([`crate::events`]), one per [`Source`], in order.
+pub struct LagrangeEvents<'a, 'm, I: Inputs, C: Callbacks> {
+    sys: &'a Lagrangian<'m, I>,
+    sources: &'a [Source],
+    expressions: Option<&'a Function>,
+    callbacks: C,
+    /// Per source: the index of its multiplier among the constraints in play.
+    rank: Vec<usize>,
+    scratch: RefCell<EventScratch>,
+}
+
+/// The expressions' working memory, inputs `[q, q̇, t]` and outputs.
+type EventScratch = (Option<Scratch>, Vec<f64>, Vec<f64>);
+
+impl<'a, 'm, I: Inputs, C: Callbacks> LagrangeEvents<'a, 'm, I, C> {
+    /// Check `sources` against the system and the expressions (a function of `[q, q̇, t]`).
+    pub fn new(
+        sys: &'a Lagrangian<'m, I>,
+        sources: &'a [Source],
+        expressions: Option<&'a Function>,
+        callbacks: C,
+    ) -> Result<Self, String> {
+        let s = sys.model.shape;
+        let outputs = match expressions {
+            Some(f) => {
+                let p = f.program();
+                if p.n_inputs != 2 * s.n + 1 {
+                    return Err(format!(
+                        "the events' expressions take {} values; [q, qd, t] ({}) are needed",
+                        p.n_inputs,
+                        2 * s.n + 1
+                    ));
+                }
+                p.n_outputs
+            }
+            None => 0,
+        };
+        let in_play = |c: usize| sys.active.as_ref().map_or(true, |a| a[c]);
+        let mut rank = vec![0; sources.len()];
+        for (i, source) in sources.iter().enumerate() {
+            match *source {
+                Source::Expression(k) if k >= outputs => {
+                    return Err(format!(
+                        "event {i} is expression {k}, and the events' expressions have {outputs}"
+                    ))
+                }
+                Source::Release(c) if c >= s.m || !in_play(c) => {
+                    return Err(format!(
+                        "event {i} watches the multiplier of constraint {c}, which is not in play"
+                    ))
+                }
+                Source::Release(c) => rank[i] = (0..c).filter(|&j| in_play(j)).count(),
+                _ => {}
+            }
+        }
+        let scratch = (
+            expressions.map(|f| f.scratch()),
+            vec![0.0; 2 * s.n + 1],
+            vec![0.0; outputs],
+        );
+        Ok(LagrangeEvents {
+            sys,
+            sources,
+            expressions,
+            callbacks,
+            rank,
+            scratch: RefCell::new(scratch),
+        })
+    }
+
+    /// The compiled expressions at `(t, y)`, into the scratch's outputs.
+    fn expressions_at(&self, t: f64, y: &[f64]) -> std::cell::RefMut<'_, EventScratch> {
+        let mut sc = self.scratch.borrow_mut();
+        if let Some(f) = self.expressions {
+            let (mem, x, out) = &mut *sc;
+            let dim = y.len();
+            x[..dim].copy_from_slice(y);
+            x[dim] = t;
+            f.eval_in(mem.as_mut().expect("made with the function"), x, out);
+        }
+        sc
+    }
+
+    /// The physical multipliers of the constraints in play at `(t, y)` (NaN where the system
+    /// is singular, or an input failed).
+    fn multipliers(&self, t: f64, y: &[f64]) -> Option<Vec<f64>> {
+        let n = self.sys.model.shape.n;
+        self.sys
+            .accelerations(t, &y[..n], &y[n..])
+            .map(|(_, lam)| lam)
+    }
+}
+
+impl<I: Inputs, C: Callbacks> EventFunctions for LagrangeEvents<'_, '_, I, C> {
+    fn count(&self) -> usize {
+        self.sources.len()
+    }
+
+    fn value(&self, k: usize, t: f64, y: &[f64]) -> Option<f64> {
+        Some(match self.sources[k] {
+            Source::Expression(j) => self.expressions_at(t, y).2[j],
+            Source::Callback(j) => return self.callbacks.value(j, t, y),
+            Source::Release(_) => self
+                .multipliers(t, y)
+                .map_or(f64::NAN, |lam| lam[self.rank[k]]),
+        })
+    }
+
+    fn values(&self, t: f64, y: &[f64], out: &mut [f64]) -> bool {
+        let has = |f: fn(&Source) -> bool| self.sources.iter().any(f);
+        let lam = if has(|s| matches!(s, Source::Release(_))) {
+            self.multipliers(t, y)
+        } else {
+            None
+        };
+        let sc = has(|s| matches!(s, Source::Expression(_))).then(|| self.expressions_at(t, y));
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = match self.sources[k] {
+                Source::Expression(j) => sc.as_ref().expect("evaluated above").2[j],
+                Source::Callback(j) => match self.callbacks.value(j, t, y) {
+                    Some(v) => v,
+                    None => return false,
+                },
+                Source::Release(_) => lam.as_ref().map_or(f64::NAN, |l| l[self.rank[k]]),
+            };
+        }
+        true
+    }
+}
+
 /// What the post-processing of samples gives, per sample: `q̈ (n)`, the physical `λ (m)` (NaN
 /// for a constraint not in play), `Gᵀλ (n)`, `g (nh)`, `G q̇ + b (m)` and `h`.
 pub struct SampleOut<'a> {
@@ -921,6 +1082,19 @@ mod tests {
 
     const P: [f64; 3] = [2.0, 1.5, 9.81];
 
+    /// DOP853 at rtol 1e-11, atol 1e-12 with SciPy's controller constants.
+    fn tight_control() -> Control {
+        Control {
+            rtol: 1e-11,
+            atol: 1e-12,
+            safety: 0.9,
+            min_factor: 0.2,
+            max_factor: 10.0,
+            max_step: f64::INFINITY,
+            first_step: 0.0,
+        }
+    }
+
     /// The rod's tension from Newton's law at the bob: along the rod, m v²/l + m g cos θ; the
     /// multiplier of g = (x² + y² − l²)/2 is then −T/l (the generalized force Gᵀλ = λ (x, y)
     /// points along the position, the tension inwards).
@@ -968,15 +1142,7 @@ mod tests {
         let l = P[1];
         let th0: f64 = 1.1;
         let t_eval: Vec<f64> = (0..=20).map(|k| k as f64 * 0.25).collect();
-        let control = Control {
-            rtol: 1e-11,
-            atol: 1e-12,
-            safety: 0.9,
-            min_factor: 0.2,
-            max_factor: 10.0,
-            max_step: f64::INFINITY,
-            first_step: 0.0,
-        };
+        let control = tight_control();
         let stop = AtomicBool::new(false);
         let st = Stabilization {
             alpha: 10.0,
@@ -1210,5 +1376,99 @@ mod tests {
         let mut out = [0.0; 2];
         sys.rhs(0.0, &[0.3, 0.0], &mut out);
         assert!(out[1].is_nan());
+    }
+
+    /// A pendulum on a string (the Cartesian pendulum) launched from the bottom with
+    /// l ω0²/g = 7/2: the string goes slack where the tension m l ω² + m g cos θ vanishes, at
+    /// cos θ = (2 − l ω0²/g)/3 = −1/2 by the energy (the multiplier λ = −T/l rises through
+    /// zero there). The watch locates it inside the driver's loop, with both fixed-step RK4
+    /// and DOP853; an expression event (y rising through 0: the bob at the pivot's height)
+    /// is logged on the way, and the terminal release ends the run there.
+    #[test]
+    fn a_string_goes_slack_where_the_energy_says() {
+        use crate::drivers::{Output, Sampling};
+        use crate::events::Watch;
+        let model = cartesian_pendulum();
+        let (l, g) = (P[1], P[2]);
+        let w0 = (3.5 * g / l).sqrt();
+        let y0 = [0.0, -l, l * w0, 0.0];
+        let st = Stabilization {
+            alpha: 0.0,
+            beta: 0.0,
+            projection: true,
+        };
+        let sys = Lagrangian::new(&model, &P, Constant(&[]), st, None).unwrap();
+        // the expression y (input 1 of [x, y, ẋ, ẏ, t])
+        let height = Function::compile(Program::new(&[INPUT, OUTPUT], &[1.0, 0.0], 5, 1).unwrap());
+        let sources = [Source::Expression(0), Source::Release(0)];
+        let events = LagrangeEvents::new(&sys, &sources, Some(&height), NoCallbacks).unwrap();
+        let (terminal, direction) = ([false, true], [1.0, 1.0]);
+        let t_eval: Vec<f64> = (0..=40).map(|k| k as f64 * 0.05).collect();
+        let control = tight_control();
+        for adaptive in [false, true] {
+            let mut watch = Watch::new(&events, &terminal, &direction, 0.01, 4);
+            let (mut ts, mut ys) = (vec![0.0; t_eval.len()], vec![0.0; t_eval.len() * 4]);
+            let mut out = Output {
+                t: &mut ts,
+                y: &mut ys,
+            };
+            let sampling = Sampling {
+                t_end: 2.0,
+                t_eval: &t_eval,
+                every: 1,
+            };
+            let mut clock = Clock { t: 0.0, h: 0.0 };
+            let mut k = Counters::default();
+            let mut z = y0.to_vec();
+            let status = if adaptive {
+                let mut state = AdaptiveState { f: vec![0.0; 4] };
+                run_adaptive(
+                    &sys,
+                    &mut watch,
+                    &mut clock,
+                    &mut z,
+                    &mut state,
+                    &control,
+                    &sampling,
+                    &mut out,
+                    &mut k,
+                    u64::MAX,
+                )
+            } else {
+                let flat = RK4_A.concat();
+                let tab = Tableau {
+                    a: &flat,
+                    b: &RK4_B,
+                    c: &RK4_C,
+                };
+                let mut m = Erk::new(tab, 4);
+                run_fixed(
+                    &sys,
+                    &mut m,
+                    &mut watch,
+                    &mut clock,
+                    &mut z,
+                    1e-3,
+                    &sampling,
+                    &mut out,
+                    &mut k,
+                    u64::MAX,
+                )
+            };
+            assert_eq!(status, Status::Terminated, "adaptive: {adaptive}");
+            let log = &watch.log;
+            assert_eq!(log.len(), 2, "{log:?}");
+            let (up, slack) = (&log[0], &log[1]);
+            assert_eq!((up.event, slack.event), (0, 1));
+            assert!(up.y[1].abs() < 1e-12 && up.t < slack.t);
+            // cos θ = −y/l = −1/2 at the release, the run's end
+            let tol = if adaptive { 1e-9 } else { 1e-8 };
+            assert!((-slack.y[1] / l + 0.5).abs() < tol, "{:?}", slack.y);
+            assert_eq!((clock.t, &z[..]), (slack.t, &slack.y[..]));
+            let lam = sys.accelerations(slack.t, &z[..2], &z[2..]).unwrap().1[0];
+            assert!(lam.abs() < 1e-8, "{lam}");
+            // samples up to the release only
+            assert!(k.n_out < t_eval.len() && t_eval[k.n_out - 1] <= slack.t);
+        }
     }
 }

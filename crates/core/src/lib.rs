@@ -20,8 +20,8 @@
 //! * constrained systems (Lagrange's equations with multipliers): [`lagrange`], on small
 //!   dense solvers ([`linalg`]);
 //! * ensembles of runs, in parallel, members in SIMD lanes: [`ensemble`], [`lanes`];
-//! * the integrators: [`tableaux`] (as data), [`steppers`] (pure steps), [`observers`] and
-//!   [`drivers`] (time loops).
+//! * the integrators: [`tableaux`] (as data), [`steppers`] (pure steps), [`observers`],
+//!   [`events`] (zeros located inside the time loop) and [`drivers`] (time loops).
 
 // Index loops mirror the equations (sums over components and stages) in this crate.
 #![allow(clippy::needless_range_loop)]
@@ -30,6 +30,7 @@ pub mod cmath;
 pub mod drivers;
 pub mod elliptic;
 pub mod ensemble;
+pub mod events;
 pub mod expressions;
 pub mod forces;
 pub mod freebody;

@@ -2,13 +2,38 @@
 //!
 //! A driver calls [`Observer::observe`] after each step of member `lane` from `(t0, y0)` to
 //! `(t1, y1)` (engine states, principal frame). [`NoObserver`] compiles to nothing;
-//! [`FlipObserver`] counts the flips of the tennis-racket (Dzhanibekov) motion.
+//! [`FlipObserver`] counts the flips of the tennis-racket (Dzhanibekov) motion;
+//! [`crate::events::Watch`] locates the zeros of events and may end the run.
 
 use crate::layout::OMEGA_AT;
 
 /// What a driver records of each step.
 pub trait Observer {
     fn observe(&mut self, lane: usize, t0: f64, y0: &[f64], t1: f64, y1: &[f64]);
+
+    /// True for an observer that watches events ([`crate::events::Watch`]): the single-run
+    /// drivers then call [`Observer::watch`] after every step (a constant, so that other
+    /// observers pay nothing).
+    const WATCHES: bool = false;
+
+    /// After a step from `(t0, y0)` to `(t1, y1)`, with `at(t, out)` the state at any time of
+    /// the step: `Some(t)` ends the run at `t` (a terminal event), where the driver leaves
+    /// the state.
+    fn watch(
+        &mut self,
+        _t0: f64,
+        _y0: &[f64],
+        _t1: f64,
+        _y1: &[f64],
+        _at: &mut dyn FnMut(f64, &mut [f64]),
+    ) -> Option<f64> {
+        None
+    }
+
+    /// True when watching failed (a user callback raised): the driver stops.
+    fn watch_failed(&self) -> bool {
+        false
+    }
 }
 
 /// Records nothing.

@@ -10,22 +10,25 @@ use std::sync::Arc;
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2,
-    PyReadwriteArray1, PyReadwriteArray2,
+    PyReadwriteArray1, PyReadwriteArray2, PyUntypedArrayMethods,
 };
 use poinsot_core::drivers::Status;
+use poinsot_core::events::{Crossing, Watch};
 use poinsot_core::expressions::{Function, Program};
 use poinsot_core::lagrange::{
-    run_members, samples as core_samples, CompiledInputs, Constant, Inputs, Lagrangian, Method,
-    Model, SampleOut, Shape, Stabilization,
+    run_members, samples as core_samples, Callbacks, CompiledInputs, Constant, Inputs,
+    LagrangeEvents, Lagrangian, Method, Model, NoCallbacks, SampleOut, Shape, Source,
+    Stabilization,
 };
 use poinsot_core::observers::NoObserver;
 use poinsot_core::steppers::{Control, Tableau};
 use poinsot_core::system::VectorField;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
+use pyo3::types::PyList;
 
 use crate::args::{rows, value_error};
-use crate::engine::{chunk_general, in_chunks, RunArgs};
+use crate::engine::{chunk_general, in_chunks, Run, RunArgs};
 use crate::ensemble::{interruptible, pool};
 use crate::relative::Expressions;
 
@@ -557,14 +560,183 @@ impl Inputs for PyInputs<'_> {
     }
 }
 
+/// Event functions given as Python callables `g(t, y) -> float` (the slow path: the GIL is
+/// held). The first error one raises is kept and re-raised when the run stops.
+struct PyEventCallbacks<'py> {
+    py: Python<'py>,
+    funcs: Vec<Bound<'py, PyAny>>,
+    error: RefCell<Option<PyErr>>,
+}
+
+impl Callbacks for &PyEventCallbacks<'_> {
+    fn value(&self, k: usize, t: f64, y: &[f64]) -> Option<f64> {
+        if self.error.borrow().is_some() {
+            return None;
+        }
+        let y = numpy::PyArray1::from_slice(self.py, y);
+        match self.funcs[k].call1((t, y)).and_then(|r| r.extract::<f64>()) {
+            Ok(v) => Some(v),
+            Err(e) => {
+                *self.error.borrow_mut() = Some(e);
+                None
+            }
+        }
+    }
+}
+
+/// A run's events as the bindings receive them (see `integrate_lagrange`), checked.
+struct EventSpec {
+    sources: Vec<Source>,
+    expressions: Option<Arc<Function>>,
+    terminal: Vec<bool>,
+    direction: Vec<f64>,
+    spacing: f64,
+}
+
+/// The events' tuple `(expressions, sources, callables, terminal, direction, spacing, log)`:
+/// the spec, the callables and the log (a list the crossings are appended to).
+type EventsArg<'py> = (
+    Option<Bound<'py, Expressions>>,
+    PyReadonlyArray2<'py, i64>,
+    Vec<Bound<'py, PyAny>>,
+    PyReadonlyArray1<'py, bool>,
+    PyReadonlyArray1<'py, f64>,
+    f64,
+    Bound<'py, PyList>,
+);
+
+fn event_spec<'py>(
+    arg: EventsArg<'py>,
+) -> PyResult<(EventSpec, Vec<Bound<'py, PyAny>>, Bound<'py, PyList>)> {
+    let (expressions, sources, callables, terminal, direction, spacing, log) = arg;
+    let shape = sources.shape();
+    if shape.len() != 2 || shape[1] != 2 {
+        return Err(value_error("event `sources` must have shape (k, 2)"));
+    }
+    let raw = sources.as_slice()?;
+    let mut out = Vec::with_capacity(shape[0]);
+    for (i, pair) in raw.chunks(2).enumerate() {
+        let (kind, index) = (pair[0], pair[1]);
+        if index < 0 {
+            return Err(value_error(format!("event {i}: negative index {index}")));
+        }
+        let index = index as usize;
+        out.push(match kind {
+            0 => Source::Expression(index),
+            1 if index < callables.len() => Source::Callback(index),
+            1 => {
+                return Err(value_error(format!(
+                    "event {i} is callable {index}, and {} are given",
+                    callables.len()
+                )))
+            }
+            2 => Source::Release(index),
+            _ => {
+                return Err(value_error(format!(
+                    "event {i}: kind {kind} is not 0 (expression), 1 (callable) or 2 (release)"
+                )))
+            }
+        });
+    }
+    let terminal = terminal.as_slice()?.to_vec();
+    let direction = direction.as_slice()?.to_vec();
+    if terminal.len() != out.len() || direction.len() != out.len() {
+        return Err(value_error(format!(
+            "events: {} sources, {} terminal flags and {} directions",
+            out.len(),
+            terminal.len(),
+            direction.len()
+        )));
+    }
+    if spacing.is_nan() || spacing <= 0.0 {
+        return Err(value_error(format!(
+            "the events' detection spacing must be positive, found {spacing}"
+        )));
+    }
+    let spec = EventSpec {
+        sources: out,
+        expressions: expressions.map(|e| e.get().function.clone()),
+        terminal,
+        direction,
+        spacing,
+    };
+    Ok((spec, callables, log))
+}
+
+/// One chunk of a run of `sys`, watching `spec`'s events (with `callbacks` for the callable
+/// ones): its status and the zeros found.
+fn chunk_watched<I: Inputs, C: Callbacks>(
+    sys: &Lagrangian<'_, I>,
+    spec: Option<&EventSpec>,
+    callbacks: C,
+    r: &mut Run,
+    steps: u64,
+) -> (Status, Vec<Crossing>) {
+    let Some(spec) = spec else {
+        return (chunk_general(sys, &mut NoObserver, r, steps), Vec::new());
+    };
+    let events = LagrangeEvents::new(sys, &spec.sources, spec.expressions.as_deref(), callbacks)
+        .expect("checked before the run");
+    let mut watch = Watch::new(
+        &events,
+        &spec.terminal,
+        &spec.direction,
+        spec.spacing,
+        sys.dim(),
+    );
+    let status = chunk_general(sys, &mut watch, r, steps);
+    (status, watch.log)
+}
+
+/// The whole run with the GIL released per chunk (no Python inside): `make` builds the
+/// system on the worker's side of the release.
+fn run_released<'m, I: Inputs>(
+    py: Python<'_>,
+    run: &mut Run,
+    make: impl Fn() -> Lagrangian<'m, I> + Sync,
+    spec: Option<&EventSpec>,
+    found: &mut Vec<Crossing>,
+) -> PyResult<Status> {
+    in_chunks(py, run, |r, steps| {
+        let (status, log) = py.detach(|| chunk_watched(&make(), spec, NoCallbacks, r, steps));
+        found.extend(log);
+        status
+    })
+}
+
+/// The whole run with the GIL held (an input or an event is a Python callable).
+fn run_held<I: Inputs>(
+    py: Python<'_>,
+    run: &mut Run,
+    sys: &Lagrangian<'_, I>,
+    spec: Option<&EventSpec>,
+    callbacks: &PyEventCallbacks<'_>,
+    found: &mut Vec<Crossing>,
+) -> PyResult<Status> {
+    in_chunks(py, run, |r, steps| {
+        let (status, log) = chunk_watched(sys, spec, callbacks, r, steps);
+        found.extend(log);
+        status
+    })
+}
+
 /// Integrate one run of a model (see `poinsot.integrate.driver`): parameters `p`, inputs
 /// `inputs` (an array of constants, an `Expressions` of `[t, q, q̇]`, or a Python callable
 /// `(t, q, qd) -> (nu,)`, the slow path), Baumgarte's gains, `projection` and the constraints
 /// in play `active`. Returns the status.
+///
+/// `events`, optional: `(expressions, sources, callables, terminal, direction, spacing,
+/// log)`, the run's events located inside the time loop (`poinsot_core::events`):
+/// `expressions` an `Expressions` of `[q, q̇, t]` (or None); `sources` (k, 2) rows
+/// `(kind, index)`: kind 0 output `index` of the expressions, 1 callable `index` of
+/// `callables` (`g(t, y) -> float`, the slow path), 2 the multiplier of constraint `index`
+/// (in play); per event a `terminal` flag and a `direction`; `spacing` the largest distance
+/// between detection points (∞: the step ends); each zero is appended to the list `log` as
+/// `(event, t, y)`. A terminal zero ends the run there with the status `TERMINATED`.
 #[pyfunction]
 #[pyo3(signature = (
     model, p, inputs, alpha, beta, projection, active, method, a, b, c, clock, z, f, dt,
-    control, t_end, t_eval, save_every, out_t, out_y, counters, max_steps
+    control, t_end, t_eval, save_every, out_t, out_y, counters, max_steps, events=None
 ))]
 #[allow(clippy::too_many_arguments)]
 fn integrate_lagrange<'py>(
@@ -592,6 +764,7 @@ fn integrate_lagrange<'py>(
     out_y: PyReadwriteArray2<'py, f64>,
     counters: PyReadwriteArray1<'py, i64>,
     max_steps: i64,
+    events: Option<EventsArg<'py>>,
 ) -> PyResult<i64> {
     let model = model.get().model.clone();
     let s = model.shape;
@@ -622,17 +795,45 @@ fn integrate_lagrange<'py>(
     };
     let mut run = args.run(method, &["dop853", "erk"], 2 * s.n)?;
     let refuse = |e: String| value_error(e);
+    let (spec, callables, log) = match events {
+        Some(arg) => {
+            let (spec, callables, log) = event_spec(arg)?;
+            (Some(spec), callables, Some(log))
+        }
+        None => (None, Vec::new(), None),
+    };
+    let spec = spec.as_ref();
+    let callbacks = PyEventCallbacks {
+        py,
+        funcs: callables,
+        error: RefCell::new(None),
+    };
+    // the events checked against the system, once, before the run
+    let check = |sys: &Lagrangian<'_, Constant<'_>>| -> PyResult<()> {
+        if let Some(e) = spec {
+            LagrangeEvents::new(sys, &e.sources, e.expressions.as_deref(), NoCallbacks)
+                .map_err(refuse)?;
+        }
+        Ok(())
+    };
+    let no_u = vec![0.0; s.nu];
+    check(&Lagrangian::new(&model, &p, Constant(&no_u), st, active.clone()).map_err(refuse)?)?;
+    let slow_events =
+        spec.is_some_and(|e| e.sources.iter().any(|x| matches!(x, Source::Callback(_))));
+    let mut found = Vec::new();
     let status = if let Ok(u) = inputs.extract::<PyReadonlyArray1<'py, f64>>() {
         let u = u.as_slice()?.to_vec();
         Lagrangian::new(&model, &p, Constant(&u), st, active.clone()).map_err(refuse)?;
-        let (model, p, u, active) = (&*model, &p, &u, &active);
-        in_chunks(py, &mut run, |r, steps| {
-            py.detach(|| {
-                let sys = Lagrangian::new(model, p, Constant(u), st, active.clone())
-                    .expect("checked above");
-                chunk_general(&sys, &mut NoObserver, r, steps)
-            })
-        })?
+        if slow_events {
+            let sys = Lagrangian::new(&model, &p, Constant(&u), st, active).map_err(refuse)?;
+            run_held(py, &mut run, &sys, spec, &callbacks, &mut found)?
+        } else {
+            let (model, p, u, active) = (&*model, &p, &u, &active);
+            let make = || {
+                Lagrangian::new(model, p, Constant(u), st, active.clone()).expect("checked above")
+            };
+            run_released(py, &mut run, make, spec, &mut found)?
+        }
     } else if let Ok(e) = inputs.cast::<Expressions>() {
         let function: Arc<Function> = e.get().function.clone();
         let fp = function.program();
@@ -646,14 +847,15 @@ fn integrate_lagrange<'py>(
             )));
         }
         let (model, p, active, function) = (&*model, &p, &active, &*function);
-        in_chunks(py, &mut run, |r, steps| {
-            py.detach(|| {
-                let sys =
-                    Lagrangian::new(model, p, CompiledInputs::new(function), st, active.clone())
-                        .expect("sizes checked above");
-                chunk_general(&sys, &mut NoObserver, r, steps)
-            })
-        })?
+        let make = || {
+            Lagrangian::new(model, p, CompiledInputs::new(function), st, active.clone())
+                .expect("sizes checked above")
+        };
+        if slow_events {
+            run_held(py, &mut run, &make(), spec, &callbacks, &mut found)?
+        } else {
+            run_released(py, &mut run, make, spec, &mut found)?
+        }
     } else if inputs.is_callable() {
         let sys = Lagrangian::new(
             &model,
@@ -668,9 +870,7 @@ fn integrate_lagrange<'py>(
             active,
         )
         .map_err(refuse)?;
-        let status = in_chunks(py, &mut run, |r, steps| {
-            chunk_general(&sys, &mut NoObserver, r, steps)
-        })?;
+        let status = run_held(py, &mut run, &sys, spec, &callbacks, &mut found)?;
         if let Some(err) = sys.inputs.error.borrow_mut().take() {
             return Err(err);
         }
@@ -680,10 +880,15 @@ fn integrate_lagrange<'py>(
             "`inputs` must be an array of numbers, compiled expressions or a callable (t, q, qd)",
         ));
     };
-    Ok(match status {
-        Status::CallbackFailed => Status::CallbackFailed,
-        s => s,
-    } as i64)
+    if let Some(err) = callbacks.error.borrow_mut().take() {
+        return Err(err);
+    }
+    if let Some(log) = log {
+        for c in found {
+            log.append((c.event, c.t, PyArray1::from_vec(py, c.y)))?;
+        }
+    }
+    Ok(status as i64)
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

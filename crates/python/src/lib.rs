@@ -33,6 +33,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
             "CALLBACK_FAILED",
             poinsot_core::drivers::Status::CallbackFailed,
         ),
+        ("TERMINATED", poinsot_core::drivers::Status::Terminated),
     ] {
         m.add(name, status as i64)?;
     }

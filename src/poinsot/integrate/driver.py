@@ -239,7 +239,7 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
     A = np.ascontiguousarray(solver.A, dtype=float).reshape(len(solver.B), len(solver.B))
     B = np.ascontiguousarray(solver.B, dtype=float)
     C = np.ascontiguousarray(solver.C, dtype=float)
-    extra = {}
+    extra = dict(problem.keywords)
     if observer is not None and hasattr(observer, "first"):  # counts flips (ensembles)
         if not problem.observes_flips:
             raise ValueError("this system's engine does not count flips")
@@ -277,6 +277,8 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
             progress(float(clock[0]))
         if status == _drv.FINISHED:
             return result("finished", True)
+        if status == _drv.TERMINATED:  # a terminal event (the system's events say which)
+            return result("a terminal event", True)
         if status == _drv.OUTPUT_FULL:
             out_t = np.concatenate([out_t, np.empty(len(out_t))])
             out_y = np.concatenate([out_y, np.empty((len(out_y), n))])

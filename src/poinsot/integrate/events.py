@@ -18,6 +18,12 @@ Zeros closer together than the grid spacing can be missed (two zeros in one inte
 sign change): raise ``resolution`` for fast events. Written here rather than taken from
 ``solve_ivp``: poinsot's integrators (compiled, constrained, Lie-group) are not
 ``solve_ivp`` methods, and the segment contract serves all of them.
+
+A :class:`~poinsot.lagrange.LagrangianSystem` run on its compiled engine locates its events
+inside the core's time loop instead (``poinsot_core::events``: the same rules, with detection
+points at the step ends and no further apart than this grid's, each zero located on the
+step's dense output or restarted step); this module remains the route of rigid-body runs and
+of the NumPy engine, the cross-check.
 """
 
 from __future__ import annotations
@@ -50,7 +56,8 @@ class Event:
     g : callable or SymPy expression
         ``g(t, y)``, or (for a :class:`~poinsot.lagrange.LagrangianSystem`) an expression in
         its coordinates, their derivatives, time and parameters, compiled to machine code and
-        evaluated on the whole detection grid in one call.
+        evaluated inside the core's time loop (the compiled engine; on the NumPy engine, on
+        the whole detection grid in one call).
     terminal : bool
         Stop the run at the first zero.
     direction : float

@@ -10,7 +10,7 @@ Python runs inside (the slow path, with the names of what keeps it there). The d
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 __all__ = ["GENERAL_METHODS", "RIGID_METHODS", "NativeProblem"]
 
@@ -39,6 +39,9 @@ class NativeProblem:
         empty when the whole run is compiled code.
     observes_flips : bool
         The engine can count flips of the angular velocity (ensembles).
+    keywords : dict
+        Keyword arguments of ``engine`` beyond the run's buffers (a constrained system's
+        events, located inside the core's time loop).
     """
 
     engine: Callable
@@ -46,6 +49,7 @@ class NativeProblem:
     methods: frozenset
     slow: tuple = ()
     observes_flips: bool = False
+    keywords: dict = field(default_factory=dict)
 
     @property
     def compiled(self) -> bool:

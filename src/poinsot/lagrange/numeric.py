@@ -283,10 +283,11 @@ class _NativeODE(_ODE):
     projection and the constraints in play. No Python runs per step unless an input is a
     Python callable."""
 
-    def __init__(self, num, stabilization, baumgarte, engine, inputs):
+    def __init__(self, num, stabilization, baumgarte, engine, inputs, events=None):
         super().__init__(num, stabilization, baumgarte, engine)
         self._inputs = inputs
         self._projection = stabilization == "projection" and num.m > 0
+        self.events = events  # the core's events tuple (see _CoreEvents), or None
 
     def problem(self, y0):
         from .. import _core
@@ -294,9 +295,13 @@ class _NativeODE(_ODE):
 
         active = getattr(self.num, "active", None)
         slow = ("inputs given as Python functions",) if callable(self._inputs) else ()
+        if self.events is not None and self.events[2]:
+            slow += ("events given as Python functions",)
         data = (self.engine.model, self._p, self._inputs, float(self._gains[0]),
                 float(self._gains[1]), self._projection, active)  # fmt: skip
-        return NativeProblem(_core.integrate_lagrange, data, GENERAL_METHODS, slow)
+        keywords = {} if self.events is None else {"events": self.events}
+        return NativeProblem(_core.integrate_lagrange, data, GENERAL_METHODS, slow,
+                             keywords=keywords)  # fmt: skip
 
     def to_internal(self, y):
         return np.array(y, dtype=float)
@@ -762,13 +767,16 @@ def simulate(
         Functions ``g(t, y)`` of the state ``y = [q, q̇]`` whose zeros are located, as in
         :func:`scipy.integrate.solve_ivp` (attributes ``terminal`` and ``direction``), or
         SymPy expressions in the coordinates, their derivatives, time and the parameters
-        (options by :class:`~poinsot.integrate.events.Event`), compiled to machine code and
-        evaluated on the detection grid in one call; found in ``sol.t_events``,
-        ``sol.y_events``. A terminal event ends the run there.
+        (options by :class:`~poinsot.integrate.events.Event`), compiled to machine code;
+        found in ``sol.t_events``, ``sol.y_events``. A terminal event ends the run there.
+        The compiled engine locates every event inside the core's time loop (a Python
+        function is called back from it: the slow path); the NumPy engine on a grid.
     event_resolution : int
-        Grid points on which events, and the release of one-sided constraints
-        (``system.unilateral``), are detected before they are located to the integrator's
-        accuracy (:mod:`poinsot.integrate.events`); ``sol.releases`` lists the releases.
+        Events, and the release of one-sided constraints (``system.unilateral``), are
+        detected at the steps' ends and at points no further apart than a grid of this many
+        points on the run, then located to the integrator's accuracy (Brent's method on the
+        step's dense output or restarted step: :mod:`poinsot.integrate.events`);
+        ``sol.releases`` lists the releases.
     engine : {"compiled", "numpy"}
         How the equations are evaluated. ``"compiled"`` (default): the model's expressions
         (M, f, G, b, γ, g, h with shared subexpressions, parameters and inputs as runtime
@@ -831,11 +839,12 @@ def simulate(
 
     run.nfev, run.method = 0, solver.name
 
-    def ode_of(anum):
-        """The integrated system of ``anum``: the core's (compiled engine), or NumPy's."""
+    def ode_of(anum, events=None):
+        """The integrated system of ``anum``: the core's (compiled engine, with ``events``
+        located in its time loop), or NumPy's."""
         if compiled is None:
             return _ODE(anum, stabilization, gains)
-        return _NativeODE(anum, stabilization, gains, compiled, _core_inputs(u_of))
+        return _NativeODE(anum, stabilization, gains, compiled, _core_inputs(u_of), events)
 
     y_init = np.concatenate([q_init, qd_init])
     if not events and not system.unilateral:  # one run, no event to watch
@@ -888,6 +897,7 @@ def _expression_events(events, system, params):
             return float(many(np.array([t], dtype=float), np.asarray(y, dtype=float)[None])[0])
 
         one.batch = many
+        one.expression = expr  # compiled with the run's other expressions in the core
         one.terminal = bool(getattr(item, "terminal", False))
         one.direction = float(getattr(item, "direction", 0.0))
         out.append(one)
@@ -924,8 +934,10 @@ def _simulate_phases(system, num, params, u_of, run, ode_of, y0, t0, t1, t_eval,
     """The run as phases between releases of one-sided constraints: in each, the user's
     events and a "release" event per active one-sided constraint (its multiplier falling
     through zero) are watched; at a release the run goes on without that constraint (the
-    compiled engine masks its row; the NumPy path derives the released system)."""
-    from ..integrate.events import integrate_with_events, normalize_events
+    compiled engine masks its row; the NumPy path derives the released system). The compiled
+    engine locates every event inside the core's time loop (:func:`_core_phase`); the NumPy
+    engine on a detection grid (:func:`_numpy_phase`)."""
+    from ..integrate.events import normalize_events
 
     user = normalize_events(events)
     n_user = len(user)
@@ -947,27 +959,13 @@ def _simulate_phases(system, num, params, u_of, run, ode_of, y0, t0, t1, t_eval,
             if u_of is not None:
                 anum = anum.bound(u_of)
             one_sided = list(active.unilateral)
-        ode = ode_of(anum)
-        watch = [g for g, _, _ in user]
-        for k in one_sided:
-            # the multiplier of constraint k among those in play
-            index = int(mask[:k].sum()) if compiled else k
-
-            def release(t, y, index=index, anum=anum, n=system.n_coordinates):
-                return anum.accelerations(t, y[:n], y[n:])[1][index]
-
-            def released(t, Y, column=k, anum=anum, n=system.n_coordinates):
-                # every grid state's multipliers in one call (the core's samples: λ of all
-                # constraints, NaN where not in play; NumPy's: the phase system's)
-                u = _input_values(u_of, t, Y, n, len(system.inputs))
-                return anum.batch(t, Y[:, :n], Y[:, n:], u)["lam"][:, column]
-
-            release.terminal, release.direction, release.batch = True, -1, released
-            watch.append(release)
         times = t_eval[(t_eval >= ta) & (t_eval <= t1)]
-        t, y, log = integrate_with_events(
-            lambda a, ya_, b, tt, ode=ode: run(ode, a, ya_, b, tt), watch, ta, ya, t1, times,
-            resolution=resolution)  # fmt: skip
+        if compiled:  # every event located inside the core's time loop
+            t, y, log = _core_phase(system, ode_of, anum, run, user, one_sided, ta, ya, t1,
+                                    times, resolution)  # fmt: skip
+        else:
+            t, y, log = _numpy_phase(anum, run, ode_of, u_of, system, user, one_sided, ta, ya,
+                                     t1, times, resolution)  # fmt: skip
         for k in range(n_user):
             t_events[k] += list(log.t_events[k])
             y_events[k] += list(log.y_events[k])
@@ -998,3 +996,81 @@ def _simulate_phases(system, num, params, u_of, run, ode_of, y0, t0, t1, t_eval,
     sol.releases = releases
     sol.terminated = stop
     return sol
+
+
+def _core_phase(system, ode_of, anum, run, user, one_sided, ta, ya, t1, times, resolution):
+    """One phase on the compiled engine with its events located inside the core's time loop
+    (``poinsot_core::events``): the user's expressions compiled together in ``[q, q̇, t]``,
+    the user's functions called back (the slow path), and per one-sided constraint in play its
+    multiplier falling through zero (terminal). Detection points are no further apart than
+    the grid of ``resolution`` points on ``[ta, t1]``. Returns the samples ``t``, ``y`` (a
+    terminal zero's time and state appended last) and an
+    :class:`~poinsot.integrate.events.EventLog` (user events first, then the releases)."""
+    from ..expressions import compile_expressions
+    from ..integrate.events import EventLog
+
+    names = system.plain
+    exprs, callables, sources, terminal, direction = [], [], [], [], []
+    for g, term, sense in user:
+        expr = getattr(g, "expression", None)
+        if expr is not None:
+            sources.append((0, len(exprs)))
+            exprs.append(expr)
+        else:
+            sources.append((1, len(callables)))
+            callables.append(g)
+        terminal.append(term)
+        direction.append(sense)
+    for k in one_sided:
+        sources.append((2, k))
+        terminal.append(True)
+        direction.append(-1.0)
+    compiled = compile_expressions(exprs, [*names.q, *names.v, system.t]) if exprs else None
+    found = []
+    spacing = (t1 - ta) / (max(int(resolution), 2) - 1) if t1 > ta else np.inf
+    events = (compiled, np.array(sources, dtype=np.int64).reshape(-1, 2), callables,
+              np.array(terminal, dtype=bool), np.array(direction, dtype=float),
+              float(spacing), found)  # fmt: skip
+    y = np.asarray(run(ode_of(anum, events), ta, ya, t1, times), dtype=float)
+    t = np.asarray(times[: len(y)], dtype=float)
+    n_events = len(sources)
+    log = EventLog([[] for _ in range(n_events)], [[] for _ in range(n_events)])
+    for k, tz, yz in found:
+        log.t_events[k].append(float(tz))
+        log.y_events[k].append(np.asarray(yz, dtype=float))
+        if terminal[k] and log.terminated_by is None:
+            log.terminated_by, stop = int(k), (float(tz), np.asarray(yz, dtype=float))
+    dim = len(ya)
+    log.t_events = [np.array(v, dtype=float) for v in log.t_events]
+    log.y_events = [np.array(v, dtype=float).reshape(len(v), dim) for v in log.y_events]
+    if log.terminated_by is not None:
+        tz, yz = stop
+        before = t < tz
+        t = np.append(t[before], tz)
+        y = np.vstack([y[before].reshape(-1, dim), yz])
+    return t, y.reshape(len(t), dim), log
+
+
+def _numpy_phase(anum, run, ode_of, u_of, system, user, one_sided, ta, ya, t1, times,
+                 resolution):  # fmt: skip
+    """One phase on the NumPy engine (the cross-check): the events and the releases located
+    on a grid by :func:`~poinsot.integrate.events.integrate_with_events`."""
+    from ..integrate.events import integrate_with_events
+
+    ode = ode_of(anum)
+    watch = [g for g, _, _ in user]
+    for k in one_sided:  # numbered in the phase's (released) system
+
+        def release(t, y, k=k, n=system.n_coordinates):
+            return anum.accelerations(t, y[:n], y[n:])[1][k]
+
+        def released(t, Y, k=k, n=system.n_coordinates):
+            # every grid state's multipliers in one call
+            u = _input_values(u_of, t, Y, n, len(system.inputs))
+            return anum.batch(t, Y[:, :n], Y[:, n:], u)["lam"][:, k]
+
+        release.terminal, release.direction, release.batch = True, -1, released
+        watch.append(release)
+    return integrate_with_events(
+        lambda a, ya_, b, tt: run(ode, a, ya_, b, tt), watch, ta, ya, t1, times,
+        resolution=resolution)  # fmt: skip
