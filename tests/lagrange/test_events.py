@@ -190,6 +190,9 @@ def test_an_event_function_that_raises_stops_the_run_with_its_error():
 
     with pytest.raises(ZeroDivisionError, match="the user's event broke"):
         mdl.simulate((0, 1), events=broken)
+    # one that returns no number is named, among the run's events
+    with pytest.raises(TypeError, match=r"`events\[1\]` must return a number, found NoneType"):
+        mdl.simulate((0, 1), events=[lambda t, y: y[0], lambda t, y: None])
 
 
 @pytest.mark.parametrize("direction", [0, 1, -1])
@@ -245,3 +248,23 @@ def test_expression_events_are_refused_where_they_cannot_be_compiled():
         simulate(RigidBody(1.0, np.eye(3)), (0, 1), omega0=(0, 0, 1), events=Event(stranger))
     with pytest.raises(TypeError, match=r"`events\[0\]` must be a function g\(t, y\) or an Event"):
         simulate(RigidBody(1.0, np.eye(3)), (0, 1), omega0=(0, 0, 1), events=[3.0])
+
+
+def test_detection_points_within_long_steps_find_zeros_a_step_would_hide():
+    # sin(20 t), an event in time alone, has a zero every π/20 s: the adaptive method's steps
+    # on the pendulum at rtol 1e-6 are longer, so with detection at the step ends only
+    # (event_resolution=2: one interval over the run) zeros pair up and vanish, while the
+    # default detection points (no further apart than 2001 on the run) find every one, each
+    # at kπ/20 to round-off (the event does not depend on the state's accuracy)
+    import sympy as sp
+
+    from poinsot.integrate.events import Event
+
+    mdl = models.pendulum_polar()
+    t = mdl.system.t
+    run = dict(rtol=1e-6, atol=1e-8, events=Event(sp.sin(20 * t)))
+    fine = mdl.simulate((0, 10), **run)
+    coarse = mdl.simulate((0, 10), event_resolution=2, **run)
+    want = np.pi / 20 * np.arange(1, 64)
+    np.testing.assert_allclose(fine.t_events[0], want, rtol=0, atol=1e-12)
+    assert len(coarse.t_events[0]) < len(want)

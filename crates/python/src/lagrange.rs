@@ -565,6 +565,8 @@ impl Inputs for PyInputs<'_> {
 struct PyEventCallbacks<'py> {
     py: Python<'py>,
     funcs: Vec<Bound<'py, PyAny>>,
+    /// Per callable: its index among the run's events (named in errors).
+    events: Vec<usize>,
     error: RefCell<Option<PyErr>>,
 }
 
@@ -574,7 +576,16 @@ impl Callbacks for &PyEventCallbacks<'_> {
             return None;
         }
         let y = numpy::PyArray1::from_slice(self.py, y);
-        match self.funcs[k].call1((t, y)).and_then(|r| r.extract::<f64>()) {
+        let value = self.funcs[k].call1((t, y)).and_then(|r| {
+            r.extract::<f64>().map_err(|_| {
+                let kind = r.get_type().name().map_or("?".into(), |n| n.to_string());
+                PyTypeError::new_err(format!(
+                    "`events[{}]` must return a number, found {kind}",
+                    self.events[k]
+                ))
+            })
+        });
+        match value {
             Ok(v) => Some(v),
             Err(e) => {
                 *self.error.borrow_mut() = Some(e);
@@ -803,9 +814,19 @@ fn integrate_lagrange<'py>(
         None => (None, Vec::new(), None),
     };
     let spec = spec.as_ref();
+    let events_of_callables = spec.map_or(Vec::new(), |e| {
+        let mut at = vec![0; callables.len()];
+        for (i, source) in e.sources.iter().enumerate() {
+            if let Source::Callback(k) = *source {
+                at[k] = i;
+            }
+        }
+        at
+    });
     let callbacks = PyEventCallbacks {
         py,
         funcs: callables,
+        events: events_of_callables,
         error: RefCell::new(None),
     };
     // the events checked against the system, once, before the run
