@@ -32,10 +32,10 @@ use rayon::prelude::*;
 use crate::drivers::{
     run_adaptive, run_fixed, AdaptiveState, Clock, Counters, Erk, Output, Sampling, Status,
 };
-use crate::events::EventFunctions;
+use crate::events::{EventFunctions, Watch};
 use crate::expressions::{Function, Program, Scratch};
 use crate::linalg::{min_norm_solve, solve_augmented, solve_spd_augmented};
-use crate::observers::NoObserver;
+use crate::observers::{NoObserver, Observer};
 use crate::steppers::{Control, Tableau};
 use crate::system::VectorField;
 
@@ -792,6 +792,23 @@ pub struct MemberRun {
 /// Steps between two looks at the stop flag.
 const STEPS_PER_CALL: u64 = 4096;
 
+/// The one-sided constraints of a run: their indices among the model's constraints, and the
+/// detection grid's number of points (`event_resolution`): a phase from `ta` detects releases
+/// at points no further apart than `(t1 − ta)/(resolution − 1)` ([`crate::events::Watch`]).
+#[derive(Clone, Copy, Debug)]
+pub struct OneSided<'a> {
+    pub constraints: &'a [usize],
+    pub resolution: usize,
+}
+
+impl OneSided<'_> {
+    /// No one-sided constraint.
+    pub const NONE: OneSided<'static> = OneSided {
+        constraints: &[],
+        resolution: 2,
+    };
+}
+
 /// Integrate one member: parameters `p`, constant inputs `u`, initial state `y0` (2n), its
 /// samples at `t_eval` into `samples` (len(t_eval) · 2n; NaN when the run fails). A run that
 /// takes `max_steps` steps before its end stops there, with the status
@@ -812,82 +829,202 @@ pub fn run_member(
     max_steps: u64,
     stop: &AtomicBool,
 ) -> MemberRun {
-    let sys = match Lagrangian::new(model, p, Constant(u), stabilization, None) {
-        Ok(s) => s,
-        Err(_) => {
-            samples.fill(f64::NAN);
-            return MemberRun {
-                status: Status::NonFinite,
-                n_steps: 0,
-                n_fev: 0,
-            };
-        }
-    };
-    let dim = sys.dim();
-    let mut times = vec![0.0; t_eval.len()];
-    let mut out = Output {
-        t: &mut times,
-        y: samples,
-    };
-    let sampling = Sampling {
-        t_end: t1,
+    let span = (t0, t1, dt);
+    run_member_with(
+        model,
+        p,
+        u,
+        y0,
+        stabilization,
+        method,
+        span,
         t_eval,
-        every: u64::MAX,
-    };
-    let mut clock = Clock { t: t0, h: 0.0 };
-    let mut k = Counters::default();
-    let mut z = y0.to_vec();
-    let status = match method {
-        Method::Dop853(control) => {
-            let mut state = AdaptiveState { f: vec![0.0; dim] };
-            loop {
-                let chunk = STEPS_PER_CALL.min(max_steps.saturating_sub(k.n_steps));
-                let s = run_adaptive(
-                    &sys,
-                    &mut NoObserver,
-                    &mut clock,
-                    &mut z,
-                    &mut state,
-                    &control,
-                    &sampling,
-                    &mut out,
-                    &mut k,
-                    chunk,
-                );
-                if s != Status::Running || stop.load(Ordering::Relaxed) || k.n_steps >= max_steps {
-                    break s;
-                }
-            }
+        samples,
+        max_steps,
+        stop,
+        OneSided::NONE,
+        &mut [],
+    )
+}
+
+/// [`run_member`] with one-sided constraints: the run goes in phases, as a single run of the
+/// Python package does. In each, the multiplier of every one-sided constraint in play is
+/// watched ([`LagrangeEvents`], [`Source::Release`]); where one falls through zero the phase
+/// ends at that instant (located inside the time loop), the constraint leaves the system and
+/// the next phase starts there afresh (a new step-size choice, the samples from there on), at
+/// most `max_steps` steps each. `releases` (one per one-sided constraint) gets the release
+/// times, NaN for a constraint that held. `span` is `(t0, t1, dt)`.
+#[allow(clippy::too_many_arguments)]
+pub fn run_member_with(
+    model: &Model,
+    p: &[f64],
+    u: &[f64],
+    y0: &[f64],
+    stabilization: Stabilization,
+    method: Method,
+    span: (f64, f64, f64),
+    t_eval: &[f64],
+    samples: &mut [f64],
+    max_steps: u64,
+    stop: &AtomicBool,
+    one_sided: OneSided,
+    releases: &mut [f64],
+) -> MemberRun {
+    let (t0, t1, dt) = span;
+    releases.fill(f64::NAN);
+    let failed = |samples: &mut [f64]| {
+        samples.fill(f64::NAN);
+        MemberRun {
+            status: Status::NonFinite,
+            n_steps: 0,
+            n_fev: 0,
         }
-        Method::Erk(tab) => {
-            let mut m = Erk::new(tab, dim);
-            loop {
-                let chunk = STEPS_PER_CALL.min(max_steps.saturating_sub(k.n_steps));
-                let s = run_fixed(
-                    &sys,
-                    &mut m,
-                    &mut NoObserver,
-                    &mut clock,
-                    &mut z,
-                    dt,
-                    &sampling,
-                    &mut out,
-                    &mut k,
-                    chunk,
-                );
-                if s != Status::Running || stop.load(Ordering::Relaxed) || k.n_steps >= max_steps {
-                    break s;
+    };
+    let s = model.shape;
+    if one_sided.constraints.iter().any(|&c| c >= s.m) {
+        return failed(samples);
+    }
+    let dim = 2 * s.n;
+    let mut times = vec![0.0; t_eval.len()];
+    let mut z = y0.to_vec();
+    let mut active = vec![true; s.m];
+    let (mut ta, mut written) = (t0, 0usize);
+    let (mut n_steps, mut n_fev) = (0u64, 0u64);
+    let status = loop {
+        let mask = active
+            .iter()
+            .all(|&a| a)
+            .then_some(())
+            .map_or(Some(active.clone()), |_| None);
+        let sys = match Lagrangian::new(model, p, Constant(u), stabilization, mask) {
+            Ok(sys) => sys,
+            Err(_) => return failed(samples),
+        };
+        let watched: Vec<Source> = one_sided
+            .constraints
+            .iter()
+            .filter(|&&c| active[c])
+            .map(|&c| Source::Release(c))
+            .collect();
+        let mut out = Output {
+            t: &mut times[written..],
+            y: &mut samples[written * dim..],
+        };
+        let sampling = Sampling {
+            t_end: t1,
+            t_eval: &t_eval[written..],
+            every: u64::MAX,
+        };
+        let mut phase = Phase {
+            clock: Clock { t: ta, h: 0.0 },
+            counters: Counters::default(),
+        };
+        let status = if watched.is_empty() {
+            phase.run(
+                &sys,
+                &mut NoObserver,
+                method,
+                dt,
+                &mut z,
+                &sampling,
+                &mut out,
+                max_steps,
+                stop,
+            )
+        } else {
+            let events = LagrangeEvents::new(&sys, &watched, None, NoCallbacks)
+                .expect("constraints in play");
+            let terminal = vec![true; watched.len()];
+            let direction = vec![-1.0; watched.len()];
+            let spacing = (t1 - ta) / (one_sided.resolution.max(2) - 1) as f64;
+            let mut watch = Watch::new(&events, &terminal, &direction, spacing, dim);
+            let status = phase.run(
+                &sys, &mut watch, method, dt, &mut z, &sampling, &mut out, max_steps, stop,
+            );
+            if status == Status::Terminated {
+                let t = phase.clock.t;
+                let last = watch.log.iter().rev().find(|c| c.t == t).map(|c| c.event);
+                if let Some(Source::Release(c)) = last.map(|e| watched[e]) {
+                    active[c] = false;
+                    if let Some(slot) = one_sided.constraints.iter().position(|&k| k == c) {
+                        releases[slot] = t;
+                    }
                 }
             }
+            status
+        };
+        n_steps += phase.counters.n_steps;
+        n_fev += phase.counters.n_fev;
+        written += phase.counters.n_out;
+        ta = phase.clock.t;
+        if status != Status::Terminated {
+            break status;
         }
     };
     if status != Status::Finished {
-        out.y.fill(f64::NAN);
+        samples.fill(f64::NAN);
     }
     MemberRun {
         status,
-        n_steps: k.n_steps,
-        n_fev: k.n_fev,
+        n_steps,
+        n_fev,
+    }
+}
+
+/// One phase of a member's run: its clock and counters (fresh at its start).
+struct Phase {
+    clock: Clock,
+    counters: Counters,
+}
+
+impl Phase {
+    /// Run the phase to its end (or a terminal event, `max_steps` steps, `stop`), in chunks
+    /// of [`STEPS_PER_CALL`] steps between looks at `stop`.
+    #[allow(clippy::too_many_arguments)]
+    fn run<S: VectorField, O: Observer>(
+        &mut self,
+        sys: &S,
+        observer: &mut O,
+        method: Method,
+        dt: f64,
+        z: &mut [f64],
+        sampling: &Sampling,
+        out: &mut Output,
+        max_steps: u64,
+        stop: &AtomicBool,
+    ) -> Status {
+        let (clock, k) = (&mut self.clock, &mut self.counters);
+        let dim = sys.dim();
+        match method {
+            Method::Dop853(control) => {
+                let mut state = AdaptiveState { f: vec![0.0; dim] };
+                loop {
+                    let chunk = STEPS_PER_CALL.min(max_steps.saturating_sub(k.n_steps));
+                    let s = run_adaptive(
+                        sys, observer, clock, z, &mut state, &control, sampling, out, k, chunk,
+                    );
+                    if s != Status::Running
+                        || stop.load(Ordering::Relaxed)
+                        || k.n_steps >= max_steps
+                    {
+                        break s;
+                    }
+                }
+            }
+            Method::Erk(tab) => {
+                let mut m = Erk::new(tab, dim);
+                loop {
+                    let chunk = STEPS_PER_CALL.min(max_steps.saturating_sub(k.n_steps));
+                    let s = run_fixed(sys, &mut m, observer, clock, z, dt, sampling, out, k, chunk);
+                    if s != Status::Running
+                        || stop.load(Ordering::Relaxed)
+                        || k.n_steps >= max_steps
+                    {
+                        break s;
+                    }
+                }
+            }
+        }
     }
 }
 
@@ -911,35 +1048,76 @@ pub fn run_members(
     max_steps: u64,
     stop: &AtomicBool,
 ) -> Vec<MemberRun> {
+    let span = (t0, t1, dt);
+    run_members_with(
+        model,
+        (params, inputs, y0),
+        stabilization,
+        method,
+        span,
+        t_eval,
+        samples,
+        max_steps,
+        stop,
+        OneSided::NONE,
+        &mut [],
+    )
+}
+
+/// [`run_members`] with one-sided constraints ([`run_member_with`]): `data` is
+/// `(P, U, Y0)`; member `i`'s release times go to `releases[i]` (one per one-sided
+/// constraint).
+#[allow(clippy::too_many_arguments)]
+pub fn run_members_with(
+    model: &Model,
+    data: (&[f64], &[f64], &[f64]),
+    stabilization: Stabilization,
+    method: Method,
+    span: (f64, f64, f64),
+    t_eval: &[f64],
+    samples: &mut [f64],
+    max_steps: u64,
+    stop: &AtomicBool,
+    one_sided: OneSided,
+    releases: &mut [f64],
+) -> Vec<MemberRun> {
+    let (params, inputs, y0) = data;
     let s = model.shape;
     let dim = 2 * s.n;
     let per = t_eval.len() * dim;
+    let k = one_sided.constraints.len();
+    let members = samples.len() / per.max(1);
+    // without one-sided constraints, a slot per member that nothing reads
+    let mut none = vec![0.0; if k == 0 { members } else { 0 }];
+    let releases = if k == 0 { &mut none[..] } else { releases };
     samples
         .par_chunks_mut(per.max(1))
+        .zip(releases.par_chunks_mut(k.max(1)))
         .enumerate()
-        .map(|(i, rows)| {
+        .map(|(i, (rows, released))| {
             if stop.load(Ordering::Relaxed) {
                 rows.fill(f64::NAN);
+                released.fill(f64::NAN);
                 return MemberRun {
                     status: Status::Running,
                     n_steps: 0,
                     n_fev: 0,
                 };
             }
-            run_member(
+            run_member_with(
                 model,
                 &params[i * s.np..(i + 1) * s.np],
                 &inputs[i * s.nu..(i + 1) * s.nu],
                 &y0[i * dim..(i + 1) * dim],
                 stabilization,
                 method,
-                t0,
-                t1,
-                dt,
+                span,
                 t_eval,
                 rows,
                 max_steps,
                 stop,
+                one_sided,
+                &mut released[..k],
             )
         })
         .collect()

@@ -16,8 +16,8 @@ use poinsot_core::drivers::Status;
 use poinsot_core::events::{Crossing, Watch};
 use poinsot_core::expressions::{Function, Program};
 use poinsot_core::lagrange::{
-    run_members, samples as core_samples, Callbacks, CompiledInputs, Constant, Inputs,
-    LagrangeEvents, Lagrangian, Method, Model, NoCallbacks, SampleOut, Shape, Source,
+    run_members_with, samples as core_samples, Callbacks, CompiledInputs, Constant, Inputs,
+    LagrangeEvents, Lagrangian, Method, Model, NoCallbacks, OneSided, SampleOut, Shape, Source,
     Stabilization,
 };
 use poinsot_core::observers::NoObserver;
@@ -400,8 +400,17 @@ impl LagrangianModel {
     /// Integrate members with parameters `P` (k, np), constant inputs `U` (k, nu) and initial
     /// states `Y0` (k, 2n) on a pool of `threads`, each at most `max_steps` steps (a member
     /// stopped there has the status `RUNNING` and NaN samples): `(samples (k, len(t_eval),
-    /// 2n), status, steps, evaluations)` per member. `method` `"erk"` (the tableau `a`, `b`, `c`, step
-    /// `dt`) or `"dop853"` (the controller's 7 numbers `control`).
+    /// 2n), status, steps, evaluations, releases)` per member. `method` `"erk"` (the tableau
+    /// `a`, `b`, `c`, step `dt`) or `"dop853"` (the controller's 7 numbers `control`).
+    /// `unilateral`: the one-sided constraints (indices among the model's), each released
+    /// where its multiplier falls through zero, located inside the time loop with detection
+    /// points no further apart than a grid of `resolution` points
+    /// (`poinsot_core::lagrange::run_member_with`); `releases` (k, len(unilateral)): the
+    /// release times, NaN where a constraint held.
+    #[pyo3(signature = (
+        params, inputs, y0, alpha, beta, projection, method, a, b, c, dt, control, t0, t1,
+        t_eval, threads, max_steps, unilateral=Vec::new(), resolution=2001
+    ))]
     #[allow(clippy::too_many_arguments, clippy::type_complexity)]
     fn run_ensemble<'py>(
         &self,
@@ -423,11 +432,14 @@ impl LagrangianModel {
         t_eval: PyReadonlyArray1<'py, f64>,
         threads: usize,
         max_steps: u64,
+        unilateral: Vec<usize>,
+        resolution: usize,
     ) -> PyResult<(
         Bound<'py, PyArray3<f64>>,
         Bound<'py, PyArray1<i64>>,
         Bound<'py, PyArray1<i64>>,
         Bound<'py, PyArray1<i64>>,
+        Bound<'py, PyArray2<f64>>,
     )> {
         let s = self.shape();
         let pp = rows(&params, s.np, "P")?;
@@ -478,18 +490,46 @@ impl LagrangianModel {
             beta,
             projection,
         };
+        if let Some(&c) = unilateral.iter().find(|&&c| c >= s.m) {
+            return Err(value_error(format!(
+                "`unilateral` names constraint {c}; the model has {}",
+                s.m
+            )));
+        }
+        if resolution < 2 {
+            return Err(value_error(format!(
+                "`resolution` must be at least 2, found {resolution}"
+            )));
+        }
         let per = t_eval.len() * 2 * s.n;
         let mut samples = vec![0.0; k * per];
+        let mut releases = vec![f64::NAN; k * unilateral.len()];
         let pool = pool(threads.max(1))?;
         let model = &*self.model;
+        let one_sided = OneSided {
+            constraints: &unilateral,
+            resolution,
+        };
         let runs = {
-            let samples = &mut samples;
+            let (samples, releases) = (&mut samples, &mut releases);
             interruptible(py, &pool, move |stop| {
-                run_members(
-                    model, &pv, &uv, &zv, st, method, t0, t1, dt, t_eval, samples, max_steps, stop,
+                run_members_with(
+                    model,
+                    (&pv, &uv, &zv),
+                    st,
+                    method,
+                    (t0, t1, dt),
+                    t_eval,
+                    samples,
+                    max_steps,
+                    stop,
+                    one_sided,
+                    releases,
                 )
             })?
         };
+        let releases = Array2::from_shape_vec((k, unilateral.len()), releases)
+            .expect("members · one-sided constraints");
         let samples = Array3::from_shape_vec((k, t_eval.len(), 2 * s.n), samples)
             .expect("members · samples · 2n");
         let col = |f: fn(&poinsot_core::lagrange::MemberRun) -> i64| {
@@ -500,6 +540,7 @@ impl LagrangianModel {
             col(|r| r.status as i64),
             col(|r| r.n_steps as i64),
             col(|r| r.n_fev as i64),
+            releases.into_pyarray(py),
         ))
     }
 }

@@ -94,9 +94,13 @@ class LagrangianEnsemble:
     status : (N,) int, the driver's status (1: finished; 2: non-finite state; 3: step too small;
         0: stopped at ``max_steps``)
     nfev, nsteps : (N,) int
+    releases : (N, len(system.unilateral)) float
+        When each member's one-sided constraints let go (their multiplier falling through
+        zero, located inside the core's time loop); NaN for one that held.
     """
 
-    def __init__(self, system, engine, t, Y, P, U, status, nsteps, nfev, method, stabilization):
+    def __init__(self, system, engine, t, Y, P, U, status, nsteps, nfev, method, stabilization,
+                 releases=None):  # fmt: skip
         n = system.n_coordinates
         self.system, self.engine = system, engine
         self.coordinates = list(system.coordinates)
@@ -107,6 +111,8 @@ class LagrangianEnsemble:
         self.inputs = {s: U[:, i] for i, s in enumerate(engine.inputs)}
         self.status, self.nsteps, self.nfev = status, nsteps, nfev
         self.method, self.stabilization = method, stabilization
+        k = len(system.unilateral)
+        self.releases = np.full((len(Y), k), np.nan) if releases is None else releases
 
     def __len__(self):
         return self.q.shape[0]
@@ -127,7 +133,28 @@ class LagrangianEnsemble:
             raise IndexError(f"member {i} of an ensemble of {len(self)}")
         y = np.concatenate([self.q[i], self.qd[i]], axis=1)
         U = np.repeat(self._U[i][None], len(self.t), axis=0)
-        return self.engine.samples(self.t, y, self._P[i], U)
+        pairs = zip(self.releases[i], self.system.unilateral, strict=True)
+        released = [(float(tr), c) for tr, c in pairs if np.isfinite(tr)]
+        if not released:
+            return self.engine.samples(self.t, y, self._P[i], U)
+        # the phases between releases, as a single run's solution: a sample at a release
+        # instant belongs to the phase after it; a released constraint's multiplier is zero
+        # and its residuals NaN (a gap, not an error)
+        released.sort()
+        nh = self.system.n_holonomic
+        parts = []
+        for j in range(len(released) + 1):
+            lo = released[j - 1][0] if j else -np.inf
+            hi = released[j][0] if j < len(released) else np.inf
+            at = np.nonzero((self.t >= lo) & (self.t < hi))[0]
+            active = np.ones(self.system.n_constraints, dtype=bool)
+            active[[c for _, c in released[:j]]] = False
+            out = self.engine.samples(self.t[at], y[at], self._P[i], U[at], active)
+            out["lam"][:, ~active] = 0.0
+            out["g"][:, ~active[:nh]] = np.nan
+            out["velocity_residual"][:, ~active] = np.nan
+            parts.append(out)
+        return {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
 
     @property
     def energy(self) -> np.ndarray:
@@ -162,6 +189,7 @@ def simulate_ensemble(
     chunk_size=None,
     tol=1e-9,
     max_steps=None,
+    event_resolution=2001,
 ) -> LagrangianEnsemble:
     """Integrate N members of ``system``, each with its own parameters, inputs and initial
     state, with the compiled engine.
@@ -193,7 +221,14 @@ def simulate_ensemble(
         The most steps a member may take (default
         :data:`~poinsot.integrate.solve.DEFAULT_MAX_STEPS`): with a fixed-step method, a run
         whose members need more is refused before it starts, with the count; an adaptive
-        member that reaches it stops there (status 0, NaN samples).
+        member that reaches it stops there (status 0, NaN samples). With one-sided
+        constraints, per phase between releases (as :meth:`LagrangianSystem.simulate`).
+    event_resolution : int
+        The one-sided constraints' releases (``system.unilateral``) are detected at the steps'
+        ends and at points no further apart than a grid of this many points on the run, and
+        located inside the core's time loop, member by member, as
+        :meth:`LagrangianSystem.simulate` does: each member equals its single run bit for bit;
+        ``ens.releases`` holds the instants.
 
     Returns
     -------
@@ -226,6 +261,7 @@ def simulate_ensemble(
     rtol, atol = check_tolerances(rtol, atol)
     gains = as_gains(baumgarte, "baumgarte")
     budget = check_budget(solver, t0, t1, dt, max_steps)  # per member; fixed steps: up front
+    resolution = max(int(as_scalar(event_resolution, "event_resolution")), 2)
     no_samples = t_eval is not None and len(t_eval) == 0  # the run to t1, none of its states
     if t_eval is None:
         times = np.linspace(t0, t1, 201)
@@ -277,12 +313,13 @@ def simulate_ensemble(
         i1 = min(i0 + chunk, N)
         parts.append(engine.model.run_ensemble(
             P[i0:i1], U[i0:i1], Z0[i0:i1], gains[0], gains[1], projection, kind, A, B, C,
-            step, control, t0, t1, times, workers, budget))  # fmt: skip
-    Y, status, nsteps, nfev = (np.concatenate(col) for col in zip(*parts, strict=True))
+            step, control, t0, t1, times, workers, budget, list(system.unilateral),
+            resolution))  # fmt: skip
+    Y, status, nsteps, nfev, releases = (np.concatenate(c) for c in zip(*parts, strict=True))
     if no_samples:
         times, Y = times[:0], Y[:, :0]
     return LagrangianEnsemble(system, engine, times, Y, P, U, status, nsteps, nfev,
-                              solver.name, stabilization)  # fmt: skip
+                              solver.name, stabilization, releases)  # fmt: skip
 
 
 def _complete_states(system, engine, t0, Z0, P, U, tol):
