@@ -226,9 +226,12 @@ def test_the_watchdog_ends_a_program_that_swallows_the_interrupt(tmp_path):
         g = guard(process=True)
         with OutputFolder({str(tmp_path / "out")!r}, command="test").writing() as work:
             (work / "half.png").write_bytes(b"half")
-            print("writing", flush=True)
+            announced = False
             while True:
                 try:  # the whole loop inside: the interrupt is swallowed wherever it lands
+                    if not announced:  # announced from inside, so that a signal sent when
+                        announced = True  # the line is read lands where it is swallowed
+                        print("writing", flush=True)
                     while True:
                         time.sleep(0.05)
                 except KeyboardInterrupt:

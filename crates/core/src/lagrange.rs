@@ -1139,6 +1139,13 @@ mod tests {
     /// gravity g = p2 along −y. L = m/2 (ẋ² + ẏ²) − m g y, one holonomic constraint
     /// g = (x² + y² − l²)/2, G = [x, y], b = 0, γ = ẋ² + ẏ², h = m/2 (ẋ² + ẏ²) + m g y.
     fn cartesian_pendulum() -> Model {
+        signed_pendulum(1.0)
+    }
+
+    /// The Cartesian pendulum with its constraint times `sign`: −1 gives a string,
+    /// (l² − x² − y²)/2 ≥ 0, whose multiplier λ = T/l is positive while it pulls and falls
+    /// through zero where it goes slack.
+    fn signed_pendulum(sign: f64) -> Model {
         let shape = Shape {
             n: 2,
             m: 1,
@@ -1163,20 +1170,17 @@ mod tests {
             (MUL, 0.0),
             (OUTPUT, 0.0),
         ]);
-        // G = [x, y]; b = 0
-        p.extend([
-            i(0),
-            (OUTPUT, 0.0),
-            i(1),
-            (OUTPUT, 0.0),
-            (CONST, 0.0),
-            (OUTPUT, 0.0),
-        ]);
-        // γ = ẋ² + ẏ²
+        // G = sign · [x, y]; b = 0
+        p.extend([(CONST, sign), i(0), (MUL, 0.0), (OUTPUT, 0.0)]);
+        p.extend([(CONST, sign), i(1), (MUL, 0.0), (OUTPUT, 0.0)]);
+        p.extend([(CONST, 0.0), (OUTPUT, 0.0)]);
+        // γ = sign · (ẋ² + ẏ²)
+        p.push((CONST, sign));
         p.extend(sq(2));
         p.extend(sq(3));
-        p.extend([(ADD, 0.0), (OUTPUT, 0.0)]);
-        // g = (x² + y² − l²)/2
+        p.extend([(ADD, 0.0), (MUL, 0.0), (OUTPUT, 0.0)]);
+        // g = sign · (x² + y² − l²)/2
+        p.push((CONST, sign));
         p.extend(sq(0));
         p.extend(sq(1));
         p.push((ADD, 0.0));
@@ -1186,6 +1190,7 @@ mod tests {
             (MUL, 0.0),
             (ADD, 0.0),
             (CONST, 0.5),
+            (MUL, 0.0),
             (MUL, 0.0),
             (OUTPUT, 0.0),
         ]);
@@ -1259,6 +1264,19 @@ mod tests {
     }
 
     const P: [f64; 3] = [2.0, 1.5, 9.81];
+
+    /// The bob at the bottom with l ω0²/g = 7/2 (a string goes slack at cos θ = −1/2), and
+    /// the projection onto the constraints in play after every step.
+    fn slack_launch() -> ([f64; 4], Stabilization) {
+        let (l, g) = (P[1], P[2]);
+        let w0 = (3.5 * g / l).sqrt();
+        let st = Stabilization {
+            alpha: 0.0,
+            beta: 0.0,
+            projection: true,
+        };
+        ([0.0, -l, l * w0, 0.0], st)
+    }
 
     /// DOP853 at rtol 1e-11, atol 1e-12 with SciPy's controller constants.
     fn tight_control() -> Control {
@@ -1567,14 +1585,8 @@ mod tests {
         use crate::drivers::{Output, Sampling};
         use crate::events::Watch;
         let model = cartesian_pendulum();
-        let (l, g) = (P[1], P[2]);
-        let w0 = (3.5 * g / l).sqrt();
-        let y0 = [0.0, -l, l * w0, 0.0];
-        let st = Stabilization {
-            alpha: 0.0,
-            beta: 0.0,
-            projection: true,
-        };
+        let l = P[1];
+        let (y0, st) = slack_launch();
         let sys = Lagrangian::new(&model, &P, Constant(&[]), st, None).unwrap();
         // the expression y (input 1 of [x, y, ẋ, ẏ, t])
         let height = Function::compile(Program::new(&[INPUT, OUTPUT], &[1.0, 0.0], 5, 1).unwrap());
@@ -1648,5 +1660,85 @@ mod tests {
             // samples up to the release only
             assert!(k.n_out < t_eval.len() && t_eval[k.n_out - 1] <= slack.t);
         }
+    }
+
+    /// A member whose string goes slack ([`run_member_with`], the constraint one-sided): the
+    /// release where the energy puts it (cos θ = −1/2 for l ω0²/g = 7/2, as
+    /// `a_string_goes_slack_where_the_energy_says`), and after it a free fall: every later
+    /// sample on the parabola from the release state. A two-sided rod keeps the bob on its
+    /// circle instead.
+    #[test]
+    fn a_slack_string_lets_the_bob_fall_freely() {
+        let model = signed_pendulum(-1.0);
+        let (l, g) = (P[1], P[2]);
+        let (y0, st) = slack_launch();
+        let t_eval: Vec<f64> = (0..=30).map(|k| k as f64 * 0.05).collect();
+        let stop = AtomicBool::new(false);
+        let mut samples = vec![0.0; t_eval.len() * 4];
+        let mut released = [0.0];
+        let one_sided = OneSided {
+            constraints: &[0],
+            resolution: 2001,
+        };
+        let run = run_member_with(
+            &model,
+            &P,
+            &[],
+            &y0,
+            st,
+            Method::Dop853(tight_control()),
+            (0.0, 1.5, 0.0),
+            &t_eval,
+            &mut samples,
+            u64::MAX,
+            &stop,
+            one_sided,
+            &mut released,
+        );
+        assert_eq!(run.status, Status::Finished);
+        let tr = released[0];
+        assert!(tr > 0.0 && tr < 1.5, "{tr}");
+        // a run with the rod (the constraint two-sided) from the same start
+        let rod_run = |t1: f64, t_eval: &[f64], out: &mut [f64]| {
+            let control = Method::Dop853(tight_control());
+            run_member(
+                &model,
+                &P,
+                &[],
+                &y0,
+                st,
+                control,
+                0.0,
+                t1,
+                0.0,
+                t_eval,
+                out,
+                u64::MAX,
+                &stop,
+            )
+        };
+        // the state at the release (the rod pulls until then)
+        let mut rod = [0.0; 4];
+        rod_run(tr, &[tr], &mut rod);
+        let cos = -rod[1] / l;
+        assert!((cos + 0.5).abs() < 1e-9, "cos θ at the release: {cos}");
+        for (k, &t) in t_eval.iter().enumerate() {
+            let s = &samples[4 * k..4 * k + 4];
+            let r = (s[0] * s[0] + s[1] * s[1]).sqrt();
+            if t < tr {
+                assert!((r - l).abs() < 1e-9, "taut at t = {t}: r = {r}");
+            } else {
+                let d = t - tr;
+                let x = rod[0] + rod[2] * d;
+                let y = rod[1] + rod[3] * d - g * d * d / 2.0;
+                let off = (s[0] - x).abs().max((s[1] - y).abs());
+                assert!(off < 1e-8, "t = {t}: {off} off the parabola");
+                assert!(r < l, "slack at t = {t}: r = {r}");
+            }
+        }
+        // without the one-sided constraint the rod holds the bob on its circle
+        rod_run(1.5, &t_eval, &mut samples);
+        let last = &samples[samples.len() - 4..];
+        assert!(((last[0] * last[0] + last[1] * last[1]).sqrt() - l).abs() < 1e-9);
     }
 }
