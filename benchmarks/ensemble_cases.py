@@ -14,6 +14,9 @@
   single evaluations.
 * ``dop853_lanes``: DOP853 members (each its own step sizes) in lanes against the same members
   run one at a time (chunks of 31, too few for lanes), the tolerances of a grading run.
+* ``forced_lanes``: bodies under a force in lanes (a heavy top: uniform gravity about a
+  pivot; a satellite: central gravity with its gradient torque), every method, against the
+  same members run one at a time (chunks of 31), bit for bit.
 * ``dask``: the same RK4 ensemble on a 2-worker ``LocalCluster``, beside the local run.
 """
 
@@ -360,6 +363,54 @@ def case_dop853_lanes(repeat):
     ]
 
 
+def case_forced_lanes(repeat):
+    from run import row, timed
+
+    from poinsot.ensemble import simulate_ensemble
+    from poinsot.forces import CentralGravity, Gravity
+
+    body, W0 = _inputs(4000)
+    rows = []
+    cases = (
+        ("heavy top (gravity about a pivot)", {"forces": [Gravity()], "pivot": (0.0, 0.0, 0.0)}),
+        (
+            "satellite (central gravity and its gradient torque)",
+            {"forces": [CentralGravity(4.0e5, (-7000.0, 0.0, 0.0))], "V0": (0.0, 7.56, 0.0)},
+        ),
+    )
+    for label, setup in cases:
+        for method, kw in (
+            ("rk4", {"dt": DT}),
+            ("rkmk4", {"dt": DT}),
+            ("splitting", {"dt": DT}),
+            ("dop853", {"rtol": 1e-10, "atol": 1e-12}),
+        ):
+
+            def run(chunk, method=method, kw=kw, setup=setup):
+                return simulate_ensemble(body, (0, ENSEMBLE_STEPS * DT), omega0=W0,
+                                         method=method, chunk_size=chunk, progress=False,
+                                         **setup, **kw)  # fmt: skip
+
+            t_lanes, a = timed(lambda run=run: run(None), max(1, repeat // 2))
+            t_alone, b = timed(lambda run=run: run(31), max(1, repeat // 2))
+            same = bool(np.array_equal(a.state, b.state, equal_nan=True))
+            steps = int(a.nsteps.sum())
+            rows.append(
+                row(
+                    f"{label}, {method}, 4000 members over [0, 1] ({steps / t_lanes:.3g} "
+                    f"body-steps/s; bit for bit the members alone: {same})",
+                    "lanes",
+                    t_lanes,
+                    "the same members one at a time (chunks of 31)",
+                    t_alone,
+                    float(np.nanmax(np.abs(a.state - b.state))),
+                    None,
+                    "error column: lanes vs one at a time",
+                )
+            )
+    return rows
+
+
 def case_dask(repeat):
     from run import row, timed
 
@@ -412,5 +463,6 @@ CASES = {
     "exact_families": case_exact_families,
     "exact_attitudes": case_exact_attitudes,
     "dop853_lanes": case_dop853_lanes,
+    "forced_lanes": case_forced_lanes,
     "dask": case_dask,
 }

@@ -14,7 +14,7 @@ from scipy.spatial.transform import Rotation
 
 from poinsot import RigidBody, simulate
 from poinsot.ensemble import STATISTICS, simulate_ensemble
-from poinsot.forces import Gravity, Spring
+from poinsot.forces import CentralGravity, Gravity, LinearDrag, Spring
 from poinsot.torquefree import FreeRigidBody
 
 N = 13
@@ -52,6 +52,31 @@ CASES = {
         "dt": 1e-2,
         "pivot": (0.0, 0.0, 0.0),
         "forces": [Gravity((0.0, 0.0, -9.8))],
+    },
+    "heavy top splitting": {
+        "method": "splitting",
+        "dt": 1e-2,
+        "pivot": (0.0, 0.0, 0.0),
+        "forces": [Gravity((0.0, 0.0, -9.8))],
+    },
+    "satellite rk4": {"method": "rk4", "dt": 1e-2, "forces": [CentralGravity(400.0, (-20, 0, 0))]},
+    "satellite rkmk4": {
+        "method": "rkmk4",
+        "dt": 1e-2,
+        "forces": [CentralGravity(400.0, (-20, 0, 0))],
+    },
+    "satellite splitting": {
+        "method": "splitting",
+        "dt": 1e-2,
+        "forces": [CentralGravity(400.0, (-20, 0, 0))],
+    },
+    "satellite dop853": {"method": "dop853", "forces": [CentralGravity(400.0, (-20, 0, 0))]},
+    "pivot alone rkmk4": {"method": "rkmk4", "dt": 1e-2, "pivot": (0.0, 0.0, 0.0)},
+    "gravity and drag rkmk4": {
+        "method": "rkmk4",
+        "dt": 1e-2,
+        "pivot": (0.0, 0.0, 0.0),
+        "forces": [Gravity((0.0, 0.0, -9.8)), LinearDrag(0.1, 0.05)],
     },
 }
 
@@ -99,6 +124,13 @@ def test_every_member_equals_a_single_simulate(case):
         "free splitting",
         "own moments splitting",
         "heavy top rkmk4",
+        "heavy top splitting",
+        "satellite rk4",
+        "satellite rkmk4",
+        "satellite splitting",
+        "satellite dop853",
+        "pivot alone rkmk4",
+        "gravity and drag rkmk4",
         "free dop853",
         "own moments dop853",
         "spring dop853",
@@ -106,11 +138,12 @@ def test_every_member_equals_a_single_simulate(case):
     ],
 )
 def test_members_in_simd_lanes_equal_their_single_runs(case):
-    """RK4 and DOP853 members (each its own step sizes), and free bodies' RKMK4 and splitting
-    members, run in blocks of SIMD lanes (the core's ``lanes``: 128 members a block, a short
-    last block padded; a body under forces runs RKMK4 member by member): every member equals
-    its single ``simulate`` bit for bit, and chunks of 40 or 7 (the latter too few for lanes:
-    member by member) change nothing, step counts included."""
+    """Members run in blocks of SIMD lanes (the core's ``lanes``: 128 members a block, a short
+    last block padded): free bodies with every method; one uniform or central gravity, or a
+    pivot alone, with every method (the force's kind compiled into the lanes); other forces
+    with RK4 and DOP853 (a spring; with RKMK4, gravity and drag run member by member). Every
+    member equals its single ``simulate`` bit for bit, and chunks of 40 or 7 (the latter too
+    few for lanes: member by member) change nothing, step counts included."""
     n = 150
     rng = np.random.default_rng(7)
     w0 = rng.normal(size=(n, 3))

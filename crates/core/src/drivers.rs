@@ -15,8 +15,8 @@ use crate::layout::{load, STATE_SIZE};
 use crate::observers::Observer;
 use crate::steppers::{
     dop853_dense, dop853_error_norm, dop853_interpolate, dop853_step, erk_step, initial_step_size,
-    momentum_to_velocity, rk4_rigid_step, rkmk_step, splitting_step, step_size_factor,
-    velocity_to_momentum, Control, Tableau,
+    momentum_to_velocity, rk4_rigid_step, rkmk_step, step_size_factor, velocity_to_momentum,
+    Control, Tableau,
 };
 use crate::system::{RigidStructure, VectorField};
 use crate::tableaux::{DOP853_INTERPOLATOR_POWER, DOP853_STAGES, DOP853_STAGES_EXTENDED};
@@ -245,9 +245,9 @@ impl<S: VectorField + ?Sized> FixedMethod<S> for Rkmk<'_> {
     }
 }
 
-/// Runge–Kutta–Munthe-Kaas on a rigid body: with the classical RK4 tableau, the system's
-/// own step in registers where it has one ([`RigidStructure::rkmk4`]: the free body, whose
-/// ensembles run it in lanes), else the generic [`Rkmk`].
+/// Runge–Kutta–Munthe-Kaas on a rigid body: with the classical RK4 tableau, the step in
+/// registers ([`RigidStructure::rkmk4`], the one the ensembles' lanes run), else the
+/// generic [`Rkmk`].
 pub struct RkmkRigid<'a> {
     generic: Rkmk<'a>,
     rk4: bool,
@@ -275,13 +275,11 @@ impl<S: RigidStructure + ?Sized> FixedMethod<S> for RkmkRigid<'_> {
     #[inline(always)]
     fn step(&mut self, sys: &S, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
         if self.rk4 {
-            if let Some(y1) = sys.rkmk4(t, &load(z), h) {
-                out[..STATE_SIZE].copy_from_slice(&y1);
-                sys.project(t + h, out);
-                return;
-            }
+            out[..STATE_SIZE].copy_from_slice(&sys.rkmk4(t, &load(z), h));
+            sys.project(t + h, out);
+        } else {
+            self.generic.step(sys, t, z, h, out);
         }
-        self.generic.step(sys, t, z, h, out);
     }
 }
 
@@ -294,10 +292,7 @@ impl<S: RigidStructure + ?Sized> FixedMethod<S> for Splitting {
     }
     #[inline(always)]
     fn step(&mut self, sys: &S, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
-        match sys.splitting(t, &load(z), h) {
-            Some(z1) => out[..STATE_SIZE].copy_from_slice(&z1),
-            None => splitting_step(sys, t, z, h, out),
-        }
+        out[..STATE_SIZE].copy_from_slice(&sys.splitting(t, &load(z), h));
     }
     fn init(&self, sys: &S, y: &[f64], z: &mut [f64]) {
         velocity_to_momentum(sys, y, z);

@@ -112,32 +112,36 @@ fn central_gravity(p: &[f64; FORCE_PARAMS], body: &Body, y: &State) -> [f64; 6] 
     let r = r2.sqrt();
     let r3 = r2 * r;
     let k = -mu * body.mass / r3;
-    let mut w = [k * rx, k * ry, k * rz, 0.0, 0.0, 0.0];
-    if p[4] != 0.0 {
-        let a = &body.inertia_com;
-        let b0 = y[Q_AT] * rx + y[Q_AT + 3] * ry + y[Q_AT + 6] * rz;
-        let b1 = y[Q_AT + 1] * rx + y[Q_AT + 4] * ry + y[Q_AT + 7] * rz;
-        let b2 = y[Q_AT + 2] * rx + y[Q_AT + 5] * ry + y[Q_AT + 8] * rz;
-        let a0 = a[0][0] * b0 + a[0][1] * b1 + a[0][2] * b2;
-        let a1 = a[1][0] * b0 + a[1][1] * b1 + a[1][2] * b2;
-        let a2 = a[2][0] * b0 + a[2][1] * b1 + a[2][2] * b2;
-        let bab = b0 * a0 + b1 * a1 + b2 * a2;
-        let tra = a[0][0] + a[1][1] + a[2][2];
-        let r5 = r3 * r2;
-        let r7 = r5 * r2;
-        let radial = -1.5 * mu * tra / r5 + 7.5 * mu * bab / r7;
-        let s0 = y[Q_AT] * a0 + y[Q_AT + 1] * a1 + y[Q_AT + 2] * a2; // Q A b
-        let s1 = y[Q_AT + 3] * a0 + y[Q_AT + 4] * a1 + y[Q_AT + 5] * a2;
-        let s2 = y[Q_AT + 6] * a0 + y[Q_AT + 7] * a1 + y[Q_AT + 8] * a2;
-        w[0] += radial * rx - 3.0 * mu * s0 / r5;
-        w[1] += radial * ry - 3.0 * mu * s1 / r5;
-        w[2] += radial * rz - 3.0 * mu * s2 / r5;
-        let g = 3.0 * mu / r5;
-        w[3] = g * (b1 * a2 - b2 * a1);
-        w[4] = g * (b2 * a0 - b0 * a2);
-        w[5] = g * (b0 * a1 - b1 * a0);
-    }
-    w
+    let point = [k * rx, k * ry, k * rz];
+    // the gradient terms are formed whether or not they are switched on and then selected,
+    // so that a block of lanes has no branch
+    let a = &body.inertia_com;
+    let b0 = y[Q_AT] * rx + y[Q_AT + 3] * ry + y[Q_AT + 6] * rz;
+    let b1 = y[Q_AT + 1] * rx + y[Q_AT + 4] * ry + y[Q_AT + 7] * rz;
+    let b2 = y[Q_AT + 2] * rx + y[Q_AT + 5] * ry + y[Q_AT + 8] * rz;
+    let a0 = a[0][0] * b0 + a[0][1] * b1 + a[0][2] * b2;
+    let a1 = a[1][0] * b0 + a[1][1] * b1 + a[1][2] * b2;
+    let a2 = a[2][0] * b0 + a[2][1] * b1 + a[2][2] * b2;
+    let bab = b0 * a0 + b1 * a1 + b2 * a2;
+    let tra = a[0][0] + a[1][1] + a[2][2];
+    let r5 = r3 * r2;
+    let r7 = r5 * r2;
+    let radial = -1.5 * mu * tra / r5 + 7.5 * mu * bab / r7;
+    let s0 = y[Q_AT] * a0 + y[Q_AT + 1] * a1 + y[Q_AT + 2] * a2; // Q A b
+    let s1 = y[Q_AT + 3] * a0 + y[Q_AT + 4] * a1 + y[Q_AT + 5] * a2;
+    let s2 = y[Q_AT + 6] * a0 + y[Q_AT + 7] * a1 + y[Q_AT + 8] * a2;
+    let g = 3.0 * mu / r5;
+    let gradient = [
+        point[0] + (radial * rx - 3.0 * mu * s0 / r5),
+        point[1] + (radial * ry - 3.0 * mu * s1 / r5),
+        point[2] + (radial * rz - 3.0 * mu * s2 / r5),
+        g * (b1 * a2 - b2 * a1),
+        g * (b2 * a0 - b0 * a2),
+        g * (b0 * a1 - b1 * a0),
+    ];
+    let plain = [point[0], point[1], point[2], 0.0, 0.0, 0.0];
+    let on = p[4] != 0.0;
+    [0, 1, 2, 3, 4, 5].map(|i| if on { gradient[i] } else { plain[i] })
 }
 
 /// MacCullagh's formula `U = −μM/|r| − μ/(2|r|³) (tr A − 3 n̂·A n̂)`, `n̂ = Qᵀ r/|r|`.
@@ -310,6 +314,25 @@ impl Force {
             ForceKind::Spring => spring_potential(p, y),
             _ => 0.0,
         }
+    }
+}
+
+/// [`Force::wrench`] of a force whose kind `K` (its code) is known at compile time.
+#[inline(always)]
+pub fn one_force_wrench<const K: i64>(
+    p: &[f64; FORCE_PARAMS],
+    body: &Body,
+    _t: f64,
+    y: &State,
+) -> [f64; 6] {
+    match K {
+        1 => gravity(p, body),
+        2 => central_gravity(p, body, y),
+        3 => spring(p, y),
+        4 => linear_drag(p, y),
+        5 => quadratic_drag(p, y),
+        6 => point_force(p, y),
+        _ => torque(p, y),
     }
 }
 

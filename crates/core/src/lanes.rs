@@ -23,7 +23,7 @@ use crate::steppers::{
     step_size_factor, velocity_to_momentum, Control,
 };
 use crate::system::{RigidStructure, VectorField};
-use crate::systems::{TorqueFree, ANY_ROTOR, SYMMETRIC, TRIAXIAL};
+use crate::systems::{OneForce, TorqueFree, ANY_ROTOR, SYMMETRIC, TRIAXIAL};
 use crate::tableaux::{
     DOP853_A, DOP853_C, DOP853_E3, DOP853_E5, DOP853_INTERPOLATOR_POWER, DOP853_STAGES,
     DOP853_STAGES_EXTENDED,
@@ -138,39 +138,35 @@ impl<S: RigidStructure, const SHARED: bool> FixedMethod<Block<'_, S, SHARED>> fo
     }
 }
 
-/// Runge–Kutta–Munthe-Kaas with the classical RK4 tableau on every lane of free bodies, each
-/// its single run's [`TorqueFree::rkmk4_step`] (as [`crate::drivers::RkmkRigid`]): the sines
-/// and cosines of its exponentials are polynomials ([`crate::real::sin_cos`]), so the lanes
-/// run in vector instructions too.
+/// Runge–Kutta–Munthe-Kaas with the classical RK4 tableau on every lane, each its single
+/// run's [`RigidStructure::rkmk4`] constrained after the step (as
+/// [`crate::drivers::RkmkRigid`]): for free bodies [`TorqueFree::rkmk4_step`], whose
+/// exponentials' sines and cosines are polynomials ([`crate::real::sin_cos`]); under one force
+/// [`crate::steppers::rkmk4_registers`] on a [`OneForce`]. Either way the lanes run in vector
+/// instructions.
 #[derive(Clone, Copy, Default)]
 pub struct BlockRkmk4;
 
-impl<const SHARED: bool> FixedMethod<Block<'_, TorqueFree, SHARED>> for BlockRkmk4 {
+impl<S: RigidStructure, const SHARED: bool> FixedMethod<Block<'_, S, SHARED>> for BlockRkmk4 {
     fn evals_per_step(&self) -> u64 {
         4
     }
     #[inline(always)]
-    fn step(
-        &mut self,
-        sys: &Block<'_, TorqueFree, SHARED>,
-        _t: f64,
-        z: &[f64],
-        h: f64,
-        out: &mut [f64],
-    ) {
+    fn step(&mut self, sys: &Block<'_, S, SHARED>, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
         let (z, out) = (block(z), block_mut(out));
         for l in 0..LANES {
-            scatter(&sys.lane(l).rkmk4_step(&gather(z, l), h), l, out);
+            let s = sys.lane(l);
+            scatter(&s.constrain(t + h, s.rkmk4(t, &gather(z, l), h)), l, out);
         }
     }
 }
 
-/// The splitting method (kick–drift–kick, [`crate::drivers::Splitting`]) on every lane of free
-/// bodies, each its single run's step ([`TorqueFree::splitting_free`]) on the lane's
-/// momentum state: the block
-/// enters the momentum state once ([`FixedMethod::init`]) and leaves it at every sample. The
-/// free rotor's sub-flows turn by [`crate::real::sin_cos`], so the lanes run in vector
-/// instructions.
+/// The splitting method (kick–drift–kick, [`crate::drivers::Splitting`]) on every lane, each
+/// its single run's step on the lane's momentum state: for free bodies the drift alone
+/// ([`TorqueFree::splitting_free`]), whose free rotor turns by [`crate::real::sin_cos`]; under
+/// one force [`crate::steppers::splitting_step`] on a [`OneForce`]. The block enters the
+/// momentum state once ([`FixedMethod::init`]) and leaves it at every sample, so the lanes
+/// run in vector instructions.
 #[derive(Clone, Copy, Default)]
 pub struct BlockSplitting;
 
@@ -208,18 +204,64 @@ impl<const SHARED: bool> FixedMethod<Block<'_, TorqueFree, SHARED>> for BlockSpl
         }
     }
     fn init(&self, sys: &Block<'_, TorqueFree, SHARED>, y: &[f64], z: &mut [f64]) {
-        let (y, z) = (block(y), block_mut(z));
-        for l in 0..LANES {
-            let mut m = [0.0; STATE_SIZE];
-            velocity_to_momentum(sys.lane(l), &gather(y, l), &mut m);
-            scatter(&m, l, z);
-        }
+        to_momentum(sys, y, z);
     }
     fn output(&self, sys: &Block<'_, TorqueFree, SHARED>, z: &[f64], y: &mut [f64]) {
-        let (z, y) = (block(z), block_mut(y));
+        to_velocity(sys, z, y);
+    }
+}
+
+impl<const K: i64, const PIVOT: bool, const SHARED: bool>
+    FixedMethod<Block<'_, OneForce<K, PIVOT>, SHARED>> for BlockSplitting
+{
+    fn evals_per_step(&self) -> u64 {
+        2
+    }
+    #[inline(always)]
+    fn step(
+        &mut self,
+        sys: &Block<'_, OneForce<K, PIVOT>, SHARED>,
+        t: f64,
+        z: &[f64],
+        h: f64,
+        out: &mut [f64],
+    ) {
+        let (z, out) = (block(z), block_mut(out));
         for l in 0..LANES {
-            scatter(&momentum_to_velocity(sys.lane(l), &gather(z, l)), l, y);
+            scatter(&sys.lane(l).splitting(t, &gather(z, l), h), l, out);
         }
+    }
+    fn init(&self, sys: &Block<'_, OneForce<K, PIVOT>, SHARED>, y: &[f64], z: &mut [f64]) {
+        to_momentum(sys, y, z);
+    }
+    fn output(&self, sys: &Block<'_, OneForce<K, PIVOT>, SHARED>, z: &[f64], y: &mut [f64]) {
+        to_velocity(sys, z, y);
+    }
+}
+
+/// Every lane's momentum state `z` from its state `y` ([`velocity_to_momentum`]).
+fn to_momentum<S: RigidStructure, const SHARED: bool>(
+    sys: &Block<'_, S, SHARED>,
+    y: &[f64],
+    z: &mut [f64],
+) {
+    let (y, z) = (block(y), block_mut(z));
+    for l in 0..LANES {
+        let mut m = [0.0; STATE_SIZE];
+        velocity_to_momentum(sys.lane(l), &gather(y, l), &mut m);
+        scatter(&m, l, z);
+    }
+}
+
+/// Every lane's state `y` from its momentum state `z` ([`momentum_to_velocity`]).
+fn to_velocity<S: RigidStructure, const SHARED: bool>(
+    sys: &Block<'_, S, SHARED>,
+    z: &[f64],
+    y: &mut [f64],
+) {
+    let (z, y) = (block(z), block_mut(y));
+    for l in 0..LANES {
+        scatter(&momentum_to_velocity(sys.lane(l), &gather(z, l)), l, y);
     }
 }
 

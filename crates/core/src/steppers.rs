@@ -283,6 +283,61 @@ pub fn rkmk_step<S: VectorField + ?Sized>(
     rotate_attitude(y, &e, out);
 }
 
+/// [`rkmk_step`] with the classical RK4 tableau on a rigid state held in registers, rates
+/// `f(t, y)`: the same operations in the same order (each stage point `y + h (a k)`, the
+/// single nonzero coefficient of its row; `θ_i = h (a kθ)`, `Q_i = Q exp(θ̂_i)`,
+/// `kθ_i = dexp⁻¹_{−θ_i}(ω_i)`; `Q_new = Q exp(h Σ b_i kθ_i)`), so its numbers are the
+/// generic step's up to the sign of a zero, and a block of lanes runs it in vector
+/// instructions ([`crate::lanes::BlockRkmk4`]).
+#[inline(always)]
+pub fn rkmk4_registers(f: impl Fn(f64, &State) -> State, t: f64, y: &State, h: f64) -> State {
+    // stage 1 at (t, y); kθ_1 = dexp⁻¹_0(ω) as the generic step forms it
+    let k1 = f(t + RK4_C[0] * h, y);
+    let kt1 = dexpinv3([-0.0; 3], omega(y));
+    let (k2, kt2) = rkmk4_stage(&f, t + RK4_C[1] * h, y, h, RK4_A[1][0], &k1, &kt1);
+    let (k3, kt3) = rkmk4_stage(&f, t + RK4_C[2] * h, y, h, RK4_A[2][1], &k2, &kt2);
+    let (k4, kt4) = rkmk4_stage(&f, t + RK4_C[3] * h, y, h, RK4_A[3][2], &k3, &kt3);
+    let b = RK4_B;
+    let mut out = [0.0; STATE_SIZE];
+    for i in 0..STATE_SIZE {
+        out[i] = y[i] + h * (0.0 + b[0] * k1[i] + b[1] * k2[i] + b[2] * k3[i] + b[3] * k4[i]);
+    }
+    let th = [0, 1, 2].map(|j| {
+        let s = 0.0 + b[0] * kt1[j] + b[1] * kt2[j] + b[2] * kt3[j] + b[3] * kt4[j];
+        h * s
+    });
+    rotate_attitude(y, &exp_so3(th), &mut out);
+    out
+}
+
+/// ω of a state.
+#[inline(always)]
+fn omega(y: &[f64]) -> [f64; 3] {
+    [y[OMEGA_AT], y[OMEGA_AT + 1], y[OMEGA_AT + 2]]
+}
+
+/// One RKMK4 stage after the first: the stage point `y + h (a k)` with the attitude
+/// `Q exp(θ̂)`, `θ = h (a kθ)`; returns its rates and `kθ = dexp⁻¹_{−θ}(ω)`.
+#[inline(always)]
+fn rkmk4_stage(
+    f: &impl Fn(f64, &State) -> State,
+    t: f64,
+    y: &State,
+    h: f64,
+    a: f64,
+    k: &State,
+    kt: &[f64; 3],
+) -> (State, [f64; 3]) {
+    let mut ys = [0.0; STATE_SIZE];
+    for i in 0..STATE_SIZE {
+        ys[i] = y[i] + h * (a * k[i]);
+    }
+    let th = [0, 1, 2].map(|j| (a * kt[j]) * h);
+    rotate_attitude(y, &exp_so3(th), &mut ys);
+    let kt = dexpinv3([-th[0], -th[1], -th[2]], omega(&ys));
+    (f(t, &ys), kt)
+}
+
 /// `y` = `z` with ω = π/I in the ω slot (zero along a zero moment).
 #[inline(always)]
 pub fn momentum_to_velocity<S: RigidStructure + ?Sized>(sys: &S, z: &[f64]) -> State {

@@ -52,20 +52,35 @@ pub trait RigidStructure: VectorField {
     /// step be exact may say so.
     #[inline(always)]
     fn rk4(&self, t: f64, y: &[f64; STATE_SIZE], h: f64) -> [f64; STATE_SIZE] {
-        crate::steppers::rk4_registers(|t, y| self.rates(t, y), t, y, h)
+        crate::steppers::rk4_registers(
+            #[inline(always)]
+            |t, y| self.rates(t, y),
+            t,
+            y,
+            h,
+        )
     }
     /// One Runge–Kutta–Munthe-Kaas step with the classical RK4 tableau on the state in
-    /// registers (before [`VectorField::project`]), for a system with a step of its own;
-    /// `None` (the default): the generic [`crate::steppers::rkmk_step`] runs.
+    /// registers (before [`VectorField::project`]): by default
+    /// [`crate::steppers::rkmk4_registers`] on the system's rates; a system whose structure
+    /// lets the stages be cheaper may say so.
     #[inline(always)]
-    fn rkmk4(&self, _t: f64, _y: &[f64; STATE_SIZE], _h: f64) -> Option<[f64; STATE_SIZE]> {
-        None
+    fn rkmk4(&self, t: f64, y: &[f64; STATE_SIZE], h: f64) -> [f64; STATE_SIZE] {
+        crate::steppers::rkmk4_registers(
+            #[inline(always)]
+            |t, y| self.rates(t, y),
+            t,
+            y,
+            h,
+        )
     }
-    /// One step of the splitting method on the momentum state in registers, for a system with
-    /// a step of its own; `None` (the default): the generic
-    /// [`crate::steppers::splitting_step`] runs.
+    /// One step of the splitting method on the momentum state in registers: by default
+    /// [`crate::steppers::splitting_step`]; a system whose structure lets the step be cheaper
+    /// may say so.
     #[inline(always)]
-    fn splitting(&self, _t: f64, _z: &[f64; STATE_SIZE], _h: f64) -> Option<[f64; STATE_SIZE]> {
-        None
+    fn splitting(&self, t: f64, z: &[f64; STATE_SIZE], h: f64) -> [f64; STATE_SIZE] {
+        let mut out = [0.0; STATE_SIZE];
+        crate::steppers::splitting_step(self, t, z, h, &mut out);
+        out
     }
 }

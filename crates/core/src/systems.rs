@@ -9,8 +9,8 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use crate::forces::{total_potential, total_wrench, Force};
-use crate::layout::{load, Body, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
+use crate::forces::{one_force_wrench, total_potential, total_wrench, Force};
+use crate::layout::{load, Body, FORCE_PARAMS, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
 use crate::rigid::{
     attitude_rate, attitude_row_acc, euler_free_coefficients, free_rotor_step,
     free_rotor_symmetric, free_rotor_triaxial, omega_dot_free, omega_dot_free_acc,
@@ -18,7 +18,7 @@ use crate::rigid::{
 };
 
 use crate::so3::{dexpinv3, exp_so3, Mat3, Vec3};
-use crate::steppers::{rk4_points_driven, rk4_points_driver};
+use crate::steppers::{rk4_points_driven, rk4_points_driver, splitting_step};
 use crate::system::{RigidStructure, VectorField};
 
 /// Forces of the user's: `(F, τ)` at the body-frame state (force in space, torque about the
@@ -109,13 +109,13 @@ impl RigidStructure for TorqueFree {
     }
     /// RKMK4 in registers ([`TorqueFree::rkmk4_step`]).
     #[inline(always)]
-    fn rkmk4(&self, _: f64, y: &State, h: f64) -> Option<State> {
-        Some(self.rkmk4_step(y, h))
+    fn rkmk4(&self, _: f64, y: &State, h: f64) -> State {
+        self.rkmk4_step(y, h)
     }
     /// The splitting step without forces ([`TorqueFree::splitting_free`]).
     #[inline(always)]
-    fn splitting(&self, _: f64, z: &State, h: f64) -> Option<State> {
-        Some(self.splitting_free::<ANY_ROTOR>(z, h))
+    fn splitting(&self, _: f64, z: &State, h: f64) -> State {
+        self.splitting_free::<ANY_ROTOR>(z, h)
     }
 }
 
@@ -324,6 +324,97 @@ impl<U: UserWrench> RigidStructure for Rigid<U> {
     }
 }
 
+/// A body under at most one built-in force, of kind `K` (its [`ForceKind`] code; 0: none),
+/// free or about a pivot (`PIVOT`), with no force of the user's: [`Rigid`]'s equations with
+/// the kind and the pivot known at compile time, so that a block of lanes runs its steps as
+/// straight-line vector code (a [`Rigid`] loops over its forces and branches on their kinds,
+/// and its lanes run scalar). Its numbers are bit for bit [`Rigid`]'s with the same force
+/// ([`one_force_wrench`]; the same functions in the same order).
+#[derive(Clone, Copy, Debug)]
+pub struct OneForce<const K: i64, const PIVOT: bool> {
+    pub body: Body,
+    /// The force's parameters (unused when `K` is 0).
+    pub params: [f64; FORCE_PARAMS],
+}
+
+impl<const K: i64, const PIVOT: bool> OneForce<K, PIVOT> {
+    /// The system of a body and its forces when they are `K`'s: none for `K = 0`, else one
+    /// force of that kind, and the body's pivot `PIVOT`'s; `None` otherwise.
+    pub fn new(body: Body, forces: &[Force]) -> Option<Self> {
+        if body.has_pivot != PIVOT {
+            return None;
+        }
+        let params = match forces {
+            [] if K == 0 => [0.0; FORCE_PARAMS],
+            [f] if K != 0 && f.kind as i64 == K => f.p,
+            _ => return None,
+        };
+        Some(OneForce { body, params })
+    }
+
+    /// A copy whose pivot flag is the constant `PIVOT`: every method works on it, so that
+    /// inlined into a block of lanes no branch on the flag is left.
+    #[inline(always)]
+    fn fixed(&self) -> Self {
+        let mut s = *self;
+        s.body.has_pivot = PIVOT;
+        s
+    }
+}
+
+impl<const K: i64, const PIVOT: bool> VectorField for OneForce<K, PIVOT> {
+    #[inline(always)]
+    fn dim(&self) -> usize {
+        STATE_SIZE
+    }
+    #[inline(always)]
+    fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]) {
+        out[..STATE_SIZE].copy_from_slice(&self.rates(t, &load(y)));
+    }
+    #[inline(always)]
+    fn project(&self, t: f64, y: &mut [f64]) -> bool {
+        let c = self.constrain(t, load(y));
+        y[..STATE_SIZE].copy_from_slice(&c);
+        PIVOT
+    }
+}
+
+impl<const K: i64, const PIVOT: bool> RigidStructure for OneForce<K, PIVOT> {
+    #[inline(always)]
+    fn body(&self) -> &Body {
+        &self.body
+    }
+    /// The force's wrench, summed as [`total_wrench`] sums a list of one (or none), about the
+    /// reference point.
+    #[inline(always)]
+    fn wrench(&self, t: f64, y: &State) -> [f64; 6] {
+        let body = self.fixed().body;
+        let mut w = [0.0; 6];
+        if K != 0 {
+            let v = one_force_wrench::<K>(&self.params, &body, t, y);
+            for k in 0..6 {
+                w[k] += v[k];
+            }
+        }
+        shift_torque_to_pivot(&body, y, w)
+    }
+    #[inline(always)]
+    fn rates(&self, t: f64, y: &State) -> State {
+        let s = self.fixed();
+        rigid_rates(&s.body, y, s.wrench(t, y))
+    }
+    #[inline(always)]
+    fn constrain(&self, _: f64, y: State) -> State {
+        pivot_constrained(&self.fixed().body, y)
+    }
+    #[inline(always)]
+    fn splitting(&self, t: f64, z: &State, h: f64) -> State {
+        let mut out = [0.0; STATE_SIZE];
+        splitting_step(&self.fixed(), t, z, h, &mut out);
+        out
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -373,7 +464,7 @@ mod tests {
                         &mut kth,
                         &mut generic,
                     );
-                    let own = sys.rkmk4(0.0, &z, h).unwrap();
+                    let own = sys.rkmk4(0.0, &z, h);
                     for k in Q_AT..STATE_SIZE {
                         assert_eq!(
                             own[k].to_bits(),
@@ -412,6 +503,144 @@ mod tests {
                         assert_eq!(points[V_AT + k], z[V_AT + k]);
                     }
                     z = whole;
+                }
+            }
+        }
+    }
+
+    const IDENTITY: Mat3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
+    /// A body (mass 4, the centre of mass off the reference point when `pivot`) and one force
+    /// of every kind (parameters that make each act: a spring stretched, a body-fixed point
+    /// force, a couple in space, gravity's gradient on).
+    fn forced_body(pivot: bool) -> (Body, Vec<Force>) {
+        use crate::forces::ForceKind;
+        let moments = [1.0, 2.0, 3.5];
+        let a = [[1.2, 0.1, 0.0], [0.1, 2.1, -0.2], [0.0, -0.2, 3.0]];
+        let c = if pivot { [0.1, -0.2, 0.4] } else { [0.0; 3] };
+        let body = Body::from_slice(&Body::vector(
+            4.0,
+            moments,
+            c,
+            &a,
+            [0.3, 0.0, -0.1],
+            pivot,
+            -1,
+        ))
+        .unwrap();
+        let force = |kind: ForceKind, p: &[f64]| {
+            let mut params = [0.0; FORCE_PARAMS];
+            params[..p.len()].copy_from_slice(p);
+            Force { kind, p: params }
+        };
+        let forces = vec![
+            force(ForceKind::Gravity, &[0.0, 0.0, -9.8]),
+            force(ForceKind::CentralGravity, &[40.0, -6.0, 1.0, 0.5, 1.0]),
+            force(
+                ForceKind::Spring,
+                &[0.1, 0.2, 0.0, 2.0, 1.0, -1.0, 0.0, 0.5, 0.3, 1.0],
+            ),
+            force(ForceKind::LinearDrag, &[0.3, 0.05]),
+            force(ForceKind::QuadraticDrag, &[0.2, 0.04]),
+            force(ForceKind::PointForce, &[0.0, 0.3, 0.1, 1.0, -2.0, 0.5, 1.0]),
+            force(ForceKind::Torque, &[0.4, -0.1, 0.2, 1.0]),
+        ];
+        (body, forces)
+    }
+
+    /// `OneForce::<K, P>`'s rates and steps against [`Rigid`]'s with the same force, bit for
+    /// bit (`Rigid` loops over its forces and reads the pivot flag at run time).
+    fn one_force_is_rigid<const K: i64, const P: bool>(forces: &[Force], body: Body, y: &State) {
+        let rigid = Rigid::<NoUser>::new(body, forces.to_vec(), IDENTITY, None);
+        let one = OneForce::<K, P>::new(body, forces).expect("the force's kind and pivot");
+        let bits = |x: &State| x.map(f64::to_bits);
+        for t in [0.0, 0.7] {
+            assert_eq!(bits(&one.rates(t, y)), bits(&rigid.rates(t, y)), "{K} {P}");
+            for h in [1e-3, 0.05] {
+                assert_eq!(bits(&one.rk4(t, y, h)), bits(&rigid.rk4(t, y, h)));
+                assert_eq!(bits(&one.rkmk4(t, y, h)), bits(&rigid.rkmk4(t, y, h)));
+                assert_eq!(
+                    bits(&one.splitting(t, y, h)),
+                    bits(&rigid.splitting(t, y, h))
+                );
+                let c = one.constrain(t, *y);
+                assert_eq!(bits(&c), bits(&rigid.constrain(t, *y)));
+            }
+        }
+        // the wrong kind or pivot is refused
+        assert!(OneForce::<K, P>::new(body, &[forces, forces].concat()).is_none() || K == 0);
+        let mut other = body;
+        other.has_pivot = !P;
+        assert!(OneForce::<K, P>::new(other, forces).is_none());
+    }
+
+    #[test]
+    fn one_force_systems_are_rigid_systems_bit_for_bit() {
+        for pivot in [false, true] {
+            let (body, forces) = forced_body(pivot);
+            let (_, mut y) = free_body_and_state([1.0, 2.0, 3.5]);
+            let q = exp_so3([0.4, -1.2, 2.0]);
+            for i in 0..3 {
+                y[Q_AT + 3 * i..Q_AT + 3 * i + 3].copy_from_slice(&q[i]);
+            }
+            macro_rules! check {
+                ($p:literal) => {
+                    one_force_is_rigid::<0, $p>(&[], body, &y);
+                    one_force_is_rigid::<1, $p>(&forces[0..1], body, &y);
+                    one_force_is_rigid::<2, $p>(&forces[1..2], body, &y);
+                    one_force_is_rigid::<3, $p>(&forces[2..3], body, &y);
+                    one_force_is_rigid::<4, $p>(&forces[3..4], body, &y);
+                    one_force_is_rigid::<5, $p>(&forces[4..5], body, &y);
+                    one_force_is_rigid::<6, $p>(&forces[5..6], body, &y);
+                    one_force_is_rigid::<7, $p>(&forces[6..7], body, &y);
+                };
+            }
+            if pivot {
+                check!(true);
+            } else {
+                check!(false);
+            }
+        }
+    }
+
+    #[test]
+    fn rkmk4_in_registers_is_the_generic_rkmk_step() {
+        // RKMK4 on a body under every force, free and about a pivot: the register step
+        // against rkmk_step with the RK4 tableau, bit for bit, for small and large steps
+        use crate::steppers::{rkmk_step, RK4};
+        for pivot in [false, true] {
+            let (body, forces) = forced_body(pivot);
+            let sys = Rigid::<NoUser>::new(body, forces, IDENTITY, None);
+            let (_, mut z) = free_body_and_state([1.0, 2.0, 3.5]);
+            let q = exp_so3([0.4, -1.2, 2.0]);
+            for i in 0..3 {
+                z[Q_AT + 3 * i..Q_AT + 3 * i + 3].copy_from_slice(&q[i]);
+            }
+            for h in [1e-6, 1e-3, 0.05, 0.3] {
+                let (mut k, mut ytmp, mut kth) =
+                    (vec![0.0; 4 * STATE_SIZE], [0.0; STATE_SIZE], [[0.0; 3]; 4]);
+                let mut y = z;
+                for step in 0..20 {
+                    let t = step as f64 * h;
+                    let mut generic = [0.0; STATE_SIZE];
+                    rkmk_step(
+                        &sys,
+                        &RK4,
+                        t,
+                        &y,
+                        h,
+                        &mut k,
+                        &mut ytmp,
+                        &mut kth,
+                        &mut generic,
+                    );
+                    let own = sys.rkmk4(t, &y, h);
+                    assert_eq!(
+                        own.map(f64::to_bits),
+                        generic.map(f64::to_bits),
+                        "{pivot} {h}"
+                    );
+                    y = sys.constrain(t + h, own);
                 }
             }
         }
