@@ -25,6 +25,7 @@ RNG = np.random.default_rng(42)
 W0 = RNG.normal(size=(N, 3))
 Q0 = Rotation.random(N, random_state=4).as_matrix()
 MOMENTS = RNG.uniform(1.0, 2.0, (N, 3))
+SYMMETRIC_MOMENTS = MOMENTS[:, [0, 0, 2]]  # symmetric about the third axis
 
 CASES = {
     "free rk4": {"method": "rk4", "dt": 1e-2},
@@ -71,6 +72,13 @@ CASES = {
         "forces": [CentralGravity(400.0, (-20, 0, 0))],
     },
     "satellite dop853": {"method": "dop853", "forces": [CentralGravity(400.0, (-20, 0, 0))]},
+    "symmetric heavy top splitting": {
+        "method": "splitting",
+        "dt": 1e-2,
+        "pivot": (0.0, 0.0, 0.0),
+        "forces": [Gravity((0.0, 0.0, -9.8))],
+        "moments": SYMMETRIC_MOMENTS,
+    },
     "pivot alone rkmk4": {"method": "rkmk4", "dt": 1e-2, "pivot": (0.0, 0.0, 0.0)},
     "gravity and drag rkmk4": {
         "method": "rkmk4",
@@ -129,6 +137,7 @@ def test_every_member_equals_a_single_simulate(case):
         "satellite rkmk4",
         "satellite splitting",
         "satellite dop853",
+        "symmetric heavy top splitting",
         "pivot alone rkmk4",
         "gravity and drag rkmk4",
         "free dop853",
@@ -151,7 +160,10 @@ def test_members_in_simd_lanes_equal_their_single_runs(case):
     kw = {"progress": False, **CASES[case]}
     moments = kw.pop("moments", None)
     if moments is not None:
+        symmetric = moments is SYMMETRIC_MOMENTS
         moments = rng.uniform(1.0, 2.0, (n, 3))
+        if symmetric:
+            moments[:, 1] = moments[:, 0]
         kw["moments"] = moments
     runs = [simulate_ensemble(BODY, (0, T_END), omega0=w0, Q0=q0, t_eval=T_EVAL, chunk_size=c,
                               threads=th, **kw) for c, th in ((n, 2), (40, 1), (7, 2))]  # fmt: skip

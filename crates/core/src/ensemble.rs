@@ -639,7 +639,7 @@ impl LanesRun {
 }
 
 /// A block of lanes run with the schedule's method ([`in_lanes`]), for systems whose lanes
-/// have the splitting method ([`TorqueFree`], [`OneForce`]).
+/// have every method ([`TorqueFree`], [`OneForce`]).
 fn run_block_with<'a, S: RigidStructure + Sync, const SHARED: bool>(
     block: &Block<'a, S, SHARED>,
     schedule: &Schedule,
@@ -648,6 +648,7 @@ fn run_block_with<'a, S: RigidStructure + Sync, const SHARED: bool>(
     stop: &AtomicBool,
 ) -> LanesRun
 where
+    BlockRkmk4: FixedMethod<Block<'a, S, SHARED>>,
     BlockSplitting: FixedMethod<Block<'a, S, SHARED>>,
 {
     let s = schedule;

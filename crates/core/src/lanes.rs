@@ -20,7 +20,8 @@ use crate::observers::Observer;
 use crate::rigid::State;
 use crate::steppers::{
     dop853_dense, dop853_interpolate, initial_step_size, momentum_to_velocity, rk4_rigid_step,
-    step_size_factor, velocity_to_momentum, Control,
+    rkmk4_first, rkmk4_last, rkmk4_stage, step_size_factor, velocity_to_momentum, Control,
+    Rkmk4Carry, RKMK4_CARRY,
 };
 use crate::system::{RigidStructure, VectorField};
 use crate::systems::{OneForce, TorqueFree, ANY_ROTOR, SYMMETRIC, TRIAXIAL};
@@ -140,24 +141,105 @@ impl<S: RigidStructure, const SHARED: bool> FixedMethod<Block<'_, S, SHARED>> fo
 
 /// Runge–Kutta–Munthe-Kaas with the classical RK4 tableau on every lane, each its single
 /// run's [`RigidStructure::rkmk4`] constrained after the step (as
-/// [`crate::drivers::RkmkRigid`]): for free bodies [`TorqueFree::rkmk4_step`], whose
-/// exponentials' sines and cosines are polynomials ([`crate::real::sin_cos`]); under one force
-/// [`crate::steppers::rkmk4_registers`] on a [`OneForce`]. Either way the lanes run in vector
+/// [`crate::drivers::RkmkRigid`]). Free bodies run [`TorqueFree::rkmk4_step`] lane by lane,
+/// whose exponentials' sines and cosines are polynomials ([`crate::real::sin_cos`]); under
+/// one force ([`OneForce`]) the step is [`crate::steppers::rkmk4_registers`]'s pieces, each
+/// stage across all lanes before the next (one lane's whole step, four exponentials and four
+/// evaluations of the rates, is too long a loop to run in vector instructions), the numbers
+/// a stage carries to the next kept for every lane. Either way the lanes run in vector
 /// instructions.
 #[derive(Clone, Copy, Default)]
 pub struct BlockRkmk4;
 
-impl<S: RigidStructure, const SHARED: bool> FixedMethod<Block<'_, S, SHARED>> for BlockRkmk4 {
+impl<const SHARED: bool> FixedMethod<Block<'_, TorqueFree, SHARED>> for BlockRkmk4 {
     fn evals_per_step(&self) -> u64 {
         4
     }
     #[inline(always)]
-    fn step(&mut self, sys: &Block<'_, S, SHARED>, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
+    fn step(
+        &mut self,
+        sys: &Block<'_, TorqueFree, SHARED>,
+        t: f64,
+        z: &[f64],
+        h: f64,
+        out: &mut [f64],
+    ) {
         let (z, out) = (block(z), block_mut(out));
         for l in 0..LANES {
-            let s = sys.lane(l);
-            scatter(&s.constrain(t + h, s.rkmk4(t, &gather(z, l), h)), l, out);
+            scatter(&sys.lane(l).rkmk4(t, &gather(z, l), h), l, out);
         }
+    }
+}
+
+impl<const K: i64, const PIVOT: bool, const SHARED: bool>
+    FixedMethod<Block<'_, OneForce<K, PIVOT>, SHARED>> for BlockRkmk4
+{
+    fn evals_per_step(&self) -> u64 {
+        4
+    }
+    #[inline(always)]
+    fn step(
+        &mut self,
+        sys: &Block<'_, OneForce<K, PIVOT>, SHARED>,
+        t: f64,
+        z: &[f64],
+        h: f64,
+        out: &mut [f64],
+    ) {
+        let (z, out) = (block(z), block_mut(out));
+        let mut c = [0.0; RKMK4_CARRY * LANES];
+        for l in 0..LANES {
+            let s = sys.lane(l);
+            let first = rkmk4_first(
+                #[inline(always)]
+                |t, y: &State| s.rates(t, y),
+                t,
+                &gather(z, l),
+                h,
+            );
+            put(&first, l, &mut c);
+        }
+        macro_rules! stage {
+            ($i:literal) => {
+                for l in 0..LANES {
+                    let s = sys.lane(l);
+                    let next = rkmk4_stage::<$i>(
+                        #[inline(always)]
+                        |t, y: &State| s.rates(t, y),
+                        t,
+                        &gather(z, l),
+                        h,
+                        &take(&c, l),
+                    );
+                    put(&next, l, &mut c);
+                }
+            };
+        }
+        stage!(1);
+        stage!(2);
+        stage!(3);
+        for l in 0..LANES {
+            let s = sys.lane(l);
+            let y1 = rkmk4_last(&gather(z, l), h, &take(&c, l));
+            scatter(&s.constrain(t + h, y1), l, out);
+        }
+    }
+}
+
+/// Lane `l` of an RKMK4 carry stored for all lanes (component `i` at `i · LANES + l`).
+#[inline(always)]
+fn take(c: &[f64; RKMK4_CARRY * LANES], l: usize) -> Rkmk4Carry {
+    let mut x = [0.0; RKMK4_CARRY];
+    for i in 0..RKMK4_CARRY {
+        x[i] = c[at(i, l % LANES)];
+    }
+    x
+}
+
+#[inline(always)]
+fn put(x: &Rkmk4Carry, l: usize, c: &mut [f64; RKMK4_CARRY * LANES]) {
+    for i in 0..RKMK4_CARRY {
+        c[at(i, l % LANES)] = x[i];
     }
 }
 
@@ -227,8 +309,31 @@ impl<const K: i64, const PIVOT: bool, const SHARED: bool>
         out: &mut [f64],
     ) {
         let (z, out) = (block(z), block_mut(out));
-        for l in 0..LANES {
-            scatter(&sys.lane(l).splitting(t, &gather(z, l), h), l, out);
+        // the free rotor's branch named when every lane takes the same, so that the lane loop
+        // has none
+        let lanes = if SHARED { 1 } else { LANES };
+        let rotors = (0..lanes).map(|l| sys.lane(l).body.rotor < 0);
+        let (mut triaxial, mut symmetric) = (true, true);
+        for t in rotors {
+            triaxial &= t;
+            symmetric &= !t;
+        }
+        if triaxial {
+            for l in 0..LANES {
+                let z1 = sys.lane(l).splitting_rotor::<TRIAXIAL>(t, &gather(z, l), h);
+                scatter(&z1, l, out);
+            }
+        } else if symmetric {
+            for l in 0..LANES {
+                let z1 = sys
+                    .lane(l)
+                    .splitting_rotor::<SYMMETRIC>(t, &gather(z, l), h);
+                scatter(&z1, l, out);
+            }
+        } else {
+            for l in 0..LANES {
+                scatter(&sys.lane(l).splitting(t, &gather(z, l), h), l, out);
+            }
         }
     }
     fn init(&self, sys: &Block<'_, OneForce<K, PIVOT>, SHARED>, y: &[f64], z: &mut [f64]) {

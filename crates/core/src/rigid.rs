@@ -303,6 +303,25 @@ pub fn free_rotor_step(body: &Body, z: &mut [f64], h: f64) {
     }
 }
 
+/// Which branch of [`free_rotor_step`] a step takes, named at compile time: whichever the body
+/// is ([`ANY_ROTOR`]: the branch at run time), three distinct moments ([`TRIAXIAL`]), or
+/// symmetric ([`SYMMETRIC`]).
+pub const ANY_ROTOR: u8 = 0;
+pub const TRIAXIAL: u8 = 1;
+pub const SYMMETRIC: u8 = 2;
+
+/// [`free_rotor_step`] with its branch `ROTOR` named, so that a block of lanes whose bodies
+/// all take it has no branch (with [`TRIAXIAL`] or [`SYMMETRIC`] the body must be of that
+/// kind).
+#[inline(always)]
+pub fn free_rotor<const ROTOR: u8>(body: &Body, z: &mut [f64], h: f64) {
+    match ROTOR {
+        TRIAXIAL => free_rotor_triaxial(body, z, h),
+        SYMMETRIC => free_rotor_symmetric(body, z, h),
+        _ => free_rotor_step(body, z, h),
+    }
+}
+
 /// [`free_rotor_step`] of a body with three distinct moments: the five sub-flows, each about
 /// an axis known at compile time, a zero moment turning by 0 (its 1/I is 0), so that the
 /// ensembles' lanes run the step without gathers or branches.

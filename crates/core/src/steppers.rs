@@ -17,7 +17,7 @@
 //!   step-size controller ([`step_size_factor`], [`initial_step_size`]).
 
 use crate::layout::{OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
-use crate::rigid::{free_rotor_step, pivot_constrained};
+use crate::rigid::{free_rotor, pivot_constrained, ANY_ROTOR};
 use crate::so3::{dexpinv3, exp_so3, Mat3};
 use crate::system::{RigidStructure, VectorField};
 use crate::tableaux::{
@@ -287,25 +287,85 @@ pub fn rkmk_step<S: VectorField + ?Sized>(
 /// `f(t, y)`: the same operations in the same order (each stage point `y + h (a k)`, the
 /// single nonzero coefficient of its row; `θ_i = h (a kθ)`, `Q_i = Q exp(θ̂_i)`,
 /// `kθ_i = dexp⁻¹_{−θ_i}(ω_i)`; `Q_new = Q exp(h Σ b_i kθ_i)`), so its numbers are the
-/// generic step's up to the sign of a zero, and a block of lanes runs it in vector
-/// instructions ([`crate::lanes::BlockRkmk4`]).
+/// generic step's up to the sign of a zero. Taken as [`rkmk4_first`], [`rkmk4_stage`] for
+/// stages 2–4 and [`rkmk4_last`], which a block of lanes runs one after the other across its
+/// lanes ([`crate::lanes::BlockRkmk4`]).
 #[inline(always)]
 pub fn rkmk4_registers(f: impl Fn(f64, &State) -> State, t: f64, y: &State, h: f64) -> State {
-    // stage 1 at (t, y); kθ_1 = dexp⁻¹_0(ω) as the generic step forms it
-    let k1 = f(t + RK4_C[0] * h, y);
-    let kt1 = dexpinv3([-0.0; 3], omega(y));
-    let (k2, kt2) = rkmk4_stage(&f, t + RK4_C[1] * h, y, h, RK4_A[1][0], &k1, &kt1);
-    let (k3, kt3) = rkmk4_stage(&f, t + RK4_C[2] * h, y, h, RK4_A[2][1], &k2, &kt2);
-    let (k4, kt4) = rkmk4_stage(&f, t + RK4_C[3] * h, y, h, RK4_A[3][2], &k3, &kt3);
-    let b = RK4_B;
+    let c = rkmk4_first(&f, t, y, h);
+    let c = rkmk4_stage::<1>(&f, t, y, h, &c);
+    let c = rkmk4_stage::<2>(&f, t, y, h, &c);
+    let c = rkmk4_stage::<3>(&f, t, y, h, &c);
+    rkmk4_last(y, h, &c)
+}
+
+/// Numbers an RKMK4 step carries from a stage to the next: the stage's rates `k` and `kθ`,
+/// and the running sums `0 + Σ b_j k_j` and `0 + Σ b_j kθ_j` (summed in the generic step's
+/// order).
+pub type Rkmk4Carry = [f64; RKMK4_CARRY];
+pub const RKMK4_CARRY: usize = 2 * STATE_SIZE + 6;
+const CARRY_K: usize = 0;
+const CARRY_SUM: usize = STATE_SIZE;
+const CARRY_KT: usize = 2 * STATE_SIZE;
+const CARRY_SUM_T: usize = 2 * STATE_SIZE + 3;
+
+/// The carry of stage `I` (0-based) from its rates `k`, `kθ` and the previous carry.
+#[inline(always)]
+fn rkmk4_carry<const I: usize>(k: &State, kt: &[f64; 3], prev: Option<&Rkmk4Carry>) -> Rkmk4Carry {
+    let b = RK4_B[I];
+    let sum = |at: usize| prev.map_or(0.0, |p| p[at]);
+    let mut c = [0.0; RKMK4_CARRY];
+    for i in 0..STATE_SIZE {
+        c[CARRY_K + i] = k[i];
+        c[CARRY_SUM + i] = sum(CARRY_SUM + i) + b * k[i];
+    }
+    for j in 0..3 {
+        c[CARRY_KT + j] = kt[j];
+        c[CARRY_SUM_T + j] = sum(CARRY_SUM_T + j) + b * kt[j];
+    }
+    c
+}
+
+/// RKMK4's first stage at `(t, y)`: `k_1 = f(t, y)`, `kθ_1 = dexp⁻¹_0(ω)` (as the generic step
+/// forms it).
+#[inline(always)]
+pub fn rkmk4_first(f: impl Fn(f64, &State) -> State, t: f64, y: &State, h: f64) -> Rkmk4Carry {
+    let k = f(t + RK4_C[0] * h, y);
+    let kt = dexpinv3([-0.0; 3], omega(y));
+    rkmk4_carry::<0>(&k, &kt, None)
+}
+
+/// RKMK4's stage `I + 1` (`I` in 1..=3): the stage point `y + h (a k)` with the attitude
+/// `Q exp(θ̂)`, `θ = h (a kθ)` (`a = A[I][I−1]`, `k`, `kθ` the previous stage's); its rates and
+/// `kθ = dexp⁻¹_{−θ}(ω)`.
+#[inline(always)]
+pub fn rkmk4_stage<const I: usize>(
+    f: impl Fn(f64, &State) -> State,
+    t: f64,
+    y: &State,
+    h: f64,
+    c: &Rkmk4Carry,
+) -> Rkmk4Carry {
+    let a = RK4_A[I][I - 1];
+    let mut ys = [0.0; STATE_SIZE];
+    for i in 0..STATE_SIZE {
+        ys[i] = y[i] + h * (a * c[CARRY_K + i]);
+    }
+    let th = [0, 1, 2].map(|j| (a * c[CARRY_KT + j]) * h);
+    rotate_attitude(y, &exp_so3(th), &mut ys);
+    let kt = dexpinv3([-th[0], -th[1], -th[2]], omega(&ys));
+    rkmk4_carry::<I>(&f(t + RK4_C[I] * h, &ys), &kt, Some(c))
+}
+
+/// RKMK4's new state from the last carry: `y + h Σ b_i k_i`, the attitude
+/// `Q exp(h Σ b_i kθ_i)`.
+#[inline(always)]
+pub fn rkmk4_last(y: &State, h: f64, c: &Rkmk4Carry) -> State {
     let mut out = [0.0; STATE_SIZE];
     for i in 0..STATE_SIZE {
-        out[i] = y[i] + h * (0.0 + b[0] * k1[i] + b[1] * k2[i] + b[2] * k3[i] + b[3] * k4[i]);
+        out[i] = y[i] + h * c[CARRY_SUM + i];
     }
-    let th = [0, 1, 2].map(|j| {
-        let s = 0.0 + b[0] * kt1[j] + b[1] * kt2[j] + b[2] * kt3[j] + b[3] * kt4[j];
-        h * s
-    });
+    let th = [0, 1, 2].map(|j| h * c[CARRY_SUM_T + j]);
     rotate_attitude(y, &exp_so3(th), &mut out);
     out
 }
@@ -314,28 +374,6 @@ pub fn rkmk4_registers(f: impl Fn(f64, &State) -> State, t: f64, y: &State, h: f
 #[inline(always)]
 fn omega(y: &[f64]) -> [f64; 3] {
     [y[OMEGA_AT], y[OMEGA_AT + 1], y[OMEGA_AT + 2]]
-}
-
-/// One RKMK4 stage after the first: the stage point `y + h (a k)` with the attitude
-/// `Q exp(θ̂)`, `θ = h (a kθ)`; returns its rates and `kθ = dexp⁻¹_{−θ}(ω)`.
-#[inline(always)]
-fn rkmk4_stage(
-    f: &impl Fn(f64, &State) -> State,
-    t: f64,
-    y: &State,
-    h: f64,
-    a: f64,
-    k: &State,
-    kt: &[f64; 3],
-) -> (State, [f64; 3]) {
-    let mut ys = [0.0; STATE_SIZE];
-    for i in 0..STATE_SIZE {
-        ys[i] = y[i] + h * (a * k[i]);
-    }
-    let th = [0, 1, 2].map(|j| (a * kt[j]) * h);
-    rotate_attitude(y, &exp_so3(th), &mut ys);
-    let kt = dexpinv3([-th[0], -th[1], -th[2]], omega(&ys));
-    (f(t, &ys), kt)
 }
 
 /// `y` = `z` with ω = π/I in the ω slot (zero along a zero moment).
@@ -390,10 +428,22 @@ pub fn splitting_step<S: RigidStructure + ?Sized>(
     h: f64,
     out: &mut [f64],
 ) {
+    splitting_step_with::<S, ANY_ROTOR>(sys, t, z, h, out)
+}
+
+/// [`splitting_step`] with the free rotor's branch named at compile time ([`free_rotor`]).
+#[inline(always)]
+pub fn splitting_step_with<S: RigidStructure + ?Sized, const ROTOR: u8>(
+    sys: &S,
+    t: f64,
+    z: &[f64],
+    h: f64,
+    out: &mut [f64],
+) {
     out[..STATE_SIZE].copy_from_slice(&z[..STATE_SIZE]);
     let body = *sys.body();
     kick(sys, t, out, 0.5 * h);
-    free_rotor_step(&body, out, h);
+    free_rotor::<ROTOR>(&body, out, h);
     if !body.has_pivot {
         for k in 0..3 {
             out[R_AT + k] += h * out[V_AT + k];

@@ -12,13 +12,13 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use crate::forces::{one_force_wrench, total_potential, total_wrench, Force};
 use crate::layout::{load, Body, FORCE_PARAMS, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
 use crate::rigid::{
-    attitude_rate, attitude_row_acc, euler_free_coefficients, free_rotor_step,
-    free_rotor_symmetric, free_rotor_triaxial, omega_dot_free, omega_dot_free_acc,
-    pivot_constrained, rigid_rates, shift_torque_to_pivot, state_from_principal, State,
+    attitude_rate, attitude_row_acc, euler_free_coefficients, free_rotor, omega_dot_free,
+    omega_dot_free_acc, pivot_constrained, rigid_rates, shift_torque_to_pivot,
+    state_from_principal, State,
 };
 
 use crate::so3::{dexpinv3, exp_so3, Mat3, Vec3};
-use crate::steppers::{rk4_points_driven, rk4_points_driver, splitting_step};
+use crate::steppers::{rk4_points_driven, rk4_points_driver, splitting_step_with};
 use crate::system::{RigidStructure, VectorField};
 
 /// Forces of the user's: `(F, τ)` at the body-frame state (force in space, torque about the
@@ -122,17 +122,13 @@ impl RigidStructure for TorqueFree {
 impl TorqueFree {
     /// The splitting method's step ([`crate::steppers::splitting_step`]) for the free body, on
     /// the momentum state `[R, V, Q, π]`: the kicks have no force to give, so the step is the
-    /// drift alone, the exact free rotor ([`free_rotor_step`]; `ROTOR` [`TRIAXIAL`] or
+    /// drift alone, the exact free rotor ([`free_rotor`]; `ROTOR` [`TRIAXIAL`] or
     /// [`SYMMETRIC`] names the branch the body takes, so that a block of lanes has none) and
     /// `R += hV` (the generic step's numbers up to the sign of a zero).
     #[inline(always)]
     pub fn splitting_free<const ROTOR: u8>(&self, z: &State, h: f64) -> State {
         let mut out = *z;
-        match ROTOR {
-            TRIAXIAL => free_rotor_triaxial(&self.body, &mut out, h),
-            SYMMETRIC => free_rotor_symmetric(&self.body, &mut out, h),
-            _ => free_rotor_step(&self.body, &mut out, h),
-        }
+        free_rotor::<ROTOR>(&self.body, &mut out, h);
         for k in 0..3 {
             out[R_AT + k] += h * out[V_AT + k];
         }
@@ -229,11 +225,7 @@ impl TorqueFree {
     }
 }
 
-/// [`TorqueFree::splitting_free`]'s rotor: whichever the body is, three distinct moments, or
-/// symmetric.
-pub const ANY_ROTOR: u8 = 0;
-pub const TRIAXIAL: u8 = 1;
-pub const SYMMETRIC: u8 = 2;
+pub use crate::rigid::{ANY_ROTOR, SYMMETRIC, TRIAXIAL};
 
 /// A body under built-in forces and the user's, free or about a pivot.
 pub struct Rigid<U: UserWrench = NoUser> {
@@ -409,8 +401,18 @@ impl<const K: i64, const PIVOT: bool> RigidStructure for OneForce<K, PIVOT> {
     }
     #[inline(always)]
     fn splitting(&self, t: f64, z: &State, h: f64) -> State {
+        self.splitting_rotor::<ANY_ROTOR>(t, z, h)
+    }
+}
+
+impl<const K: i64, const PIVOT: bool> OneForce<K, PIVOT> {
+    /// The splitting step ([`splitting_step_with`]) with the free rotor's branch `ROTOR`
+    /// ([`free_rotor`]) named, so that a block of lanes whose bodies take the same branch has
+    /// none.
+    #[inline(always)]
+    pub fn splitting_rotor<const ROTOR: u8>(&self, t: f64, z: &State, h: f64) -> State {
         let mut out = [0.0; STATE_SIZE];
-        splitting_step(&self.fixed(), t, z, h, &mut out);
+        splitting_step_with::<_, ROTOR>(&self.fixed(), t, z, h, &mut out);
         out
     }
 }
