@@ -516,8 +516,13 @@ mod tests {
     /// of every kind (parameters that make each act: a spring stretched, a body-fixed point
     /// force, a couple in space, gravity's gradient on).
     fn forced_body(pivot: bool) -> (Body, Vec<Force>) {
+        forced_body_with(pivot, [1.0, 2.0, 3.5], -1)
+    }
+
+    /// [`forced_body`] with the principal `moments` and the free rotor's kind `rotor` (−1:
+    /// three distinct moments; else the symmetry axis).
+    fn forced_body_with(pivot: bool, moments: Vec3, rotor: i32) -> (Body, Vec<Force>) {
         use crate::forces::ForceKind;
-        let moments = [1.0, 2.0, 3.5];
         let a = [[1.2, 0.1, 0.0], [0.1, 2.1, -0.2], [0.0, -0.2, 3.0]];
         let c = if pivot { [0.1, -0.2, 0.4] } else { [0.0; 3] };
         let body = Body::from_slice(&Body::vector(
@@ -527,7 +532,7 @@ mod tests {
             &a,
             [0.3, 0.0, -0.1],
             pivot,
-            -1,
+            rotor,
         ))
         .unwrap();
         let force = |kind: ForceKind, p: &[f64]| {
@@ -561,10 +566,15 @@ mod tests {
             for h in [1e-3, 0.05] {
                 assert_eq!(bits(&one.rk4(t, y, h)), bits(&rigid.rk4(t, y, h)));
                 assert_eq!(bits(&one.rkmk4(t, y, h)), bits(&rigid.rkmk4(t, y, h)));
-                assert_eq!(
-                    bits(&one.splitting(t, y, h)),
-                    bits(&rigid.splitting(t, y, h))
-                );
+                let split = bits(&rigid.splitting(t, y, h));
+                assert_eq!(bits(&one.splitting(t, y, h)), split);
+                // the rotor's branch named as the lanes name it
+                let named = if body.rotor < 0 {
+                    one.splitting_rotor::<TRIAXIAL>(t, y, h)
+                } else {
+                    one.splitting_rotor::<SYMMETRIC>(t, y, h)
+                };
+                assert_eq!(bits(&named), split);
                 let c = one.constrain(t, *y);
                 assert_eq!(bits(&c), bits(&rigid.constrain(t, *y)));
             }
@@ -578,30 +588,55 @@ mod tests {
 
     #[test]
     fn one_force_systems_are_rigid_systems_bit_for_bit() {
-        for pivot in [false, true] {
-            let (body, forces) = forced_body(pivot);
-            let (_, mut y) = free_body_and_state([1.0, 2.0, 3.5]);
-            let q = exp_so3([0.4, -1.2, 2.0]);
-            for i in 0..3 {
-                y[Q_AT + 3 * i..Q_AT + 3 * i + 3].copy_from_slice(&q[i]);
+        // free and pivoted, triaxial and symmetric (about the third and the second axis), at
+        // 20 states drawn at random: positions within a few units of the central body's
+        // centre, velocities and rates of mixed signs and sizes, attitudes on SO(3)
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut uniform = move |lo: f64, hi: f64| {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
+        };
+        for (pivot, moments, rotor) in [
+            (false, [1.0, 2.0, 3.5], -1),
+            (true, [1.0, 2.0, 3.5], -1),
+            (false, [2.0, 2.0, 3.0], 2),
+            (true, [2.0, 3.0, 2.0], 1),
+        ] {
+            let (body, forces) = forced_body_with(pivot, moments, rotor);
+            for _ in 0..20 {
+                let mut y = [0.0; STATE_SIZE];
+                for v in y.iter_mut() {
+                    *v = uniform(-3.0, 3.0);
+                }
+                let q = exp_so3([uniform(-3.0, 3.0), uniform(-3.0, 3.0), uniform(-3.0, 3.0)]);
+                for i in 0..3 {
+                    y[Q_AT + 3 * i..Q_AT + 3 * i + 3].copy_from_slice(&q[i]);
+                }
+                check_one_force_systems(pivot, &forces, body, &y);
             }
-            macro_rules! check {
-                ($p:literal) => {
-                    one_force_is_rigid::<0, $p>(&[], body, &y);
-                    one_force_is_rigid::<1, $p>(&forces[0..1], body, &y);
-                    one_force_is_rigid::<2, $p>(&forces[1..2], body, &y);
-                    one_force_is_rigid::<3, $p>(&forces[2..3], body, &y);
-                    one_force_is_rigid::<4, $p>(&forces[3..4], body, &y);
-                    one_force_is_rigid::<5, $p>(&forces[4..5], body, &y);
-                    one_force_is_rigid::<6, $p>(&forces[5..6], body, &y);
-                    one_force_is_rigid::<7, $p>(&forces[6..7], body, &y);
-                };
-            }
-            if pivot {
-                check!(true);
-            } else {
-                check!(false);
-            }
+        }
+    }
+
+    /// [`one_force_is_rigid`] for every kind at the state `y`.
+    fn check_one_force_systems(pivot: bool, forces: &[Force], body: Body, y: &State) {
+        macro_rules! check {
+            ($p:literal) => {
+                one_force_is_rigid::<0, $p>(&[], body, y);
+                one_force_is_rigid::<1, $p>(&forces[0..1], body, y);
+                one_force_is_rigid::<2, $p>(&forces[1..2], body, y);
+                one_force_is_rigid::<3, $p>(&forces[2..3], body, y);
+                one_force_is_rigid::<4, $p>(&forces[3..4], body, y);
+                one_force_is_rigid::<5, $p>(&forces[4..5], body, y);
+                one_force_is_rigid::<6, $p>(&forces[5..6], body, y);
+                one_force_is_rigid::<7, $p>(&forces[6..7], body, y);
+            };
+        }
+        if pivot {
+            check!(true);
+        } else {
+            check!(false);
         }
     }
 
