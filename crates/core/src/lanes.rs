@@ -312,12 +312,8 @@ impl<const K: i64, const PIVOT: bool, const SHARED: bool>
         // the free rotor's branch named when every lane takes the same, so that the lane loop
         // has none
         let lanes = if SHARED { 1 } else { LANES };
-        let rotors = (0..lanes).map(|l| sys.lane(l).body.rotor < 0);
-        let (mut triaxial, mut symmetric) = (true, true);
-        for t in rotors {
-            triaxial &= t;
-            symmetric &= !t;
-        }
+        let triaxial = (0..lanes).all(|l| sys.lane(l).body.rotor < 0);
+        let symmetric = (0..lanes).all(|l| sys.lane(l).body.rotor >= 0);
         if triaxial {
             for l in 0..LANES {
                 let z1 = sys.lane(l).splitting_rotor::<TRIAXIAL>(t, &gather(z, l), h);
