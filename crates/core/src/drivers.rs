@@ -316,72 +316,31 @@ fn save<S: VectorField + ?Sized, M: FixedMethod<S>>(
     m.output(sys, z, &mut out.y[k * n..(k + 1) * n]);
 }
 
-/// [`run_fixed`] in a copy compiled for AVX2 + FMA where the CPU has them (else the
-/// baseline), chosen at run time as the ensembles' lanes choose theirs
-/// ([`crate::lanes::run_block`]): a step written with fused multiply-adds
-/// ([`crate::systems::TorqueFree::rk4_points`]) then runs them in hardware. A single run is
-/// scalar code, so AVX-512 adds nothing (its copy measured 35 ns per torque-free RK4 step
-/// against 31). A fused multiply-add is rounded
-/// once wherever it runs (a baseline CPU computes it in software, slowly), so every copy
-/// gives the same numbers, and a single run equals its ensemble member bit for bit.
-#[allow(clippy::too_many_arguments)]
-pub fn run_fixed_native<S, M, O>(
-    sys: &S,
-    method: &mut M,
-    observer: &mut O,
-    clock: &mut Clock,
-    z: &mut [f64],
-    dt: f64,
-    sampling: &Sampling,
-    out: &mut Output,
-    counters: &mut Counters,
-    max_steps: u64,
-) -> Status
-where
-    S: VectorField + ?Sized,
-    M: FixedMethod<S>,
-    O: Observer,
-{
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            // SAFETY: the CPU has the features the function is compiled for.
-            return unsafe {
-                run_fixed_avx2(
-                    sys, method, observer, clock, z, dt, sampling, out, counters, max_steps,
-                )
-            };
-        }
-    }
-    run_fixed(
-        sys, method, observer, clock, z, dt, sampling, out, counters, max_steps,
-    )
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,bmi2")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn run_fixed_avx2<S, M, O>(
-    sys: &S,
-    method: &mut M,
-    observer: &mut O,
-    clock: &mut Clock,
-    z: &mut [f64],
-    dt: f64,
-    sampling: &Sampling,
-    out: &mut Output,
-    counters: &mut Counters,
-    max_steps: u64,
-) -> Status
-where
-    S: VectorField + ?Sized,
-    M: FixedMethod<S>,
-    O: Observer,
-{
-    run_fixed(
-        sys, method, observer, clock, z, dt, sampling, out, counters, max_steps,
-    )
+crate::multiversion! {
+    /// [`run_fixed`] in a copy compiled for AVX2 + FMA where the CPU has them (else the
+    /// baseline), chosen at run time as the ensembles' lanes choose theirs
+    /// ([`crate::lanes::run_block`]): a step written with fused multiply-adds
+    /// ([`crate::systems::TorqueFree::rk4_points`]) then runs them in hardware. A single run is
+    /// scalar code, so AVX-512 adds nothing (its copy measured 35 ns per torque-free RK4 step
+    /// against 31). A fused multiply-add is rounded
+    /// once wherever it runs (a baseline CPU computes it in software, slowly), so every copy
+    /// gives the same numbers, and a single run equals its ensemble member bit for bit.
+    pub fn run_fixed_native, run_fixed_native_with [S, M, O] (
+        sys: &S,
+        method: &mut M,
+        observer: &mut O,
+        clock: &mut Clock,
+        z: &mut [f64],
+        dt: f64,
+        sampling: &Sampling,
+        out: &mut Output,
+        counters: &mut Counters,
+        max_steps: u64,
+    ) -> Status where [
+        S: VectorField + ?Sized,
+        M: FixedMethod<S>,
+        O: Observer,
+    ] => run_fixed, up to crate::isa::Isa::Avx2;
 }
 
 /// Integrate with a fixed-step method from `clock.t` to `sampling.t_end`, resumably.

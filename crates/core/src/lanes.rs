@@ -15,6 +15,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::drivers::{next_up, run_fixed, Clock, Counters, FixedMethod, Output, Sampling, Status};
+use crate::isa::Isa;
 use crate::layout::{OMEGA_AT, STATE_SIZE};
 use crate::observers::Observer;
 use crate::rigid::State;
@@ -430,104 +431,30 @@ pub struct BlockRun {
     pub flips: Option<BlockFlips>,
 }
 
-/// Integrate a block with a fixed-step `method` ([`BlockRk4`], [`BlockRkmk4`]) from `t0` to
-/// `t1` in steps of `dt`, landing on every time of
-/// `t_eval`: `z` (18 · LANES) the initial states, advanced in place; `samples`
-/// (len(t_eval) · 18 · LANES) the block's states at the sample times. The driver is the
-/// single runs' [`run_fixed`], resumed [`crate::ensemble::STEPS_PER_CALL`] steps at a time
-/// until it ends or `stop` is raised.
-#[allow(clippy::too_many_arguments)]
-pub fn run_block<
-    'a,
-    S: RigidStructure + Sync,
-    M: FixedMethod<Block<'a, S, SHARED>> + Copy,
-    const SHARED: bool,
->(
-    block: &Block<'a, S, SHARED>,
-    method: M,
-    t0: f64,
-    t1: f64,
-    dt: f64,
-    t_eval: &[f64],
-    flips: bool,
-    z: &mut [f64],
-    samples: &mut [f64],
-    stop: &AtomicBool,
-) -> BlockRun {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512dq")
-        {
-            // SAFETY: the CPU has the features the function is compiled for.
-            return unsafe {
-                run_block_avx512(block, method, t0, t1, dt, t_eval, flips, z, samples, stop)
-            };
-        }
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            // SAFETY: as above.
-            return unsafe {
-                run_block_avx2(block, method, t0, t1, dt, t_eval, flips, z, samples, stop)
-            };
-        }
-    }
-    run_block_any(block, method, t0, t1, dt, t_eval, flips, z, samples, stop)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma,bmi2")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn run_block_avx512<
-    'a,
-    S: RigidStructure + Sync,
-    M: FixedMethod<Block<'a, S, SHARED>> + Copy,
-    const SHARED: bool,
->(
-    block: &Block<'a, S, SHARED>,
-    method: M,
-    t0: f64,
-    t1: f64,
-    dt: f64,
-    t_eval: &[f64],
-    flips: bool,
-    z: &mut [f64],
-    samples: &mut [f64],
-    stop: &AtomicBool,
-) -> BlockRun {
-    // a local aligned to a cache line makes the frame realigned, so that the vector
-    // registers spilled in the loop land on whole cache lines
-    let anchor = Line([0.0; 8]);
-    std::hint::black_box(&anchor);
-    run_block_any(block, method, t0, t1, dt, t_eval, flips, z, samples, stop)
-}
-
-/// One cache line of doubles.
-#[repr(C, align(64))]
-#[derive(Clone, Copy)]
-struct Line([f64; 8]);
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,bmi2")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn run_block_avx2<
-    'a,
-    S: RigidStructure + Sync,
-    M: FixedMethod<Block<'a, S, SHARED>> + Copy,
-    const SHARED: bool,
->(
-    block: &Block<'a, S, SHARED>,
-    method: M,
-    t0: f64,
-    t1: f64,
-    dt: f64,
-    t_eval: &[f64],
-    flips: bool,
-    z: &mut [f64],
-    samples: &mut [f64],
-    stop: &AtomicBool,
-) -> BlockRun {
-    run_block_any(block, method, t0, t1, dt, t_eval, flips, z, samples, stop)
+crate::multiversion! {
+    /// Integrate a block with a fixed-step `method` ([`BlockRk4`], [`BlockRkmk4`]) from `t0` to
+    /// `t1` in steps of `dt`, landing on every time of
+    /// `t_eval`: `z` (18 · LANES) the initial states, advanced in place; `samples`
+    /// (len(t_eval) · 18 · LANES) the block's states at the sample times. The driver is the
+    /// single runs' [`run_fixed`], resumed [`crate::ensemble::STEPS_PER_CALL`] steps at a time
+    /// until it ends or `stop` is raised.
+    pub fn run_block, run_block_with [
+        'a,
+        S: RigidStructure + Sync,
+        M: FixedMethod<Block<'a, S, SHARED>> + Copy,
+        const SHARED: bool,
+    ] (
+        block: &Block<'a, S, SHARED>,
+        method: M,
+        t0: f64,
+        t1: f64,
+        dt: f64,
+        t_eval: &[f64],
+        flips: bool,
+        z: &mut [f64],
+        samples: &mut [f64],
+        stop: &AtomicBool,
+    ) -> BlockRun where [] => run_block_any, up to Isa::Avx512;
 }
 
 /// The block's time loop, inlined into each target's copy of it.
@@ -614,77 +541,29 @@ pub struct BlockAdaptiveRun {
     pub flips: Option<BlockFlips>,
 }
 
-/// Adaptive Dormand–Prince 8(5,3) on every lane (free bodies, or built-in forces and a pivot),
-/// each lane with its own step sizes, bit for bit its single run ([`crate::drivers::run_adaptive`]): the lanes step in lock
-/// step, one trial step (accepted or rejected) per lane per round. The twelve stages and the
-/// error norms run for all lanes at once (structure of arrays, each lane's step size its own);
-/// the controller, the flips, the samples (dense output where a sample falls inside a step)
-/// and the checks run lane by lane, with the single run's own functions. `z` (18 · LANES) the
-/// initial states, advanced in place; `samples` (len(t_eval) · 18 · LANES). The instruction
-/// set is chosen at run time, as [`run_block`].
-#[allow(clippy::too_many_arguments)]
-pub fn run_block_dop853<S: RigidStructure + VectorField, const SHARED: bool>(
-    block: &Block<'_, S, SHARED>,
-    control: &Control,
-    t0: f64,
-    t1: f64,
-    t_eval: &[f64],
-    flips: bool,
-    z: &mut [f64],
-    samples: &mut [f64],
-    stop: &AtomicBool,
-) -> BlockAdaptiveRun {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512dq")
-        {
-            // SAFETY: the CPU has the features the function is compiled for.
-            return unsafe {
-                dop853_avx512(block, control, t0, t1, t_eval, flips, z, samples, stop)
-            };
-        }
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            // SAFETY: as above.
-            return unsafe { dop853_avx2(block, control, t0, t1, t_eval, flips, z, samples, stop) };
-        }
-    }
-    dop853_any(block, control, t0, t1, t_eval, flips, z, samples, stop)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma,bmi2")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn dop853_avx512<S: RigidStructure + VectorField, const SHARED: bool>(
-    block: &Block<'_, S, SHARED>,
-    control: &Control,
-    t0: f64,
-    t1: f64,
-    t_eval: &[f64],
-    flips: bool,
-    z: &mut [f64],
-    samples: &mut [f64],
-    stop: &AtomicBool,
-) -> BlockAdaptiveRun {
-    dop853_any(block, control, t0, t1, t_eval, flips, z, samples, stop)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,bmi2")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn dop853_avx2<S: RigidStructure + VectorField, const SHARED: bool>(
-    block: &Block<'_, S, SHARED>,
-    control: &Control,
-    t0: f64,
-    t1: f64,
-    t_eval: &[f64],
-    flips: bool,
-    z: &mut [f64],
-    samples: &mut [f64],
-    stop: &AtomicBool,
-) -> BlockAdaptiveRun {
-    dop853_any(block, control, t0, t1, t_eval, flips, z, samples, stop)
+crate::multiversion! {
+    /// Adaptive Dormand–Prince 8(5,3) on every lane (free bodies, or built-in forces and a pivot),
+    /// each lane with its own step sizes, bit for bit its single run ([`crate::drivers::run_adaptive`]): the lanes step in lock
+    /// step, one trial step (accepted or rejected) per lane per round. The twelve stages and the
+    /// error norms run for all lanes at once (structure of arrays, each lane's step size its own);
+    /// the controller, the flips, the samples (dense output where a sample falls inside a step)
+    /// and the checks run lane by lane, with the single run's own functions. `z` (18 · LANES) the
+    /// initial states, advanced in place; `samples` (len(t_eval) · 18 · LANES). The instruction
+    /// set is chosen at run time, as [`run_block`].
+    pub fn run_block_dop853, run_block_dop853_with [
+        S: RigidStructure + VectorField,
+        const SHARED: bool,
+    ] (
+        block: &Block<'_, S, SHARED>,
+        control: &Control,
+        t0: f64,
+        t1: f64,
+        t_eval: &[f64],
+        flips: bool,
+        z: &mut [f64],
+        samples: &mut [f64],
+        stop: &AtomicBool,
+    ) -> BlockAdaptiveRun where [] => dop853_any, up to Isa::Avx512;
 }
 
 /// The stages of one DOP853 trial step on every lane, as [`dop853_step`] computes them for
@@ -1044,32 +923,17 @@ mod tests {
             f(&mut z, &mut samples);
             samples
         };
-        let mut copies: Vec<(&str, Vec<f64>)> = vec![
-            (
-                "dispatched",
-                run(&|z, y| {
-                    run_block(&block, method, t0, t1, dt, &t_eval, true, z, y, &stop);
-                }),
-            ),
-            (
-                "baseline",
-                run(&|z, y| {
-                    run_block_any(&block, method, t0, t1, dt, &t_eval, true, z, y, &stop);
-                }),
-            ),
-        ];
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            copies.push((
-                "avx2",
-                run(&|z, y| {
-                    // SAFETY: the CPU has the features.
-                    unsafe {
-                        run_block_avx2(&block, method, t0, t1, dt, &t_eval, true, z, y, &stop)
-                    };
-                }),
-            ));
+        let mut copies: Vec<(&str, Vec<f64>)> = vec![(
+            "dispatched",
+            run(&|z, y| {
+                run_block(&block, method, t0, t1, dt, &t_eval, true, z, y, &stop);
+            }),
+        )];
+        for isa in Isa::ALL.into_iter().filter(|isa| isa.available()) {
+            let got = run(&|z, y| {
+                run_block_with(isa, &block, method, t0, t1, dt, &t_eval, true, z, y, &stop);
+            });
+            copies.push((isa.name(), got));
         }
         let want = &copies[0].1;
         assert!(want.iter().all(|x| x.is_finite()));

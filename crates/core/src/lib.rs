@@ -37,6 +37,7 @@ pub mod freebody;
 pub mod gyrostat;
 pub mod inertia;
 pub mod invariants;
+pub mod isa;
 pub mod lagrange;
 pub mod lanes;
 pub mod layout;

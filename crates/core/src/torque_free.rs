@@ -49,6 +49,7 @@ use crate::elliptic::{
     reduce_quarter, third_kind_reduced, third_kind_u, Agm, NEAR_ONE, TINY_M1,
 };
 use crate::invariants::principal_invariants;
+use crate::isa::Isa;
 use crate::real::{py_max, py_min, sin_cos, Mask, Real, Wide, WideMask, WIDTH};
 use crate::so3::{exp_so3, matmul, zxz_matrix_sc, Mat3, Vec3};
 use rayon::prelude::*;
@@ -931,60 +932,20 @@ impl<const N: usize> LaneMotion<N> {
     }
 }
 
-/// [`exact_omegas`] for a body with three distinct moments, [`WIDTH`] members at a time in
-/// SIMD lanes; a lane off the plain elliptic case ([`LaneMotion::new`]: fixed points, the
-/// separatrix and its neighbourhood `m1 <` [`NEAR_ONE`], extreme scales) is evaluated on its own.
-/// The instruction set is chosen at run time (AVX-512, AVX2, the baseline), as in
-/// [`crate::lanes`].
-pub fn omegas_in_lanes<const N: usize>(
-    moments: Vec3,
-    s: &Mat3,
-    radicals: &Radicals,
-    ws: &[Vec3],
-    ts: &[f64],
-    out: &mut [Vec3],
-) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512dq")
-        {
-            // SAFETY: the CPU has the features the function is compiled for.
-            return unsafe { omegas_in_lanes_avx512::<N>(moments, s, radicals, ws, ts, out) };
-        }
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            // SAFETY: as above.
-            return unsafe { omegas_in_lanes_avx2::<N>(moments, s, radicals, ws, ts, out) };
-        }
-    }
-    omegas_in_lanes_any::<N>(moments, s, radicals, ws, ts, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma,bmi2")]
-unsafe fn omegas_in_lanes_avx512<const N: usize>(
-    moments: Vec3,
-    s: &Mat3,
-    radicals: &Radicals,
-    ws: &[Vec3],
-    ts: &[f64],
-    out: &mut [Vec3],
-) {
-    omegas_in_lanes_any::<N>(moments, s, radicals, ws, ts, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,bmi2")]
-unsafe fn omegas_in_lanes_avx2<const N: usize>(
-    moments: Vec3,
-    s: &Mat3,
-    radicals: &Radicals,
-    ws: &[Vec3],
-    ts: &[f64],
-    out: &mut [Vec3],
-) {
-    omegas_in_lanes_any::<N>(moments, s, radicals, ws, ts, out)
+crate::multiversion! {
+    /// [`exact_omegas`] for a body with three distinct moments, [`WIDTH`] members at a time in
+    /// SIMD lanes; a lane off the plain elliptic case ([`LaneMotion::new`]: fixed points, the
+    /// separatrix and its neighbourhood `m1 <` [`NEAR_ONE`], extreme scales) is evaluated on its own.
+    /// The instruction set is chosen at run time (AVX-512, AVX2, the baseline), as in
+    /// [`crate::lanes`].
+    pub fn omegas_in_lanes, omegas_in_lanes_with [const N: usize] (
+        moments: Vec3,
+        s: &Mat3,
+        radicals: &Radicals,
+        ws: &[Vec3],
+        ts: &[f64],
+        out: &mut [Vec3],
+    ) -> () where [] => omegas_in_lanes_any::<N>, up to Isa::Avx512;
 }
 
 /// The lanes' loop, inlined into each target's copy of it: groups of `N` members in the
@@ -1146,54 +1107,16 @@ pub fn families(moments: Vec3, s: &Mat3, symmetry: u8, ws: &[Vec3], out: &mut [F
 /// Members per rayon task of [`families`].
 const FAMILY_BLOCK: usize = 4096;
 
-/// [`families`] of a body with three distinct moments in lanes, the instruction set chosen at
-/// run time (as [`omegas_in_lanes`]).
-fn families_in_lanes<const N: usize>(
-    moments: Vec3,
-    s: &Mat3,
-    radicals: &Radicals,
-    ws: &[Vec3],
-    out: &mut [Family],
-) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512dq")
-        {
-            // SAFETY: the CPU has the features the function is compiled for.
-            return unsafe { families_in_lanes_avx512::<N>(moments, s, radicals, ws, out) };
-        }
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            // SAFETY: as above.
-            return unsafe { families_in_lanes_avx2::<N>(moments, s, radicals, ws, out) };
-        }
-    }
-    families_in_lanes_any::<N>(moments, s, radicals, ws, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma,bmi2")]
-unsafe fn families_in_lanes_avx512<const N: usize>(
-    moments: Vec3,
-    s: &Mat3,
-    radicals: &Radicals,
-    ws: &[Vec3],
-    out: &mut [Family],
-) {
-    families_in_lanes_any::<N>(moments, s, radicals, ws, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,bmi2")]
-unsafe fn families_in_lanes_avx2<const N: usize>(
-    moments: Vec3,
-    s: &Mat3,
-    radicals: &Radicals,
-    ws: &[Vec3],
-    out: &mut [Family],
-) {
-    families_in_lanes_any::<N>(moments, s, radicals, ws, out)
+crate::multiversion! {
+    /// [`families`] of a body with three distinct moments in lanes, the instruction set chosen at
+    /// run time (as [`omegas_in_lanes`]).
+    fn families_in_lanes, families_in_lanes_with [const N: usize] (
+        moments: Vec3,
+        s: &Mat3,
+        radicals: &Radicals,
+        ws: &[Vec3],
+        out: &mut [Family],
+    ) -> () where [] => families_in_lanes_any::<N>, up to Isa::Avx512;
 }
 
 /// Groups of `N` members in the lanes (lanes past the last member repeat it, their results
@@ -1395,57 +1318,17 @@ fn lane_matrix<const N: usize>(q: &[[Wide<N>; 3]; 3], l: usize) -> Mat3 {
     q.map(|row| row.map(|x| x.0[l]))
 }
 
-/// [`exact_attitudes`] of a body with three distinct moments in lanes, the instruction set
-/// chosen at run time (as [`omegas_in_lanes`]); `q0s` one per member or one shared.
-pub fn attitudes_in_lanes<const N: usize>(
-    moments: Vec3,
-    s: &Mat3,
-    ws: &[Vec3],
-    q0s: &[Mat3],
-    ts: &[f64],
-    out: &mut [Mat3],
-) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512dq")
-        {
-            // SAFETY: the CPU has the features the function is compiled for.
-            return unsafe { attitudes_in_lanes_avx512::<N>(moments, s, ws, q0s, ts, out) };
-        }
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
-            // SAFETY: as above.
-            return unsafe { attitudes_in_lanes_avx2::<N>(moments, s, ws, q0s, ts, out) };
-        }
-    }
-    attitudes_in_lanes_any::<N>(moments, s, ws, q0s, ts, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma,bmi2")]
-unsafe fn attitudes_in_lanes_avx512<const N: usize>(
-    moments: Vec3,
-    s: &Mat3,
-    ws: &[Vec3],
-    q0s: &[Mat3],
-    ts: &[f64],
-    out: &mut [Mat3],
-) {
-    attitudes_in_lanes_any::<N>(moments, s, ws, q0s, ts, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,bmi2")]
-unsafe fn attitudes_in_lanes_avx2<const N: usize>(
-    moments: Vec3,
-    s: &Mat3,
-    ws: &[Vec3],
-    q0s: &[Mat3],
-    ts: &[f64],
-    out: &mut [Mat3],
-) {
-    attitudes_in_lanes_any::<N>(moments, s, ws, q0s, ts, out)
+crate::multiversion! {
+    /// [`exact_attitudes`] of a body with three distinct moments in lanes, the instruction set
+    /// chosen at run time (as [`omegas_in_lanes`]); `q0s` one per member or one shared.
+    pub fn attitudes_in_lanes, attitudes_in_lanes_with [const N: usize] (
+        moments: Vec3,
+        s: &Mat3,
+        ws: &[Vec3],
+        q0s: &[Mat3],
+        ts: &[f64],
+        out: &mut [Mat3],
+    ) -> () where [] => attitudes_in_lanes_any::<N>, up to Isa::Avx512;
 }
 
 /// The lanes' loop, inlined into each target's copy: groups of `N` members in the lanes (the
@@ -1834,17 +1717,9 @@ mod tests {
             runs.push(("dispatched", got.clone()));
             omegas_in_lanes::<8>(moments, &s, &radicals, &ws, &ts, &mut got);
             runs.push(("dispatched, 8 lanes", got.clone()));
-            omegas_in_lanes_any::<WIDTH>(moments, &s, &radicals, &ws, &ts, &mut got);
-            runs.push(("baseline", got.clone()));
-            #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx2")
-                && std::arch::is_x86_feature_detected!("fma")
-            {
-                // SAFETY: the CPU has the features.
-                unsafe {
-                    omegas_in_lanes_avx2::<WIDTH>(moments, &s, &radicals, &ws, &ts, &mut got)
-                };
-                runs.push(("avx2", got.clone()));
+            for isa in Isa::ALL.into_iter().filter(|isa| isa.available()) {
+                omegas_in_lanes_with::<WIDTH>(isa, moments, &s, &radicals, &ws, &ts, &mut got);
+                runs.push((isa.name(), got.clone()));
             }
             // the batched entry point, on rayon's threads
             exact_omegas(moments, &s, 0, &ws, &ts, &mut got);
@@ -1915,17 +1790,9 @@ mod tests {
                 runs.push(("dispatched", got.clone()));
                 attitudes_in_lanes::<8>(moments, &s, &ws, q0, &ts, &mut got);
                 runs.push(("dispatched, 8 lanes", got.clone()));
-                attitudes_in_lanes_any::<WIDTH>(moments, &s, &ws, q0, &ts, &mut got);
-                runs.push(("baseline", got.clone()));
-                #[cfg(target_arch = "x86_64")]
-                if std::arch::is_x86_feature_detected!("avx2")
-                    && std::arch::is_x86_feature_detected!("fma")
-                {
-                    // SAFETY: the CPU has the features.
-                    unsafe {
-                        attitudes_in_lanes_avx2::<WIDTH>(moments, &s, &ws, q0, &ts, &mut got)
-                    };
-                    runs.push(("avx2", got.clone()));
+                for isa in Isa::ALL.into_iter().filter(|isa| isa.available()) {
+                    attitudes_in_lanes_with::<WIDTH>(isa, moments, &s, &ws, q0, &ts, &mut got);
+                    runs.push((isa.name(), got.clone()));
                 }
                 exact_attitudes(moments, &s, 0, &ws, q0, &ts, &mut got);
                 runs.push(("exact_attitudes", got.clone()));
@@ -2034,8 +1901,10 @@ mod tests {
             runs.push(("few members, one thread", got.clone()));
             if symmetry == 0 {
                 let radicals = Radicals::new(moments);
-                families_in_lanes_any::<WIDTH>(moments, &s, &radicals, &ws, &mut got);
-                runs.push(("baseline", got.clone()));
+                for isa in Isa::ALL.into_iter().filter(|isa| isa.available()) {
+                    families_in_lanes_with::<WIDTH>(isa, moments, &s, &radicals, &ws, &mut got);
+                    runs.push((isa.name(), got.clone()));
+                }
                 families_in_lanes::<8>(moments, &s, &radicals, &ws, &mut got);
                 runs.push(("8 lanes", got.clone()));
             }
@@ -2116,24 +1985,20 @@ mod tests {
                             &ts,
                             &mut out,
                         ),
-                        #[cfg(target_arch = "x86_64")]
                         "16 lanes, AVX2" => {
-                            if !std::arch::is_x86_feature_detected!("avx2")
-                                || !std::arch::is_x86_feature_detected!("fma")
-                            {
+                            if !Isa::Avx2.available() {
                                 break;
                             }
-                            // SAFETY: the CPU has the features.
-                            unsafe {
-                                omegas_in_lanes_avx2::<16>(
-                                    [1.0, 2.0, 3.0],
-                                    &EYE,
-                                    &radicals,
-                                    ws,
-                                    &ts,
-                                    &mut out,
-                                )
-                            }
+                            let ms = [1.0, 2.0, 3.0];
+                            omegas_in_lanes_with::<16>(
+                                Isa::Avx2,
+                                ms,
+                                &EYE,
+                                &radicals,
+                                ws,
+                                &ts,
+                                &mut out,
+                            )
                         }
                         "64 lanes" => omegas_in_lanes::<64>(
                             [1.0, 2.0, 3.0],
@@ -2143,24 +2008,20 @@ mod tests {
                             &ts,
                             &mut out,
                         ),
-                        #[cfg(target_arch = "x86_64")]
                         "32 lanes, AVX2" => {
-                            if !std::arch::is_x86_feature_detected!("avx2")
-                                || !std::arch::is_x86_feature_detected!("fma")
-                            {
+                            if !Isa::Avx2.available() {
                                 break;
                             }
-                            // SAFETY: the CPU has the features.
-                            unsafe {
-                                omegas_in_lanes_avx2::<32>(
-                                    [1.0, 2.0, 3.0],
-                                    &EYE,
-                                    &radicals,
-                                    ws,
-                                    &ts,
-                                    &mut out,
-                                )
-                            }
+                            let ms = [1.0, 2.0, 3.0];
+                            omegas_in_lanes_with::<32>(
+                                Isa::Avx2,
+                                ms,
+                                &EYE,
+                                &radicals,
+                                ws,
+                                &ts,
+                                &mut out,
+                            )
                         }
                         "16 lanes, baseline" => omegas_in_lanes_any::<16>(
                             [1.0, 2.0, 3.0],
