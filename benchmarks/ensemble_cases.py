@@ -14,9 +14,10 @@
   single evaluations.
 * ``dop853_lanes``: DOP853 members (each its own step sizes) in lanes against the same members
   run one at a time (chunks of 31, too few for lanes), the tolerances of a grading run.
-* ``forced_lanes``: bodies under a force in lanes (a heavy top: uniform gravity about a
-  pivot; a satellite: central gravity with its gradient torque), every method, against the
-  same members run one at a time (chunks of 31), bit for bit.
+* ``forced_lanes``: bodies under forces in lanes (a heavy top: uniform gravity about a
+  pivot; a satellite: central gravity with its gradient torque, every method; a body on a
+  tether under four forces, RK4 and DOP853), against the same members run one at a time
+  (chunks of 31), bit for bit.
 * ``dask``: the same RK4 ensemble on a 2-worker ``LocalCluster``, beside the local run.
 """
 
@@ -367,24 +368,40 @@ def case_forced_lanes(repeat):
     from run import row, timed
 
     from poinsot.ensemble import simulate_ensemble
-    from poinsot.forces import CentralGravity, Gravity
+    from poinsot.forces import CentralGravity, Gravity, QuadraticDrag, Spring, Torque
 
     body, W0 = _inputs(4000)
     rows = []
+    every = ("rk4", "rkmk4", "splitting", "dop853")
     cases = (
-        ("heavy top (gravity about a pivot)", {"forces": [Gravity()], "pivot": (0.0, 0.0, 0.0)}),
+        (
+            "heavy top (gravity about a pivot)",
+            {"forces": [Gravity()], "pivot": (0.0, 0.0, 0.0)},
+            every,
+        ),
         (
             "satellite (central gravity and its gradient torque)",
             {"forces": [CentralGravity(4.0e5, (-7000.0, 0.0, 0.0))], "V0": (0.0, 7.56, 0.0)},
+            every,
+        ),
+        (
+            # several forces: each force for the whole block at once (RK4, DOP853)
+            "body on a tether (gravity, a damped spring, quadratic drag, a couple)",
+            {
+                "forces": [
+                    Gravity(),
+                    Spring((0.2, 0.0, 0.0), (0.0, 0.0, 3.0), 50.0, 2.0, damping=0.5),
+                    QuadraticDrag(0.05, 0.02),
+                    Torque((0.0, 0.0, 0.3)),
+                ]
+            },
+            ("rk4", "dop853"),
         ),
     )
-    for label, setup in cases:
-        for method, kw in (
-            ("rk4", {"dt": DT}),
-            ("rkmk4", {"dt": DT}),
-            ("splitting", {"dt": DT}),
-            ("dop853", {"rtol": 1e-10, "atol": 1e-12}),
-        ):
+    kws = {"dop853": {"rtol": 1e-10, "atol": 1e-12}}
+    for label, setup, methods in cases:
+        for method in methods:
+            kw = kws.get(method, {"dt": DT})
 
             def run(chunk, method=method, kw=kw, setup=setup):
                 return simulate_ensemble(body, (0, ENSEMBLE_STEPS * DT), omega0=W0,

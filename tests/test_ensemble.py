@@ -14,7 +14,15 @@ from scipy.spatial.transform import Rotation
 
 from poinsot import RigidBody, simulate
 from poinsot.ensemble import STATISTICS, simulate_ensemble
-from poinsot.forces import CentralGravity, Gravity, LinearDrag, Spring
+from poinsot.forces import (
+    CentralGravity,
+    Gravity,
+    LinearDrag,
+    PointForce,
+    QuadraticDrag,
+    Spring,
+    Torque,
+)
 from poinsot.torquefree import FreeRigidBody
 
 N = 13
@@ -26,6 +34,15 @@ W0 = RNG.normal(size=(N, 3))
 Q0 = Rotation.random(N, random_state=4).as_matrix()
 MOMENTS = RNG.uniform(1.0, 2.0, (N, 3))
 SYMMETRIC_MOMENTS = MOMENTS[:, [0, 0, 2]]  # symmetric about the third axis
+
+# every built-in force but the gravities at once: a damped tether, quadratic drag, a
+# body-fixed thrust at a body point, a couple fixed in space
+TETHERED = [
+    Spring((0.5, 0, 0), (1, 1, 1), 3.0, 0.5, damping=0.2, tether=True),
+    QuadraticDrag(0.05, 0.02),
+    PointForce((0.0, 0.2, 0.0), (0.3, 0.0, 0.1), frame="body"),
+    Torque((0.05, 0.0, 0.02), frame="space"),
+]
 
 CASES = {
     "free rk4": {"method": "rk4", "dt": 1e-2},
@@ -86,6 +103,23 @@ CASES = {
         "pivot": (0.0, 0.0, 0.0),
         "forces": [Gravity((0.0, 0.0, -9.8)), LinearDrag(0.1, 0.05)],
     },
+    "tethered rk4": {"method": "rk4", "dt": 1e-2, "forces": TETHERED},
+    "tethered dop853": {"method": "dop853", "forces": TETHERED},
+    "tethered own moments rk4": {
+        "method": "rk4",
+        "dt": 1e-2,
+        "forces": TETHERED,
+        "moments": MOMENTS,
+    },
+    "pivot and couples dop853": {
+        "method": "dop853",
+        "pivot": (0.0, 0.0, 0.0),
+        "forces": [
+            Torque((0.0, 0.1, 0.0)),
+            Gravity((0.0, 0.0, -9.8)),
+            Torque((0.2, 0, 0), frame="space"),
+        ],
+    },
 }
 
 
@@ -144,13 +178,18 @@ def test_every_member_equals_a_single_simulate(case):
         "own moments dop853",
         "spring dop853",
         "heavy top dop853",
+        "tethered rk4",
+        "tethered dop853",
+        "tethered own moments rk4",
+        "pivot and couples dop853",
     ],
 )
 def test_members_in_simd_lanes_equal_their_single_runs(case):
     """Members run in blocks of SIMD lanes (the core's ``lanes``: 128 members a block, a short
     last block padded): free bodies with every method; one uniform or central gravity, or a
-    pivot alone, with every method (the force's kind compiled into the lanes); other forces
-    with RK4 and DOP853 (a spring; with RKMK4, gravity and drag run member by member). Every
+    pivot alone, with every method (the force's kind compiled into the lanes); other forces,
+    one or several, with RK4 and DOP853 (each force for the whole block at once; with RKMK4,
+    gravity and drag run member by member). Every
     member equals its single ``simulate`` bit for bit, and chunks of 40 or 7 (the latter too
     few for lanes: member by member) change nothing, step counts included."""
     n = 150

@@ -33,7 +33,7 @@ use crate::inertia::{parallel_axis, principal_decomposition};
 use crate::invariants::{angular_momentum_body, kinetic_energy};
 use crate::lanes::{
     block_state, lane_samples, run_block, run_block_dop853, Block, BlockAdaptiveRun, BlockFlips,
-    BlockRk4, BlockRkmk4, BlockRun, BlockSplitting, LANES,
+    BlockRk4, BlockRk4Stages, BlockRkmk4, BlockRun, BlockSplitting, LaneRates, LANES,
 };
 use crate::layout::{Body, BODY_SIZE, OMEGA_AT, Q_AT, STATE_SIZE, V_AT};
 use crate::observers::{FlipObserver, NoObserver, Observer};
@@ -44,7 +44,7 @@ use crate::rigid::{
 use crate::so3::{Mat3, Vec3};
 use crate::steppers::{Control, Tableau};
 use crate::system::RigidStructure;
-use crate::systems::{OneForce, Rigid, TorqueFree};
+use crate::systems::{OneForce, Rigid, SameForces, TorqueFree, MAX_SAME_FORCES};
 
 /// Steps a driver takes between two looks at the stop flag (well under a millisecond of
 /// RK4, a few milliseconds of DOP853 for a rigid body).
@@ -640,7 +640,7 @@ impl LanesRun {
 
 /// A block of lanes run with the schedule's method ([`in_lanes`]), for systems whose lanes
 /// have every method ([`TorqueFree`], [`OneForce`]).
-fn run_block_with<'a, S: RigidStructure + Sync, const SHARED: bool>(
+fn run_block_with<'a, S: LaneRates + Sync, const SHARED: bool>(
     block: &Block<'a, S, SHARED>,
     schedule: &Schedule,
     z: &mut [f64],
@@ -731,6 +731,22 @@ fn run_rigid_block(
     stop: &AtomicBool,
 ) -> Option<LanesRun> {
     let rigid = rigid_systems(members);
+    let same_kinds = |r: &Rigid| {
+        r.body.has_pivot == rigid[0].body.has_pivot
+            && r.forces.len() == rigid[0].forces.len()
+            && r.forces
+                .iter()
+                .zip(&rigid[0].forces)
+                .all(|(a, b)| a.kind == b.kind)
+    };
+    if rigid[0].forces.len() <= MAX_SAME_FORCES && rigid.iter().all(same_kinds) {
+        // every lane under the same force kinds: each force for the whole block at once
+        return if rigid[0].body.has_pivot {
+            same_forces_block::<true>(&rigid, schedule, z, samples, stop)
+        } else {
+            same_forces_block::<false>(&rigid, schedule, z, samples, stop)
+        };
+    }
     let block = Block::<_, false> { systems: &rigid };
     let s = schedule;
     let (t0, t1, dt, t_eval, flips) = (s.t0, s.t1, s.dt, s.t_eval, s.flips);
@@ -740,6 +756,71 @@ fn run_rigid_block(
         ))),
         Method::Rk4 => Some(LanesRun::Fixed(run_block(
             &block, BlockRk4, t0, t1, dt, t_eval, flips, z, samples, stop,
+        ))),
+        _ => None,
+    }
+}
+
+/// A block whose bodies all have the same force kinds in the same order and the pivot flag
+/// `PIVOT` ([`SameForces`]): RK4 with its stages across the block ([`BlockRk4Stages`]) and
+/// DOP853 in lanes, each force evaluated for every lane at once; other methods `None`.
+fn same_forces_block<const PIVOT: bool>(
+    rigid: &[Rigid],
+    schedule: &Schedule,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> Option<LanesRun> {
+    let systems: Vec<SameForces<PIVOT>> =
+        rigid.iter().map(SameForces::new).collect::<Option<_>>()?;
+    let same = |s: &SameForces<PIVOT>| s.body == systems[0].body && s.forces == systems[0].forces;
+    Some(if systems.iter().all(same) {
+        // one body and one set of forces for every lane: their numbers broadcast
+        forces_in_lanes(
+            &Block::<_, true> {
+                systems: &systems[..1],
+            },
+            schedule,
+            z,
+            samples,
+            stop,
+        )?
+    } else {
+        forces_in_lanes(
+            &Block::<_, false> { systems: &systems },
+            schedule,
+            z,
+            samples,
+            stop,
+        )?
+    })
+}
+
+/// [`same_forces_block`]'s run of a block.
+fn forces_in_lanes<const PIVOT: bool, const SHARED: bool>(
+    block: &Block<'_, SameForces<PIVOT>, SHARED>,
+    schedule: &Schedule,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> Option<LanesRun> {
+    let s = schedule;
+    let (t0, t1, dt, t_eval, flips) = (s.t0, s.t1, s.dt, s.t_eval, s.flips);
+    match s.method {
+        Method::Dop853(control) => Some(LanesRun::Adaptive(run_block_dop853(
+            block, &control, t0, t1, t_eval, flips, z, samples, stop,
+        ))),
+        Method::Rk4 => Some(LanesRun::Fixed(run_block(
+            block,
+            BlockRk4Stages,
+            t0,
+            t1,
+            dt,
+            t_eval,
+            flips,
+            z,
+            samples,
+            stop,
         ))),
         _ => None,
     }
@@ -1031,6 +1112,16 @@ mod tests {
         let gravity = force(ForceKind::Gravity, &[0.0, 0.0, -9.8]);
         let central = force(ForceKind::CentralGravity, &[40.0, -6.0, 1.0, 0.5, 1.0]);
         let drag = force(ForceKind::LinearDrag, &[0.3, 0.05]);
+        // a damped tether from the body point (0.1, 0, 0) to (0, 0, 2), rest length 1
+        let tether = force(
+            ForceKind::Spring,
+            &[0.1, 0.0, 0.0, 0.0, 0.0, 2.0, 5.0, 1.0, 0.2, 1.0],
+        );
+        let quadratic = force(ForceKind::QuadraticDrag, &[0.1, 0.02]);
+        // a body-fixed force at the body point (0, 0.2, 0)
+        let thrust = force(ForceKind::PointForce, &[0.0, 0.2, 0.0, 0.3, 0.0, 0.1, 1.0]);
+        let couple = force(ForceKind::Torque, &[0.05, 0.0, 0.02, 0.0]);
+        let body_couple = force(ForceKind::Torque, &[0.0, 0.1, 0.0, 1.0]);
         vec![
             (true, vec![], LaneSystems::One(0, true)),
             (false, vec![gravity], LaneSystems::One(1, false)),
@@ -1039,6 +1130,20 @@ mod tests {
             (true, vec![central], LaneSystems::One(2, true)),
             (true, vec![gravity, drag], LaneSystems::Forces),
             (false, vec![drag], LaneSystems::Forces),
+            // every other kind, several at once: each force for the whole block at once
+            (
+                false,
+                vec![tether, quadratic, thrust, couple],
+                LaneSystems::Forces,
+            ),
+            (
+                true,
+                vec![body_couple, gravity, central],
+                LaneSystems::Forces,
+            ),
+            // the last case: every other member has the forces in the other order, so the
+            // block's kinds differ from lane to lane (each lane its own Rigid)
+            (false, vec![drag, gravity], LaneSystems::Forces),
         ]
     }
 
@@ -1063,6 +1168,7 @@ mod tests {
                 y0[LANES + 5][OMEGA_AT] = f64::INFINITY;
             }
             let body = Body::from_slice(&params).unwrap();
+            let reversed: Vec<Force> = forces.iter().rev().copied().collect();
             let ms: Vec<Member> = (0..n)
                 .map(|i| {
                     let mut b = body;
@@ -1072,7 +1178,12 @@ mod tests {
                         b.moments = b.moments.map(|x| x * f);
                         b.inv_moments = b.inv_moments.map(|x| x / f);
                     }
-                    Member::new(b, axes, a, &forces, y0[i])
+                    let forces = if case == 2 + forced.len() && i % 2 == 1 {
+                        &reversed
+                    } else {
+                        &forces
+                    };
+                    Member::new(b, axes, a, forces, y0[i])
                 })
                 .collect();
             assert_eq!(lane_systems(&ms[..LANES]), systems, "case {case}");

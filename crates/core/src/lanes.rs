@@ -15,17 +15,21 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::drivers::{next_up, run_fixed, Clock, Counters, FixedMethod, Output, Sampling, Status};
+use crate::forces::one_force_wrench;
 use crate::isa::Isa;
 use crate::layout::{OMEGA_AT, STATE_SIZE};
 use crate::observers::Observer;
 use crate::rigid::State;
+use crate::rigid::{rigid_rates, shift_torque_to_pivot};
 use crate::steppers::{
     dop853_dense, dop853_interpolate, initial_step_size, momentum_to_velocity, rk4_rigid_step,
     rkmk4_first, rkmk4_last, rkmk4_stage, step_size_factor, velocity_to_momentum, Control,
     Rkmk4Carry, RKMK4_CARRY,
 };
 use crate::system::{RigidStructure, VectorField};
-use crate::systems::{OneForce, TorqueFree, ANY_ROTOR, SYMMETRIC, TRIAXIAL};
+use crate::systems::{
+    OneForce, Rigid, SameForces, TorqueFree, ANY_ROTOR, MAX_SAME_FORCES, SYMMETRIC, TRIAXIAL,
+};
 use crate::tableaux::{
     DOP853_A, DOP853_C, DOP853_E3, DOP853_E5, DOP853_INTERPOLATOR_POWER, DOP853_STAGES,
     DOP853_STAGES_EXTENDED,
@@ -135,6 +139,131 @@ impl<S: RigidStructure, const SHARED: bool> FixedMethod<Block<'_, S, SHARED>> fo
         for l in 0..LANES {
             let s = sys.lane(l);
             let y1 = s.constrain(t + h, rk4_rigid_step(s, t, &gather(z, l), h));
+            scatter(&y1, l, out);
+        }
+    }
+}
+
+/// The rates of every lane of a block, each at its own time `t[l]`: by default lane by lane,
+/// the lane's own [`RigidStructure::rates`]; a system whose lanes can share the work across
+/// the block says how.
+pub trait LaneRates: RigidStructure + Sized {
+    #[inline(always)]
+    fn rates_in_lanes<const SHARED: bool>(
+        block: &Block<'_, Self, SHARED>,
+        t: &[f64; LANES],
+        y: &BlockState,
+        k: &mut BlockState,
+    ) {
+        for l in 0..LANES {
+            scatter(&block.lane(l).rates(t[l], &gather(y, l)), l, k);
+        }
+    }
+}
+
+impl LaneRates for TorqueFree {}
+impl<const K: i64, const PIVOT: bool> LaneRates for OneForce<K, PIVOT> {}
+impl LaneRates for Rigid {}
+
+impl<const PIVOT: bool> LaneRates for SameForces<PIVOT> {
+    /// Each force for every lane before the next (its kind the same in every lane, named at
+    /// compile time: [`one_force_wrench`]), summed per lane in the forces' order from zero as
+    /// [`crate::forces::total_wrench`] sums them; then each lane's rates from its wrench, as
+    /// [`SameForces::rates`] forms them. Bit for bit the lane-by-lane rates.
+    #[inline(always)]
+    fn rates_in_lanes<const SHARED: bool>(
+        block: &Block<'_, Self, SHARED>,
+        t: &[f64; LANES],
+        y: &BlockState,
+        k: &mut BlockState,
+    ) {
+        let mut w = [[0.0; LANES]; 6];
+        for (j, f) in block.lane(0).forces().iter().enumerate() {
+            match f.kind as i64 {
+                1 => add_force::<1, PIVOT, SHARED>(block, j, t, y, &mut w),
+                2 => add_force::<2, PIVOT, SHARED>(block, j, t, y, &mut w),
+                3 => add_force::<3, PIVOT, SHARED>(block, j, t, y, &mut w),
+                4 => add_force::<4, PIVOT, SHARED>(block, j, t, y, &mut w),
+                5 => add_force::<5, PIVOT, SHARED>(block, j, t, y, &mut w),
+                6 => add_force::<6, PIVOT, SHARED>(block, j, t, y, &mut w),
+                _ => add_force::<7, PIVOT, SHARED>(block, j, t, y, &mut w),
+            }
+        }
+        for l in 0..LANES {
+            let body = &block.lane(l).body;
+            let yl = gather(y, l);
+            let wl = [w[0][l], w[1][l], w[2][l], w[3][l], w[4][l], w[5][l]];
+            scatter(
+                &rigid_rates(body, &yl, shift_torque_to_pivot(body, &yl, wl)),
+                l,
+                k,
+            );
+        }
+    }
+}
+
+/// Force `j` (of kind `K` in every lane) added to each lane's wrench `w` (component-major).
+#[inline(always)]
+fn add_force<const K: i64, const PIVOT: bool, const SHARED: bool>(
+    block: &Block<'_, SameForces<PIVOT>, SHARED>,
+    j: usize,
+    t: &[f64; LANES],
+    y: &BlockState,
+    w: &mut [[f64; LANES]; 6],
+) {
+    let j = j.min(MAX_SAME_FORCES - 1);
+    for l in 0..LANES {
+        let s = block.lane(l);
+        let v = one_force_wrench::<K>(&s.forces[j].p, &s.body, t[l], &gather(y, l));
+        for c in 0..6 {
+            w[c][l] += v[c];
+        }
+    }
+}
+
+/// Classical RK4 on every lane with the stages formed across the block, one after the other
+/// (each stage's rates by [`LaneRates::rates_in_lanes`]), then each lane constrained: the
+/// operations of [`crate::steppers::rk4_registers`] in its order (`y + a k` for the stage
+/// points, `y + h/6 (k1 + 2 k2 + 2 k3 + k4)` summed left to right), so each lane is bit for
+/// bit its single run's RK4 step (as [`crate::drivers::Rk4Rigid`]) for a system that keeps
+/// the default [`RigidStructure::rk4`]. For bodies under several forces ([`SameForces`]),
+/// whose rates vectorise across the block but not within one lane's step.
+#[derive(Clone, Copy, Default)]
+pub struct BlockRk4Stages;
+
+impl<S: LaneRates, const SHARED: bool> FixedMethod<Block<'_, S, SHARED>> for BlockRk4Stages {
+    fn evals_per_step(&self) -> u64 {
+        4
+    }
+    #[inline(always)]
+    fn step(&mut self, sys: &Block<'_, S, SHARED>, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
+        let (z, out) = (block(z), block_mut(out));
+        let half = 0.5 * h;
+        let mut k = [0.0; STATE_SIZE * LANES];
+        let mut y = [0.0; STATE_SIZE * LANES];
+        let mut sum = [0.0; STATE_SIZE * LANES];
+        S::rates_in_lanes(sys, &[t; LANES], z, &mut k);
+        for i in 0..STATE_SIZE * LANES {
+            sum[i] = k[i];
+            y[i] = z[i] + half * k[i];
+        }
+        S::rates_in_lanes(sys, &[t + half; LANES], &y, &mut k);
+        for i in 0..STATE_SIZE * LANES {
+            sum[i] += 2.0 * k[i];
+            y[i] = z[i] + half * k[i];
+        }
+        S::rates_in_lanes(sys, &[t + half; LANES], &y, &mut k);
+        for i in 0..STATE_SIZE * LANES {
+            sum[i] += 2.0 * k[i];
+            y[i] = z[i] + h * k[i];
+        }
+        S::rates_in_lanes(sys, &[t + h; LANES], &y, &mut k);
+        let c = h / 6.0;
+        for i in 0..STATE_SIZE * LANES {
+            out[i] = z[i] + c * (sum[i] + k[i]);
+        }
+        for l in 0..LANES {
+            let y1 = sys.lane(l).constrain(t + h, gather(out, l));
             scatter(&y1, l, out);
         }
     }
@@ -551,7 +680,7 @@ crate::multiversion! {
     /// initial states, advanced in place; `samples` (len(t_eval) · 18 · LANES). The instruction
     /// set is chosen at run time, as [`run_block`].
     pub fn run_block_dop853, run_block_dop853_with [
-        S: RigidStructure + VectorField,
+        S: LaneRates + VectorField,
         const SHARED: bool,
     ] (
         block: &Block<'_, S, SHARED>,
@@ -570,7 +699,7 @@ crate::multiversion! {
 /// one: `k` (16 · 18 · LANES) holds the stages (row 0 the lanes' `f`), `z_new` the 8th-order
 /// solutions; then each lane's error norm ([`dop853_error_norm`]'s sums, in its order).
 #[inline(always)]
-fn dop853_stages<S: RigidStructure + VectorField, const SHARED: bool>(
+fn dop853_stages<S: LaneRates + VectorField, const SHARED: bool>(
     block: &Block<'_, S, SHARED>,
     t: &[f64; LANES],
     h: &[f64; LANES],
@@ -600,12 +729,11 @@ fn dop853_stages<S: RigidStructure + VectorField, const SHARED: bool>(
         let kr: &mut BlockState = (&mut k[st * row..(st + 1) * row])
             .try_into()
             .expect("a stage");
+        let mut ts = [0.0; LANES];
         for l in 0..LANES {
-            let y = block
-                .lane(l)
-                .rates(t[l] + DOP853_C[st] * h[l], &gather(&ytmp, l));
-            scatter(&y, l, kr);
+            ts[l] = t[l] + DOP853_C[st] * h[l];
         }
+        S::rates_in_lanes(block, &ts, &ytmp, kr);
     }
 }
 
@@ -656,7 +784,7 @@ fn dop853_errors(
 /// [`crate::drivers::run_adaptive`] lane by lane, the stages and error norms in lanes.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn dop853_any<S: RigidStructure + VectorField, const SHARED: bool>(
+fn dop853_any<S: LaneRates + VectorField, const SHARED: bool>(
     block: &Block<'_, S, SHARED>,
     control: &Control,
     t0: f64,

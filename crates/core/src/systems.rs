@@ -9,7 +9,7 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use crate::forces::{one_force_wrench, total_potential, total_wrench, Force};
+use crate::forces::{one_force_wrench, total_potential, total_wrench, Force, ForceKind};
 use crate::layout::{load, Body, FORCE_PARAMS, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
 use crate::rigid::{
     attitude_rate, attitude_row_acc, euler_free_coefficients, free_rotor, omega_dot_free,
@@ -414,6 +414,92 @@ impl<const K: i64, const PIVOT: bool> OneForce<K, PIVOT> {
         let mut out = [0.0; STATE_SIZE];
         splitting_step_with::<_, ROTOR>(&self.fixed(), t, z, h, &mut out);
         out
+    }
+}
+
+/// The most forces a [`SameForces`] body holds.
+pub const MAX_SAME_FORCES: usize = 8;
+
+/// A [`Rigid`] body (built-in forces only, at most [`MAX_SAME_FORCES`]) in a block of lanes
+/// whose bodies all have the same force kinds in the same order and are all free or all about
+/// a pivot (`PIVOT`), their parameters their own: its equations are the [`Rigid`]'s (the same
+/// functions in the same order, so its numbers are bit for bit the same) with the pivot flag
+/// constant and the forces held in place (no pointer to follow, no length to check in a
+/// lane's loop), so that the block can evaluate one force for every lane before the next
+/// ([`crate::lanes::LaneRates`]) and its lanes' loops have no branch on a kind.
+#[derive(Clone, Copy, Debug)]
+pub struct SameForces<const PIVOT: bool> {
+    /// The body with its pivot flag the constant `PIVOT`.
+    pub body: Body,
+    /// The forces, the first `n` of them in use.
+    pub forces: [Force; MAX_SAME_FORCES],
+    pub n: usize,
+}
+
+impl<const PIVOT: bool> SameForces<PIVOT> {
+    /// `rigid`'s body and forces when its pivot flag is `PIVOT`, it has no force of the
+    /// user's and at most [`MAX_SAME_FORCES`] built-in ones.
+    pub fn new<U: UserWrench>(rigid: &Rigid<U>) -> Option<Self> {
+        let n = rigid.forces.len();
+        if rigid.body.has_pivot != PIVOT || rigid.user.is_some() || n > MAX_SAME_FORCES {
+            return None;
+        }
+        let unused = Force {
+            kind: ForceKind::Gravity,
+            p: [0.0; FORCE_PARAMS],
+        };
+        let mut forces = [unused; MAX_SAME_FORCES];
+        forces[..n].copy_from_slice(&rigid.forces);
+        Some(SameForces {
+            body: rigid.body,
+            forces,
+            n,
+        })
+    }
+
+    /// The forces in use.
+    #[inline(always)]
+    pub fn forces(&self) -> &[Force] {
+        &self.forces[..self.n.min(MAX_SAME_FORCES)]
+    }
+}
+
+impl<const PIVOT: bool> VectorField for SameForces<PIVOT> {
+    #[inline(always)]
+    fn dim(&self) -> usize {
+        STATE_SIZE
+    }
+    #[inline(always)]
+    fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]) {
+        out[..STATE_SIZE].copy_from_slice(&self.rates(t, &load(y)));
+    }
+    #[inline(always)]
+    fn project(&self, t: f64, y: &mut [f64]) -> bool {
+        let c = self.constrain(t, load(y));
+        y[..STATE_SIZE].copy_from_slice(&c);
+        PIVOT
+    }
+}
+
+impl<const PIVOT: bool> RigidStructure for SameForces<PIVOT> {
+    #[inline(always)]
+    fn body(&self) -> &Body {
+        &self.body
+    }
+    /// [`Rigid`]'s wrench without the user's: the built-in forces summed in their order
+    /// ([`total_wrench`]), about the reference point.
+    #[inline(always)]
+    fn wrench(&self, t: f64, y: &State) -> [f64; 6] {
+        let w = total_wrench(self.forces(), &self.body, t, y);
+        shift_torque_to_pivot(&self.body, y, w)
+    }
+    #[inline(always)]
+    fn rates(&self, t: f64, y: &State) -> State {
+        rigid_rates(&self.body, y, self.wrench(t, y))
+    }
+    #[inline(always)]
+    fn constrain(&self, _: f64, y: State) -> State {
+        pivot_constrained(&self.body, y)
     }
 }
 
