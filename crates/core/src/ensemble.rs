@@ -584,7 +584,8 @@ enum LaneSystems {
     /// or all about a pivot: a [`OneForce`] whose kind is compiled in, for the kinds
     /// [`one_force_lanes`] compiles (uniform and central gravity, and a pivot alone).
     One(i64, bool),
-    /// Anything else ([`Rigid`]): RK4 and DOP853 in lanes, in scalar code.
+    /// Anything else: RK4 and DOP853 in lanes, each force for the whole block at once when
+    /// every lane has the same force kinds ([`SameForces`]), else [`Rigid`] in scalar code.
     Forces,
 }
 
@@ -721,8 +722,9 @@ fn one_force_lanes(
     }
 }
 
-/// A block of bodies under any built-in forces ([`Rigid`], scalar code in the lanes): RK4 and
-/// DOP853; `None` for the other methods.
+/// A block of bodies under any built-in forces: RK4 and DOP853, as [`SameForces`] when every
+/// lane has the same force kinds in the same order (at most [`MAX_SAME_FORCES`]), else as
+/// [`Rigid`] (scalar code in the lanes); `None` for the other methods.
 fn run_rigid_block(
     members: &[Member],
     schedule: &Schedule,
