@@ -246,6 +246,7 @@ fn add_force<const K: i64, const PIVOT: bool, const SHARED: bool, const W: usize
 /// Lanes a [`BlockRk4Stages`] step forms its stages for at a time: their states, stages and
 /// sums stay in the L1 cache (the whole block's did not: 96 KiB).
 const STAGE_LANES: usize = 32;
+const _: () = assert!(LANES % STAGE_LANES == 0, "a block is whole stage groups");
 
 /// Classical RK4 on every lane with the stages formed across [`STAGE_LANES`] lanes at a time,
 /// one stage after the other (each stage's rates by [`LaneRates::rates_in_lanes`]), then
