@@ -354,22 +354,30 @@ impl<const K: i64, const PIVOT: bool> OneForce<K, PIVOT> {
     }
 }
 
-impl<const K: i64, const PIVOT: bool> VectorField for OneForce<K, PIVOT> {
-    #[inline(always)]
-    fn dim(&self) -> usize {
-        STATE_SIZE
-    }
-    #[inline(always)]
-    fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]) {
-        out[..STATE_SIZE].copy_from_slice(&self.rates(t, &load(y)));
-    }
-    #[inline(always)]
-    fn project(&self, t: f64, y: &mut [f64]) -> bool {
-        let c = self.constrain(t, load(y));
-        y[..STATE_SIZE].copy_from_slice(&c);
-        PIVOT
-    }
+/// The [`VectorField`] of a rigid system whose pivot flag is the constant `PIVOT`: its
+/// [`RigidStructure::rates`], and [`RigidStructure::constrain`] as the projection.
+macro_rules! pivot_const_vector_field {
+    ([$($gen:tt)*] $ty:ty) => {
+        impl<$($gen)*> VectorField for $ty {
+            #[inline(always)]
+            fn dim(&self) -> usize {
+                STATE_SIZE
+            }
+            #[inline(always)]
+            fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]) {
+                out[..STATE_SIZE].copy_from_slice(&self.rates(t, &load(y)));
+            }
+            #[inline(always)]
+            fn project(&self, t: f64, y: &mut [f64]) -> bool {
+                let c = self.constrain(t, load(y));
+                y[..STATE_SIZE].copy_from_slice(&c);
+                PIVOT
+            }
+        }
+    };
 }
+
+pivot_const_vector_field!([const K: i64, const PIVOT: bool] OneForce<K, PIVOT>);
 
 impl<const K: i64, const PIVOT: bool> RigidStructure for OneForce<K, PIVOT> {
     #[inline(always)]
@@ -464,22 +472,7 @@ impl<const PIVOT: bool> SameForces<PIVOT> {
     }
 }
 
-impl<const PIVOT: bool> VectorField for SameForces<PIVOT> {
-    #[inline(always)]
-    fn dim(&self) -> usize {
-        STATE_SIZE
-    }
-    #[inline(always)]
-    fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]) {
-        out[..STATE_SIZE].copy_from_slice(&self.rates(t, &load(y)));
-    }
-    #[inline(always)]
-    fn project(&self, t: f64, y: &mut [f64]) -> bool {
-        let c = self.constrain(t, load(y));
-        y[..STATE_SIZE].copy_from_slice(&c);
-        PIVOT
-    }
-}
+pivot_const_vector_field!([const PIVOT: bool] SameForces<PIVOT>);
 
 impl<const PIVOT: bool> RigidStructure for SameForces<PIVOT> {
     #[inline(always)]
