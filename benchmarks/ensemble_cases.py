@@ -15,8 +15,9 @@
 * ``dop853_lanes``: DOP853 members (each its own step sizes) in lanes against the same members
   run one at a time (chunks of 31, too few for lanes), the tolerances of a grading run.
 * ``forced_lanes``: bodies under forces in lanes (a heavy top: uniform gravity about a
-  pivot; a satellite: central gravity with its gradient torque, every method; a body on a
-  tether under four forces, RK4 and DOP853), against the same members run one at a time
+  pivot; a satellite: central gravity with its gradient torque; every method; a body on a
+  tether under four forces, RK4, RKMK4 and DOP853; on an undamped tether under three,
+  splitting), against the same members run one at a time
   (chunks of 31), bit for bit.
 * ``dask``: the same RK4 ensemble on a 2-worker ``LocalCluster``, beside the local run.
 """
@@ -385,7 +386,7 @@ def case_forced_lanes(repeat):
             every,
         ),
         (
-            # several forces: each force for the whole block at once (RK4, DOP853)
+            # several forces: each force for the whole block at once
             "body on a tether (gravity, a damped spring, quadratic drag, a couple)",
             {
                 "forces": [
@@ -395,7 +396,19 @@ def case_forced_lanes(repeat):
                     Torque((0.0, 0.0, 0.3)),
                 ]
             },
-            ("rk4", "dop853"),
+            ("rk4", "rkmk4", "dop853"),
+        ),
+        (
+            # forces a kick can take (the splitting method refuses velocity-dependent ones)
+            "body on an undamped tether (gravity, a spring, a couple)",
+            {
+                "forces": [
+                    Gravity(),
+                    Spring((0.2, 0.0, 0.0), (0.0, 0.0, 3.0), 50.0, 2.0),
+                    Torque((0.0, 0.0, 0.3)),
+                ]
+            },
+            ("splitting",),
         ),
     )
     kws = {"dop853": {"rtol": 1e-10, "atol": 1e-12}}

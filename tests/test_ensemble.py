@@ -44,6 +44,15 @@ TETHERED = [
     Torque((0.05, 0.0, 0.02), frame="space"),
 ]
 
+# the forces a kick can take (position and attitude only): an undamped tether, gravity, a
+# body-fixed thrust at a body point, a couple fixed in space
+KICKED = [
+    Spring((0.5, 0, 0), (1, 1, 1), 3.0, 0.5, tether=True),
+    Gravity((0.0, 0.0, -9.8)),
+    PointForce((0.0, 0.2, 0.0), (0.3, 0.0, 0.1), frame="body"),
+    Torque((0.05, 0.0, 0.02), frame="space"),
+]
+
 CASES = {
     "free rk4": {"method": "rk4", "dt": 1e-2},
     "free dop853": {"method": "dop853"},
@@ -110,6 +119,24 @@ CASES = {
         "dt": 1e-2,
         "forces": TETHERED,
         "moments": MOMENTS,
+    },
+    "tethered rkmk4": {"method": "rkmk4", "dt": 1e-2, "forces": TETHERED},
+    "kicked splitting": {"method": "splitting", "dt": 1e-2, "forces": KICKED},
+    "symmetric kicked splitting": {
+        "method": "splitting",
+        "dt": 1e-2,
+        "forces": KICKED,
+        "moments": SYMMETRIC_MOMENTS,
+    },
+    "pivot and couples splitting": {
+        "method": "splitting",
+        "dt": 1e-2,
+        "pivot": (0.0, 0.0, 0.0),
+        "forces": [
+            Torque((0.0, 0.1, 0.0)),
+            Gravity((0.0, 0.0, -9.8)),
+            Torque((0.2, 0, 0), frame="space"),
+        ],
     },
     "pivot and couples dop853": {
         "method": "dop853",
@@ -181,6 +208,10 @@ def test_every_member_equals_a_single_simulate(case):
         "tethered rk4",
         "tethered dop853",
         "tethered own moments rk4",
+        "tethered rkmk4",
+        "kicked splitting",
+        "symmetric kicked splitting",
+        "pivot and couples splitting",
         "pivot and couples dop853",
     ],
 )
@@ -188,8 +219,8 @@ def test_members_in_simd_lanes_equal_their_single_runs(case):
     """Members run in blocks of SIMD lanes (the core's ``lanes``: 128 members a block, a short
     last block padded): free bodies with every method; one uniform or central gravity, or a
     pivot alone, with every method (the force's kind compiled into the lanes); other forces,
-    one or several, with RK4 and DOP853 (each force for the whole block at once; with RKMK4,
-    gravity and drag run member by member). Every
+    one or several, with every method (each force for the whole block at once; the stages of
+    RK4 and RKMK4 and the kicks of the splitting method formed across the lanes). Every
     member equals its single ``simulate`` bit for bit, and chunks of 40 or 7 (the latter too
     few for lanes: member by member) change nothing, step counts included."""
     n = 150

@@ -33,7 +33,8 @@ use crate::inertia::{parallel_axis, principal_decomposition};
 use crate::invariants::{angular_momentum_body, kinetic_energy};
 use crate::lanes::{
     block_state, lane_samples, run_block, run_block_dop853, Block, BlockAdaptiveRun, BlockFlips,
-    BlockRk4, BlockRk4Stages, BlockRkmk4, BlockRun, BlockSplitting, LaneRates, LANES,
+    BlockRk4, BlockRk4Stages, BlockRkmk4, BlockRkmk4Stages, BlockRun, BlockSplitting,
+    BlockSplittingStages, LaneRates, LANES,
 };
 use crate::layout::{Body, BODY_SIZE, OMEGA_AT, Q_AT, STATE_SIZE, V_AT};
 use crate::observers::{FlipObserver, NoObserver, Observer};
@@ -584,8 +585,9 @@ enum LaneSystems {
     /// or all about a pivot: a [`OneForce`] whose kind is compiled in, for the kinds
     /// [`one_force_lanes`] compiles (uniform and central gravity, and a pivot alone).
     One(i64, bool),
-    /// Anything else: RK4 and DOP853 in lanes, each force for the whole block at once when
-    /// every lane has the same force kinds ([`SameForces`]), else [`Rigid`] in scalar code.
+    /// Anything else: each force for the whole block at once when every lane has the same
+    /// force kinds ([`SameForces`], every method in lanes), else [`Rigid`] in scalar code
+    /// (RK4 and DOP853 in lanes; RKMK4 and splitting member by member).
     Forces,
 }
 
@@ -722,9 +724,10 @@ fn one_force_lanes(
     }
 }
 
-/// A block of bodies under any built-in forces: RK4 and DOP853, as [`SameForces`] when every
-/// lane has the same force kinds in the same order (at most [`MAX_SAME_FORCES`]), else as
-/// [`Rigid`] (scalar code in the lanes); `None` for the other methods.
+/// A block of bodies under any built-in forces: as [`SameForces`] when every lane has the same
+/// force kinds in the same order (at most [`MAX_SAME_FORCES`]), with every method
+/// [`in_lanes`] runs; else as [`Rigid`] (scalar code in the lanes) with RK4 and DOP853, and
+/// `None` for the other methods.
 fn run_rigid_block(
     members: &[Member],
     schedule: &Schedule,
@@ -764,7 +767,8 @@ fn run_rigid_block(
 }
 
 /// A block whose bodies all have the same force kinds in the same order and the pivot flag
-/// `PIVOT` ([`SameForces`]): RK4 with its stages across the block ([`BlockRk4Stages`]) and
+/// `PIVOT` ([`SameForces`]): RK4, RKMK4 and the splitting method with their stages or kicks
+/// across the block ([`BlockRk4Stages`], [`BlockRkmk4Stages`], [`BlockSplittingStages`]) and
 /// DOP853 in lanes, each force evaluated for every lane at once; other methods `None`.
 fn same_forces_block<const PIVOT: bool>(
     rigid: &[Rigid],
@@ -815,6 +819,31 @@ fn forces_in_lanes<const PIVOT: bool, const SHARED: bool>(
         Method::Rk4 => Some(LanesRun::Fixed(run_block(
             block,
             BlockRk4Stages,
+            t0,
+            t1,
+            dt,
+            t_eval,
+            flips,
+            z,
+            samples,
+            stop,
+        ))),
+        // RK4's tableau ([`in_lanes`])
+        Method::Rkmk(_) => Some(LanesRun::Fixed(run_block(
+            block,
+            BlockRkmk4Stages,
+            t0,
+            t1,
+            dt,
+            t_eval,
+            flips,
+            z,
+            samples,
+            stop,
+        ))),
+        Method::Splitting => Some(LanesRun::Fixed(run_block(
+            block,
+            BlockSplittingStages,
             t0,
             t1,
             dt,

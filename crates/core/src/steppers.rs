@@ -16,7 +16,7 @@
 //!   7th-order dense output ([`dop853_dense`], [`dop853_interpolate`]) and the standard
 //!   step-size controller ([`step_size_factor`], [`initial_step_size`]).
 
-use crate::layout::{OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
+use crate::layout::{Body, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
 use crate::rigid::{free_rotor, pivot_constrained, ANY_ROTOR};
 use crate::so3::{dexpinv3, exp_so3, Mat3};
 use crate::system::{RigidStructure, VectorField};
@@ -288,8 +288,9 @@ pub fn rkmk_step<S: VectorField + ?Sized>(
 /// single nonzero coefficient of its row; `θ_i = h (a kθ)`, `Q_i = Q exp(θ̂_i)`,
 /// `kθ_i = dexp⁻¹_{−θ_i}(ω_i)`; `Q_new = Q exp(h Σ b_i kθ_i)`), so its numbers are the
 /// generic step's up to the sign of a zero. Taken as [`rkmk4_first`], [`rkmk4_stage`] for
-/// stages 2–4 and [`rkmk4_last`], which a block of lanes runs one after the other across its
-/// lanes ([`crate::lanes::BlockRkmk4`]).
+/// stages 2–4 and [`rkmk4_last`]; a block of lanes runs their pieces ([`rkmk4_first_carry`],
+/// [`rkmk4_point`], [`rkmk4_carry`]) one after the other across its lanes
+/// ([`crate::lanes::BlockRkmk4Stages`]).
 #[inline(always)]
 pub fn rkmk4_registers(f: impl Fn(f64, &State) -> State, t: f64, y: &State, h: f64) -> State {
     let c = rkmk4_first(&f, t, y, h);
@@ -311,7 +312,11 @@ const CARRY_SUM_T: usize = 2 * STATE_SIZE + 3;
 
 /// The carry of stage `I` (0-based) from its rates `k`, `kθ` and the previous carry.
 #[inline(always)]
-fn rkmk4_carry<const I: usize>(k: &State, kt: &[f64; 3], prev: Option<&Rkmk4Carry>) -> Rkmk4Carry {
+pub fn rkmk4_carry<const I: usize>(
+    k: &State,
+    kt: &[f64; 3],
+    prev: Option<&Rkmk4Carry>,
+) -> Rkmk4Carry {
     let b = RK4_B[I];
     let sum = |at: usize| prev.map_or(0.0, |p| p[at]);
     let mut c = [0.0; RKMK4_CARRY];
@@ -330,9 +335,15 @@ fn rkmk4_carry<const I: usize>(k: &State, kt: &[f64; 3], prev: Option<&Rkmk4Carr
 /// forms it).
 #[inline(always)]
 pub fn rkmk4_first(f: impl Fn(f64, &State) -> State, t: f64, y: &State, h: f64) -> Rkmk4Carry {
-    let k = f(t + RK4_C[0] * h, y);
+    rkmk4_first_carry(y, &f(t + RK4_C[0] * h, y))
+}
+
+/// [`rkmk4_first`]'s carry from the rates `k = f(t, y)` (formed elsewhere: across a block's
+/// lanes, [`crate::lanes::BlockRkmk4Stages`]).
+#[inline(always)]
+pub fn rkmk4_first_carry(y: &State, k: &State) -> Rkmk4Carry {
     let kt = dexpinv3([-0.0; 3], omega(y));
-    rkmk4_carry::<0>(&k, &kt, None)
+    rkmk4_carry::<0>(k, &kt, None)
 }
 
 /// RKMK4's stage `I + 1` (`I` in 1..=3): the stage point `y + h (a k)` with the attitude
@@ -346,6 +357,14 @@ pub fn rkmk4_stage<const I: usize>(
     h: f64,
     c: &Rkmk4Carry,
 ) -> Rkmk4Carry {
+    let (ys, kt) = rkmk4_point::<I>(y, h, c);
+    rkmk4_carry::<I>(&f(t + RK4_C[I] * h, &ys), &kt, Some(c))
+}
+
+/// [`rkmk4_stage`]'s stage point `y + h (a k)` with the attitude `Q exp(θ̂)`, and its
+/// `kθ = dexp⁻¹_{−θ}(ω)`: everything of the stage but its rates.
+#[inline(always)]
+pub fn rkmk4_point<const I: usize>(y: &State, h: f64, c: &Rkmk4Carry) -> (State, [f64; 3]) {
     let a = RK4_A[I][I - 1];
     let mut ys = [0.0; STATE_SIZE];
     for i in 0..STATE_SIZE {
@@ -354,7 +373,7 @@ pub fn rkmk4_stage<const I: usize>(
     let th = [0, 1, 2].map(|j| (a * c[CARRY_KT + j]) * h);
     rotate_attitude(y, &exp_so3(th), &mut ys);
     let kt = dexpinv3([-th[0], -th[1], -th[2]], omega(&ys));
-    rkmk4_carry::<I>(&f(t + RK4_C[I] * h, &ys), &kt, Some(c))
+    (ys, kt)
 }
 
 /// RKMK4's new state from the last carry: `y + h Σ b_i k_i`, the attitude
@@ -379,7 +398,12 @@ fn omega(y: &[f64]) -> [f64; 3] {
 /// `y` = `z` with ω = π/I in the ω slot (zero along a zero moment).
 #[inline(always)]
 pub fn momentum_to_velocity<S: RigidStructure + ?Sized>(sys: &S, z: &[f64]) -> State {
-    let body = sys.body();
+    velocity_of(sys.body(), z)
+}
+
+/// [`momentum_to_velocity`] of a body.
+#[inline(always)]
+pub fn velocity_of(body: &Body, z: &[f64]) -> State {
     let mut y = [0.0; STATE_SIZE];
     y.copy_from_slice(&z[..STATE_SIZE]);
     for k in 0..3 {
@@ -402,8 +426,13 @@ pub fn velocity_to_momentum<S: RigidStructure + ?Sized>(sys: &S, y: &[f64], z: &
 #[inline(always)]
 fn kick<S: RigidStructure + ?Sized>(sys: &S, t: f64, z: &mut [f64], h: f64) {
     let y = momentum_to_velocity(sys, z);
-    let w = sys.wrench(t, &y);
-    let body = sys.body();
+    kick_by(sys.body(), &sys.wrench(t, &y), z, h);
+}
+
+/// [`kick`] by the wrench `w = (F, τ)` (formed elsewhere: across a block's lanes,
+/// [`crate::lanes::BlockSplittingStages`]).
+#[inline(always)]
+pub fn kick_by(body: &Body, w: &[f64; 6], z: &mut [f64], h: f64) {
     if !body.has_pivot {
         let c = h * body.inv_mass;
         z[V_AT] += c * w[0];
@@ -443,17 +472,31 @@ pub fn splitting_step_with<S: RigidStructure + ?Sized, const ROTOR: u8>(
     out[..STATE_SIZE].copy_from_slice(&z[..STATE_SIZE]);
     let body = *sys.body();
     kick(sys, t, out, 0.5 * h);
-    free_rotor::<ROTOR>(&body, out, h);
+    drift::<ROTOR>(&body, out, h);
+    kick(sys, t + h, out, 0.5 * h);
+    hold_pivot(&body, out);
+}
+
+/// The splitting step's drift over `h`, in place on the momentum state: the exact free rotor
+/// ([`free_rotor`], its branch `ROTOR`) and, for a free body, `R += h V`.
+#[inline(always)]
+pub fn drift<const ROTOR: u8>(body: &Body, z: &mut [f64], h: f64) {
+    free_rotor::<ROTOR>(body, z, h);
     if !body.has_pivot {
         for k in 0..3 {
-            out[R_AT + k] += h * out[V_AT + k];
+            z[R_AT + k] += h * z[V_AT + k];
         }
     }
-    kick(sys, t + h, out, 0.5 * h);
+}
+
+/// About a pivot, the splitting step's end: `R`, `V` of the momentum state reset from its
+/// attitude and `ω = π/I` ([`pivot_constrained`]); nothing for a free body.
+#[inline(always)]
+pub fn hold_pivot(body: &Body, z: &mut [f64]) {
     if body.has_pivot {
-        let y = pivot_constrained(&body, momentum_to_velocity(sys, out));
-        out[R_AT..R_AT + 3].copy_from_slice(&y[R_AT..R_AT + 3]);
-        out[V_AT..V_AT + 3].copy_from_slice(&y[V_AT..V_AT + 3]);
+        let y = pivot_constrained(body, velocity_of(body, z));
+        z[R_AT..R_AT + 3].copy_from_slice(&y[R_AT..R_AT + 3]);
+        z[V_AT..V_AT + 3].copy_from_slice(&y[V_AT..V_AT + 3]);
     }
 }
 
