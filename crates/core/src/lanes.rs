@@ -413,8 +413,8 @@ fn put<const W: usize>(x: &Rkmk4Carry, l: usize, c: &mut [f64]) {
 /// The pieces of [`crate::steppers::rkmk4_registers`] in its order, so each lane is bit for
 /// bit its single run's step (as [`crate::drivers::RkmkRigid`]) for a system that keeps the
 /// default [`RigidStructure::rkmk4`]. For bodies under forces ([`OneForce`], [`SameForces`]);
-/// under one force 25 % faster than the same stages across the whole block (its carries out
-/// of the L1 cache).
+/// under one force a little faster than the same stages across the whole block of
+/// [`LANES`] (whose carries outgrow the L1 cache).
 #[derive(Clone, Copy, Default)]
 pub struct BlockRkmk4Stages;
 
