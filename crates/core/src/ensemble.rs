@@ -44,7 +44,7 @@ use crate::rigid::{
 };
 use crate::so3::{Mat3, Vec3};
 use crate::steppers::{Control, Tableau};
-use crate::system::RigidStructure;
+use crate::system::{RigidStructure, VectorField};
 use crate::systems::{OneForce, Rigid, SameForces, TorqueFree, MAX_SAME_FORCES};
 
 /// Steps a driver takes between two looks at the stop flag (well under a millisecond of
@@ -655,30 +655,46 @@ where
     BlockSplitting: FixedMethod<Block<'a, S, SHARED>>,
 {
     let s = schedule;
+    match s.method {
+        Method::Dop853(control) => adaptive_block(block, &control, s, z, samples, stop),
+        Method::Rkmk(_) => fixed_block(block, BlockRkmk4, s, z, samples, stop),
+        Method::Splitting => fixed_block(block, BlockSplitting, s, z, samples, stop),
+        _ => fixed_block(block, BlockRk4, s, z, samples, stop),
+    }
+}
+
+/// A block run with the fixed-step `method` ([`run_block`]) on the schedule's times.
+fn fixed_block<'a, S, M, const SHARED: bool>(
+    block: &Block<'a, S, SHARED>,
+    method: M,
+    s: &Schedule,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> LanesRun
+where
+    S: RigidStructure + Sync,
+    M: FixedMethod<Block<'a, S, SHARED>> + Copy,
+{
     let (t0, t1, dt, t_eval, flips) = (s.t0, s.t1, s.dt, s.t_eval, s.flips);
-    LanesRun::Fixed(match s.method {
-        Method::Dop853(control) => {
-            return LanesRun::Adaptive(run_block_dop853(
-                block, &control, t0, t1, t_eval, flips, z, samples, stop,
-            ))
-        }
-        Method::Rkmk(_) => run_block(
-            block, BlockRkmk4, t0, t1, dt, t_eval, flips, z, samples, stop,
-        ),
-        Method::Splitting => run_block(
-            block,
-            BlockSplitting,
-            t0,
-            t1,
-            dt,
-            t_eval,
-            flips,
-            z,
-            samples,
-            stop,
-        ),
-        _ => run_block(block, BlockRk4, t0, t1, dt, t_eval, flips, z, samples, stop),
-    })
+    LanesRun::Fixed(run_block(
+        block, method, t0, t1, dt, t_eval, flips, z, samples, stop,
+    ))
+}
+
+/// A block run with DOP853 ([`run_block_dop853`]) on the schedule's times.
+fn adaptive_block<S: LaneRates + VectorField + Sync, const SHARED: bool>(
+    block: &Block<'_, S, SHARED>,
+    control: &Control,
+    s: &Schedule,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> LanesRun {
+    let (t0, t1, t_eval, flips) = (s.t0, s.t1, s.t_eval, s.flips);
+    LanesRun::Adaptive(run_block_dop853(
+        block, control, t0, t1, t_eval, flips, z, samples, stop,
+    ))
 }
 
 /// A block of bodies under one force of kind `K` ([`OneForce`]) in lanes, with the
@@ -754,14 +770,9 @@ fn run_rigid_block(
     }
     let block = Block::<_, false> { systems: &rigid };
     let s = schedule;
-    let (t0, t1, dt, t_eval, flips) = (s.t0, s.t1, s.dt, s.t_eval, s.flips);
     match s.method {
-        Method::Dop853(control) => Some(LanesRun::Adaptive(run_block_dop853(
-            &block, &control, t0, t1, t_eval, flips, z, samples, stop,
-        ))),
-        Method::Rk4 => Some(LanesRun::Fixed(run_block(
-            &block, BlockRk4, t0, t1, dt, t_eval, flips, z, samples, stop,
-        ))),
+        Method::Dop853(control) => Some(adaptive_block(&block, &control, s, z, samples, stop)),
+        Method::Rk4 => Some(fixed_block(&block, BlockRk4, s, z, samples, stop)),
         _ => None,
     }
 }
@@ -811,48 +822,19 @@ fn forces_in_lanes<const PIVOT: bool, const SHARED: bool>(
     stop: &AtomicBool,
 ) -> Option<LanesRun> {
     let s = schedule;
-    let (t0, t1, dt, t_eval, flips) = (s.t0, s.t1, s.dt, s.t_eval, s.flips);
     match s.method {
-        Method::Dop853(control) => Some(LanesRun::Adaptive(run_block_dop853(
-            block, &control, t0, t1, t_eval, flips, z, samples, stop,
-        ))),
-        Method::Rk4 => Some(LanesRun::Fixed(run_block(
-            block,
-            BlockRk4Stages,
-            t0,
-            t1,
-            dt,
-            t_eval,
-            flips,
-            z,
-            samples,
-            stop,
-        ))),
+        Method::Dop853(control) => Some(adaptive_block(block, &control, s, z, samples, stop)),
+        Method::Rk4 => Some(fixed_block(block, BlockRk4Stages, s, z, samples, stop)),
         // RK4's tableau ([`in_lanes`])
-        Method::Rkmk(_) => Some(LanesRun::Fixed(run_block(
-            block,
-            BlockRkmk4Stages,
-            t0,
-            t1,
-            dt,
-            t_eval,
-            flips,
-            z,
-            samples,
-            stop,
-        ))),
-        Method::Splitting => Some(LanesRun::Fixed(run_block(
+        Method::Rkmk(_) => Some(fixed_block(block, BlockRkmk4Stages, s, z, samples, stop)),
+        Method::Splitting => Some(fixed_block(
             block,
             BlockSplittingStages,
-            t0,
-            t1,
-            dt,
-            t_eval,
-            flips,
+            s,
             z,
             samples,
             stop,
-        ))),
+        )),
         _ => None,
     }
 }

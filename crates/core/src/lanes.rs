@@ -82,18 +82,12 @@ fn block_mut(z: &mut [f64]) -> &mut BlockState {
 /// Lane `l` of a block's state.
 #[inline(always)]
 pub fn gather(z: &BlockState, l: usize) -> State {
-    let mut y = [0.0; STATE_SIZE];
-    for c in 0..STATE_SIZE {
-        y[c] = z[at(c, l % LANES)];
-    }
-    y
+    lane_of::<STATE_SIZE, LANES>(z, l)
 }
 
 #[inline(always)]
 fn scatter(y: &State, l: usize, z: &mut BlockState) {
-    for c in 0..STATE_SIZE {
-        z[at(c, l % LANES)] = y[c];
-    }
+    set_lane_of::<STATE_SIZE, LANES>(y, l, z)
 }
 
 impl<S: RigidStructure, const SHARED: bool> VectorField for Block<'_, S, SHARED> {
@@ -144,23 +138,35 @@ impl<S: RigidStructure, const SHARED: bool> FixedMethod<Block<'_, S, SHARED>> fo
     }
 }
 
-/// Component `c` of lane `i` of `W` lanes' states, structure of arrays.
+/// Lane `i` of `N` components of `W` lanes, structure of arrays (component `c` at
+/// `c · W + i`).
 #[inline(always)]
-fn gather_of<const W: usize>(z: &[f64], i: usize) -> State {
-    let z = &z[..STATE_SIZE * W];
-    let mut y = [0.0; STATE_SIZE];
-    for c in 0..STATE_SIZE {
+fn lane_of<const N: usize, const W: usize>(z: &[f64], i: usize) -> [f64; N] {
+    let z = &z[..N * W];
+    let mut y = [0.0; N];
+    for c in 0..N {
         y[c] = z[c * W + i % W];
     }
     y
 }
 
 #[inline(always)]
-fn scatter_of<const W: usize>(y: &State, i: usize, z: &mut [f64]) {
-    let z = &mut z[..STATE_SIZE * W];
-    for c in 0..STATE_SIZE {
+fn set_lane_of<const N: usize, const W: usize>(y: &[f64; N], i: usize, z: &mut [f64]) {
+    let z = &mut z[..N * W];
+    for c in 0..N {
         z[c * W + i % W] = y[c];
     }
+}
+
+/// Lane `i` of `W` lanes' states.
+#[inline(always)]
+fn gather_of<const W: usize>(z: &[f64], i: usize) -> State {
+    lane_of::<STATE_SIZE, W>(z, i)
+}
+
+#[inline(always)]
+fn scatter_of<const W: usize>(y: &State, i: usize, z: &mut [f64]) {
+    set_lane_of::<STATE_SIZE, W>(y, i, z)
 }
 
 /// The rates and the wrench of `W` lanes of a block from lane `first` on, each at its own
@@ -387,23 +393,15 @@ fn store_group<const W: usize>(zs: &[f64], first: usize, z: &mut BlockState) {
     }
 }
 
-/// Lane `l` of an RKMK4 carry stored for `W` lanes (component `i` at `i · W + l`).
+/// Lane `l` of an RKMK4 carry stored for `W` lanes.
 #[inline(always)]
 fn take<const W: usize>(c: &[f64], l: usize) -> Rkmk4Carry {
-    let c = &c[..RKMK4_CARRY * W];
-    let mut x = [0.0; RKMK4_CARRY];
-    for i in 0..RKMK4_CARRY {
-        x[i] = c[i * W + l % W];
-    }
-    x
+    lane_of::<RKMK4_CARRY, W>(c, l)
 }
 
 #[inline(always)]
 fn put<const W: usize>(x: &Rkmk4Carry, l: usize, c: &mut [f64]) {
-    let c = &mut c[..RKMK4_CARRY * W];
-    for i in 0..RKMK4_CARRY {
-        c[i * W + l % W] = x[i];
-    }
+    set_lane_of::<RKMK4_CARRY, W>(x, l, c)
 }
 
 /// Runge–Kutta–Munthe-Kaas with RK4's tableau on every lane, the stages formed across
