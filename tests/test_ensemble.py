@@ -34,6 +34,8 @@ W0 = RNG.normal(size=(N, 3))
 Q0 = Rotation.random(N, random_state=4).as_matrix()
 MOMENTS = RNG.uniform(1.0, 2.0, (N, 3))
 SYMMETRIC_MOMENTS = MOMENTS[:, [0, 0, 2]]  # symmetric about the third axis
+# every other member symmetric: a block of lanes whose free rotors take both branches
+MIXED_MOMENTS = np.where((np.arange(N) % 2 == 0)[:, None], SYMMETRIC_MOMENTS, MOMENTS)
 
 # every built-in force but the gravities at once: a damped tether, quadratic drag, a
 # body-fixed thrust at a body point, a couple fixed in space
@@ -128,6 +130,19 @@ CASES = {
         "forces": KICKED,
         "moments": SYMMETRIC_MOMENTS,
     },
+    "mixed rotors kicked splitting": {
+        "method": "splitting",
+        "dt": 1e-2,
+        "forces": KICKED,
+        "moments": MIXED_MOMENTS,
+    },
+    "mixed rotors heavy top splitting": {
+        "method": "splitting",
+        "dt": 1e-2,
+        "pivot": (0.0, 0.0, 0.0),
+        "forces": [Gravity((0.0, 0.0, -9.8))],
+        "moments": MIXED_MOMENTS,
+    },
     "pivot and couples splitting": {
         "method": "splitting",
         "dt": 1e-2,
@@ -211,6 +226,8 @@ def test_every_member_equals_a_single_simulate(case):
         "tethered rkmk4",
         "kicked splitting",
         "symmetric kicked splitting",
+        "mixed rotors kicked splitting",
+        "mixed rotors heavy top splitting",
         "pivot and couples splitting",
         "pivot and couples dop853",
     ],
@@ -220,7 +237,8 @@ def test_members_in_simd_lanes_equal_their_single_runs(case):
     last block padded): free bodies with every method; one uniform or central gravity, or a
     pivot alone, with every method (the force's kind compiled into the lanes); other forces,
     one or several, with every method (each force for the whole block at once; the stages of
-    RK4 and RKMK4 and the kicks of the splitting method formed across the lanes). Every
+    RK4 and RKMK4 and the kicks of the splitting method formed across the lanes; the free
+    rotor's branch per lane where a block mixes symmetric and triaxial members). Every
     member equals its single ``simulate`` bit for bit, and chunks of 40 or 7 (the latter too
     few for lanes: member by member) change nothing, step counts included."""
     n = 150
@@ -231,9 +249,12 @@ def test_members_in_simd_lanes_equal_their_single_runs(case):
     moments = kw.pop("moments", None)
     if moments is not None:
         symmetric = moments is SYMMETRIC_MOMENTS
+        mixed = moments is MIXED_MOMENTS
         moments = rng.uniform(1.0, 2.0, (n, 3))
         if symmetric:
             moments[:, 1] = moments[:, 0]
+        if mixed:
+            moments[::2, 1] = moments[::2, 0]
         kw["moments"] = moments
     runs = [simulate_ensemble(BODY, (0, T_END), omega0=w0, Q0=q0, t_eval=T_EVAL, chunk_size=c,
                               threads=th, **kw) for c, th in ((n, 2), (40, 1), (7, 2))]  # fmt: skip
