@@ -13,12 +13,12 @@
 * ``exact_attitudes``: Q(t) of 10⁵ members at 10 times (in SIMD lanes), against a loop of
   single evaluations.
 * ``dop853_lanes``: DOP853 members (each its own step sizes) in lanes against the same members
-  run one at a time (chunks of 31, too few for lanes), the tolerances of a grading run.
+  run one at a time (chunks of 15, too few for lanes), the tolerances of a grading run.
 * ``forced_lanes``: bodies under forces in lanes (a heavy top: uniform gravity about a
   pivot; a satellite: central gravity with its gradient torque; every method; a body on a
   tether under four forces, RK4, RKMK4 and DOP853; on an undamped tether under three,
   splitting), against the same members run one at a time
-  (chunks of 31), bit for bit.
+  (chunks of 15), bit for bit.
 * ``dask``: the same RK4 ensemble on a 2-worker ``LocalCluster``, beside the local run.
 """
 
@@ -31,6 +31,9 @@ import numpy as np
 N_MEMBERS = 100_000
 ENSEMBLE_STEPS = 1000
 DT = 1e-3
+# members per chunk for the one-at-a-time runs: a chunk under a quarter of the core's block
+# of 64 lanes runs member by member (crates/core/src/ensemble.rs, run_lanes)
+ALONE = 15
 
 
 def _inputs(n=N_MEMBERS, seed=0):
@@ -347,7 +350,7 @@ def case_dop853_lanes(repeat):
                                  atol=1e-12, chunk_size=chunk, progress=False)  # fmt: skip
 
     t_lanes, a = timed(lambda: run(None), max(1, repeat // 2))
-    t_alone, b = timed(lambda: run(31), max(1, repeat // 2))
+    t_alone, b = timed(lambda: run(ALONE), max(1, repeat // 2))
     err = float(np.abs(a.state - b.state).max())
     steps = int(a.nsteps.sum())
     return [
@@ -356,7 +359,7 @@ def case_dop853_lanes(repeat):
             "body-steps/s)",
             "lanes, each member its own steps",
             t_lanes,
-            "the same members one at a time (chunks of 31)",
+            f"the same members one at a time (chunks of {ALONE})",
             t_alone,
             err,
             None,
@@ -422,7 +425,7 @@ def case_forced_lanes(repeat):
                                          **setup, **kw)  # fmt: skip
 
             t_lanes, a = timed(lambda run=run: run(None), max(1, repeat // 2))
-            t_alone, b = timed(lambda run=run: run(31), max(1, repeat // 2))
+            t_alone, b = timed(lambda run=run: run(ALONE), max(1, repeat // 2))
             same = bool(np.array_equal(a.state, b.state, equal_nan=True))
             steps = int(a.nsteps.sum())
             rows.append(
@@ -431,7 +434,7 @@ def case_forced_lanes(repeat):
                     f"body-steps/s; bit for bit the members alone: {same})",
                     "lanes",
                     t_lanes,
-                    "the same members one at a time (chunks of 31)",
+                    f"the same members one at a time (chunks of {ALONE})",
                     t_alone,
                     float(np.nanmax(np.abs(a.state - b.state))),
                     None,

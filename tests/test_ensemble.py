@@ -233,7 +233,7 @@ def test_every_member_equals_a_single_simulate(case):
     ],
 )
 def test_members_in_simd_lanes_equal_their_single_runs(case):
-    """Members run in blocks of SIMD lanes (the core's ``lanes``: 128 members a block, a short
+    """Members run in blocks of SIMD lanes (the core's ``lanes``: 64 members a block, a short
     last block padded): free bodies with every method; one uniform or central gravity, or a
     pivot alone, with every method (the force's kind compiled into the lanes); other forces,
     one or several, with every method (each force for the whole block at once; the stages of
@@ -264,7 +264,7 @@ def test_members_in_simd_lanes_equal_their_single_runs(case):
         np.testing.assert_array_equal(other.nsteps, runs[0].nsteps)
         np.testing.assert_array_equal(other.nfev, runs[0].nfev)
     kw.pop("moments", None)
-    for i in (0, 77, 127, 128, n - 1):
+    for i in (0, 63, 64, 77, 127, 128, n - 1):
         body = BODY if moments is None else RigidBody(2.0, np.diag(moments[i]),
                                                       BODY.center_of_mass)  # fmt: skip
         tr = simulate(body, (0, T_END), omega0=w0[i], Q0=q0[i], t_eval=T_EVAL,

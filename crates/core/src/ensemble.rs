@@ -611,7 +611,7 @@ fn lane_systems(block: &[Member]) -> LaneSystems {
 }
 
 /// How a block's lanes ran: one status for a fixed-step method (the block steps together),
-/// one per lane for DOP853 (one per block of 128 members, so its size does not matter).
+/// one per lane for DOP853 (one per block of [`LANES`] members, so its size does not matter).
 #[allow(clippy::large_enum_variant)]
 enum LanesRun {
     Fixed(BlockRun),
