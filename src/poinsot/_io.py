@@ -38,6 +38,7 @@ __all__ = [
     "OutputFolder",
     "PoinsotWarning",
     "atomic_path",
+    "atomic_savez",
     "atomic_write_text",
     "safe_name",
     "write_netcdf",
@@ -193,6 +194,19 @@ def atomic_path(path, suffix: str | None = None):
             _WRITING.pop(Path(tmp), None)
             _remove_created(created)
         raise
+
+
+def atomic_savez(path, **arrays) -> None:
+    """Write ``arrays`` to a compressed ``.npz`` file at ``path`` atomically.
+
+    NumPy's writer cut short by a signal leaves a ``ZipFile`` behind whose destructor fails
+    later (``Exception ignored in: … ValueError: seek of closed file`` on stderr), so the
+    archive is written in :func:`critical`: a signal lands before or after it, and the
+    temporary file goes with the unwinding."""
+    import numpy as np
+
+    with atomic_path(path, suffix=".npz") as tmp, critical():
+        np.savez_compressed(tmp, **arrays)
 
 
 def atomic_write_text(path, text: str) -> None:

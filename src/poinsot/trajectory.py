@@ -9,7 +9,7 @@ import numpy as np
 
 from . import _core
 from ._core import matrix_to_quat
-from ._io import atomic_path
+from ._io import atomic_path, atomic_savez
 from .display import Displayable
 from .layout import STATE_SIZE, STATE_SLICES
 
@@ -424,23 +424,22 @@ class Trajectory(Displayable):
 
     def to_npz(self, path) -> None:
         """Write every array to a compressed ``.npz`` file (atomically)."""
-        with atomic_path(path, suffix=".npz") as tmp, open(tmp, "wb") as fh:
-            np.savez_compressed(
-                fh,
-                t=self.t,
-                R=self.R,
-                V=self.V,
-                Q=self.Q,
-                omega=self.omega,
-                quaternion=self.quaternion,
-                omega_space=self.omega_space,
-                angular_momentum=self.angular_momentum,
-                kinetic_energy=self.kinetic_energy,
-                potential_energy=self.potential_energy,
-                total_energy=self.total_energy,
-                orthogonality_error=self.orthogonality_error,
-                summary=np.array(json.dumps(self.summary())),
-            )
+        atomic_savez(
+            path,
+            t=self.t,
+            R=self.R,
+            V=self.V,
+            Q=self.Q,
+            omega=self.omega,
+            quaternion=self.quaternion,
+            omega_space=self.omega_space,
+            angular_momentum=self.angular_momentum,
+            kinetic_energy=self.kinetic_energy,
+            potential_energy=self.potential_energy,
+            total_energy=self.total_energy,
+            orthogonality_error=self.orthogonality_error,
+            summary=np.array(json.dumps(self.summary())),
+        )
 
     def to_csv(self, path) -> None:
         """Write one row per sample (t, R, V, Q, ω, quaternion, energies) to CSV, atomically;

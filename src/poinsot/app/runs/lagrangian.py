@@ -6,7 +6,7 @@ import json
 
 import numpy as np
 
-from ..._io import atomic_path
+from ..._io import atomic_path, atomic_savez
 from .base import Run, add_units, jsonable, pyplot, save_png, scenario_header
 
 __all__ = ["LagrangianRun", "summarize_lagrangian"]
@@ -38,20 +38,19 @@ class LagrangianRun(Run):
         sol, model = self.result, self.scenario.model
         names = [str(q).replace("(t)", "") for q in sol.coordinates]
         reactions = model.reaction_values(sol)
-        with atomic_path(folder / "solution.npz", suffix=".npz") as tmp, open(tmp, "wb") as fh:
-            np.savez_compressed(
-                fh,
-                t=sol.t,
-                q=sol.q,
-                qd=sol.qd,
-                multipliers=sol.multipliers,
-                constraint_forces=sol.constraint_forces,
-                constraint_residual=sol.constraint_residual,
-                constraint_velocity_residual=sol.constraint_velocity_residual,
-                energy=sol.energy,
-                coordinates=np.array(names),
-                units=np.array(json.dumps(summary["units"])),
-            )
+        atomic_savez(
+            folder / "solution.npz",
+            t=sol.t,
+            q=sol.q,
+            qd=sol.qd,
+            multipliers=sol.multipliers,
+            constraint_forces=sol.constraint_forces,
+            constraint_residual=sol.constraint_residual,
+            constraint_velocity_residual=sol.constraint_velocity_residual,
+            energy=sol.energy,
+            coordinates=np.array(names),
+            units=np.array(json.dumps(summary["units"])),
+        )
         units = _coordinate_units(sol)
         header = (
             ["t [s]"]
