@@ -359,6 +359,17 @@ class RigidBody:
         return _readonly(_core.planar_inertia(self._inertia))
 
     @property
+    def equivalent_box_half_extents(self) -> np.ndarray:
+        """Half extents ``(a1, a2, a3)`` along ``e1, e2, e3`` of the uniform box with this body's
+        mass and principal moments, ``I1 = m (a2² + a3²) / 3`` and cyclically; a side is 0 where
+        the moments allow none (``equivalent_box_half_extents`` of ``crates/core/src/shapes.rs``).
+
+        >>> RigidBody.box(12.0, (2.0, 4.0, 6.0)).equivalent_box_half_extents
+        array([3., 2., 1.])
+        """
+        return _readonly(_core.equivalent_box_half_extents(self.principal_moments, self._mass))
+
+    @property
     def is_degenerate(self) -> bool:
         """True when ``A`` is singular (I1 ≈ 0): all the mass lies on one line."""
         return bool(_core.is_degenerate(self.principal_moments, _core.DEGENERATE_RTOL))

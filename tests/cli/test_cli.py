@@ -458,26 +458,27 @@ def test_polhodes_refuses_conflicting_energy_and_honours_omega0(tmp_path, capsys
 def test_run_draws_the_runs_own_energy_and_the_sweep_apart(tmp_path):
     """polhodes.png: ω(t) unscaled on the run's own ellipsoid; the [analysis] energy's sweep
     is a separate, titled polhodes_sweep.png (the notebook example: k = 12.5 against 0.5)."""
-    import matplotlib.pyplot as plt
-
     import poinsot.app.job as job
+    import poinsot.app.runs.rigid as rigid
 
-    titles = {}
-    real_save = plt.Figure.savefig
+    shown = {}
+    real_images = rigid.png_images
 
-    def spy(fig, fname, *args, **kwargs):
-        titles[Path(fname).name] = (fig.axes[0].get_title(), fig)
-        return real_save(fig, fname, *args, **kwargs)
+    def spy(figures, folder, **kwargs):  # each figure by its file name, as it is rendered
+        def seen():
+            for fig, name, caption in figures:
+                shown[name] = (fig.axes[0].get_title(), fig)
+                yield fig, name, caption
+
+        return real_images(seen(), folder, **kwargs)
 
     from poinsot.app.scenario import load_example
 
     scenario = load_example("notebook")
     scenario.outputs["report"] = False
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(plt.Figure, "savefig", spy)
+        mp.setattr(rigid, "png_images", spy)
         job.run_scenario(scenario, tmp_path / "o")
-    # atomic writes save to ".polhodes.png.XXXX.png" first
-    shown = {".".join(k.lstrip(".").split(".")[:2]): v for k, v in titles.items()}
     title, fig = shown["polhodes.png"]
     assert "k = 12.5 J" in title
     run_line = next(ln for ln in fig.axes[0].lines if ln.get_label() == "ω(t) of this run")

@@ -340,7 +340,7 @@ crate::multiversion! {
         S: VectorField + ?Sized,
         M: FixedMethod<S>,
         O: Observer,
-    ] => run_fixed, up to crate::isa::Isa::Avx2;
+    ] => run_fixed, up to Avx2;
 }
 
 /// Integrate with a fixed-step method from `clock.t` to `sampling.t_end`, resumably.

@@ -33,7 +33,7 @@ use crate::drivers::{
     run_adaptive, run_fixed, AdaptiveState, Clock, Counters, Erk, Output, Sampling, Status,
 };
 use crate::events::{EventFunctions, Watch};
-use crate::expressions::{Function, Program, Scratch};
+use crate::expressions::{Compiler, Function, Program, Scratch};
 use crate::linalg::{min_norm_solve, solve_augmented, solve_spd_augmented};
 use crate::observers::{NoObserver, Observer};
 use crate::steppers::{Control, Tableau};
@@ -86,8 +86,9 @@ pub struct Model {
 }
 
 impl Model {
-    /// The model of `program` (inputs and outputs as [`Shape`] says), compiled to machine code.
-    pub fn new(shape: Shape, program: Program) -> Result<Self, String> {
+    /// The model of `program` (inputs and outputs as [`Shape`] says), compiled by `compiler`
+    /// (`poinsot_jit::Jit`: machine code; [`crate::expressions::Interpreter`]: interpreted).
+    pub fn new(shape: Shape, program: Program, compiler: &dyn Compiler) -> Result<Self, String> {
         if shape.nh > shape.m {
             return Err(format!(
                 "{} holonomic constraints among {} constraints",
@@ -108,7 +109,7 @@ impl Model {
         }
         Ok(Model {
             shape,
-            parts: Function::compile(program),
+            parts: Function::compile(program, compiler),
         })
     }
 
@@ -1126,7 +1127,7 @@ pub fn run_members_with(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::expressions::{ADD, CONST, INPUT, MUL, OUTPUT, UNARY};
+    use crate::expressions::{Interpreter, ADD, CONST, INPUT, MUL, OUTPUT, UNARY};
     use crate::tableaux::{RK4_A, RK4_B, RK4_C};
 
     /// A postfix program from a little stack language: each item an instruction.
@@ -1207,7 +1208,7 @@ mod tests {
             (ADD, 0.0),
             (OUTPUT, 0.0),
         ]);
-        Model::new(shape, program(&p, shape)).unwrap()
+        Model::new(shape, program(&p, shape), &Interpreter).unwrap()
     }
 
     /// The pendulum in its angle θ (from the downward vertical): m l² θ̈ = −m g l sin θ, as a
@@ -1260,7 +1261,7 @@ mod tests {
             (ADD, 0.0),
             (OUTPUT, 0.0),
         ]);
-        Model::new(shape, program(&p, shape)).unwrap()
+        Model::new(shape, program(&p, shape), &Interpreter).unwrap()
     }
 
     const P: [f64; 3] = [2.0, 1.5, 9.81];
@@ -1534,10 +1535,10 @@ mod tests {
             nu: 0,
         };
         let p = Program::new(&[INPUT, OUTPUT], &[0.0, 0.0], 3, 1).unwrap();
-        assert!(Model::new(shape, p).is_err()); // 1 output, 3 needed
+        assert!(Model::new(shape, p, &Interpreter).is_err()); // 1 output, 3 needed
         let bad = Shape { nh: 2, ..shape };
         let p = Program::new(&[INPUT, OUTPUT], &[0.0, 0.0], 3, 1).unwrap();
-        assert!(Model::new(bad, p).is_err());
+        assert!(Model::new(bad, p, &Interpreter).is_err());
         let m = angle_pendulum();
         assert!(Lagrangian::new(
             &m,
@@ -1589,7 +1590,10 @@ mod tests {
         let (y0, st) = slack_launch();
         let sys = Lagrangian::new(&model, &P, Constant(&[]), st, None).unwrap();
         // the expression y (input 1 of [x, y, ẋ, ẏ, t])
-        let height = Function::compile(Program::new(&[INPUT, OUTPUT], &[1.0, 0.0], 5, 1).unwrap());
+        let height = Function::compile(
+            Program::new(&[INPUT, OUTPUT], &[1.0, 0.0], 5, 1).unwrap(),
+            &Interpreter,
+        );
         let sources = [Source::Expression(0), Source::Release(0)];
         let events = LagrangeEvents::new(&sys, &sources, Some(&height), NoCallbacks).unwrap();
         let (terminal, direction) = ([false, true], [1.0, 1.0]);

@@ -16,7 +16,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::drivers::{next_up, run_fixed, Clock, Counters, FixedMethod, Output, Sampling, Status};
 use crate::forces::one_force_wrench;
-use crate::isa::Isa;
 use crate::layout::{Body, OMEGA_AT, STATE_SIZE};
 use crate::observers::Observer;
 use crate::rigid::State;
@@ -820,7 +819,7 @@ crate::multiversion! {
         z: &mut [f64],
         samples: &mut [f64],
         stop: &AtomicBool,
-    ) -> BlockRun where [] => run_block_any, up to Isa::Avx512;
+    ) -> BlockRun where [] => run_block_any, up to Avx512;
 }
 
 /// The block's time loop, inlined into each target's copy of it.
@@ -929,7 +928,7 @@ crate::multiversion! {
         z: &mut [f64],
         samples: &mut [f64],
         stop: &AtomicBool,
-    ) -> BlockAdaptiveRun where [] => dop853_any, up to Isa::Avx512;
+    ) -> BlockAdaptiveRun where [] => dop853_any, up to Avx512;
 }
 
 /// The stages of one DOP853 trial step on every lane, as [`dop853_step`] computes them for
@@ -1232,6 +1231,7 @@ pub fn block_state(states: &[State]) -> Vec<f64> {
 mod tests {
     use super::*;
     use crate::drivers::{run_fixed_native, Rk4Rigid};
+    use crate::isa::Isa;
     use crate::layout::{Body, Q_AT};
     use crate::observers::NoObserver;
     use crate::systems::TorqueFree;

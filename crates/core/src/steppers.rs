@@ -586,25 +586,31 @@ pub fn dop853_dense<S: VectorField + ?Sized>(
     fd: &mut [f64],
 ) {
     let n = sys.dim();
+    // every slice cut to its length once, so that the loops below carry no bounds checks
+    let (y_old, y, f, ytmp) = (&y_old[..n], &y[..n], &f[..n], &mut ytmp[..n]);
+    let k = &mut k[..DOP853_STAGES_EXTENDED * n];
+    let fd = &mut fd[..7 * n];
     for s in DOP853_STAGES + 1..DOP853_STAGES_EXTENDED {
+        let (done, next) = k.split_at_mut(s * n);
         for idx in 0..n {
             let mut acc = 0.0;
-            for m in 0..s {
-                acc += DOP853_A[s][m] * k[m * n + idx];
+            for (m, a) in DOP853_A[s][..s].iter().enumerate() {
+                acc += a * done[m * n + idx];
             }
             ytmp[idx] = y_old[idx] + h * acc;
         }
-        sys.rhs(t_old + DOP853_C[s] * h, ytmp, &mut k[s * n..(s + 1) * n]);
+        sys.rhs(t_old + DOP853_C[s] * h, ytmp, &mut next[..n]);
     }
+    let k = &*k;
     for idx in 0..n {
         let dy = y[idx] - y_old[idx];
         fd[idx] = dy;
         fd[n + idx] = h * k[idx] - dy;
         fd[2 * n + idx] = 2.0 * dy - h * (f[idx] + k[idx]);
-        for r in 0..4 {
+        for (r, d) in DOP853_D.iter().enumerate() {
             let mut acc = 0.0;
-            for s in 0..DOP853_STAGES_EXTENDED {
-                acc += DOP853_D[r][s] * k[s * n + idx];
+            for (s, c) in d.iter().enumerate() {
+                acc += c * k[s * n + idx];
             }
             fd[(3 + r) * n + idx] = h * acc;
         }

@@ -49,7 +49,6 @@ use crate::elliptic::{
     reduce_quarter, third_kind_reduced, third_kind_u, Agm, NEAR_ONE, TINY_M1,
 };
 use crate::invariants::principal_invariants;
-use crate::isa::Isa;
 use crate::real::{py_max, py_min, sin_cos, Mask, Real, Wide, WideMask, WIDTH};
 use crate::so3::{exp_so3, matmul, zxz_matrix_sc, Mat3, Vec3};
 use rayon::prelude::*;
@@ -945,7 +944,7 @@ crate::multiversion! {
         ws: &[Vec3],
         ts: &[f64],
         out: &mut [Vec3],
-    ) -> () where [] => omegas_in_lanes_any::<N>, up to Isa::Avx512;
+    ) -> () where [] => omegas_in_lanes_any::<N>, up to Avx512;
 }
 
 /// The lanes' loop, inlined into each target's copy of it: groups of `N` members in the
@@ -1116,7 +1115,7 @@ crate::multiversion! {
         radicals: &Radicals,
         ws: &[Vec3],
         out: &mut [Family],
-    ) -> () where [] => families_in_lanes_any::<N>, up to Isa::Avx512;
+    ) -> () where [] => families_in_lanes_any::<N>, up to Avx512;
 }
 
 /// Groups of `N` members in the lanes (lanes past the last member repeat it, their results
@@ -1328,7 +1327,7 @@ crate::multiversion! {
         q0s: &[Mat3],
         ts: &[f64],
         out: &mut [Mat3],
-    ) -> () where [] => attitudes_in_lanes_any::<N>, up to Isa::Avx512;
+    ) -> () where [] => attitudes_in_lanes_any::<N>, up to Avx512;
 }
 
 /// The lanes' loop, inlined into each target's copy: groups of `N` members in the lanes (the
@@ -1452,6 +1451,7 @@ fn times_attitudes_in_lanes<const N: usize>(
 mod tests {
     use super::*;
     use crate::freebody::{euler_omega_dot, symmetry_code, SYMMETRY_RTOL};
+    use crate::isa::Isa;
 
     const EYE: Mat3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 

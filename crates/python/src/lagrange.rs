@@ -23,6 +23,7 @@ use poinsot_core::lagrange::{
 use poinsot_core::observers::NoObserver;
 use poinsot_core::steppers::{Control, Tableau};
 use poinsot_core::system::VectorField;
+use poinsot_jit::Jit;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyList;
@@ -108,7 +109,7 @@ impl LagrangianModel {
         )
         .map_err(|e| value_error(format!("the model's program is malformed: {e}")))?;
         let model = py
-            .detach(|| Model::new(shape, program))
+            .detach(|| Model::new(shape, program, &Jit))
             .map_err(|e| value_error(format!("the model is malformed: {e}")))?;
         Ok(LagrangianModel {
             model: Arc::new(model),

@@ -19,6 +19,18 @@ mod tops;
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", poinsot_core::version::VERSION)?;
+    // the instruction sets this build carries copies of the vectorised loops for
+    // (crates/core/build.rs, POINSOT_ISAS), and the one an ensemble runs in here
+    let isas: Vec<&str> = poinsot_core::isa::Isa::ALL
+        .into_iter()
+        .filter(|isa| isa.compiled())
+        .map(|isa| isa.name())
+        .collect();
+    m.add("COMPILED_ISAS", isas)?;
+    m.add(
+        "ISA",
+        poinsot_core::isa::Isa::widest_up_to(poinsot_core::isa::Isa::Avx512).name(),
+    )?;
     engine::register(m)?;
     for (name, status) in [
         ("RUNNING", poinsot_core::drivers::Status::Running),

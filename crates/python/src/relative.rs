@@ -22,6 +22,7 @@ use poinsot_core::rigid::State;
 use poinsot_core::so3::{Mat3, Vec3};
 use poinsot_core::system::VectorField;
 use poinsot_core::systems::{NoUser, Rigid, UserWrench};
+use poinsot_jit::Jit;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 
@@ -285,7 +286,7 @@ impl Expressions {
     ) -> PyResult<Self> {
         let program = Program::new(codes.as_slice()?, values.as_slice()?, n_inputs, n_outputs)
             .map_err(|e| value_error(format!("the expression program is malformed: {e}")))?;
-        let function = py.detach(|| Function::compile(program));
+        let function = py.detach(|| Function::compile(program, &Jit));
         Ok(Expressions {
             function: Arc::new(function),
         })

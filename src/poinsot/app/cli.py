@@ -91,6 +91,7 @@ def _cmd_run(args):
 
     if args.scenario and args.example:
         raise _BadInput("give a SCENARIO file or --example NAME, not both")
+    plotlyjs = _plotly_js(args)
     if args.scenario:
         scenario = load_scenario(Path(args.scenario))
     else:
@@ -100,7 +101,7 @@ def _cmd_run(args):
     progress = _Progress(*scenario.t_span, enabled=not args.quiet, guard=guard)
     try:
         summary = run_scenario(scenario, out, force=args.force, progress=progress,
-                               plotlyjs=args.plotly_js, on_stage=guard.at)  # fmt: skip
+                               plotlyjs=plotlyjs, on_stage=guard.at)  # fmt: skip
     finally:
         progress.close()
     guard.at("printing the summary")
@@ -111,7 +112,24 @@ def _cmd_run(args):
     else:
         for line in run_for(scenario).terminal_lines(summary, out):
             _say(args, line)
+    if "report" in summary:  # a static report: say why, and how to get the interactive one
+        print(f"poinsot: note: {summary['report']}", file=sys.stderr)
     return EXIT_OK
+
+
+def _plotly_js(args) -> str:
+    """``--plotly-js``, checked before any work: how the interactive report gets plotly.js
+    (default ``inline``). Asked for explicitly without plotly installed, it is refused (the
+    report would be a static page, where it has no effect)."""
+    if args.plotly_js is None:
+        return "inline"
+    from ..viz.report import interactive_available
+
+    if not interactive_available():
+        raise _BadInput(f"--plotly-js {args.plotly_js} needs plotly, which is not installed: "
+                        "pip install 'poinsot[report]' (or leave --plotly-js out for a static "
+                        "report)")  # fmt: skip
+    return args.plotly_js
 
 
 def _output_folder(args, name: str):
@@ -256,10 +274,11 @@ def _cmd_polhodes(args):
         raise _BadInput(f"--energy: {exc}") from None
     from .._io import OutputFolder
 
+    plotlyjs = _plotly_js(args)
     out = _output_folder(args, "polhodes")
     folder = OutputFolder(out, force=args.force, command="polhodes", needs_bytes=12_000_000)
     with folder.writing() as work:
-        _write_polhodes(work, args, free, energy, result)
+        written = _write_polhodes(work, args, free, energy, result, plotlyjs)
     if args.json:
         print(json.dumps(result, indent=2))
     else:
@@ -277,7 +296,9 @@ def _cmd_polhodes(args):
                 _say(args, f"  {names[key]}: {shown} {result['units'].get(key, '')}".rstrip())
         if "flip_interval" in result:
             _say(args, f"  {flip_note(result)}")
-        _say(args, f"  wrote {out}/ (polhodes.json, polhodes.png, report.html)")
+        _say(args, f"  wrote {out}/ ({', '.join(written)})")
+    if "report" in result:
+        print(f"poinsot: note: {result['report']}", file=sys.stderr)
     return EXIT_OK
 
 
@@ -295,58 +316,56 @@ def flip_note(result) -> str:
             "perpendicular to L)")  # fmt: skip
 
 
-def _write_polhodes(out, args, free, energy, result):
-    """polhodes.png (+ energy_ellipsoid.png with --omega0), one interactive report.html of
-    both when plotly is installed, and polhodes.json (with units), into the folder ``out``."""
+def _write_polhodes(out, args, free, energy, result, plotlyjs) -> list[str]:
+    """polhodes.png (+ energy_ellipsoid.png with --omega0), one report.html of both
+    (interactive with plotly, else a static page of the two images), and polhodes.json (with
+    units), into the folder ``out``; the names of the files written."""
 
     import json
 
-    import matplotlib
     import numpy as np
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from .._io import atomic_path, atomic_write_text
+    from .._io import atomic_write_text
     from ..viz import plot_energy_ellipsoid, plot_polhode_family
+    from ..viz.numbers import units_of
+    from ..viz.report import STATIC_NOTE, interactive_available
+    from .runs.base import png_images
 
-    path = None
-    if args.omega0 is not None:  # ω0 fixes the energy: its ω(t) lies on this very ellipsoid
-        w0 = np.array(args.omega0, dtype=float)
-        t = np.linspace(
-            0,
-            min(free.period(w0), 200.0)
-            if result["family"] not in ("fixed point", "spherical", "separatrix")
-            else 50.0,
-            400,
-        )
-        path = free.exact_omega(w0, t)
-    fig = plot_polhode_family(free, energy, omega=path, omega_label="ω(t) from ω0")
-    with atomic_path(out / "polhodes.png") as tmp:
-        fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
-    if args.omega0 is not None:
-        fig = plot_energy_ellipsoid(free, result["energy"], result["momentum"])
-        with atomic_path(out / "energy_ellipsoid.png") as tmp:
-            fig.savefig(tmp, dpi=110, format="png")
-        plt.close(fig)
-    try:  # one interactive page with both figures and the numbers, when plotly is installed
+    def figures():
+        path = None
+        if args.omega0 is not None:  # ω0 fixes the energy: its ω(t) lies on this ellipsoid
+            w0 = np.array(args.omega0, dtype=float)
+            periodic = result["family"] not in ("fixed point", "spherical", "separatrix")
+            t = np.linspace(0, min(free.period(w0), 200.0) if periodic else 50.0, 400)
+            path = free.exact_omega(w0, t)
+        yield (plot_polhode_family(free, energy, omega=path, omega_label="ω(t) from ω0"),
+               "polhodes.png", "The polhode family on the energy ellipsoid")  # fmt: skip
+        if args.omega0 is not None:
+            fig = plot_energy_ellipsoid(free, result["energy"], result["momentum"])
+            yield fig, "energy_ellipsoid.png", "The energy ellipsoid and the momentum sphere"
+
+    images = png_images(figures(), out, dpi=110)
+    about = "Torque-free analysis: fixed points, invariants and the energy ellipsoid"
+    page = {**result, "scenario": {"name": "polhodes", "description": about}}
+    if interactive_available():  # one interactive page with both figures and the numbers
         from ..viz.interactive import energy_ellipsoid_figure, polhode_family_figure
         from ..viz.report import write_figures_page
-    except ImportError:  # pragma: no cover - depends on the environment
-        pass
-    else:
-        figures = [polhode_family_figure(free, energy)]
-        if args.omega0 is not None:
-            figures.append(energy_ellipsoid_figure(free, result["energy"], result["momentum"]))
-        about = "Torque-free analysis: fixed points, invariants and the energy ellipsoid"
-        page = {**result, "scenario": {"name": "polhodes", "description": about}}
-        write_figures_page(out / "report.html", figures, page, plotlyjs=args.plotly_js,
-                           raw_link="polhodes.json")  # fmt: skip
-    from ..viz.numbers import units_of
 
+        plots = [polhode_family_figure(free, energy)]
+        if args.omega0 is not None:
+            plots.append(energy_ellipsoid_figure(free, result["energy"], result["momentum"]))
+        write_figures_page(out / "report.html", plots, page, plotlyjs=plotlyjs,
+                           raw_link="polhodes.json")  # fmt: skip
+    else:
+        from ..viz.report import write_static_report
+
+        result["report"] = STATIC_NOTE
+        write_static_report(out / "report.html", page, images, ("polhodes.json",))
     result["units"] = units_of(result)
     atomic_write_text(out / "polhodes.json", json.dumps(result, indent=2))
+    files = ["polhodes.json", *(name for name in ("polhodes.png", "energy_ellipsoid.png")
+                                if (out / name).exists()), "report.html"]  # fmt: skip
+    return files
 
 
 def _cmd_identify(args):
@@ -520,10 +539,11 @@ def _parser():
     run.add_argument(
         "--plotly-js",
         choices=("inline", "cdn", "shared"),
-        default="inline",
+        default=None,
         help="how report.html gets plotly.js: inline (default; self-contained, ~5 MB), cdn "
         "(small, loads it from cdn.plot.ly) or shared (writes plotly-VERSION.min.js once "
-        "beside the output folder, e.g. in poinsot-out/, for all the reports there)",
+        "beside the output folder, e.g. in poinsot-out/, for all the reports there); needs "
+        "the report extra (without plotly the report is a static page)",
     )
     run.add_argument("--quiet", action="store_true", help="print nothing but errors")
     run.add_argument("--json", action="store_true", help="print the summary as JSON on stdout")
@@ -596,7 +616,7 @@ def _parser():
     )
     pol.add_argument("--out", metavar="DIR", help="output folder (default ./poinsot-out/polhodes/)")
     pol.add_argument("--force", action="store_true", help="replace the output folder's files")
-    pol.add_argument("--plotly-js", choices=("inline", "cdn", "shared"), default="inline",
+    pol.add_argument("--plotly-js", choices=("inline", "cdn", "shared"), default=None,
                      help="how report.html gets plotly.js (as for `poinsot run`)")  # fmt: skip
     pol.add_argument("--quiet", action="store_true", help="print nothing but errors")
     pol.add_argument("--json", action="store_true", help="print the analysis as JSON")

@@ -15,6 +15,7 @@ import json
 import time
 
 from .._io import OutputError, OutputExistsError, OutputFolder, atomic_write_text
+from ..viz.report import STATIC_NOTE, interactive_available
 from .runs import run_for
 from .runs.base import jsonable
 
@@ -33,6 +34,10 @@ def run_scenario(
     report gets plotly.js (:data:`poinsot.viz.report.PLOTLYJS_MODES`). ``on_stage``: called
     with the name of each stage as it begins ("simulating", "drawing the figures", …), to say
     how far a run got when it is stopped.
+
+    Without plotly (the ``report`` extra) the report of a rigid-body or Lagrangian run is a
+    static page of its numbers and matplotlib figures, and ``summary["report"]`` says so
+    (:data:`~poinsot.viz.report.STATIC_NOTE`).
     """
     stage = on_stage or (lambda name: None)
     run = run_for(scenario)
@@ -46,6 +51,9 @@ def run_scenario(
     wanted = scenario.outputs
     figures = wanted.get("figures", True)
     with_report = report and wanted.get("report", True)
+    static = with_report and run.interactive_report and not interactive_available()
+    if static:  # the numbers and the matplotlib figures, on a page that says so
+        summary["report"] = STATIC_NOTE
     with folder.writing() as work:
         if wanted.get("data", True):
             stage("writing the data")
@@ -53,8 +61,12 @@ def run_scenario(
         images = {}
         if figures or with_report:
             stage("drawing the figures")
-            images = run.figures(work if figures else None, for_report=with_report)
-        if with_report:
+            for_report = with_report and (static or not run.interactive_report)
+            images = run.figures(work if figures else None, for_report=for_report)
+        if static:
+            stage("writing the report")
+            run.write_static_report(work / "report.html", summary, images)
+        elif with_report:
             stage("writing the report")
             run.write_report(work / "report.html", summary, images, plotlyjs=plotlyjs)
         stage("writing the summary")

@@ -55,6 +55,7 @@ class _Progress:
         if callable(progress) and not isinstance(progress, bool):
             self.callback = progress
             return
+        asked = progress is True
         if progress is None:
             progress = n_chunks > 1 and sys.stderr.isatty()
         elif not isinstance(progress, bool):
@@ -62,8 +63,13 @@ class _Progress:
         if progress:
             try:
                 from tqdm.auto import tqdm
-            except ImportError:  # the optional extra is missing: stay silent
-                return
+            except ImportError as exc:  # the optional extra is missing
+                if not asked:  # the bar was only a default: stay silent
+                    return
+                raise ValueError(
+                    "`progress=True` draws a bar with tqdm, which is not installed (pip install "
+                    "'poinsot[progress]'), or pass a callable (done, total)"
+                ) from exc
             self.bar = tqdm(total=total, unit="member", unit_scale=True, desc="ensemble")
 
     def update(self, k):

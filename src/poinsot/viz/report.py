@@ -1,9 +1,11 @@
-"""A self-contained interactive HTML report of a run (needs the ``report`` extra: plotly).
+"""A self-contained HTML report of a run.
 
-One page, plotly.js inlined by default (opens with no network; see :data:`PLOTLYJS_MODES` for
-the smaller choices): the body tumbling in 3D (animated), ω on the energy ellipsoid with the
-polhode family, the time series, and the numbers, grouped, named and with units
-(:mod:`poinsot.viz.numbers`).
+With the ``report`` extra (plotly), one interactive page, plotly.js inlined by default (opens
+with no network; see :data:`PLOTLYJS_MODES` for the smaller choices): the body tumbling in 3D
+(animated), ω on the energy ellipsoid with the polhode family, the time series, and the
+numbers, grouped, named and with units (:mod:`poinsot.viz.numbers`). Without plotly,
+:func:`write_static_report` writes the same numbers with the run's matplotlib figures, and says
+how to get the interactive page (:data:`STATIC_NOTE`).
 """
 
 from __future__ import annotations
@@ -18,15 +20,33 @@ from .interactive import SCENE_CAMERA
 
 __all__ = [
     "PLOTLYJS_MODES",
-    "equivalent_box_half_extents",
+    "STATIC_NOTE",
+    "interactive_available",
     "write_ensemble_report",
     "write_figures_page",
     "write_identify_report",
     "write_lagrangian_report",
     "write_report",
+    "write_static_report",
 ]
 
 MAX_FRAMES = 120
+
+
+#: What a static report says of itself (and the command line, when it writes one).
+STATIC_NOTE = (
+    "report.html is a static page (the run's figures and numbers): the interactive figures "
+    "need plotly, which is not installed (pip install 'poinsot[report]')"
+)
+
+
+def interactive_available() -> bool:
+    """Whether the interactive report can be written: plotly (the ``report`` extra) imports."""
+    try:
+        import plotly.graph_objects  # noqa: F401
+    except ImportError:
+        return False
+    return True
 
 
 def _plotly():
@@ -36,14 +56,6 @@ def _plotly():
     except ImportError as exc:  # pragma: no cover - depends on the environment
         raise ImportError("the HTML report needs plotly: pip install 'poinsot[report]'") from exc
     return go, pio
-
-
-def equivalent_box_half_extents(body) -> np.ndarray:
-    """Half extents (along e1, e2, e3) of the uniform box with the body's mass and principal
-    moments (``equivalent_box_half_extents`` of ``crates/core/src/shapes.rs``)."""
-    from .._core import equivalent_box_half_extents as half_extents
-
-    return half_extents(np.asarray(body.principal_moments), float(body.mass))
 
 
 def _box_lines(half):
@@ -58,7 +70,7 @@ def _box_lines(half):
 def _body_figure(traj, go):
     body = traj.body
     E = body.principal_axes
-    half = np.maximum(equivalent_box_half_extents(body), 1e-3 * max(1.0, body.mass))
+    half = np.maximum(body.equivalent_box_half_extents, 1e-3 * max(1.0, body.mass))
     corners, edges = _box_lines(half)
     idx = _frame_indices(len(traj.t))
     particles = body.u if body.has_particles else None
@@ -594,6 +606,18 @@ table.numbers td.unit {{ font-family: system-ui, sans-serif; color: #666; }}
     atomic_write_text(path, page)
 
 
+def write_static_report(path, summary: dict, images: dict, links=("summary.json",)) -> None:
+    """The report without plotly: the summary's numbers, grouped with units as in the
+    interactive page, and the run's figures (``images``: caption → PNG bytes, embedded), with
+    :data:`STATIC_NOTE` at the top. Needs nothing beyond the standard library."""
+    from .numbers import numbers_html
+
+    lead = summary.get("lead") or ""
+    note = f"<p class='note'><em>{html.escape(STATIC_NOTE)}.</em></p>"
+    numbers = f"<h2>Numbers</h2>{numbers_html(summary, links[0])}"
+    _image_page(path, summary, lead, note + numbers, images, links)
+
+
 def write_figures_page(path, figures, summary: dict, *, plotlyjs="inline",
                        raw_link="summary.json") -> None:  # fmt: skip
     """A page of plotly ``figures`` with the summary's numbers (e.g. ``poinsot polhodes``);
@@ -667,7 +691,9 @@ table.numbers {{ border-collapse: collapse; font-size: 0.85em; }}
 table.numbers th {{ text-align: left; padding: 2px 12px 2px 0; font-weight: normal;
                     color: #555; }}
 table.numbers td {{ font-family: ui-monospace, monospace; padding: 2px 10px 2px 0; }}
-table.numbers td.meaning {{ font-family: system-ui, sans-serif; color: #555; }}
+table.numbers td.meaning, table.numbers td.unit {{ font-family: system-ui, sans-serif;
+                                                   color: #555; }}
+h3 {{ font-size: 1em; margin: 1.2em 0 0.3em; }} p.note {{ color: #8a4b00; }}
 figcaption {{ color: #555; font-size: 0.9em; }}
 </style></head><body>
 <h1>{title}</h1>

@@ -21,6 +21,12 @@ class Run:
     prints about the finished run.
     """
 
+    #: The report draws its own, interactive figures (plotly); without plotly the job writes a
+    #: static page of :meth:`figures` instead (:func:`poinsot.viz.report.write_static_report`).
+    interactive_report = False
+    #: The files the report links to (the first holds the numbers unrounded).
+    report_links: tuple[str, ...] = ("summary.json",)
+
     def __init__(self, scenario):
         self.scenario = scenario
         self.result = None  # what simulate() returned
@@ -51,6 +57,13 @@ class Run:
     def write_report(self, path: Path, summary: dict, images: dict, *, plotlyjs="inline"):
         """The HTML report, at ``path``."""
         raise NotImplementedError
+
+    def write_static_report(self, path: Path, summary: dict, images: dict) -> None:
+        """The report of a run whose interactive report cannot be written (no plotly): its
+        numbers and its figures (``images``) on a static page."""
+        from ...viz.report import write_static_report
+
+        write_static_report(path, summary, images, self.report_links)
 
     def finish(self, summary: dict) -> None:
         """Complete ``summary`` once its timings are in (default: nothing to add)."""
@@ -100,13 +113,6 @@ def pyplot():
     import matplotlib.pyplot as plt
 
     return plt
-
-
-def save_png(fig, path: Path, dpi: int) -> None:
-    """Save ``fig`` as PNG at ``path`` (atomically) and close it."""
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi, format="png")
-    pyplot().close(fig)
 
 
 def png_images(figures, folder: Path | None, dpi: int = 100) -> dict[str, bytes]:

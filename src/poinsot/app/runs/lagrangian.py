@@ -7,7 +7,7 @@ import json
 import numpy as np
 
 from ..._io import atomic_path, atomic_savez
-from .base import Run, add_units, jsonable, pyplot, save_png, scenario_header
+from .base import Run, add_units, jsonable, png_images, pyplot, scenario_header
 
 __all__ = ["LagrangianRun", "summarize_lagrangian"]
 
@@ -73,19 +73,23 @@ class LagrangianRun(Run):
         with atomic_path(folder / "solution.csv") as tmp:
             np.savetxt(tmp, table, delimiter=",", header=",".join(header), comments="", fmt="%.17g")
 
+    interactive_report = True
+    report_links = ("summary.json", "solution.npz", "solution.csv")
+
     def figures(self, folder, *, for_report):
-        if folder is None:  # the report draws its own, interactive figures
+        if folder is None and not for_report:
             return {}
         pyplot()
         from ...viz.lagrange import plot_lagrangian_solution, plot_mechanism_frames
 
         sol, model = self.result, self.scenario.model
-        for fig, name in (
-            (plot_lagrangian_solution(sol, model=model, title=model.description), "solution.png"),
-            (plot_mechanism_frames(model, sol), "mechanism.png"),
-        ):
-            save_png(fig, folder / name, dpi=110)
-        return {}
+
+        def figures():  # one at a time: each is drawn, rendered and closed before the next
+            yield (plot_lagrangian_solution(sol, model=model, title=model.description),
+                   "solution.png", "The coordinates, the reactions and the residuals")  # fmt: skip
+            yield plot_mechanism_frames(model, sol), "mechanism.png", "The mechanism at a few times"
+
+        return png_images(figures(), folder, dpi=110)
 
     def write_report(self, path, summary, images, *, plotlyjs="inline"):
         from ...viz.report import write_lagrangian_report

@@ -4,13 +4,12 @@ integrators compared against the exact solution where one exists."""
 from __future__ import annotations
 
 import warnings
-from pathlib import Path
 
 import numpy as np
 
 from ..._io import PoinsotWarning
 from ...torquefree.scope import check_motion_energy, exact_solution_applies, free_rotation
-from .base import Run, add_units, jsonable, pyplot, save_png, scenario_header
+from .base import Run, add_units, jsonable, png_images, pyplot, scenario_header
 
 __all__ = [
     "COMPARED_METHODS",
@@ -72,10 +71,14 @@ class RigidRun(Run):
         traj.to_csv(folder / "trajectory.csv")
         traj.to_netcdf(folder / "trajectory.nc")
 
+    interactive_report = True
+    report_links = ("summary.json", "trajectory.npz", "trajectory.csv", "trajectory.nc")
+
     def figures(self, folder, *, for_report):
-        if folder is not None:  # the report draws its own, interactive figures
-            _figures(folder, self.scenario, self.result, self.free, self.comparison, self.top)
-        return {}
+        if folder is None and not for_report:
+            return {}
+        figures = _figures(self.scenario, self.result, self.free, self.comparison, self.top)
+        return png_images(figures, folder, dpi=110)
 
     def write_report(self, path, summary, images, *, plotlyjs="inline"):
         from ...viz.report import write_report
@@ -192,8 +195,8 @@ def top_lead(motion) -> str:
     )
 
 
-def _figures(folder: Path, scenario, traj, free, comparison=None, top=None):
-    from ..._core import equivalent_box_half_extents
+def _figures(scenario, traj, free, comparison=None, top=None):
+    """The run's matplotlib figures, one at a time, as ``(figure, file name, caption)``."""
     from ...viz import (
         plot_attitude_frames,
         plot_center_of_mass_path,
@@ -202,34 +205,27 @@ def _figures(folder: Path, scenario, traj, free, comparison=None, top=None):
         plot_polhode_family,
     )
 
-    def save(fig, name):
-        save_png(fig, folder / name, dpi=110)
-
     pyplot()
-    save(plot_omega_series(traj), "omega.png")
+    yield plot_omega_series(traj), "omega.png", "Angular velocity ω(t) in the body frame"
     if comparison is not None:
         from ...viz import plot_method_comparison
 
-        save(
-            plot_method_comparison(
-                traj.t,
-                comparison[0],
-                title="Integrators against the exact torque-free solution, same step",
-            ),
-            "methods.png",
-        )
-    save(plot_conservation(traj), "conservation.png")
+        title = "Integrators against the exact torque-free solution, same step"
+        yield (plot_method_comparison(traj.t, comparison[0], title=title), "methods.png", title)
+    yield plot_conservation(traj), "conservation.png", "Conserved quantities: relative change"
     if top is not None:
         from ...viz.trajectory import plot_attitude, plot_axis_trace
 
-        save(plot_attitude(top, title=scenario.name), "attitude.png")
-        save(plot_axis_trace(traj.axis_trace()), "axis_trace.png")
+        yield plot_attitude(top, title=scenario.name), "attitude.png", "Euler angles of the top"
+        yield plot_axis_trace(traj.axis_trace()), "axis_trace.png", "Trace of the body axis"
     if np.ptp(traj.R, axis=0).max() > 0:  # a centre of mass at rest has no path to draw
-        save(plot_center_of_mass_path(traj), "center_of_mass.png")
-    half = equivalent_box_half_extents(scenario.body.principal_moments, scenario.body.mass)
+        yield (plot_center_of_mass_path(traj), "center_of_mass.png",
+               "Path of the centre of mass")  # fmt: skip
+    half = scenario.body.equivalent_box_half_extents
     QE = traj.Q @ scenario.body.principal_axes  # draw the box in principal axes
     half = np.maximum(half, 1e-3 * half.max())  # a flat body is drawn as a thin box
-    save(plot_attitude_frames(QE, traj.t, half_extents=half), "body.png")
+    yield (plot_attitude_frames(QE, traj.t, half_extents=half), "body.png",
+           "The body's attitude (its equivalent box) at a few times")  # fmt: skip
     if free is not None:
         from ...conservation import rotational_energy
 
@@ -244,12 +240,12 @@ def _figures(folder: Path, scenario, traj, free, comparison=None, top=None):
             fig.axes[0].set_title(f"This run's ω(t) on its energy ellipsoid, k = {k_traj:.4g} J,"
                                   "\nwith the polhodes at that energy (ω along e₁, e₂, e₃)",
                                   fontsize=10)  # fmt: skip
-            save(fig, "polhodes.png")
+            yield fig, "polhodes.png", "ω(t) on its energy ellipsoid, with the polhodes"
         if energy is not None and not np.isclose(energy, k_traj, rtol=1e-12):
             fig = plot_polhode_family(free, energy, levels=levels)  # [analysis] energy's sweep
             fig.axes[0].set_title(f"The polhode family at k = {energy:g} J ([analysis] energy), "
                                   "not this run's energy")  # fmt: skip
-            save(fig, "polhodes_sweep.png")
+            yield fig, "polhodes_sweep.png", "The polhode family at the [analysis] energy"
 
 
 def compare_methods(scenario, traj, free):
