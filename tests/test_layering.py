@@ -1,16 +1,20 @@
 """The layering of the package, as declared once: the import-linter ``layers`` contract in
-``pyproject.toml`` (application, presentation, library, the core's layouts, the bindings; top
-to bottom).
+``pyproject.toml`` (application, presentation, models, front-ends, vocabulary, integrators,
+helpers, the core's layouts, the bindings; top to bottom), its ``forbidden`` contracts, and the
+nevers import-linter cannot state (``[tool.poinsot.nevers]``: the bindings are a compiled
+module, outside its import graph).
 
-The tests read that contract (nothing here restates which module is in which layer) and check
-it on the source with an AST walk that needs nothing installed:
+The tests read those contracts (nothing here restates which module is in which layer) and
+check them on the source with an AST walk that needs nothing installed:
 
 * every module of the package belongs to a layer;
 * no module imports a layer above its own, nor an independent sibling (``|``) of its layer;
+* no module imports what a ``forbidden`` contract or a never forbids it;
+* the only import by name at run time is the display registry's backend, the presentation;
 * the layouts (``poinsot.layout``) import the standard library, NumPy and the bindings only;
 * ``import poinsot`` exposes the library only.
 
-:func:`test_import_linter_contracts` runs ``lint-imports`` on the same contract when
+:func:`test_import_linter_contracts` runs ``lint-imports`` on the same contracts when
 import-linter is installed.
 """
 
@@ -76,6 +80,36 @@ def _contract():
 
 CONTAINER, LAYERS = _contract()
 LAYER_OF = {name: layer for layer in LAYERS for name in layer.modules}
+
+
+@dataclass(frozen=True)
+class Never:
+    name: str
+    sources: frozenset[str]  # children of the container: "app", "viz", ...
+    forbidden: frozenset[str]
+    ignored: frozenset[tuple[str, str]]  # (importer, imported), full dotted names
+
+
+def _nevers() -> list[Never]:
+    """The ``forbidden`` contracts of import-linter and ``[tool.poinsot.nevers]``."""
+    config = tomllib.loads(PYPROJECT.read_text(encoding="utf-8"))
+    out = []
+    for c in config["tool"]["importlinter"]["contracts"]:
+        if c["type"] != "forbidden":
+            continue
+        strip = lambda names: frozenset(n.split(".", 1)[1] for n in names)  # noqa: E731
+        ignored = frozenset(
+            tuple(part.strip() for part in rule.split("->")) for rule in c.get("ignore_imports", [])
+        )
+        out.append(Never(c["name"], strip(c["source_modules"]), strip(c["forbidden_modules"]),
+                         ignored))  # fmt: skip
+    for name, rule in config["tool"]["poinsot"]["nevers"].items():
+        out.append(Never(name, frozenset(rule["source"]), frozenset(rule["forbidden"]),
+                         frozenset()))  # fmt: skip
+    return out
+
+
+NEVERS = _nevers()
 
 
 def _top(name: str) -> str | None:
@@ -148,6 +182,68 @@ def _upward_imports(package: Path = PACKAGE) -> list[str]:
             elif other is layer and layer.independent:
                 found.append(f"{where}: {own} and {target} are independent siblings ('|')")
     return found
+
+
+def _forbidden_imports(package: Path = PACKAGE, nevers=NEVERS) -> list[str]:
+    """Every import in the source under ``package`` that a never forbids."""
+    found = []
+    for path in sorted(package.rglob("*.py")):
+        importer = _module_name(path, package)
+        own = _top(importer)
+        for never in nevers:
+            if own not in never.sources:
+                continue
+            for module, line in _imports(path, package):
+                target = _top(module)
+                if target not in never.forbidden:
+                    continue
+                real = ".".join(module.split(".")[:2]) if target == "_core" else module
+                if any(importer == a and real.startswith(b) for a, b in never.ignored):
+                    continue
+                found.append(f"{path.relative_to(package)}:{line} imports {module}: "
+                             f"{never.name}")  # fmt: skip
+    return found
+
+
+def test_no_module_imports_what_a_never_forbids():
+    found = _forbidden_imports()
+    assert not found, "\n".join(found)
+
+
+def test_the_nevers_catch_the_breaks_they_name(tmp_path):
+    """Each never, on a small tree: the application importing the bindings or the
+    integrators, and the presentation importing the bindings, are caught."""
+    package = tmp_path / CONTAINER
+    for sub in ("app", "viz", "integrate"):
+        (package / sub).mkdir(parents=True)
+        (package / sub / "__init__.py").write_text("")
+    (package / "__init__.py").write_text("")
+    (package / "app" / "runs.py").write_text("from .. import _core\nfrom ..integrate import x\n")
+    (package / "viz" / "report.py").write_text("from .._core import equivalent_box\n")
+    found = "\n".join(_forbidden_imports(package))
+    assert "app/runs.py:1 imports poinsot._core: app or viz -> the bindings" in found
+    assert "app/runs.py:2 imports poinsot.integrate.x: Never: app -> the integrators" in found
+    assert "viz/report.py:1 imports poinsot._core.equivalent_box" in found
+
+
+def test_the_only_import_by_name_is_the_display_backend():
+    """``importlib.import_module`` (or ``__import__``) hides an arrow from every import graph:
+    the package uses it twice, each time for a declared target: the container's lazy map of
+    its public names (``_LAZY``, which :func:`test_import_poinsot_exposes_the_library`
+    holds to the library), and the display registry's backend, a module of the presentation
+    loaded on the first display (as pandas finds its plotting backend)."""
+    calls = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call):
+                f = node.func
+                name = f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", "")
+                if name in ("import_module", "__import__"):
+                    calls.append(path.relative_to(PACKAGE).as_posix())
+    assert calls == ["__init__.py", "display.py"], calls
+    from poinsot import display
+
+    assert _top(display.backend) == "viz" and LAYER_OF["viz"].index < LAYER_OF["display"].index
 
 
 def test_the_contract_declares_each_module_once():
@@ -251,4 +347,5 @@ def test_import_linter_contracts():
         timeout=120,
     )
     assert done.returncode == 0, done.stdout + done.stderr
-    assert "1 kept, 0 broken" in done.stdout, done.stdout
+    contracts = tomllib.loads(PYPROJECT.read_text())["tool"]["importlinter"]["contracts"]
+    assert f"{len(contracts)} kept, 0 broken" in done.stdout, done.stdout

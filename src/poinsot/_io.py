@@ -42,6 +42,7 @@ __all__ = [
     "atomic_write_text",
     "safe_name",
     "write_netcdf",
+    "xarray_dataset",
 ]
 
 #: The file that marks a folder as poinsot's output and lists what poinsot wrote in it.
@@ -213,6 +214,18 @@ def atomic_write_text(path, text: str) -> None:
     """Write ``text`` (UTF-8) to ``path`` atomically."""
     with atomic_path(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
+
+
+def xarray_dataset(variables: dict, attrs: dict):
+    """An ``xarray.Dataset`` of ``name → (dims, values, attrs)`` (the variables a NetCDF export
+    writes), those named like a dimension as its coordinates; needs the ``xarray`` extra."""
+    try:
+        import xarray as xr
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ImportError("to_xarray needs xarray: pip install 'poinsot[xarray]'") from exc
+    coords = {n: v for n, v in variables.items() if v[0] == (n,)}
+    data = {n: v for n, v in variables.items() if n not in coords}
+    return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
 def write_netcdf(path, variables: dict, attrs: dict | None = None) -> None:

@@ -218,6 +218,28 @@ class RigidBodySystem:
         z = np.ascontiguousarray(self.to_internal(y))
         return _core.rigid_rates(body, kinds, params, axes, user, float(t), z)
 
+    def force_wrenches(self, t, y) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Each force's ``(F (3,) space frame, τ (3,) body frame about the centre of mass)`` at
+        the body-frame state ``y``, in the order of :attr:`forces`: the built-in ones from
+        their lowered rows (nothing is lowered again), the others called."""
+        y = np.asarray(y, dtype=float)
+        z = np.ascontiguousarray(self.to_internal(y))
+        params = self.body_parameters(self.pivot_point(y) if self.pivot is not None else None)
+        rows = iter(zip(self.force_kind, self.force_params, strict=True))
+        ctx = None
+        out = []
+        for f in self.forces:
+            if f.compiled:
+                kind, row = next(rows)
+                (F, tau), _ = _core.force_wrench_potential(
+                    int(kind), np.ascontiguousarray(row), params, float(t), z
+                )
+                out.append((np.array(F), self.principal_axes @ np.array(tau)))
+            else:
+                ctx = ctx or self.context(t, *layout.unpack_state(y))
+                out.append(f.python_wrench(ctx))
+        return out
+
     def wrench(self, t, R, V, Q, omega):
         """Total force (space) and torque (body frame) about the reference point, at a
         body-frame state: ``τ_P = τ_G + c × Qᵀ F`` with a pivot."""

@@ -1,19 +1,163 @@
-"""``simulate``: integrate a rigid body's motion under forces, free or about a fixed point."""
+"""``simulate``: integrate a rigid body's motion under forces, free or about a fixed point.
+
+The front-end in two steps, as every front-end: :func:`prepare` checks the run (span, method,
+step or tolerances, sampling, step budget, events) and lowers the body and its forces for the
+compiled core, once; :meth:`PreparedRun.run` runs it from an initial state, as often as wanted
+(other initial states, another method on the same problem). :func:`simulate` is the two in one
+call. A scenario file's loader prepares its run when it reads the file and runs that.
+"""
 
 from __future__ import annotations
 
+import dataclasses
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
 from ._validation import _rotation_input
 from .dynamics import RigidBodySystem, rigid_velocity_from_particles
-from .integrate.driver import IntegrationError, integrate
-from .integrate.solve import SimulationError, check_run, solve
-from .layout import unpack_state
+from .integrate.base import get_solver
+from .integrate.driver import IntegrationError, check_backend, check_solver_fits, integrate
+from .integrate.solve import (
+    RunSettings,
+    SimulationError,
+    StepBudgetError,
+    check_budget,
+    check_run,
+    solve,
+)
 from .trajectory import Trajectory
 
-__all__ = ["SimulationError", "simulate"]
+__all__ = [
+    "ForceUndefinedError",
+    "PreparedRun",
+    "SimulationError",
+    "StepBudgetError",
+    "prepare",
+    "simulate",
+]
+
+
+def prepare(
+    body,
+    t_span,
+    *,
+    forces=(),
+    pivot=None,
+    method="dop853",
+    dt=None,
+    rtol=None,
+    atol=None,
+    t_eval=None,
+    save_every=1,
+    backend=None,
+    events=None,
+    event_resolution=2001,
+    max_steps=None,
+) -> PreparedRun:
+    """Check a rigid body's run and lower it for the compiled core, once: the
+    :class:`PreparedRun` that :func:`simulate` runs. The arguments are :func:`simulate`'s
+    (less the initial state and ``progress``), checked here with the same errors.
+
+    Examples
+    --------
+    One prepared run, two initial spins:
+
+    >>> from poinsot import RigidBody
+    >>> run = prepare(RigidBody.box(1.0, (1, 2, 3)), (0, 1), method="rk4", dt=1e-3)
+    >>> [round(float(run.run(omega0=w).omega[-1, 1]), 6) for w in ((0, 1, 0), (0, 2, 0))]
+    [1.0, 2.0]
+    """
+    settings = check_run(t_span, method, dt=dt, rtol=rtol, atol=atol, t_eval=t_eval,
+                         save_every=save_every, max_steps=max_steps)  # fmt: skip
+    if isinstance(forces, str) or not hasattr(forces, "__iter__"):
+        raise TypeError(f"`forces` must be a sequence of Force objects, found {forces!r}")
+    system = RigidBodySystem(body, forces, pivot)
+    check_solver_fits(settings.solver, system)
+    check_backend(backend, system)
+    if events is not None:
+        from .integrate.events import normalize_events
+
+        normalize_events(events)  # refused here, naming the event, before any step
+        events = tuple(events) if isinstance(events, list | tuple) else (events,)
+    return PreparedRun(system, settings, backend, events, event_resolution)
+
+
+@dataclass(frozen=True)
+class PreparedRun:
+    """A rigid body's run, checked and lowered (:func:`prepare`): :meth:`run` integrates it
+    from an initial state; :meth:`with_method` is the same problem with another method.
+
+    Attributes
+    ----------
+    system : RigidBodySystem
+        The body, its forces lowered for the core and the pivot.
+    settings : RunSettings
+        The checked span, method, sampling, step or tolerances and step budget.
+    backend : str or None
+        ``"compiled"``, ``"python"`` or None (chosen from the forces).
+    events : tuple of callables or None
+    event_resolution : int
+    """
+
+    system: RigidBodySystem
+    settings: RunSettings
+    backend: str | None = None
+    events: tuple | None = None
+    event_resolution: int = 2001
+
+    @property
+    def t_span(self) -> tuple[float, float]:
+        return self.settings.t0, self.settings.t1
+
+    def with_method(self, method) -> PreparedRun:
+        """The same problem (system, span, sampling, step or tolerances) with ``method``,
+        checked as :func:`prepare` checks it; nothing is lowered again."""
+        solver = get_solver(method)
+        s = self.settings
+        budget = check_budget(solver, s.t0, s.t1, s.dt, s.max_steps)
+        check_solver_fits(solver, self.system)
+        return dataclasses.replace(
+            self, settings=dataclasses.replace(s, solver=solver, max_steps=budget)
+        )
+
+    def initial_state(self, *, omega0=None, Q0=None, R0=None, V0=None, omega_frame="body",
+                      particle_velocities=None, scalar_first=True) -> np.ndarray:  # fmt: skip
+        """The initial body-frame state (18,) of :meth:`run`'s arguments, checked, with every
+        force evaluated there once (:class:`ForceUndefinedError` names one that is not
+        finite)."""
+        body, pivot = self.system.body, self.system.pivot
+        if particle_velocities is not None:
+            if omega0 is not None or V0 is not None:
+                raise ValueError("give `particle_velocities` or `omega0`/`V0`, not both")
+            if Q0 is not None:
+                raise ValueError("`particle_velocities` assume the reference attitude: omit `Q0`")
+            V0, omega0 = initial_velocities(body, particle_velocities, pivot)
+        elif omega0 is None:
+            raise ValueError("`omega0` must be given (or `particle_velocities`)")
+        if Q0 is not None:  # a Rotation, or SciPy's quaternion order, as an array
+            Q0 = _rotation_input(Q0, "Q0", scalar_first)
+        y0 = self.system.initial_state(omega0=omega0, Q0=Q0, R0=R0, V0=V0,
+                                       omega_frame=omega_frame)  # fmt: skip
+        _check_forces_at_start(self.system, self.settings.t0, y0)
+        return y0
+
+    def run(self, *, omega0=None, Q0=None, R0=None, V0=None, omega_frame="body",
+            particle_velocities=None, scalar_first=True, y0=None,
+            progress=None) -> Trajectory:  # fmt: skip
+        """Integrate from the initial state (:func:`simulate`'s arguments, or ``y0``, a state
+        from :meth:`initial_state`): a :class:`~poinsot.trajectory.Trajectory`."""
+        if y0 is None:
+            y0 = self.initial_state(omega0=omega0, Q0=Q0, R0=R0, V0=V0, omega_frame=omega_frame,
+                                    particle_velocities=particle_velocities,
+                                    scalar_first=scalar_first)  # fmt: skip
+        if self.events is not None:
+            return _simulate_events(self.system, self.settings, y0, self.backend, self.events,
+                                    self.event_resolution)  # fmt: skip
+        return solve(self.system, y0, self.settings,
+                     trajectory=lambda r: _trajectory(r, self.system), progress=progress,
+                     backend=self.backend)  # fmt: skip
 
 
 def simulate(
@@ -120,27 +264,13 @@ def simulate(
     >>> round(float(traj.R[-1, 2] - traj.R[0, 2]), 6)
     -1960.0
     """
-    run = check_run(t_span, method, dt=dt, rtol=rtol, atol=atol, t_eval=t_eval,
-                    save_every=save_every, max_steps=max_steps)  # fmt: skip
-    if isinstance(forces, str) or not hasattr(forces, "__iter__"):
-        raise TypeError(f"`forces` must be a sequence of Force objects, found {forces!r}")
-    system = RigidBodySystem(body, forces, pivot)
-    if particle_velocities is not None:
-        if omega0 is not None or V0 is not None:
-            raise ValueError("give `particle_velocities` or `omega0`/`V0`, not both")
-        if Q0 is not None:
-            raise ValueError("`particle_velocities` assume the reference attitude: omit `Q0`")
-        V0, omega0 = initial_velocities(body, particle_velocities, pivot)
-    elif omega0 is None:
-        raise ValueError("`omega0` must be given (or `particle_velocities`)")
-    if Q0 is not None:  # a Rotation, or SciPy's quaternion order, as an array (checked below)
-        Q0 = _rotation_input(Q0, "Q0", scalar_first)
-    y0 = system.initial_state(omega0=omega0, Q0=Q0, R0=R0, V0=V0, omega_frame=omega_frame)
-    _check_forces_at_start(system, run.t0, y0)
-    if events is not None:
-        return _simulate_events(system, run, y0, backend, events, event_resolution)
-    return solve(system, y0, run, trajectory=lambda r: _trajectory(r, system),
-                 progress=progress, backend=backend)  # fmt: skip
+    prepared = prepare(body, t_span, forces=forces, pivot=pivot, method=method, dt=dt,
+                       rtol=rtol, atol=atol, t_eval=t_eval, save_every=save_every,
+                       backend=backend, events=events, event_resolution=event_resolution,
+                       max_steps=max_steps)  # fmt: skip
+    return prepared.run(omega0=omega0, Q0=Q0, R0=R0, V0=V0, omega_frame=omega_frame,
+                        particle_velocities=particle_velocities, scalar_first=scalar_first,
+                        progress=progress)  # fmt: skip
 
 
 def _simulate_events(system, run, y0, backend, events, resolution) -> Trajectory:
@@ -202,11 +332,9 @@ def initial_velocities(body, particle_velocities, pivot):
 def _check_forces_at_start(system, t0, y0):
     """Evaluate every force once at the start, so that a broken callable, or a force that is
     undefined there (central gravity at its centre), is refused before any step, named."""
-    R, V, Q, w = unpack_state(y0)
-    ctx = system.context(t0, R, V, Q, w)
-    for i, f in enumerate(system.forces):
-        with np.errstate(all="ignore"):
-            F, tau = f.wrench(ctx)
+    with np.errstate(all="ignore"):
+        wrenches = system.force_wrenches(t0, y0)
+    for i, (f, (F, tau)) in enumerate(zip(system.forces, wrenches, strict=True)):
         if not (np.all(np.isfinite(F)) and np.all(np.isfinite(tau))):
             raise ForceUndefinedError(i, f.name)
 

@@ -476,14 +476,10 @@ class Trajectory(Displayable):
 
     def to_xarray(self):
         """An ``xarray.Dataset`` of :meth:`variables` (needs the ``xarray`` extra)."""
-        try:
-            import xarray as xr
-        except ImportError as exc:  # pragma: no cover - depends on the environment
-            raise ImportError("to_xarray needs xarray: pip install 'poinsot[xarray]'") from exc
-        from .ensemble.result import _dataset
+        from ._io import xarray_dataset
 
-        return _dataset(xr, self.variables(), {"method": self.method,
-                                                "summary": json.dumps(self.summary())})  # fmt: skip
+        attrs = {"method": self.method, "summary": json.dumps(self.summary())}
+        return xarray_dataset(self.variables(), attrs)
 
     def to_netcdf(self, path) -> None:
         """Write :meth:`variables` to a NetCDF-3 file (atomically, with SciPy's writer: no

@@ -422,6 +422,11 @@ class Scenario:
     source: str = "<built-in>"
     ensemble: dict | None = None
     carrier: dict | None = None
+    #: The rigid body's run, checked and lowered once when the file is read
+    #: (:func:`poinsot.simulation.prepare`), and its initial state; None for a motion relative
+    #: to a carrier.
+    prepared: object = field(default=None, repr=False, compare=False)
+    y0: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     @property
     def t_eval(self):
@@ -463,24 +468,12 @@ class Scenario:
         )
 
     def simulate(self, progress=None, *, method=None):
-        """Run the simulation: a :class:`~poinsot.trajectory.Trajectory`. ``method`` replaces
-        the scenario's integrator (same step or tolerances), to compare methods on one
-        problem."""
-        from ..simulation import simulate
-
-        return simulate(
-            self.body,
-            self.t_span,
-            forces=self.forces,
-            pivot=self.pivot,
-            method=method or self.method,
-            dt=self.dt,
-            rtol=self.rtol,
-            atol=self.atol,
-            t_eval=self.t_eval,
-            progress=progress,
-            **self.initial,
-        )
+        """Run the simulation prepared when the file was read: a
+        :class:`~poinsot.trajectory.Trajectory`. ``method`` replaces the scenario's integrator
+        (same step or tolerances), to compare methods on one problem; nothing is lowered or
+        checked again."""
+        run = self.prepared if method is None else self.prepared.with_method(method)
+        return run.run(y0=self.y0, progress=progress)
 
     def simulate_relative(self, progress=None):
         """Run the motion relative to ``[carrier]``: the initial state is relative to the
@@ -709,18 +702,16 @@ def _time(root: _Table):
 
 def _check_steps(method, dt, t_span):
     """Refuse, before anything runs, a fixed-step run that needs more steps than a run may
-    take (:data:`~poinsot.integrate.solve.DEFAULT_MAX_STEPS`), naming both keys."""
+    take (:data:`~poinsot.integrate.solve.DEFAULT_MAX_STEPS`), naming both keys. (The rigid
+    body's run is checked again, with everything else, by :func:`poinsot.simulation.prepare`;
+    the other front-ends have no ``prepare`` yet.)"""
     from ..integrate.base import get_solver
     from ..integrate.solve import StepBudgetError, check_budget
 
     try:
         check_budget(get_solver(method), t_span[0], t_span[1], dt)
     except StepBudgetError as exc:
-        raise ScenarioError(
-            f"integrator.dt: the run needs {exc.needed:.3g} steps of dt = {dt:g} over "
-            f"time.span = [{t_span[0]:g}, {t_span[1]:g}]; a run may take at most "
-            f"{exc.budget:.3g} steps (take a larger integrator.dt or a shorter time.span)"
-        ) from None
+        raise ScenarioError(_budget_message(exc)) from None
 
 
 def _outputs(root: _Table):
@@ -808,7 +799,8 @@ def _parse(data: dict, source: str, base_dir: Path):
     )
     method, dt, rtol, atol, _ = _integrator(root, METHOD_NAMES)
     t_span, samples = _time(root)
-    _check_steps(method, dt, t_span)
+    if root.has("carrier"):  # a rigid body's run is checked whole by its `prepare`
+        _check_steps(method, dt, t_span)
     outputs = _outputs(root)
     ensemble = _ensemble(root.table("ensemble"), initial) if has_ensemble else None
     carrier = _carrier(root.table("carrier"), initial, pivot) if root.has("carrier") else None
@@ -925,19 +917,23 @@ def _check_physics(s: Scenario):
         except ValueError as exc:
             raise ScenarioError(f"analysis.momentum: {exc}") from None
     from ..dynamics import RigidBodySystem
-    from ..integrate.base import get_solver
-    from ..integrate.driver import check_solver_fits
-    from ..simulation import ForceUndefinedError, _check_forces_at_start, initial_velocities
+    from ..simulation import ForceUndefinedError, StepBudgetError, initial_velocities, prepare
 
-    try:
-        system = RigidBodySystem(s.body, s.forces, s.pivot)
-    except (ValueError, TypeError) as exc:
-        raise ScenarioError(f"body: {exc}") from None
-    if s.carrier is None:
+    if s.carrier is None:  # a rigid body's run (or an ensemble's): checked and lowered once
         try:
-            check_solver_fits(get_solver(s.method), system)
-        except ValueError as exc:
-            raise ScenarioError(f"integrator.method: {exc}") from None
+            s.prepared = prepare(s.body, s.t_span, forces=s.forces, pivot=s.pivot,
+                                 method=s.method, dt=s.dt, rtol=s.rtol, atol=s.atol,
+                                 t_eval=s.t_eval)  # fmt: skip
+        except StepBudgetError as exc:
+            raise ScenarioError(_budget_message(exc)) from None
+        except (ValueError, TypeError) as exc:
+            raise ScenarioError(f"{_key_of(exc)}: {exc}") from None
+        system = s.prepared.system
+    else:  # relative motion: the carrier's front-end checks the run; the body is checked here
+        try:
+            system = RigidBodySystem(s.body, s.forces, s.pivot)
+        except (ValueError, TypeError) as exc:
+            raise ScenarioError(f"body: {exc}") from None
     initial = dict(s.initial)
     if "particle_velocities" in initial:
         try:
@@ -948,21 +944,40 @@ def _check_physics(s: Scenario):
             raise ScenarioError(f"initial.particle_velocities: {exc}") from None
     if "omega0" not in initial or s.ensemble is not None:
         return
+    fields = {k: initial.get(k) for k in ("omega0", "Q0", "R0", "V0")}
+    frame = initial.get("omega_frame", "body")
+    if s.carrier is not None:  # a relative motion checks its own start (the carrier's frame)
+        try:
+            system.initial_state(**fields, omega_frame=frame)
+        except (ValueError, TypeError) as exc:
+            raise ScenarioError(f"initial: {exc}") from None
+        return
     try:
-        y0 = system.initial_state(
-            omega0=initial["omega0"],
-            Q0=initial.get("Q0"),
-            R0=initial.get("R0"),
-            V0=initial.get("V0"),
-            omega_frame=initial.get("omega_frame", "body"),
-        )
+        s.y0 = s.prepared.initial_state(**fields, omega_frame=frame)
+    except ForceUndefinedError as exc:
+        raise ScenarioError(f"forces[{exc.index}]: {exc.force_name} {exc.reason}") from None
     except (ValueError, TypeError) as exc:
         raise ScenarioError(f"initial: {exc}") from None
-    if s.carrier is None:  # a relative motion checks its own start (in the carrier's frame)
-        try:
-            _check_forces_at_start(system, s.t_span[0], y0)
-        except ForceUndefinedError as exc:
-            raise ScenarioError(f"forces[{exc.index}]: {exc.force_name} {exc.reason}") from None
+
+
+def _budget_message(exc) -> str:
+    """A fixed-step run over its step budget, in the scenario's keys."""
+    return (
+        f"integrator.dt: the run needs {exc.needed:.3g} steps of dt = {exc.dt:g} over "
+        f"time.span = [{exc.t0:g}, {exc.t1:g}]; a run may take at most {exc.budget:.3g} steps "
+        "(take a larger integrator.dt or a shorter time.span)"
+    )
+
+
+def _key_of(exc) -> str:
+    """The scenario key a front-end's refusal is about, from the argument it names."""
+    text = str(exc)
+    for name in ("method", "dt", "rtol", "atol"):
+        if text.startswith(f"`{name}`"):
+            return f"integrator.{name}"
+    if text.startswith("`forces["):
+        return text[1 : text.index("]") + 1]
+    return "body"
 
 
 def load_scenario(source) -> Scenario:

@@ -8,24 +8,16 @@ finish; each carries its member range, so the order does not matter.
 
 from __future__ import annotations
 
-import os
 import sys
 from collections import deque
 
+from .._threads import available_cpus
 from .tasks import run_chunk
 
 __all__ = ["available_cpus", "check_client", "run_chunks"]
 
 #: Chunks in flight per worker.
 IN_FLIGHT = 2
-
-
-def available_cpus() -> int:
-    """The CPUs this process may run on."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # pragma: no cover - macOS, Windows
-        return os.cpu_count() or 1
 
 
 def check_client(client):

@@ -342,11 +342,9 @@ class EnsembleResult(Displayable):
 
     def to_xarray(self):
         """An ``xarray.Dataset`` of :meth:`variables` (needs the ``xarray`` extra)."""
-        try:
-            import xarray as xr
-        except ImportError as exc:  # pragma: no cover - depends on the environment
-            raise ImportError("to_xarray needs xarray: pip install 'poinsot[xarray]'") from exc
-        return _dataset(xr, self.variables(), {"method": self.method})
+        from .._io import xarray_dataset
+
+        return xarray_dataset(self.variables(), {"method": self.method})
 
     def to_netcdf(self, path, extra=None) -> None:
         """Write :meth:`variables` (and ``extra``, more ``name → (dims, values, attrs)``) to a
@@ -354,14 +352,6 @@ class EnsembleResult(Displayable):
         from .._io import write_netcdf
 
         write_netcdf(path, {**self.variables(), **(extra or {})}, {"method": self.method})
-
-
-def _dataset(xr, variables, attrs):
-    """An ``xarray.Dataset`` of ``name → (dims, values, attrs)``, the variables named like a
-    dimension as its coordinates."""
-    coords = {n: v for n, v in variables.items() if v[0] == (n,)}
-    data = {n: v for n, v in variables.items() if n not in coords}
-    return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
 def _describe(values) -> dict:

@@ -20,7 +20,15 @@ from .base import Solver, get_solver
 from .control import StepSizeController
 from .saveat import SaveAt
 
-__all__ = ["BACKENDS", "IntegrationError", "IntegrationResult", "ODESystem", "integrate"]
+__all__ = [
+    "BACKENDS",
+    "IntegrationError",
+    "IntegrationResult",
+    "ODESystem",
+    "check_backend",
+    "check_solver_fits",
+    "integrate",
+]
 
 BACKENDS = ("compiled", "python")
 
@@ -106,6 +114,21 @@ def check_solver_fits(cls, system) -> None:
                 f"`method` {cls.name!r} needs forces that depend only on time, position and "
                 f"attitude (kicks); these depend on velocities: {', '.join(bad)}"
             )
+
+
+def check_backend(backend, system) -> None:
+    """Refuse a ``backend`` that is not one of :data:`BACKENDS`, or ``"compiled"`` for a
+    system that calls Python back (its forces given as Python callables)."""
+    if backend is None:
+        return
+    if backend not in BACKENDS:
+        raise ValueError(f"`backend` must be one of {BACKENDS}, found {backend!r}")
+    slow = tuple(f.name for f in getattr(system, "python_forces", ()))
+    if backend == "compiled" and slow:
+        raise ValueError(
+            "`backend='compiled'` needs built-in forces; these are Python "
+            f"callables (use backend='python'): {', '.join(slow)}"
+        )
 
 
 def integrate(

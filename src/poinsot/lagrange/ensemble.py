@@ -250,7 +250,7 @@ def simulate_ensemble(
     >>> np.sign(ens[th][:, -1].round(5)).tolist()
     [-1.0, 0.0, 1.0]
     """
-    from ..ensemble.executors import available_cpus
+    from .._threads import available_cpus
     from ..integrate.control import StepSizeController
     from ..integrate.solve import check_budget, check_sampling, check_t_span, check_tolerances
     from .engine import compile_system

@@ -21,8 +21,15 @@ result to and from the body frame. Internally the moments are sorted, ``I1 ≤ I
 right-handed frame ``S`` (columns: the sorted axes in body coordinates).
 """
 
-from .body import FreeRigidBody
+from .body import FreeRigidBody, energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
 from .polhodes import Polhode
 from .stability import FixedPointSet, Stability
 
-__all__ = ["FixedPointSet", "FreeRigidBody", "Polhode", "Stability"]
+__all__ = [
+    "FixedPointSet",
+    "FreeRigidBody",
+    "Polhode",
+    "Stability",
+    "energy_ellipsoid_semi_axes",
+    "momentum_ellipsoid_semi_axes",
+]

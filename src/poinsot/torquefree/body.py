@@ -21,11 +21,38 @@ from .polhodes import PolhodeMixin
 from .solution import SolutionMixin
 from .stability import StabilityMixin
 
-__all__ = ["SYMMETRY_RTOL", "FreeRigidBody"]
+__all__ = [
+    "SYMMETRY_RTOL",
+    "FreeRigidBody",
+    "energy_ellipsoid_semi_axes",
+    "momentum_ellipsoid_semi_axes",
+]
 
 #: Moments closer than this (relative to I3) are treated as equal (symmetric body); the same
 #: tolerance as :attr:`poinsot.bodies.RigidBody.symmetry`: the core's own value.
 SYMMETRY_RTOL = _core.SYMMETRY_RTOL
+
+
+def energy_ellipsoid_semi_axes(moments, energy) -> np.ndarray:
+    """Semi-axes ``√(2k/I_i)`` (3,) of the energy (Poinsot) ellipsoid ``Σ I_i ω_i² = 2k``,
+    eq. (30), along the axes of the principal ``moments`` (3,) (``freebody.rs``).
+
+    >>> energy_ellipsoid_semi_axes((1.0, 2.0, 4.0), 1.0)
+    array([1.41421356, 1.        , 0.70710678])
+    """
+    moments = as_array(moments, "moments", shape=(3,))
+    return _core.energy_ellipsoid_semi_axes(moments, as_scalar(energy, "energy"))
+
+
+def momentum_ellipsoid_semi_axes(moments, momentum) -> np.ndarray:
+    """Semi-axes ``a/I_i`` (3,) of the momentum ellipsoid ``Σ I_i² ω_i² = a²``, eq. (31), along
+    the axes of the principal ``moments`` (3,) (``freebody.rs``).
+
+    >>> momentum_ellipsoid_semi_axes((1.0, 2.0, 4.0), 2.0)
+    array([2. , 1. , 0.5])
+    """
+    moments = as_array(moments, "moments", shape=(3,))
+    return _core.momentum_ellipsoid_semi_axes(moments, as_scalar(momentum, "momentum"))
 
 
 class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin, Displayable):

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._core import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
+from ..torquefree import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
 
 __all__ = [
     "SCENE_CAMERA",
@@ -200,7 +200,6 @@ def ensemble_histograms_figure(result):
     from plotly.subplots import make_subplots
 
     from .ensemble import LABELS, _values
-    from .report import _legend_per_subplot
 
     go = _go()
     names = [n for n in LABELS if _values(result, n)[0].size]
@@ -221,7 +220,7 @@ def ensemble_histograms_figure(result):
                          row=k // cols + 1, col=k % cols + 1)  # fmt: skip
         fig.update_yaxes(title_text="members", row=k // cols + 1, col=k % cols + 1)
     fig.update_layout(title=f"{len(result)} members, {result.method}")
-    _legend_per_subplot(fig, cols=cols)
+    legend_per_subplot(fig, cols=cols)
     return fig
 
 
@@ -229,8 +228,6 @@ def relative_figure(sol):
     """A motion relative to a carrier, both views: ω_r (relative, body axes) and the absolute
     ω (dashed), and the relative energy, against time."""
     from plotly.subplots import make_subplots
-
-    from .report import _legend_per_subplot
 
     go = _go()
     fig = make_subplots(rows=1, cols=2, horizontal_spacing=0.1, subplot_titles=(
@@ -247,5 +244,55 @@ def relative_figure(sol):
     fig.update_yaxes(title_text="ω [rad/s]", row=1, col=1)
     fig.update_yaxes(title_text="T_r [J]", row=1, col=2)
     fig.update_xaxes(title_text="t [s]")
-    _legend_per_subplot(fig, cols=2, top=60)
+    legend_per_subplot(fig, cols=2, top=60)
     return fig
+
+
+#: Pixel sizes of a row of subplots (:func:`legend_per_subplot`): subplot title, plot,
+#: tick labels with the x-axis title, one legend entry, gap between rows.
+_ROW_PX = {"title": 40, "plot": 270, "axis": 62, "entry": 20, "gap": 18}
+
+
+def legend_per_subplot(fig, cols=2, top=80) -> None:
+    """Give each subplot its own legend (plotly's ``legend2``…), below its plotting area and
+    its x-axis title, and size the figure so that every row of subplots has room for its
+    title, plot, axis labels and legend: a legend never covers a curve. ``cols``: the
+    columns of the ``make_subplots`` grid; ``top``: the margin above, for the title."""
+    by_axes = {}
+    for trace in fig.data:
+        by_axes.setdefault((trace.xaxis or "x", trace.yaxis or "y"), []).append(trace)
+    index = {key: int(key[0][1:] or 1) - 1 for key in by_axes}  # x, x2, …: row-major
+    rows = max(index.values()) // cols + 1 if index else 1
+    entries = [0] * rows
+    for key, traces in by_axes.items():
+        shown = sum(1 for t in traces if t.showlegend is not False)
+        entries[index[key] // cols] = max(entries[index[key] // cols], shown)
+    px = _ROW_PX
+    heights = [px["title"] + px["plot"] + px["axis"] + px["entry"] * n + px["gap"]
+               for n in entries]  # fmt: skip
+    area = sum(heights)
+    y = 1.0
+    tops = []
+    for r in range(rows):
+        upper = y - px["title"] / area
+        tops.append(upper)
+        for c in range(cols):
+            k = r * cols + c
+            axis = fig.layout[f"yaxis{k + 1 if k else ''}"]
+            if axis is not None:
+                axis.domain = [upper - px["plot"] / area, upper]
+        y -= heights[r] / area
+    titles = [a for a in fig.layout.annotations if a.yref == "paper" and a.yanchor == "bottom"]
+    for k, a in enumerate(titles):  # make_subplots' subplot titles, in subplot order
+        a.y = tops[k // cols]
+    for n, (key, traces) in enumerate(by_axes.items()):
+        name = "legend" if n == 0 else f"legend{n + 1}"
+        xa, ya = key
+        xdom = fig.layout[f"xaxis{xa[1:]}"].domain or (0, 1)
+        ydom = fig.layout[f"yaxis{ya[1:]}"].domain or (0, 1)
+        for trace in traces:
+            trace.legend = name
+        fig.layout[name] = {"x": xdom[0], "y": ydom[0] - px["axis"] / area, "xanchor": "left",
+                            "yanchor": "top", "orientation": "v", "font": {"size": 10},
+                            "bgcolor": "rgba(255,255,255,0)"}  # fmt: skip
+    fig.update_layout(height=int(area + top + 10), margin={"t": top, "b": 10})

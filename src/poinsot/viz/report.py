@@ -16,7 +16,7 @@ import json
 import numpy as np
 
 from .._io import atomic_write_text
-from .interactive import SCENE_CAMERA
+from .interactive import SCENE_CAMERA, legend_per_subplot
 
 __all__ = [
     "PLOTLYJS_MODES",
@@ -274,58 +274,8 @@ def _series_figure(traj, go):
     note = ("Not conserved here: " + "; ".join(f"{i.symbol} ({i.reason})" for i in lost)
             if lost else None)  # fmt: skip
     fig.update_layout(title=note)
-    _legend_per_subplot(fig, cols=3)
+    legend_per_subplot(fig, cols=3)
     return fig
-
-
-#: Pixel sizes of a row of subplots (:func:`_legend_per_subplot`): subplot title, plot,
-#: tick labels with the x-axis title, one legend entry, gap between rows.
-_ROW_PX = {"title": 40, "plot": 270, "axis": 62, "entry": 20, "gap": 18}
-
-
-def _legend_per_subplot(fig, cols=2, top=80) -> None:
-    """Give each subplot its own legend (plotly's ``legend2``…), below its plotting area and
-    its x-axis title, and size the figure so that every row of subplots has room for its
-    title, plot, axis labels and legend: a legend never covers a curve. ``cols``: the
-    columns of the ``make_subplots`` grid; ``top``: the margin above, for the title."""
-    by_axes = {}
-    for trace in fig.data:
-        by_axes.setdefault((trace.xaxis or "x", trace.yaxis or "y"), []).append(trace)
-    index = {key: int(key[0][1:] or 1) - 1 for key in by_axes}  # x, x2, …: row-major
-    rows = max(index.values()) // cols + 1 if index else 1
-    entries = [0] * rows
-    for key, traces in by_axes.items():
-        shown = sum(1 for t in traces if t.showlegend is not False)
-        entries[index[key] // cols] = max(entries[index[key] // cols], shown)
-    px = _ROW_PX
-    heights = [px["title"] + px["plot"] + px["axis"] + px["entry"] * n + px["gap"]
-               for n in entries]  # fmt: skip
-    area = sum(heights)
-    y = 1.0
-    tops = []
-    for r in range(rows):
-        upper = y - px["title"] / area
-        tops.append(upper)
-        for c in range(cols):
-            k = r * cols + c
-            axis = fig.layout[f"yaxis{k + 1 if k else ''}"]
-            if axis is not None:
-                axis.domain = [upper - px["plot"] / area, upper]
-        y -= heights[r] / area
-    titles = [a for a in fig.layout.annotations if a.yref == "paper" and a.yanchor == "bottom"]
-    for k, a in enumerate(titles):  # make_subplots' subplot titles, in subplot order
-        a.y = tops[k // cols]
-    for n, (key, traces) in enumerate(by_axes.items()):
-        name = "legend" if n == 0 else f"legend{n + 1}"
-        xa, ya = key
-        xdom = fig.layout[f"xaxis{xa[1:]}"].domain or (0, 1)
-        ydom = fig.layout[f"yaxis{ya[1:]}"].domain or (0, 1)
-        for trace in traces:
-            trace.legend = name
-        fig.layout[name] = {"x": xdom[0], "y": ydom[0] - px["axis"] / area, "xanchor": "left",
-                            "yanchor": "top", "orientation": "v", "font": {"size": 10},
-                            "bgcolor": "rgba(255,255,255,0)"}  # fmt: skip
-    fig.update_layout(height=int(area + top + 10), margin={"t": top, "b": 10})
 
 
 def _comparison_figure(t, errors, go):
@@ -347,7 +297,7 @@ def _comparison_figure(t, errors, go):
         fig.update_yaxes(type="log", title_text=ylabel, row=1, col=col)
     fig.update_xaxes(title_text="t [s]")
     fig.update_layout(title="Integrators against the exact torque-free solution, same step")
-    _legend_per_subplot(fig, cols=3)
+    legend_per_subplot(fig, cols=3)
     return fig
 
 
@@ -386,7 +336,7 @@ def _top_figure(motion, go):
     fig.update_yaxes(title_text="θ [rad]", row=1, col=1)
     fig.update_yaxes(title_text="ψ [rad]", row=1, col=2)
     fig.update_xaxes(title_text="t [s]")
-    _legend_per_subplot(fig, cols=2, top=60)
+    legend_per_subplot(fig, cols=2, top=60)
     return fig
 
 
@@ -513,7 +463,7 @@ def _panels_figure(panels, go, title=None):
         fig.update_yaxes(title_text=ylabel, type="log" if log else "linear", row=row, col=col)
         fig.update_xaxes(title_text="t [s]", row=row, col=col)
     fig.update_layout(title=title)
-    _legend_per_subplot(fig, cols=2, top=80 if title else 50)
+    legend_per_subplot(fig, cols=2, top=80 if title else 50)
     return fig
 
 

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._core import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
 from .._io import atomic_path
+from ..torquefree import energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
 from ._style import legend_outside, omega_axis_labels
 
 __all__ = [
