@@ -26,14 +26,19 @@ import sys
 import textwrap
 from pathlib import Path
 
-#: name -> (setup, call, repeats): ``call`` is timed ``repeats`` times after one warm-up call.
-WORKLOADS = {
-    "single_rk4": (
-        """
+#: The notebook's 27-particle body, as the reference measurements build it.
+NOTEBOOK = """
         import poinsot as po
         vals = (0.0, 0.5, 1.0)
         r = np.array([[i, 2 * j, 3 * k] for i in vals for j in vals for k in vals])
         body = po.RigidBody.from_particles(np.full(27, 10 / 27), r)
+"""
+
+#: name -> (setup, call, repeats): ``call`` is timed ``repeats`` times after one warm-up call.
+WORKLOADS = {
+    "single_rk4": (
+        NOTEBOOK
+        + """
         t_eval = np.linspace(0, 20, 101)
     """,
         "po.simulate(body, (0, 20), omega0=(0.1, 1, 0.2), method='rk4', dt=1e-3, "
@@ -41,11 +46,8 @@ WORKLOADS = {
         30,
     ),
     "single_dop853": (
-        """
-        import poinsot as po
-        vals = (0.0, 0.5, 1.0)
-        r = np.array([[i, 2 * j, 3 * k] for i in vals for j in vals for k in vals])
-        body = po.RigidBody.from_particles(np.full(27, 10 / 27), r)
+        NOTEBOOK
+        + """
         t_eval = np.linspace(0, 20, 101)
     """,
         "po.simulate(body, (0, 20), omega0=(0.1, 1, 0.2), rtol=1e-10, atol=1e-12, "
@@ -53,12 +55,9 @@ WORKLOADS = {
         30,
     ),
     "ensemble_rk4": (
-        """
-        import poinsot as po
+        NOTEBOOK
+        + """
         from poinsot.ensemble import simulate_ensemble
-        vals = (0.0, 0.5, 1.0)
-        r = np.array([[i, 2 * j, 3 * k] for i in vals for j in vals for k in vals])
-        body = po.RigidBody.from_particles(np.full(27, 10 / 27), r)
         w0 = np.random.default_rng(0).normal(size=(100_000, 3))
     """,
         "np.asarray(simulate_ensemble(body, (0.0, 1.0), omega0=w0, method='rk4', "

@@ -563,15 +563,17 @@ def test_the_core_names_bad_arguments(change, match):
     from poinsot import _core
 
     body = np.zeros(25)
+    run = {"method": "rk4", "t_end": 1.0, "dt": 0.1, "t_eval": np.array([1.0])}
     args = {
-        "method": "rk4", "a": np.zeros((0, 0)), "b": np.zeros(0), "c": np.zeros(0),
-        "control": np.zeros(0), "t0": 0.0, "t1": 1.0, "dt": 0.1, "t_eval": np.array([1.0]),
-        "inertia": np.eye(3)[None], "bodies": body[None], "axes": np.eye(3)[None],
+        "t0": 0.0, "inertia": np.eye(3)[None], "bodies": body[None], "axes": np.eye(3)[None],
         "force_kind": np.zeros(0, dtype=np.int64), "force_params": np.zeros((1, 0, 10)),
         "y0": np.zeros((3, 18)), "threads": 1,
     }  # fmt: skip
+    of_run = {k: v for k, v in change.items() if k in run}  # the RunSpec checks these
+    rest = {k: v for k, v in change.items() if k not in run}
     with pytest.raises(ValueError, match=match):
-        _core.run_ensemble(**{**args, **change})
+        spec = _core.RunSpec(**{**run, **of_run})
+        _core.run_ensemble(spec=spec, **{**args, **rest})
 
 
 def _unaligned(a):

@@ -21,6 +21,10 @@ use crate::steppers::{
 use crate::system::{RigidStructure, VectorField};
 use crate::tableaux::{DOP853_INTERPOLATOR_POWER, DOP853_STAGES, DOP853_STAGES_EXTENDED};
 
+/// Steps a driver takes between two looks at a stop flag (an ensemble's, a resumable run's):
+/// well under a millisecond of RK4, a few milliseconds of DOP853 for a rigid body.
+pub const STEPS_PER_CALL: u64 = 4096;
+
 /// How a call of a driver ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(i64)]

@@ -43,28 +43,14 @@ use crate::rigid::{
     State,
 };
 use crate::so3::{Mat3, Vec3};
-use crate::steppers::{Control, Tableau};
+use crate::steppers::Control;
 use crate::system::{RigidStructure, VectorField};
 use crate::systems::{OneForce, Rigid, SameForces, TorqueFree, MAX_SAME_FORCES};
 
-/// Steps a driver takes between two looks at the stop flag (well under a millisecond of
-/// RK4, a few milliseconds of DOP853 for a rigid body).
-pub const STEPS_PER_CALL: u64 = 4096;
+pub use crate::drivers::STEPS_PER_CALL;
 
-/// The method every member runs.
-#[derive(Clone, Copy, Debug)]
-pub enum Method<'a> {
-    /// Classical RK4 on the state in registers ([`Rk4Rigid`]).
-    Rk4,
-    /// Any explicit Runge–Kutta tableau ([`Erk`]).
-    Erk(Tableau<'a>),
-    /// Runge–Kutta–Munthe-Kaas with a tableau ([`Rkmk`]).
-    Rkmk(Tableau<'a>),
-    /// The splitting method (free-rotor flows and kicks, [`Splitting`]).
-    Splitting,
-    /// Adaptive Dormand–Prince 8(5,3), each member with its own step sizes.
-    Dop853(Control),
-}
+/// The method every member runs (DOP853: each member with its own step sizes).
+pub use crate::spec::Method;
 
 /// What every member shares: the method, the time span and the sample times.
 #[derive(Clone, Copy, Debug)]
@@ -977,6 +963,7 @@ mod tests {
     use crate::forces::ForceKind;
     use crate::layout::FORCE_PARAMS;
     use crate::rigid::initial_state;
+    use crate::steppers::Tableau;
     use crate::tableaux::{RK4_A, RK4_B, RK4_C};
 
     const CONTROL: Control = Control {

@@ -36,7 +36,6 @@ use crate::events::{EventFunctions, Watch};
 use crate::expressions::{Compiler, Function, Program, Scratch};
 use crate::linalg::{min_norm_solve, solve_augmented, solve_spd_augmented};
 use crate::observers::{NoObserver, Observer};
-use crate::steppers::{Control, Tableau};
 use crate::system::VectorField;
 
 /// The sizes of a model: `n` coordinates, `m` constraints of which the first `nh` are
@@ -775,12 +774,9 @@ pub fn samples(
     samples_of(0, &mut ev, &mut out, t.len());
 }
 
-/// The method every member of an ensemble runs (any explicit tableau, or DOP853).
-#[derive(Clone, Copy, Debug)]
-pub enum Method<'a> {
-    Erk(Tableau<'a>),
-    Dop853(Control),
-}
+/// The method of a run: DOP853 or an explicit tableau (RK4 as its tableau); the methods that
+/// need a rigid body's structure are refused at the boundary ([`crate::spec::RunSpec::check_for`]).
+pub use crate::spec::Method;
 
 /// How a member's run ended, with its counters.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -790,8 +786,7 @@ pub struct MemberRun {
     pub n_fev: u64,
 }
 
-/// Steps between two looks at the stop flag.
-const STEPS_PER_CALL: u64 = 4096;
+use crate::drivers::STEPS_PER_CALL;
 
 /// The one-sided constraints of a run: their indices among the model's constraints, and the
 /// detection grid's number of points (`event_resolution`): a phase from `ta` detects releases
@@ -1012,7 +1007,11 @@ impl Phase {
                     }
                 }
             }
-            Method::Erk(tab) => {
+            Method::Erk(_) | Method::Rk4 => {
+                let tab = match method {
+                    Method::Erk(tab) => tab,
+                    _ => crate::steppers::RK4,
+                };
                 let mut m = Erk::new(tab, dim);
                 loop {
                     let chunk = STEPS_PER_CALL.min(max_steps.saturating_sub(k.n_steps));
@@ -1024,6 +1023,9 @@ impl Phase {
                         break s;
                     }
                 }
+            }
+            Method::Rkmk(_) | Method::Splitting => {
+                unreachable!("refused at the boundary: a constrained system has no rigid body")
             }
         }
     }
@@ -1128,6 +1130,7 @@ pub fn run_members_with(
 mod tests {
     use super::*;
     use crate::expressions::{Interpreter, ADD, CONST, INPUT, MUL, OUTPUT, UNARY};
+    use crate::steppers::{Control, Tableau};
     use crate::tableaux::{RK4_A, RK4_B, RK4_C};
 
     /// A postfix program from a little stack language: each item an instruction.

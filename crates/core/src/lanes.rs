@@ -801,7 +801,7 @@ crate::multiversion! {
     /// `t1` in steps of `dt`, landing on every time of
     /// `t_eval`: `z` (18 · LANES) the initial states, advanced in place; `samples`
     /// (len(t_eval) · 18 · LANES) the block's states at the sample times. The driver is the
-    /// single runs' [`run_fixed`], resumed [`crate::ensemble::STEPS_PER_CALL`] steps at a time
+    /// single runs' [`run_fixed`], resumed [`crate::drivers::STEPS_PER_CALL`] steps at a time
     /// until it ends or `stop` is raised.
     pub fn run_block, run_block_with [
         'a,
@@ -871,7 +871,7 @@ fn run_block_any<
                 &sampling,
                 &mut out,
                 &mut k,
-                crate::ensemble::STEPS_PER_CALL,
+                crate::drivers::STEPS_PER_CALL,
             )
         } else {
             run_fixed(
@@ -884,7 +884,7 @@ fn run_block_any<
                 &sampling,
                 &mut out,
                 &mut k,
-                crate::ensemble::STEPS_PER_CALL,
+                crate::drivers::STEPS_PER_CALL,
             )
         };
         if s != Status::Running || stop.load(Ordering::Relaxed) {
@@ -1081,7 +1081,7 @@ fn dop853_any<S: LaneRates + VectorField, const SHARED: bool>(
     let mut rounds: u64 = 0;
     while status.contains(&Status::Running) {
         rounds += 1;
-        if rounds % crate::ensemble::STEPS_PER_CALL == 0 && stop.load(Ordering::Relaxed) {
+        if rounds % crate::drivers::STEPS_PER_CALL == 0 && stop.load(Ordering::Relaxed) {
             break;
         }
         // each running lane's trial step size (the single run's clamps and checks)

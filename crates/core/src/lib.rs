@@ -20,8 +20,9 @@
 //! * constrained systems (Lagrange's equations with multipliers): [`lagrange`], on small
 //!   dense solvers ([`linalg`]);
 //! * ensembles of runs, in parallel, members in SIMD lanes: [`ensemble`], [`lanes`];
-//! * the integrators: [`tableaux`] (as data), [`steppers`] (pure steps), [`observers`],
-//!   [`events`] (zeros located inside the time loop) and [`drivers`] (time loops).
+//! * the integrators: [`spec`] (what a run is: method, step, sampling, budget), [`tableaux`]
+//!   (as data), [`steppers`] (pure steps), [`observers`], [`events`] (zeros located inside the
+//!   time loop) and [`drivers`] (time loops).
 
 // Index loops mirror the equations (sums over components and stages) in this crate.
 #![allow(clippy::needless_range_loop)]
@@ -48,6 +49,7 @@ pub mod relative;
 pub mod rigid;
 pub mod shapes;
 pub mod so3;
+pub mod spec;
 pub mod steppers;
 pub mod system;
 pub mod systems;

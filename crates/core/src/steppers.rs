@@ -720,3 +720,43 @@ pub fn initial_step_size<S: VectorField + ?Sized>(
     };
     (100.0 * h0).min(h1).min(interval).min(c.max_step)
 }
+
+/// The steps in registers of a [`RigidStructure`] whose structure offers nothing cheaper, as
+/// trait items for its `impl`: `default_rigid_steps!(rk4, rkmk4, splitting)` (or some of them)
+/// writes [`rk4_registers`], [`rkmk4_registers`] on the system's rates and [`splitting_step`].
+#[macro_export]
+macro_rules! default_rigid_steps {
+    ($($step:ident),+) => { $($crate::default_rigid_steps!(@one $step);)+ };
+    (@one rk4) => {
+        #[inline(always)]
+        fn rk4(&self, t: f64, y: &$crate::rigid::State, h: f64) -> $crate::rigid::State {
+            $crate::steppers::rk4_registers(
+                #[inline(always)]
+                |t, y| self.rates(t, y),
+                t,
+                y,
+                h,
+            )
+        }
+    };
+    (@one rkmk4) => {
+        #[inline(always)]
+        fn rkmk4(&self, t: f64, y: &$crate::rigid::State, h: f64) -> $crate::rigid::State {
+            $crate::steppers::rkmk4_registers(
+                #[inline(always)]
+                |t, y| self.rates(t, y),
+                t,
+                y,
+                h,
+            )
+        }
+    };
+    (@one splitting) => {
+        #[inline(always)]
+        fn splitting(&self, t: f64, z: &$crate::rigid::State, h: f64) -> $crate::rigid::State {
+            let mut out = [0.0; $crate::layout::STATE_SIZE];
+            $crate::steppers::splitting_step(self, t, z, h, &mut out);
+            out
+        }
+    };
+}

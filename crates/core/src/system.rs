@@ -13,7 +13,10 @@
 //!
 //! Rigid bodies offer more structure ([`RigidStructure`]): their parameters, for the steppers
 //! that use the free-rotor flows, and the wrench of their forces, for the splitting method's
-//! kicks; and their rates on a state held in registers, for the fixed-step fast path.
+//! kicks; their rates on a state held in registers, for the fixed-step fast path; and their
+//! steps in registers, which the steppers write (`crate::default_rigid_steps!`) unless the
+//! system has cheaper ones. This module names no stepper: the steppers depend on it, not it
+//! on them.
 
 use crate::layout::{Body, STATE_SIZE};
 
@@ -47,40 +50,14 @@ pub trait RigidStructure: VectorField {
     fn rates(&self, t: f64, y: &[f64; STATE_SIZE]) -> [f64; STATE_SIZE];
     /// The state put back on its constraint (the pivot), or unchanged.
     fn constrain(&self, t: f64, y: [f64; STATE_SIZE]) -> [f64; STATE_SIZE];
-    /// One classical RK4 step of the state in registers (before [`RigidStructure::constrain`]):
-    /// by default the stages on the whole state; a system whose structure lets part of the
-    /// step be exact may say so.
-    #[inline(always)]
-    fn rk4(&self, t: f64, y: &[f64; STATE_SIZE], h: f64) -> [f64; STATE_SIZE] {
-        crate::steppers::rk4_registers(
-            #[inline(always)]
-            |t, y| self.rates(t, y),
-            t,
-            y,
-            h,
-        )
-    }
+    /// One classical RK4 step of the state in registers (before [`RigidStructure::constrain`]).
+    /// A system whose structure offers nothing cheaper takes the stages on the whole state
+    /// ([`crate::default_rigid_steps!`]); one whose structure lets part of the step be exact
+    /// says so.
+    fn rk4(&self, t: f64, y: &[f64; STATE_SIZE], h: f64) -> [f64; STATE_SIZE];
     /// One Runge–Kutta–Munthe-Kaas step with the classical RK4 tableau on the state in
-    /// registers (before [`VectorField::project`]): by default
-    /// [`crate::steppers::rkmk4_registers`] on the system's rates; a system whose structure
-    /// lets the stages be cheaper may say so.
-    #[inline(always)]
-    fn rkmk4(&self, t: f64, y: &[f64; STATE_SIZE], h: f64) -> [f64; STATE_SIZE] {
-        crate::steppers::rkmk4_registers(
-            #[inline(always)]
-            |t, y| self.rates(t, y),
-            t,
-            y,
-            h,
-        )
-    }
-    /// One step of the splitting method on the momentum state in registers: by default
-    /// [`crate::steppers::splitting_step`]; a system whose structure lets the step be cheaper
-    /// may say so.
-    #[inline(always)]
-    fn splitting(&self, t: f64, z: &[f64; STATE_SIZE], h: f64) -> [f64; STATE_SIZE] {
-        let mut out = [0.0; STATE_SIZE];
-        crate::steppers::splitting_step(self, t, z, h, &mut out);
-        out
-    }
+    /// registers (before [`VectorField::project`]), the same way.
+    fn rkmk4(&self, t: f64, y: &[f64; STATE_SIZE], h: f64) -> [f64; STATE_SIZE];
+    /// One step of the splitting method on the momentum state in registers, the same way.
+    fn splitting(&self, t: f64, z: &[f64; STATE_SIZE], h: f64) -> [f64; STATE_SIZE];
 }

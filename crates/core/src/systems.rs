@@ -276,6 +276,7 @@ impl<U: UserWrench> VectorField for Rigid<U> {
 }
 
 impl<U: UserWrench> RigidStructure for Rigid<U> {
+    crate::default_rigid_steps!(rk4, rkmk4, splitting);
     #[inline(always)]
     fn body(&self) -> &Body {
         &self.body
@@ -380,6 +381,7 @@ macro_rules! pivot_const_vector_field {
 pivot_const_vector_field!([const K: i64, const PIVOT: bool] OneForce<K, PIVOT>);
 
 impl<const K: i64, const PIVOT: bool> RigidStructure for OneForce<K, PIVOT> {
+    crate::default_rigid_steps!(rk4, rkmk4);
     #[inline(always)]
     fn body(&self) -> &Body {
         &self.body
@@ -475,6 +477,7 @@ impl<const PIVOT: bool> SameForces<PIVOT> {
 pivot_const_vector_field!([const PIVOT: bool] SameForces<PIVOT>);
 
 impl<const PIVOT: bool> RigidStructure for SameForces<PIVOT> {
+    crate::default_rigid_steps!(rk4, rkmk4, splitting);
     #[inline(always)]
     fn body(&self) -> &Body {
         &self.body

@@ -5,21 +5,23 @@
 
 use std::cell::RefCell;
 
-use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadwriteArray1, PyReadwriteArray2};
+use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadwriteArray1};
 use poinsot_core::drivers::{
-    run_adaptive, run_fixed_native, AdaptiveState, Clock, Counters, Erk, FixedMethod, Output,
-    Rk4Rigid, RkmkRigid, Sampling, Splitting, Status,
+    run_adaptive, run_fixed_native, AdaptiveState, Erk, FixedMethod, Rk4Rigid, RkmkRigid,
+    Splitting, Status,
 };
 use poinsot_core::layout::STATE_SIZE;
 use poinsot_core::observers::{FlipObserver, NoObserver, Observer};
 use poinsot_core::rigid::State;
-use poinsot_core::steppers::{momentum_to_velocity, velocity_to_momentum, Control, Tableau};
+use poinsot_core::spec::Method;
+use poinsot_core::steppers::{momentum_to_velocity, velocity_to_momentum, RK4};
 use poinsot_core::system::{RigidStructure, VectorField};
 use poinsot_core::systems::{Rigid, TorqueFree, UserWrench};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 
 pub(crate) use crate::args::{body_from, forces_from, mat3_from, value_error};
+pub(crate) use crate::spec::{Run, RunSpec, RunState};
 
 /// Steps per chunk between two checks for an interrupt.
 const CHUNK: u64 = 1 << 16;
@@ -90,186 +92,37 @@ impl UserWrench for CUser {
     }
 }
 
-/// Everything one call of the engine reads and writes.
-pub(crate) struct Run<'a> {
-    method: &'a str,
-    tab: Tableau<'a>,
-    clock: &'a mut [f64],
-    z: &'a mut [f64],
-    f: &'a mut [f64],
-    dt: f64,
-    control: Control,
-    sampling: Sampling<'a>,
-    out: Output<'a>,
-    counters: &'a mut [i64],
-    max_steps: u64,
-}
-
-/// The buffers of one call, as Python passes them (see `poinsot.integrate.driver`).
-pub(crate) struct RunArgs<'py> {
-    pub a: PyReadonlyArray2<'py, f64>,
-    pub b: PyReadonlyArray1<'py, f64>,
-    pub c: PyReadonlyArray1<'py, f64>,
-    pub clock: PyReadwriteArray1<'py, f64>,
-    pub z: PyReadwriteArray1<'py, f64>,
-    pub f: PyReadwriteArray1<'py, f64>,
-    pub dt: f64,
-    pub control: PyReadonlyArray1<'py, f64>,
-    pub t_end: f64,
-    pub t_eval: PyReadonlyArray1<'py, f64>,
-    pub save_every: i64,
-    pub out_t: PyReadwriteArray1<'py, f64>,
-    pub out_y: PyReadwriteArray2<'py, f64>,
-    pub counters: PyReadwriteArray1<'py, i64>,
-    pub max_steps: i64,
-}
-
-impl<'py> RunArgs<'py> {
-    /// The run over these buffers, checked against the state's length `dim` and the methods
-    /// the system offers.
-    pub(crate) fn run<'a>(
-        &'a mut self,
-        method: &'a str,
-        methods: &[&str],
-        dim: usize,
-    ) -> PyResult<Run<'a>> {
-        if !methods.contains(&method) {
-            return Err(value_error(format!(
-                "`method` must be one of {methods:?} for this system, found {method:?}"
-            )));
-        }
-        let (a_s, b_s, c_s) = (self.a.as_slice()?, self.b.as_slice()?, self.c.as_slice()?);
-        let s = b_s.len();
-        if a_s.len() != s * s || c_s.len() != s {
-            return Err(value_error("the tableau must be A (s, s), B (s,), C (s,)"));
-        }
-        let ctl = self.control.as_slice()?;
-        if ctl.len() != 7 {
-            return Err(value_error("`control` must hold 7 numbers"));
-        }
-        let clock = self.clock.as_slice_mut()?;
-        if clock.len() != 2 {
-            return Err(value_error("`clock` must hold 2 numbers (t, h)"));
-        }
-        let z = self.z.as_slice_mut()?;
-        if z.len() != dim {
-            return Err(value_error(format!("`z` must hold {dim} numbers")));
-        }
-        let f = self.f.as_slice_mut()?;
-        if f.len() != dim {
-            return Err(value_error(format!("`f` must hold {dim} numbers")));
-        }
-        let out_t = self.out_t.as_slice_mut()?;
-        let m = out_t.len();
-        let out_y = self.out_y.as_slice_mut()?;
-        if out_y.len() != m * dim {
-            return Err(value_error(format!(
-                "`out_y` must have shape (len(out_t), {dim})"
-            )));
-        }
-        let counters = self.counters.as_slice_mut()?;
-        if counters.len() != 6 {
-            return Err(value_error("`counters` must hold 6 integers"));
-        }
-        Ok(Run {
-            method,
-            tab: Tableau {
-                a: a_s,
-                b: b_s,
-                c: c_s,
-            },
-            clock,
-            z,
-            f,
-            dt: self.dt,
-            control: Control {
-                rtol: ctl[0],
-                atol: ctl[1],
-                safety: ctl[2],
-                min_factor: ctl[3],
-                max_factor: ctl[4],
-                max_step: ctl[5],
-                first_step: ctl[6],
-            },
-            sampling: Sampling {
-                t_end: self.t_end,
-                t_eval: self.t_eval.as_slice()?,
-                every: self.save_every.max(1) as u64,
-            },
-            out: Output { t: out_t, y: out_y },
-            counters,
-            max_steps: self.max_steps.max(0) as u64,
-        })
-    }
-}
-
-fn counters_in(c: &[i64]) -> Counters {
-    Counters {
-        n_out: c[1] as usize,
-        next_sample: c[2] as usize,
-        n_steps: c[3] as u64,
-        n_fev: c[4] as u64,
-        n_rejected: c[5] as u64,
-    }
-}
-
-fn counters_out(k: &Counters, status: Status, c: &mut [i64]) {
-    c[0] = status as i64;
-    c[1] = k.n_out as i64;
-    c[2] = k.next_sample as i64;
-    c[3] = k.n_steps as i64;
-    c[4] = k.n_fev as i64;
-    c[5] = k.n_rejected as i64;
-}
-
-/// One chunk of `steps` of a time loop, with the run's clock and counters read before and
-/// written after.
-fn in_chunk(
-    r: &mut Run,
-    body: impl FnOnce(&mut Run, &mut Clock, &mut Counters) -> Status,
-) -> Status {
-    let mut clock = Clock {
-        t: r.clock[0],
-        h: r.clock[1],
-    };
-    let mut k = counters_in(r.counters);
-    let status = body(r, &mut clock, &mut k);
-    r.clock[0] = clock.t;
-    r.clock[1] = clock.h;
-    counters_out(&k, status, r.counters);
-    status
-}
-
-/// One chunk of a run of any system: the adaptive method (`"dop853"`) or an explicit tableau
-/// (`"erk"`).
+/// One chunk of a run of any system: the adaptive method or an explicit tableau (RK4's, for
+/// a system without a rigid body's structure).
 pub(crate) fn chunk_general<S: VectorField + ?Sized, O: Observer>(
     sys: &S,
     obs: &mut O,
     r: &mut Run,
     steps: u64,
 ) -> Status {
-    in_chunk(r, |r, clock, k| {
-        if r.method == "dop853" {
+    match r.spec.method {
+        Method::Dop853(control) => {
             let mut st = AdaptiveState { f: r.f.to_vec() };
             let s = run_adaptive(
                 sys,
                 obs,
-                clock,
+                r.clock,
                 r.z,
                 &mut st,
-                &r.control,
-                &r.sampling,
+                &control,
+                &r.spec.sampling,
                 &mut r.out,
-                k,
+                r.counters,
                 steps,
             );
             r.f.copy_from_slice(&st.f);
             s
-        } else {
-            let tab = r.tab;
-            fixed(sys, &mut Erk::new(tab, sys.dim()), obs, clock, r, k, steps)
         }
-    })
+        Method::Erk(tab) => fixed(sys, &mut Erk::new(tab, sys.dim()), obs, r, steps),
+        Method::Rk4 => fixed(sys, &mut Erk::new(RK4, sys.dim()), obs, r, steps),
+        // refused when the run was built (RunState::run: the system is no rigid body)
+        Method::Rkmk(_) | Method::Splitting => Status::CallbackFailed,
+    }
 }
 
 /// One chunk of a run of a rigid body: any method, those that use its structure included.
@@ -279,18 +132,11 @@ fn chunk<S: RigidStructure + ?Sized, O: Observer>(
     r: &mut Run,
     steps: u64,
 ) -> Status {
-    match r.method {
-        "rk4" => in_chunk(r, |r, clock, k| {
-            fixed(sys, &mut Rk4Rigid, obs, clock, r, k, steps)
-        }),
-        "rkmk" => in_chunk(r, |r, clock, k| {
-            let tab = r.tab;
-            fixed(sys, &mut RkmkRigid::new(tab), obs, clock, r, k, steps)
-        }),
-        "splitting" => in_chunk(r, |r, clock, k| {
-            fixed(sys, &mut Splitting, obs, clock, r, k, steps)
-        }),
-        _ => chunk_general(sys, obs, r, steps),
+    match r.spec.method {
+        Method::Rk4 => fixed(sys, &mut Rk4Rigid, obs, r, steps),
+        Method::Rkmk(tab) => fixed(sys, &mut RkmkRigid::new(tab), obs, r, steps),
+        Method::Splitting => fixed(sys, &mut Splitting, obs, r, steps),
+        Method::Erk(_) | Method::Dop853(_) => chunk_general(sys, obs, r, steps),
     }
 }
 
@@ -298,37 +144,36 @@ fn fixed<S: VectorField + ?Sized, M: FixedMethod<S>, O: Observer>(
     sys: &S,
     m: &mut M,
     obs: &mut O,
-    clock: &mut Clock,
     r: &mut Run,
-    k: &mut Counters,
     steps: u64,
 ) -> Status {
     run_fixed_native(
         sys,
         m,
         obs,
-        clock,
+        r.clock,
         r.z,
-        r.dt,
-        &r.sampling,
+        r.spec.dt,
+        &r.spec.sampling,
         &mut r.out,
-        k,
+        r.counters,
         steps,
     )
 }
 
 /// The whole call: chunks of at most [`CHUNK`] steps (`one` runs a chunk, releasing the GIL
-/// or not), an interrupt check between them, the run's step budget honoured.
+/// or not), an interrupt check between them, at most `steps` steps in all.
 pub(crate) fn in_chunks(
     py: Python<'_>,
     r: &mut Run,
+    steps: u64,
     mut one: impl FnMut(&mut Run, u64) -> Status,
 ) -> PyResult<Status> {
-    let mut left = r.max_steps;
+    let mut left = steps;
     loop {
-        let steps = left.min(CHUNK);
-        let status = one(r, steps);
-        left -= steps.min(left);
+        let now = left.min(CHUNK);
+        let status = one(r, now);
+        left -= now.min(left);
         if status != Status::Running || left == 0 {
             return Ok(status);
         }
@@ -336,28 +181,37 @@ pub(crate) fn in_chunks(
     }
 }
 
-/// A run of a rigid body; the GIL released when `release` (no Python runs inside).
-fn drive<S, O>(py: Python<'_>, sys: &S, obs: &mut O, r: &mut Run, release: bool) -> PyResult<Status>
+/// A run of a rigid body, at most `steps` steps; the GIL released when `release` (no Python
+/// runs inside).
+fn drive<S, O>(
+    py: Python<'_>,
+    sys: &S,
+    obs: &mut O,
+    r: &mut Run,
+    steps: u64,
+    release: bool,
+) -> PyResult<Status>
 where
     S: RigidStructure + Sync + ?Sized,
     O: Observer + Send,
 {
     MomentumState::enter(sys, r);
     let status = if release {
-        in_chunks(py, r, |r, steps| py.detach(|| chunk(sys, obs, r, steps)))
+        in_chunks(py, r, steps, |r, n| py.detach(|| chunk(sys, obs, r, n)))
     } else {
-        in_chunks(py, r, |r, steps| chunk(sys, obs, r, steps))
+        in_chunks(py, r, steps, |r, n| chunk(sys, obs, r, n))
     };
     MomentumState::leave(sys, r);
     status
 }
 
-/// Integrate one rigid body: see `poinsot.integrate.driver.integrate`. Returns the status.
+/// Integrate one rigid body (`body`, its forces `force_kind` (k,), `force_params` (k, P) and
+/// principal `axes`, the user's forces `user`: a callable, a C function's address or None)
+/// for at most `steps` more steps of the run `spec`, in `state` (see
+/// `poinsot.integrate.driver.integrate`); `flips`: three (1,) arrays of an observer of the
+/// flips of ω. Returns the status (also `state.status`).
 #[pyfunction]
-#[pyo3(signature = (
-    body, force_kind, force_params, axes, user, method, a, b, c, clock, z, f, dt, control,
-    t_end, t_eval, save_every, out_t, out_y, counters, max_steps, flips=None
-))]
+#[pyo3(signature = (body, force_kind, force_params, axes, user, spec, state, steps, flips=None))]
 #[allow(clippy::too_many_arguments)]
 fn integrate_rigid<'py>(
     py: Python<'py>,
@@ -366,22 +220,9 @@ fn integrate_rigid<'py>(
     force_params: PyReadonlyArray2<'py, f64>,
     axes: PyReadonlyArray2<'py, f64>,
     user: Option<Bound<'py, PyAny>>,
-    method: &str,
-    a: PyReadonlyArray2<'py, f64>,
-    b: PyReadonlyArray1<'py, f64>,
-    c: PyReadonlyArray1<'py, f64>,
-    clock: PyReadwriteArray1<'py, f64>,
-    z: PyReadwriteArray1<'py, f64>,
-    f: PyReadwriteArray1<'py, f64>,
-    dt: f64,
-    control: PyReadonlyArray1<'py, f64>,
-    t_end: f64,
-    t_eval: PyReadonlyArray1<'py, f64>,
-    save_every: i64,
-    out_t: PyReadwriteArray1<'py, f64>,
-    out_y: PyReadwriteArray2<'py, f64>,
-    counters: PyReadwriteArray1<'py, i64>,
-    max_steps: i64,
+    spec: PyRef<'py, RunSpec>,
+    mut state: PyRefMut<'py, RunState>,
+    steps: u64,
     flips: Option<(
         PyReadwriteArray1<'py, f64>,
         PyReadwriteArray1<'py, f64>,
@@ -391,38 +232,18 @@ fn integrate_rigid<'py>(
     let body = body_from(body.as_slice()?)?;
     let forces = forces_from(force_kind.as_slice()?, &force_params)?;
     let axes = mat3_from(&axes, "axes")?;
-    let mut args = RunArgs {
-        a,
-        b,
-        c,
-        clock,
-        z,
-        f,
-        dt,
-        control,
-        t_end,
-        t_eval,
-        save_every,
-        out_t,
-        out_y,
-        counters,
-        max_steps,
-    };
-    let mut run = args.run(
-        method,
-        &["dop853", "rk4", "erk", "rkmk", "splitting"],
-        STATE_SIZE,
-    )?;
+    let state = &mut *state;
+    let mut run = state.run(&spec, STATE_SIZE, true)?;
     let mut flips = flips;
     let status = match (&mut flips, user) {
         (_, Some(func)) => match c_user(&func)? {
             Some(cu) => {
                 let sys = Rigid::new(body, forces, axes, Some(cu));
-                drive_any(py, &sys, &mut flips, &mut run, true)?
+                drive_any(py, &sys, &mut flips, &mut run, steps, true)?
             }
             None => {
                 let sys = Rigid::new(body, forces, axes, Some(PyUser::new(py, func)));
-                let status = drive_unsync(py, &sys, &mut flips, &mut run)?;
+                let status = drive_unsync(py, &sys, &mut flips, &mut run, steps)?;
                 if let Some(err) = sys.user.as_ref().and_then(|u| u.take_error()) {
                     return Err(err);
                 }
@@ -430,13 +251,15 @@ fn integrate_rigid<'py>(
             }
         },
         (_, None) if forces.is_empty() && !body.has_pivot => {
-            drive_any(py, &TorqueFree::new(body), &mut flips, &mut run, true)?
+            let sys = TorqueFree::new(body);
+            drive_any(py, &sys, &mut flips, &mut run, steps, true)?
         }
         (_, None) => {
             let sys: Rigid = Rigid::new(body, forces, axes, None);
-            drive_any(py, &sys, &mut flips, &mut run, true)?
+            drive_any(py, &sys, &mut flips, &mut run, steps, true)?
         }
     };
+    state.status = status;
     Ok(status as i64)
 }
 
@@ -467,6 +290,7 @@ fn drive_any<S: RigidStructure + Sync + ?Sized>(
     sys: &S,
     flips: &mut Flips,
     run: &mut Run,
+    steps: u64,
     release: bool,
 ) -> PyResult<Status> {
     match flips {
@@ -477,9 +301,9 @@ fn drive_any<S: RigidStructure + Sync + ?Sized>(
                 count: count.as_slice_mut()?,
                 offset: 0,
             };
-            drive(py, sys, &mut obs, run, release)
+            drive(py, sys, &mut obs, run, steps, release)
         }
-        None => drive(py, sys, &mut NoObserver, run, release),
+        None => drive(py, sys, &mut NoObserver, run, steps, release),
     }
 }
 
@@ -489,14 +313,14 @@ struct MomentumState;
 
 impl MomentumState {
     fn enter<S: RigidStructure + ?Sized>(sys: &S, r: &mut Run) -> Self {
-        if r.method == "splitting" {
+        if matches!(r.spec.method, Method::Splitting) {
             let y = r.z.to_vec();
             velocity_to_momentum(sys, &y, r.z);
         }
         MomentumState
     }
     fn leave<S: RigidStructure + ?Sized>(sys: &S, r: &mut Run) {
-        if r.method == "splitting" {
+        if matches!(r.spec.method, Method::Splitting) {
             let y = momentum_to_velocity(sys, r.z);
             r.z.copy_from_slice(&y);
         }
@@ -509,6 +333,7 @@ fn drive_unsync<S: RigidStructure + ?Sized>(
     sys: &S,
     flips: &mut Flips,
     run: &mut Run,
+    steps: u64,
 ) -> PyResult<Status> {
     MomentumState::enter(sys, run);
     let status = match flips {
@@ -519,9 +344,9 @@ fn drive_unsync<S: RigidStructure + ?Sized>(
                 count: count.as_slice_mut()?,
                 offset: 0,
             };
-            in_chunks(py, run, |r, steps| chunk(sys, &mut obs, r, steps))
+            in_chunks(py, run, steps, |r, n| chunk(sys, &mut obs, r, n))
         }
-        None => in_chunks(py, run, |r, steps| chunk(sys, &mut NoObserver, r, steps)),
+        None => in_chunks(py, run, steps, |r, n| chunk(sys, &mut NoObserver, r, n)),
     };
     MomentumState::leave(sys, run);
     status
@@ -597,58 +422,25 @@ impl VectorField for PyField<'_> {
     }
 }
 
-/// Integrate a vector field given in Python (`rhs(t, y)`, optional `project(y, t)`): the
-/// adaptive method or an explicit tableau, in the buffers of `poinsot.integrate.driver`.
-/// Returns the status.
+/// Integrate a vector field given in Python (`rhs(t, y)`, optional `project(y, t)`) for at
+/// most `steps` more steps of the run `spec` (the adaptive method or an explicit tableau), in
+/// `state`. Returns the status (also `state.status`).
 #[pyfunction]
-#[pyo3(signature = (
-    rhs, project, method, a, b, c, clock, z, f, dt, control, t_end, t_eval, save_every, out_t,
-    out_y, counters, max_steps
-))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (rhs, project, spec, state, steps))]
 fn integrate_python<'py>(
     py: Python<'py>,
     rhs: Bound<'py, PyAny>,
     project: Option<Bound<'py, PyAny>>,
-    method: &str,
-    a: PyReadonlyArray2<'py, f64>,
-    b: PyReadonlyArray1<'py, f64>,
-    c: PyReadonlyArray1<'py, f64>,
-    clock: PyReadwriteArray1<'py, f64>,
-    z: PyReadwriteArray1<'py, f64>,
-    f: PyReadwriteArray1<'py, f64>,
-    dt: f64,
-    control: PyReadonlyArray1<'py, f64>,
-    t_end: f64,
-    t_eval: PyReadonlyArray1<'py, f64>,
-    save_every: i64,
-    out_t: PyReadwriteArray1<'py, f64>,
-    out_y: PyReadwriteArray2<'py, f64>,
-    counters: PyReadwriteArray1<'py, i64>,
-    max_steps: i64,
+    spec: PyRef<'py, RunSpec>,
+    mut state: PyRefMut<'py, RunState>,
+    steps: u64,
 ) -> PyResult<i64> {
     if !rhs.is_callable() {
         return Err(PyTypeError::new_err("`rhs` must be a function rhs(t, y)"));
     }
-    let dim = z.as_slice()?.len();
-    let mut args = RunArgs {
-        a,
-        b,
-        c,
-        clock,
-        z,
-        f,
-        dt,
-        control,
-        t_end,
-        t_eval,
-        save_every,
-        out_t,
-        out_y,
-        counters,
-        max_steps,
-    };
-    let mut run = args.run(method, &["dop853", "erk"], dim)?;
+    let state = &mut *state;
+    let dim = state.z.len();
+    let mut run = state.run(&spec, dim, false)?;
     let sys = PyField {
         py,
         rhs,
@@ -656,9 +448,10 @@ fn integrate_python<'py>(
         dim,
         error: RefCell::new(None),
     };
-    let status = in_chunks(py, &mut run, |r, steps| {
-        chunk_general(&sys, &mut NoObserver, r, steps)
+    let status = in_chunks(py, &mut run, steps, |r, n| {
+        chunk_general(&sys, &mut NoObserver, r, n)
     })?;
+    state.status = status;
     if let Some(err) = sys.error.borrow_mut().take() {
         return Err(err);
     }

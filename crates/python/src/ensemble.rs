@@ -14,22 +14,19 @@ use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2,
     PyReadonlyArray3, PyReadwriteArray2, PyReadwriteArray3, PyUntypedArrayMethods,
 };
-use poinsot_core::ensemble::{member_body, run_members, Member, MemberSummary, Method, Schedule};
+use poinsot_core::ensemble::{member_body, run_members, Member, MemberSummary, Schedule};
 use poinsot_core::forces::{Force, ForceKind};
 use poinsot_core::layout::{load, Body, BODY_SIZE, FORCE_PARAMS, STATE_SIZE};
 use poinsot_core::so3::Mat3;
-use poinsot_core::steppers::{Control, Tableau};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
-use crate::engine::{body_from, value_error};
+use crate::engine::{body_from, value_error, RunSpec};
 
 /// How often the calling thread looks for an interrupt while the workers run.
 const POLL: Duration = Duration::from_millis(5);
-
-const METHODS: [&str; 5] = ["rk4", "erk", "rkmk", "splitting", "dop853"];
 
 /// The rows of a per-member argument: 1 (shared) or `m` (one per member).
 fn shared_or_per_member(rows: usize, m: usize, name: &str, shape: &str) -> PyResult<()> {
@@ -251,34 +248,25 @@ type Outputs<'py> = (
 
 /// Integrate a chunk of members (`poinsot.ensemble.tasks.run_chunk`).
 ///
-/// `method` one of `"rk4"`, `"erk"`, `"rkmk"`, `"splitting"`, `"dop853"` with its tableau
-/// `a` (s, s), `b`, `c` (s,) and the controller's 7 numbers `control` (DOP853); `t0`, `t1`,
-/// `dt` (fixed-step methods) and the sample times `t_eval` (n,). Per member (one row shared
-/// by all, or one row each): `inertia` (about the centre of mass, body frame), `bodies`
-/// (parameter vectors, principal frame, pivot not placed), `axes` (principal axes, columns),
-/// `force_params` (k forces of kinds `force_kind`, lowered in the member's principal frame);
-/// `y0` (m, 18) the body-frame initial states. `keep_samples`: return the samples (else only
-/// the final states); `threads`: the pool's size. `samples_out` (m, n, 18) and `finals_out`
-/// (m, 18), C-contiguous, receive the samples and final states in place (MuJoCo's `rollout`
-/// style: the caller's result arrays, no copy), and None is returned for them.
+/// `spec` the run every member takes (its method, step, sample times `t_eval` (n,), at
+/// least one, and its end), from `t0`. Per member (one row shared by all, or one row each):
+/// `inertia` (about the centre of mass, body frame), `bodies` (parameter vectors, principal
+/// frame, pivot not placed), `axes` (principal axes, columns), `force_params` (k forces of
+/// kinds `force_kind`, lowered in the member's principal frame); `y0` (m, 18) the body-frame
+/// initial states. `keep_samples`: return the samples (else only the final states);
+/// `threads`: the pool's size. `samples_out` (m, n, 18) and `finals_out` (m, 18),
+/// C-contiguous, receive the samples and final states in place (MuJoCo's `rollout` style:
+/// the caller's result arrays, no copy), and None is returned for them.
 #[pyfunction]
 #[pyo3(signature = (
-    method, a, b, c, control, t0, t1, dt, t_eval, inertia, bodies, axes, force_kind,
-    force_params, y0, flips=true, keep_samples=true, threads=1, samples_out=None,
-    finals_out=None
+    spec, t0, inertia, bodies, axes, force_kind, force_params, y0, flips=true,
+    keep_samples=true, threads=1, samples_out=None, finals_out=None
 ))]
 #[allow(clippy::too_many_arguments)]
 fn run_ensemble<'py>(
     py: Python<'py>,
-    method: &str,
-    a: PyReadonlyArray2<'py, f64>,
-    b: PyReadonlyArray1<'py, f64>,
-    c: PyReadonlyArray1<'py, f64>,
-    control: PyReadonlyArray1<'py, f64>,
+    spec: PyRef<'py, RunSpec>,
     t0: f64,
-    t1: f64,
-    dt: f64,
-    t_eval: PyReadonlyArray1<'py, f64>,
     inertia: PyReadonlyArray3<'py, f64>,
     bodies: PyReadonlyArray2<'py, f64>,
     axes: PyReadonlyArray3<'py, f64>,
@@ -291,76 +279,17 @@ fn run_ensemble<'py>(
     samples_out: Option<PyReadwriteArray3<'py, f64>>,
     finals_out: Option<PyReadwriteArray2<'py, f64>>,
 ) -> PyResult<Outputs<'py>> {
-    // the schedule
-    if !METHODS.contains(&method) {
+    // the schedule: the run's own, checked when it was built, from t0
+    let run = spec.core();
+    run.check_for(true).map_err(value_error)?;
+    let (t1, times) = (run.sampling.t_end, run.sampling.t_eval);
+    if !(t0.is_finite() && t1 >= t0) {
         return Err(value_error(format!(
-            "`method` must be one of {METHODS:?}, found {method:?}"
+            "`t0` must be finite and at most the run's end {t1}, found {t0}"
         )));
     }
-    let a_s = c_order(a.is_c_contiguous(), a.as_slice(), "a")?;
-    let (b_s, c_s) = (b.as_slice()?, c.as_slice()?);
-    let s = b_s.len();
-    if a_s.len() != s * s || c_s.len() != s {
-        return Err(value_error(
-            "the tableau must be `a` (s, s), `b` (s,), `c` (s,)",
-        ));
-    }
-    let tab = Tableau {
-        a: a_s,
-        b: b_s,
-        c: c_s,
-    };
-    if (method == "erk" || method == "rkmk") && s == 0 {
-        return Err(value_error(format!("method {method:?} needs a tableau")));
-    }
-    let ctl = control.as_slice()?;
-    let method = match method {
-        "rk4" => Method::Rk4,
-        "erk" => Method::Erk(tab),
-        "rkmk" => Method::Rkmk(tab),
-        "splitting" => Method::Splitting,
-        _ => {
-            if ctl.len() != 7 {
-                return Err(value_error(format!(
-                    "`control` must hold 7 numbers, found {}",
-                    ctl.len()
-                )));
-            }
-            Method::Dop853(Control {
-                rtol: ctl[0],
-                atol: ctl[1],
-                safety: ctl[2],
-                min_factor: ctl[3],
-                max_factor: ctl[4],
-                max_step: ctl[5],
-                first_step: ctl[6],
-            })
-        }
-    };
-    if !(t0.is_finite() && t1.is_finite() && t1 >= t0) {
-        return Err(value_error(format!(
-            "`t0`, `t1` must be finite with t0 ≤ t1, found {t0}, {t1}"
-        )));
-    }
-    let fixed_step = !matches!(method, Method::Dop853(_));
-    if fixed_step && !(dt.is_finite() && dt > 0.0) {
-        return Err(value_error(format!(
-            "`dt` must be a positive number, found {dt}"
-        )));
-    }
-    let times = t_eval.as_slice()?;
     if times.is_empty() {
         return Err(value_error("`t_eval` must hold at least one time"));
-    }
-    for (k, w) in times.windows(2).enumerate() {
-        if w[1] < w[0] {
-            return Err(value_error(format!(
-                "`t_eval` must be non-decreasing, found t_eval[{}] = {} after {}",
-                k + 1,
-                w[1],
-                w[0]
-            )));
-        }
     }
     if !(times[0] >= t0 && times[times.len() - 1] <= t1) {
         return Err(value_error(format!(
@@ -375,10 +304,10 @@ fn run_ensemble<'py>(
         )));
     }
     let schedule = Schedule {
-        method,
+        method: run.method,
         t0,
         t1,
-        dt,
+        dt: run.dt,
         t_eval: times,
         flips,
     };

@@ -10,18 +10,17 @@ use std::sync::Arc;
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2,
-    PyReadwriteArray1, PyReadwriteArray2, PyUntypedArrayMethods,
+    PyUntypedArrayMethods,
 };
 use poinsot_core::drivers::Status;
 use poinsot_core::events::{Crossing, Watch};
 use poinsot_core::expressions::{Function, Program};
 use poinsot_core::lagrange::{
     run_members_with, samples as core_samples, Callbacks, CompiledInputs, Constant, Inputs,
-    LagrangeEvents, Lagrangian, Method, Model, NoCallbacks, OneSided, SampleOut, Shape, Source,
+    LagrangeEvents, Lagrangian, Model, NoCallbacks, OneSided, SampleOut, Shape, Source,
     Stabilization,
 };
 use poinsot_core::observers::NoObserver;
-use poinsot_core::steppers::{Control, Tableau};
 use poinsot_core::system::VectorField;
 use poinsot_jit::Jit;
 use pyo3::exceptions::PyTypeError;
@@ -29,7 +28,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyList;
 
 use crate::args::{rows, value_error};
-use crate::engine::{chunk_general, in_chunks, Run, RunArgs};
+use crate::engine::{chunk_general, in_chunks, Run, RunSpec, RunState};
 use crate::ensemble::{interruptible, pool};
 use crate::relative::Expressions;
 
@@ -399,18 +398,18 @@ impl LagrangianModel {
     }
 
     /// Integrate members with parameters `P` (k, np), constant inputs `U` (k, nu) and initial
-    /// states `Y0` (k, 2n) on a pool of `threads`, each at most `max_steps` steps (a member
-    /// stopped there has the status `RUNNING` and NaN samples): `(samples (k, len(t_eval),
-    /// 2n), status, steps, evaluations, releases)` per member. `method` `"erk"` (the tableau
-    /// `a`, `b`, `c`, step `dt`) or `"dop853"` (the controller's 7 numbers `control`).
+    /// states `Y0` (k, 2n) from `t0` on a pool of `threads`, each the run `spec` (DOP853 or an
+    /// explicit tableau; its sample times `t_eval`, at least one, and its end; at most its
+    /// `max_steps` steps: a member stopped there has the status `RUNNING` and NaN samples):
+    /// `(samples (k, len(t_eval), 2n), status, steps, evaluations, releases)` per member.
     /// `unilateral`: the one-sided constraints (indices among the model's), each released
     /// where its multiplier falls through zero, located inside the time loop with detection
     /// points no further apart than a grid of `resolution` points
     /// (`poinsot_core::lagrange::run_member_with`); `releases` (k, len(unilateral)): the
     /// release times, NaN where a constraint held.
     #[pyo3(signature = (
-        params, inputs, y0, alpha, beta, projection, method, a, b, c, dt, control, t0, t1,
-        t_eval, threads, max_steps, unilateral=Vec::new(), resolution=2001
+        params, inputs, y0, alpha, beta, projection, spec, t0, threads, unilateral=Vec::new(),
+        resolution=2001
     ))]
     #[allow(clippy::too_many_arguments, clippy::type_complexity)]
     fn run_ensemble<'py>(
@@ -422,17 +421,9 @@ impl LagrangianModel {
         alpha: f64,
         beta: f64,
         projection: bool,
-        method: &str,
-        a: PyReadonlyArray2<'py, f64>,
-        b: PyReadonlyArray1<'py, f64>,
-        c: PyReadonlyArray1<'py, f64>,
-        dt: f64,
-        control: PyReadonlyArray1<'py, f64>,
+        spec: PyRef<'py, RunSpec>,
         t0: f64,
-        t1: f64,
-        t_eval: PyReadonlyArray1<'py, f64>,
         threads: usize,
-        max_steps: u64,
         unilateral: Vec<usize>,
         resolution: usize,
     ) -> PyResult<(
@@ -455,34 +446,10 @@ impl LagrangianModel {
         let pv: Vec<f64> = pp.iter().copied().collect();
         let uv: Vec<f64> = uu.iter().copied().collect();
         let zv: Vec<f64> = zz.iter().copied().collect();
-        let (a_s, b_s, c_s) = (a.as_slice()?, b.as_slice()?, c.as_slice()?);
-        let ctl = control.as_slice()?;
-        if ctl.len() != 7 {
-            return Err(value_error("`control` must hold 7 numbers"));
-        }
-        let method = match method {
-            "erk" => {
-                let st = b_s.len();
-                if a_s.len() != st * st || c_s.len() != st {
-                    return Err(value_error("the tableau must be A (s, s), B (s,), C (s,)"));
-                }
-                if !(dt.is_finite() && dt > 0.0) {
-                    return Err(value_error(format!("`dt` must be positive, found {dt}")));
-                }
-                Method::Erk(Tableau {
-                    a: a_s,
-                    b: b_s,
-                    c: c_s,
-                })
-            }
-            "dop853" => Method::Dop853(control_from(ctl)),
-            _ => {
-                return Err(value_error(format!(
-                    "`method` must be \"erk\" or \"dop853\", found {method:?}"
-                )))
-            }
-        };
-        let t_eval = t_eval.as_slice()?;
+        let run = spec.core();
+        run.check_for(false).map_err(value_error)?;
+        let (method, dt, max_steps) = (run.method, run.dt, run.max_steps);
+        let (t1, t_eval) = (run.sampling.t_end, run.sampling.t_eval);
         if t_eval.is_empty() {
             return Err(value_error("`t_eval` must hold at least one time"));
         }
@@ -543,18 +510,6 @@ impl LagrangianModel {
             col(|r| r.n_fev as i64),
             releases.into_pyarray(py),
         ))
-    }
-}
-
-fn control_from(c: &[f64]) -> Control {
-    Control {
-        rtol: c[0],
-        atol: c[1],
-        safety: c[2],
-        min_factor: c[3],
-        max_factor: c[4],
-        max_step: c[5],
-        first_step: c[6],
     }
 }
 
@@ -746,11 +701,12 @@ fn chunk_watched<I: Inputs, C: Callbacks>(
 fn run_released<'m, I: Inputs>(
     py: Python<'_>,
     run: &mut Run,
+    steps: u64,
     make: impl Fn() -> Lagrangian<'m, I> + Sync,
     spec: Option<&EventSpec>,
     found: &mut Vec<Crossing>,
 ) -> PyResult<Status> {
-    in_chunks(py, run, |r, steps| {
+    in_chunks(py, run, steps, |r, steps| {
         let (status, log) = py.detach(|| chunk_watched(&make(), spec, NoCallbacks, r, steps));
         found.extend(log);
         status
@@ -761,12 +717,13 @@ fn run_released<'m, I: Inputs>(
 fn run_held<I: Inputs>(
     py: Python<'_>,
     run: &mut Run,
+    steps: u64,
     sys: &Lagrangian<'_, I>,
     spec: Option<&EventSpec>,
     callbacks: &PyEventCallbacks<'_>,
     found: &mut Vec<Crossing>,
 ) -> PyResult<Status> {
-    in_chunks(py, run, |r, steps| {
+    in_chunks(py, run, steps, |r, steps| {
         let (status, log) = chunk_watched(sys, spec, callbacks, r, steps);
         found.extend(log);
         status
@@ -788,8 +745,7 @@ fn run_held<I: Inputs>(
 /// `(event, t, y)`. A terminal zero ends the run there with the status `TERMINATED`.
 #[pyfunction]
 #[pyo3(signature = (
-    model, p, inputs, alpha, beta, projection, active, method, a, b, c, clock, z, f, dt,
-    control, t_end, t_eval, save_every, out_t, out_y, counters, max_steps, events=None
+    model, p, inputs, alpha, beta, projection, active, run_spec, state, steps, events=None
 ))]
 #[allow(clippy::too_many_arguments)]
 fn integrate_lagrange<'py>(
@@ -801,22 +757,9 @@ fn integrate_lagrange<'py>(
     beta: f64,
     projection: bool,
     active: Option<PyReadonlyArray1<'py, bool>>,
-    method: &str,
-    a: PyReadonlyArray2<'py, f64>,
-    b: PyReadonlyArray1<'py, f64>,
-    c: PyReadonlyArray1<'py, f64>,
-    clock: PyReadwriteArray1<'py, f64>,
-    z: PyReadwriteArray1<'py, f64>,
-    f: PyReadwriteArray1<'py, f64>,
-    dt: f64,
-    control: PyReadonlyArray1<'py, f64>,
-    t_end: f64,
-    t_eval: PyReadonlyArray1<'py, f64>,
-    save_every: i64,
-    out_t: PyReadwriteArray1<'py, f64>,
-    out_y: PyReadwriteArray2<'py, f64>,
-    counters: PyReadwriteArray1<'py, i64>,
-    max_steps: i64,
+    run_spec: PyRef<'py, RunSpec>,
+    mut state: PyRefMut<'py, RunState>,
+    steps: u64,
     events: Option<EventsArg<'py>>,
 ) -> PyResult<i64> {
     let model = model.get().model.clone();
@@ -829,24 +772,8 @@ fn integrate_lagrange<'py>(
         beta,
         projection,
     };
-    let mut args = RunArgs {
-        a,
-        b,
-        c,
-        clock,
-        z,
-        f,
-        dt,
-        control,
-        t_end,
-        t_eval,
-        save_every,
-        out_t,
-        out_y,
-        counters,
-        max_steps,
-    };
-    let mut run = args.run(method, &["dop853", "erk"], 2 * s.n)?;
+    let state = &mut *state;
+    let mut run = state.run(&run_spec, 2 * s.n, false)?;
     let refuse = |e: String| value_error(e);
     let (spec, callables, log) = match events {
         Some(arg) => {
@@ -889,13 +816,13 @@ fn integrate_lagrange<'py>(
         Lagrangian::new(&model, &p, Constant(&u), st, active.clone()).map_err(refuse)?;
         if slow_events {
             let sys = Lagrangian::new(&model, &p, Constant(&u), st, active).map_err(refuse)?;
-            run_held(py, &mut run, &sys, spec, &callbacks, &mut found)?
+            run_held(py, &mut run, steps, &sys, spec, &callbacks, &mut found)?
         } else {
             let (model, p, u, active) = (&*model, &p, &u, &active);
             let make = || {
                 Lagrangian::new(model, p, Constant(u), st, active.clone()).expect("checked above")
             };
-            run_released(py, &mut run, make, spec, &mut found)?
+            run_released(py, &mut run, steps, make, spec, &mut found)?
         }
     } else if let Ok(e) = inputs.cast::<Expressions>() {
         let function: Arc<Function> = e.get().function.clone();
@@ -915,9 +842,9 @@ fn integrate_lagrange<'py>(
                 .expect("sizes checked above")
         };
         if slow_events {
-            run_held(py, &mut run, &make(), spec, &callbacks, &mut found)?
+            run_held(py, &mut run, steps, &make(), spec, &callbacks, &mut found)?
         } else {
-            run_released(py, &mut run, make, spec, &mut found)?
+            run_released(py, &mut run, steps, make, spec, &mut found)?
         }
     } else if inputs.is_callable() {
         let sys = Lagrangian::new(
@@ -933,7 +860,7 @@ fn integrate_lagrange<'py>(
             active,
         )
         .map_err(refuse)?;
-        let status = run_held(py, &mut run, &sys, spec, &callbacks, &mut found)?;
+        let status = run_held(py, &mut run, steps, &sys, spec, &callbacks, &mut found)?;
         if let Some(err) = sys.inputs.error.borrow_mut().take() {
             return Err(err);
         }
@@ -951,6 +878,7 @@ fn integrate_lagrange<'py>(
             log.append((c.event, c.t, PyArray1::from_vec(py, c.y)))?;
         }
     }
+    state.status = status;
     Ok(status as i64)
 }
 

@@ -14,6 +14,7 @@ mod gyrostat;
 mod lagrange;
 mod relative;
 mod rigid;
+mod spec;
 mod tops;
 
 #[pymodule]
@@ -32,6 +33,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
         poinsot_core::isa::Isa::widest_up_to(poinsot_core::isa::Isa::Avx512).name(),
     )?;
     engine::register(m)?;
+    spec::register(m)?;
     for (name, status) in [
         ("RUNNING", poinsot_core::drivers::Status::Running),
         ("FINISHED", poinsot_core::drivers::Status::Finished),

@@ -27,7 +27,7 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 
 use crate::args::{body_from, forces_from, mat3_from, rows, v3, value_error};
-use crate::engine::{c_user, chunk_general, in_chunks, CUser, PyUser, RunArgs};
+use crate::engine::{c_user, chunk_general, in_chunks, CUser, PyUser, RunSpec, RunState};
 
 /// `f(J, a_i, b_i)` for the rows of `a`, `b` (n, 3) → (n, 3).
 fn pairs<'py>(
@@ -563,14 +563,13 @@ fn relative_rhs<'py>(
     Ok(out.into_pyarray(py))
 }
 
-/// Integrate a body relative to its carrier (`poinsot.relative.simulate_relative`), with
-/// `"dop853"` or an explicit tableau (`"erk"`), in the buffers of
-/// `poinsot.integrate.driver`. Returns the status.
+/// Integrate a body relative to its carrier (`poinsot.relative.simulate_relative`) for at
+/// most `steps` more steps of the run `spec` (`"dop853"` or an explicit tableau), in `state`.
+/// Returns the status (also `state.status`).
 #[pyfunction]
 #[pyo3(signature = (
-    body, force_kind, force_params, axes, user, carrier, balance_transport, hold_com, method,
-    a, b, c, clock, z, f, dt, control, t_end, t_eval, save_every, out_t, out_y, counters,
-    max_steps
+    body, force_kind, force_params, axes, user, carrier, balance_transport, hold_com, spec,
+    state, steps
 ))]
 #[allow(clippy::too_many_arguments)]
 fn integrate_relative<'py>(
@@ -583,41 +582,12 @@ fn integrate_relative<'py>(
     carrier: Bound<'py, PyAny>,
     balance_transport: bool,
     hold_com: bool,
-    method: &str,
-    a: PyReadonlyArray2<'py, f64>,
-    b: PyReadonlyArray1<'py, f64>,
-    c: PyReadonlyArray1<'py, f64>,
-    clock: numpy::PyReadwriteArray1<'py, f64>,
-    z: numpy::PyReadwriteArray1<'py, f64>,
-    f: numpy::PyReadwriteArray1<'py, f64>,
-    dt: f64,
-    control: PyReadonlyArray1<'py, f64>,
-    t_end: f64,
-    t_eval: PyReadonlyArray1<'py, f64>,
-    save_every: i64,
-    out_t: numpy::PyReadwriteArray1<'py, f64>,
-    out_y: numpy::PyReadwriteArray2<'py, f64>,
-    counters: numpy::PyReadwriteArray1<'py, i64>,
-    max_steps: i64,
+    spec: PyRef<'py, RunSpec>,
+    mut state: PyRefMut<'py, RunState>,
+    steps: u64,
 ) -> PyResult<i64> {
-    let mut args = RunArgs {
-        a,
-        b,
-        c,
-        clock,
-        z,
-        f,
-        dt,
-        control,
-        t_end,
-        t_eval,
-        save_every,
-        out_t,
-        out_y,
-        counters,
-        max_steps,
-    };
-    let mut run = args.run(method, &["dop853", "erk"], RELATIVE_STATE_SIZE)?;
+    let state = &mut *state;
+    let mut run = state.run(&spec, RELATIVE_STATE_SIZE, false)?;
     let system = SystemArgs {
         body,
         force_kind,
@@ -632,16 +602,17 @@ fn integrate_relative<'py>(
         system,
         &mut run,
         |sys, run| {
-            in_chunks(py, run, |r, steps| {
-                py.detach(|| chunk_general(sys, &mut NoObserver, r, steps))
+            in_chunks(py, run, steps, |r, n| {
+                py.detach(|| chunk_general(sys, &mut NoObserver, r, n))
             })
         },
         |sys, run| {
-            in_chunks(py, run, |r, steps| {
-                chunk_general(sys, &mut NoObserver, r, steps)
+            in_chunks(py, run, steps, |r, n| {
+                chunk_general(sys, &mut NoObserver, r, n)
             })
         },
     )?;
+    state.status = status;
     Ok(status as i64)
 }
 

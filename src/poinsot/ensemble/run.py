@@ -263,11 +263,11 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
         from ..integrate.control import StepSizeController
         from ..integrate.dop853 import DEFAULT_ATOL, DEFAULT_RTOL
 
-        control = StepSizeController(
+        controller = StepSizeController(
             DEFAULT_RTOL if rtol is None else rtol,
             DEFAULT_ATOL if atol is None else atol,
             first_step=None if dt is None else as_scalar(dt, "dt"),
-        ).as_array()
+        )
         step = 0.0
     else:
         if dt is None:
@@ -276,7 +276,7 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
         if not step > 0:
             raise ValueError(f"`dt` must be a positive number, found {step}")
         check_budget(solver, t0, t1, step)  # each member's steps within DEFAULT_MAX_STEPS
-        control = np.zeros(0)
+        controller = None
     times = np.array([t1]) if t_eval is None else as_sample_times(t_eval, t0, t1)
     if len(times) == 0:
         raise ValueError("`t_eval` must hold at least one time")
@@ -290,7 +290,7 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
         A=np.ascontiguousarray(solver.A, dtype=float),
         B=np.ascontiguousarray(solver.B, dtype=float),
         C=np.ascontiguousarray(solver.C, dtype=float),
-        control=control,
+        controller=controller,
         t0=t0,
         t1=t1,
         dt=step,

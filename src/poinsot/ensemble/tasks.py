@@ -35,7 +35,7 @@ class EnsembleSpec:
     A: np.ndarray
     B: np.ndarray
     C: np.ndarray
-    control: np.ndarray
+    controller: object  # a StepSizeController (DOP853), or None
     t0: float
     t1: float
     dt: float
@@ -136,6 +136,7 @@ def run_chunk(
     member, the run, the statistics streamed per member. With ``out``, the states are written
     to its views (a run in this process); else new arrays are returned (a Dask worker)."""
     from .. import _core
+    from ..integrate.driver import run_spec
 
     line = [0.0] * 3  # degenerate bodies are refused before any chunk runs
     a = _native  # arrays that crossed to a Dask worker may come unaligned
@@ -156,11 +157,12 @@ def run_chunk(
     keep = spec.keep_states or bool(spec.reductions)
     in_place = out is not None
     Y_out = out.Y if in_place and spec.keep_states else None
+    run = run_spec(spec.method_kind, t_end=spec.t1, dt=spec.dt, tableau=(spec.A, spec.B, spec.C),
+                   controller=spec.controller, t_eval=spec.t_eval)  # fmt: skip
     (Y, final, energy, momentum, orthogonality, first, last, count, status, nsteps,
      nfev) = _core.run_ensemble(
-        spec.method_kind, a(spec.A), a(spec.B), a(spec.C), a(spec.control), spec.t0, spec.t1,
-        spec.dt, a(spec.t_eval), a(inertia), a(bodies), a(axes), a(spec.force_kind), a(params),
-        Y0, flips=spec.flips, keep_samples=keep, threads=threads, samples_out=Y_out,
+        run, spec.t0, a(inertia), a(bodies), a(axes), a(spec.force_kind), a(params), Y0,
+        flips=spec.flips, keep_samples=keep, threads=threads, samples_out=Y_out,
         finals_out=out.final if in_place else None,
     )  # fmt: skip
     if Y_out is not None:

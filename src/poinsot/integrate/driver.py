@@ -28,6 +28,7 @@ __all__ = [
     "check_backend",
     "check_solver_fits",
     "integrate",
+    "run_spec",
 ]
 
 BACKENDS = ("compiled", "python")
@@ -244,8 +245,11 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
     kind = problem.kind_of(solver.kind)
     if kind is None:
         raise ValueError(f"`method` {cls.name!r} has no step in the compiled core for this system")
+    budget = 2**62 if budget is None else int(budget)
+    spec = run_spec(kind, t_end=t1, dt=dt, tableau=(solver.A, solver.B, solver.C),
+                    controller=controller, t_eval=saveat.times, save_every=saveat.every,
+                    max_steps=budget)  # fmt: skip
     z = system.to_internal(y0)
-    n = z.size
     times = saveat.times
     if len(times):
         capacity = len(times)
@@ -253,69 +257,81 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
         capacity = 256
     else:
         capacity = int(min((t1 - t0) / dt, 1e9)) // saveat.every + 3
-    out_t = np.empty(capacity)
-    out_y = np.empty((capacity, n))
-    clock = np.array([t0, 0.0])
-    counters = np.zeros(6, dtype=np.int64)
-    f = np.zeros(n)
-    ctrl = controller.as_array() if cls.adaptive else np.zeros(7)
-    A = np.ascontiguousarray(solver.A, dtype=float).reshape(len(solver.B), len(solver.B))
-    B = np.ascontiguousarray(solver.B, dtype=float)
-    C = np.ascontiguousarray(solver.C, dtype=float)
+    state = _drv.RunState(t0, np.ascontiguousarray(z, dtype=float).ravel(), capacity)
     extra = dict(problem.keywords)
     if observer is not None and hasattr(observer, "first"):  # counts flips (ensembles)
         if not problem.observes_flips:
             raise ValueError("this system's engine does not count flips")
         extra["flips"] = (observer.first, observer.last, observer.count)
     start = time.perf_counter()
-    budget = 2**62 if budget is None else int(budget)
     per_call = PROGRESS_CHUNK if progress is not None else 2**62
 
     def result(message, success):
-        k = int(counters[1])
+        t, y = state.samples()
+        stats = state.stats
         return IntegrationResult(
-            out_t[:k].copy(),
-            system.from_internal(out_y[:k]),
+            t,
+            system.from_internal(y),
             cls.name,
-            int(counters[4]),
-            int(counters[3]),
+            stats.evaluations,
+            stats.steps,
             time.perf_counter() - start,
             message,
             {"dt": dt, "rtol": getattr(controller, "rtol", None),
              "atol": getattr(controller, "atol", None)},
             backend,
-            int(counters[5]),
+            stats.rejected,
             success,
         )  # fmt: skip
 
     while True:
-        left = budget - int(counters[3])
+        left = budget - state.stats.steps
         if left <= 0:
-            raise _over_budget(budget, float(clock[0]), t1, result)
-        status = problem.engine(
-            *problem.data, kind, A, B, C, clock, z, f, float(dt or 0.0), ctrl, t1, times,
-            saveat.every, out_t, out_y, counters, min(per_call, left), **extra,
-        )  # fmt: skip
+            raise _over_budget(budget, state.t, t1, result)
+        status = problem.engine(*problem.data, spec, state, min(per_call, left), **extra)
         if progress is not None:
-            progress(float(clock[0]))
+            progress(state.t)
         if status == _drv.FINISHED:
             return result("finished", True)
         if status == _drv.TERMINATED:  # a terminal event (the system's events say which)
             return result("a terminal event", True)
         if status == _drv.OUTPUT_FULL:
-            out_t = np.concatenate([out_t, np.empty(len(out_t))])
-            out_y = np.concatenate([out_y, np.empty((len(out_y), n))])
+            state.grow()
             continue
         if status == _drv.RUNNING:
             continue
         if status == _drv.NONFINITE:
-            message = _describe_nonfinite(system.state_slices, float(clock[0]),
-                                          system.from_internal(z))  # fmt: skip
+            message = _describe_nonfinite(system.state_slices, state.t,
+                                          system.from_internal(state.state))  # fmt: skip
             raise IntegrationError(message, result(message, False))
         if status == _drv.STEP_TOO_SMALL:
             message = (
-                f"the step size fell below the resolution of t = {clock[0]:.9g} (the problem "
+                f"the step size fell below the resolution of t = {state.t:.9g} (the problem "
                 "may be stiff or singular there, or the tolerances too tight)"
             )
             raise IntegrationError(message, result(message, False))
         raise IntegrationError(f"the run stopped with status {status}", result("failed", False))
+
+
+def run_spec(kind, *, t_end, dt=None, tableau=None, controller=None, t_eval=None,
+             save_every=1, max_steps=2**62):  # fmt: skip
+    """The core's :class:`poinsot._core.RunSpec` of a run, built (and checked) once: the kind
+    of method (:attr:`poinsot.integrate.base.Solver.kind`) with its ``tableau`` ``(A, B, C)``
+    (explicit Runge–Kutta and RKMK) or its ``controller`` (a
+    :class:`~poinsot.integrate.control.StepSizeController`, DOP853), the step ``dt`` of a
+    fixed-step method, the sampling and the step budget."""
+    from .. import _core
+
+    options = {"t_end": float(t_end), "dt": float(dt or 0.0), "save_every": int(save_every),
+               "max_steps": int(max_steps)}  # fmt: skip
+    if t_eval is not None:
+        options["t_eval"] = np.ascontiguousarray(t_eval, dtype=float)
+    if kind in ("erk", "rkmk"):
+        A, B, C = (np.ascontiguousarray(x, dtype=float) for x in tableau)
+        options["tableau"] = (A.reshape(len(B), len(B)), B, C)
+    if controller is not None:
+        c = controller
+        options.update(rtol=c.rtol, atol=c.atol, safety=c.safety, min_factor=c.min_factor,
+                       max_factor=c.max_factor, max_step=c.max_step,
+                       first_step=c.first_step or 0.0)  # fmt: skip
+    return _core.RunSpec(kind, **options)

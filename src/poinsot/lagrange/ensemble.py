@@ -252,6 +252,7 @@ def simulate_ensemble(
     """
     from .._threads import available_cpus
     from ..integrate.control import StepSizeController
+    from ..integrate.driver import run_spec
     from ..integrate.solve import check_budget, check_sampling, check_t_span, check_tolerances
     from .engine import compile_system
 
@@ -300,21 +301,18 @@ def simulate_ensemble(
     workers = threads or available_cpus()
     chunk = chunk_size or max(1, min(1000, -(-N // workers)))
     if solver.adaptive:
-        kind, control = "dop853", StepSizeController(rtol, atol).as_array()
-        A, B, C, step = np.zeros((0, 0)), np.zeros(0), np.zeros(0), 0.0
+        run = run_spec("dop853", t_end=t1, controller=StepSizeController(rtol, atol),
+                       t_eval=times, max_steps=budget)  # fmt: skip
     else:
         steps = solver()
-        kind, control, step = "erk", np.zeros(7), float(dt)
-        B = np.ascontiguousarray(steps.B, dtype=float)
-        A = np.ascontiguousarray(steps.A, dtype=float).reshape(len(B), len(B))
-        C = np.ascontiguousarray(steps.C, dtype=float)
+        run = run_spec("erk", t_end=t1, dt=dt, tableau=(steps.A, steps.B, steps.C),
+                       t_eval=times, max_steps=budget)  # fmt: skip
     parts = []
     for i0 in range(0, N, chunk):
         i1 = min(i0 + chunk, N)
         parts.append(engine.model.run_ensemble(
-            P[i0:i1], U[i0:i1], Z0[i0:i1], gains[0], gains[1], projection, kind, A, B, C,
-            step, control, t0, t1, times, workers, budget, list(system.unilateral),
-            resolution))  # fmt: skip
+            P[i0:i1], U[i0:i1], Z0[i0:i1], gains[0], gains[1], projection, run, t0, workers,
+            list(system.unilateral), resolution))  # fmt: skip
     Y, status, nsteps, nfev, releases = (np.concatenate(c) for c in zip(*parts, strict=True))
     if no_samples:
         times, Y = times[:0], Y[:, :0]

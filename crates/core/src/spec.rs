@@ -1,0 +1,300 @@
+//! What a run is, as data: the method (the registry's kinds: RK4 in registers, an explicit
+//! tableau, Runge–Kutta–Munthe-Kaas, the splitting method, adaptive DOP853, each with the data
+//! it needs), its step, its sampling and its step budget. Every run of the crate, a single
+//! body's, a constrained system's, a carrier's passenger's or an ensemble's, is a system and a
+//! [`RunSpec`]; what a run did comes back as named [`crate::drivers::Counters`].
+//!
+//! The method is parsed from its name once ([`Method::parse`], the registry's names), at the
+//! boundary; nothing below matches a method by name.
+
+use crate::drivers::Sampling;
+use crate::steppers::{Control, Tableau};
+
+/// A run's method, with its tableau (explicit Runge–Kutta and RKMK) or its controller (DOP853).
+#[derive(Clone, Copy, Debug)]
+pub enum Method<'a> {
+    /// Classical RK4 on a rigid body's state in registers ([`crate::drivers::Rk4Rigid`]).
+    Rk4,
+    /// Any explicit Runge–Kutta tableau ([`crate::drivers::Erk`]), on any vector field.
+    Erk(Tableau<'a>),
+    /// Runge–Kutta–Munthe-Kaas with a tableau, on SO(3) ([`crate::drivers::RkmkRigid`]).
+    Rkmk(Tableau<'a>),
+    /// The splitting method: free-rotor flows and kicks ([`crate::drivers::Splitting`]).
+    Splitting,
+    /// Adaptive Dormand–Prince 8(5,3) with its step-size controller, on any vector field.
+    Dop853(Control),
+}
+
+impl<'a> Method<'a> {
+    /// The registry's kinds, by name: those of any vector field first.
+    pub const NAMES: [&'static str; 5] = ["dop853", "erk", "rk4", "rkmk", "splitting"];
+
+    /// The method named `name` (one of [`Method::NAMES`]) with its `tableau` (checked: `a`
+    /// s × s, `b` and `c` s, at least one stage, for `"erk"` and `"rkmk"`) or `control`
+    /// (for `"dop853"`); the error names the argument and the rule.
+    pub fn parse(name: &str, tableau: Tableau<'a>, control: Control) -> Result<Self, String> {
+        let needs_tableau = || -> Result<Tableau<'a>, String> {
+            let s = tableau.b.len();
+            if s == 0 || tableau.a.len() != s * s || tableau.c.len() != s {
+                return Err(format!(
+                    "method {name:?} needs a tableau: `a` (s, s), `b` (s,), `c` (s,) with s ≥ 1, \
+                     found {}, {}, {} numbers",
+                    tableau.a.len(),
+                    tableau.b.len(),
+                    tableau.c.len()
+                ));
+            }
+            Ok(tableau)
+        };
+        match name {
+            "rk4" => Ok(Method::Rk4),
+            "erk" => Ok(Method::Erk(needs_tableau()?)),
+            "rkmk" => Ok(Method::Rkmk(needs_tableau()?)),
+            "splitting" => Ok(Method::Splitting),
+            "dop853" => {
+                check_control(&control)?;
+                Ok(Method::Dop853(control))
+            }
+            _ => Err(format!(
+                "`method` must be one of {:?}, found {name:?}",
+                Method::NAMES
+            )),
+        }
+    }
+
+    /// Its name in the registry.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::Rk4 => "rk4",
+            Method::Erk(_) => "erk",
+            Method::Rkmk(_) => "rkmk",
+            Method::Splitting => "splitting",
+            Method::Dop853(_) => "dop853",
+        }
+    }
+
+    /// True for the adaptive method (no fixed step).
+    pub fn is_adaptive(&self) -> bool {
+        matches!(self, Method::Dop853(_))
+    }
+
+    /// True for the methods that use a rigid body's structure (its state in registers, the
+    /// rotation group, the free-rotor flows); the others run on any vector field.
+    pub fn needs_rigid_body(&self) -> bool {
+        matches!(self, Method::Rk4 | Method::Rkmk(_) | Method::Splitting)
+    }
+}
+
+/// The controller's numbers, checked: positive finite tolerances, `0 < safety ≤ 1`,
+/// `0 < min_factor ≤ 1 ≤ max_factor`, a positive `max_step` (∞ allowed) and a first step ≥ 0
+/// (0: chosen by the controller).
+fn check_control(c: &Control) -> Result<(), String> {
+    let positive = |x: f64| x.is_finite() && x > 0.0;
+    let checks = [
+        (positive(c.rtol), "`rtol` must be a positive number"),
+        (positive(c.atol), "`atol` must be a positive number"),
+        (
+            positive(c.safety) && c.safety <= 1.0,
+            "`safety` must be in (0, 1]",
+        ),
+        (
+            positive(c.min_factor) && c.min_factor <= 1.0,
+            "`min_factor` must be in (0, 1]",
+        ),
+        (
+            c.max_factor.is_finite() && c.max_factor >= 1.0,
+            "`max_factor` must be a number ≥ 1",
+        ),
+        (
+            c.max_step > 0.0 && !c.max_step.is_nan(),
+            "`max_step` must be positive",
+        ),
+        (
+            c.first_step.is_finite() && c.first_step >= 0.0,
+            "`first_step` must be ≥ 0 (0: automatic)",
+        ),
+    ];
+    match checks.iter().find(|(ok, _)| !ok) {
+        Some((_, rule)) => Err(format!("{rule}, found {c:?}")),
+        None => Ok(()),
+    }
+}
+
+/// A run: its method, the step of a fixed-step method, what it saves until when, and the most
+/// steps it may take.
+#[derive(Clone, Copy, Debug)]
+pub struct RunSpec<'a> {
+    pub method: Method<'a>,
+    /// Step of a fixed-step method (unused by DOP853, whose first step is its controller's).
+    pub dt: f64,
+    pub sampling: Sampling<'a>,
+    pub max_steps: u64,
+}
+
+impl<'a> RunSpec<'a> {
+    /// The run, checked: a positive finite step for a fixed-step method, a finite end, sample
+    /// times finite and non-decreasing, and a positive step budget.
+    pub fn new(
+        method: Method<'a>,
+        dt: f64,
+        sampling: Sampling<'a>,
+        max_steps: u64,
+    ) -> Result<Self, String> {
+        let fixed_step_ok = dt.is_finite() && dt > 0.0;
+        if !(method.is_adaptive() || fixed_step_ok) {
+            return Err(format!(
+                "`dt` must be a positive number for method {:?}, found {dt}",
+                method.name()
+            ));
+        }
+        if !sampling.t_end.is_finite() {
+            return Err(format!(
+                "`t_end` must be a finite time, found {}",
+                sampling.t_end
+            ));
+        }
+        let times = sampling.t_eval;
+        if let Some(k) = times.iter().position(|t| !t.is_finite()) {
+            return Err(format!("`t_eval[{k}]` must be finite, found {}", times[k]));
+        }
+        if let Some(k) = times.windows(2).position(|w| w[1] < w[0]) {
+            return Err(format!(
+                "`t_eval` must be non-decreasing, found t_eval[{}] = {} after {}",
+                k + 1,
+                times[k + 1],
+                times[k]
+            ));
+        }
+        if sampling.every == 0 {
+            return Err("`save_every` must be a positive integer".into());
+        }
+        if max_steps == 0 {
+            return Err("`max_steps` must be a positive integer".into());
+        }
+        Ok(RunSpec {
+            method,
+            dt,
+            sampling,
+            max_steps,
+        })
+    }
+
+    /// Refused unless the system runs the method: one without a rigid body's structure runs
+    /// only DOP853 and explicit tableaux.
+    pub fn check_for(&self, rigid_body: bool) -> Result<(), String> {
+        if self.method.needs_rigid_body() && !rigid_body {
+            return Err(format!(
+                "method {:?} needs a rigid body's structure; this system runs \"dop853\" and \
+                 \"erk\" (an explicit tableau, RK4's included)",
+                self.method.name()
+            ));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::steppers::RK4;
+
+    const CONTROL: Control = Control {
+        rtol: 1e-8,
+        atol: 1e-10,
+        safety: 0.9,
+        min_factor: 0.2,
+        max_factor: 10.0,
+        max_step: f64::INFINITY,
+        first_step: 0.0,
+    };
+    const NO_TABLEAU: Tableau<'static> = Tableau {
+        a: &[],
+        b: &[],
+        c: &[],
+    };
+
+    #[test]
+    fn every_name_parses_to_its_method_and_back() {
+        for name in Method::NAMES {
+            let m = Method::parse(name, RK4, CONTROL).unwrap();
+            assert_eq!(m.name(), name);
+            assert_eq!(m.is_adaptive(), name == "dop853");
+            assert_eq!(
+                m.needs_rigid_body(),
+                ["rk4", "rkmk", "splitting"].contains(&name)
+            );
+        }
+        let e = Method::parse("rk45", RK4, CONTROL).unwrap_err();
+        assert!(
+            e.contains("`method` must be one of") && e.contains("\"rk45\""),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_tableau_and_a_controller_are_checked() {
+        assert!(Method::parse("erk", NO_TABLEAU, CONTROL).is_err());
+        assert!(Method::parse("rkmk", NO_TABLEAU, CONTROL).is_err());
+        let bad = Tableau {
+            c: &RK4.c[..3],
+            ..RK4
+        };
+        assert!(Method::parse("erk", bad, CONTROL)
+            .unwrap_err()
+            .contains("3 numbers"));
+        assert!(Method::parse("rk4", NO_TABLEAU, CONTROL).is_ok()); // needs none
+        for broken in [
+            Control {
+                rtol: 0.0,
+                ..CONTROL
+            },
+            Control {
+                atol: f64::NAN,
+                ..CONTROL
+            },
+            Control {
+                safety: 1.5,
+                ..CONTROL
+            },
+            Control {
+                min_factor: 0.0,
+                ..CONTROL
+            },
+            Control {
+                max_factor: 0.5,
+                ..CONTROL
+            },
+            Control {
+                max_step: 0.0,
+                ..CONTROL
+            },
+            Control {
+                first_step: -1.0,
+                ..CONTROL
+            },
+        ] {
+            assert!(
+                Method::parse("dop853", NO_TABLEAU, broken).is_err(),
+                "{broken:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_run_is_checked_once() {
+        let sampling = |t_eval: &'static [f64]| Sampling {
+            t_end: 1.0,
+            t_eval,
+            every: 1,
+        };
+        let ok = RunSpec::new(Method::Rk4, 0.1, sampling(&[0.0, 0.5, 1.0]), 10).unwrap();
+        assert!(ok.check_for(true).is_ok());
+        assert!(ok.check_for(false).unwrap_err().contains("\"rk4\""));
+        assert!(RunSpec::new(Method::Rk4, 0.0, sampling(&[]), 10).is_err());
+        assert!(RunSpec::new(Method::Dop853(CONTROL), 0.0, sampling(&[]), 10).is_ok());
+        let e = RunSpec::new(Method::Rk4, 0.1, sampling(&[0.0, 0.5, 0.2]), 10).unwrap_err();
+        assert!(e.contains("t_eval[2] = 0.2 after 0.5"), "{e}");
+        assert!(RunSpec::new(Method::Rk4, 0.1, sampling(&[0.0, f64::NAN]), 10).is_err());
+        assert!(RunSpec::new(Method::Rk4, 0.1, sampling(&[]), 0).is_err());
+    }
+}
