@@ -56,23 +56,37 @@ def _readonly(a: np.ndarray) -> np.ndarray:
     return a
 
 
-def _check_inertia(inertia, name: str = "inertia", allow_unphysical: bool = False) -> np.ndarray:
-    J = as_array(inertia, name, (3, 3))
-    scale = max(float(np.max(np.abs(J))), np.finfo(float).tiny)
-    asym = float(np.max(np.abs(J - J.T)))
-    if asym > DEFAULT_RTOL * scale:
-        raise ValueError(f"`{name}` must be symmetric, found max|J − Jᵀ| = {asym:.3g}")
-    J = 0.5 * (J + J.T)
-    I1, I2, I3 = np.linalg.eigvalsh(J)
-    tol = DEFAULT_RTOL * max(abs(I3), np.finfo(float).tiny)
-    if I1 < -tol:
-        raise ValueError(
-            f"`{name}` must be positive semi-definite: principal moments are "
-            f"{I1:.6g}, {I2:.6g}, {I3:.6g}"
-        )
-    if I1 + I2 < I3 - tol:
+def check_inertia(J, name: str = "inertia", *, rtol: float = DEFAULT_RTOL,
+                  allow_unphysical: bool = False, each: bool = False,
+                  definite: bool = False):  # fmt: skip
+    """The one check of inertia tensors (the core's ``check_inertia``, ``inertia.rs``):
+    finite, symmetric, positive semi-definite, with principal moments that satisfy
+    ``I1 + I2 ≥ I3`` (eq. (10)), to ``rtol``. ``J`` is one (3, 3) tensor, or with ``each``
+    many (N, 3, 3), named ``name[i]`` in the errors. Returns the ascending moments ((3,) or
+    (N, 3)). Moments that break the triangle inequality raise
+    :class:`UnphysicalInertiaError`, or warn with ``allow_unphysical``; with ``definite``, the
+    inertia of mass on a line (``I1 ≈ 0``: no dynamics about that line) is refused too.
+
+    >>> check_inertia([[2.0, 0, 0], [0, 3.0, 0], [0, 0, 4.0]])
+    array([2., 3., 4.])
+    """
+    J = np.asarray(J, dtype=float)
+    codes, moments, asym, line = _core.check_inertia(J, float(rtol))
+    codes, moments = np.atleast_1d(codes), moments.reshape(-1, 3)
+    asym, line = np.atleast_1d(asym), np.atleast_1d(line)
+    for i in np.flatnonzero(codes):
+        where = f"`{name}[{i}]`" if each else f"`{name}`"
+        I1, I2, I3 = moments[i]
+        code = int(codes[i])
+        if code == 1:
+            raise ValueError(f"{where} must be finite, found {J.reshape(-1, 3, 3)[i].tolist()}")
+        if code == 2:
+            raise ValueError(f"{where} must be symmetric, found max|J − Jᵀ| = {asym[i]:.3g}")
+        if code == 3:
+            raise ValueError(f"{where} must be positive semi-definite: principal moments are "
+                             f"{I1:.6g}, {I2:.6g}, {I3:.6g}")  # fmt: skip
         message = (
-            f"`{name}`: principal moments must satisfy I1 + I2 ≥ I3 (no mass distribution has "
+            f"{where}: principal moments must satisfy I1 + I2 ≥ I3 (no mass distribution has "
             f"one moment exceeding the sum of the others), found I1 + I2 = {I1 + I2:.6g} < "
             f"I3 = {I3:.6g}"
         )
@@ -80,7 +94,20 @@ def _check_inertia(inertia, name: str = "inertia", allow_unphysical: bool = Fals
             raise UnphysicalInertiaError(message)
         warnings.warn(message + ": accepted with allow_unphysical", UnphysicalInertiaWarning,
                       stacklevel=3)  # fmt: skip
-    return J
+    if definite and line.any():
+        i = int(np.flatnonzero(line)[0])
+        where = f"`{name}[{i}]`" if each else f"`{name}`"
+        raise ValueError(
+            f"{where} must be positive definite (mass on a line has no dynamics about it): "
+            "principal moments " + ", ".join(f"{x:.6g}" for x in moments[i])
+        )
+    return moments if each else moments[0]
+
+
+def _check_inertia(inertia, name: str = "inertia", allow_unphysical: bool = False) -> np.ndarray:
+    J = as_array(inertia, name, (3, 3))
+    check_inertia(J, name, allow_unphysical=allow_unphysical)
+    return 0.5 * (J + J.T)
 
 
 def _placement(position, orientation) -> tuple[np.ndarray, np.ndarray]:

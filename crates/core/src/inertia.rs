@@ -235,6 +235,69 @@ pub fn is_degenerate(moments: Vec3, rtol: f64) -> bool {
     moments[0] <= rtol * moments[2] || moments[2] == 0.0
 }
 
+/// What a 3×3 matrix is, as a rigid body's inertia ([`check_inertia`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum InertiaCheck {
+    /// A rigid body's inertia, with its principal moments (ascending).
+    Valid(Vec3),
+    /// An entry is not finite.
+    NotFinite,
+    /// Not symmetric: the largest `|J − Jᵀ|`.
+    NotSymmetric(f64),
+    /// Not positive semi-definite: its moments (ascending).
+    NotPositive(Vec3),
+    /// Its moments (ascending) break the triangle inequality `I1 + I2 ≥ I3` (eq. (10)): no
+    /// mass distribution has them.
+    Triangle(Vec3),
+}
+
+impl InertiaCheck {
+    /// A small code for the bindings: 0 valid, 1 not finite, 2 not symmetric, 3 not positive,
+    /// 4 the triangle inequality.
+    pub fn code(&self) -> i64 {
+        match self {
+            InertiaCheck::Valid(_) => 0,
+            InertiaCheck::NotFinite => 1,
+            InertiaCheck::NotSymmetric(_) => 2,
+            InertiaCheck::NotPositive(_) => 3,
+            InertiaCheck::Triangle(_) => 4,
+        }
+    }
+}
+
+/// The one check of an inertia tensor, every front-end's: finite; symmetric to `rtol` of its
+/// largest entry; positive semi-definite and with moments that satisfy the triangle inequality
+/// `I1 + I2 ≥ I3` (eq. (10): `I3 = Σ m (x² + y²) ≤ Σ m (x² + z²) + Σ m (y² + z²)`), both to
+/// `rtol · I3`. Its symmetric part is decomposed ([`principal_decomposition`]).
+pub fn check_inertia(j: &Mat3, rtol: f64) -> InertiaCheck {
+    if j.iter().flatten().any(|x| !x.is_finite()) {
+        return InertiaCheck::NotFinite;
+    }
+    let scale = j
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, x| m.max(x.abs()))
+        .max(f64::MIN_POSITIVE);
+    let mut asym = 0.0f64;
+    for r in 0..3 {
+        for c in 0..3 {
+            asym = asym.max((j[r][c] - j[c][r]).abs());
+        }
+    }
+    if asym > rtol * scale {
+        return InertiaCheck::NotSymmetric(asym);
+    }
+    let (m, _) = principal_decomposition(j);
+    let tol = rtol * m[2].abs().max(f64::MIN_POSITIVE);
+    if m[0] < -tol {
+        InertiaCheck::NotPositive(m)
+    } else if m[0] + m[1] < m[2] - tol {
+        InertiaCheck::Triangle(m)
+    } else {
+        InertiaCheck::Valid(m)
+    }
+}
+
 /// Exact volume, centroid and inertia (unit density) of a closed triangulated polyhedron.
 ///
 /// Each outward-wound triangle `(a, b, c)` spans a signed tetrahedron with the origin, of
@@ -291,6 +354,43 @@ pub fn polyhedron_mass_properties(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_inertia_check_tells_each_problem() {
+        let box_j = [[5.0, 0.0, 0.0], [0.0, 4.0, 0.0], [0.0, 0.0, 1.0]];
+        assert_eq!(
+            check_inertia(&box_j, 1e-12),
+            InertiaCheck::Valid([1.0, 4.0, 5.0])
+        );
+        let mut j = box_j;
+        j[0][1] = 1e-3;
+        assert!(matches!(check_inertia(&j, 1e-12), InertiaCheck::NotSymmetric(a) if a == 1e-3));
+        j[0][1] = f64::NAN;
+        assert_eq!(check_inertia(&j, 1e-12), InertiaCheck::NotFinite);
+        let rod = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]; // a rod: I1 = 0, valid
+        assert_eq!(
+            check_inertia(&rod, 1e-12),
+            InertiaCheck::Valid([0.0, 1.0, 1.0])
+        );
+        let neg = [[-1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]];
+        assert_eq!(check_inertia(&neg, 1e-12).code(), 3);
+        let tri = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 3.0]];
+        assert_eq!(
+            check_inertia(&tri, 1e-12),
+            InertiaCheck::Triangle([1.0, 1.0, 3.0])
+        );
+        // the same inequality as the particles that make any inertia: a flat plate's
+        // I1 + I2 = I3 is on the edge, and accepted
+        let plate = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]];
+        assert!(matches!(
+            check_inertia(&plate, 1e-12),
+            InertiaCheck::Valid(_)
+        ));
+        // loose enough a tolerance (a fit's) lets a slightly broken triangle through
+        let near = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.001]];
+        assert_eq!(check_inertia(&near, 1e-12).code(), 4);
+        assert_eq!(check_inertia(&near, 1e-3).code(), 0);
+    }
     use crate::so3::{exp_so3, matmul};
 
     fn close(a: &Mat3, b: &Mat3, tol: f64) -> bool {

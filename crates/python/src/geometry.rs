@@ -487,6 +487,50 @@ fn principal_decomposition<'py>(
     PyTuple::new(py, [moments, axes])
 }
 
+/// The one check of inertia tensors (..., 3, 3) (`poinsot_core::inertia::check_inertia`,
+/// relative tolerance `rtol`): `(codes (...), moments (..., 3), asymmetry (...), degenerate
+/// (...))`, the code 0 for a rigid body's inertia, 1 not finite, 2 not symmetric (by the
+/// asymmetry), 3 not positive semi-definite, 4 the triangle inequality broken (by the
+/// moments, ascending); `degenerate` 1 where the moments are those of mass on a line
+/// (`is_degenerate`).
+#[pyfunction]
+fn check_inertia<'py>(
+    py: Python<'py>,
+    inertia: ArrayLike<'py>,
+    rtol: f64,
+) -> PyResult<(Out<'py>, Out<'py>, Out<'py>, Out<'py>)> {
+    use poinsot_core::inertia::InertiaCheck;
+    let it = items(&inertia, "inertia", &[3, 3])?;
+    let (codes, moments, asym, degenerate) = guarded(py, || {
+        let n = it.len();
+        let mut codes = vec![0.0; n];
+        let mut moments = vec![f64::NAN; 3 * n];
+        let mut asym = vec![0.0; n];
+        let mut degenerate = vec![0.0; n];
+        for i in 0..n {
+            let check = inertia::check_inertia(&m3(it.item(i)), rtol);
+            codes[i] = check.code() as f64;
+            match check {
+                InertiaCheck::Valid(m)
+                | InertiaCheck::NotPositive(m)
+                | InertiaCheck::Triangle(m) => {
+                    moments[3 * i..3 * i + 3].copy_from_slice(&m);
+                    degenerate[i] = f64::from(u8::from(inertia::is_degenerate(m, rtol)));
+                }
+                InertiaCheck::NotSymmetric(a) => asym[i] = a,
+                InertiaCheck::NotFinite => {}
+            }
+        }
+        (codes, moments, asym, degenerate)
+    })?;
+    Ok((
+        array(py, it.lead.clone(), codes)?,
+        array(py, with_tail(&it.lead, &[3]), moments)?,
+        array(py, it.lead.clone(), asym)?,
+        array(py, it.lead.clone(), degenerate)?,
+    ))
+}
+
 /// Symmetry class code of ascending moments (3,): 0 asymmetric, 1 prolate, 2 oblate,
 /// 3 spherical (an index into `SYMMETRY_CLASSES`).
 #[pyfunction]
@@ -643,6 +687,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(rotate_inertia, m)?)?;
     m.add_function(wrap_pyfunction!(principal_decomposition, m)?)?;
     m.add_function(wrap_pyfunction!(symmetry_code, m)?)?;
+    m.add_function(wrap_pyfunction!(check_inertia, m)?)?;
     m.add_function(wrap_pyfunction!(is_degenerate, m)?)?;
     m.add_function(wrap_pyfunction!(polyhedron_mass_properties, m)?)?;
     m.add_function(wrap_pyfunction!(box_inertia, m)?)?;

@@ -20,6 +20,7 @@ import numpy as np
 
 from .. import layout
 from .._validation import as_rotation_matrices, as_sample_times, as_scalar, as_vectors
+from ..bodies import check_inertia
 from ..dynamics import RigidBodySystem
 from ..forces import BodyFrame
 from ..integrate.base import get_solver
@@ -342,35 +343,11 @@ def _member_inertia(moments, inertia, N):
             raise ValueError(
                 f"`inertia` must have shape ({N}, 3, 3) (one per member), found {J.shape}"
             )
-        if not np.isfinite(J).all():
-            bad = tuple(int(i) for i in np.argwhere(~np.isfinite(J))[0])
-            raise ValueError(f"`inertia[{bad[0]}]` must be finite, found {J[bad]}")
-        scale = np.maximum(np.abs(J).max(axis=(1, 2)), np.finfo(float).tiny)
-        asym = np.abs(J - J.transpose(0, 2, 1)).max(axis=(1, 2))
-        bad = np.flatnonzero(asym > INERTIA_RTOL * scale)
-        if len(bad):
-            i = int(bad[0])
-            raise ValueError(f"`inertia[{i}]` must be symmetric, found max|J − Jᵀ| = {asym[i]:.3g}")
-        J = 0.5 * (J + J.transpose(0, 2, 1))
         name = "inertia"
     else:
         return None
-    I = np.linalg.eigvalsh(J)  # ascending
-    tol = INERTIA_RTOL * np.abs(I[:, 2])
-    bad = np.flatnonzero(I[:, 0] <= tol)
-    if len(bad):
-        i = int(bad[0])
-        raise ValueError(
-            f"`{name}[{i}]` must be positive definite (a member whose mass lies on a line has no "
-            f"dynamics about it): principal moments {I[i, 0]:.6g}, {I[i, 1]:.6g}, {I[i, 2]:.6g}"
-        )
-    bad = np.flatnonzero(I[:, 0] + I[:, 1] < I[:, 2] - tol)
-    if len(bad):
-        i = int(bad[0])
-        raise ValueError(
-            f"`{name}[{i}]`: principal moments must satisfy I1 + I2 ≥ I3, found "
-            f"{I[i, 0]:.6g} + {I[i, 1]:.6g} < {I[i, 2]:.6g}"
-        )
+    check_inertia(J, name, rtol=INERTIA_RTOL, each=True, definite=True)  # the core's check
+    J = 0.5 * (J + J.transpose(0, 2, 1))
     return np.ascontiguousarray(J)
 
 

@@ -15,6 +15,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from .. import _core
 from .._validation import as_array, as_positive_scalar, as_vector3
 from .flight import find_free_flight
 from .result import IdentifyResult, ModelMismatchWarning, NotIdentifiableError
@@ -374,7 +375,7 @@ def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyRes
         )
     if not oe.success:
         flags.append(f"the fit did not converge: {oe.message}")
-    if moments[0] + moments[1] < moments[2] * (1 - 1e-3):
+    if _core.check_inertia(np.diag(moments), 1e-3)[0] == 4:  # the triangle, as a fit resolves it
         flags.append(
             f"the moments break the triangle inequality I1 + I2 ≥ I3 (I1 + I2 = "
             f"{moments[0] + moments[1]:.4g}, I3 = {moments[2]:.4g}): no body has them"
