@@ -1,10 +1,10 @@
 //! The C math library's `atanh`, `asinh`, `frexp` and `ldexp`.
 //!
 //! Rust's `f64::atanh` and `f64::asinh` are written in Rust (through `ln_1p`), not the C
-//! library's, and `frexp`/`ldexp` are not in `std`. The numba kernels these modules port call
-//! the C library for all four, so calling the same functions keeps the results bit-for-bit
-//! equal. `frexp` and `ldexp` are exact in any correct implementation; `atanh` and `asinh`
-//! may differ from Rust's own by an ulp.
+//! library's, and `frexp`/`ldexp` are not in `std`. The elliptic and torque-free modules call
+//! the C library's for all four, as the Python engine they were ported from did, which keeps
+//! their results bit-for-bit equal to it. `frexp` and `ldexp` are exact in any correct
+//! implementation; `atanh` and `asinh` may differ from Rust's own by an ulp.
 
 use std::os::raw::c_int;
 

@@ -157,8 +157,8 @@ fn map<'py, const N: usize>(
     array(py, with_tail(&it.lead, tout), data)
 }
 
-/// Apply `f` to pairs of items: equal numbers of items, or one of them a single item (as the
-/// numba kernels). The result has the leading shape of the argument with all the items: the
+/// Apply `f` to pairs of items: equal numbers of items, or one of them a single item (as NumPy
+/// broadcasts one). The result has the leading shape of the argument with all the items: the
 /// first when both have (the second with `prefer_second`).
 #[allow(clippy::too_many_arguments)]
 fn map2<'py, const N: usize>(
