@@ -119,16 +119,13 @@ def plot_identified_axes(result, *, box=None, ax=None):
         ax = fig.add_subplot(projection="3d")
     fig = ax.figure
     E = np.asarray(result.axes)
-    m = np.asarray(result.principal_moments, dtype=float)
     if box is not None:
         half = 0.5 * np.asarray(box, dtype=float)
         frame = np.eye(3)
         unit = "m"
         what = f"the body's box {' × '.join(f'{1000 * x:.0f}' for x in 2 * half)} mm"
     else:
-        s = np.sqrt(np.clip(np.array([m[1] + m[2] - m[0], m[0] + m[2] - m[1],
-                                      m[0] + m[1] - m[2]]), 0.0, None))  # fmt: skip
-        half = s / s.max()
+        half = result.box_shape
         frame = E
         unit = "arbitrary units"
         what = "the uniform box of the fitted moments (shape only)"
