@@ -172,21 +172,13 @@ def _norm_scale(v0):
 def _symmetry_axis(system):
     """The body-frame unit axis ``e₃`` of a symmetric top about the pivot (two equal moments
     about the pivot and the centre of mass on the third axis), or None."""
-    m = np.asarray(system.principal_moments, float)
-    axes = np.asarray(system.principal_axes, float)
-    tol = TOP_RTOL * m[2]
-    if m[2] - m[0] <= tol:  # spherical about the pivot: any axis through the c.o.m. will do
-        c = np.asarray(system.c, float)
-        return c / np.linalg.norm(c) if np.any(c) else None
-    if m[1] - m[0] <= tol:
-        axis = axes[:, 2]
-    elif m[2] - m[1] <= tol:
-        axis = axes[:, 0]
-    else:
-        return None
-    c = np.asarray(system.c, float)
-    off = np.linalg.norm(np.cross(c, axis))
-    return axis if off <= 1e-9 * max(np.linalg.norm(c), 1e-300) or not np.any(c) else None
+    axis = _core.symmetric_top_axis(  # the one criterion of a symmetric top (tops.rs)
+        [float(x) for x in system.principal_moments],
+        np.asarray(system.principal_axes, float).tolist(),
+        [float(x) for x in system.c],
+        TOP_RTOL,
+    )
+    return None if axis is None else np.array(axis)
 
 
 def invariants_of(traj) -> list[Invariant]:

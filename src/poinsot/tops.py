@@ -131,21 +131,21 @@ def heavy_top(body, pivot, forces) -> HeavyTop | None:
     """
     from .forces import Gravity
 
-    if pivot is None or body.symmetry not in ("oblate", "prolate"):
-        return None
-    if len(forces) != 1 or type(forces[0]) is not Gravity:
+    from .conservation import TOP_RTOL
+
+    if pivot is None or len(forces) != 1 or type(forces[0]) is not Gravity:
         return None
     g = np.asarray(forces[0].g, dtype=float)
     c = np.asarray(body.center_of_mass, float) - np.asarray(pivot, float)
     length = float(np.linalg.norm(c))
     if not (length > 0 and np.linalg.norm(g) > 0):
         return None
-    axis = c / length
-    E = body.principal_axes
-    sym = E[:, 2] if body.symmetry == "oblate" else E[:, 0]
-    if np.linalg.norm(np.cross(axis, sym)) > 1e-9:  # the centre of mass is off the axis
-        return None
     J = body.inertia_about(pivot)
+    moments, E = _core.principal_decomposition(J)
+    sym = _core.symmetric_top_axis(moments.tolist(), E.tolist(), c.tolist(), TOP_RTOL)
+    if sym is None:  # not symmetric about the pivot, or the centre of mass off the axis
+        return None
+    axis = c / length
     C = float(axis @ J @ axis)
     perp = _axes_with_z(axis)[:, 0]  # any direction across the axis: the moments are equal
     A = float(perp @ J @ perp)

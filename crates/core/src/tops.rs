@@ -18,6 +18,33 @@
 //! cos θ`) the slow root tends to the gyroscopic estimate `Ω ≈ M g l / (C ω₃)`, independent of
 //! θ; the fast one to `C ω₃ / (A cos θ)`.
 
+use crate::so3::{cross, Mat3, Vec3};
+
+/// The symmetry axis (unit, the principal frame's coordinates of `axes`' columns) of a body
+/// that is a symmetric top about a fixed point, or `None`: with ascending principal `moments`
+/// about the point (columns of `axes` their axes) two of them equal to `rtol · I3`, and `c`
+/// (the centre of mass from the point) on the third axis, to `rtol · |c|`. A body spherical
+/// about the point has every axis for one: the axis through the centre of mass (`None` when
+/// the centre of mass is the point). The one criterion of a symmetric top: whether a top's
+/// axial momentum `L · e₃` is conserved under gravity, and whether it is Lagrange's top.
+pub fn symmetric_top_axis(moments: Vec3, axes: &Mat3, c: Vec3, rtol: f64) -> Option<Vec3> {
+    let tol = rtol * moments[2];
+    let norm = |v: Vec3| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let column = |k: usize| [axes[0][k], axes[1][k], axes[2][k]];
+    let axis = if moments[2] - moments[0] <= tol {
+        let l = norm(c);
+        return (l > 0.0).then(|| c.map(|x| x / l));
+    } else if moments[1] - moments[0] <= tol {
+        column(2)
+    } else if moments[2] - moments[1] <= tol {
+        column(0)
+    } else {
+        return None;
+    };
+    let off = norm(cross(c, axis));
+    (off <= rtol * norm(c)).then_some(axis)
+}
+
 /// The gyroscopic estimate of a fast top's precession rate, `Ω = M g l / (C ω₃)`
 /// (Goldstein §5.7): the slow root of the steady-precession condition as `ω₃ → ∞`.
 /// Infinite at `ω₃ = 0`.
@@ -54,6 +81,28 @@ pub fn steady_precession_rates(a: f64, c: f64, mgl: f64, theta: f64, spin: f64) 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_symmetric_top_has_its_axis_and_others_none() {
+        let eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        // oblate (I1 = I2 < I3), centre of mass on e3: the axis is e3
+        assert_eq!(
+            symmetric_top_axis([1.0, 1.0, 2.0], &eye, [0.0, 0.0, 0.3], 1e-9),
+            Some([0.0, 0.0, 1.0])
+        );
+        // prolate (I1 < I2 = I3), centre of mass on e1: the axis is e1
+        assert_eq!(
+            symmetric_top_axis([1.0, 3.0, 3.0], &eye, [-0.2, 0.0, 0.0], 1e-9),
+            Some([1.0, 0.0, 0.0])
+        );
+        // the centre of mass off the axis, or three distinct moments: no top
+        assert_eq!(symmetric_top_axis([1.0, 1.0, 2.0], &eye, [0.1, 0.0, 0.3], 1e-9), None);
+        assert_eq!(symmetric_top_axis([1.0, 2.0, 3.0], &eye, [0.0, 0.0, 0.3], 1e-9), None);
+        // spherical about the point: the axis through the centre of mass, if any
+        let axis = symmetric_top_axis([2.0, 2.0, 2.0], &eye, [0.0, 3.0, 4.0], 1e-9).unwrap();
+        assert!((axis[1] - 0.6).abs() < 1e-15 && (axis[2] - 0.8).abs() < 1e-15);
+        assert_eq!(symmetric_top_axis([2.0, 2.0, 2.0], &eye, [0.0; 3], 1e-9), None);
+    }
 
     /// Both roots satisfy the quadratic, to round-off.
     #[test]

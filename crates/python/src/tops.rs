@@ -17,7 +17,21 @@ fn gyroscopic_precession_rate(c: f64, mgl: f64, spin: f64) -> f64 {
     tops::gyroscopic_precession_rate(c, mgl, spin)
 }
 
+/// The symmetry axis (3,) of a body that is a symmetric top about a fixed point (ascending
+/// principal `moments` (3,) about it, their `axes` (3, 3) columns, `c` (3,) the centre of mass
+/// from the point; relative tolerance `rtol`), or None (`poinsot_core::tops::symmetric_top_axis`).
+#[pyfunction]
+fn symmetric_top_axis(
+    moments: [f64; 3],
+    axes: [[f64; 3]; 3],
+    c: [f64; 3],
+    rtol: f64,
+) -> Option<[f64; 3]> {
+    tops::symmetric_top_axis(moments, &axes, c, rtol)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(symmetric_top_axis, m)?)?;
     m.add_function(wrap_pyfunction!(steady_precession_rates, m)?)?;
     m.add_function(wrap_pyfunction!(gyroscopic_precession_rate, m)?)?;
     Ok(())
