@@ -129,9 +129,8 @@ def heavy_top(body, pivot, forces) -> HeavyTop | None:
     >>> round(top.A, 6), round(top.C, 6), round(top.mgl, 4), top.axis.tolist()
     (0.275833, 0.045, 4.905, [0.0, 0.0, 1.0])
     """
-    from .forces import Gravity
-
     from .conservation import TOP_RTOL
+    from .forces import Gravity
 
     if pivot is None or len(forces) != 1 or type(forces[0]) is not Gravity:
         return None
