@@ -96,12 +96,21 @@ mod tests {
             Some([1.0, 0.0, 0.0])
         );
         // the centre of mass off the axis, or three distinct moments: no top
-        assert_eq!(symmetric_top_axis([1.0, 1.0, 2.0], &eye, [0.1, 0.0, 0.3], 1e-9), None);
-        assert_eq!(symmetric_top_axis([1.0, 2.0, 3.0], &eye, [0.0, 0.0, 0.3], 1e-9), None);
+        assert_eq!(
+            symmetric_top_axis([1.0, 1.0, 2.0], &eye, [0.1, 0.0, 0.3], 1e-9),
+            None
+        );
+        assert_eq!(
+            symmetric_top_axis([1.0, 2.0, 3.0], &eye, [0.0, 0.0, 0.3], 1e-9),
+            None
+        );
         // spherical about the point: the axis through the centre of mass, if any
         let axis = symmetric_top_axis([2.0, 2.0, 2.0], &eye, [0.0, 3.0, 4.0], 1e-9).unwrap();
         assert!((axis[1] - 0.6).abs() < 1e-15 && (axis[2] - 0.8).abs() < 1e-15);
-        assert_eq!(symmetric_top_axis([2.0, 2.0, 2.0], &eye, [0.0; 3], 1e-9), None);
+        assert_eq!(
+            symmetric_top_axis([2.0, 2.0, 2.0], &eye, [0.0; 3], 1e-9),
+            None
+        );
     }
 
     /// Both roots satisfy the quadratic, to round-off.
