@@ -80,3 +80,38 @@ def test_another_method_reuses_the_prepared_run(monkeypatch):
     assert calls == [] and (first.method, other.method) == ("rk4", "rkmk4")
     assert other.t.tolist() == first.t.tolist()
     assert abs(other.omega[-1] - first.omega[-1]).max() < 1e-6  # two 4th-order methods agree
+
+
+def test_a_lagrangian_initial_state_is_made_consistent_once(tmp_path, monkeypatch):
+    """A ``[model]`` scenario with a velocity omitted (solved from the constraint): the
+    loader completes the state once, with the compiled engine, and the run starts from it
+    (it only checks it: nothing left to solve)."""
+    import numpy as np
+
+    from poinsot.lagrange import arguments, numeric
+
+    solved = []
+    real = arguments.consistent_initial_state
+
+    def counted(system, num, t0, q0, qd0, *args, **kwargs):
+        solved.append(bool(np.isnan(q0).any() or np.isnan(qd0).any()))
+        assert isinstance(num, numeric._EngineNumeric)
+        return real(system, num, t0, q0, qd0, *args, **kwargs)
+
+    monkeypatch.setattr(arguments, "consistent_initial_state", counted)  # the loader's
+    monkeypatch.setattr(numeric, "consistent_initial_state", counted)  # the run's
+    (tmp_path / "p.toml").write_text(
+        textwrap.dedent("""
+        name = "pendulum"
+        [model]
+        name = "pendulum-cartesian"
+        params = { m = 1.0, g = 9.81, l = 1.0 }
+        q0 = { x = 0.8660254037844386, y = -0.5 }
+        qd0 = { x = 0.5 }  # the velocity of y is solved from the rod's constraint
+        [time]
+        span = [0.0, 1.0]
+        samples = 11
+    """)
+    )
+    assert main(["run", str(tmp_path / "p.toml"), "--out", str(tmp_path / "o"), "--quiet"]) == 0
+    assert solved == [True, False], solved  # completed at load, checked at the run

@@ -620,27 +620,33 @@ class LagrangianScenario:
     samples: int
     outputs: dict = field(default_factory=dict)
     source: str = "<built-in>"
+    #: the run checked and lowered when the file was read (``system.prepare``)
+    prepared: object = None
+    #: the initial state made consistent with the constraints when the file was read (every
+    #: coordinate and velocity, by symbol), which the run starts from
+    consistent: tuple[dict, dict] | None = None
 
     @property
     def t_eval(self):
         return np.linspace(self.t_span[0], self.t_span[1], self.samples)
 
-    def simulate(self, progress=None):
-        """Run it: a :class:`~poinsot.lagrange.LagrangianSolution`."""
-        kwargs = {
-            "method": self.method,
-            "dt": self.dt,
-            "t_eval": self.t_eval,
-            "stabilization": self.stabilization,
-        }
+    def run_options(self) -> dict:
+        """The method, step or tolerances and stabilisation, as ``prepare`` takes them."""
+        kwargs = {"method": self.method, "dt": self.dt, "stabilization": self.stabilization}
         if self.rtol is not None:
             kwargs["rtol"] = self.rtol
         if self.atol is not None:
             kwargs["atol"] = self.atol
+        return kwargs
+
+    def simulate(self, progress=None):
+        """Run it: a :class:`~poinsot.lagrange.LagrangianSolution` (the run prepared and the
+        initial state made consistent when the file was read)."""
         del progress  # the Lagrangian runs are short; no progress bar
-        return self.model.simulate(
-            self.t_span, q0=self.q0, qd0=self.qd0, params=self.params, **kwargs
-        )
+        q0, qd0 = self.consistent
+        sol = self.prepared.run(q0=q0, qd0=qd0)
+        sol.model = self.model  # its reactions named, its mechanism drawn
+        return sol
 
 
 def _by_name(t: _Table, key, known: dict, what: str):
@@ -760,14 +766,15 @@ def _parse_model(root: _Table, name: str, description: str, source: str) -> Lagr
         outputs,
         source,
     )
-    try:  # the parameters' signs and the initial conditions, before anything runs
-        from ..lagrange.numeric import _keyed, _numeric, as_params, consistent_initial_state
+    try:  # the run checked and lowered, the initial conditions made consistent, once
+        from ..lagrange.arguments import _keyed, consistent_initial_state
 
         system = model.system
-        num = _numeric(system, as_params(params, system))
-        consistent_initial_state(
+        prepared = system.prepare(scenario.t_span, params=params, t_eval=scenario.t_eval,
+                                  **scenario.run_options())  # fmt: skip
+        q, qd = consistent_initial_state(
             system,
-            num,
+            prepared.num,
             scenario.t_span[0],
             _keyed(q0, system, "q0", allow_missing=system.n_holonomic > 0),
             _keyed(qd0, system, "qd0", allow_missing=True),
@@ -775,6 +782,10 @@ def _parse_model(root: _Table, name: str, description: str, source: str) -> Lagr
         )
     except ValueError as exc:
         raise ScenarioError(f"model: {exc}") from None
+    coordinates = system.coordinates
+    scenario.prepared = prepared
+    scenario.consistent = (dict(zip(coordinates, q.tolist(), strict=True)),
+                           dict(zip(coordinates, qd.tolist(), strict=True)))  # fmt: skip
     return scenario
 
 

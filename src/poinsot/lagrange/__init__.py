@@ -12,8 +12,9 @@ constraints that minimal coordinates hide (:mod:`~poinsot.lagrange.reactions`).
 
 from .ensemble import LagrangianEnsemble, simulate_ensemble
 from .linear import Linearization, equilibria, linearize
-from .numeric import LagrangianSolution, simulate
+from .numeric import simulate
 from .reactions import HiddenConstraint
+from .solution import LagrangianSolution
 from .system import LagrangianSystem, PointMass
 
 __all__ = [

@@ -322,9 +322,10 @@ def simulate_ensemble(
 
 def _complete_states(system, engine, t0, Z0, P, U, tol):
     """Solve every member's omitted coordinates and velocities from the constraints, in place
-    (:func:`~poinsot.lagrange.numeric.consistent_initial_state` on the compiled module, member
+    (:func:`~poinsot.lagrange.arguments.consistent_initial_state` on the compiled module, member
     by member: a set-up cost in Python, none per step)."""
-    from .numeric import _EngineNumeric, consistent_initial_state
+    from .arguments import consistent_initial_state
+    from .numeric import _EngineNumeric
 
     n = system.n_coordinates
     for i in range(len(Z0)):

@@ -80,8 +80,9 @@ def _verdict(A, eig, scale):
 
 def _numeric(system, params):
     """The system's compiled model with these parameters (the core evaluates it)."""
+    from .arguments import as_params
     from .engine import compile_system
-    from .numeric import _EngineNumeric, as_params
+    from .numeric import _EngineNumeric
 
     return _EngineNumeric(system, as_params(params, system), compile_system(system))
 
@@ -126,7 +127,7 @@ def equilibria(system, params=None, *, bounds=None, starts=None, t=0.0, tol=1e-1
     from scipy.optimize import least_squares, root
 
     from .._validation import as_scalar
-    from .numeric import input_function
+    from .arguments import input_function
 
     t = as_scalar(t, "t")
     tol = as_scalar(tol, "tol")
@@ -257,7 +258,7 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
         compiled equations, with eigenvalues, frequencies and the stability verdict.
     """
     from .._validation import as_scalar
-    from .numeric import _ODE, input_function
+    from .arguments import input_function
 
     t = as_scalar(t, "t")
     q0, v0 = operating_point(system, equilibrium, speeds)
@@ -269,7 +270,7 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
 
     def rhs_at(y, u):
         bound = num.bound((lambda tt, qq, vv: u) if k else None)
-        return _ODE(bound, None, (0.0, 0.0)).rhs(t, y)
+        return np.concatenate([y[n:], bound.accelerations(t, y[:n], y[n:])[0]])
 
     y0 = np.concatenate([q0, v0])
     unsolvable = ValueError(

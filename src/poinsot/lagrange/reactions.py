@@ -226,7 +226,7 @@ def reaction_forces(system, at, *, names=None, params=None, qd=None, t=0.0, inpu
     dict
         ``name → values``.
     """
-    from .numeric import LagrangianSolution
+    from .solution import LagrangianSolution
 
     hidden = getattr(system, "hidden", ())
     if not hidden:

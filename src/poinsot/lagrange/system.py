@@ -838,6 +838,13 @@ class LagrangianSystem(HTMLDisplay):
 
         return simulate(self, t_span, q0=q0, qd0=qd0, params=params, **kwargs)
 
+    def prepare(self, t_span, *, params=None, **kwargs):
+        """Check a run and lower it once, for any initial state; see
+        :func:`poinsot.lagrange.numeric.prepare`."""
+        from .numeric import prepare
+
+        return prepare(self, t_span, params=params, **kwargs)
+
     def simulate_ensemble(self, t_span, *, q0, qd0=None, params=None, **kwargs):
         """Integrate N members (parameter sets × initial states) in compiled calls; see
         :func:`poinsot.lagrange.ensemble.simulate_ensemble`."""

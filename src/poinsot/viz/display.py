@@ -233,7 +233,7 @@ def _reactions(sol) -> dict:
     return out
 
 
-@register("poinsot.lagrange.numeric.LagrangianSolution", "html")
+@register("poinsot.lagrange.solution.LagrangianSolution", "html")
 def _solution_html(sol) -> str:
     rows = [
         ("time span", _span(sol.t), "s"),
@@ -258,7 +258,7 @@ def _solution_html(sol) -> str:
                  "residuals and conserved quantities.")  # fmt: skip
 
 
-@register("poinsot.lagrange.numeric.LagrangianSolution", "plot")
+@register("poinsot.lagrange.solution.LagrangianSolution", "plot")
 def _solution_plot(sol, *, title=None):
     from .lagrange import plot_lagrangian_solution
 
@@ -267,7 +267,7 @@ def _solution_plot(sol, *, title=None):
                                                                             None))  # fmt: skip
 
 
-@register("poinsot.lagrange.numeric.LagrangianSolution", "interactive")
+@register("poinsot.lagrange.solution.LagrangianSolution", "interactive")
 def _solution_interactive(sol, kind=None):
     """``kind``: ``"mechanism"`` (the mechanism animated, the default when the solution's
     model has its geometry) or ``"panels"``."""
