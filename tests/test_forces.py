@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from poinsot._core import exp_so3, hat
 
 from poinsot import (
     CentralGravity,
@@ -17,6 +16,7 @@ from poinsot import (
     Torque,
     simulate,
 )
+from poinsot._core import exp_so3, hat
 from poinsot.dynamics import RigidBodySystem
 
 BODY = RigidBody.box(2.0, (1.0, 0.6, 0.3), position=(0.1, 0.2, 0.3))
@@ -121,6 +121,29 @@ def test_point_force_body_and_space_frames():
     offset = np.array([0.6, 0.2, 0.3]) - BODY.center_of_mass
     np.testing.assert_allclose(t2, np.cross(offset, [1, 0, 0]), atol=1e-15)
     np.testing.assert_allclose(t1, np.cross(offset, Q.T @ [1, 0, 0]), atol=1e-15)
+
+
+@pytest.mark.parametrize("frame", ["space", "body"])
+def test_a_callable_force_or_torque_is_applied_by_the_cores_formula(frame):
+    """A point force or torque given as a callable of t is the built-in kind's formula applied
+    to the callable's output (no second formula in Python): the same wrench, bit for bit, as
+    the constant force with that value, and against the hand computation b × Qᵀ F."""
+    Q = exp_so3([0.3, -0.2, 1.1])
+    point, f = (0.6, 0.2, 0.3), np.array([1.0, -2.0, 0.5])
+    sysm = RigidBodySystem(BODY, [])
+    ctx = sysm.context(0.7, np.zeros(3), np.zeros(3), Q, np.array([0.1, 0.2, 0.3]))
+    for constant, callable_ in (
+        (PointForce(point, f, frame=frame), PointForce(point, lambda t: f, frame=frame)),
+        (Torque(f, frame=frame), Torque(lambda t: f, frame=frame)),
+    ):
+        assert constant.compiled and not callable_.compiled
+        want, got = constant.wrench(ctx), callable_.wrench(ctx)
+        assert all(np.array_equal(a, b) for a, b in zip(want, got, strict=True))
+    F = Q @ f if frame == "body" else f
+    offset = np.array(point) - BODY.center_of_mass
+    F_got, tau_got = PointForce(point, lambda t: f, frame=frame).wrench(ctx)
+    np.testing.assert_allclose(F_got, F, atol=1e-15)
+    np.testing.assert_allclose(tau_got, np.cross(offset, Q.T @ F), atol=1e-14)
 
 
 def test_time_dependent_body_torque_spins_up_sphere():

@@ -186,11 +186,7 @@ class Force:
         """``(F (3,) space frame, τ (3,) body frame about the centre of mass)`` at ``ctx``."""
         if not self.compiled:
             return self.python_wrench(ctx)
-        body_params, frame = _body_frame_parameters(ctx.body)
-        (F, tau), _ = _core.force_wrench_potential(
-            FORCE_KINDS[self.kind], self.lower(frame), body_params, float(ctx.t), ctx.state()
-        )
-        return np.array(F), np.array(tau)
+        return _core_wrench(ctx, self.kind, self.lower)
 
     def potential(self, ctx: ForceContext) -> float:
         """Potential energy ``U``, defined up to a constant."""
@@ -212,6 +208,18 @@ class Force:
 
     def __repr__(self) -> str:
         return self.name
+
+
+def _core_wrench(ctx, kind, lower):
+    """The core's wrench of the built-in force ``kind`` whose parameter row is
+    ``lower(frame)``, at ``ctx``: ``(F (3,) space frame, τ (3,) body frame about the centre of
+    mass)``. Forces given by Python callables whose output is a built-in kind's data (a
+    point force's vector, a torque) go through it, so the formula lives in the core only."""
+    body_params, frame = _body_frame_parameters(ctx.body)
+    (F, tau), _ = _core.force_wrench_potential(
+        FORCE_KINDS[kind], lower(frame), body_params, float(ctx.t), ctx.state()
+    )
+    return np.array(F), np.array(tau)
 
 
 def _body_frame_parameters(body):
@@ -400,15 +408,15 @@ class PointForce(Force):
             kind="point_force" if constant else None,
         )
 
-    def lower(self, frame):
-        f = frame.vector(self.force) if self.frame == "body" else self.force
+    def lower(self, frame, force=None):
+        f = self.force if force is None else force
+        f = frame.vector(f) if self.frame == "body" else f
         return _row(frame.point(self.point), f, float(self.frame == "body"))
 
     def python_wrench(self, ctx):
+        """The callable's force at ``ctx.t``, applied by the core's point force."""
         f = _check_output(self.force(ctx.t), (3,), self, "force")
-        F = ctx.Q @ f if self.frame == "body" else f
-        b = self.point - ctx.body.center_of_mass
-        return F, np.cross(b, ctx.Q.T @ F)
+        return _core_wrench(ctx, "point_force", lambda frame: self.lower(frame, f))
 
 
 class Torque(Force):
@@ -425,13 +433,15 @@ class Torque(Force):
             kind="torque" if constant else None,
         )
 
-    def lower(self, frame):
-        tau = frame.vector(self.torque) if self.frame == "body" else self.torque
+    def lower(self, frame, torque=None):
+        tau = self.torque if torque is None else torque
+        tau = frame.vector(tau) if self.frame == "body" else tau
         return _row(tau, float(self.frame == "body"))
 
     def python_wrench(self, ctx):
+        """The callable's torque at ``ctx.t``, applied by the core's torque."""
         tau = _check_output(self.torque(ctx.t), (3,), self, "torque")
-        return np.zeros(3), (ctx.Q.T @ tau if self.frame == "space" else tau)
+        return _core_wrench(ctx, "torque", lambda frame: self.lower(frame, tau))
 
 
 # --------------------------------------------------------------------------- Python forces

@@ -671,14 +671,13 @@ def heavy_symmetric_top() -> Model:
     turning = (A - M * l**2) * (th.diff() ** 2 + psi.diff() ** 2 * sp.sin(th) ** 2) / 2 + C * (
         ph.diff() + psi.diff() * sp.cos(th)
     ) ** 2 / 2
-    axis = (sp.sin(psi) * sp.sin(th), -sp.cos(psi) * sp.sin(th), sp.cos(th))  # e₃ in space
-    centre = [p + l * a for p, a in zip((xp, yp, zp), axis, strict=True)]
     from .lagrange import HiddenConstraint, LagrangianSystem, PointMass
+    from .relative.carrier import zxz_matrix
 
     # body axes: columns of Rz(ψ) Rx(θ) Rz(φ); the rim of radius √(2C/M) (a disc with that C)
-    Rz = lambda a: sp.Matrix([[sp.cos(a), -sp.sin(a), 0], [sp.sin(a), sp.cos(a), 0], [0, 0, 1]])  # noqa: E731
-    Rx = sp.Matrix([[1, 0, 0], [0, sp.cos(th), -sp.sin(th)], [0, sp.sin(th), sp.cos(th)]])
-    axes = Rz(psi) * Rx * Rz(ph)
+    axes = zxz_matrix(psi, th, ph)
+    axis = tuple(axes[:, 2])  # e₃ in space: (sin ψ sin θ, −cos ψ sin θ, cos θ)
+    centre = [p + l * a for p, a in zip((xp, yp, zp), axis, strict=True)]
     com = tuple(l * axes[:, 2])
     rim, rim_links = _ring("rim", com, tuple(axes[:, 0]), tuple(axes[:, 1]),
                            sp.sqrt(2 * C / M), k=16)  # fmt: skip

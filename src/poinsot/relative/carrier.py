@@ -214,6 +214,19 @@ def zxz_matrix(psi, theta, phi):
     return Rz(psi) * Rx(theta) * Rz(phi)
 
 
+def zxz_body_rates(psi, theta, phi, t):
+    """The angular velocity on the rotating axes, ``(p, q, r)``, of z-x-z Euler angles given
+    as SymPy functions of ``t`` (eqs. (13)–(14), as ``poinsot_core::so3::zxz_body_rates``):
+    ``p = ψ̇ sin θ sin φ + θ̇ cos φ``, ``q = ψ̇ sin θ cos φ − θ̇ sin φ``, ``r = φ̇ + ψ̇ cos θ``."""
+    sp = _sympy()
+    dpsi, dtheta, dphi = (sp.diff(a, t) for a in (psi, theta, phi))
+    return [
+        dpsi * sp.sin(theta) * sp.sin(phi) + dtheta * sp.cos(phi),
+        dpsi * sp.sin(theta) * sp.cos(phi) - dtheta * sp.sin(phi),
+        dphi + dpsi * sp.cos(theta),
+    ]
+
+
 def _compile_motion(exprs, t):
     """The nine expressions ``(ω_e, ε_e, a_O)`` of t as one compiled function (machine code;
     cached by content, so equal carriers share it)."""
@@ -351,13 +364,8 @@ class Carrier:
             return _sympy_vector(omega_e, "omega_e", t), None
         if euler_angles is not None:
             psi, theta, phi = _sympy_vector(euler_angles, "euler_angles", t)
-            dpsi, dtheta, dphi = (sp.diff(a, t) for a in (psi, theta, phi))
-            omega = [  # eq. (14): the carrier's angular velocity on its own axes
-                dpsi * sp.sin(theta) * sp.sin(phi) + dtheta * sp.cos(phi),
-                dpsi * sp.sin(theta) * sp.cos(phi) - dtheta * sp.sin(phi),
-                dphi + dpsi * sp.cos(theta),
-            ]
-            return omega, zxz_matrix(psi, theta, phi)
+            # eq. (14): the carrier's angular velocity on its own axes
+            return zxz_body_rates(psi, theta, phi, t), zxz_matrix(psi, theta, phi)
         if quaternion is not None:
             w, x, y, z = _sympy_vector(quaternion, "quaternion", t, 4)
             Q = sp.Matrix([

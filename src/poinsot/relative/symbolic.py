@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .carrier import zxz_matrix
+from .carrier import zxz_body_rates, zxz_matrix
 
 __all__ = ["RelativeEquations", "relative_equations"]
 
@@ -113,10 +113,7 @@ def relative_equations(moments=None, *, carrier=None, torque=None, balance_trans
         if len(moments) != 3:
             raise ValueError(f"`moments` must be three principal moments, found {len(moments)}")
         A, B, C = (sp.sympify(m) for m in moments)
-    dpsi, dtheta, dphi = (sp.diff(a, t) for a in (psi, theta, phi))
-    p = dpsi * sp.sin(theta) * sp.sin(phi) + dtheta * sp.cos(phi)  # eq. (13)
-    q = dpsi * sp.sin(theta) * sp.cos(phi) - dtheta * sp.sin(phi)
-    r = dphi + dpsi * sp.cos(theta)
+    p, q, r = zxz_body_rates(psi, theta, phi, t)  # eq. (13)
     if carrier is None:
         w_c = [sp.Function(n)(t) for n in ("p_1", "q_1", "r_1")]
         e_c = [sp.diff(w, t) for w in w_c]
