@@ -554,7 +554,6 @@ def test_ctrl_c_stops_a_running_ensemble():
         ({"samples_out": np.zeros((3, 2, 18))}, r"`samples_out` must have shape \(3, 1, 18\)"),
         ({"samples_out": np.zeros((3, 1, 18)), "keep_samples": False}, r"with `keep_samples`"),
         ({"samples_out": np.zeros((18, 1, 3)).T}, r"`samples_out` must be C-contiguous"),
-        ({"y0": np.zeros((18, 3)).T}, r"`y0` must be C-contiguous"),
         ({"finals_out": np.zeros((2, 18))}, r"`finals_out` must have shape \(3, 18\)"),
         ({"finals_out": np.zeros((18, 3)).T}, r"`finals_out` must be C-contiguous"),
     ],

@@ -9,9 +9,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
-from poinsot._core import exp_so3, vee
 
 from poinsot import RigidBody, simulate
+from poinsot._core import exp_so3, vee
 from poinsot.torquefree import FreeRigidBody
 
 I123 = (1.0, 2.0, 3.0)

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from poinsot._core import exp_so3
 
 from poinsot import RigidBody, simulate
 from poinsot import _core as ek
+from poinsot._core import exp_so3
 from poinsot.torquefree import FreeRigidBody
 
 I123 = (1.0, 2.0, 3.0)

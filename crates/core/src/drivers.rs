@@ -514,15 +514,11 @@ where
     status
 }
 
-/// The work space of the adaptive driver, kept between calls: the FSAL derivative `f`.
-pub struct AdaptiveState {
-    pub f: Vec<f64>,
-}
-
 /// Integrate with adaptive Dormand–Prince 8(5,3) from `clock.t` to `sampling.t_end`,
 /// resumably.
 ///
-/// `z` (n) and its derivative `state.f` are advanced in place; `clock.h` is the next step
+/// `z` (n) and its derivative `f` (n, kept between calls: first-same-as-last) are advanced
+/// in place; `clock.h` is the next step
 /// size (0 before the first step: chosen by [`initial_step_size`], or `control.first_step`).
 /// Constrained systems are projected after every step and at every interpolated sample.
 #[allow(clippy::too_many_arguments)]
@@ -531,7 +527,7 @@ pub fn run_adaptive<S, O>(
     observer: &mut O,
     clock: &mut Clock,
     z: &mut [f64],
-    state: &mut AdaptiveState,
+    f: &mut [f64],
     control: &Control,
     sampling: &Sampling,
     out: &mut Output,
@@ -552,7 +548,6 @@ where
     let mut znew = vec![0.0; n];
     let mut fnew = vec![0.0; n];
     let mut sample = vec![0.0; n];
-    let f = &mut state.f;
     let (rtol, atol, max_step) = (control.rtol, control.atol, control.max_step);
     let n_eval = t_eval.len();
     let use_eval = n_eval > 0;
@@ -751,3 +746,7 @@ pub fn next_up(x: f64) -> f64 {
     let bits = x.to_bits();
     f64::from_bits(if x > 0.0 { bits + 1 } else { bits - 1 })
 }
+
+#[cfg(test)]
+#[path = "drivers_tests.rs"]
+mod tests;

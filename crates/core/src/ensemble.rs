@@ -24,10 +24,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
-use crate::drivers::{
-    is_rk4, run_adaptive, run_fixed_native, AdaptiveState, Clock, Counters, Erk, FixedMethod,
-    Output, Rk4Rigid, RkmkRigid, Sampling, Splitting, Status,
-};
+use crate::drivers::{is_rk4, Clock, Counters, FixedMethod, Output, Sampling, Status};
 use crate::forces::Force;
 use crate::inertia::{parallel_axis, principal_decomposition};
 use crate::invariants::{angular_momentum_body, kinetic_energy};
@@ -49,8 +46,10 @@ use crate::systems::{OneForce, Rigid, SameForces, TorqueFree, MAX_SAME_FORCES};
 
 pub use crate::drivers::STEPS_PER_CALL;
 
+use crate::run::Run;
 /// The method every member runs (DOP853: each member with its own step sizes).
 pub use crate::spec::Method;
+use crate::spec::RunSpec;
 
 /// What every member shares: the method, the time span and the sample times.
 #[derive(Clone, Copy, Debug)]
@@ -350,124 +349,36 @@ fn integrate<S: RigidStructure, O: Observer>(
 ) -> (Status, Counters) {
     let n = schedule.t_eval.len();
     let mut times = vec![0.0; n];
-    let mut out = Output {
-        t: &mut times,
-        y: samples,
-    };
-    let sampling = Sampling {
-        t_end: schedule.t1,
-        t_eval: schedule.t_eval,
-        every: u64::MAX,
-    };
     let mut clock = Clock {
         t: schedule.t0,
         h: 0.0,
     };
     let mut k = Counters::default();
-    let mut z = [0.0; STATE_SIZE];
-    let status = match schedule.method {
-        Method::Dop853(control) => {
-            z.copy_from_slice(z0);
-            let mut state = AdaptiveState {
-                f: vec![0.0; STATE_SIZE],
-            };
-            resume(stop, || {
-                run_adaptive(
-                    sys,
-                    obs,
-                    &mut clock,
-                    &mut z,
-                    &mut state,
-                    &control,
-                    &sampling,
-                    &mut out,
-                    &mut k,
-                    STEPS_PER_CALL,
-                )
-            })
-        }
-        Method::Rk4 => fixed(sys, &mut Rk4Rigid, z0, &mut z, |m, z| {
-            resume(stop, || {
-                let (c, o, k) = (&mut clock, &mut out, &mut k);
-                run_fixed_native(
-                    sys,
-                    m,
-                    obs,
-                    c,
-                    z,
-                    schedule.dt,
-                    &sampling,
-                    o,
-                    k,
-                    STEPS_PER_CALL,
-                )
-            })
-        }),
-        Method::Erk(tab) => fixed(sys, &mut Erk::new(tab, STATE_SIZE), z0, &mut z, |m, z| {
-            resume(stop, || {
-                let (c, o, k) = (&mut clock, &mut out, &mut k);
-                run_fixed_native(
-                    sys,
-                    m,
-                    obs,
-                    c,
-                    z,
-                    schedule.dt,
-                    &sampling,
-                    o,
-                    k,
-                    STEPS_PER_CALL,
-                )
-            })
-        }),
-        Method::Rkmk(tab) => fixed(sys, &mut RkmkRigid::new(tab), z0, &mut z, |m, z| {
-            resume(stop, || {
-                let (c, o, k) = (&mut clock, &mut out, &mut k);
-                run_fixed_native(
-                    sys,
-                    m,
-                    obs,
-                    c,
-                    z,
-                    schedule.dt,
-                    &sampling,
-                    o,
-                    k,
-                    STEPS_PER_CALL,
-                )
-            })
-        }),
-        Method::Splitting => fixed(sys, &mut Splitting, z0, &mut z, |m, z| {
-            resume(stop, || {
-                let (c, o, k) = (&mut clock, &mut out, &mut k);
-                run_fixed_native(
-                    sys,
-                    m,
-                    obs,
-                    c,
-                    z,
-                    schedule.dt,
-                    &sampling,
-                    o,
-                    k,
-                    STEPS_PER_CALL,
-                )
-            })
-        }),
+    let mut z = *z0;
+    let mut f = [0.0; STATE_SIZE];
+    let mut run = Run {
+        spec: RunSpec {
+            method: schedule.method,
+            dt: schedule.dt,
+            sampling: Sampling {
+                t_end: schedule.t1,
+                t_eval: schedule.t_eval,
+                every: u64::MAX,
+            },
+            max_steps: u64::MAX,
+        },
+        clock: &mut clock,
+        z: &mut z,
+        f: &mut f,
+        out: Output {
+            t: &mut times,
+            y: samples,
+        },
+        counters: &mut k,
     };
+    run.enter(sys);
+    let status = resume(stop, || run.chunk_rigid(sys, obs, STEPS_PER_CALL));
     (status, k)
-}
-
-/// A fixed-step method's own state from the member's ([`FixedMethod::init`]), then its run.
-fn fixed<S: RigidStructure, M: FixedMethod<S>>(
-    sys: &S,
-    method: &mut M,
-    z0: &State,
-    z: &mut State,
-    run: impl FnOnce(&mut M, &mut [f64]) -> Status,
-) -> Status {
-    method.init(sys, z0, z);
-    run(method, z)
 }
 
 /// Call a resumable driver until it ends or `stop` is raised.
@@ -960,6 +871,7 @@ fn finish_lanes(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::drivers::{run_fixed_native, Rk4Rigid};
     use crate::forces::ForceKind;
     use crate::layout::FORCE_PARAMS;
     use crate::rigid::initial_state;

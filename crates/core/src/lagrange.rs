@@ -29,13 +29,13 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
-use crate::drivers::{
-    run_adaptive, run_fixed, AdaptiveState, Clock, Counters, Erk, Output, Sampling, Status,
-};
+use crate::drivers::{Clock, Counters, Output, Sampling, Status};
 use crate::events::{EventFunctions, Watch};
 use crate::expressions::{Compiler, Function, Program, Scratch};
 use crate::linalg::{min_norm_solve, solve_augmented, solve_spd_augmented};
 use crate::observers::{NoObserver, Observer};
+use crate::run::Run;
+use crate::spec::RunSpec;
 use crate::system::VectorField;
 
 /// The sizes of a model: `n` coordinates, `m` constraints of which the first `nh` are
@@ -902,7 +902,7 @@ pub fn run_member_with(
             .filter(|&&c| active[c])
             .map(|&c| Source::Release(c))
             .collect();
-        let mut out = Output {
+        let out = Output {
             t: &mut times[written..],
             y: &mut samples[written * dim..],
         };
@@ -922,8 +922,8 @@ pub fn run_member_with(
                 method,
                 dt,
                 &mut z,
-                &sampling,
-                &mut out,
+                sampling,
+                out,
                 max_steps,
                 stop,
             )
@@ -935,7 +935,7 @@ pub fn run_member_with(
             let spacing = (t1 - ta) / (one_sided.resolution.max(2) - 1) as f64;
             let mut watch = Watch::new(&events, &terminal, &direction, spacing, dim);
             let status = phase.run(
-                &sys, &mut watch, method, dt, &mut z, &sampling, &mut out, max_steps, stop,
+                &sys, &mut watch, method, dt, &mut z, sampling, out, max_steps, stop,
             );
             if status == Status::Terminated {
                 let t = phase.clock.t;
@@ -984,48 +984,33 @@ impl Phase {
         method: Method,
         dt: f64,
         z: &mut [f64],
-        sampling: &Sampling,
-        out: &mut Output,
+        sampling: Sampling,
+        out: Output,
         max_steps: u64,
         stop: &AtomicBool,
     ) -> Status {
-        let (clock, k) = (&mut self.clock, &mut self.counters);
-        let dim = sys.dim();
-        match method {
-            Method::Dop853(control) => {
-                let mut state = AdaptiveState { f: vec![0.0; dim] };
-                loop {
-                    let chunk = STEPS_PER_CALL.min(max_steps.saturating_sub(k.n_steps));
-                    let s = run_adaptive(
-                        sys, observer, clock, z, &mut state, &control, sampling, out, k, chunk,
-                    );
-                    if s != Status::Running
-                        || stop.load(Ordering::Relaxed)
-                        || k.n_steps >= max_steps
-                    {
-                        break s;
-                    }
-                }
-            }
-            Method::Erk(_) | Method::Rk4 => {
-                let tab = match method {
-                    Method::Erk(tab) => tab,
-                    _ => crate::steppers::RK4,
-                };
-                let mut m = Erk::new(tab, dim);
-                loop {
-                    let chunk = STEPS_PER_CALL.min(max_steps.saturating_sub(k.n_steps));
-                    let s = run_fixed(sys, &mut m, observer, clock, z, dt, sampling, out, k, chunk);
-                    if s != Status::Running
-                        || stop.load(Ordering::Relaxed)
-                        || k.n_steps >= max_steps
-                    {
-                        break s;
-                    }
-                }
-            }
-            Method::Rkmk(_) | Method::Splitting => {
-                unreachable!("refused at the boundary: a constrained system has no rigid body")
+        let mut f = vec![0.0; sys.dim()];
+        let mut run = Run {
+            spec: RunSpec {
+                method,
+                dt,
+                sampling,
+                max_steps,
+            },
+            clock: &mut self.clock,
+            z,
+            f: &mut f,
+            out,
+            counters: &mut self.counters,
+        };
+        loop {
+            let chunk = STEPS_PER_CALL.min(max_steps.saturating_sub(run.counters.n_steps));
+            let s = run.chunk(sys, observer, chunk);
+            if s != Status::Running
+                || stop.load(Ordering::Relaxed)
+                || run.counters.n_steps >= max_steps
+            {
+                break s;
             }
         }
     }
@@ -1129,6 +1114,7 @@ pub fn run_members_with(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::drivers::{run_adaptive, run_fixed, Erk};
     use crate::expressions::{Interpreter, ADD, CONST, INPUT, MUL, OUTPUT, UNARY};
     use crate::steppers::{Control, Tableau};
     use crate::tableaux::{RK4_A, RK4_B, RK4_C};
@@ -1618,13 +1604,13 @@ mod tests {
             let mut k = Counters::default();
             let mut z = y0.to_vec();
             let status = if adaptive {
-                let mut state = AdaptiveState { f: vec![0.0; 4] };
+                let mut f = vec![0.0; 4];
                 run_adaptive(
                     &sys,
                     &mut watch,
                     &mut clock,
                     &mut z,
-                    &mut state,
+                    &mut f,
                     &control,
                     &sampling,
                     &mut out,

@@ -47,6 +47,7 @@ pub mod observers;
 pub mod real;
 pub mod relative;
 pub mod rigid;
+pub mod run;
 pub mod shapes;
 pub mod so3;
 pub mod spec;

@@ -6,9 +6,89 @@
 //!
 //! The method is parsed from its name once ([`Method::parse`], the registry's names), at the
 //! boundary; nothing below matches a method by name.
+//!
+//! This module is the registry of the crate's methods: what users call them and what each
+//! declares ([`REGISTRY`], read by the Python package to list its methods), their kinds
+//! ([`Method`]) and the one table that builds each kind's stepper for a run
+//! ([`Method::on_rigid`], [`Method::on_field`]), which every driver of the crate uses (the
+//! bindings' single runs, the ensembles' members, the constrained systems' phases). A new
+//! fixed-step method is its stepper (a [`FixedMethod`]), its entry here and its test.
 
-use crate::drivers::Sampling;
-use crate::steppers::{Control, Tableau};
+use crate::drivers::{Erk, FixedMethod, Rk4Rigid, RkmkRigid, Sampling, Splitting};
+use crate::steppers::{Control, Tableau, RK4};
+use crate::system::{RigidStructure, VectorField};
+
+/// A method users name, as the registry declares it.
+#[derive(Clone, Copy, Debug)]
+pub struct Entry {
+    /// The name users give (`simulate(..., method=name)`).
+    pub name: &'static str,
+    /// The kind of step that runs it ([`Method::NAMES`]).
+    pub kind: &'static str,
+    /// Its global order of accuracy (checked by the order tests).
+    pub order: u32,
+    /// The tableau it runs with (a name of `poinsot._core.tableau`), or "" for none.
+    pub tableau: &'static str,
+    /// Invariants it keeps to round-off: "orthogonality" (Q on SO(3)), "angular_momentum"
+    /// (|L| and the spatial L, torque-free), "symplectic" (bounded energy error).
+    pub conserves: &'static [&'static str],
+    /// It takes kicks from the forces: every force must depend on time, position and
+    /// attitude only.
+    pub kicks: bool,
+    /// One line for users (the Python class's docstring, the tables of methods).
+    pub summary: &'static str,
+}
+
+/// The registry: every method the crate runs by name, in the order users see them.
+pub const REGISTRY: &[Entry] = &[
+    Entry {
+        name: "dop853",
+        kind: "dop853",
+        order: 8,
+        tableau: "dop853",
+        conserves: &[],
+        kicks: false,
+        summary: "Adaptive Dormand–Prince 8(5,3): error control, dense output (Hairer, Nørsett & Wanner, Solving ODEs I, §II.5, §II.10).",
+    },
+    Entry {
+        name: "rk4",
+        kind: "rk4",
+        order: 4,
+        tableau: "rk4",
+        conserves: &[],
+        kicks: false,
+        summary: "Classical fourth-order Runge–Kutta; conserves nothing exactly (its drift is reported).",
+    },
+    Entry {
+        name: "rkmk4",
+        kind: "rkmk",
+        order: 4,
+        tableau: "rk4",
+        conserves: &["orthogonality"],
+        kicks: false,
+        summary: "Runge–Kutta–Munthe-Kaas with RK4's tableau on SO(3) (Munthe-Kaas 1999, BIT 39): Q stays a rotation.",
+    },
+    Entry {
+        name: "splitting",
+        kind: "splitting",
+        order: 2,
+        tableau: "",
+        conserves: &["orthogonality", "angular_momentum", "symplectic"],
+        kicks: true,
+        summary: "Strang splitting, free rotor and kicks (McLachlan 1993; Dullweber, Leimkuhler & McLachlan 1997): symplectic.",
+    },
+];
+
+/// What a caller does with a run's method once its stepper is built: the table of
+/// constructors ([`Method::on_rigid`], [`Method::on_field`]) hands it the fixed-step method as
+/// its own type (so that the driver is compiled for it) or the adaptive method's controller.
+pub trait UseMethod<S: VectorField + ?Sized> {
+    type Output;
+    /// Run the fixed-step method `method` ([`crate::drivers::run_fixed`]).
+    fn fixed<M: FixedMethod<S> + Send>(self, method: M) -> Self::Output;
+    /// Run the adaptive method with `control` ([`crate::drivers::run_adaptive`]).
+    fn adaptive(self, control: Control) -> Self::Output;
+}
 
 /// A run's method, with its tableau (explicit Runge–Kutta and RKMK) or its controller (DOP853).
 #[derive(Clone, Copy, Debug)]
@@ -78,10 +158,57 @@ impl<'a> Method<'a> {
         matches!(self, Method::Dop853(_))
     }
 
-    /// True for the methods that use a rigid body's structure (its state in registers, the
-    /// rotation group, the free-rotor flows); the others run on any vector field.
+    /// The kinds with error control and no fixed step.
+    pub const ADAPTIVE_KINDS: [&'static str; 1] = ["dop853"];
+
+    /// The kinds that run on any vector field ([`Method::on_field`]): the adaptive method and
+    /// explicit tableaux, classical RK4's included.
+    pub const FIELD_KINDS: [&'static str; 3] = ["dop853", "erk", "rk4"];
+
+    /// True for the methods that use a rigid body's structure (the rotation group, the
+    /// free-rotor flows); the others ([`Method::FIELD_KINDS`]) run on any vector field.
     pub fn needs_rigid_body(&self) -> bool {
-        matches!(self, Method::Rk4 | Method::Rkmk(_) | Method::Splitting)
+        !Method::FIELD_KINDS.contains(&self.name())
+    }
+
+    /// The table of constructors for a rigid body (`sys`): each kind's stepper, built once
+    /// for the call and handed to `user`.
+    pub fn on_rigid<S, U>(&self, sys: &S, user: U) -> U::Output
+    where
+        S: RigidStructure + ?Sized,
+        U: UseMethod<S>,
+    {
+        match *self {
+            Method::Rk4 => user.fixed(Rk4Rigid),
+            Method::Erk(tab) => user.fixed(Erk::new(tab, sys.dim())),
+            Method::Rkmk(tab) => user.fixed(RkmkRigid::new(tab)),
+            Method::Splitting => user.fixed(Splitting),
+            Method::Dop853(control) => user.adaptive(control),
+        }
+    }
+
+    /// The table of constructors for any vector field (`sys`): the adaptive method and
+    /// explicit tableaux, classical RK4 as its tableau; a method that needs a rigid body's
+    /// structure is refused.
+    pub fn on_field<S, U>(&self, sys: &S, user: U) -> Result<U::Output, String>
+    where
+        S: VectorField + ?Sized,
+        U: UseMethod<S>,
+    {
+        match *self {
+            Method::Rk4 => Ok(user.fixed(Erk::new(RK4, sys.dim()))),
+            Method::Erk(tab) => Ok(user.fixed(Erk::new(tab, sys.dim()))),
+            Method::Dop853(control) => Ok(user.adaptive(control)),
+            _ => Err(self.rigid_only()),
+        }
+    }
+
+    fn rigid_only(&self) -> String {
+        format!(
+            "method {:?} needs a rigid body's structure; this system runs \"dop853\" and \
+             \"erk\" (an explicit tableau, RK4's included)",
+            self.name()
+        )
     }
 }
 
@@ -183,11 +310,7 @@ impl<'a> RunSpec<'a> {
     /// only DOP853 and explicit tableaux.
     pub fn check_for(&self, rigid_body: bool) -> Result<(), String> {
         if self.method.needs_rigid_body() && !rigid_body {
-            return Err(format!(
-                "method {:?} needs a rigid body's structure; this system runs \"dop853\" and \
-                 \"erk\" (an explicit tableau, RK4's included)",
-                self.method.name()
-            ));
+            return Err(self.method.rigid_only());
         }
         Ok(())
     }
@@ -219,10 +342,7 @@ mod tests {
             let m = Method::parse(name, RK4, CONTROL).unwrap();
             assert_eq!(m.name(), name);
             assert_eq!(m.is_adaptive(), name == "dop853");
-            assert_eq!(
-                m.needs_rigid_body(),
-                ["rk4", "rkmk", "splitting"].contains(&name)
-            );
+            assert_eq!(m.needs_rigid_body(), ["rkmk", "splitting"].contains(&name));
         }
         let e = Method::parse("rk45", RK4, CONTROL).unwrap_err();
         assert!(
@@ -287,9 +407,9 @@ mod tests {
             t_eval,
             every: 1,
         };
-        let ok = RunSpec::new(Method::Rk4, 0.1, sampling(&[0.0, 0.5, 1.0]), 10).unwrap();
+        let ok = RunSpec::new(Method::Splitting, 0.1, sampling(&[0.0, 0.5, 1.0]), 10).unwrap();
         assert!(ok.check_for(true).is_ok());
-        assert!(ok.check_for(false).unwrap_err().contains("\"rk4\""));
+        assert!(ok.check_for(false).unwrap_err().contains("\"splitting\""));
         assert!(RunSpec::new(Method::Rk4, 0.0, sampling(&[]), 10).is_err());
         assert!(RunSpec::new(Method::Dop853(CONTROL), 0.0, sampling(&[]), 10).is_ok());
         let e = RunSpec::new(Method::Rk4, 0.1, sampling(&[0.0, 0.5, 0.2]), 10).unwrap_err();

@@ -1,8 +1,8 @@
 //! Arguments checked at the boundary, once for every binding: the error names the argument
 //! and the rule broken.
 
+use crate::arrays::Floats2;
 use numpy::ndarray::ArrayView2;
-use numpy::PyReadonlyArray2;
 use poinsot_core::forces::{Force, ForceKind};
 use poinsot_core::layout::{Body, FORCE_PARAMS};
 use poinsot_core::so3::{Mat3, Vec3};
@@ -25,7 +25,7 @@ pub(crate) fn body_from(body: &[f64]) -> PyResult<Body> {
 }
 
 /// The lowered forces, checked: kinds (k,) and parameters (k, FORCE_PARAMS).
-pub(crate) fn forces_from(kind: &[i64], params: &PyReadonlyArray2<f64>) -> PyResult<Vec<Force>> {
+pub(crate) fn forces_from(kind: &[i64], params: &Floats2<'_>) -> PyResult<Vec<Force>> {
     let p = params.as_array();
     if p.nrows() != kind.len() || (p.ncols() != FORCE_PARAMS && !kind.is_empty()) {
         return Err(value_error(format!(
@@ -49,7 +49,7 @@ pub(crate) fn forces_from(kind: &[i64], params: &PyReadonlyArray2<f64>) -> PyRes
         .collect()
 }
 
-pub(crate) fn mat3_from(a: &PyReadonlyArray2<f64>, name: &str) -> PyResult<Mat3> {
+pub(crate) fn mat3_from(a: &Floats2<'_>, name: &str) -> PyResult<Mat3> {
     let v = a.as_array();
     if v.shape() != [3, 3] {
         return Err(value_error(format!(
@@ -61,11 +61,7 @@ pub(crate) fn mat3_from(a: &PyReadonlyArray2<f64>, name: &str) -> PyResult<Mat3>
 }
 
 /// The rows of an (n, k) array, checked.
-pub(crate) fn rows<'a>(
-    a: &'a PyReadonlyArray2<'_, f64>,
-    k: usize,
-    name: &str,
-) -> PyResult<ArrayView2<'a, f64>> {
+pub(crate) fn rows<'a>(a: &'a Floats2<'_>, k: usize, name: &str) -> PyResult<ArrayView2<'a, f64>> {
     let v = a.as_array();
     if v.ncols() != k {
         return Err(value_error(format!(

@@ -5,16 +5,12 @@
 
 use std::cell::RefCell;
 
-use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadwriteArray1};
-use poinsot_core::drivers::{
-    run_adaptive, run_fixed_native, AdaptiveState, Erk, FixedMethod, Rk4Rigid, RkmkRigid,
-    Splitting, Status,
-};
+use crate::arrays::{Floats1, Floats2, Ints1};
+use numpy::PyReadwriteArray1;
+use poinsot_core::drivers::Status;
 use poinsot_core::layout::STATE_SIZE;
 use poinsot_core::observers::{FlipObserver, NoObserver, Observer};
 use poinsot_core::rigid::State;
-use poinsot_core::spec::Method;
-use poinsot_core::steppers::{momentum_to_velocity, velocity_to_momentum, RK4};
 use poinsot_core::system::{RigidStructure, VectorField};
 use poinsot_core::systems::{Rigid, TorqueFree, UserWrench};
 use pyo3::exceptions::PyTypeError;
@@ -92,75 +88,6 @@ impl UserWrench for CUser {
     }
 }
 
-/// One chunk of a run of any system: the adaptive method or an explicit tableau (RK4's, for
-/// a system without a rigid body's structure).
-pub(crate) fn chunk_general<S: VectorField + ?Sized, O: Observer>(
-    sys: &S,
-    obs: &mut O,
-    r: &mut Run,
-    steps: u64,
-) -> Status {
-    match r.spec.method {
-        Method::Dop853(control) => {
-            let mut st = AdaptiveState { f: r.f.to_vec() };
-            let s = run_adaptive(
-                sys,
-                obs,
-                r.clock,
-                r.z,
-                &mut st,
-                &control,
-                &r.spec.sampling,
-                &mut r.out,
-                r.counters,
-                steps,
-            );
-            r.f.copy_from_slice(&st.f);
-            s
-        }
-        Method::Erk(tab) => fixed(sys, &mut Erk::new(tab, sys.dim()), obs, r, steps),
-        Method::Rk4 => fixed(sys, &mut Erk::new(RK4, sys.dim()), obs, r, steps),
-        // refused when the run was built (RunState::run: the system is no rigid body)
-        Method::Rkmk(_) | Method::Splitting => Status::CallbackFailed,
-    }
-}
-
-/// One chunk of a run of a rigid body: any method, those that use its structure included.
-fn chunk<S: RigidStructure + ?Sized, O: Observer>(
-    sys: &S,
-    obs: &mut O,
-    r: &mut Run,
-    steps: u64,
-) -> Status {
-    match r.spec.method {
-        Method::Rk4 => fixed(sys, &mut Rk4Rigid, obs, r, steps),
-        Method::Rkmk(tab) => fixed(sys, &mut RkmkRigid::new(tab), obs, r, steps),
-        Method::Splitting => fixed(sys, &mut Splitting, obs, r, steps),
-        Method::Erk(_) | Method::Dop853(_) => chunk_general(sys, obs, r, steps),
-    }
-}
-
-fn fixed<S: VectorField + ?Sized, M: FixedMethod<S>, O: Observer>(
-    sys: &S,
-    m: &mut M,
-    obs: &mut O,
-    r: &mut Run,
-    steps: u64,
-) -> Status {
-    run_fixed_native(
-        sys,
-        m,
-        obs,
-        r.clock,
-        r.z,
-        r.spec.dt,
-        &r.spec.sampling,
-        &mut r.out,
-        r.counters,
-        steps,
-    )
-}
-
 /// The whole call: chunks of at most [`CHUNK`] steps (`one` runs a chunk, releasing the GIL
 /// or not), an interrupt check between them, at most `steps` steps in all.
 pub(crate) fn in_chunks(
@@ -195,13 +122,15 @@ where
     S: RigidStructure + Sync + ?Sized,
     O: Observer + Send,
 {
-    MomentumState::enter(sys, r);
+    r.enter(sys);
     let status = if release {
-        in_chunks(py, r, steps, |r, n| py.detach(|| chunk(sys, obs, r, n)))
+        in_chunks(py, r, steps, |r, n| {
+            py.detach(|| r.chunk_rigid(sys, obs, n))
+        })
     } else {
-        in_chunks(py, r, steps, |r, n| chunk(sys, obs, r, n))
+        in_chunks(py, r, steps, |r, n| r.chunk_rigid(sys, obs, n))
     };
-    MomentumState::leave(sys, r);
+    r.leave(sys);
     status
 }
 
@@ -215,10 +144,10 @@ where
 #[allow(clippy::too_many_arguments)]
 fn integrate_rigid<'py>(
     py: Python<'py>,
-    body: PyReadonlyArray1<'py, f64>,
-    force_kind: PyReadonlyArray1<'py, i64>,
-    force_params: PyReadonlyArray2<'py, f64>,
-    axes: PyReadonlyArray2<'py, f64>,
+    body: Floats1<'py>,
+    force_kind: Ints1<'py>,
+    force_params: Floats2<'py>,
+    axes: Floats2<'py>,
     user: Option<Bound<'py, PyAny>>,
     spec: PyRef<'py, RunSpec>,
     mut state: PyRefMut<'py, RunState>,
@@ -307,26 +236,6 @@ fn drive_any<S: RigidStructure + Sync + ?Sized>(
     }
 }
 
-/// The splitting method steps the momentum state `[R, V, Q, π]`: the caller's state is
-/// turned into it for the call and back at the end (once per call, not per chunk).
-struct MomentumState;
-
-impl MomentumState {
-    fn enter<S: RigidStructure + ?Sized>(sys: &S, r: &mut Run) -> Self {
-        if matches!(r.spec.method, Method::Splitting) {
-            let y = r.z.to_vec();
-            velocity_to_momentum(sys, &y, r.z);
-        }
-        MomentumState
-    }
-    fn leave<S: RigidStructure + ?Sized>(sys: &S, r: &mut Run) {
-        if matches!(r.spec.method, Method::Splitting) {
-            let y = momentum_to_velocity(sys, r.z);
-            r.z.copy_from_slice(&y);
-        }
-    }
-}
-
 /// A run whose system calls Python (it holds the GIL throughout).
 fn drive_unsync<S: RigidStructure + ?Sized>(
     py: Python<'_>,
@@ -335,7 +244,7 @@ fn drive_unsync<S: RigidStructure + ?Sized>(
     run: &mut Run,
     steps: u64,
 ) -> PyResult<Status> {
-    MomentumState::enter(sys, run);
+    run.enter(sys);
     let status = match flips {
         Some((first, last, count)) => {
             let mut obs = FlipObserver {
@@ -344,11 +253,13 @@ fn drive_unsync<S: RigidStructure + ?Sized>(
                 count: count.as_slice_mut()?,
                 offset: 0,
             };
-            in_chunks(py, run, steps, |r, n| chunk(sys, &mut obs, r, n))
+            in_chunks(py, run, steps, |r, n| r.chunk_rigid(sys, &mut obs, n))
         }
-        None => in_chunks(py, run, steps, |r, n| chunk(sys, &mut NoObserver, r, n)),
+        None => in_chunks(py, run, steps, |r, n| {
+            r.chunk_rigid(sys, &mut NoObserver, n)
+        }),
     };
-    MomentumState::leave(sys, run);
+    run.leave(sys);
     status
 }
 
@@ -377,7 +288,7 @@ impl PyField<'_> {
         };
         let values = result.and_then(|r| {
             let a = r
-                .extract::<PyReadonlyArray1<f64>>()
+                .extract::<Floats1<'_>>()
                 .map(|a| a.as_slice().map(|s| s.to_vec()));
             match a {
                 Ok(Ok(v)) => Ok(v),
@@ -449,7 +360,7 @@ fn integrate_python<'py>(
         error: RefCell::new(None),
     };
     let status = in_chunks(py, &mut run, steps, |r, n| {
-        chunk_general(&sys, &mut NoObserver, r, n)
+        r.chunk(&sys, &mut NoObserver, n)
     })?;
     state.status = status;
     if let Some(err) = sys.error.borrow_mut().take() {

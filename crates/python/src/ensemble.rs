@@ -9,10 +9,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use crate::arrays::{Floats2, Floats3, Ints1};
 use numpy::ndarray::{Array1, Array2, Array3, ArrayView3};
 use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2,
-    PyReadonlyArray3, PyReadwriteArray2, PyReadwriteArray3, PyUntypedArrayMethods,
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadwriteArray2, PyReadwriteArray3,
+    PyUntypedArrayMethods,
 };
 use poinsot_core::ensemble::{member_body, run_members, Member, MemberSummary, Schedule};
 use poinsot_core::forces::{Force, ForceKind};
@@ -48,11 +49,7 @@ pub(crate) fn c_order<S, E>(c_contiguous: bool, slice: Result<S, E>, name: &str)
     }
 }
 
-fn mats<'a>(
-    a: &'a PyReadonlyArray3<'_, f64>,
-    m: usize,
-    name: &str,
-) -> PyResult<ArrayView3<'a, f64>> {
+fn mats<'a>(a: &'a Floats3<'_>, m: usize, name: &str) -> PyResult<ArrayView3<'a, f64>> {
     let v = a.as_array();
     if v.shape()[1..] != [3, 3] {
         return Err(value_error(format!(
@@ -71,11 +68,7 @@ fn mat(a: &ArrayView3<f64>, i: usize) -> Mat3 {
 
 /// Each member's (or the shared) lowered forces: kinds (k,), parameters (1 | m, k,
 /// FORCE_PARAMS).
-fn member_forces(
-    kind: &[i64],
-    params: &PyReadonlyArray3<f64>,
-    m: usize,
-) -> PyResult<Vec<Vec<Force>>> {
+fn member_forces(kind: &[i64], params: &Floats3<'_>, m: usize) -> PyResult<Vec<Vec<Force>>> {
     let p = params.as_array();
     let k = kind.len();
     if p.shape()[1] != k || (p.shape()[2] != FORCE_PARAMS && k > 0) {
@@ -120,7 +113,7 @@ fn member_forces(
 fn member_bodies<'py>(
     py: Python<'py>,
     mass: f64,
-    inertia: PyReadonlyArray3<'py, f64>,
+    inertia: Floats3<'py>,
     c: [f64; 3],
     has_pivot: bool,
 ) -> PyResult<(
@@ -267,12 +260,12 @@ fn run_ensemble<'py>(
     py: Python<'py>,
     spec: PyRef<'py, RunSpec>,
     t0: f64,
-    inertia: PyReadonlyArray3<'py, f64>,
-    bodies: PyReadonlyArray2<'py, f64>,
-    axes: PyReadonlyArray3<'py, f64>,
-    force_kind: PyReadonlyArray1<'py, i64>,
-    force_params: PyReadonlyArray3<'py, f64>,
-    y0: PyReadonlyArray2<'py, f64>,
+    inertia: Floats3<'py>,
+    bodies: Floats2<'py>,
+    axes: Floats3<'py>,
+    force_kind: Ints1<'py>,
+    force_params: Floats3<'py>,
+    y0: Floats2<'py>,
     flips: bool,
     keep_samples: bool,
     threads: i64,
@@ -334,9 +327,9 @@ fn run_ensemble<'py>(
         .collect::<PyResult<Vec<Body>>>()?;
     let forces = member_forces(force_kind.as_slice()?, &force_params, m)?;
     let pick = |len: usize, i: usize| if len > 1 { i } else { 0 };
-    let y0 = c_order(y0.is_c_contiguous(), y0.as_slice(), "y0")?;
-    // each member's body, axes, inertia, forces and initial state, made on the pool's threads
-    // with the run (the GIL released)
+    let y0 = y0.as_slice()?; // C order: the argument is converted when it is not
+                             // each member's body, axes, inertia, forces and initial state, made on the pool's threads
+                             // with the run (the GIL released)
     let member = |i: usize| {
         Member::new(
             bodies[pick(bodies.len(), i)],

@@ -1,16 +1,16 @@
 //! Bindings of the exact torque-free solution: `poinsot_core::{elliptic, torque_free,
-//! freebody}`. Array arguments are float64 arrays (the Python layer converts and validates
-//! them; the shapes are checked again here, with the argument's name in the error). Inputs are
-//! copied out (the rows of a C-ordered (N, 3) array of ω are read in place), the GIL is
-//! released around the computation, and a panic in the core comes back as `RuntimeError`,
-//! never as a crash or a `PanicException`.
+//! freebody}`. Array arguments take any layout and real dtype, read as C-ordered float64
+//! (`crate::arrays`; the Python layer validates the values, and the shapes are checked again
+//! here, with the argument's name in the error). Inputs are copied out (the rows of an (N, 3)
+//! array of ω are read in place), the GIL is released around the computation, and a panic in
+//! the core comes back as `RuntimeError`, never as a crash or a `PanicException`.
 
 use std::borrow::Cow;
 
+use crate::arrays::FloatsDyn;
 use numpy::ndarray::{Array1, Array2, Array3, Array4, ArrayD, IxDyn};
 use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayDyn, PyReadonlyArrayDyn,
-    PyUntypedArrayMethods,
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayDyn, PyUntypedArrayMethods,
 };
 use poinsot_core::so3::{Mat3, Vec3};
 use poinsot_core::{elliptic, freebody, torque_free};
@@ -19,7 +19,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-type Arr<'py> = PyReadonlyArrayDyn<'py, f64>;
+type Arr<'py> = FloatsDyn<'py>;
 type Pair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
 
 // --------------------------------------------------------------------------- helpers

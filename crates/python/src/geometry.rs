@@ -2,16 +2,17 @@
 //! (`inertia`) and uniform solids (`shapes`).
 //!
 //! Batched functions take `(..., 3)`, `(..., 4)` or `(..., 3, 3)` array-likes (any real dtype,
-//! any layout; converted to float64) and loop over the items in Rust, with the GIL released.
-//! A wrong trailing shape is a `ValueError` naming the argument. The core never panics on
-//! checked input; should it, the panic is caught here and raised as `RuntimeError`, never as
-//! pyo3's `PanicException`.
+//! any layout; read as C-ordered float64 by `crate::arrays`) and loop over the items in Rust,
+//! with the GIL released. A wrong trailing shape is a `ValueError` naming the argument. The
+//! core never panics on checked input; should it, the panic is caught here and raised as
+//! `RuntimeError`, never as pyo3's `PanicException`.
 
 use std::borrow::Cow;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
+use crate::arrays::{FloatsDyn, IntsDyn};
 use numpy::ndarray::{ArrayD, IxDyn};
-use numpy::{AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn, PyUntypedArrayMethods};
+use numpy::{IntoPyArray, PyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -19,7 +20,7 @@ use pyo3::types::PyTuple;
 use poinsot_core::so3::{Mat3, Quat, Vec3};
 use poinsot_core::{inertia, shapes, so3};
 
-type ArrayLike<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
+type ArrayLike<'py> = FloatsDyn<'py>;
 type Out<'py> = Bound<'py, PyArrayDyn<f64>>;
 
 /// Run `f` without the GIL; a panic becomes a `RuntimeError`.
@@ -552,7 +553,7 @@ fn is_degenerate(moments: ArrayLike<'_>, rtol: f64) -> PyResult<bool> {
 fn polyhedron_mass_properties<'py>(
     py: Python<'py>,
     vertices: ArrayLike<'py>,
-    faces: PyArrayLikeDyn<'py, i64, AllowTypeChange>,
+    faces: IntsDyn<'py>,
 ) -> PyResult<(f64, Out<'py>, Out<'py>)> {
     let v = items(&vertices, "vertices", &[3])?;
     if v.lead.len() != 1 {

@@ -3,10 +3,9 @@
 //! finite-difference Jacobian run on rayon's threads). Shapes and orderings are checked here
 //! with the argument's name in the error; the GIL is released around every computation.
 
+use crate::arrays::{Floats1, Floats2, Floats3};
 use numpy::ndarray::{Array2, Array3};
-use numpy::{
-    IntoPyArray, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
-};
+use numpy::{IntoPyArray, PyArray2, PyArray3};
 use poinsot_core::drivers::Status;
 use poinsot_core::gyrostat::{
     gyrostat_omega_dot as omega_dot, gyrostat_omegas as omegas, gyrostat_regressor as regressor,
@@ -26,7 +25,7 @@ fn detached<T: Send, F: FnOnce() -> T + Send>(py: Python<'_>, f: F) -> PyResult<
         .map_err(|_| PyRuntimeError::new_err("internal error in poinsot._core (gyrostat)"))
 }
 
-fn vec3_from(a: &PyReadonlyArray1<f64>, name: &str) -> PyResult<Vec3> {
+fn vec3_from(a: &Floats1<'_>, name: &str) -> PyResult<Vec3> {
     let v = a.as_slice()?;
     if v.len() != 3 {
         return Err(value_error(format!(
@@ -57,11 +56,11 @@ fn increasing(t: &[f64], name: &str) -> PyResult<()> {
 #[pyfunction]
 fn gyrostat_omega_dot<'py>(
     py: Python<'py>,
-    moments: PyReadonlyArray1<'py, f64>,
-    axes: PyReadonlyArray2<'py, f64>,
-    omega: PyReadonlyArray2<'py, f64>,
-    h: PyReadonlyArray2<'py, f64>,
-    h_dot: PyReadonlyArray2<'py, f64>,
+    moments: Floats1<'py>,
+    axes: Floats2<'py>,
+    omega: Floats2<'py>,
+    h: Floats2<'py>,
+    h_dot: Floats2<'py>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let m = vec3_from(&moments, "moments")?;
     let e = mat3_from(&axes, "axes")?;
@@ -97,11 +96,11 @@ fn gyrostat_omega_dot<'py>(
 #[pyfunction]
 fn gyrostat_regressor<'py>(
     py: Python<'py>,
-    omega: PyReadonlyArray2<'py, f64>,
-    omega_dot: PyReadonlyArray2<'py, f64>,
-    rotor_speed: PyReadonlyArray1<'py, f64>,
-    rotor_accel: PyReadonlyArray1<'py, f64>,
-    rotor_axis: PyReadonlyArray1<'py, f64>,
+    omega: Floats2<'py>,
+    omega_dot: Floats2<'py>,
+    rotor_speed: Floats1<'py>,
+    rotor_accel: Floats1<'py>,
+    rotor_axis: Floats1<'py>,
 ) -> PyResult<Bound<'py, PyArray3<f64>>> {
     let (w, wd) = (rows(&omega, 3, "omega")?, rows(&omega_dot, 3, "omega_dot")?);
     let (s, sd) = (rotor_speed.as_slice()?, rotor_accel.as_slice()?);
@@ -138,14 +137,14 @@ fn gyrostat_regressor<'py>(
 #[pyo3(signature = (moments, axes, rotor_inertia, omega0, t, rotor_t, rotor_speed, rotor_axis, max_step))]
 fn gyrostat_omegas<'py>(
     py: Python<'py>,
-    moments: PyReadonlyArray2<'py, f64>,
-    axes: PyReadonlyArray3<'py, f64>,
-    rotor_inertia: PyReadonlyArray1<'py, f64>,
-    omega0: PyReadonlyArray2<'py, f64>,
-    t: PyReadonlyArray1<'py, f64>,
-    rotor_t: PyReadonlyArray1<'py, f64>,
-    rotor_speed: PyReadonlyArray1<'py, f64>,
-    rotor_axis: PyReadonlyArray1<'py, f64>,
+    moments: Floats2<'py>,
+    axes: Floats3<'py>,
+    rotor_inertia: Floats1<'py>,
+    omega0: Floats2<'py>,
+    t: Floats1<'py>,
+    rotor_t: Floats1<'py>,
+    rotor_speed: Floats1<'py>,
+    rotor_axis: Floats1<'py>,
     max_step: f64,
 ) -> PyResult<Bound<'py, PyArray3<f64>>> {
     let mo = rows(&moments, 3, "moments")?;
@@ -239,8 +238,8 @@ fn gyrostat_omegas<'py>(
 #[pyfunction]
 fn point_acceleration_matrices<'py>(
     py: Python<'py>,
-    omega: PyReadonlyArray2<'py, f64>,
-    omega_dot: PyReadonlyArray2<'py, f64>,
+    omega: Floats2<'py>,
+    omega_dot: Floats2<'py>,
 ) -> PyResult<Bound<'py, PyArray3<f64>>> {
     let (w, wd) = (rows(&omega, 3, "omega")?, rows(&omega_dot, 3, "omega_dot")?);
     let n = w.nrows();

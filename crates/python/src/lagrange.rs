@@ -7,11 +7,9 @@
 use std::cell::RefCell;
 use std::sync::Arc;
 
+use crate::arrays::{Bools1, Floats1, Floats2, Ints1, Ints2};
 use numpy::ndarray::{Array1, Array2, Array3};
-use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2,
-    PyUntypedArrayMethods,
-};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyUntypedArrayMethods};
 use poinsot_core::drivers::Status;
 use poinsot_core::events::{Crossing, Watch};
 use poinsot_core::expressions::{Function, Program};
@@ -28,7 +26,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyList;
 
 use crate::args::{rows, value_error};
-use crate::engine::{chunk_general, in_chunks, Run, RunSpec, RunState};
+use crate::engine::{in_chunks, Run, RunSpec, RunState};
 use crate::ensemble::{interruptible, pool};
 use crate::relative::Expressions;
 
@@ -50,7 +48,7 @@ fn slice_len(x: &[f64], k: usize, name: &str) -> PyResult<()> {
     Ok(())
 }
 
-fn mask(active: Option<PyReadonlyArray1<'_, bool>>, m: usize) -> PyResult<Option<Vec<bool>>> {
+fn mask(active: Option<Bools1<'_>>, m: usize) -> PyResult<Option<Vec<bool>>> {
     active
         .map(|a| {
             let v = a.as_slice()?.to_vec();
@@ -85,8 +83,8 @@ impl LagrangianModel {
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
-        codes: PyReadonlyArray1<'_, i64>,
-        values: PyReadonlyArray1<'_, f64>,
+        codes: Ints1<'_>,
+        values: Floats1<'_>,
         n: usize,
         m: usize,
         nh: usize,
@@ -135,10 +133,10 @@ impl LagrangianModel {
         &self,
         py: Python<'py>,
         t: f64,
-        q: PyReadonlyArray1<'py, f64>,
-        qd: PyReadonlyArray1<'py, f64>,
-        p: PyReadonlyArray1<'py, f64>,
-        u: PyReadonlyArray1<'py, f64>,
+        q: Floats1<'py>,
+        qd: Floats1<'py>,
+        p: Floats1<'py>,
+        u: Floats1<'py>,
     ) -> PyResult<(
         Bound<'py, PyArray2<f64>>,
         Bound<'py, PyArray1<f64>>,
@@ -188,12 +186,12 @@ impl LagrangianModel {
         &self,
         py: Python<'py>,
         t: f64,
-        y: PyReadonlyArray1<'py, f64>,
-        p: PyReadonlyArray1<'py, f64>,
-        u: PyReadonlyArray1<'py, f64>,
+        y: Floats1<'py>,
+        p: Floats1<'py>,
+        u: Floats1<'py>,
         alpha: f64,
         beta: f64,
-        active: Option<PyReadonlyArray1<'py, bool>>,
+        active: Option<Bools1<'py>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let s = self.shape();
         let (y, p, u) = (y.as_slice()?, p.as_slice()?, u.as_slice()?);
@@ -220,11 +218,11 @@ impl LagrangianModel {
         &self,
         py: Python<'py>,
         t: f64,
-        q: PyReadonlyArray1<'py, f64>,
-        qd: PyReadonlyArray1<'py, f64>,
-        p: PyReadonlyArray1<'py, f64>,
-        u: PyReadonlyArray1<'py, f64>,
-        active: Option<PyReadonlyArray1<'py, bool>>,
+        q: Floats1<'py>,
+        qd: Floats1<'py>,
+        p: Floats1<'py>,
+        u: Floats1<'py>,
+        active: Option<Bools1<'py>>,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
         let (q, v, p, u) = (q.as_slice()?, qd.as_slice()?, p.as_slice()?, u.as_slice()?);
         self.check_point(q, v, p, u)?;
@@ -254,11 +252,11 @@ impl LagrangianModel {
     fn samples<'py>(
         &self,
         py: Python<'py>,
-        t: PyReadonlyArray1<'py, f64>,
-        y: PyReadonlyArray2<'py, f64>,
-        p: PyReadonlyArray1<'py, f64>,
-        u: PyReadonlyArray2<'py, f64>,
-        active: Option<PyReadonlyArray1<'py, bool>>,
+        t: Floats1<'py>,
+        y: Floats2<'py>,
+        p: Floats1<'py>,
+        u: Floats2<'py>,
+        active: Option<Bools1<'py>>,
     ) -> PyResult<(
         Bound<'py, PyArray2<f64>>,
         Bound<'py, PyArray2<f64>>,
@@ -334,11 +332,11 @@ impl LagrangianModel {
         &self,
         py: Python<'py>,
         t: f64,
-        q: PyReadonlyArray1<'py, f64>,
-        qd: PyReadonlyArray1<'py, f64>,
-        p: PyReadonlyArray1<'py, f64>,
-        u: PyReadonlyArray1<'py, f64>,
-        active: Option<PyReadonlyArray1<'py, bool>>,
+        q: Floats1<'py>,
+        qd: Floats1<'py>,
+        p: Floats1<'py>,
+        u: Floats1<'py>,
+        active: Option<Bools1<'py>>,
         tol: f64,
         max_iter: usize,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, bool)> {
@@ -362,9 +360,9 @@ impl LagrangianModel {
         &self,
         py: Python<'py>,
         t: f64,
-        z: PyReadonlyArray2<'py, f64>,
-        params: PyReadonlyArray2<'py, f64>,
-        inputs: PyReadonlyArray2<'py, f64>,
+        z: Floats2<'py>,
+        params: Floats2<'py>,
+        inputs: Floats2<'py>,
     ) -> PyResult<(
         Bound<'py, PyArray1<f64>>,
         Bound<'py, PyArray1<f64>>,
@@ -415,9 +413,9 @@ impl LagrangianModel {
     fn run_ensemble<'py>(
         &self,
         py: Python<'py>,
-        params: PyReadonlyArray2<'py, f64>,
-        inputs: PyReadonlyArray2<'py, f64>,
-        y0: PyReadonlyArray2<'py, f64>,
+        params: Floats2<'py>,
+        inputs: Floats2<'py>,
+        y0: Floats2<'py>,
         alpha: f64,
         beta: f64,
         projection: bool,
@@ -605,10 +603,10 @@ struct EventSpec {
 /// the spec, the callables and the log (a list the crossings are appended to).
 type EventsArg<'py> = (
     Option<Bound<'py, Expressions>>,
-    PyReadonlyArray2<'py, i64>,
+    Ints2<'py>,
     Vec<Bound<'py, PyAny>>,
-    PyReadonlyArray1<'py, bool>,
-    PyReadonlyArray1<'py, f64>,
+    Bools1<'py>,
+    Floats1<'py>,
     f64,
     Bound<'py, PyList>,
 );
@@ -681,7 +679,7 @@ fn chunk_watched<I: Inputs, C: Callbacks>(
     steps: u64,
 ) -> (Status, Vec<Crossing>) {
     let Some(spec) = spec else {
-        return (chunk_general(sys, &mut NoObserver, r, steps), Vec::new());
+        return (r.chunk(sys, &mut NoObserver, steps), Vec::new());
     };
     let events = LagrangeEvents::new(sys, &spec.sources, spec.expressions.as_deref(), callbacks)
         .expect("checked before the run");
@@ -692,7 +690,7 @@ fn chunk_watched<I: Inputs, C: Callbacks>(
         spec.spacing,
         sys.dim(),
     );
-    let status = chunk_general(sys, &mut watch, r, steps);
+    let status = r.chunk(sys, &mut watch, steps);
     (status, watch.log)
 }
 
@@ -751,12 +749,12 @@ fn run_held<I: Inputs>(
 fn integrate_lagrange<'py>(
     py: Python<'py>,
     model: &Bound<'py, LagrangianModel>,
-    p: PyReadonlyArray1<'py, f64>,
+    p: Floats1<'py>,
     inputs: Bound<'py, PyAny>,
     alpha: f64,
     beta: f64,
     projection: bool,
-    active: Option<PyReadonlyArray1<'py, bool>>,
+    active: Option<Bools1<'py>>,
     run_spec: PyRef<'py, RunSpec>,
     mut state: PyRefMut<'py, RunState>,
     steps: u64,
@@ -811,7 +809,7 @@ fn integrate_lagrange<'py>(
     let slow_events =
         spec.is_some_and(|e| e.sources.iter().any(|x| matches!(x, Source::Callback(_))));
     let mut found = Vec::new();
-    let status = if let Ok(u) = inputs.extract::<PyReadonlyArray1<'py, f64>>() {
+    let status = if let Ok(u) = inputs.extract::<Floats1<'py>>() {
         let u = u.as_slice()?.to_vec();
         Lagrangian::new(&model, &p, Constant(&u), st, active.clone()).map_err(refuse)?;
         if slow_events {

@@ -1,11 +1,13 @@
 //! `poinsot._core`: thin bindings of `poinsot-core`. Arguments are checked here (names in the
-//! errors), the GIL is released around every computation, and nothing here holds physics.
+//! errors), array arguments in any layout and real dtype are made contiguous in one place
+//! (`arrays`), the GIL is released around every computation, and nothing here holds physics.
 
 #![allow(clippy::needless_range_loop, clippy::type_complexity)]
 
 use pyo3::prelude::*;
 
 mod args;
+mod arrays;
 mod engine;
 mod ensemble;
 mod exact;

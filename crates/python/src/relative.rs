@@ -7,10 +7,9 @@
 use std::cell::RefCell;
 use std::sync::Arc;
 
+use crate::arrays::{Floats1, Floats2, Floats3, Ints1};
 use numpy::ndarray::{Array2, ArrayView2};
-use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
-};
+use numpy::{IntoPyArray, PyArray1, PyArray2};
 use poinsot_core::drivers::Status;
 use poinsot_core::expressions::{Function, Program};
 use poinsot_core::observers::NoObserver;
@@ -27,14 +26,14 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 
 use crate::args::{body_from, forces_from, mat3_from, rows, v3, value_error};
-use crate::engine::{c_user, chunk_general, in_chunks, CUser, PyUser, RunSpec, RunState};
+use crate::engine::{c_user, in_chunks, CUser, PyUser, RunSpec, RunState};
 
 /// `f(J, a_i, b_i)` for the rows of `a`, `b` (n, 3) → (n, 3).
 fn pairs<'py>(
     py: Python<'py>,
-    j: PyReadonlyArray2<'py, f64>,
-    a: PyReadonlyArray2<'py, f64>,
-    b: PyReadonlyArray2<'py, f64>,
+    j: Floats2<'py>,
+    a: Floats2<'py>,
+    b: Floats2<'py>,
     names: (&str, &str),
     f: fn(&Mat3, Vec3, Vec3) -> Vec3,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
@@ -61,9 +60,9 @@ fn pairs<'py>(
 #[pyfunction]
 fn transport_moments<'py>(
     py: Python<'py>,
-    j: PyReadonlyArray2<'py, f64>,
-    omega_e: PyReadonlyArray2<'py, f64>,
-    epsilon_e: PyReadonlyArray2<'py, f64>,
+    j: Floats2<'py>,
+    omega_e: Floats2<'py>,
+    epsilon_e: Floats2<'py>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     pairs(
         py,
@@ -79,9 +78,9 @@ fn transport_moments<'py>(
 #[pyfunction]
 fn coriolis_moments<'py>(
     py: Python<'py>,
-    j: PyReadonlyArray2<'py, f64>,
-    omega_r: PyReadonlyArray2<'py, f64>,
-    omega_e: PyReadonlyArray2<'py, f64>,
+    j: Floats2<'py>,
+    omega_r: Floats2<'py>,
+    omega_e: Floats2<'py>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     pairs(
         py,
@@ -97,9 +96,9 @@ fn coriolis_moments<'py>(
 #[pyfunction]
 fn coriolis_moments_three_term<'py>(
     py: Python<'py>,
-    j: PyReadonlyArray2<'py, f64>,
-    omega_r: PyReadonlyArray2<'py, f64>,
-    omega_e: PyReadonlyArray2<'py, f64>,
+    j: Floats2<'py>,
+    omega_r: Floats2<'py>,
+    omega_e: Floats2<'py>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     pairs(
         py,
@@ -124,10 +123,10 @@ fn particles(masses: &[f64], rho: &ArrayView2<f64>) -> PyResult<Vec<Vec3>> {
 #[pyfunction]
 fn coriolis_moments_particles<'py>(
     py: Python<'py>,
-    masses: PyReadonlyArray1<'py, f64>,
-    rho: PyReadonlyArray2<'py, f64>,
-    omega_r: PyReadonlyArray2<'py, f64>,
-    omega_e: PyReadonlyArray2<'py, f64>,
+    masses: Floats1<'py>,
+    rho: Floats2<'py>,
+    omega_r: Floats2<'py>,
+    omega_e: Floats2<'py>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let m = masses.as_slice()?;
     let p = particles(m, &rows(&rho, 3, "rho")?)?;
@@ -150,10 +149,7 @@ fn coriolis_moments_particles<'py>(
 
 /// The planar inertia tensor by its definition `Σ m ρ ρᵀ` (paper eqs (3)–(4)).
 #[pyfunction]
-fn planar_inertia_particles(
-    masses: PyReadonlyArray1<'_, f64>,
-    rho: PyReadonlyArray2<'_, f64>,
-) -> PyResult<Mat3> {
+fn planar_inertia_particles(masses: Floats1<'_>, rho: Floats2<'_>) -> PyResult<Mat3> {
     let m = masses.as_slice()?;
     let p = particles(m, &rows(&rho, 3, "rho")?)?;
     Ok(rel::planar_inertia_particles(m, &p))
@@ -161,11 +157,7 @@ fn planar_inertia_particles(
 
 /// A piecewise polynomial of 3-vectors from SciPy's layout: breaks (m + 1,), coefficients
 /// (k + 1, m, 3).
-fn ppoly(
-    breaks: &PyReadonlyArray1<f64>,
-    coeffs: &PyReadonlyArray3<f64>,
-    name: &str,
-) -> PyResult<PPoly> {
+fn ppoly(breaks: &Floats1<'_>, coeffs: &Floats3<'_>, name: &str) -> PyResult<PPoly> {
     let c = coeffs.as_array();
     let shape = c.shape();
     if shape[0] == 0 || shape[2] != 3 || shape[1] + 1 != breaks.len()? {
@@ -183,12 +175,7 @@ fn ppoly(
 
 /// A carrier given by its two piecewise polynomials.
 fn ppoly_carrier(spec: &Bound<'_, PyAny>) -> PyResult<PPolyCarrier> {
-    let (wb, wc, ab, ac): (
-        PyReadonlyArray1<f64>,
-        PyReadonlyArray3<f64>,
-        PyReadonlyArray1<f64>,
-        PyReadonlyArray3<f64>,
-    ) = spec.extract()?;
+    let (wb, wc, ab, ac): (Floats1<'_>, Floats3<'_>, Floats1<'_>, Floats3<'_>) = spec.extract()?;
     Ok(PPolyCarrier {
         omega: ppoly(&wb, &wc, "omega_e")?,
         accel: ppoly(&ab, &ac, "origin_acceleration")?,
@@ -201,7 +188,7 @@ fn ppoly_carrier(spec: &Bound<'_, PyAny>) -> PyResult<PPolyCarrier> {
 fn carrier_motions<'py>(
     py: Python<'py>,
     carrier: Bound<'py, PyAny>,
-    t: PyReadonlyArray1<'py, f64>,
+    t: Floats1<'py>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let t = t.as_slice()?;
     let mut out = Array2::<f64>::zeros((t.len(), MOTION_SIZE));
@@ -226,8 +213,8 @@ fn carrier_motions<'py>(
 #[pyfunction]
 fn absolute_states<'py>(
     py: Python<'py>,
-    states: PyReadonlyArray2<'py, f64>,
-    motions: PyReadonlyArray2<'py, f64>,
+    states: Floats2<'py>,
+    motions: Floats2<'py>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let y = rows(&states, RELATIVE_STATE_SIZE, "states")?;
     let m = rows(&motions, MOTION_SIZE, "motions")?;
@@ -279,8 +266,8 @@ impl Expressions {
     #[new]
     fn new(
         py: Python<'_>,
-        codes: PyReadonlyArray1<'_, i64>,
-        values: PyReadonlyArray1<'_, f64>,
+        codes: Ints1<'_>,
+        values: Floats1<'_>,
         n_inputs: usize,
         n_outputs: usize,
     ) -> PyResult<Self> {
@@ -296,7 +283,7 @@ impl Expressions {
     fn __call__<'py>(
         &self,
         py: Python<'py>,
-        inputs: PyReadonlyArray2<'py, f64>,
+        inputs: Floats2<'py>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let p = self.function.program();
         let x = rows(&inputs, p.n_inputs, "inputs")?;
@@ -451,10 +438,10 @@ impl UserWrench for AnyUser<'_> {
 
 /// Everything that defines the relative system, as Python passes it.
 struct SystemArgs<'py> {
-    body: PyReadonlyArray1<'py, f64>,
-    force_kind: PyReadonlyArray1<'py, i64>,
-    force_params: PyReadonlyArray2<'py, f64>,
-    axes: PyReadonlyArray2<'py, f64>,
+    body: Floats1<'py>,
+    force_kind: Ints1<'py>,
+    force_params: Floats2<'py>,
+    axes: Floats2<'py>,
     user: Option<Bound<'py, PyAny>>,
     carrier: Bound<'py, PyAny>,
     options: (bool, bool),
@@ -520,16 +507,16 @@ fn with_system<'py, C, R>(
 #[allow(clippy::too_many_arguments)]
 fn relative_rhs<'py>(
     py: Python<'py>,
-    body: PyReadonlyArray1<'py, f64>,
-    force_kind: PyReadonlyArray1<'py, i64>,
-    force_params: PyReadonlyArray2<'py, f64>,
-    axes: PyReadonlyArray2<'py, f64>,
+    body: Floats1<'py>,
+    force_kind: Ints1<'py>,
+    force_params: Floats2<'py>,
+    axes: Floats2<'py>,
     user: Option<Bound<'py, PyAny>>,
     carrier: Bound<'py, PyAny>,
     balance_transport: bool,
     hold_com: bool,
     t: f64,
-    y: PyReadonlyArray1<'py, f64>,
+    y: Floats1<'py>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let y = y.as_slice()?;
     if y.len() != RELATIVE_STATE_SIZE {
@@ -574,10 +561,10 @@ fn relative_rhs<'py>(
 #[allow(clippy::too_many_arguments)]
 fn integrate_relative<'py>(
     py: Python<'py>,
-    body: PyReadonlyArray1<'py, f64>,
-    force_kind: PyReadonlyArray1<'py, i64>,
-    force_params: PyReadonlyArray2<'py, f64>,
-    axes: PyReadonlyArray2<'py, f64>,
+    body: Floats1<'py>,
+    force_kind: Ints1<'py>,
+    force_params: Floats2<'py>,
+    axes: Floats2<'py>,
     user: Option<Bound<'py, PyAny>>,
     carrier: Bound<'py, PyAny>,
     balance_transport: bool,
@@ -603,14 +590,10 @@ fn integrate_relative<'py>(
         &mut run,
         |sys, run| {
             in_chunks(py, run, steps, |r, n| {
-                py.detach(|| chunk_general(sys, &mut NoObserver, r, n))
+                py.detach(|| r.chunk(sys, &mut NoObserver, n))
             })
         },
-        |sys, run| {
-            in_chunks(py, run, steps, |r, n| {
-                chunk_general(sys, &mut NoObserver, r, n)
-            })
-        },
+        |sys, run| in_chunks(py, run, steps, |r, n| r.chunk(sys, &mut NoObserver, n)),
     )?;
     state.status = status;
     Ok(status as i64)

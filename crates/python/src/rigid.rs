@@ -2,11 +2,9 @@
 //! energies and momenta, particles. Shapes are checked here; `poinsot` reshapes `(..., 3)`
 //! inputs to rows before calling.
 
+use crate::arrays::{Floats1, Floats2, Floats3, Ints1};
 use numpy::ndarray::{Array1, Array2, Array3, ArrayView3};
-use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2,
-    PyReadonlyArray3, PyReadwriteArray2, PyUntypedArrayMethods,
-};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadwriteArray2, PyUntypedArrayMethods};
 use poinsot_core::forces::total_potential;
 use poinsot_core::invariants::{angular_momentum_body, kinetic_energy, rotational_energy};
 use poinsot_core::layout::{load, STATE_SIZE};
@@ -22,7 +20,7 @@ use pyo3::prelude::*;
 use crate::args::{body_from, forces_from, mat3_from, rows, v3, value_error};
 use crate::engine::PyUser;
 
-fn mats<'a>(a: &'a PyReadonlyArray3<'_, f64>, name: &str) -> PyResult<ArrayView3<'a, f64>> {
+fn mats<'a>(a: &'a Floats3<'_>, name: &str) -> PyResult<ArrayView3<'a, f64>> {
     let v = a.as_array();
     if v.shape()[1..] != [3, 3] {
         return Err(value_error(format!(
@@ -52,8 +50,8 @@ fn same_rows(n: usize, m: usize, a: &str, b: &str) -> PyResult<()> {
 #[pyo3(signature = (axes, states, inverse=false))]
 fn states_principal<'py>(
     py: Python<'py>,
-    axes: PyReadonlyArray2<'py, f64>,
-    states: PyReadonlyArray2<'py, f64>,
+    axes: Floats2<'py>,
+    states: Floats2<'py>,
     inverse: bool,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let e = mat3_from(&axes, "axes")?;
@@ -82,10 +80,10 @@ fn states_principal<'py>(
 #[allow(clippy::too_many_arguments)]
 fn initial_states<'py>(
     py: Python<'py>,
-    q: PyReadonlyArray3<'py, f64>,
-    omega: PyReadonlyArray2<'py, f64>,
-    r: PyReadonlyArray2<'py, f64>,
-    v: PyReadonlyArray2<'py, f64>,
+    q: Floats3<'py>,
+    omega: Floats2<'py>,
+    r: Floats2<'py>,
+    v: Floats2<'py>,
     com: [f64; 3],
     c: [f64; 3],
     pivot: [f64; 3],
@@ -133,10 +131,7 @@ fn initial_states<'py>(
 
 /// Where the pivot is in space for an engine state: `P = R − Q c`.
 #[pyfunction]
-fn pivot_point(
-    body: PyReadonlyArray1<'_, f64>,
-    state: PyReadonlyArray1<'_, f64>,
-) -> PyResult<[f64; 3]> {
+fn pivot_point(body: Floats1<'_>, state: Floats1<'_>) -> PyResult<[f64; 3]> {
     let b = body_from(body.as_slice()?)?;
     let y = state.as_slice()?;
     if y.len() != STATE_SIZE {
@@ -149,8 +144,8 @@ fn pivot_point(
 #[pyfunction]
 fn project_onto_pivot<'py>(
     py: Python<'py>,
-    body: PyReadonlyArray1<'py, f64>,
-    states: PyReadonlyArray2<'py, f64>,
+    body: Floats1<'py>,
+    states: Floats2<'py>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let b = body_from(body.as_slice()?)?;
     let y = rows(&states, STATE_SIZE, "states")?;
@@ -173,13 +168,13 @@ fn project_onto_pivot<'py>(
 #[allow(clippy::too_many_arguments)]
 fn rigid_rates<'py>(
     py: Python<'py>,
-    body: PyReadonlyArray1<'py, f64>,
-    force_kind: PyReadonlyArray1<'py, i64>,
-    force_params: PyReadonlyArray2<'py, f64>,
-    axes: PyReadonlyArray2<'py, f64>,
+    body: Floats1<'py>,
+    force_kind: Ints1<'py>,
+    force_params: Floats2<'py>,
+    axes: Floats2<'py>,
     user: Option<Bound<'py, PyAny>>,
     t: f64,
-    state: PyReadonlyArray1<'py, f64>,
+    state: Floats1<'py>,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
     let b = body_from(body.as_slice()?)?;
     let forces = forces_from(force_kind.as_slice()?, &force_params)?;
@@ -216,10 +211,10 @@ fn rigid_rates<'py>(
 #[pyfunction]
 fn force_wrench_potential(
     kind: i64,
-    params: PyReadonlyArray1<'_, f64>,
-    body: PyReadonlyArray1<'_, f64>,
+    params: Floats1<'_>,
+    body: Floats1<'_>,
     t: f64,
-    state: PyReadonlyArray1<'_, f64>,
+    state: Floats1<'_>,
 ) -> PyResult<(([f64; 3], [f64; 3]), f64)> {
     let b = body_from(body.as_slice()?)?;
     let kind = poinsot_core::forces::ForceKind::from_code(kind)
@@ -250,9 +245,9 @@ fn rigid_body_parameters<'py>(
     py: Python<'py>,
     mass: f64,
     moments: [f64; 3],
-    axes: PyReadonlyArray2<'py, f64>,
+    axes: Floats2<'py>,
     com_offset: [f64; 3],
-    inertia_com: PyReadonlyArray2<'py, f64>,
+    inertia_com: Floats2<'py>,
     has_pivot: bool,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, bool)> {
     let axes = mat3_from(&axes, "axes")?;
@@ -270,7 +265,7 @@ fn body_vector<'py>(
     mass: f64,
     moments: [f64; 3],
     com_offset: [f64; 3],
-    inertia_com: PyReadonlyArray2<'py, f64>,
+    inertia_com: Floats2<'py>,
     pivot: [f64; 3],
     has_pivot: bool,
     rotor: i32,
@@ -285,11 +280,11 @@ fn body_vector<'py>(
 #[pyfunction]
 fn potential_energies<'py>(
     py: Python<'py>,
-    body: PyReadonlyArray1<'py, f64>,
-    force_kind: PyReadonlyArray1<'py, i64>,
-    force_params: PyReadonlyArray2<'py, f64>,
-    t: PyReadonlyArray1<'py, f64>,
-    states: PyReadonlyArray2<'py, f64>,
+    body: Floats1<'py>,
+    force_kind: Ints1<'py>,
+    force_params: Floats2<'py>,
+    t: Floats1<'py>,
+    states: Floats2<'py>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let b = body_from(body.as_slice()?)?;
     let forces = forces_from(force_kind.as_slice()?, &force_params)?;
@@ -309,10 +304,10 @@ fn potential_energies<'py>(
 #[pyfunction]
 fn kinetic_energies<'py>(
     py: Python<'py>,
-    inertia: PyReadonlyArray2<'py, f64>,
+    inertia: Floats2<'py>,
     mass: f64,
-    omega: PyReadonlyArray2<'py, f64>,
-    v: PyReadonlyArray2<'py, f64>,
+    omega: Floats2<'py>,
+    v: Floats2<'py>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let a = mat3_from(&inertia, "inertia")?;
     let w = rows(&omega, 3, "omega")?;
@@ -328,8 +323,8 @@ fn kinetic_energies<'py>(
 #[pyfunction]
 fn rotational_energies<'py>(
     py: Python<'py>,
-    inertia: PyReadonlyArray2<'py, f64>,
-    omega: PyReadonlyArray2<'py, f64>,
+    inertia: Floats2<'py>,
+    omega: Floats2<'py>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let a = mat3_from(&inertia, "inertia")?;
     let w = rows(&omega, 3, "omega")?;
@@ -346,12 +341,12 @@ fn rotational_energies<'py>(
 #[pyo3(signature = (inertia, omega, q=None, mass=0.0, r=None, v=None))]
 fn angular_momenta<'py>(
     py: Python<'py>,
-    inertia: PyReadonlyArray2<'py, f64>,
-    omega: PyReadonlyArray2<'py, f64>,
-    q: Option<PyReadonlyArray3<'py, f64>>,
+    inertia: Floats2<'py>,
+    omega: Floats2<'py>,
+    q: Option<Floats3<'py>>,
     mass: f64,
-    r: Option<PyReadonlyArray2<'py, f64>>,
-    v: Option<PyReadonlyArray2<'py, f64>>,
+    r: Option<Floats2<'py>>,
+    v: Option<Floats2<'py>>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let a = mat3_from(&inertia, "inertia")?;
     let w = rows(&omega, 3, "omega")?;
@@ -397,8 +392,8 @@ fn angular_momenta<'py>(
 #[pyfunction]
 fn omega_space<'py>(
     py: Python<'py>,
-    q: PyReadonlyArray3<'py, f64>,
-    omega: PyReadonlyArray2<'py, f64>,
+    q: Floats3<'py>,
+    omega: Floats2<'py>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let q = mats(&q, "Q")?;
     let w = rows(&omega, 3, "omega")?;
@@ -417,7 +412,7 @@ fn omega_space<'py>(
 #[pyfunction]
 fn orthogonality_errors<'py>(
     py: Python<'py>,
-    q: PyReadonlyArray3<'py, f64>,
+    q: Floats3<'py>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let q = mats(&q, "Q")?;
     let out: Vec<f64> = (0..q.shape()[0])
@@ -441,10 +436,10 @@ fn orthogonality_errors<'py>(
 #[pyo3(signature = (r, q, u, omega=None))]
 fn particle_motion<'py>(
     py: Python<'py>,
-    r: PyReadonlyArray2<'py, f64>,
-    q: PyReadonlyArray3<'py, f64>,
-    u: PyReadonlyArray2<'py, f64>,
-    omega: Option<PyReadonlyArray2<'py, f64>>,
+    r: Floats2<'py>,
+    q: Floats3<'py>,
+    u: Floats2<'py>,
+    omega: Option<Floats2<'py>>,
 ) -> PyResult<Bound<'py, PyArray3<f64>>> {
     let r = rows(&r, 3, "R")?;
     let q = mats(&q, "Q")?;
@@ -472,11 +467,11 @@ fn particle_motion<'py>(
 #[pyfunction]
 fn rigid_motion_from_particles<'py>(
     py: Python<'py>,
-    masses: PyReadonlyArray1<'py, f64>,
-    positions: PyReadonlyArray2<'py, f64>,
-    velocities: PyReadonlyArray2<'py, f64>,
+    masses: Floats1<'py>,
+    positions: Floats2<'py>,
+    velocities: Floats2<'py>,
     center: [f64; 3],
-    inertia_inv: PyReadonlyArray2<'py, f64>,
+    inertia_inv: Floats2<'py>,
 ) -> PyResult<([f64; 3], [f64; 3], Bound<'py, PyArray1<f64>>)> {
     let m = masses.as_slice()?;
     let p = rows(&positions, 3, "positions")?;

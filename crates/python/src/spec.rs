@@ -3,9 +3,11 @@
 //! [`RunState`], the run's own buffers (clock, state, samples, counters), resumed call after
 //! call. Every `integrate_*` entry point takes `(system..., spec, state, steps)`.
 
+use crate::arrays::{Floats1, Floats2};
 use numpy::ndarray::{Array1, Array2};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArray1, PyArray2};
 use poinsot_core::drivers::{Clock, Counters, Output, Sampling, Status};
+pub(crate) use poinsot_core::run::Run;
 use poinsot_core::spec::{self, Method};
 use poinsot_core::steppers::{Control, Tableau};
 use pyo3::prelude::*;
@@ -68,11 +70,7 @@ impl RunSpec {
         method: String,
         t_end: f64,
         dt: f64,
-        tableau: Option<(
-            PyReadonlyArray2<'_, f64>,
-            PyReadonlyArray1<'_, f64>,
-            PyReadonlyArray1<'_, f64>,
-        )>,
+        tableau: Option<(Floats2<'_>, Floats1<'_>, Floats1<'_>)>,
         rtol: f64,
         atol: f64,
         safety: f64,
@@ -80,7 +78,7 @@ impl RunSpec {
         max_factor: f64,
         max_step: f64,
         first_step: f64,
-        t_eval: Option<PyReadonlyArray1<'_, f64>>,
+        t_eval: Option<Floats1<'_>>,
         save_every: u64,
         max_steps: u64,
     ) -> PyResult<Self> {
@@ -232,20 +230,10 @@ impl RunState {
     }
 }
 
-/// Everything one call of an engine reads and writes.
-pub(crate) struct Run<'a> {
-    pub spec: spec::RunSpec<'a>,
-    pub clock: &'a mut Clock,
-    pub z: &'a mut [f64],
-    pub f: &'a mut [f64],
-    pub out: Output<'a>,
-    pub counters: &'a mut Counters,
-}
-
 #[pymethods]
 impl RunState {
     #[new]
-    fn new(t0: f64, y0: PyReadonlyArray1<'_, f64>, capacity: usize) -> PyResult<Self> {
+    fn new(t0: f64, y0: Floats1<'_>, capacity: usize) -> PyResult<Self> {
         let z = y0.as_array().to_vec();
         if !t0.is_finite() {
             return Err(value_error(format!("`t0` must be finite, found {t0}")));
@@ -318,7 +306,29 @@ impl RunState {
     }
 }
 
+/// The registry's methods (`poinsot_core::spec::REGISTRY`), as `METHODS`: a tuple of dicts
+/// `{name, kind, order, tableau, conserves, kicks, adaptive, summary}` in the order users see them.
+fn methods<'py>(py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+    use pyo3::types::{PyDict, PyTuple};
+    let entries = spec::REGISTRY.iter().map(|e| {
+        let d = PyDict::new(py);
+        d.set_item("name", e.name)?;
+        d.set_item("kind", e.kind)?;
+        d.set_item("order", e.order)?;
+        d.set_item("tableau", e.tableau)?;
+        d.set_item("conserves", PyTuple::new(py, e.conserves)?)?;
+        d.set_item("kicks", e.kicks)?;
+        d.set_item("adaptive", Method::ADAPTIVE_KINDS.contains(&e.kind))?;
+        d.set_item("summary", e.summary)?;
+        Ok(d)
+    });
+    PyTuple::new(py, entries.collect::<PyResult<Vec<_>>>()?)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("METHODS", methods(m.py())?)?;
+    m.add("METHOD_KINDS", Method::NAMES)?;
+    m.add("FIELD_KINDS", Method::FIELD_KINDS)?;
     m.add_class::<RunSpec>()?;
     m.add_class::<RunState>()?;
     m.add_class::<RunStats>()?;

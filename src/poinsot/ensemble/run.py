@@ -25,6 +25,7 @@ from ..dynamics import RigidBodySystem
 from ..forces import BodyFrame
 from ..integrate.base import get_solver
 from ..integrate.driver import check_solver_fits
+from ..integrate.problem import RIGID_METHODS
 from ..integrate.solve import check_budget, check_t_span, check_tolerances
 from .executors import run_chunks
 from .result import EnsembleResult
@@ -36,8 +37,6 @@ __all__ = ["simulate_ensemble"]
 CHUNK_BYTES = 32 * 2**20
 #: The smallest default chunk (members per call of the core).
 MIN_CHUNK = 64
-#: The steps the core's ensembles run (a solver's ``kind``).
-CORE_METHODS = ("rk4", "erk", "rkmk", "splitting", "dop853")
 #: Relative tolerance of the checks on per-member inertias (as for one body).
 INERTIA_RTOL = 1e-9
 
@@ -242,7 +241,7 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
             f"LinearDrag, QuadraticDrag, PointForce, Torque); these are user callables: {names}"
         )
     check_solver_fits(solver, system)
-    if solver.kind not in CORE_METHODS:
+    if solver.kind not in RIGID_METHODS:
         raise ValueError(f"`method` {solver.name!r} has no step in the compiled core")
     omega = as_vectors(omega0, "omega0", single_ok=False)
     N = len(omega)

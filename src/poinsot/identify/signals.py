@@ -90,7 +90,7 @@ def savgol(x, window: int, order: int, deriv: int = 0, delta: float = 1.0) -> np
     """
     from numpy.lib.stride_tricks import sliding_window_view
 
-    x = np.asarray(x, dtype=float)
+    x = np.require(x, dtype=float, requirements=["C", "A"])  # rounding whatever the layout
     flat = x.ndim == 1
     x2 = x[:, None] if flat else x
     n = len(x2)

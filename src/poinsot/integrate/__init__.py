@@ -13,13 +13,15 @@ The steps themselves are the compiled core's (``crates/core/src/steppers.rs``), 
 driver; :func:`~poinsot.integrate.driver.integrate` runs a whole integration in one call.
 """
 
-from .base import INVARIANTS, METHODS, Solver, get_solver, register
+from .base import INVARIANTS, METHODS, Solver, get_solver, register, register_core_methods
 from .control import ConstantStepSize, StepSizeController
 from .dop853 import DOP853
 from .lie import RKMK4, MuntheKaas
 from .rk import RK4, ExplicitRungeKutta
 from .saveat import SaveAt
 from .splitting import Splitting
+
+register_core_methods()  # the core's methods without a class here
 
 __all__ = [
     "DOP853",

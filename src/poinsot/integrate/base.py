@@ -2,7 +2,14 @@
 
 A method is a declaration and its data; its step lives once, in the compiled core
 (``crates/core/src/steppers.rs``: pure steps, diffrax's ``step``), and its time loop in the
-core's drivers (``drivers.rs``). Writing a new integrator:
+core's drivers (``drivers.rs``). The core's registry (``crates/core/src/spec.rs``,
+``poinsot._core.METHODS``) declares each method it runs by name: its kind of step, order,
+tableau, the invariants it keeps and whether it takes kicks. :func:`register` takes a named
+class's declaration from there, and every method of the core's registry without a class of its
+own here gets one (:func:`register_core_methods`), so a method the core adds is a method of
+this registry with nothing written in Python.
+
+Writing a new integrator in Python, on the core's steps (a new tableau):
 
 1. Subclass :class:`Solver` and set the class attributes ``name``, ``order`` (the global order
    of accuracy, checked by ``tests/integrate/test_order.py``), ``adaptive``, ``conserves`` (the
@@ -23,11 +30,13 @@ Users select a method by name (any case) or by class: ``simulate(..., method="rk
 
 from __future__ import annotations
 
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
-__all__ = ["INVARIANTS", "METHODS", "Solver", "get_solver", "register"]
+from .. import _core
+
+__all__ = ["INVARIANTS", "METHODS", "Solver", "get_solver", "register", "register_core_methods"]
 
 #: Invariants a method may declare it keeps to round-off.
 INVARIANTS = frozenset(
@@ -59,6 +68,8 @@ class Solver:
     conserves: ClassVar[frozenset[str]] = frozenset()
     requires: ClassVar[str] = "ode"
     kind: ClassVar[str] = ""
+    #: it takes kicks from the forces: each must depend on time, position and attitude only
+    needs_position_only_forces: ClassVar[bool] = False
     A: ClassVar[np.ndarray] = np.zeros((0, 0))
     B: ClassVar[np.ndarray] = np.zeros(0)
     C: ClassVar[np.ndarray] = np.zeros(0)
@@ -74,11 +85,42 @@ def register(cls: type[Solver]) -> type[Solver]:
     """Add a :class:`Solver` subclass to :data:`METHODS` under ``cls.name`` (decorator)."""
     if not (isinstance(cls, type) and issubclass(cls, Solver)) or not cls.name:
         raise TypeError("only named Solver subclasses can be registered")
+    entry = CORE_METHODS.get(cls.name)
+    if entry is not None:
+        _declare(cls, entry)
     unknown = cls.conserves - INVARIANTS
     if unknown:
         raise ValueError(f"{cls.__name__}.conserves names unknown invariants {sorted(unknown)}")
     METHODS[cls.name] = cls
     return cls
+
+
+#: The core's registry by name: ``{name, kind, order, tableau, conserves, kicks, adaptive,
+#: summary}`` for each method it runs by name.
+CORE_METHODS: dict[str, dict[str, Any]] = {e["name"]: e for e in _core.METHODS}
+
+
+def _declare(cls: type[Solver], entry: dict[str, Any]) -> None:
+    """Set a class's declaration from its entry in the core's registry."""
+    cls.kind = entry["kind"]
+    cls.order = entry["order"]
+    cls.adaptive = entry["adaptive"]
+    cls.conserves = frozenset(entry["conserves"])
+    cls.requires = "ode" if entry["kind"] in _core.FIELD_KINDS else "rigid"
+    cls.needs_position_only_forces = entry["kicks"]
+    if entry["tableau"]:
+        cls.A, cls.B, cls.C = _core.tableau(entry["tableau"])
+
+
+def register_core_methods() -> None:
+    """Register a class for every method of the core's registry that has none here (named
+    after it: ``"exact-splitting4"`` is ``ExactSplitting4``, its docstring the entry's
+    summary)."""
+    for name, entry in CORE_METHODS.items():
+        if name not in METHODS:
+            title = "".join(part.capitalize() for part in name.replace("_", "-").split("-"))
+            register(type(title, (Solver,), {"name": name, "__doc__": entry["summary"],
+                                              "__module__": __name__}))  # fmt: skip
 
 
 def get_solver(method) -> type[Solver]:

@@ -10,7 +10,6 @@ the cross-check in the tests; it is not the engine.
 
 from __future__ import annotations
 
-from .. import _core
 from .base import Solver, register
 
 __all__ = ["DEFAULT_ATOL", "DEFAULT_RTOL", "DOP853"]
@@ -27,9 +26,5 @@ class DOP853(Solver):
     ``max_step`` (a solver option) caps the step size.
     """
 
-    name = "dop853"
-    order = 8
+    name = "dop853"  # order, kind and tableau: the core's registry (spec.rs)
     error_order = 7
-    adaptive = True
-    kind = "dop853"
-    A, B, C = _core.tableau("dop853")

@@ -10,7 +10,7 @@ exact rotations, so ``QᵀQ = I`` holds to round-off (Munthe-Kaas 1999, BIT 39; 
 from __future__ import annotations
 
 from .base import register
-from .rk import RK4, ExplicitRungeKutta
+from .rk import ExplicitRungeKutta
 
 __all__ = ["RKMK4", "MuntheKaas"]
 
@@ -27,6 +27,4 @@ class MuntheKaas(ExplicitRungeKutta):
 class RKMK4(MuntheKaas):
     """Fourth-order Runge–Kutta–Munthe-Kaas (classical RK4 tableau in the Lie algebra)."""
 
-    name = "rkmk4"
-    order = 4
-    A, B, C = RK4.A, RK4.B, RK4.C
+    name = "rkmk4"  # order, kind, invariants and tableau (RK4's): the core's registry

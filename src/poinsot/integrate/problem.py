@@ -12,13 +12,16 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from .. import _core
+
 __all__ = ["GENERAL_METHODS", "RIGID_METHODS", "NativeProblem"]
 
-#: The core's kinds of method for any vector field: the adaptive DOP853 and explicit tableaux.
-GENERAL_METHODS = frozenset({"dop853", "erk"})
-#: ... and for a rigid body, those that use its structure: RK4 with the state in registers,
-#: RKMK on SO(3), and the splitting method with the free-rotor flows.
-RIGID_METHODS = GENERAL_METHODS | {"rk4", "rkmk", "splitting"}
+#: The core's kinds of method for any vector field: the adaptive DOP853 and explicit tableaux
+#: (classical RK4's included).
+GENERAL_METHODS = frozenset(_core.FIELD_KINDS)
+#: ... and for a rigid body, every kind: those that use its structure too (RKMK on SO(3), the
+#: splitting method with the free-rotor flows; RK4 with the state in registers).
+RIGID_METHODS = frozenset(_core.METHOD_KINDS)
 
 
 @dataclass(frozen=True)
@@ -57,10 +60,6 @@ class NativeProblem:
         return not self.slow
 
     def kind_of(self, kind: str) -> str | None:
-        """The core's kind for a solver's ``kind``: itself when offered; classical RK4 as its
-        tableau (``"erk"``) for a system without the rigid-body structure; else None."""
-        if kind in self.methods:
-            return kind
-        if kind == "rk4" and "erk" in self.methods:
-            return "erk"
-        return None
+        """The core's kind for a solver's ``kind``: itself when the system offers it, else
+        None."""
+        return kind if kind in self.methods else None

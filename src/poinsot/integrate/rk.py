@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from .. import _core
 from .base import Solver, register
 
 __all__ = ["RK4", "ExplicitRungeKutta"]
@@ -30,7 +29,4 @@ class RK4(ExplicitRungeKutta):
     other system as its tableau, equal to round-off.
     """
 
-    name = "rk4"
-    order = 4
-    kind = "rk4"
-    A, B, C = _core.tableau("rk4")
+    name = "rk4"  # order, kind and tableau: the core's registry (spec.rs)

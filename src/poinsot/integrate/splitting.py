@@ -25,10 +25,4 @@ class Splitting(Solver):
     """Second-order symplectic splitting (free rotor ∘ kicks), fixed step; the core steps
     the body momentum π in place of ω (``splitting_step``)."""
 
-    name = "splitting"
-    order = 2
-    requires = "rigid"
-    conserves = frozenset({"orthogonality", "angular_momentum", "symplectic"})
-    kind = "splitting"
-    #: the structure it needs: every force a kick (position-only)
-    needs_position_only_forces = True
+    name = "splitting"  # order, kind, invariants, kicks: the core's registry (spec.rs)
