@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from poinsot.app import scenario as sc
+from poinsot.app import scenario_parts as parts
 from poinsot.app.scenario_reference import collect_schema, render_reference
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -28,7 +29,9 @@ def test_checked_in_reference_is_the_generated_one(reference):
 
 
 def test_every_key_the_validator_names_is_documented(reference):
-    source = (ROOT / "src" / "poinsot" / "app" / "scenario.py").read_text(encoding="utf-8")
+    app = ROOT / "src" / "poinsot" / "app"
+    source = "\n".join((app / name).read_text(encoding="utf-8")
+                       for name in ("scenario.py", "scenario_parts.py", "tables.py"))  # fmt: skip
     from poinsot.app.scenario_reference import _KINDS
 
     # the validator's typed reads: t.get("key", "kind", ...), t.table("key"), t.tables("key")
@@ -38,7 +41,7 @@ def test_every_key_the_validator_names_is_documented(reference):
     assert len(literal) > 60
     documented = set(re.findall(r"\| `(\w+)` \|", reference))
     assert literal - documented == set()
-    for kind in (*sc.BODY_TYPES, *sc.FORCE_TYPES):  # every variant has its section
+    for kind in (*parts.BODY_TYPES, *parts.FORCE_TYPES):  # every variant has its section
         assert f'type = "{kind}"' in reference, kind
     for model in ("atwood", "rolling-disk", "heavy-top-euler"):
         assert f"| `{model}` |" in reference

@@ -18,6 +18,15 @@ from pathlib import Path
 
 import numpy as np
 
+from .scenario_parts import (
+    MAX_LEVELS,
+    MAX_SAMPLES,
+    _orientation,
+    build_body,
+    build_force,
+)
+from .tables import _MISSING, ScenarioError, _Table
+
 __all__ = [
     "LagrangianScenario",
     "Scenario",
@@ -28,376 +37,6 @@ __all__ = [
     "load_scenario",
 ]
 
-_MISSING = object()
-
-
-class ScenarioError(ValueError):
-    """A scenario that cannot run; ``str()`` starts with the file and the key path."""
-
-
-#: While not None, every key the validator reads is appended here as
-#: ``(table path, variant, key, kind, default, choices)``: the scenario schema, recorded from
-#: the validator itself (:mod:`poinsot.app.scenario_reference` renders it).
-_SCHEMA_RECORDER: list | None = None
-
-
-class _Table:
-    """A TOML table being read: typed getters, key paths in errors, unknown keys refused."""
-
-    def __init__(self, data, path: str):
-        if not isinstance(data, dict):
-            raise ScenarioError(f"{path or 'scenario'}: expected a table, found {_show(data)}")
-        self.data = data
-        self.path = path
-        self.used: set[str] = set()
-        self.variant = None  # the value of its "type" key, once read
-
-    def _record(self, key, kind, default=_MISSING, choices=None):
-        if _SCHEMA_RECORDER is not None:
-            _SCHEMA_RECORDER.append((self.path, self.variant, key, kind, default, choices))
-
-    def where(self, key):
-        return f"{self.path}.{key}" if self.path else key
-
-    def has(self, key):
-        return key in self.data
-
-    def get(self, key, kind, default=_MISSING, **kw):
-        self.used.add(key)
-        self._record(key, kind, default, kw.get("choices"))
-        if key not in self.data:
-            if default is _MISSING:
-                self._typo_of(key)
-                raise ScenarioError(f"{self.where(key)}: required key is missing")
-            return default
-        value = _convert(self.data[key], kind, self.where(key), **kw)
-        if key == "type":
-            self.variant = value
-        return value
-
-    def _typo_of(self, key):
-        """A required ``key`` is missing: if an unknown key in the table looks like it, the typo
-        is the error to report (``initial.omgea: unknown key; did you mean 'omega'?``)."""
-        unknown = [k for k in self.data if k not in self.used and k != key]
-        near = difflib.get_close_matches(key, unknown, n=1, cutoff=0.6)
-        if near:
-            raise ScenarioError(f"{self.where(near[0])}: unknown key; did you mean {key!r}?")
-
-    def table(self, key, default=_MISSING):
-        self.used.add(key)
-        self._record(key, "table", default)
-        if key not in self.data:
-            if default is _MISSING:
-                self._typo_of(key)
-                raise ScenarioError(f"{self.where(key)}: required table is missing")
-            return _Table({}, self.where(key)) if default is None else default
-        return _Table(self.data[key], self.where(key))
-
-    def tables(self, key):
-        self.used.add(key)
-        self._record(key, "tables", ())
-        items = self.data.get(key, [])
-        if not isinstance(items, list):
-            raise ScenarioError(
-                f"{self.where(key)}: expected an array of tables, found {_show(items)}"
-            )
-        return [_Table(item, f"{self.where(key)}[{i}]") for i, item in enumerate(items)]
-
-    def finish(self, valid=None):
-        valid = set(valid or ()) | self.used
-        for key in self.data:
-            if key not in valid:
-                near = difflib.get_close_matches(key, sorted(valid), n=1, cutoff=0.5)
-                hint = (
-                    f"; did you mean {near[0]!r}?"
-                    if near
-                    else (f"; valid keys: {', '.join(sorted(valid))}" if valid else "")
-                )
-                raise ScenarioError(f"{self.where(key)}: unknown key{hint}")
-
-
-def _show(value):
-    text = repr(value)
-    return text if len(text) < 60 else text[:57] + "..."
-
-
-def _number(value, where):
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ScenarioError(f"{where}: expected a number, found {_show(value)}")
-    if not math.isfinite(value):
-        raise ScenarioError(f"{where}: expected a finite number, found {value}")
-    return float(value)
-
-
-def _convert(value, kind, where, choices=None):
-    if kind == "number":
-        return _number(value, where)
-    if kind == "positive":
-        if isinstance(value, int | float) and not isinstance(value, bool) and not value > 0:
-            raise ScenarioError(f"{where}: expected a positive number, found {value}")
-        x = _number(value, where)
-        return x
-    if kind == "nonnegative":
-        x = _number(value, where)
-        if x < 0:
-            raise ScenarioError(f"{where}: expected a number ≥ 0, found {value}")
-        return x
-    if kind == "int":
-        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-            raise ScenarioError(f"{where}: expected a positive integer, found {_show(value)}")
-        return value
-    if kind == "bool":
-        if not isinstance(value, bool):
-            raise ScenarioError(f"{where}: expected true or false, found {_show(value)}")
-        return value
-    if kind == "string":
-        if not isinstance(value, str):
-            raise ScenarioError(f"{where}: expected a string, found {_show(value)}")
-        if choices and value not in choices:
-            near = difflib.get_close_matches(value, choices, n=1, cutoff=0.5)
-            hint = f" (did you mean {near[0]!r}?)" if near else ""
-            raise ScenarioError(
-                f"{where}: expected one of {', '.join(map(repr, choices))}, found {value!r}{hint}"
-            )
-        return value
-    if kind in ("vector3", "vector4", "vector2", "vector"):
-        n = {"vector3": 3, "vector4": 4, "vector2": 2, "vector": None}[kind]
-        if not isinstance(value, list) or (n is not None and len(value) != n):
-            what = f"an array of {n} numbers" if n else "an array of numbers"
-            raise ScenarioError(f"{where}: expected {what}, found {_show(value)}")
-        return np.array([_number(v, f"{where}[{i}]") for i, v in enumerate(value)])
-    if kind == "expressions3":  # numbers, or expressions in t as strings
-        if not isinstance(value, list) or len(value) != 3:
-            raise ScenarioError(f"{where}: expected an array of 3 numbers or expressions in t, "
-                                f"found {_show(value)}")  # fmt: skip
-        out = []
-        for i, v in enumerate(value):
-            if isinstance(v, str):
-                out.append(v)
-            else:
-                out.append(_number(v, f"{where}[{i}]"))
-        return out
-    if kind == "matrix3":
-        if not isinstance(value, list) or len(value) != 3:
-            raise ScenarioError(f"{where}: expected a 3×3 array, found {_show(value)}")
-        return np.array([_convert(row, "vector3", f"{where}[{i}]") for i, row in enumerate(value)])
-    if kind == "vectors3":
-        if not isinstance(value, list) or not value:
-            raise ScenarioError(
-                f"{where}: expected a non-empty array of 3-vectors, found {_show(value)}"
-            )
-        return np.array([_convert(row, "vector3", f"{where}[{i}]") for i, row in enumerate(value)])
-    raise AssertionError(kind)  # pragma: no cover
-
-
-# --------------------------------------------------------------------------- bodies
-PRIMITIVES = {
-    "box": ("size",),
-    "sphere": ("radius",),
-    "spherical_shell": ("radius",),
-    "cylinder": ("radius", "height"),
-    "ellipsoid": ("semi_axes",),
-    "rod": ("length",),
-    "cone": ("radius", "height"),
-}
-BODY_TYPES = ("particles", "particle_grid", *PRIMITIVES, "mesh", "composite", "mass_properties")
-
-
-def _orientation(t: _Table):
-    """``orientation``: a quaternion [w, x, y, z], a 3×3 matrix, or a table
-    ``{euler = [..], seq = "ZXZ", degrees = false}``."""
-    t._record("orientation", "orientation", None)
-    if not t.has("orientation"):
-        t.used.add("orientation")
-        return None
-    value = t.data["orientation"]
-    t.used.add("orientation")
-    where = t.where("orientation")
-    if isinstance(value, dict):
-        e = _Table(value, where)
-        angles = e.get("euler", "vector3")
-        seq = e.get("seq", "string", "ZXZ")
-        degrees = e.get("degrees", "bool", False)
-        e.finish()
-        from ..rotation import EULER_SEQUENCES, matrix_from_euler
-
-        if seq not in EULER_SEQUENCES:
-            raise ScenarioError(
-                f"{where}.seq: expected an Euler sequence such as 'ZXZ', found {seq!r}"
-            )
-        return matrix_from_euler(angles, seq, degrees=degrees)
-    if isinstance(value, list) and len(value) == 4:
-        q = _convert(value, "vector4", where)
-    else:
-        q = _convert(value, "matrix3", where)
-    from .._validation import as_rotation_matrix
-
-    try:
-        return as_rotation_matrix(q, "orientation")
-    except ValueError as exc:
-        raise ScenarioError(f"{where}: {str(exc).replace('`orientation` ', '')}") from None
-
-
-#: Limits on sizes a scenario may ask for, so that a typo is refused up front rather than met
-#: as a MemoryError: particles of a grid, samples of a run, contour levels of a figure.
-MAX_PARTICLES = 10**7
-MAX_SAMPLES = 10**7
-MAX_LEVELS = 200
-
-
-def build_body(t: _Table, base_dir: Path, part: bool = False):
-    """The :class:`~poinsot.bodies.RigidBody` described by a ``[body]`` table (``part``: one of
-    ``[[body.parts]]``, where a pivot has no meaning)."""
-    from ..bodies import RigidBody, UnphysicalInertiaError
-
-    kind = t.get(
-        "type", "string", "particles" if t.has("particles") else _MISSING, choices=BODY_TYPES
-    )
-    try:
-        if kind == "particles":
-            parts = t.tables("particles")
-            if not parts:
-                raise ScenarioError(f"{t.where('particles')}: expected at least one particle")
-            masses, positions = [], []
-            for p in parts:
-                masses.append(p.get("mass", "positive"))
-                positions.append(p.get("position", "vector3"))
-                p.finish()
-            body = RigidBody.from_particles(masses, positions)
-        elif kind == "particle_grid":
-            lower = t.get("lower", "vector3", np.zeros(3))
-            upper = t.get("upper", "vector3")
-            counts = t.get("counts", "vector3")
-            if np.any(counts < 1) or np.any(counts != np.round(counts)):
-                raise ScenarioError(
-                    f"{t.where('counts')}: expected three positive integers, "
-                    f"found {counts.tolist()}"
-                )
-            if float(np.prod(counts)) > MAX_PARTICLES:
-                raise ScenarioError(
-                    f"{t.where('counts')}: at most {MAX_PARTICLES:.0e} particles in all, found "
-                    f"{' × '.join(f'{c:.0f}' for c in counts)}"
-                )
-            total = t.get("total_mass", "positive")
-            axes = [np.linspace(lower[k], upper[k], int(counts[k])) for k in range(3)]
-            grid = np.array(np.meshgrid(*axes, indexing="ij")).reshape(3, -1).T
-            body = RigidBody.from_particles(np.full(len(grid), total / len(grid)), grid)
-        elif kind in PRIMITIVES:
-            mass = t.get("mass", "positive")
-            args = []
-            for name in PRIMITIVES[kind]:
-                vec = name in ("size", "semi_axes")
-                value = t.get(name, "vector3" if vec else "positive")
-                if vec and np.any(value <= 0):
-                    bad = int(np.argmax(value <= 0))
-                    raise ScenarioError(
-                        f"{t.where(name)}[{bad}]: expected a positive number, found {value[bad]}"
-                    )
-                args.append(value)
-            position = t.get("position", "vector3", None)
-            body = getattr(RigidBody, kind)(
-                mass, *args, position=position, orientation=_orientation(t)
-            )
-        elif kind == "mesh":
-            path = Path(t.get("path", "string"))
-            if not path.is_absolute():
-                path = base_dir / path
-            mass = t.get("mass", "positive", None)
-            density = t.get("density", "positive", None)
-            try:
-                body = RigidBody.from_mesh(path, mass=mass, density=density)
-            except ImportError as exc:
-                raise ScenarioError(f"{t.where('path')}: {exc}") from None
-        elif kind == "composite":
-            parts = t.tables("parts")
-            if not parts:
-                raise ScenarioError(f"{t.where('parts')}: expected at least one part")
-            body = RigidBody.compose([build_body(p, base_dir, part=True) for p in parts])
-        else:  # mass_properties
-            body = RigidBody(
-                t.get("mass", "positive"),
-                t.get("inertia", "matrix3"),
-                t.get("center_of_mass", "vector3", np.zeros(3)),
-                allow_unphysical=t.get("allow_unphysical", "bool", False),
-            )
-    except ScenarioError:
-        raise
-    except UnphysicalInertiaError as exc:
-        raise ScenarioError(
-            f"{t.where('inertia')}: {exc.reason} (set allow_unphysical = true in "
-            f"[{t.path}] to study the equations anyway)"
-        ) from None
-    except (ValueError, TypeError) as exc:
-        raise ScenarioError(f"{t.path}: {exc}") from None
-    if part and t.has("pivot"):
-        raise ScenarioError(
-            f"{t.where('pivot')}: a pivot belongs to the whole body: give it in [body], "
-            "not in one of its parts"
-        )
-    t.finish(set() if part else {"pivot"})
-    return body
-
-
-# --------------------------------------------------------------------------- forces
-FORCE_TYPES = (
-    "gravity",
-    "central_gravity",
-    "spring",
-    "linear_drag",
-    "quadratic_drag",
-    "point_force",
-    "torque",
-)
-
-
-def build_force(t: _Table):
-    """One force from a ``[[forces]]`` table."""
-    from .. import forces as F
-
-    kind = t.get("type", "string", choices=FORCE_TYPES)
-    try:
-        if kind == "gravity":
-            force = F.Gravity(t.get("g", "vector3", np.array([0.0, 0.0, -9.81])))
-        elif kind == "central_gravity":
-            force = F.CentralGravity(
-                t.get("mu", "positive"),
-                t.get("center", "vector3", np.zeros(3)),
-                gradient=t.get("gradient", "bool", True),
-            )
-        elif kind == "spring":
-            force = F.Spring(
-                t.get("point", "vector3"),
-                t.get("anchor", "vector3"),
-                t.get("stiffness", "positive"),
-                t.get("rest_length", "nonnegative", 0.0),
-                damping=t.get("damping", "nonnegative", 0.0),
-                tether=t.get("tether", "bool", False),
-            )
-        elif kind in ("linear_drag", "quadratic_drag"):
-            cls = F.LinearDrag if kind == "linear_drag" else F.QuadraticDrag
-            force = cls(
-                t.get("coefficient", "nonnegative"), t.get("rotational", "nonnegative", 0.0)
-            )
-        elif kind == "point_force":
-            force = F.PointForce(
-                t.get("point", "vector3"),
-                t.get("force", "vector3"),
-                frame=t.get("frame", "string", "space", choices=("space", "body")),
-            )
-        else:
-            force = F.Torque(
-                t.get("torque", "vector3"),
-                frame=t.get("frame", "string", "body", choices=("space", "body")),
-            )
-    except ScenarioError:
-        raise
-    except (ValueError, TypeError) as exc:
-        raise ScenarioError(f"{t.path}: {exc}") from None
-    t.finish()
-    return force
-
-
-# --------------------------------------------------------------------------- scenario
 METHOD_NAMES = ("dop853", "rk4", "rkmk4", "splitting")
 
 
@@ -422,9 +61,9 @@ class Scenario:
     source: str = "<built-in>"
     ensemble: dict | None = None
     carrier: dict | None = None
-    #: The rigid body's run, checked and lowered once when the file is read
-    #: (:func:`poinsot.simulation.prepare`), and its initial state; None for a motion relative
-    #: to a carrier.
+    #: The run, checked and lowered once when the file is read
+    #: (:func:`poinsot.simulation.prepare`, or :func:`poinsot.relative.prepare_relative` for a
+    #: motion relative to a carrier), and its initial state.
     prepared: object = field(default=None, repr=False, compare=False)
     y0: np.ndarray | None = field(default=None, repr=False, compare=False)
 
@@ -476,31 +115,10 @@ class Scenario:
         return run.run(y0=self.y0, progress=progress)
 
     def simulate_relative(self, progress=None):
-        """Run the motion relative to ``[carrier]``: the initial state is relative to the
-        carrier (``omega`` = ω_r, body frame; ``orientation`` = Q_r; ``position``, ``velocity``
-        relative to the carrier's origin)."""
-        from ..relative import simulate_relative
-
-        c = self.carrier
-        i = self.initial
-        return simulate_relative(
-            self.body,
-            self.t_span,
-            omega_r0=i["omega0"],
-            Q_r0=i.get("Q0"),
-            r0=i.get("R0"),
-            v_r0=i.get("V0"),
-            carrier=c["carrier"],
-            forces=self.forces,
-            balance_transport=c["balance_transport"],
-            hold_com=c["hold_com"],
-            method=self.method,
-            dt=self.dt,
-            rtol=self.rtol,
-            atol=self.atol,
-            t_eval=self.t_eval,
-            progress=progress,
-        )
+        """Run the motion relative to ``[carrier]``, prepared when the file was read: the
+        initial state is relative to the carrier (``omega`` = ω_r, body frame;
+        ``orientation`` = Q_r; ``position``, ``velocity`` relative to the carrier's origin)."""
+        return self.prepared.run(y0=self.y0, progress=progress)
 
 
 class EnsembleScenario(Scenario):
@@ -940,11 +558,25 @@ def _check_physics(s: Scenario):
         except (ValueError, TypeError) as exc:
             raise ScenarioError(f"{_key_of(exc)}: {exc}") from None
         system = s.prepared.system
-    else:  # relative motion: the carrier's front-end checks the run; the body is checked here
+    else:  # relative motion: the carrier's run, checked and lowered once
+        from ..relative import prepare_relative
+
+        c = s.carrier
         try:
             system = RigidBodySystem(s.body, s.forces, s.pivot)
         except (ValueError, TypeError) as exc:
             raise ScenarioError(f"body: {exc}") from None
+        try:
+            s.prepared = prepare_relative(s.body, s.t_span, carrier=c["carrier"],
+                                          forces=s.forces,
+                                          balance_transport=c["balance_transport"],
+                                          hold_com=c["hold_com"], method=s.method, dt=s.dt,
+                                          rtol=s.rtol, atol=s.atol,
+                                          t_eval=s.t_eval)  # fmt: skip
+        except StepBudgetError as exc:
+            raise ScenarioError(_budget_message(exc)) from None
+        except (ValueError, TypeError) as exc:
+            raise ScenarioError(f"{_key_of(exc)}: {exc}") from None
     initial = dict(s.initial)
     if "particle_velocities" in initial:
         try:
@@ -957,9 +589,11 @@ def _check_physics(s: Scenario):
         return
     fields = {k: initial.get(k) for k in ("omega0", "Q0", "R0", "V0")}
     frame = initial.get("omega_frame", "body")
-    if s.carrier is not None:  # a relative motion checks its own start (the carrier's frame)
+    if s.carrier is not None:  # a relative motion's start, in the carrier's frame
         try:
             system.initial_state(**fields, omega_frame=frame)
+            s.y0 = s.prepared.initial_state(omega_r0=fields["omega0"], Q_r0=fields["Q0"],
+                                            r0=fields["R0"], v_r0=fields["V0"])  # fmt: skip
         except (ValueError, TypeError) as exc:
             raise ScenarioError(f"initial: {exc}") from None
         return

@@ -100,18 +100,19 @@ def collect_schema() -> dict:
     reads it without a default every time it reads its table, *conditional* when it does so
     only in some scenarios (one of two alternatives, a key of a present table)."""
     from . import scenario as sc
+    from . import tables as reader
 
     schema, visits, seen = {}, {}, {}
     texts = [sc.example_text(name) for name in sc.list_examples()] + list(PROBES)
     for text in texts:
         records = []
-        sc._SCHEMA_RECORDER = records
+        reader._SCHEMA_RECORDER = records
         try:
             sc.load_scenario(text)
         except sc.ScenarioError:
             pass  # a probe may stop at a check after its keys were read (the mesh file)
         finally:
-            sc._SCHEMA_RECORDER = None
+            reader._SCHEMA_RECORDER = None
         kind = "constrained model" if re.search(r"^\[model\]", text, re.M) else "rigid body"
         tables = set()
         for path, variant, key, vkind, default, choices in records:

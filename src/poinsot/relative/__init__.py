@@ -9,7 +9,8 @@ paper eqs (1)–(18)).
 * :class:`Carrier`: the carrier's prescribed motion (a constant or time-varying ω_e, its Euler
   angles (14), its attitude, the acceleration of its origin).
 * :func:`simulate_relative`: the compact relative Euler equation (11)–(12) on poinsot's
-  compiled steppers, and :class:`RelativeTrajectory` with the absolute motion it maps to.
+  compiled steppers, and :class:`RelativeTrajectory` with the absolute motion it maps to;
+  :func:`prepare_relative` checks and lowers a run once for any initial state.
 * :func:`relative_equations`: the same equations in Euler angles (12)–(15) as SymPy
   expressions, with a LaTeX export.
 """
@@ -25,12 +26,18 @@ from .moments import (
     planar_principal_moments,
     transport_moment,
 )
-from .simulate import RelativeTrajectory, simulate_relative
+from .simulate import (
+    PreparedRelativeRun,
+    RelativeTrajectory,
+    prepare_relative,
+    simulate_relative,
+)
 from .symbolic import RelativeEquations, relative_equations
 from .system import RelativeMotionSystem
 
 __all__ = [
     "Carrier",
+    "PreparedRelativeRun",
     "RelativeEquations",
     "RelativeMotionSystem",
     "RelativeTrajectory",
@@ -41,6 +48,7 @@ __all__ = [
     "planar_inertia",
     "planar_inertia_ellipsoid",
     "planar_principal_moments",
+    "prepare_relative",
     "relative_equations",
     "simulate_relative",
     "transport_moment",

@@ -3,6 +3,7 @@ samples it returns (``docs/relative.md``; paper eqs (11)–(18))."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
@@ -17,7 +18,7 @@ from .carrier import Carrier
 from .moments import coriolis_moment, transport_moment
 from .system import RELATIVE_SLICES, RelativeMotionSystem
 
-__all__ = ["RelativeTrajectory", "simulate_relative"]
+__all__ = ["PreparedRelativeRun", "RelativeTrajectory", "prepare_relative", "simulate_relative"]
 
 #: |sin θ| below this, z-x-z Euler angle rates are refused (gimbal lock at θ = 0, π).
 EULER_SINGULAR = 1e-6
@@ -115,9 +116,37 @@ def simulate_relative(
     >>> sol.omega_absolute[-1].round(9).tolist()
     [0.0, 0.0, 1.0]
     """
+    prepared = prepare_relative(body, t_span, carrier=carrier, forces=forces,
+                                balance_transport=balance_transport, hold_com=hold_com,
+                                method=method, dt=dt, rtol=rtol, atol=atol, t_eval=t_eval,
+                                save_every=save_every, backend=backend,
+                                max_steps=max_steps)  # fmt: skip
+    return prepared.run(omega_r0=omega_r0, Q_r0=Q_r0, euler_angles0=euler_angles0,
+                        euler_rates0=euler_rates0, r0=r0, v_r0=v_r0, Q_carrier0=Q_carrier0,
+                        origin0=origin0, origin_velocity0=origin_velocity0,
+                        progress=progress)  # fmt: skip
+
+
+def prepare_relative(body, t_span, *, carrier, forces=(), balance_transport=False,
+                     hold_com=False, method="dop853", dt=None, rtol=None, atol=None,
+                     t_eval=None, save_every=1, backend=None,
+                     max_steps=None) -> PreparedRelativeRun:  # fmt: skip
+    """Check a relative run and lower its body, forces and carrier once: the
+    :class:`PreparedRelativeRun` that :func:`simulate_relative` runs. The arguments are
+    :func:`simulate_relative`'s less the initial state and ``progress``, checked here with
+    the same errors.
+
+    Examples
+    --------
+    >>> from poinsot import RigidBody
+    >>> from poinsot.relative import Carrier, prepare_relative
+    >>> run = prepare_relative(RigidBody.box(1.0, (1, 2, 3)), (0, 1),
+    ...                        carrier=Carrier(omega_e=(0, 0, 1)), hold_com=True)
+    >>> [run.run(omega_r0=(0, 0, w)).omega_absolute[-1, 2].round(9) for w in (0, 1)]
+    [np.float64(1.0), np.float64(2.0)]
+    """
     run = check_run(t_span, method, dt=dt, rtol=rtol, atol=atol, t_eval=t_eval,
                     save_every=save_every, max_steps=max_steps)  # fmt: skip
-    t0, t1 = run.t0, run.t1
     if not isinstance(carrier, Carrier):
         raise TypeError(
             f"`carrier` must be a poinsot.relative.Carrier, found {type(carrier).__name__}"
@@ -132,42 +161,82 @@ def simulate_relative(
         raise TypeError(f"`forces` must be a sequence of Force objects, found {forces!r}")
     system = RelativeMotionSystem(body, carrier, forces, balance_transport=bool(balance_transport),
                                   hold_com=bool(hold_com))  # fmt: skip
-    carrier.check(t0, t1)
-    if euler_angles0 is not None:
-        if Q_r0 is not None:
-            raise ValueError("give `Q_r0` or `euler_angles0`, not both")
-        from ..rotation import matrix_from_euler
+    carrier.check(run.t0, run.t1)
+    return PreparedRelativeRun(system, run, backend)
 
-        angles = as_vector3(euler_angles0, "euler_angles0")
-        Q = matrix_from_euler(angles, "ZXZ")
-    else:
-        angles = None
-        Q = np.eye(3) if Q_r0 is None else as_rotation_matrix(Q_r0, "Q_r0")
-    if euler_rates0 is not None:
-        if omega_r0 is not None:
-            raise ValueError("give `omega_r0` or `euler_rates0`, not both")
-        if angles is None:
-            raise ValueError("`euler_rates0` needs `euler_angles0`")
-        w = body_rates_from_euler(angles, as_vector3(euler_rates0, "euler_rates0"))  # eq. (13)
-    elif omega_r0 is None:
-        raise ValueError("`omega_r0` must be given (or `euler_angles0` and `euler_rates0`)")
-    else:
-        w = as_vector3(omega_r0, "omega_r0")
-    Qc = carrier.initial_attitude(t0, Q_carrier0)
-    r = np.array(body.center_of_mass, dtype=float) if r0 is None else as_vector3(r0, "r0")
-    v = np.zeros(3) if v_r0 is None else as_vector3(v_r0, "v_r0")
-    if hold_com and v_r0 is not None and np.any(v != 0):
-        raise ValueError("`v_r0` must be zero (or omitted) with `hold_com`")
-    X = np.zeros(3) if origin0 is None else as_vector3(origin0, "origin0")
-    VO = (
-        np.zeros(3)
-        if origin_velocity0 is None
-        else as_vector3(origin_velocity0, "origin_velocity0")
-    )
-    y0 = np.concatenate([r, v, Q.ravel(), w, Qc.ravel(), X, VO])
-    _check_start(system, t0, y0)
-    return solve(system, y0, run, trajectory=lambda r: RelativeTrajectory(r, system),
-                 progress=progress, backend=backend)  # fmt: skip
+
+@dataclass(frozen=True)
+class PreparedRelativeRun:
+    """A relative run, checked and lowered (:func:`prepare_relative`): :meth:`run` integrates
+    it from an initial state.
+
+    Attributes
+    ----------
+    system : RelativeMotionSystem
+        The body, its forces lowered for the core, the carrier and the options.
+    settings : RunSettings
+        The checked span, method, sampling, step or tolerances and step budget.
+    backend : str or None
+    """
+
+    system: RelativeMotionSystem
+    settings: object
+    backend: str | None = None
+
+    def initial_state(self, *, omega_r0=None, Q_r0=None, euler_angles0=None,
+                      euler_rates0=None, r0=None, v_r0=None, Q_carrier0=None, origin0=None,
+                      origin_velocity0=None) -> np.ndarray:  # fmt: skip
+        """The run's state at its start (33,), from :func:`simulate_relative`'s arguments,
+        checked (the right-hand side there included)."""
+        system, t0 = self.system, self.settings.t0
+        body, carrier = system.body, system.carrier
+        if euler_angles0 is not None:
+            if Q_r0 is not None:
+                raise ValueError("give `Q_r0` or `euler_angles0`, not both")
+            from ..rotation import matrix_from_euler
+
+            angles = as_vector3(euler_angles0, "euler_angles0")
+            Q = matrix_from_euler(angles, "ZXZ")
+        else:
+            angles = None
+            Q = np.eye(3) if Q_r0 is None else as_rotation_matrix(Q_r0, "Q_r0")
+        if euler_rates0 is not None:
+            if omega_r0 is not None:
+                raise ValueError("give `omega_r0` or `euler_rates0`, not both")
+            if angles is None:
+                raise ValueError("`euler_rates0` needs `euler_angles0`")
+            w = body_rates_from_euler(angles, as_vector3(euler_rates0, "euler_rates0"))  # (13)
+        elif omega_r0 is None:
+            raise ValueError("`omega_r0` must be given (or `euler_angles0` and `euler_rates0`)")
+        else:
+            w = as_vector3(omega_r0, "omega_r0")
+        Qc = carrier.initial_attitude(t0, Q_carrier0)
+        r = np.array(body.center_of_mass, dtype=float) if r0 is None else as_vector3(r0, "r0")
+        v = np.zeros(3) if v_r0 is None else as_vector3(v_r0, "v_r0")
+        if system.hold_com and v_r0 is not None and np.any(v != 0):
+            raise ValueError("`v_r0` must be zero (or omitted) with `hold_com`")
+        X = np.zeros(3) if origin0 is None else as_vector3(origin0, "origin0")
+        VO = (
+            np.zeros(3)
+            if origin_velocity0 is None
+            else as_vector3(origin_velocity0, "origin_velocity0")
+        )
+        y0 = np.concatenate([r, v, Q.ravel(), w, Qc.ravel(), X, VO])
+        _check_start(system, t0, y0)
+        return y0
+
+    def run(self, *, y0=None, progress=None, **initial) -> RelativeTrajectory:
+        """Integrate from the initial state given as :func:`simulate_relative` takes it
+        (``omega_r0``, ``Q_r0``, ``euler_angles0``, ...), or from ``y0``, a state that
+        :meth:`initial_state` returned: nothing is lowered or checked again."""
+        if y0 is None:
+            y0 = self.initial_state(**initial)
+        elif initial:
+            raise TypeError(f"give `y0` or the initial state's parts, not both: {sorted(initial)}")
+        system = self.system
+        return solve(system, y0, self.settings,
+                     trajectory=lambda r: RelativeTrajectory(r, system), progress=progress,
+                     backend=self.backend)  # fmt: skip
 
 
 def _check_start(system, t0, y0):
