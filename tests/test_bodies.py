@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from poinsot._core import exp_so3, matrix_to_quat
 
 from poinsot import RigidBody
+from poinsot._core import exp_so3, matrix_to_quat
 
 
 def test_notebook_worked_example():

@@ -7,10 +7,10 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
-from poinsot._core import vee
 from scipy.spatial.transform import Rotation
 
 from poinsot import rotation as rot
+from poinsot._core import vee
 
 angles3 = hnp.arrays(float, 3, elements=st.floats(-3.0, 3.0))
 

@@ -67,7 +67,6 @@ def test_particle_gravity_equals_uniform_gravity(notebook_body):
 
 def test_torque_from_particle_forces_is_sum_u_cross_QtF(notebook_body):
     from poinsot._core import exp_so3
-
     from poinsot.dynamics import RigidBodySystem
 
     rng = np.random.default_rng(1)

@@ -6,11 +6,11 @@ import math
 
 import numpy as np
 import pytest
-from poinsot._core import jacobi_sn_cn_dn_am
 from scipy.integrate import quad
 from scipy.special import ellipj, ellipkinc
 
 from poinsot import elliptic
+from poinsot._core import jacobi_sn_cn_dn_am
 
 U = np.linspace(-25, 25, 1001)
 
