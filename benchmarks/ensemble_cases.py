@@ -32,7 +32,7 @@ N_MEMBERS = 100_000
 ENSEMBLE_STEPS = 1000
 DT = 1e-3
 # members per chunk for the one-at-a-time runs: a chunk under a quarter of the core's block
-# of 64 lanes runs member by member (crates/core/src/ensemble.rs, run_lanes)
+# of 64 lanes runs member by member (crates/core/src/ensemble/blocks.rs, run_lanes)
 ALONE = 15
 
 

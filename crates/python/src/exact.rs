@@ -9,9 +9,7 @@ use std::borrow::Cow;
 
 use crate::arrays::FloatsDyn;
 use numpy::ndarray::{Array1, Array2, Array3, Array4, ArrayD, IxDyn};
-use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayDyn, PyUntypedArrayMethods,
-};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayDyn};
 use poinsot_core::so3::{Mat3, Vec3};
 use poinsot_core::{elliptic, freebody, torque_free};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -73,18 +71,11 @@ fn vecs3<'a>(a: &'a Arr<'_>, name: &str) -> PyResult<Cow<'a, [Vec3]>> {
     if v.ndim() != 2 || v.shape()[1] != 3 {
         return Err(shape_error(name, "(N, 3)", v.shape()));
     }
-    if let Some(flat) = a.is_c_contiguous().then(|| a.as_slice().ok()).flatten() {
-        // C order: the rows one after another
-        // SAFETY: [f64; 3] has the alignment of f64 and the size of three; the length is 3N.
-        let rows = unsafe { std::slice::from_raw_parts(flat.as_ptr().cast(), flat.len() / 3) };
-        return Ok(Cow::Borrowed(rows));
-    }
-    let v = v
-        .into_dimensionality::<numpy::ndarray::Ix2>()
-        .expect("two axes");
-    Ok(Cow::Owned(
-        v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect(),
-    ))
+    // C order (converted on extraction): the rows one after another
+    let flat = a.as_slice()?;
+    // SAFETY: [f64; 3] has the alignment of f64 and the size of three; the length is 3N.
+    let rows = unsafe { std::slice::from_raw_parts(flat.as_ptr().cast(), flat.len() / 3) };
+    Ok(Cow::Borrowed(rows))
 }
 
 fn mats3(a: &Arr<'_>, name: &str) -> PyResult<Vec<Mat3>> {

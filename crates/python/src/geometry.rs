@@ -78,7 +78,7 @@ fn items<'a>(a: &'a ArrayLike<'_>, name: &str, tail: &[usize]) -> PyResult<Items
             py_shape(shape)
         )));
     }
-    let data = c_order(a);
+    let data = Cow::Borrowed(a.as_slice()?); // C order: converted on extraction
     Ok(Items {
         lead: shape[..shape.len() - tail.len()].to_vec(),
         data,
@@ -95,19 +95,7 @@ fn single<'a>(a: &'a ArrayLike<'_>, name: &str, shape: &[usize]) -> PyResult<Cow
             py_shape(a.shape())
         )));
     }
-    Ok(c_order(a))
-}
-
-/// The elements of `a` in C (row-major) order: borrowed when `a` is C-contiguous, copied
-/// otherwise. (`as_slice` alone also accepts Fortran order, whose memory order is not the
-/// items' order.)
-fn c_order<'a>(a: &'a ArrayLike<'_>) -> Cow<'a, [f64]> {
-    if a.is_c_contiguous() {
-        if let Ok(s) = a.as_slice() {
-            return Cow::Borrowed(s);
-        }
-    }
-    Cow::Owned(a.as_array().iter().copied().collect())
+    Ok(Cow::Borrowed(a.as_slice()?)) // C order: converted on extraction
 }
 
 fn array<'py>(py: Python<'py>, shape: Vec<usize>, data: Vec<f64>) -> PyResult<Out<'py>> {

@@ -1,0 +1,303 @@
+//! The attitude `Q(t)` of one torque-free motion (`docs/theory.md` §1, eqs (20)–(33);
+//! `docs/torque_free.md`): z-x-z Euler angles `(ψ, θ, φ)` of the body relative to the
+//! invariable frame (z along L), with pole the axis the polhode circles, `cos θ = π_pole/a`,
+//! `tan φ = π_1'/π_2'` and `ψ(t) = a t/I_p + a (I_p − I_q)/(I_p I_q λ) [Π(u) − Π(u0)]`
+//! (Landau & Lifshitz, *Mechanics*, §37; Whittaker, *Analytical Dynamics*, §69); symmetric
+//! bodies `Q(t) = exp(t L̂/I⊥) Q0 exp(ν t ê_s)`, fixed points `Q0 exp(Ω t)` (eqs (22)–(23)).
+//! What the elliptic attitude needs beyond the regime is made once ([`AttitudeSetup`]); its
+//! formulas at each time are generic over [`Real`] ([`EllipticMotion`]), so that the lanes of
+//! [`super::exact_attitudes`] run the very same formulas as [`attitude_at`].
+
+use super::{jacobi_omega, Regime, FIXED, PRECESSION, SPHERICAL};
+use crate::elliptic::{
+    ellippi_complete, jacobi_reduced_with, parity, third_kind_reduced, third_kind_u, TINY_M1,
+};
+use crate::real::{sin_cos, Mask, Real, Wide, WideMask};
+use crate::so3::{exp_so3, matmul, zxz_matrix, zxz_matrix_sc, Mat3, Vec3};
+
+/// `(θ, φ)` of the body relative to the invariable frame from the body momentum `π`:
+/// relabelled as `(π3, −π2, π1)` when the pole is e1.
+#[inline(always)]
+pub(super) fn relabelled_angles(pole: u8, p: Vec3) -> (f64, f64) {
+    let [b0, b1, b2] = if pole == 0 { [p[2], -p[1], p[0]] } else { p };
+    (b0.hypot(b1).atan2(b2), b0.atan2(b1))
+}
+
+/// What the elliptic attitude needs beyond the regime: the invariable frame `p0`
+/// (`Q(t) = P0 Rzxz(ψ, θ, φ) B`), the characteristic `n`, `I_p`, `I_q` and `Π(u0)`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AttitudeSetup {
+    /// The invariable frame → space.
+    pub p0: Mat3,
+    /// The characteristic `n` of the third-kind integral (n < 0).
+    pub n: f64,
+    /// The moment about the pole, `I_p`.
+    pub i_pole: f64,
+    /// The moment about the other end axis, `I_q`.
+    pub i_other: f64,
+    /// `Π(u0) = ∫₀^u0 du/(1 − n sn² u)`.
+    pub pi_u0: f64,
+    /// The complete integral `Π(n|m)` (zero on the separatrix and where `m1 <` [`TINY_M1`]).
+    pub pi_complete: f64,
+    /// `ψ`'s factor of `Π(u) − Π(u0)`: `a (I_p − I_q)/(I_p I_q λ)`.
+    pub psi_pi: f64,
+}
+
+/// Whether the attitude of an elliptic regime takes `Π(u)` from the reduction ω(t) made
+/// ([`third_kind_reduced`], in lanes too): off the separatrix and `m1 ≥` [`TINY_M1`] (below,
+/// [`third_kind_u`]'s separatrix forms).
+#[inline(always)]
+pub(super) fn reduced_third_kind(reg: &Regime) -> bool {
+    reg.m1 >= TINY_M1 && reg.quarter.is_finite()
+}
+
+impl AttitudeSetup {
+    /// The attitude setup of the motion from `w` with regime `reg` and `Q(0) = q0` (sorted
+    /// principal frame → space). All zeros outside the elliptic cases.
+    pub fn new(moments: Vec3, reg: &Regime, w: Vec3, q0: &Mat3) -> AttitudeSetup {
+        if !reg.is_elliptic() {
+            return AttitudeSetup::default();
+        }
+        let [i1, i2, i3] = moments;
+        let (ip, iq, n) = if reg.pole == 2 {
+            (i3, i1, -i3 * (i2 - i1) / (i1 * (i3 - i2)))
+        } else {
+            (i1, i3, -i1 * (i3 - i2) / (i3 * (i2 - i1)))
+        };
+        let (theta, phi) = relabelled_angles(reg.pole, [i1 * w[0], i2 * w[1], i3 * w[2]]);
+        let r0 = zxz_matrix(0.0, theta, phi);
+        // P0 = Q0 Bᵀ R0ᵀ: Q(0) = Q0 with ψ(0) = 0
+        let mut qb = [[0.0; 3]; 3];
+        for r in 0..3 {
+            qb[r] = if reg.pole == 2 {
+                q0[r]
+            } else {
+                // Bᵀ = B = [[0, 0, 1], [0, −1, 0], [1, 0, 0]]
+                [q0[r][2], -q0[r][1], q0[r][0]]
+            };
+        }
+        let mut p0 = [[0.0; 3]; 3];
+        for r in 0..3 {
+            for c in 0..3 {
+                p0[r][c] = qb[r][0] * r0[c][0] + qb[r][1] * r0[c][1] + qb[r][2] * r0[c][2];
+            }
+        }
+        let a = reg.momentum;
+        let mut att = AttitudeSetup {
+            p0,
+            n,
+            i_pole: ip,
+            i_other: iq,
+            pi_u0: 0.0,
+            pi_complete: 0.0,
+            psi_pi: a * (ip - iq) / (ip * iq * reg.lam),
+        };
+        att.pi_u0 = if reduced_third_kind(reg) {
+            att.pi_complete = ellippi_complete(n, reg.m, reg.m1);
+            // Π at t = 0 by the very route of every later time, so that ψ(0) = 0 exactly
+            let (sn, cn, dn, p, _) =
+                jacobi_reduced_with(reg.u0, reg.m, reg.m1, reg.quarter, &reg.agm);
+            EllipticMotion::of(reg, &att).third_kind(sn, cn, dn, p)
+        } else {
+            third_kind_u(n, reg.u0, reg.m, reg.m1, reg.quarter)
+        };
+        att
+    }
+}
+
+/// What `Q(t)` of an elliptic motion needs at each time beyond the reduction of `u = u0 + λt`
+/// (see the module docs), generic over [`Real`]: one motion (`f64`, [`attitude_at`]) or one
+/// per lane ([`exact_attitudes`](super::exact_attitudes)), each lane bit for bit its single
+/// run.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct EllipticMotion<T: Real> {
+    /// The signed amplitudes `σ_i α_i` and the pole (e3 where set).
+    sa: [T; 3],
+    e3: T::Mask,
+    /// [`AttitudeSetup`]'s `n`, `Π(n|m)`, `Π(u0)`, ψ's factor; `a`, `I_p`; the invariable frame.
+    n: T,
+    pi_complete: T,
+    pi_u0: T,
+    psi_pi: T,
+    momentum: T,
+    i_pole: T,
+    p0: [[T; 3]; 3],
+}
+
+impl EllipticMotion<f64> {
+    pub(super) fn of(reg: &Regime, att: &AttitudeSetup) -> EllipticMotion<f64> {
+        EllipticMotion {
+            sa: [0, 1, 2].map(|i| reg.signs[i] * reg.alpha[i]),
+            e3: reg.pole == 2,
+            n: att.n,
+            pi_complete: att.pi_complete,
+            pi_u0: att.pi_u0,
+            psi_pi: att.psi_pi,
+            momentum: reg.momentum,
+            i_pole: att.i_pole,
+            p0: att.p0,
+        }
+    }
+}
+
+impl<const N: usize> EllipticMotion<Wide<N>> {
+    /// Lane `l` holds `motions[l]`.
+    #[inline(always)]
+    pub(super) fn gather(motions: &[EllipticMotion<f64>; N]) -> EllipticMotion<Wide<N>> {
+        let wide = |f: &dyn Fn(&EllipticMotion<f64>) -> f64| {
+            let mut x = [0.0; N];
+            for (xl, m) in x.iter_mut().zip(motions) {
+                *xl = f(m);
+            }
+            Wide(x)
+        };
+        let mut e3 = WideMask::<N>::splat(true);
+        for (l, m) in motions.iter().enumerate() {
+            e3.and_lane(l, m.e3);
+        }
+        EllipticMotion {
+            sa: [0, 1, 2].map(|i| wide(&|m| m.sa[i])),
+            e3,
+            n: wide(&|m| m.n),
+            pi_complete: wide(&|m| m.pi_complete),
+            pi_u0: wide(&|m| m.pi_u0),
+            psi_pi: wide(&|m| m.psi_pi),
+            momentum: wide(&|m| m.momentum),
+            i_pole: wide(&|m| m.i_pole),
+            p0: [0, 1, 2].map(|r| [0, 1, 2].map(|c| wide(&|m| m.p0[r][c]))),
+        }
+    }
+}
+
+impl<T: Real> EllipticMotion<T> {
+    /// `Π(u) = ∫₀^u du/(1 − n sn² u)` from the reduction `(sn u, cn u, dn u, p)`
+    /// ([`third_kind_reduced`] on `sn v = (−1)^p sn u`, `cn v = (−1)^p cn u`).
+    #[inline(always)]
+    fn third_kind(&self, sn: T, cn: T, dn: T, p: T) -> T {
+        let par = parity(p);
+        third_kind_reduced(self.n, par * sn, par * cn, dn, p, self.pi_complete)
+    }
+
+    /// `Q(t)` (sorted principal frame → space) from the reduction `(sn, cn, dn, p)` of
+    /// `u = u0 + λt`: ω(t) in the Jacobi form, the angles θ, φ of the body momentum `π = Iω`
+    /// (relabelled `(π3, −π2, π1)` about e1) as ratios, `cos θ = π_p/a`,
+    /// `tan φ = π_1'/π_2'`, and `ψ = a t/I_p + a (I_p − I_q)/(I_p I_q λ) [Π(u) − Π(u0)]`:
+    /// `Q = P0 Rzxz(ψ, θ, φ)` (columns relabelled back about e1). `plain` is cleared in the
+    /// lanes whose sums of squares `f64` would take by `hypot` ([`Real::norm2`]).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn attitude(
+        &self,
+        moments: Vec3,
+        t: T,
+        sn: T,
+        cn: T,
+        dn: T,
+        p: T,
+        plain: &mut T::Mask,
+    ) -> [[T; 3]; 3] {
+        let c = T::splat;
+        let v = jacobi_omega(self.e3, self.sa, sn, cn, dn);
+        let big_pi = self.third_kind(sn, cn, dn, p) - self.pi_u0;
+        let psi = self.momentum * t / self.i_pole + self.psi_pi * big_pi;
+        let pi = [
+            c(moments[0]) * v[0],
+            c(moments[1]) * v[1],
+            c(moments[2]) * v[2],
+        ];
+        let b0 = T::select(self.e3, pi[0], pi[2]);
+        let b1 = T::select(self.e3, pi[1], -pi[1]);
+        let b2 = T::select(self.e3, pi[2], pi[0]);
+        let rho = T::norm2(b0, b1, plain);
+        let r = T::norm2(rho, b2, plain);
+        let flat = rho.equal(c(0.0)); // θ = 0 or π: φ = atan2(0, 0) = 0
+        let phi = [
+            T::select(flat, c(0.0), b0 / rho),
+            T::select(flat, c(1.0), b1 / rho),
+        ];
+        let (sps, cps) = sin_cos(psi);
+        let rot = zxz_matrix_sc([sps, cps], [rho / r, b2 / r], phi);
+        let mut x = [[c(0.0); 3]; 3];
+        for (xr, pr) in x.iter_mut().zip(&self.p0) {
+            for (k, xk) in xr.iter_mut().enumerate() {
+                *xk = pr[0] * rot[0][k] + pr[1] * rot[1][k] + pr[2] * rot[2][k];
+            }
+        }
+        // about e1 the columns of (P0 R) B: (x2, −x1, x0)
+        x.map(|row| {
+            [
+                T::select(self.e3, row[0], row[2]),
+                T::select(self.e3, row[1], -row[1]),
+                T::select(self.e3, row[2], row[0]),
+            ]
+        })
+    }
+}
+
+/// `Q(t) = Q0 exp(Ω t)`: the attitude at a fixed point of Euler's equation, where ω is constant
+/// (eqs (22)–(23)), by Rodrigues' formula ([`exp_so3`]).
+#[inline]
+pub fn fixed_point_attitude(q0: &Mat3, w: Vec3, t: f64) -> Mat3 {
+    matmul(q0, &exp_so3([t * w[0], t * w[1], t * w[2]]))
+}
+
+/// `Q(t)` (sorted principal frame → space) of the motion from `ω(0) = w`, `Q(0) = q0`, with the
+/// regime `reg` and the attitude setup `att`.
+pub fn attitude_at(
+    moments: Vec3,
+    reg: &Regime,
+    att: &AttitudeSetup,
+    w: Vec3,
+    q0: &Mat3,
+    t: f64,
+) -> Mat3 {
+    match reg.case {
+        SPHERICAL | FIXED => fixed_point_attitude(q0, w, t),
+        PRECESSION => {
+            // Q(t) = exp(t L/I⊥) Q0 exp(ν t e_s), L = Q0 (I w) in space
+            let s = reg.axis as usize;
+            let pi = [moments[0] * w[0], moments[1] * w[1], moments[2] * w[2]];
+            let f = t / reg.i_perp;
+            let l = q0.map(|row| f * (row[0] * pi[0] + row[1] * pi[1] + row[2] * pi[2]));
+            let r = exp_so3(l);
+            // R Q0, then the body turn about e_s: columns (s+1, s+2) rotated by ν t
+            let mut out = matmul(&r, q0);
+            let angle = reg.nu * t;
+            let cs = angle.cos();
+            let sn = angle.sin();
+            let a = (s + 1) % 3;
+            let b = (s + 2) % 3;
+            for row in out.iter_mut() {
+                let x = row[a];
+                let y = row[b];
+                row[a] = cs * x + sn * y;
+                row[b] = -sn * x + cs * y;
+            }
+            out
+        }
+        _ if reduced_third_kind(reg) => {
+            // the reduction of u that ω(t) makes ([`Regime::omega_at`]), shared with Π(u)
+            let u = reg.u0 + reg.lam * t;
+            let (sn, cn, dn, p, _) = jacobi_reduced_with(u, reg.m, reg.m1, reg.quarter, &reg.agm);
+            EllipticMotion::of(reg, att).attitude(moments, t, sn, cn, dn, p, &mut true)
+        }
+        _ => {
+            let v = reg.omega_at(moments, w, t);
+            let (theta, phi) = relabelled_angles(
+                reg.pole,
+                [moments[0] * v[0], moments[1] * v[1], moments[2] * v[2]],
+            );
+            // the separatrix and m1 < TINY_M1: Π(u) by its separatrix forms
+            let u = reg.u0 + reg.lam * t;
+            let big_pi = third_kind_u(att.n, u, reg.m, reg.m1, reg.quarter) - att.pi_u0;
+            let psi = reg.momentum * t / att.i_pole + att.psi_pi * big_pi; // ψ(0) = 0
+            let x = matmul(&att.p0, &zxz_matrix(psi, theta, phi));
+            if reg.pole == 2 {
+                x
+            } else {
+                // columns of (P0 R) B: (x2, −x1, x0)
+                x.map(|row| [row[2], -row[1], row[0]])
+            }
+        }
+    }
+}

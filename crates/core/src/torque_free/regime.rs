@@ -1,0 +1,362 @@
+//! The regime of one torque-free motion (`docs/theory.md` §1, eqs (20)–(33);
+//! `docs/torque_free.md`): everything the closed form needs of one initial ω, computed once by
+//! [`Regime::new`] — the invariants (30)–(31), the case, and for three distinct moments the
+//! Jacobi form `ω = (σ1 α1 cn u, σ2 α2 sn u, σ3 α3 dn u)` (pole e3) or
+//! `(σ1 α1 dn u, σ2 α2 sn u, σ3 α3 cn u)` (pole e1), `u = u0 + λt`, with `m`, `m1` and `K(m)` —
+//! and ω(t) from it ([`Regime::omega_at`]). The polhode radii and the Jacobi form are generic
+//! over [`Real`], so that the lanes of [`super::exact_omegas`] run the very same formulas.
+
+use super::{
+    row, AROUND_E1, AROUND_E3, FIXED, NEAR_UNSTABLE_AXIS, PRECESSION, SEPARATRIX, SPHERICAL,
+};
+use crate::cmath::{frexp, ldexp};
+use crate::elliptic::{first_kind_from_sn_cn, first_kind_in_period, jacobi_reduced_with, Agm};
+use crate::invariants::principal_invariants;
+use crate::real::{py_max, py_min, Real};
+use crate::so3::Vec3;
+
+/// The square roots of a body's moments that every motion's regime uses:
+/// `√(I1 (I3 − I1))`, `√(I2 (I3 − I2))`, `√(I2 (I2 − I1))`, `√(I3 (I3 − I1))`, and the rates
+/// `√((I3 − I2)/(I1 I2 I3))`, `√((I2 − I1)/(I1 I2 I3))` of `λ` (sorted moments).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Radicals {
+    pub r13: f64,
+    pub r23: f64,
+    pub r12: f64,
+    pub r33: f64,
+    pub rate3: f64,
+    pub rate1: f64,
+    /// `√(I1 (I3 − I1)) / √(I2 (I3 − I2))` and `√(I3 (I3 − I1)) / √(I2 (I2 − I1))`: the ratios
+    /// `|cn u0 / sn u0| = cot3 |ω1/ω2|` (pole e3) and `cot1 |ω3/ω2|` (pole e1).
+    pub cot3: f64,
+    pub cot1: f64,
+}
+
+impl Radicals {
+    pub fn new(moments: Vec3) -> Radicals {
+        let [i1, i2, i3] = moments;
+        Radicals {
+            r13: (i1 * (i3 - i1)).sqrt(),
+            r23: (i2 * (i3 - i2)).sqrt(),
+            r12: (i2 * (i2 - i1)).sqrt(),
+            r33: (i3 * (i3 - i1)).sqrt(),
+            rate3: ((i3 - i2) / (i1 * i2 * i3)).sqrt(),
+            rate1: ((i2 - i1) / (i1 * i2 * i3)).sqrt(),
+            cot3: (i1 * (i3 - i1)).sqrt() / (i2 * (i3 - i2)).sqrt(),
+            cot1: (i3 * (i3 - i1)).sqrt() / (i2 * (i2 - i1)).sqrt(),
+        }
+    }
+}
+
+/// `(√P3, √P1)`, `P3 = 2k I3 − a²`, `P1 = a² − 2k I1` as sums of squares (no cancellation):
+/// `P3 = I1 (I3 − I1) x1² + I2 (I3 − I2) x2²`, `P1 = I2 (I2 − I1) x2² + I3 (I3 − I1) x3²`
+/// (scaled ω `x`; [`Real::norm2`], which clears `plain` in the lanes it leaves to `f64`).
+#[inline(always)]
+pub(super) fn polhode_radii<T: Real>(r: &Radicals, x: [T; 3], plain: &mut T::Mask) -> (T, T) {
+    let c = T::splat;
+    let q3 = T::norm2(c(r.r13) * x[0], c(r.r23) * x[1], plain);
+    let q1 = T::norm2(c(r.r12) * x[1], c(r.r33) * x[2], plain);
+    (q3, q1)
+}
+
+/// The Jacobi form of a motion of a body with three distinct moments, off the fixed points
+/// (`√P3 = q3 > 0`, `√P1 = q1 > 0`), from the scaled ω `x` (see the module docs): amplitudes
+/// and rate in the scale of `x`. Generic over [`Real`].
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct JacobiForm<T: Real> {
+    /// `(α1, α2, α3)` and `λ` (scaled).
+    pub(super) alpha: [T; 3],
+    pub(super) lam: T,
+    /// `m` and `m1` (clamped to [0, 1]; `(1, 0)` for a subnormal `m1`).
+    pub(super) m: T,
+    pub(super) m1: T,
+    /// `σ1`, `σ3`.
+    pub(super) s1: T,
+    pub(super) s3: T,
+    /// Of the signs of `sn u0` and `cn u0`, and `|cn u0 / sn u0|`.
+    pub(super) sn0: T,
+    pub(super) cn0: T,
+    pub(super) cot0: T,
+    /// Where the polhode circles e3 (else e1).
+    pub(super) e3: T::Mask,
+}
+
+impl<T: Real> JacobiForm<T> {
+    #[inline(always)]
+    pub(super) fn new(moments: Vec3, r: &Radicals, x: [T; 3], q3: T, q1: T) -> JacobiForm<T> {
+        let c = T::splat;
+        let [i1, i2, i3] = moments;
+        let [x0, x1, x2] = x;
+        let d2 = c(i3 * (i3 - i2)) * x2 * x2 - c(i1 * (i2 - i1)) * x0 * x0; // a² − 2k I2
+                                                                            // around e3 (d2 > 0), or the separatrix (d2 = 0); else around e1
+        let e3 = d2.ge(c(0.0));
+        // e3: (q3, q1), e1: (q1, q3)
+        let (qa, qb) = (T::select(e3, q3, q1), T::select(e3, q1, q3));
+        let a0 = q3 / c(r.r13);
+        let a1 = qa / T::select(e3, c(r.r23), c(r.r12));
+        let a2 = q1 / c(r.r33);
+        let lam = qb * T::select(e3, c(r.rate3), c(r.rate1));
+        let ratio = qa / qb;
+        let m = T::select(e3, c((i2 - i1) / (i3 - i2)), c((i3 - i2) / (i2 - i1))) * ratio * ratio;
+        let m1 =
+            c(i3 - i1) * T::select(e3, d2, -d2) / (T::select(e3, c(i3 - i2), c(i2 - i1)) * qb * qb);
+        let m = py_min(py_max(m, c(0.0)), c(1.0));
+        let m1 = py_min(py_max(m1, c(0.0)), c(1.0));
+        // subnormal: the separatrix is the orbit to within O(m1)
+        let sep = m1.lt(c(1e-300));
+        let m = T::select(sep, c(1.0), m);
+        let m1 = T::select(sep, c(0.0), m1);
+        // Signs: the ODE needs σ1 = σ2 σ3. Off the separatrix cn takes both signs, so the sign
+        // of the cn-component is +1 (absorbed in the phase); on the separatrix cn = sech u > 0
+        // and each of the four arcs keeps the signs of both ω1 and ω3.
+        let off = m1.unequal(c(0.0));
+        let s1 = T::select(e3 & off, c(1.0), T::select(x0.gt(c(0.0)), c(1.0), c(-1.0)));
+        let s3 = T::select(!e3 & off, c(1.0), T::select(x2.gt(c(0.0)), c(1.0), c(-1.0)));
+        // sn u0 = σ1 σ3 ω2/α2, cn u0 = σ1 ω1/α1 (pole e3) or σ3 ω3/α3 (pole e1)
+        let sn0 = s1 * s3 * x1;
+        let xc = T::select(e3, x0, x2);
+        let cn0 = T::select(e3, s1, s3) * xc;
+        let cot0 = xc.abs() * T::select(e3, c(r.cot3), c(r.cot1)) / x1.abs();
+        JacobiForm {
+            alpha: [a0, a1, a2],
+            lam,
+            m,
+            m1,
+            s1,
+            s3,
+            sn0,
+            cn0,
+            cot0,
+            e3,
+        }
+    }
+}
+
+/// ω (sorted principal frame) from the Jacobi functions: `(cn, sn, dn)` (pole e3) or
+/// `(dn, sn, cn)` (pole e1) times the signed amplitudes `σ_i α_i`.
+#[inline(always)]
+pub(super) fn jacobi_omega<T: Real>(e3: T::Mask, sa: [T; 3], sn: T, cn: T, dn: T) -> [T; 3] {
+    let (first, last) = (T::select(e3, cn, dn), T::select(e3, dn, cn));
+    [sa[0] * first, sa[1] * sn, sa[2] * last]
+}
+
+/// The regime of one torque-free motion: everything the closed form needs of `ω(0)` (see the
+/// module docs). Fields unused by a case are zero.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Regime {
+    /// One of [`SPHERICAL`], [`PRECESSION`], [`FIXED`], [`AROUND_E3`], [`AROUND_E1`],
+    /// [`SEPARATRIX`].
+    pub case: u8,
+    /// `k`, `2k = Σ I_i ω_i²` (30).
+    pub energy: f64,
+    /// `a = |L|` (31).
+    pub momentum: f64,
+    /// The amplitudes `α_i` of the Jacobi form.
+    pub alpha: Vec3,
+    /// `λ`: `u = u0 + λ t`.
+    pub lam: f64,
+    /// The parameter `m` and its complement `m1 = 1 − m`.
+    pub m: f64,
+    pub m1: f64,
+    /// The signs `σ_i` (`σ2 = σ1 σ3`).
+    pub signs: Vec3,
+    /// `u0`, the argument at t = 0.
+    pub u0: f64,
+    /// The pole: 2 (e3) or 0 (e1).
+    pub pole: u8,
+    /// The quarter period `K(m)`.
+    pub quarter: f64,
+    /// The precession rate `ν` of a symmetric body.
+    pub nu: f64,
+    /// The symmetry axis of a symmetric body: 0 (prolate) or 2 (oblate).
+    pub axis: u8,
+    /// The transverse moment `I⊥` of a symmetric body.
+    pub i_perp: f64,
+    /// The AGM sequence of `m1` (elliptic cases off the separatrix), made once for every time
+    /// of ω(t) (the Jacobi functions use it for `m1 ≥`
+    /// [`NEAR_ONE`](crate::elliptic::NEAR_ONE)).
+    pub agm: Agm,
+}
+
+impl Regime {
+    /// The regime of the motion from `ω(0) = w` (sorted principal frame) for sorted moments
+    /// `moments`; `symmetry` the code of [`crate::freebody::symmetry_code`].
+    pub fn new(moments: Vec3, symmetry: u8, w: Vec3) -> Regime {
+        Regime::with(moments, &Radicals::new(moments), symmetry, w)
+    }
+
+    /// [`Regime::new`] with the body's [`Radicals`] made once (for many motions of one body).
+    pub fn with(moments: Vec3, radicals: &Radicals, symmetry: u8, w: Vec3) -> Regime {
+        let mut reg = Regime::default();
+        let [w0, w1, w2] = w;
+        let big = py_max(py_max(w0.abs(), w1.abs()), w2.abs());
+        if symmetry == 3 {
+            reg.case = SPHERICAL;
+        } else if big == 0.0 {
+            reg.case = FIXED;
+        }
+        if big == 0.0 {
+            return reg;
+        }
+        // scale ω by a power of two (exactly) so that squares neither underflow nor overflow
+        let e = frexp(big).1;
+        let sc = ldexp(1.0, -e);
+        let x0 = w0 * sc;
+        let x1 = w1 * sc;
+        let x2 = w2 * sc;
+        let (k, a) = principal_invariants(moments, [x0, x1, x2]);
+        reg.energy = ldexp(k, 2 * e);
+        reg.momentum = ldexp(a, e);
+        if symmetry == 3 {
+            return reg;
+        }
+        if symmetry != 0 {
+            // prolate (1): axis e1, I⊥ = I3; oblate (2): axis e3, I⊥ = I1
+            let s: usize = if symmetry == 2 { 2 } else { 0 };
+            let i_perp = if symmetry == 2 {
+                moments[0]
+            } else {
+                moments[2]
+            };
+            let ws = if s == 2 { w2 } else { w0 };
+            let nu = (1.0 / moments[s] - 1.0 / i_perp) * moments[s] * ws;
+            let transverse_zero = if s == 2 {
+                w0 == 0.0 && w1 == 0.0
+            } else {
+                w1 == 0.0 && w2 == 0.0
+            };
+            reg.case = if nu == 0.0 || transverse_zero {
+                FIXED
+            } else {
+                PRECESSION
+            };
+            reg.nu = nu;
+            reg.axis = s as u8;
+            reg.i_perp = i_perp;
+            return reg;
+        }
+        if py_max(x0.abs(), x2.abs()) <= NEAR_UNSTABLE_AXIS * x1.abs() {
+            reg.case = FIXED;
+            return reg;
+        }
+        let x = [x0, x1, x2];
+        let (q3, q1) = polhode_radii(radicals, x, &mut true);
+        if q3 == 0.0 || q1 == 0.0 {
+            // on e3 or on e1
+            reg.case = FIXED;
+            return reg;
+        }
+        let f = JacobiForm::new(moments, radicals, x, q3, q1);
+        let (m, m1) = (f.m, f.m1);
+        reg.case = if m1 == 0.0 {
+            SEPARATRIX
+        } else if f.e3 {
+            AROUND_E3
+        } else {
+            AROUND_E1
+        };
+        if m1 == 0.0 {
+            reg.quarter = f64::INFINITY;
+            let a_cn = if f.e3 { f.alpha[0] } else { f.alpha[2] };
+            reg.u0 = first_kind_from_sn_cn(f.sn0 / f.alpha[1], f.cn0 / a_cn, m, m1);
+        } else {
+            reg.agm = Agm::new(m1);
+            reg.quarter = reg.agm.quarter(); // = ellipk_m1(m1), the same sequence
+            reg.u0 = first_kind_in_period(f.cot0, f.sn0, f.cn0, &reg.agm, reg.quarter);
+        }
+        reg.alpha = f.alpha.map(|a| ldexp(a, e));
+        reg.lam = ldexp(f.lam, e);
+        reg.m = m;
+        reg.m1 = m1;
+        reg.signs = [f.s1, f.s1 * f.s3, f.s3];
+        reg.pole = if f.e3 { 2 } else { 0 };
+        reg
+    }
+
+    /// The flat row (`row::SIZE` numbers at the offsets of [`row`]) of
+    /// `poinsot.kernels.torque_free.regime_into`.
+    pub fn to_row(&self) -> [f64; row::SIZE] {
+        let mut out = [0.0; row::SIZE];
+        out[row::CASE] = self.case as f64;
+        out[row::ENERGY] = self.energy;
+        out[row::MOMENTUM] = self.momentum;
+        out[row::ALPHA..row::ALPHA + 3].copy_from_slice(&self.alpha);
+        out[row::LAM] = self.lam;
+        out[row::M] = self.m;
+        out[row::M1] = self.m1;
+        out[row::SIGNS..row::SIGNS + 3].copy_from_slice(&self.signs);
+        out[row::U0] = self.u0;
+        out[row::POLE] = self.pole as f64;
+        out[row::QUARTER] = self.quarter;
+        out[row::NU] = self.nu;
+        out[row::AXIS] = self.axis as f64;
+        out[row::I_PERP] = self.i_perp;
+        out
+    }
+
+    /// Whether ω(t) is given by Jacobi functions (three distinct moments, off the fixed points).
+    #[inline]
+    pub fn is_elliptic(&self) -> bool {
+        matches!(self.case, AROUND_E1 | AROUND_E3 | SEPARATRIX)
+    }
+
+    /// The period of ω(t): `4K(m)/λ` (three distinct moments), `2π/|ν|` (symmetric); `inf` on
+    /// the separatrix, NaN where ω is constant (fixed points, spherical bodies).
+    pub fn period(&self) -> f64 {
+        match self.case {
+            PRECESSION => 2.0 * std::f64::consts::PI / self.nu.abs(),
+            AROUND_E1 | AROUND_E3 => 4.0 * self.quarter / self.lam,
+            SEPARATRIX => f64::INFINITY,
+            _ => f64::NAN,
+        }
+    }
+
+    /// Time between successive sign changes of ω2 (the tennis-racket flips): `2K(m)/λ`; `inf`
+    /// on the separatrix, NaN where there is no flip (symmetric bodies, fixed points).
+    pub fn flip_interval(&self) -> f64 {
+        match self.case {
+            AROUND_E1 | AROUND_E3 => 2.0 * self.quarter / self.lam,
+            SEPARATRIX => f64::INFINITY,
+            _ => f64::NAN,
+        }
+    }
+
+    /// ω(t) (sorted principal frame) of the motion from `w` (the ω this regime was made from).
+    pub fn omega_at(&self, moments: Vec3, w: Vec3, t: f64) -> Vec3 {
+        match self.case {
+            SPHERICAL | FIXED => w,
+            PRECESSION => {
+                let p = turn_about_axis(
+                    self.axis as usize,
+                    -self.nu * t,
+                    [moments[0] * w[0], moments[1] * w[1], moments[2] * w[2]],
+                );
+                [p[0] / moments[0], p[1] / moments[1], p[2] / moments[2]]
+            }
+            _ => {
+                let (sn, cn, dn, _, _) = jacobi_reduced_with(
+                    self.u0 + self.lam * t,
+                    self.m,
+                    self.m1,
+                    self.quarter,
+                    &self.agm,
+                );
+                let sa = [0, 1, 2].map(|i| self.signs[i] * self.alpha[i]);
+                jacobi_omega(self.pole == 2, sa, sn, cn, dn)
+            }
+        }
+    }
+}
+
+/// The vector `x` turned by `angle` about principal axis `s`.
+#[inline(always)]
+fn turn_about_axis(s: usize, angle: f64, x: Vec3) -> Vec3 {
+    let c = angle.cos();
+    let n = angle.sin();
+    let [x0, x1, x2] = x;
+    match s {
+        0 => [x0, c * x1 - n * x2, n * x1 + c * x2],
+        1 => [n * x2 + c * x0, x1, c * x2 - n * x0],
+        _ => [c * x0 - n * x1, n * x0 + c * x1, x2],
+    }
+}
