@@ -14,6 +14,7 @@ mod exact;
 mod geometry;
 mod gyrostat;
 mod lagrange;
+mod lagrange_run;
 mod relative;
 mod rigid;
 mod spec;
