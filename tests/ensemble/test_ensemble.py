@@ -591,15 +591,13 @@ def test_a_chunk_runs_the_same_from_unaligned_arrays(case):
     # message; the core reads aligned memory, so they are realigned (copied) at the call
     import dataclasses
 
-    from poinsot.ensemble.run import _prepare
+    from poinsot.ensemble.run import _members, prepare_ensemble
     from poinsot.ensemble.tasks import run_chunk
 
     kw = dict(CASES[case])
-    spec, members = _prepare(
-        BODY, (0, T_END), W0, Q0, None, None, kw.pop("moments", None), None,
-        kw.pop("forces", ()), kw.pop("pivot", None), kw.pop("method"), kw.pop("dt", None),
-        None, None, T_EVAL, True, None, True,
-    )  # fmt: skip
+    moments = kw.pop("moments", None)
+    prepared = prepare_ensemble(BODY, (0, T_END), t_eval=T_EVAL, **kw)
+    spec, members = _members(prepared.spec, prepared.system, W0, Q0, None, None, moments, None)
     task = members.task(2, 9)
 
     def odd(obj):
@@ -621,15 +619,13 @@ def test_a_chunk_runs_the_same_from_unaligned_arrays(case):
 def test_a_chunk_written_in_place_equals_its_returned_arrays(case, keep_states):
     # run in this process, a chunk writes its states into the result's arrays (MuJoCo's
     # rollout style); on a Dask worker it returns new ones: the two are bit-identical
-    from poinsot.ensemble.run import _prepare
+    from poinsot.ensemble.run import _members, prepare_ensemble
     from poinsot.ensemble.tasks import ChunkViews, run_chunk
 
     kw = dict(CASES[case])
-    spec, members = _prepare(
-        BODY, (0, T_END), W0, Q0, None, None, None, None, kw.pop("forces", ()),
-        kw.pop("pivot", None), kw.pop("method"), kw.pop("dt", None), None, None, T_EVAL, True,
-        None, keep_states,
-    )  # fmt: skip
+    kw.pop("moments", None)
+    prepared = prepare_ensemble(BODY, (0, T_END), t_eval=T_EVAL, keep_states=keep_states, **kw)
+    spec, members = _members(prepared.spec, prepared.system, W0, Q0, None, None, None, None)
     task = members.task(2, 9)
     m = task.stop - task.start
     views = ChunkViews(

@@ -62,8 +62,9 @@ class Scenario:
     ensemble: dict | None = None
     carrier: dict | None = None
     #: The run, checked and lowered once when the file is read
-    #: (:func:`poinsot.simulation.prepare`, or :func:`poinsot.relative.prepare_relative` for a
-    #: motion relative to a carrier), and its initial state.
+    #: (:func:`poinsot.simulation.prepare`; :func:`poinsot.ensemble.prepare_ensemble` for an
+    #: ensemble, :func:`poinsot.relative.prepare_relative` for a motion relative to a
+    #: carrier), and its initial state.
     prepared: object = field(default=None, repr=False, compare=False)
     y0: np.ndarray | None = field(default=None, repr=False, compare=False)
 
@@ -82,29 +83,14 @@ class Scenario:
         return sampling.gaussian(e["members"], e["mean"], e["std"], e["seed"])
 
     def simulate_ensemble(self, progress=None):
-        """Run the ensemble of ``[ensemble]``: an :class:`~poinsot.ensemble.EnsembleResult`
-        sampled at the scenario's times (final states only with ``keep_states = false``)."""
-        from ..ensemble import simulate_ensemble
-
+        """Run the ensemble of ``[ensemble]``, prepared when the file was read: an
+        :class:`~poinsot.ensemble.EnsembleResult` sampled at the scenario's times (final
+        states only with ``keep_states = false``)."""
         e = self.ensemble
         initial = {k: v for k, v in self.initial.items() if k in ("Q0", "R0", "V0")}
-        return simulate_ensemble(
-            self.body,
-            self.t_span,
-            omega0=self.ensemble_omegas(),
-            forces=self.forces,
-            pivot=self.pivot,
-            method=self.method,
-            dt=self.dt,
-            rtol=self.rtol,
-            atol=self.atol,
-            t_eval=self.t_eval if e["keep_states"] else None,
-            keep_states=e["keep_states"],
-            chunk_size=e["chunk_size"],
-            threads=e["threads"],
-            progress=progress,
-            **initial,
-        )
+        return self.prepared.run(omega0=self.ensemble_omegas(), chunk_size=e["chunk_size"],
+                                 threads=e["threads"], progress=progress,
+                                 **initial)  # fmt: skip
 
     def simulate(self, progress=None, *, method=None):
         """Run the simulation prepared when the file was read: a
@@ -550,9 +536,19 @@ def _check_physics(s: Scenario):
 
     if s.carrier is None:  # a rigid body's run (or an ensemble's): checked and lowered once
         try:
-            s.prepared = prepare(s.body, s.t_span, forces=s.forces, pivot=s.pivot,
-                                 method=s.method, dt=s.dt, rtol=s.rtol, atol=s.atol,
-                                 t_eval=s.t_eval)  # fmt: skip
+            if s.ensemble is None:
+                s.prepared = prepare(s.body, s.t_span, forces=s.forces, pivot=s.pivot,
+                                     method=s.method, dt=s.dt, rtol=s.rtol, atol=s.atol,
+                                     t_eval=s.t_eval)  # fmt: skip
+            else:
+                from ..ensemble import prepare_ensemble
+
+                keep = s.ensemble["keep_states"]
+                s.prepared = prepare_ensemble(s.body, s.t_span, forces=s.forces,
+                                              pivot=s.pivot, method=s.method, dt=s.dt,
+                                              rtol=s.rtol, atol=s.atol,
+                                              t_eval=s.t_eval if keep else None,
+                                              keep_states=keep)  # fmt: skip
         except StepBudgetError as exc:
             raise ScenarioError(_budget_message(exc)) from None
         except (ValueError, TypeError) as exc:

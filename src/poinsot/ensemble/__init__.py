@@ -6,7 +6,14 @@
 from __future__ import annotations
 
 from .result import STATISTICS, EnsembleResult
-from .run import simulate_ensemble
+from .run import PreparedEnsemble, prepare_ensemble, simulate_ensemble
 from .tasks import ChunkSamples
 
-__all__ = ["STATISTICS", "ChunkSamples", "EnsembleResult", "simulate_ensemble"]
+__all__ = [
+    "STATISTICS",
+    "ChunkSamples",
+    "EnsembleResult",
+    "PreparedEnsemble",
+    "prepare_ensemble",
+    "simulate_ensemble",
+]

@@ -31,7 +31,7 @@ from .executors import run_chunks
 from .result import EnsembleResult
 from .tasks import ChunkTask, EnsembleSpec
 
-__all__ = ["simulate_ensemble"]
+__all__ = ["PreparedEnsemble", "prepare_ensemble", "simulate_ensemble"]
 
 #: Bytes of samples one chunk may hold (m · n · 18 · 8): bounds the memory of a run whatever N.
 CHUNK_BYTES = 32 * 2**20
@@ -145,26 +145,78 @@ def simulate_ensemble(
     >>> bool((res.flip_count >= 1).all())   # every member near the intermediate axis flips
     True
     """
-    start = time.perf_counter()
-    # an empty t_eval: the run, none of its states
+    prepared = prepare_ensemble(body, t_span, forces=forces, pivot=pivot, method=method, dt=dt,
+                                rtol=rtol, atol=atol, t_eval=t_eval, flips=flips,
+                                keep_states=keep_states, reductions=reductions)  # fmt: skip
+    return prepared.run(omega0=omega0, Q0=Q0, R0=R0, V0=V0, moments=moments, inertia=inertia,
+                        chunk_size=chunk_size, threads=threads, client=client,
+                        progress=progress)  # fmt: skip
+
+
+def prepare_ensemble(body, t_span, *, forces=(), pivot=None, method="rk4", dt=None, rtol=None,
+                     atol=None, t_eval=None, flips=True, keep_states=True,
+                     reductions=None) -> PreparedEnsemble:  # fmt: skip
+    """Check an ensemble's run and lower its body and forces once: the
+    :class:`PreparedEnsemble` that :func:`simulate_ensemble` runs. The arguments are
+    :func:`simulate_ensemble`'s less the members (``omega0``, ``Q0``, ``R0``, ``V0``,
+    ``moments``, ``inertia``) and how they run (``chunk_size``, ``threads``, ``client``,
+    ``progress``), checked here with the same errors.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from poinsot import RigidBody
+    >>> run = prepare_ensemble(RigidBody(1.0, np.diag([1.0, 2.0, 3.0])), (0, 1), dt=1e-2)
+    >>> [run.run(omega0=[[0, w, 0]]).omega[0, -1, 1].round(9) for w in (1.0, 2.0)]
+    [np.float64(1.0), np.float64(2.0)]
+    """
     no_samples = isinstance(t_eval, list | tuple | np.ndarray) and len(t_eval) == 0
     if no_samples and reductions:
         raise ValueError("`reductions` are evaluated at the samples: an empty `t_eval` has none")
-    spec, members = _prepare(
-        body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, method, dt, rtol,
-        atol, None if no_samples else t_eval, flips, reductions, keep_states,
-    )  # fmt: skip
-    N = members.n
-    n = len(spec.t_eval)
-    chunk = _chunk_size(chunk_size, N, n, threads, client)
-    result = EnsembleResult.allocate(spec, N, keep_states, body, members)
-    tasks = (members.task(i0, min(i0 + chunk, N)) for i0 in range(0, N, chunk))
-    run_chunks(spec, tasks, N, chunk, result.absorb, threads=threads, client=client,
-               progress=progress, views=result.views)  # fmt: skip
-    if no_samples:
-        result.drop_samples()
-    result.wall_time = time.perf_counter() - start
-    return result
+    spec, system = _prepare(body, t_span, forces, pivot, method, dt, rtol, atol,
+                            None if no_samples else t_eval, flips, reductions,
+                            keep_states)  # fmt: skip
+    return PreparedEnsemble(body, system, spec, no_samples)
+
+
+@dataclass(frozen=True)
+class PreparedEnsemble:
+    """An ensemble's run, checked and lowered (:func:`prepare_ensemble`): :meth:`run`
+    integrates any set of members.
+
+    Attributes
+    ----------
+    body : RigidBody
+    system : RigidBodySystem
+        The body, its forces lowered for the core and the pivot.
+    spec : EnsembleSpec
+        What every chunk shares: the method, the span and samples, the body's parameters and
+        the lowered forces.
+    """
+
+    body: object
+    system: RigidBodySystem
+    spec: EnsembleSpec
+    no_samples: bool = False
+
+    def run(self, *, omega0, Q0=None, R0=None, V0=None, moments=None, inertia=None,
+            chunk_size=None, threads=None, client=None,
+            progress=None) -> EnsembleResult:  # fmt: skip
+        """Integrate the members given as :func:`simulate_ensemble` takes them; nothing is
+        lowered again (but the forces of members with their own principal axes)."""
+        start = time.perf_counter()
+        spec, members = _members(self.spec, self.system, omega0, Q0, R0, V0, moments, inertia)
+        N = members.n
+        n = len(spec.t_eval)
+        chunk = _chunk_size(chunk_size, N, n, threads, client)
+        result = EnsembleResult.allocate(spec, N, spec.keep_states, self.body, members)
+        tasks = (members.task(i0, min(i0 + chunk, N)) for i0 in range(0, N, chunk))
+        run_chunks(spec, tasks, N, chunk, result.absorb, threads=threads, client=client,
+                   progress=progress, views=result.views)  # fmt: skip
+        if self.no_samples:
+            result.drop_samples()
+        result.wall_time = time.perf_counter() - start
+        return result
 
 
 # --------------------------------------------------------------------------- preparation
@@ -223,8 +275,10 @@ def _lower_per_member(system, axes):
     return out
 
 
-def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, method, dt,
-             rtol, atol, t_eval, flips, reductions, keep_states):  # fmt: skip
+def _prepare(body, t_span, forces, pivot, method, dt, rtol, atol, t_eval, flips, reductions,
+             keep_states):  # fmt: skip
+    """The run's :class:`EnsembleSpec` (its kind that of members sharing the body's inertia)
+    and the body's system, checked and lowered once."""
     from ..bodies import RigidBody
 
     if not isinstance(body, RigidBody):
@@ -243,21 +297,6 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
     check_solver_fits(solver, system)
     if solver.kind not in RIGID_METHODS:
         raise ValueError(f"`method` {solver.name!r} has no step in the compiled core")
-    omega = as_vectors(omega0, "omega0", single_ok=False)
-    N = len(omega)
-    if N == 0:
-        raise ValueError("`omega0` must hold at least one member, found shape (0, 3)")
-    Q = as_rotation_matrices(np.eye(3) if Q0 is None else Q0, "Q0", N)
-    R = np.zeros((0, 3)) if R0 is None else as_vectors(R0, "R0", N)
-    if V0 is not None and pivot is not None:
-        raise ValueError("`V0` must be omitted with a `pivot`: it follows from `omega0`")
-    V = np.zeros((0, 3)) if V0 is None else as_vectors(V0, "V0", N)
-    member_inertia = _member_inertia(moments, inertia, N)
-    if member_inertia is None and system.degenerate:
-        raise ValueError(
-            "`body` is degenerate (all mass on a line): the spin of its members about that "
-            "line is undefined; give each member a full inertia (`moments` or `inertia`)"
-        )
     rtol, atol = check_tolerances(rtol, atol)
     if solver.adaptive:
         from ..integrate.control import StepSizeController
@@ -281,8 +320,6 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
     if len(times) == 0:
         raise ValueError("`t_eval` must hold at least one time")
     kind = "rigid" if (pivot is not None or len(system.force_kind)) else "free"
-    if kind == "free" and member_inertia is not None:
-        kind = "free_varied"
     spec = EnsembleSpec(
         kind=kind,
         method_kind=solver.kind,
@@ -309,11 +346,35 @@ def _prepare(body, t_span, omega0, Q0, R0, V0, moments, inertia, forces, pivot, 
         reductions=_check_reductions(reductions),
         keep_states=bool(keep_states),
     )
+    return spec, system
+
+
+def _members(spec, system, omega0, Q0, R0, V0, moments, inertia):
+    """The members' inputs, checked, and the spec for them (torque-free members with their
+    own inertia run as ``"free_varied"``)."""
+    from dataclasses import replace
+
+    omega = as_vectors(omega0, "omega0", single_ok=False)
+    N = len(omega)
+    if N == 0:
+        raise ValueError("`omega0` must hold at least one member, found shape (0, 3)")
+    Q = as_rotation_matrices(np.eye(3) if Q0 is None else Q0, "Q0", N)
+    R = np.zeros((0, 3)) if R0 is None else as_vectors(R0, "R0", N)
+    if V0 is not None and system.pivot is not None:
+        raise ValueError("`V0` must be omitted with a `pivot`: it follows from `omega0`")
+    V = np.zeros((0, 3)) if V0 is None else as_vectors(V0, "V0", N)
+    member_inertia = _member_inertia(moments, inertia, N)
+    if member_inertia is None and system.degenerate:
+        raise ValueError(
+            "`body` is degenerate (all mass on a line): the spin of its members about that "
+            "line is undefined; give each member a full inertia (`moments` or `inertia`)"
+        )
+    if spec.kind == "free" and member_inertia is not None:
+        spec = replace(spec, kind="free_varied")
     lower = member_inertia is not None and any(
         f.compiled and _depends_on_frame(f, system) for f in system.forces
     )
-    members = _Members(omega, Q, R, V, member_inertia, system, lower)
-    return spec, members
+    return spec, _Members(omega, Q, R, V, member_inertia, system, lower)
 
 
 def _depends_on_frame(force, system) -> bool:
