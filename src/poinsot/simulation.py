@@ -24,6 +24,7 @@ from .integrate.solve import (
     SimulationError,
     StepBudgetError,
     check_budget,
+    check_event_resolution,
     check_run,
     solve,
 )
@@ -81,6 +82,7 @@ def prepare(
 
         normalize_events(events)  # refused here, naming the event, before any step
         events = tuple(events) if isinstance(events, list | tuple) else (events,)
+    event_resolution = check_event_resolution(event_resolution)
     return PreparedRun(system, settings, backend, events, event_resolution)
 
 

@@ -95,7 +95,7 @@ def test_fixed_step_ensembles_and_failed_members():
         (
             {"params": {"l": [1.0, 2.0]}, "q0": {"theta": [0.1, 0.2, 0.3]}},
             ValueError,
-            "one length, found l: 2, theta: 3",
+            r"one length, found params\[l\]: 2, q0\[theta\]: 3",
         ),
         ({"params": {"zeta": 1.0}}, ValueError, r"`params`: 'zeta' is not one of g, l, m"),
         ({"params": {"l": 1.0}}, ValueError, "`params` must give every parameter: missing g, m"),
@@ -179,3 +179,40 @@ def test_one_sided_constraints_let_go_in_ensembles_as_in_single_runs(method):
     with pytest.raises(ValueError, match="event_resolution"):
         system.simulate_ensemble((0, 0.85), q0=q0, qd0=qd0, params=mdl.params,
                                  event_resolution=np.nan, **run)  # fmt: skip
+
+
+def test_an_adaptive_members_first_step_is_dt_as_in_a_single_run():
+    """``dt`` with the adaptive method is its first step, in an ensemble as in a single run
+    (it was ignored by ensembles): a member equals its single run bit for bit, and another
+    first step gives other steps."""
+    mdl = models.pendulum_on_cart()
+    s = mdl.symbols
+    t = np.linspace(0, 1, 6)
+    angles = np.array([0.3, 0.9])
+    q0 = {s["x"]: 0.0, s["theta"]: angles}
+    runs = {}
+    for first in (1e-6, 0.1):
+        ens = mdl.system.simulate_ensemble((0, 1), q0=q0, qd0=mdl.qd0, params=mdl.params,
+                                           t_eval=t, dt=first)  # fmt: skip
+        one = mdl.simulate((0, 1), q0={s["x"]: 0.0, s["theta"]: angles[1]}, t_eval=t, dt=first)
+        assert np.array_equal(ens.q[1], one.q) and ens.nfev[1] == one.nfev
+        runs[first] = ens
+    assert not np.array_equal(runs[1e-6].nfev, runs[0.1].nfev)
+
+
+@pytest.mark.parametrize("bad", [-1, 0, 1, 2.5, 1e300, float("nan"), True, "many"])
+def test_event_resolution_is_an_integer_from_two(bad):
+    """``event_resolution`` is checked by name in every front-end (it was cast with int() and
+    clamped, or ran into a memory error at 1e300)."""
+    from poinsot import RigidBody, simulate
+
+    mdl = models.sliding_ladder()
+    th = mdl.symbols["theta"]
+    match = "`event_resolution` must be an integer from 2"
+    with pytest.raises(ValueError, match=match):
+        mdl.simulate((0, 0.5), q0={th: 0.3}, event_resolution=bad)
+    with pytest.raises(ValueError, match=match):
+        mdl.system.simulate_ensemble((0, 0.5), q0={th: [0.3]}, params=mdl.params,
+                                     event_resolution=bad)  # fmt: skip
+    with pytest.raises(ValueError, match=match):
+        simulate(RigidBody.box(1.0, (1, 2, 3)), (0, 1), omega0=(0, 1, 0), event_resolution=bad)

@@ -28,11 +28,13 @@ from .base import get_solver
 
 __all__ = [
     "DEFAULT_MAX_STEPS",
+    "MAX_EVENT_RESOLUTION",
     "RTOL_FLOOR",
     "RunSettings",
     "SimulationError",
     "StepBudgetError",
     "check_budget",
+    "check_event_resolution",
     "check_run",
     "solve",
 ]
@@ -137,6 +139,25 @@ def check_max_steps(max_steps) -> int:
     if isinstance(max_steps, bool) or not isinstance(max_steps, int | np.integer) or max_steps < 1:
         raise ValueError(f"`max_steps` must be a positive integer, found {max_steps!r}")
     return int(max_steps)
+
+
+#: The most detection points a run's events may be watched at (``event_resolution``).
+MAX_EVENT_RESOLUTION = 10**7
+
+
+def check_event_resolution(value) -> int:
+    """The detection grid's number of points, ``event_resolution``: an integer from 2 to
+    :data:`MAX_EVENT_RESOLUTION` (events are looked for at points no further apart than that
+    grid would be)."""
+    ok = not isinstance(value, bool) and isinstance(value, int | np.integer)
+    if not ok and isinstance(value, float | np.floating) and float(value).is_integer():
+        value, ok = int(value), True
+    if not ok or not 2 <= value <= MAX_EVENT_RESOLUTION:
+        raise ValueError(
+            f"`event_resolution` must be an integer from 2 to {MAX_EVENT_RESOLUTION:.0e}, "
+            f"found {value!r}"
+        )
+    return int(value)
 
 
 def check_run(t_span, method, *, dt=None, rtol=None, atol=None, t_eval=None, save_every=1,

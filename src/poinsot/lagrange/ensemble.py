@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import as_gains, as_scalar
-from .numeric import DEFAULT_BAUMGARTE, check_run_options
+from .._validation import as_scalar
+from .numeric import DEFAULT_BAUMGARTE, check_settings
 
 __all__ = ["LagrangianEnsemble", "simulate_ensemble"]
 
@@ -73,11 +73,14 @@ def _by_key(values, keys, name, required):
     return out
 
 
-def _members(columns) -> int:
-    sizes = {len(c) for c in columns.values()} - {1}
+def _members(*tables) -> int:
+    """The number of members: the one length of the per-member arrays of ``tables``
+    (``(name, {key: column})``: params, inputs, q0, qd0; q0 and qd0 share their keys)."""
+    columns = [(f"{name}[{str(k).replace('(t)', '')}]", c)
+               for name, cols in tables for k, c in cols.items()]  # fmt: skip
+    sizes = {len(c) for _, c in columns} - {1}
     if len(sizes) > 1:
-        lengths = ", ".join(f"{str(k).replace('(t)', '')}: {len(c)}"
-                            for k, c in columns.items() if len(c) > 1)  # fmt: skip
+        lengths = ", ".join(f"{label}: {len(c)}" for label, c in columns if len(c) > 1)
         raise ValueError(f"the per-member arrays must have one length, found {lengths}")
     return sizes.pop() if sizes else 1
 
@@ -253,21 +256,15 @@ def simulate_ensemble(
     from .._threads import available_cpus
     from ..integrate.control import StepSizeController
     from ..integrate.driver import run_spec
-    from ..integrate.solve import check_budget, check_sampling, check_t_span, check_tolerances
     from .engine import compile_system
 
-    t0, t1 = check_t_span(t_span)
-    solver = check_run_options(method, stabilization)
-    t_eval, _, dt = check_sampling(t_eval, t0, t1, 1, dt)
-    rtol, atol = check_tolerances(rtol, atol)
-    gains = as_gains(baumgarte, "baumgarte")
-    budget = check_budget(solver, t0, t1, dt, max_steps)  # per member; fixed steps: up front
-    resolution = max(int(as_scalar(event_resolution, "event_resolution")), 2)
-    no_samples = t_eval is not None and len(t_eval) == 0  # the run to t1, none of its states
-    if t_eval is None:
-        times = np.linspace(t0, t1, 201)
-    else:
-        times = np.array([t1]) if no_samples else np.asarray(t_eval, dtype=float)
+    # the run's settings, checked as a single run checks them (the budget is per member)
+    st = check_settings(t_span, method=method, dt=dt, rtol=rtol, atol=atol, t_eval=t_eval,
+                        stabilization=stabilization, baumgarte=baumgarte,
+                        event_resolution=event_resolution, max_steps=max_steps)  # fmt: skip
+    (t0, t1), solver, dt, gains = st.t_span, st.solver, st.dt, st.gains
+    no_samples = len(st.t_eval) == 0  # the run to t1, none of its states
+    times = np.array([t1]) if no_samples else st.t_eval
     if threads is not None and (not isinstance(threads, int) or threads < 1):
         raise ValueError(f"`threads` must be a positive integer, found {threads!r}")
     if chunk_size is not None and (not isinstance(chunk_size, int) or chunk_size < 1):
@@ -278,7 +275,7 @@ def simulate_ensemble(
     U_cols = _by_key(inputs, system.inputs, "inputs", "input")
     Q_cols = _by_key(q0, system.coordinates, "q0", None if system.n_holonomic else "coordinate")
     V_cols = _by_key(qd0, system.coordinates, "qd0", None)
-    N = _members({**P_cols, **U_cols, **Q_cols, **V_cols})
+    N = _members(("params", P_cols), ("inputs", U_cols), ("q0", Q_cols), ("qd0", V_cols))
 
     def table(keys, cols, default=None):
         out = np.empty((N, len(keys)))
@@ -300,19 +297,19 @@ def simulate_ensemble(
     projection = stabilization == "projection" and m > 0
     workers = threads or available_cpus()
     chunk = chunk_size or max(1, min(1000, -(-N // workers)))
-    if solver.adaptive:
-        run = run_spec("dop853", t_end=t1, controller=StepSizeController(rtol, atol),
-                       t_eval=times, max_steps=budget)  # fmt: skip
+    if solver.adaptive:  # dt: the first step, as for a single run
+        control = StepSizeController(st.rtol, st.atol, first_step=dt)
+        run = run_spec(solver.kind, t_end=t1, controller=control, t_eval=times,
+                       max_steps=st.budget)  # fmt: skip
     else:
-        steps = solver()
-        run = run_spec("erk", t_end=t1, dt=dt, tableau=(steps.A, steps.B, steps.C),
-                       t_eval=times, max_steps=budget)  # fmt: skip
+        run = run_spec(solver.kind, t_end=t1, dt=dt, tableau=(solver.A, solver.B, solver.C),
+                       t_eval=times, max_steps=st.budget)  # fmt: skip
     parts = []
     for i0 in range(0, N, chunk):
         i1 = min(i0 + chunk, N)
         parts.append(engine.model.run_ensemble(
             P[i0:i1], U[i0:i1], Z0[i0:i1], gains[0], gains[1], projection, run, t0, workers,
-            list(system.unilateral), resolution))  # fmt: skip
+            list(system.unilateral), st.event_resolution))  # fmt: skip
     Y, status, nsteps, nfev, releases = (np.concatenate(c) for c in zip(*parts, strict=True))
     if no_samples:
         times, Y = times[:0], Y[:, :0]

@@ -19,7 +19,7 @@ with ``stab`` the constraint stabilisation:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -273,28 +273,47 @@ def prepare(system, t_span, *, params=None, method="dop853", dt=None, rtol=1e-10
     >>> [round(float(run.run(q0={th: a}).q[-1, 0]), 6) for a in (0.1, 0.2)]
     [-0.099993, -0.19997]
     """
-    from ..integrate.solve import check_budget, check_sampling, check_t_span, check_tolerances
     from .engine import compile_system
 
-    t0, t1 = check_t_span(t_span)
+    settings = check_settings(t_span, method=method, dt=dt, rtol=rtol, atol=atol,
+                              t_eval=t_eval, stabilization=stabilization, baumgarte=baumgarte,
+                              event_resolution=event_resolution, max_steps=max_steps)  # fmt: skip
     check_engine(engine)
-    solver = check_run_options(method, stabilization)
     params = as_params(params, system)
-    t_eval, _, dt = check_sampling(t_eval, t0, t1, 1, dt)
-    rtol, atol = check_tolerances(rtol, atol)
-    budget = check_budget(solver, t0, t1, dt, max_steps)
-    gains = as_gains(baumgarte, "baumgarte")
     compiled = compile_system(system)
     num = _EngineNumeric(system, params, compiled)
     u_of = input_function(inputs, system)
     if u_of is not None:
         num = num.bound(u_of)
     watched = _expression_events(events, system, params)
-    if t_eval is None:
-        t_eval = np.linspace(t0, t1, 201)
-    settings = _Settings(solver, (t0, t1), np.asarray(t_eval, float), dt, rtol, atol, budget,
-                         stabilization, gains, watched, event_resolution)  # fmt: skip
+    settings = replace(settings, events=watched)
     return PreparedLagrangianRun(system, num, compiled, u_of, settings, events, inputs)
+
+
+def check_settings(t_span, *, method, dt, rtol, atol, t_eval, stabilization, baumgarte,
+                   event_resolution, max_steps) -> _Settings:  # fmt: skip
+    """A Lagrangian run's settings, checked once (single runs and ensembles): the span, the
+    method (one for general ODEs) with ``dt`` (a fixed-step method's step, the adaptive
+    method's first step), tolerances, sample times (201 by default), the stabilisation and
+    Baumgarte's gains, the events' detection grid and the step budget."""
+    from ..integrate.solve import (
+        check_budget,
+        check_event_resolution,
+        check_sampling,
+        check_t_span,
+        check_tolerances,
+    )
+
+    t0, t1 = check_t_span(t_span)
+    solver = check_run_options(method, stabilization)
+    t_eval, _, dt = check_sampling(t_eval, t0, t1, 1, dt)
+    rtol, atol = check_tolerances(rtol, atol)
+    budget = check_budget(solver, t0, t1, dt, max_steps)
+    gains = as_gains(baumgarte, "baumgarte")
+    resolution = check_event_resolution(event_resolution)
+    times = np.linspace(t0, t1, 201) if t_eval is None else np.asarray(t_eval, float)
+    return _Settings(solver, (t0, t1), times, dt, rtol, atol, budget, stabilization, gains, [],
+                     resolution)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -340,8 +359,6 @@ class PreparedLagrangianRun:
     def with_params(self, params) -> PreparedLagrangianRun:
         """The same run with ``params`` (checked; events written in the parameters are
         compiled with the new values); nothing else is lowered again."""
-        from dataclasses import replace
-
         params = as_params(params, self.system)
         num = _EngineNumeric(self.system, params, self.compiled)
         if self.u_of is not None:
