@@ -113,6 +113,26 @@ def as_scalar(value, name: str) -> float:
     return x
 
 
+def as_count(value, name: str, low: int = 1, high: int | None = None) -> int:
+    """An integer from ``low`` to ``high`` (a float with an integer value is taken; a bool, a
+    fraction, NaN or text is refused, named). The message says "a positive integer" when
+    ``low`` is 1 and there is no ``high``."""
+    ok = not isinstance(value, bool) and isinstance(value, int | np.integer)
+    if not ok and isinstance(value, float | np.floating) and float(value).is_integer():
+        value, ok = int(value), True
+    if ok and value >= low and (high is None or value <= high):
+        return int(value)
+    if high is not None:
+        rule = (
+            f"an integer from {low} to {high:.0e}"
+            if high >= 10**5
+            else f"an integer from {low} to {high}"
+        )
+    else:
+        rule = "a positive integer" if low == 1 else f"an integer ≥ {low}"
+    raise ValueError(f"`{name}` must be {rule}, found {value!r}")
+
+
 def as_positive_scalar(value, name: str) -> float:
     """A finite number > 0."""
     x = as_scalar(value, name)

@@ -348,3 +348,20 @@ def test_describe_summarises_the_motion():
     assert "flip_interval" not in fb.describe((0.0, 0.0, 1.0))  # fixed point: undefined
     sep = fb.describe(fb.point_on_polhode(0.5, math.sqrt(2 * 0.5 * 2.0)))
     assert sep["flip_interval"] == "inf"
+
+
+@pytest.mark.parametrize("bad", [-1, 0, 5e-324, 2.5, True, "many", float("nan")])
+def test_polhode_counts_are_checked_by_name(bad):
+    """``levels`` and ``n`` are counts, refused by name (``levels=-1``, ``0`` and ``5e-324``
+    drew the default ten curves)."""
+    body = FreeRigidBody(I123)
+    with pytest.raises(ValueError, match="`levels` must be an integer from 1 to 1000"):
+        body.polhode_family(0.5, levels=bad)
+    with pytest.raises(ValueError, match="`n` must be an integer from 2"):
+        body.polhode_family(0.5, n=bad)
+    w = body.point_on_polhode(0.5, 1.2)
+    with pytest.raises(ValueError, match="`n` must be an integer from 2"):
+        body.polhode(w, n=bad)
+    # levels a²/2k = 1.5, 2, 2.5: two families of two branches (2 = I2 is the separatrix: its
+    # four arcs), and the six fixed points
+    assert len(body.polhode_family(0.5, levels=3)) == 2 * 2 + 4 + 6

@@ -149,15 +149,9 @@ def check_event_resolution(value) -> int:
     """The detection grid's number of points, ``event_resolution``: an integer from 2 to
     :data:`MAX_EVENT_RESOLUTION` (events are looked for at points no further apart than that
     grid would be)."""
-    ok = not isinstance(value, bool) and isinstance(value, int | np.integer)
-    if not ok and isinstance(value, float | np.floating) and float(value).is_integer():
-        value, ok = int(value), True
-    if not ok or not 2 <= value <= MAX_EVENT_RESOLUTION:
-        raise ValueError(
-            f"`event_resolution` must be an integer from 2 to {MAX_EVENT_RESOLUTION:.0e}, "
-            f"found {value!r}"
-        )
-    return int(value)
+    from .._validation import as_count
+
+    return as_count(value, "event_resolution", 2, MAX_EVENT_RESOLUTION)
 
 
 def check_run(t_span, method, *, dt=None, rtol=None, atol=None, t_eval=None, save_every=1,

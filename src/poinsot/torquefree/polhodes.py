@@ -14,10 +14,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._validation import as_positive_scalar
+from .._validation import as_count, as_positive_scalar
 from .solution import REGIME
 
 __all__ = ["Polhode", "PolhodeMixin"]
+
+#: The most levels a polhode family draws, and the most points of one polhode.
+MAX_LEVELS = 1000
+MAX_POINTS = 10**7
 
 
 @dataclass
@@ -52,6 +56,7 @@ class PolhodeMixin:
             if energy is None or momentum is None:
                 raise ValueError("give `omega0`, or both `energy` and `momentum`")
             omega0 = self.point_on_polhode(energy, momentum)
+        n = as_count(n, "n", 2, MAX_POINTS)
         w_body = self._spin(omega0, "omega0")
         k, a = self.invariants(w_body)
         family = self.classify(w_body)
@@ -99,6 +104,8 @@ class PolhodeMixin:
         the separatrix arcs (asymmetric bodies) and the fixed points."""
         I1, I2, I3 = self._I
         k = self.check_energy_range(as_positive_scalar(energy, "energy"))
+        levels = as_count(levels, "levels", 1, MAX_LEVELS)
+        n = as_count(n, "n", 2, MAX_POINTS)
         out = []
         if self.symmetry == "spherical":
             return [Polhode(np.zeros((0, 3)), "spherical", k, math.sqrt(2 * k * I1), math.inf)]
@@ -138,6 +145,7 @@ class PolhodeMixin:
             raise ValueError(
                 f"a separatrix needs three distinct `moments`; this body is {self.symmetry}"
             )
+        n = as_count(n, "n", 2, MAX_POINTS)
         I1, I2, I3 = self._I
         k = float(energy)
         alpha = np.sqrt(
