@@ -287,7 +287,7 @@ def prepare(system, t_span, *, params=None, method="dop853", dt=None, rtol=1e-10
         num = num.bound(u_of)
     watched = _expression_events(events, system, params)
     settings = replace(settings, events=watched)
-    return PreparedLagrangianRun(system, num, compiled, u_of, settings, events, inputs)
+    return PreparedLagrangianRun(system, num, compiled, u_of, settings, events)
 
 
 def check_settings(t_span, *, method, dt, rtol, atol, t_eval, stabilization, baumgarte,
@@ -342,6 +342,9 @@ class PreparedLagrangianRun:
     system : LagrangianSystem
     num : the compiled model under the run's parameters (and inputs)
     compiled : CompiledSystem
+    u_of : the inputs' function ``(t, q, q̇) → (k,)``, or None
+    settings : the checked span, method, sampling, tolerances, stabilisation and budget
+    given_events : the events as given (compiled again by :meth:`with_params`)
     """
 
     system: object
@@ -350,7 +353,6 @@ class PreparedLagrangianRun:
     u_of: object
     settings: _Settings
     given_events: object = None
-    given_inputs: object = None
 
     @property
     def params(self) -> dict:
