@@ -103,6 +103,7 @@ __all__ = [
     "carrier_motions",
     "center_of_mass",
     "check_inertia",
+    "composition",
     "cone_coefficients",
     "cone_inertia",
     "coriolis_moments",
@@ -210,9 +211,9 @@ TERMINATED: int
 
 # the method registry (`poinsot_core::spec::REGISTRY`): one dict per method users name, with
 # the keys `name` (str), `kind` (str, one of `METHOD_KINDS`), `order` (int), `tableau` (str, a
-# name of `tableau` or ""), `conserves` (tuple of str), `kicks` (bool), `adaptive` (bool) and
-# `summary` (str). (Not a TypedDict: stubtest sees the runtime dicts as `dict[Any, Any]`, which
-# no TypedDict accepts.)
+# name of `tableau`, of `composition` for the kind "exact-splitting", or ""), `conserves`
+# (tuple of str), `kicks` (bool), `adaptive` (bool) and `summary` (str). (Not a TypedDict:
+# stubtest sees the runtime dicts as `dict[Any, Any]`, which no TypedDict accepts.)
 METHODS: tuple[dict[str, Any], ...]
 METHOD_KINDS: list[str]
 # the kinds that run on any vector field (the others need a rigid body's structure)
@@ -227,6 +228,7 @@ class RunSpec:
         t_end: float,
         dt: float = 0.0,
         tableau: tuple[ArrayLike, ArrayLike, ArrayLike] | None = None,
+        composition: tuple[ArrayLike, ArrayLike, bool] | None = None,
         rtol: float = 1e-10,
         atol: float = 1e-12,
         safety: float = 0.9,
@@ -281,6 +283,7 @@ class RunState:
 # ----------------------------------------------------------------------------- engine.rs
 
 def tableau(name: str) -> tuple[_F64, _F64, _F64]: ...
+def composition(name: str) -> tuple[_F64, _F64, bool]: ...
 def integrate_rigid(
     body: ArrayLike,
     force_kind: ArrayLike,

@@ -5,10 +5,11 @@
 //! [`crate::run::Run`].
 
 use super::*;
+use crate::exact_splitting::Composition;
 use crate::layout::Body;
 use crate::observers::NoObserver;
 use crate::run::Run;
-use crate::spec::{Method, RunSpec, UseMethod, REGISTRY};
+use crate::spec::{Method, MethodData, RunSpec, UseMethod, REGISTRY};
 use crate::steppers::RK4;
 use crate::systems::TorqueFree;
 
@@ -318,6 +319,16 @@ impl<S: VectorField + ?Sized> UseMethod<S> for Which {
     }
 }
 
+/// What each kind may need: RK4's tableau, Strang's composition, the test's controller.
+fn method_data(tableau: crate::steppers::Tableau<'static>) -> MethodData<'static> {
+    let (kick_first, flows, kicks) = crate::tableaux::composition("strang").unwrap();
+    MethodData {
+        tableau,
+        composition: Some(Composition::new(kick_first, flows, kicks).unwrap()),
+        control: CONTROL,
+    }
+}
+
 /// Every kind builds its stepper from the one table; the kinds of any vector field are
 /// exactly those the table builds for one, and the adaptive kinds those it hands a
 /// controller.
@@ -325,13 +336,13 @@ impl<S: VectorField + ?Sized> UseMethod<S> for Which {
 fn the_table_builds_every_kind() {
     let sys = body();
     for kind in Method::NAMES {
-        let m = Method::parse(kind, RK4, CONTROL).unwrap();
+        let m = Method::parse(kind, method_data(RK4)).unwrap();
         let (adaptive, evals) = m.on_rigid(&sys, Which);
         assert_eq!(adaptive, m.is_adaptive(), "{kind}");
         assert_eq!(adaptive, Method::ADAPTIVE_KINDS.contains(&kind), "{kind}");
         let expected = match kind {
             "dop853" => 0,
-            "splitting" => 2,
+            "splitting" | "exact-splitting" => 2,
             _ => 4,
         };
         assert_eq!(evals, expected, "{kind}");
@@ -357,7 +368,7 @@ fn a_run_with_each_kind_through_the_table() {
     let t_eval = [0.0, 1.0, 2.0];
     let run = |kind: &str| {
         let spec = RunSpec::new(
-            Method::parse(kind, RK4, CONTROL).unwrap(),
+            Method::parse(kind, method_data(RK4)).unwrap(),
             1e-3,
             Sampling {
                 t_end: 2.0,

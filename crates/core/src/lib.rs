@@ -32,6 +32,7 @@ pub mod drivers;
 pub mod elliptic;
 pub mod ensemble;
 pub mod events;
+pub mod exact_splitting;
 pub mod expressions;
 pub mod forces;
 pub mod freebody;

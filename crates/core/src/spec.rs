@@ -15,6 +15,7 @@
 //! fixed-step method is its stepper (a [`FixedMethod`]), its entry here and its test.
 
 use crate::drivers::{Erk, FixedMethod, Rk4Rigid, RkmkRigid, Sampling, Splitting};
+use crate::exact_splitting::{Composition, ExactSplitting};
 use crate::steppers::{Control, Tableau, RK4};
 use crate::system::{RigidStructure, VectorField};
 
@@ -27,7 +28,8 @@ pub struct Entry {
     pub kind: &'static str,
     /// Its global order of accuracy (checked by the order tests).
     pub order: u32,
-    /// The tableau it runs with (a name of `poinsot._core.tableau`), or "" for none.
+    /// The data it runs with: a tableau (a name of `poinsot._core.tableau`) or, for the
+    /// exact-flow splittings, a composition (of `poinsot._core.composition`); "" for none.
     pub tableau: &'static str,
     /// Invariants it keeps to round-off: "orthogonality" (Q on SO(3)), "angular_momentum"
     /// (|L| and the spatial L, torque-free), "symplectic" (bounded energy error).
@@ -77,6 +79,33 @@ pub const REGISTRY: &[Entry] = &[
         kicks: true,
         summary: "Strang splitting, free rotor and kicks (McLachlan 1993; Dullweber, Leimkuhler & McLachlan 1997): symplectic.",
     },
+    Entry {
+        name: "exact-splitting",
+        kind: "exact-splitting",
+        order: 2,
+        tableau: "strang",
+        conserves: &["orthogonality", "angular_momentum", "symplectic"],
+        kicks: true,
+        summary: "Strang splitting of the exact torque-free flow (Jacobi elliptic functions) and kicks: exact without torques, O(ε h²) under a torque of size ε (Celledoni, Fassò, Säfström & Zanna 2008).",
+    },
+    Entry {
+        name: "exact-splitting4",
+        kind: "exact-splitting",
+        order: 4,
+        tableau: "bm4",
+        conserves: &["orthogonality", "angular_momentum", "symplectic"],
+        kicks: true,
+        summary: "Exact torque-free flows and kicks composed by Blanes & Moan's SRKN6b (2002): order 4, six flows a step.",
+    },
+    Entry {
+        name: "exact-splitting6",
+        kind: "exact-splitting",
+        order: 6,
+        tableau: "bm6",
+        conserves: &["orthogonality", "angular_momentum", "symplectic"],
+        kicks: true,
+        summary: "Exact torque-free flows and kicks composed by Blanes & Moan's SRKN14a (2002), as FRB (ACM TOMS 903): order 6, fifteen flows a step.",
+    },
 ];
 
 /// What a caller does with a run's method once its stepper is built: the table of
@@ -103,16 +132,40 @@ pub enum Method<'a> {
     Splitting,
     /// Adaptive Dormand–Prince 8(5,3) with its step-size controller, on any vector field.
     Dop853(Control),
+    /// Exact torque-free flows and kicks composed ([`crate::exact_splitting::ExactSplitting`]).
+    ExactSplitting(Composition<'a>),
+}
+
+/// What a method may need beyond its name: a tableau (explicit Runge–Kutta, RKMK), a
+/// composition (exact-flow splitting) or a controller (DOP853); unused parts are ignored.
+#[derive(Clone, Copy, Debug)]
+pub struct MethodData<'a> {
+    pub tableau: Tableau<'a>,
+    pub composition: Option<Composition<'a>>,
+    pub control: Control,
 }
 
 impl<'a> Method<'a> {
     /// The registry's kinds, by name: those of any vector field first.
-    pub const NAMES: [&'static str; 5] = ["dop853", "erk", "rk4", "rkmk", "splitting"];
+    pub const NAMES: [&'static str; 6] = [
+        "dop853",
+        "erk",
+        "rk4",
+        "rkmk",
+        "splitting",
+        "exact-splitting",
+    ];
 
     /// The method named `name` (one of [`Method::NAMES`]) with its `tableau` (checked: `a`
-    /// s × s, `b` and `c` s, at least one stage, for `"erk"` and `"rkmk"`) or `control`
-    /// (for `"dop853"`); the error names the argument and the rule.
-    pub fn parse(name: &str, tableau: Tableau<'a>, control: Control) -> Result<Self, String> {
+    /// s × s, `b` and `c` s, at least one stage, for `"erk"` and `"rkmk"`), its composition
+    /// (checked when made, for `"exact-splitting"`) or `control` (for `"dop853"`); the error
+    /// names the argument and the rule.
+    pub fn parse(name: &str, data: MethodData<'a>) -> Result<Self, String> {
+        let MethodData {
+            tableau,
+            composition,
+            control,
+        } = data;
         let needs_tableau = || -> Result<Tableau<'a>, String> {
             let s = tableau.b.len();
             if s == 0 || tableau.a.len() != s * s || tableau.c.len() != s {
@@ -131,6 +184,9 @@ impl<'a> Method<'a> {
             "erk" => Ok(Method::Erk(needs_tableau()?)),
             "rkmk" => Ok(Method::Rkmk(needs_tableau()?)),
             "splitting" => Ok(Method::Splitting),
+            "exact-splitting" => composition
+                .map(Method::ExactSplitting)
+                .ok_or_else(|| format!("method {name:?} needs a composition: flows and kicks")),
             "dop853" => {
                 check_control(&control)?;
                 Ok(Method::Dop853(control))
@@ -150,6 +206,7 @@ impl<'a> Method<'a> {
             Method::Rkmk(_) => "rkmk",
             Method::Splitting => "splitting",
             Method::Dop853(_) => "dop853",
+            Method::ExactSplitting(_) => "exact-splitting",
         }
     }
 
@@ -183,6 +240,7 @@ impl<'a> Method<'a> {
             Method::Erk(tab) => user.fixed(Erk::new(tab, sys.dim())),
             Method::Rkmk(tab) => user.fixed(RkmkRigid::new(tab)),
             Method::Splitting => user.fixed(Splitting),
+            Method::ExactSplitting(c) => user.fixed(ExactSplitting::new(sys.body(), c)),
             Method::Dop853(control) => user.adaptive(control),
         }
     }
@@ -336,15 +394,28 @@ mod tests {
         c: &[],
     };
 
+    /// A method's data: `tableau`, Strang's composition and `control`.
+    fn data(tableau: Tableau<'static>, control: Control) -> MethodData<'static> {
+        let (kick_first, flows, kicks) = crate::tableaux::composition("strang").unwrap();
+        MethodData {
+            tableau,
+            composition: Some(Composition::new(kick_first, flows, kicks).unwrap()),
+            control,
+        }
+    }
+
     #[test]
     fn every_name_parses_to_its_method_and_back() {
         for name in Method::NAMES {
-            let m = Method::parse(name, RK4, CONTROL).unwrap();
+            let m = Method::parse(name, data(RK4, CONTROL)).unwrap();
             assert_eq!(m.name(), name);
             assert_eq!(m.is_adaptive(), name == "dop853");
-            assert_eq!(m.needs_rigid_body(), ["rkmk", "splitting"].contains(&name));
+            assert_eq!(
+                m.needs_rigid_body(),
+                ["rkmk", "splitting", "exact-splitting"].contains(&name)
+            );
         }
-        let e = Method::parse("rk45", RK4, CONTROL).unwrap_err();
+        let e = Method::parse("rk45", data(RK4, CONTROL)).unwrap_err();
         assert!(
             e.contains("`method` must be one of") && e.contains("\"rk45\""),
             "{e}"
@@ -353,16 +424,16 @@ mod tests {
 
     #[test]
     fn a_tableau_and_a_controller_are_checked() {
-        assert!(Method::parse("erk", NO_TABLEAU, CONTROL).is_err());
-        assert!(Method::parse("rkmk", NO_TABLEAU, CONTROL).is_err());
+        assert!(Method::parse("erk", data(NO_TABLEAU, CONTROL)).is_err());
+        assert!(Method::parse("rkmk", data(NO_TABLEAU, CONTROL)).is_err());
         let bad = Tableau {
             c: &RK4.c[..3],
             ..RK4
         };
-        assert!(Method::parse("erk", bad, CONTROL)
+        assert!(Method::parse("erk", data(bad, CONTROL))
             .unwrap_err()
             .contains("3 numbers"));
-        assert!(Method::parse("rk4", NO_TABLEAU, CONTROL).is_ok()); // needs none
+        assert!(Method::parse("rk4", data(NO_TABLEAU, CONTROL)).is_ok()); // needs none
         for broken in [
             Control {
                 rtol: 0.0,
@@ -394,7 +465,7 @@ mod tests {
             },
         ] {
             assert!(
-                Method::parse("dop853", NO_TABLEAU, broken).is_err(),
+                Method::parse("dop853", data(NO_TABLEAU, broken)).is_err(),
                 "{broken:?}"
             );
         }

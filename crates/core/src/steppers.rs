@@ -424,7 +424,7 @@ pub fn velocity_to_momentum<S: RigidStructure + ?Sized>(sys: &S, y: &[f64], z: &
 /// Momentum kick by the forces over `h`, in place: `V += h F/M` (a free body; about a pivot
 /// its reaction balances F) and `π += h τ`.
 #[inline(always)]
-fn kick<S: RigidStructure + ?Sized>(sys: &S, t: f64, z: &mut [f64], h: f64) {
+pub fn kick<S: RigidStructure + ?Sized>(sys: &S, t: f64, z: &mut [f64], h: f64) {
     let y = momentum_to_velocity(sys, z);
     kick_by(sys.body(), &sys.wrench(t, &y), z, h);
 }

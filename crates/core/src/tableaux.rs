@@ -453,6 +453,79 @@ pub const DOP853_D: [[f64; 16]; 4] = [
     ],
 ];
 
+// Compositions of exact flows and kicks (`crate::exact_splitting::Composition`): the flows'
+// and the kicks' fractions of a step, in the order they run.
+
+/// Strang's splitting, kick–flow–kick (Strang 1968, SIAM J. Numer. Anal. 5): order 2, one
+/// flow and two half kicks a step.
+pub const STRANG_FLOWS: [f64; 1] = [1.0];
+/// Its kicks.
+pub const STRANG_KICKS: [f64; 2] = [0.5, 0.5];
+
+const BM4_A1: f64 = 0.245298957184271;
+const BM4_A2: f64 = 0.604872665711080;
+const BM4_A3: f64 = 0.5 - (BM4_A1 + BM4_A2);
+const BM4_B1: f64 = 0.0829844064174052;
+const BM4_B2: f64 = 0.396309801498368;
+const BM4_B3: f64 = -0.0390563049223486;
+const BM4_B4: f64 = 1.0 - 2.0 * (BM4_B1 + BM4_B2 + BM4_B3);
+/// Blanes & Moan's SRKN₆ᵇ, order 4, kick first (Blanes & Moan 2002, "Practical symplectic
+/// partitioned Runge–Kutta and Runge–Kutta–Nyström methods", *J. Comput. Appl. Math.* 142,
+/// 313–330, Table 3): six flows and seven kicks a step, `a3 = 1/2 − a1 − a2`,
+/// `b4 = 1 − 2(b1 + b2 + b3)`.
+pub const BM4_FLOWS: [f64; 6] = [BM4_A1, BM4_A2, BM4_A3, BM4_A3, BM4_A2, BM4_A1];
+/// Its kicks.
+pub const BM4_KICKS: [f64; 7] = [BM4_B1, BM4_B2, BM4_B3, BM4_B4, BM4_B3, BM4_B2, BM4_B1];
+
+/// Blanes & Moan's SRKN₁₄ᵃ, order 6, flow first (Blanes & Moan 2002, Table 3), with the
+/// digits of FRB's example 1 (ACM TOMS Algorithm 903, `init_example1.dat`: `a1..a8`, `b1..b7`;
+/// Celledoni, Fassò, Säfström & Zanna 2008): fifteen flows
+/// `a1, …, a7, a8, a7, …, a1` and fourteen kicks `b1, …, b7, b7, …, b1` a step.
+pub const BM6_FLOWS: [f64; 15] = [
+    0.0378593198406116,
+    0.102635633102435,
+    -0.0258678882665587,
+    0.314241403071477,
+    -0.130144459517415,
+    0.106417700369543,
+    -0.00879424312851058,
+    0.207305069056835,
+    -0.00879424312851058,
+    0.106417700369543,
+    -0.130144459517415,
+    0.314241403071477,
+    -0.0258678882665587,
+    0.102635633102435,
+    0.0378593198406116,
+];
+/// Its kicks.
+pub const BM6_KICKS: [f64; 14] = [
+    0.091719152624462,
+    0.183983170005006,
+    -0.056534365832888,
+    0.004914688774713,
+    0.143761127168358,
+    0.328567693746804,
+    -0.196411466486454,
+    -0.196411466486454,
+    0.328567693746804,
+    0.143761127168358,
+    0.004914688774713,
+    -0.056534365832888,
+    0.183983170005006,
+    0.091719152624462,
+];
+
+/// The compositions by name (`poinsot._core.composition`): `(kick first, flows, kicks)`.
+pub fn composition(name: &str) -> Option<(bool, &'static [f64], &'static [f64])> {
+    match name {
+        "strang" => Some((true, &STRANG_FLOWS, &STRANG_KICKS)),
+        "bm4" => Some((true, &BM4_FLOWS, &BM4_KICKS)),
+        "bm6" => Some((false, &BM6_FLOWS, &BM6_KICKS)),
+        _ => None,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -412,8 +412,33 @@ fn tableau<'py>(
     ))
 }
 
+/// The composition `(flows, kicks, kick_first)` of a built-in exact-flow splitting: `"strang"`,
+/// `"bm4"` or `"bm6"` (`poinsot_core::tableaux`): the flows' and the kicks' fractions of a
+/// step in the order they run, kick first or flow first.
+#[pyfunction]
+fn composition<'py>(
+    py: Python<'py>,
+    name: &str,
+) -> PyResult<(
+    Bound<'py, numpy::PyArray1<f64>>,
+    Bound<'py, numpy::PyArray1<f64>>,
+    bool,
+)> {
+    match poinsot_core::tableaux::composition(name) {
+        Some((first, flows, kicks)) => Ok((
+            numpy::PyArray1::from_slice(py, flows),
+            numpy::PyArray1::from_slice(py, kicks),
+            first,
+        )),
+        None => Err(value_error(format!(
+            "no built-in composition {name:?} (\"strang\", \"bm4\", \"bm6\")"
+        ))),
+    }
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tableau, m)?)?;
+    m.add_function(wrap_pyfunction!(composition, m)?)?;
     m.add_function(wrap_pyfunction!(integrate_rigid, m)?)?;
     m.add_function(wrap_pyfunction!(integrate_python, m)?)?;
     Ok(())

@@ -7,19 +7,22 @@ use crate::arrays::{Floats1, Floats2};
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use poinsot_core::drivers::{Clock, Counters, Output, Sampling, Status};
+use poinsot_core::exact_splitting::Composition;
 pub(crate) use poinsot_core::run::Run;
-use poinsot_core::spec::{self, Method};
+use poinsot_core::spec::{self, Method, MethodData};
 use poinsot_core::steppers::{Control, Tableau};
 use pyo3::prelude::*;
 
 use crate::args::value_error;
 
-/// What a run is, checked once: `RunSpec(method, *, t_end, dt=0, tableau=None, rtol=1e-10,
-/// atol=1e-12, safety=0.9, min_factor=0.2, max_factor=10, max_step=inf, first_step=0,
-/// t_eval=None, save_every=1, max_steps=2**62)`. `method` is a kind of the registry
-/// (`"dop853"`, `"erk"`, `"rk4"`, `"rkmk"`, `"splitting"`); `tableau` `(A (s, s), B (s,),
-/// C (s,))` for `"erk"` and `"rkmk"`; the controller's numbers for `"dop853"` (`first_step`
-/// 0: chosen automatically); `dt` the step of the fixed-step methods; samples at `t_eval`
+/// What a run is, checked once: `RunSpec(method, *, t_end, dt=0, tableau=None,
+/// composition=None, rtol=1e-10, atol=1e-12, safety=0.9, min_factor=0.2, max_factor=10,
+/// max_step=inf, first_step=0, t_eval=None, save_every=1, max_steps=2**62)`. `method` is a
+/// kind of the registry (`"dop853"`, `"erk"`, `"rk4"`, `"rkmk"`, `"splitting"`,
+/// `"exact-splitting"`); `tableau` `(A (s, s), B (s,), C (s,))` for `"erk"` and `"rkmk"`;
+/// `composition` `(flows, kicks, kick_first)` for `"exact-splitting"` (fractions of a step,
+/// in the order they run); the controller's numbers for `"dop853"` (`first_step` 0: chosen
+/// automatically); `dt` the step of the fixed-step methods; samples at `t_eval`
 /// (increasing) or, without it, every `save_every`-th step; at most `max_steps` steps.
 #[pyclass(frozen, module = "poinsot._core")]
 pub struct RunSpec {
@@ -27,6 +30,9 @@ pub struct RunSpec {
     a: Vec<f64>,
     b: Vec<f64>,
     c: Vec<f64>,
+    flows: Vec<f64>,
+    kicks: Vec<f64>,
+    kick_first: Option<bool>,
     control: Control,
     dt: f64,
     t_end: f64,
@@ -47,7 +53,16 @@ impl RunSpec {
             b: &self.b,
             c: &self.c,
         };
-        let method = Method::parse(&self.method, tableau, self.control)?;
+        let composition = match self.kick_first {
+            Some(first) => Some(Composition::new(first, &self.flows, &self.kicks)?),
+            None => None,
+        };
+        let data = MethodData {
+            tableau,
+            composition,
+            control: self.control,
+        };
+        let method = Method::parse(&self.method, data)?;
         let sampling = Sampling {
             t_end: self.t_end,
             t_eval: &self.t_eval,
@@ -61,7 +76,7 @@ impl RunSpec {
 impl RunSpec {
     #[new]
     #[pyo3(signature = (
-        method, *, t_end, dt=0.0, tableau=None, rtol=1e-10, atol=1e-12, safety=0.9,
+        method, *, t_end, dt=0.0, tableau=None, composition=None, rtol=1e-10, atol=1e-12, safety=0.9,
         min_factor=0.2, max_factor=10.0, max_step=f64::INFINITY, first_step=0.0, t_eval=None,
         save_every=1, max_steps=1u64 << 62
     ))]
@@ -71,6 +86,7 @@ impl RunSpec {
         t_end: f64,
         dt: f64,
         tableau: Option<(Floats2<'_>, Floats1<'_>, Floats1<'_>)>,
+        composition: Option<(Floats1<'_>, Floats1<'_>, bool)>,
         rtol: f64,
         atol: f64,
         safety: f64,
@@ -90,11 +106,18 @@ impl RunSpec {
             ),
             None => (Vec::new(), Vec::new(), Vec::new()),
         };
+        let (flows, kicks, kick_first) = match composition {
+            Some((f, k, first)) => (f.as_array().to_vec(), k.as_array().to_vec(), Some(first)),
+            None => (Vec::new(), Vec::new(), None),
+        };
         let spec = RunSpec {
             method,
             a,
             b,
             c,
+            flows,
+            kicks,
+            kick_first,
             control: Control {
                 rtol,
                 atol,

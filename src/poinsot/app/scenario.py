@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..integrate.base import CORE_METHODS
+from ..integrate.problem import GENERAL_METHODS as FIELD_KINDS
 from .scenario_parts import (
     MAX_LEVELS,
     MAX_SAMPLES,
@@ -37,7 +39,10 @@ __all__ = [
     "load_scenario",
 ]
 
-METHOD_NAMES = ("dop853", "rk4", "rkmk4", "splitting")
+#: The methods a scenario may name: the core's registry, in its order.
+METHOD_NAMES = tuple(CORE_METHODS)
+#: ... and those that need a rigid body's structure (not a carrier's relative motion).
+RIGID_ONLY = tuple(n for n, e in CORE_METHODS.items() if e["kind"] not in FIELD_KINDS)
 
 
 @dataclass
@@ -421,7 +426,7 @@ def _parse(data: dict, source: str, base_dir: Path):
     carrier = _carrier(root.table("carrier"), initial, pivot) if root.has("carrier") else None
     if carrier is not None and has_ensemble:
         raise ScenarioError("carrier: an ensemble of relative motions is not supported yet")
-    if carrier is not None and method in ("rkmk4", "splitting"):
+    if carrier is not None and method in RIGID_ONLY:
         raise ScenarioError(
             f"integrator.method: {method!r} needs the rigid-body structure; relative motion "
             "([carrier]) runs with 'dop853' or 'rk4'"

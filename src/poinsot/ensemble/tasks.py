@@ -32,9 +32,7 @@ class EnsembleSpec:
     kind: str
     method_kind: str  # the core's name of the method's step: rk4, erk, rkmk, splitting, dop853
     method_name: str
-    A: np.ndarray
-    B: np.ndarray
-    C: np.ndarray
+    method_data: dict  # the tableau or composition (Solver.method_data)
     controller: object  # a StepSizeController (DOP853), or None
     t0: float
     t1: float
@@ -157,7 +155,7 @@ def run_chunk(
     keep = spec.keep_states or bool(spec.reductions)
     in_place = out is not None
     Y_out = out.Y if in_place and spec.keep_states else None
-    run = run_spec(spec.method_kind, t_end=spec.t1, dt=spec.dt, tableau=(spec.A, spec.B, spec.C),
+    run = run_spec(spec.method_kind, t_end=spec.t1, dt=spec.dt, data=spec.method_data,
                    controller=spec.controller, t_eval=spec.t_eval)  # fmt: skip
     (Y, final, energy, momentum, orthogonality, first, last, count, status, nsteps,
      nfev) = _core.run_ensemble(

@@ -60,6 +60,12 @@ class Solver:
         ``"splitting"`` or ``"dop853"``.
     A, B, C : ndarray
         The tableau (explicit Runge–Kutta methods and their relatives); empty for the others.
+    flows, kicks : ndarray
+        The composition of an exact-flow splitting (kind ``"exact-splitting"``): the free
+        flows' and the kicks' fractions of a step, in the order they run; empty for the others.
+    kick_first : bool
+        The composition starts with a kick (``kicks`` one longer than ``flows``) or with a
+        flow (``flows`` one longer).
     """
 
     name: ClassVar[str] = ""
@@ -73,6 +79,22 @@ class Solver:
     A: ClassVar[np.ndarray] = np.zeros((0, 0))
     B: ClassVar[np.ndarray] = np.zeros(0)
     C: ClassVar[np.ndarray] = np.zeros(0)
+    flows: ClassVar[np.ndarray] = np.zeros(0)
+    kicks: ClassVar[np.ndarray] = np.zeros(0)
+    kick_first: ClassVar[bool] = True
+
+    @classmethod
+    def method_data(cls) -> dict[str, Any]:
+        """What the core's kind of step needs beyond its name, as keyword arguments of
+        :class:`poinsot._core.RunSpec`: the tableau (``"erk"``, ``"rkmk"``), the composition
+        (``"exact-splitting"``) or nothing."""
+        f64 = lambda x: np.ascontiguousarray(x, dtype=float)  # noqa: E731
+        if cls.kind in ("erk", "rkmk"):
+            B = f64(cls.B)
+            return {"tableau": (f64(cls.A).reshape(len(B), len(B)), B, f64(cls.C))}
+        if cls.kind == "exact-splitting":
+            return {"composition": (f64(cls.flows), f64(cls.kicks), bool(cls.kick_first))}
+        return {}
 
     def __repr__(self):
         return f"{type(self).__name__}()"
@@ -108,7 +130,9 @@ def _declare(cls: type[Solver], entry: dict[str, Any]) -> None:
     cls.conserves = frozenset(entry["conserves"])
     cls.requires = "ode" if entry["kind"] in _core.FIELD_KINDS else "rigid"
     cls.needs_position_only_forces = entry["kicks"]
-    if entry["tableau"]:
+    if entry["kind"] == "exact-splitting":
+        cls.flows, cls.kicks, cls.kick_first = _core.composition(entry["tableau"])
+    elif entry["tableau"]:
         cls.A, cls.B, cls.C = _core.tableau(entry["tableau"])
 
 

@@ -246,8 +246,8 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
     if kind is None:
         raise ValueError(f"`method` {cls.name!r} has no step in the compiled core for this system")
     budget = 2**62 if budget is None else int(budget)
-    spec = run_spec(kind, t_end=t1, dt=dt, tableau=(solver.A, solver.B, solver.C),
-                    controller=controller, t_eval=saveat.times, save_every=saveat.every,
+    spec = run_spec(kind, t_end=t1, dt=dt, data=cls.method_data(), controller=controller,
+                    t_eval=saveat.times, save_every=saveat.every,
                     max_steps=budget)  # fmt: skip
     z = system.to_internal(y0)
     times = saveat.times
@@ -313,11 +313,12 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
         raise IntegrationError(f"the run stopped with status {status}", result("failed", False))
 
 
-def run_spec(kind, *, t_end, dt=None, tableau=None, controller=None, t_eval=None,
+def run_spec(kind, *, t_end, dt=None, data=None, controller=None, t_eval=None,
              save_every=1, max_steps=2**62):  # fmt: skip
     """The core's :class:`poinsot._core.RunSpec` of a run, built (and checked) once: the kind
-    of method (:attr:`poinsot.integrate.base.Solver.kind`) with its ``tableau`` ``(A, B, C)``
-    (explicit Runge–Kutta and RKMK) or its ``controller`` (a
+    of method (:attr:`poinsot.integrate.base.Solver.kind`) with its ``data``
+    (:meth:`~poinsot.integrate.base.Solver.method_data`: the tableau of explicit Runge–Kutta
+    and RKMK, the composition of an exact-flow splitting) or its ``controller`` (a
     :class:`~poinsot.integrate.control.StepSizeController`, DOP853), the step ``dt`` of a
     fixed-step method, the sampling and the step budget."""
     from .. import _core
@@ -326,9 +327,7 @@ def run_spec(kind, *, t_end, dt=None, tableau=None, controller=None, t_eval=None
                "max_steps": int(max_steps)}  # fmt: skip
     if t_eval is not None:
         options["t_eval"] = np.ascontiguousarray(t_eval, dtype=float)
-    if kind in ("erk", "rkmk"):
-        A, B, C = (np.ascontiguousarray(x, dtype=float) for x in tableau)
-        options["tableau"] = (A.reshape(len(B), len(B)), B, C)
+    options.update(data or {})
     if controller is not None:
         c = controller
         options.update(rtol=c.rtol, atol=c.atol, safety=c.safety, min_factor=c.min_factor,

@@ -302,7 +302,7 @@ def simulate_ensemble(
         run = run_spec(solver.kind, t_end=t1, controller=control, t_eval=times,
                        max_steps=st.budget)  # fmt: skip
     else:
-        run = run_spec(solver.kind, t_end=t1, dt=dt, tableau=(solver.A, solver.B, solver.C),
+        run = run_spec(solver.kind, t_end=t1, dt=dt, data=solver.method_data(),
                        t_eval=times, max_steps=st.budget)  # fmt: skip
     parts = []
     for i0 in range(0, N, chunk):

@@ -1,0 +1,268 @@
+//! Exact-flow splitting (`docs/theory.md`, "Exact-flow splitting"): a body under forces
+//! advanced by compositions of two flows, each solved exactly — the torque-free motion (the
+//! closed form of [`crate::torque_free`], eqs (20)–(33)) and the kick of the forces at a fixed
+//! attitude and position (`π += h τ`, `V += h F/M`).
+//!
+//! A composition is data ([`Composition`], the tables in [`crate::tableaux`]): the flows'
+//! and the kicks' fractions of the step, alternating. For forces that depend on the time, the
+//! position and the attitude only, the Hamiltonian splits as `H = T(π) + V(R, Q)` with
+//! `{V, {V, {V, T}}} = 0`, so the Runge–Kutta–Nyström compositions of Blanes & Moan (2002)
+//! apply; their error for a torque of size ε is O(ε hᵖ) (Celledoni, Fassò, Säfström & Zanna
+//! 2008, *SIAM J. Sci. Comput.* 30(4), §5). Torque-free, every composition is the exact flow
+//! (its flows compose to one), to round-off at any step.
+//!
+//! The free flow is the closed form itself ([`crate::torque_free::Regime`] for ω,
+//! [`crate::torque_free::attitude_at`] for Q, one evaluation per sub-step from the sub-step's
+//! own ω and Q): every branch of the exact solution (symmetric bodies, nearly symmetric ones,
+//! the separatrix, fixed points) is the flow's. A body whose mass lies on a line (a zero
+//! moment, which the closed form does not take) turns by the symmetric rotor's flow
+//! ([`crate::rigid::free_rotor_symmetric`], exact for it).
+
+use crate::drivers::FixedMethod;
+use crate::inertia::{symmetry_code, SYMMETRY_RTOL};
+use crate::layout::{Body, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
+use crate::rigid::free_rotor_symmetric;
+use crate::so3::{Mat3, Vec3};
+use crate::steppers::{hold_pivot, kick, momentum_to_velocity, velocity_to_momentum};
+use crate::system::RigidStructure;
+use crate::torque_free::{attitude_at, AttitudeSetup, Radicals, Regime};
+
+/// A composition of free flows and kicks, as fractions of the step: `kick_first` (the
+/// "BAB" form) runs `kicks[0], flows[0], kicks[1], …, flows[m−1], kicks[m]`; otherwise
+/// ("ABA") `flows[0], kicks[0], …, kicks[m−1], flows[m]`. Each list sums to one.
+#[derive(Clone, Copy, Debug)]
+pub struct Composition<'a> {
+    pub kick_first: bool,
+    pub flows: &'a [f64],
+    pub kicks: &'a [f64],
+}
+
+impl<'a> Composition<'a> {
+    /// The composition, checked: finite fractions, one more kick than flows (BAB) or one more
+    /// flow than kicks (ABA), each list summing to one (to 1e-12); the error names the rule.
+    pub fn new(kick_first: bool, flows: &'a [f64], kicks: &'a [f64]) -> Result<Self, String> {
+        let (nf, nk) = (flows.len(), kicks.len());
+        let shape_ok = nf >= 1
+            && if kick_first {
+                nk == nf + 1
+            } else {
+                nf == nk + 1
+            };
+        if !shape_ok {
+            return Err(format!(
+                "a composition needs at least one flow and {} (found {nf} flows, {nk} kicks)",
+                if kick_first {
+                    "one more kick than flows, kick first"
+                } else {
+                    "one more flow than kicks, flow first"
+                }
+            ));
+        }
+        for (what, list) in [("flows", flows), ("kicks", kicks)] {
+            if let Some(k) = list.iter().position(|x| !x.is_finite()) {
+                return Err(format!("`{what}[{k}]` must be finite, found {}", list[k]));
+            }
+            let sum: f64 = list.iter().sum();
+            if (sum - 1.0).abs() > 1e-12 {
+                return Err(format!("the {what} must sum to 1, found {sum}"));
+            }
+        }
+        Ok(Composition {
+            kick_first,
+            flows,
+            kicks,
+        })
+    }
+
+    /// Kicks per step: the force evaluations of a step.
+    pub fn kicks_per_step(&self) -> u64 {
+        self.kicks.iter().filter(|&&b| b != 0.0).count() as u64
+    }
+}
+
+/// The exact torque-free flow of one body on the momentum state `[R, V, Q, π]`: what the
+/// closed form needs of the body, made once, and the motion the last flow was part of.
+///
+/// A flow starts a motion from the sub-step's own ω = π/I and Q (the regime and the attitude
+/// setup of [`crate::torque_free`]). When the state it is handed is the one the previous flow
+/// left (no kick moved it: no forces, or a force with no torque on a free body's rotation),
+/// it goes on along that motion instead, at the time covered since it began: the whole steps
+/// since (summed compensated) and the part of this step. So a torque-free run is the closed
+/// form at the run's time, to round-off, at any step and after any number of steps: a memo
+/// of the same function.
+#[derive(Clone, Copy, Debug)]
+pub struct FreeFlow {
+    radicals: Radicals,
+    symmetry: u8,
+    /// All mass on a line (a zero moment): the symmetric rotor's flow.
+    line: bool,
+    motion: Option<Motion>,
+}
+
+/// A torque-free motion under way: its start (ω, Q, and the time into its first step at
+/// which it began), the whole steps covered since (`steps + carry`, Neumaier's compensated
+/// sum, with a step that has ended still `pending`) and the `(Q, π)` it left last.
+#[derive(Clone, Copy, Debug)]
+struct Motion {
+    reg: Regime,
+    att: AttitudeSetup,
+    w0: Vec3,
+    q0: Mat3,
+    began: f64,
+    steps: f64,
+    carry: f64,
+    pending: f64,
+    left: [f64; 12],
+}
+
+impl FreeFlow {
+    pub fn new(body: &Body) -> FreeFlow {
+        FreeFlow {
+            radicals: Radicals::new(body.moments),
+            symmetry: symmetry_code(body.moments, SYMMETRY_RTOL),
+            line: body.moments[0] == 0.0,
+            motion: None,
+        }
+    }
+
+    /// `z` advanced in place by the torque-free motion over `d`, a flow that ends `within`
+    /// into its step of `h` (`within == h`: the step's last flow): π and Q by the closed form
+    /// and, for a free body, `R += d V`.
+    #[inline]
+    pub fn advance(&mut self, body: &Body, z: &mut [f64], d: f64, within: f64, h: f64) {
+        if self.line {
+            free_rotor_symmetric(body, z, d);
+        } else {
+            let moments = body.moments;
+            let rotation = &z[Q_AT..STATE_SIZE];
+            let mut m = match self.motion {
+                Some(mut m) if m.left[..] == *rotation => {
+                    let (s, x) = (m.steps, m.pending);
+                    let sum = s + x;
+                    m.carry += if s.abs() >= x.abs() {
+                        (s - sum) + x
+                    } else {
+                        (x - sum) + s
+                    };
+                    m.steps = sum;
+                    m.pending = 0.0;
+                    m
+                }
+                _ => {
+                    let w0 = [0, 1, 2].map(|k| z[OMEGA_AT + k] * body.inv_moments[k]);
+                    let q0: Mat3 = [0, 1, 2].map(|r| [0, 1, 2].map(|c| z[Q_AT + 3 * r + c]));
+                    let reg = Regime::with(moments, &self.radicals, self.symmetry, w0);
+                    Motion {
+                        att: AttitudeSetup::new(moments, &reg, w0, &q0),
+                        reg,
+                        w0,
+                        q0,
+                        began: within - d,
+                        steps: 0.0,
+                        carry: 0.0,
+                        pending: 0.0,
+                        left: [0.0; 12],
+                    }
+                }
+            };
+            let t = m.steps + ((within - m.began) + m.carry);
+            let w = m.reg.omega_at(moments, m.w0, t);
+            let q = attitude_at(moments, &m.reg, &m.att, m.w0, &m.q0, t);
+            for k in 0..3 {
+                z[OMEGA_AT + k] = moments[k] * w[k];
+            }
+            for r in 0..3 {
+                z[Q_AT + 3 * r..Q_AT + 3 * r + 3].copy_from_slice(&q[r]);
+            }
+            m.left.copy_from_slice(&z[Q_AT..STATE_SIZE]);
+            if within == h {
+                // the step has ended: the next flow is in the next step
+                m.pending = h;
+            }
+            self.motion = Some(m);
+        }
+        if !body.has_pivot {
+            for k in 0..3 {
+                z[R_AT + k] += d * z[V_AT + k];
+            }
+        }
+    }
+}
+
+/// The exact-flow splitting method with a composition: a [`FixedMethod`] on the momentum
+/// state, as the splitting method ([`crate::drivers::Splitting`]); forces must depend on the
+/// time, the position and the attitude only.
+pub struct ExactSplitting<'a> {
+    composition: Composition<'a>,
+    flow: FreeFlow,
+}
+
+impl<'a> ExactSplitting<'a> {
+    pub fn new(body: &Body, composition: Composition<'a>) -> Self {
+        ExactSplitting {
+            composition,
+            flow: FreeFlow::new(body),
+        }
+    }
+}
+
+/// One step of a composition from `(t, z)` into `out`: the sub-steps in order, each kick at
+/// the time its flows have reached.
+#[inline]
+pub fn exact_splitting_step<S: RigidStructure + ?Sized>(
+    sys: &S,
+    flow: &mut FreeFlow,
+    c: &Composition,
+    t: f64,
+    z: &[f64],
+    h: f64,
+    out: &mut [f64],
+) {
+    out[..STATE_SIZE].copy_from_slice(&z[..STATE_SIZE]);
+    let body = *sys.body();
+    let mut covered = 0.0; // the time the flows have covered
+    let do_kick = |k: usize, out: &mut [f64], covered: f64| {
+        if c.kicks[k] != 0.0 {
+            kick(sys, t + covered, out, c.kicks[k] * h);
+        }
+    };
+    let offset = usize::from(c.kick_first);
+    if c.kick_first {
+        do_kick(0, out, covered);
+    }
+    let last = c.flows.len() - 1;
+    for (j, &a) in c.flows.iter().enumerate() {
+        // the last flow covers what is left of the step, so that the flows of a step cover it
+        // exactly (a table's fractions sum to one only to round-off: FRB's to 1 − 2⁻⁵²)
+        let d = if j == last { h - covered } else { a * h };
+        let within = if j == last { h } else { covered + d };
+        if d != 0.0 {
+            flow.advance(&body, out, d, within, h);
+        }
+        covered = within;
+        if j + offset < c.kicks.len() {
+            do_kick(j + offset, out, covered);
+        }
+    }
+    hold_pivot(&body, out);
+}
+
+impl<S: RigidStructure + ?Sized> FixedMethod<S> for ExactSplitting<'_> {
+    fn evals_per_step(&self) -> u64 {
+        self.composition.kicks_per_step()
+    }
+    #[inline]
+    fn step(&mut self, sys: &S, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
+        exact_splitting_step(sys, &mut self.flow, &self.composition, t, z, h, out);
+    }
+    fn init(&self, sys: &S, y: &[f64], z: &mut [f64]) {
+        velocity_to_momentum(sys, y, z);
+    }
+    fn output(&self, sys: &S, z: &[f64], y: &mut [f64]) {
+        y[..STATE_SIZE].copy_from_slice(&momentum_to_velocity(sys, z));
+    }
+}
+
+#[cfg(test)]
+#[path = "exact_splitting_tests.rs"]
+mod tests;
