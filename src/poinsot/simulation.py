@@ -208,7 +208,9 @@ def simulate(
         A body point (reference configuration) held fixed: the body turns about it with the
         inertia and torques about it (heavy top, gyroscope, compound pendulum).
     method : str or Solver class
-        ``"dop853"`` (default, adaptive), ``"rk4"``, ``"rkmk4"``, ``"splitting"``, or any
+        ``"dop853"`` (default, adaptive), ``"rk4"``, ``"rkmk4"``, ``"splitting"``,
+        ``"exact-splitting"``, ``"exact-splitting4"``, ``"exact-splitting6"`` (the exact
+        torque-free flow and kicks: for bodies under small, position-only torques), or any
         registered name or :class:`~poinsot.integrate.Solver` subclass.
     dt : float, optional
         Step of fixed-step methods (required for them); first step of adaptive ones.

@@ -18,8 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..integrate.base import CORE_METHODS
-from ..integrate.problem import GENERAL_METHODS as FIELD_KINDS
+from ..integrate.base import CORE_METHODS, get_solver
 from .scenario_parts import (
     MAX_LEVELS,
     MAX_SAMPLES,
@@ -42,7 +41,7 @@ __all__ = [
 #: The methods a scenario may name: the core's registry, in its order.
 METHOD_NAMES = tuple(CORE_METHODS)
 #: ... and those that need a rigid body's structure (not a carrier's relative motion).
-RIGID_ONLY = tuple(n for n, e in CORE_METHODS.items() if e["kind"] not in FIELD_KINDS)
+RIGID_ONLY = tuple(n for n in CORE_METHODS if get_solver(n).requires == "rigid")
 
 
 @dataclass
