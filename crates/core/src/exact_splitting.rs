@@ -12,7 +12,7 @@
 //! (its flows compose to one), to round-off at any step.
 //!
 //! The free flow is the closed form itself ([`crate::torque_free::Regime`] for ω,
-//! [`crate::torque_free::attitude_at`] for Q, one evaluation per sub-step from the sub-step's
+//! [`crate::torque_free::attitude_at`] for Q, [`crate::torque_free::motion_at`]: one evaluation per sub-step from the sub-step's
 //! own ω and Q): every branch of the exact solution (symmetric bodies, nearly symmetric ones,
 //! the separatrix, fixed points) is the flow's. A body whose mass lies on a line (a zero
 //! moment, which the closed form does not take) turns by the symmetric rotor's flow
@@ -25,7 +25,7 @@ use crate::rigid::free_rotor_symmetric;
 use crate::so3::{Mat3, Vec3};
 use crate::steppers::{hold_pivot, kick, momentum_to_velocity, velocity_to_momentum};
 use crate::system::RigidStructure;
-use crate::torque_free::{attitude_at, AttitudeSetup, Radicals, Regime};
+use crate::torque_free::{motion_at, AttitudeSetup, Radicals, Regime};
 
 /// A composition of free flows and kicks, as fractions of the step: `kick_first` (the
 /// "BAB" form) runs `kicks[0], flows[0], kicks[1], …, flows[m−1], kicks[m]`; otherwise
@@ -166,8 +166,7 @@ impl FreeFlow {
                 }
             };
             let t = m.steps + ((within - m.began) + m.carry);
-            let w = m.reg.omega_at(moments, m.w0, t);
-            let q = attitude_at(moments, &m.reg, &m.att, m.w0, &m.q0, t);
+            let (w, q) = motion_at(moments, &m.reg, &m.att, m.w0, &m.q0, t);
             for k in 0..3 {
                 z[OMEGA_AT + k] = moments[k] * w[k];
             }

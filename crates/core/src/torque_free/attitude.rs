@@ -301,3 +301,29 @@ pub fn attitude_at(
         }
     }
 }
+
+/// `(ω(t), Q(t))` of the motion from `ω(0) = w`, `Q(0) = q0`: [`Regime::omega_at`] and
+/// [`attitude_at`] at once, the elliptic cases reducing `u = u0 + λt` once for both (the
+/// exact-flow splittings' free flow, [`crate::exact_splitting::FreeFlow`]). Bit for bit the
+/// two functions' values.
+pub fn motion_at(
+    moments: Vec3,
+    reg: &Regime,
+    att: &AttitudeSetup,
+    w: Vec3,
+    q0: &Mat3,
+    t: f64,
+) -> (Vec3, Mat3) {
+    if reg.is_elliptic() && reduced_third_kind(reg) {
+        let u = reg.u0 + reg.lam * t;
+        let (sn, cn, dn, p, _) = jacobi_reduced_with(u, reg.m, reg.m1, reg.quarter, &reg.agm);
+        let motion = EllipticMotion::of(reg, att);
+        let omega = jacobi_omega(reg.pole == 2, motion.sa, sn, cn, dn);
+        (omega, motion.attitude(moments, t, sn, cn, dn, p, &mut true))
+    } else {
+        (
+            reg.omega_at(moments, w, t),
+            attitude_at(moments, reg, att, w, q0, t),
+        )
+    }
+}
