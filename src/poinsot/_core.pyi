@@ -129,6 +129,7 @@ __all__ = [
     "gyrostat_omegas",
     "gyrostat_regressor",
     "hat",
+    "heavy_top_motions",
     "initial_states",
     "integrate_lagrange",
     "integrate_python",
@@ -701,3 +702,6 @@ def steady_precession_rates(
     a: float, c: float, mgl: float, theta: float, spin: float
 ) -> tuple[float, float]: ...
 def gyroscopic_precession_rate(c: float, mgl: float, spin: float) -> float: ...
+def heavy_top_motions(
+    a: float, c: float, mgl: float, angles: ArrayLike, rates: ArrayLike, t: ArrayLike
+) -> tuple[_F64, _F64]: ...

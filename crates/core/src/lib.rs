@@ -37,6 +37,7 @@ pub mod expressions;
 pub mod forces;
 pub mod freebody;
 pub mod gyrostat;
+pub mod heavy_top;
 pub mod inertia;
 pub mod invariants;
 pub mod isa;

@@ -1,7 +1,13 @@
 //! Bindings of `poinsot_core::tops`: the heavy symmetric top's steady precessions (scalars).
 
+use numpy::ndarray::{Array2, Array3};
+use numpy::{IntoPyArray, PyArray2, PyArray3};
+use poinsot_core::heavy_top;
 use poinsot_core::tops;
 use pyo3::prelude::*;
+
+use crate::args::{rows, value_error};
+use crate::arrays::{Floats1, Floats2};
 
 /// `[slow, fast]` steady-precession rates of a heavy symmetric top (rad/s): the roots of
 /// `A cos θ Ω² − C ω₃ Ω + M g l = 0` (NaN when there is none at this θ).
@@ -30,7 +36,76 @@ fn symmetric_top_axis(
     tops::symmetric_top_axis(moments, &axes, c, rtol)
 }
 
+/// The heavy symmetric top in closed form (`poinsot_core::heavy_top`), for `N` motions of
+/// one top `(A, C, M g l)`: `angles` (N, 3) the initial z-x-z Euler angles `(ψ₀, θ₀, φ₀)` of
+/// the axis frame relative to the space frame with z up, `rates` (N, 3) their rates, `t`
+/// (n,). Returns `(motion (N, n, 6): [ψ, θ, φ, ψ̇, θ̇, φ̇], summary (N, 7): [u₁, u₂, u₃,
+/// nutation period, mean precession rate, ω₃, m])`. The error names the argument whose
+/// values are not finite or not positive.
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn heavy_top_motions<'py>(
+    py: Python<'py>,
+    a: f64,
+    c: f64,
+    mgl: f64,
+    angles: Floats2<'py>,
+    rates: Floats2<'py>,
+    t: Floats1<'py>,
+) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray2<f64>>)> {
+    for (name, v) in [("A", a), ("C", c), ("mgl", mgl)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(value_error(format!(
+                "`{name}` must be a positive number, found {v}"
+            )));
+        }
+    }
+    let angles = rows(&angles, 3, "angles")?;
+    let rates = rows(&rates, 3, "rates")?;
+    let t = t.as_slice()?;
+    let n = angles.nrows();
+    if rates.nrows() != n {
+        return Err(value_error(format!(
+            "`rates` must have one row per row of `angles` ({n}), found {}",
+            rates.nrows()
+        )));
+    }
+    for (name, x) in [("angles", &angles), ("rates", &rates)] {
+        if let Some(i) = x
+            .rows()
+            .into_iter()
+            .position(|r| !r.iter().all(|v| v.is_finite()))
+        {
+            return Err(value_error(format!("`{name}[{i}]` must be finite")));
+        }
+    }
+    if let Some(k) = t.iter().position(|v| !v.is_finite()) {
+        return Err(value_error(format!(
+            "`t[{k}]` must be finite, found {}",
+            t[k]
+        )));
+    }
+    let mut motion = Array3::<f64>::zeros((n, t.len(), 6));
+    let mut summary = Array2::<f64>::zeros((n, heavy_top::SUMMARY_SIZE));
+    py.detach(|| {
+        for i in 0..n {
+            let row = |x: &numpy::ndarray::ArrayView2<f64>| [x[[i, 0]], x[[i, 1]], x[[i, 2]]];
+            let top = heavy_top::TopMotion::new(a, c, mgl, row(&angles), row(&rates));
+            for (k, &tk) in t.iter().enumerate() {
+                for (j, v) in top.at(tk).into_iter().enumerate() {
+                    motion[[i, k, j]] = v;
+                }
+            }
+            for (j, v) in top.summary().into_iter().enumerate() {
+                summary[[i, j]] = v;
+            }
+        }
+    });
+    Ok((motion.into_pyarray(py), summary.into_pyarray(py)))
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(heavy_top_motions, m)?)?;
     m.add_function(wrap_pyfunction!(symmetric_top_axis, m)?)?;
     m.add_function(wrap_pyfunction!(steady_precession_rates, m)?)?;
     m.add_function(wrap_pyfunction!(gyroscopic_precession_rate, m)?)?;

@@ -323,8 +323,23 @@ def _top_figure(motion, go):
     fig.add_trace(go.Scatter(x=t, y=m.theta, name="θ(t)", line={"color": "#1f77b4"}),
                   row=1, col=1)  # fmt: skip
     fig.add_trace(go.Scatter(x=t, y=m.psi, name="ψ(t)", line={"color": "#2ca02c"}), row=1, col=2)
+    e = m.exact
+    if e is not None:  # the closed form from the same initial state (tops.exact_motion)
+        elo, ehi = e.theta_band
+        fig.add_trace(go.Scatter(x=[t[0], t[-1], None, t[0], t[-1]], y=[elo, elo, None, ehi, ehi],
+                                 mode="lines", line={"color": "black", "dash": "dot", "width": 1},
+                                 name=f"exact band {elo:.6g} – {ehi:.6g} rad"),
+                      row=1, col=1)  # fmt: skip
+        fig.add_trace(go.Scatter(x=t, y=e.theta, name="θ exact", line={"color": "black",
+                                 "dash": "dot", "width": 1}), row=1, col=1)  # fmt: skip
     for rate, dash, color, name in (
         (m.mean_precession_rate, "dash", "black", "mean rate (fit of ψ)"),
+        (
+            np.nan if e is None else e.mean_precession_rate,
+            "longdash",
+            "#8c564b",
+            "exact mean rate (closed form)",
+        ),
         (m.gyroscopic_rate, "dot", "#d62728", "gyroscopic M g l/(C ω₃)"),
         (m.steady_rates[0], "dashdot", "#9467bd", "steady precession at mean θ"),
     ):

@@ -123,6 +123,14 @@ class RigidRun(Run):
                 f"{tp['gyroscopic_precession_rate']:.4g}, steady "
                 f"{tp['steady_precession_rate_slow']:.4g} rad/s; attitude.png)"
             )
+            if "exact" in tp:
+                ex = tp["exact"]
+                lines.append(
+                    f"  closed form (Lagrange's top): θ between {ex['theta_min']:.6g} and "
+                    f"{ex['theta_max']:.6g} rad, nutation period {ex['nutation_period']:.6g} s, "
+                    f"mean precession {ex['mean_precession_rate']:.6g} rad/s; the run's largest "
+                    f"differences θ {ex['max_theta_error']:.2e}, ψ {ex['max_psi_error']:.2e} rad"
+                )
         if "torque_free" in summary:
             tf = summary["torque_free"]
             lines.append(f"  torque-free motion: polhode family {tf['family']!r}")
