@@ -1,5 +1,5 @@
 """The 34-digit reference of the closed-form heavy top (``heavy_top_mpmath.json``): each case's
-angles θ, ψ, φ at eleven times over ten nutation periods, from mpmath's Taylor ODE solver
+angles θ, ψ, φ at 23 times over ten nutation periods, from mpmath's Taylor ODE solver
 (``mpmath.odefun``, 34 digits) on Lagrange's equations of the top in Euler angles, written
 here independently of poinsot: ``ψ̇ = (b − a cos θ)/sin²θ``, ``φ̇ = ω₃ − ψ̇ cos θ``,
 ``θ̈ = sin θ (ψ̇² cos θ − a ψ̇ + β/2)``, ``a = C ω₃/A``, ``b = L_z/A``, ``β = 2 M g l/A``
@@ -61,7 +61,7 @@ def main():
     out = {"top": TOP, "cases": {}}
     for name, (ang, rat) in CASES.items():
         T = period(TOP["A"], TOP["C"], TOP["mgl"], ang, rat)
-        ts = np.linspace(0, 10 * T, 11)
+        ts = np.linspace(0, 10 * T, 23)  # not at whole periods: θ is sampled across its band
         rows = reference(TOP["A"], TOP["C"], TOP["mgl"], ang, rat, ts)
         out["cases"][name] = {"angles": ang, "rates": rat, "period": T, "t": ts.tolist(),
                               "theta_thetadot_psi_phi": rows}  # fmt: skip

@@ -45,9 +45,9 @@ pub struct TopMotion {
     /// `u₀ = cos θ₀` and the roots `u₁ ≤ u₂ ≤ u₃` of (T1) as offsets from `u₀`.
     pub u0: f64,
     pub x: [f64; 3],
-    /// `a = C ω₃ / A`, `b = L_z / A`, the spin `ω₃`.
+    /// `a = C ω₃ / A`, `w = b − a u₀ = ψ̇₀ sin²θ₀` (`b = L_z / A`), the spin `ω₃`.
     pub a: f64,
-    pub b: f64,
+    pub w: f64,
     pub spin: f64,
     /// The parameter `m`, its complement, `λ`, `K(m)`, `τ₀`.
     pub m: f64,
@@ -81,7 +81,6 @@ impl TopMotion {
         let a = c_moment * spin / a_moment;
         let beta = 2.0 * mgl / a_moment;
         let w = psid * s2; // b − a u₀
-        let b = w + a * u0;
         let e = thd * thd + psid * psid * s2; // α − β u₀
                                               // Taylor coefficients of f about u₀: g(x) = q0 + q1 x + q2 x² + β x³
         let q0 = (s * thd) * (s * thd);
@@ -124,7 +123,7 @@ impl TopMotion {
             u0,
             x: [x1, x2, x3],
             a,
-            b,
+            w,
             spin,
             ..TopMotion::default()
         };
@@ -146,9 +145,10 @@ impl TopMotion {
         let one_minus_u1 = one_minus_u0 - x1;
         let one_plus_u1 = one_plus_u0 + x1;
         top.n = [width / one_minus_u1, -width / one_plus_u1];
+        // b ∓ a = w ∓ a (1 ∓ u₀), without the cancellation of b − a near the vertical
         top.factor = [
-            (b - a) / (2.0 * one_minus_u1 * top.lam),
-            (b + a) / (2.0 * one_plus_u1 * top.lam),
+            (w - a * one_minus_u0) / (2.0 * one_minus_u1 * top.lam),
+            (w + a * one_plus_u0) / (2.0 * one_plus_u1 * top.lam),
         ];
         top.pi0 = [0, 1].map(|k| top.third_kind(k, top.tau0));
         top
@@ -185,7 +185,7 @@ impl TopMotion {
         let psi = psi0 + d[0] + d[1];
         let phi = phi0 + (self.spin - self.a) * t - d[0] + d[1];
         let udot = 2.0 * width * self.lam * sn * cn * dn;
-        let psid = (self.b - self.a * u) / (one_minus_u * one_plus_u);
+        let psid = (self.w - self.a * x) / (one_minus_u * one_plus_u); // (b − a u)/sin²θ
         let thd = -udot / sin_th;
         [psi, theta, phi, psid, thd, self.spin - psid * u]
     }

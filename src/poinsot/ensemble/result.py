@@ -91,7 +91,12 @@ class EnsembleResult(Displayable):
             member_moments=None if members.inertia is None else members.inertia,
             flips_recorded=spec.flips,
             _states=states,
-            options={"dt": spec.dt, "t_span": (spec.t0, spec.t1), "kind": spec.kind},
+            options={
+                "dt": spec.dt,
+                "t_span": (spec.t0, spec.t1),
+                "kind": spec.kind,
+                "top": spec.top,
+            },
         )
         res._N = N
         return res
@@ -244,18 +249,30 @@ class EnsembleResult(Displayable):
 
     # ----------------------------------------------------------------- grading
     def exact_errors(self) -> dict:
-        """Errors of every member against the exact torque-free solution from its initial
-        state (:class:`~poinsot.torquefree.FreeRigidBody`, vectorised): ``{"omega": (N,),
-        "attitude": (N,)}``, the largest ``|Δω|`` and ``|ΔQ|`` over the samples. Only for
-        torque-free runs without a pivot, with the states kept."""
+        """Errors of every member against the exact solution from its initial state:
+        ``{"omega": (N,), "attitude": (N,)}``, the largest ``|Δω|`` and ``|ΔQ|`` over the
+        samples. The exact solution is the torque-free one
+        (:class:`~poinsot.torquefree.FreeRigidBody`, vectorised) for a run without forces or
+        pivot, and Lagrange's top in closed form (:func:`poinsot.tops.exact_motion`) for a
+        heavy symmetric top whose members share the body. Needs the states kept."""
         from ..torquefree import FreeRigidBody
 
-        if self.options.get("kind") not in ("free", "free_varied"):
-            raise ValueError("exact errors need a torque-free ensemble (no forces, no pivot)")
         t = self.t - self.options["t_span"][0]
         W0 = self.initial_state[:, STATE_SLICES["omega"]]
         Q0 = self._block("Q", self.initial_state)
         omega, Q = self.omega, self.Q
+        top = self.options.get("top")
+        if top is not None and self.member_moments is None:
+            from ..tops import exact_motion
+
+            exact = exact_motion(top, W0, Q0, t)
+            return {
+                "omega": np.array([np.abs(omega[i] - e.omega).max() for i, e in enumerate(exact)]),
+                "attitude": np.array([np.abs(Q[i] - e.Q).max() for i, e in enumerate(exact)]),
+            }
+        if self.options.get("kind") not in ("free", "free_varied"):
+            raise ValueError("exact errors need a torque-free ensemble (no forces, no pivot) "
+                             "or a heavy symmetric top whose members share the body")  # fmt: skip
         d_omega = np.empty(len(self))
         d_Q = np.empty(len(self))
         if self.member_moments is None:

@@ -280,6 +280,7 @@ def _prepare(body, t_span, forces, pivot, method, dt, rtol, atol, t_eval, flips,
     """The run's :class:`EnsembleSpec` (its kind that of members sharing the body's inertia)
     and the body's system, checked and lowered once."""
     from ..bodies import RigidBody
+    from ..tops import heavy_top
 
     if not isinstance(body, RigidBody):
         raise TypeError(f"`body` must be a poinsot RigidBody, found {type(body).__name__}")
@@ -343,6 +344,7 @@ def _prepare(body, t_span, forces, pivot, method, dt, rtol, atol, t_eval, flips,
         flips=bool(flips),
         reductions=_check_reductions(reductions),
         keep_states=bool(keep_states),
+        top=heavy_top(body, pivot, list(forces)) if pivot is not None else None,
     )
     return spec, system
 

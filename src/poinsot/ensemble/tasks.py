@@ -51,6 +51,7 @@ class EnsembleSpec:
     flips: bool
     reductions: dict = field(default_factory=dict)
     keep_states: bool = True
+    top: object = None  # the heavy symmetric top the body, pivot and forces make (tops.heavy_top)
 
 
 @dataclass(frozen=True)

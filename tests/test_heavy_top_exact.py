@@ -1,0 +1,157 @@
+"""The heavy symmetric top in closed form (``poinsot.tops.exact_motion``, the core's
+``heavy_top.rs``) against independent routes: a 34-digit reference from mpmath's Taylor ODE
+solver (``tests/data/heavy_top_mpmath.json``, made by ``make_heavy_top_reference.py``), the
+quadratures of the cubic for the nutation period and the precession rate, and integrations
+of the body's own equations (DOP853, exact-splitting6), field by field."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from poinsot import Gravity, RigidBody, _core, simulate
+from poinsot.rotation import matrix_from_euler
+from poinsot.tops import exact_motion, heavy_top, steady_precession_rates, top_motion
+
+REFERENCE = json.loads((Path(__file__).parent / "data" / "heavy_top_mpmath.json").read_text())
+BODY = RigidBody.cylinder(1.0, 0.3, 0.2)
+PIVOT = (0.0, 0.0, -0.5)
+TOP = heavy_top(BODY, PIVOT, [Gravity()])
+
+
+@pytest.mark.parametrize("name", sorted(REFERENCE["cases"]))
+def test_angles_agree_with_a_34_digit_reference(name):
+    """θ, ψ, φ over ten nutation periods within 1e-13 (relative) of mpmath's, for a fast top,
+    a slow top, a top released from rest (a cusp) and one nearly asleep (0.01 rad)."""
+    top, case = REFERENCE["top"], REFERENCE["cases"][name]
+    ref = np.array([[float(v) for v in row] for row in case["theta_thetadot_psi_phi"]])
+    motion, _ = _core.heavy_top_motions(top["A"], top["C"], top["mgl"], [case["angles"]],
+                                        [case["rates"]], case["t"])  # fmt: skip
+    for ours, col in ((motion[0, :, 1], 0), (motion[0, :, 0], 2), (motion[0, :, 2], 3)):
+        scale = np.maximum(np.abs(ref[:, col]), 1e-300)
+        rel = np.abs(ours - ref[:, col]) / scale
+        assert rel[np.abs(ref[:, col]) > 1e-12].max() < 1e-13, (name, col, rel.max())
+
+
+@pytest.mark.parametrize("name", sorted(REFERENCE["cases"]))
+def test_period_and_precession_rate_are_the_quadratures_of_the_cubic(name):
+    """T = 2∫du/√f(u) and ψ's mean rate (2/T)∫ψ̇(u) du/√f(u) between the turning points, and the
+    turning points the cubic's roots: mpmath (30 digits: its polynomial roots and tanh-sinh
+    quadrature, u = u₁ + (u₂ − u₁) sin²χ)."""
+    import mpmath as mp
+
+    mp.mp.dps = 30
+    top, case = REFERENCE["top"], REFERENCE["cases"][name]
+    A, C, mgl = (mp.mpf(top[k]) for k in ("A", "C", "mgl"))
+    _, th, _ = (mp.mpf(x) for x in case["angles"])
+    psid, thd, phid = (mp.mpf(x) for x in case["rates"])
+    w3 = phid + psid * mp.cos(th)
+    a, beta = C * w3 / A, 2 * mgl / A
+    b = psid * mp.sin(th) ** 2 + a * mp.cos(th)
+    alpha = beta * mp.cos(th) + thd**2 + psid**2 * mp.sin(th) ** 2
+    u1, u2, u3 = sorted(
+        mp.re(r)
+        for r in mp.polyroots(
+            [beta, -(alpha + a * a), 2 * a * b - beta, alpha - b * b], maxsteps=200, extraprec=200
+        )
+    )
+    u = lambda chi: u1 + (u2 - u1) * mp.sin(chi) ** 2  # noqa: E731
+    weight = lambda chi: 2 / mp.sqrt(beta * (u3 - u(chi)))  # noqa: E731
+    period = 2 * mp.quad(weight, [0, mp.pi / 2])
+    advance = 2 * mp.quad(lambda c: (b - a * u(c)) / (1 - u(c) ** 2) * weight(c), [0, mp.pi / 2])
+    _, summary = _core.heavy_top_motions(top["A"], top["C"], top["mgl"], [case["angles"]],
+                                         [case["rates"]], [0.0])  # fmt: skip
+    s = summary[0]
+    assert s[3] == pytest.approx(float(period), rel=1e-13)
+    assert s[4] == pytest.approx(float(advance / period), rel=1e-12)
+    np.testing.assert_allclose(s[:3], [float(u1), float(u2), float(u3)], rtol=0, atol=1e-14)
+
+
+def test_exact_motion_is_top_motion_field_by_field():
+    """A fast top simulated by DOP853 (rtol 1e-13) and by exact-splitting6, and its closed
+    form: θ, ψ, φ, Q, ω agree sample by sample; the band and rate agree with the samples'."""
+    Q0 = matrix_from_euler([0.2, 0.6, 0.0])
+    w0 = np.array([0.3, 1.5, 100.0])
+    t = np.linspace(0, 2, 101)
+    exact = exact_motion(TOP, w0, Q0, t)
+    for method, kw, tol in (("dop853", dict(rtol=1e-13, atol=1e-15), 1e-10),
+                            ("exact-splitting6", dict(dt=0.002), 1e-8)):  # fmt: skip
+        traj = simulate(BODY, (0, 2), omega0=w0, Q0=Q0, pivot=PIVOT, forces=[Gravity()],
+                        method=method, t_eval=t, **kw)  # fmt: skip
+        sim = top_motion(traj, TOP)
+        for field in ("theta", "psi", "phi", "Q", "omega"):
+            np.testing.assert_allclose(getattr(exact, field), getattr(sim, field), rtol=0,
+                                       atol=tol, err_msg=f"{method} {field}")  # fmt: skip
+        assert exact.spin == pytest.approx(sim.spin, rel=1e-13)
+    assert exact.theta_band[0] <= exact.theta.min() and exact.theta.max() <= exact.theta_band[1]
+    assert exact.mean_precession_rate == pytest.approx(sim.mean_precession_rate, rel=1e-2)
+    assert np.isfinite(exact.nutation_period) and np.isnan(sim.nutation_period)
+
+
+def test_vectorised_over_initial_conditions():
+    rng = np.random.default_rng(3)
+    w0 = np.column_stack([rng.normal(0, 1, 5), rng.normal(0, 1, 5), 50 + 10 * rng.random(5)])
+    Q0 = matrix_from_euler(np.column_stack([rng.random(5), 0.3 + rng.random(5), rng.random(5)]))
+    t = np.linspace(0, 1, 7)
+    many = exact_motion(TOP, w0, Q0, t)
+    assert len(many) == 5
+    for k in range(5):
+        one = exact_motion(TOP, w0[k], Q0[k], t)
+        np.testing.assert_array_equal(one.Q, many[k].Q)
+        assert one.nutation_period == many[k].nutation_period
+
+
+def test_sleeping_top_stability_criterion():
+    """Tilted by 1e-4 rad, a top spinning above ω₃² = 4 M g l A / C² stays within a few times
+    its tilt (its turning points the double root at u = 1); below it falls far (Goldstein
+    §5.7)."""
+    critical = np.sqrt(4 * TOP.mgl * TOP.A / TOP.C**2)
+    Q0 = matrix_from_euler([0.0, 1e-4, 0.0])
+    fast = exact_motion(TOP, (0.0, 0.0, 1.2 * critical), Q0, [0.0])
+    slow = exact_motion(TOP, (0.0, 0.0, 0.8 * critical), Q0, [0.0])
+    assert fast.theta_band[1] < 1e-3
+    assert slow.theta_band[1] > 0.3
+
+
+def test_steady_precession_has_no_nutation():
+    """Started at the slow steady rate (θ̇ = 0), θ stays where it is and ψ turns at that rate."""
+    theta0, spin = 0.7, 80.0
+    slow, _ = steady_precession_rates(TOP.A, TOP.C, TOP.mgl, theta0, spin)
+    angles = [0.0, theta0, 0.0]
+    rates = [slow, 0.0, spin - slow * np.cos(theta0)]
+    motion, summary = _core.heavy_top_motions(TOP.A, TOP.C, TOP.mgl, [angles], [rates],
+                                              np.linspace(0, 3, 31))  # fmt: skip
+    assert np.abs(motion[0, :, 1] - theta0).max() < 1e-12
+    assert summary[0, 4] == pytest.approx(slow, rel=1e-12)
+
+
+def test_bad_input_is_refused_by_name():
+    with pytest.raises(ValueError, match="`mgl` must be a positive number"):
+        _core.heavy_top_motions(1.0, 1.0, -1.0, [[0, 1, 0]], [[0, 0, 1]], [0.0])
+    with pytest.raises(ValueError, match=r"`rates\[0\]` must be finite"):
+        _core.heavy_top_motions(1.0, 1.0, 1.0, [[0, 1, 0]], [[np.nan, 0, 1]], [0.0])
+    with pytest.raises(ValueError, match="on the vertical"):
+        exact_motion(TOP, (0, 0, 50.0), np.eye(3), [0.0])
+
+
+def test_exact_grading_of_a_top_ensemble():
+    """An ensemble of tops is graded against each member's closed form: exact-splitting6 at a
+    step of 4 ms to round-off level, RKMK4 at 1 ms to its truncation error."""
+    from poinsot.ensemble import simulate_ensemble
+
+    rng = np.random.default_rng(0)
+    n = 12
+    w0 = np.column_stack([rng.normal(0, 1, n), rng.normal(0, 1, n), 80 + 10 * rng.random(n)])
+    Q0 = matrix_from_euler(np.column_stack([rng.random(n), 0.3 + rng.random(n), rng.random(n)]))
+    errors = {}
+    for method, dt in (("exact-splitting6", 4e-3), ("rkmk4", 1e-3)):
+        result = simulate_ensemble(BODY, (0, 2), omega0=w0, Q0=Q0, pivot=PIVOT,
+                                   forces=[Gravity()], method=method, dt=dt,
+                                   t_eval=np.linspace(0, 2, 11), progress=False)  # fmt: skip
+        errors[method] = result.exact_errors()
+    assert errors["exact-splitting6"]["omega"].max() < 1e-10
+    assert errors["exact-splitting6"]["attitude"].max() < 1e-10
+    assert errors["rkmk4"]["omega"].max() > 1e-6  # a real error, measured
