@@ -509,12 +509,6 @@ fn euler_omega_dot_free<'py>(
     Ok(arr.into_pyarray(py))
 }
 
-/// The symmetry code (0 asymmetric, 1 prolate, 2 oblate, 3 spherical) of ascending moments.
-#[pyfunction]
-fn symmetry_code(moments: Arr<'_>, rtol: f64) -> PyResult<u8> {
-    Ok(freebody::symmetry_code(vec3(&moments, "moments")?, rtol))
-}
-
 /// Add the exact torque-free solution to the module `m`.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(jacobi_reduced, m)?)?;
@@ -539,7 +533,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cone_coefficients, m)?)?;
     m.add_function(wrap_pyfunction!(euler_jacobian, m)?)?;
     m.add_function(wrap_pyfunction!(euler_omega_dot_free, m)?)?;
-    m.add_function(wrap_pyfunction!(symmetry_code, m)?)?;
     let py = m.py();
     let offsets = PyDict::new(py);
     {
