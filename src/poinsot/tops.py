@@ -264,10 +264,13 @@ def top_motion(traj, top: HeavyTop) -> TopMotion:
 def _exact_or_none(top, traj):
     """The closed form of the run's top from its first sample, or None where the axis starts
     on the vertical (Euler angles undefined)."""
+    from dataclasses import replace
+
     try:
-        return exact_motion(top, traj.omega[0], traj.Q[0], traj.t - traj.t[0])
+        exact = exact_motion(top, traj.omega[0], traj.Q[0], traj.t - traj.t[0])
     except ValueError:
         return None
+    return replace(exact, t=traj.t)
 
 
 def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
