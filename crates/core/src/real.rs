@@ -477,12 +477,17 @@ pub fn sin_cos_small<T: Real>(x: T) -> (T, T) {
 /// parts (fdlibm's `__rem_pio2` for medium arguments, every product `n · part` exact), then
 /// [`sin_cos_small`] of `r` and the quadrant `n mod 4` chosen by selection, so that it runs in
 /// lanes. For `|x| ≤ π/4`, `n = 0` and this is [`sin_cos_small`] itself. Beyond 2²⁰ π/2 the
-/// reduction loses digits (the result stays in [−1, 1]); infinities and NaN give NaN.
+/// reduction loses digits: the reduced angle is then held to [−π/4, π/4], so that the pair is
+/// still a point of the unit circle (`sin² + cos² = 1` to round-off: a rotation by a huge
+/// angle stays a rotation), though not the true one. Infinities and NaN give NaN.
 #[inline(always)]
 pub fn sin_cos<T: Real>(x: T) -> (T, T) {
     let c = T::splat;
     let n = (x * c(INV_PIO2)).round_ties_even();
     let r = (((x - n * c(PIO2_1)) - n * c(PIO2_2)) - n * c(PIO2_3)) - n * c(PIO2_3T);
+    // within an ulp of ±π/4 but for arguments beyond the reduction's range (NaN stays NaN)
+    let quarter = c(std::f64::consts::FRAC_PI_4);
+    let r = T::select(r.abs().gt(quarter), quarter.copysign(r), r);
     let (s, co) = sin_cos_small(r);
     // n mod 4 in 0..4: floor(n/4) is the nearest integer to n/4 − 3/8
     let q = n - c(4.0) * (n * c(0.25) - c(0.375)).round_ties_even();
@@ -748,5 +753,24 @@ mod tests {
             assert_eq!(got.0[l].to_bits(), atan(lanes.0[l]).to_bits());
         }
         assert!(atan(f64::NAN).is_nan());
+    }
+
+    /// Beyond the reduction's range the pair stays on the unit circle, so that a rotation by
+    /// a huge angle (an absurd step) is still a rotation; NaN and infinities give NaN.
+    #[test]
+    fn sin_cos_stays_on_the_circle_for_huge_arguments() {
+        for &x in &[1e7, 1e12, 1e15, 1e17, 3.7e19, -1e22, 1e300] {
+            let (s, c) = sin_cos(x);
+            assert!((s * s + c * c - 1.0).abs() < 4e-16, "{x}: {s} {c}");
+        }
+        let r = crate::so3::exp_so3([0.3e17, -0.7e17, 0.64e17]);
+        for i in 0..3 {
+            for j in 0..3 {
+                let d: f64 = (0..3).map(|k| r[k][i] * r[k][j]).sum();
+                let want = if i == j { 1.0 } else { 0.0 };
+                assert!((d - want).abs() < 1e-15, "{i} {j} {d}");
+            }
+        }
+        assert!(sin_cos(f64::NAN).0.is_nan() && sin_cos(f64::INFINITY).1.is_nan());
     }
 }
