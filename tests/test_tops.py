@@ -118,3 +118,33 @@ def test_what_is_a_heavy_top():
     assert heavy_top(CYLINDER, np.array(PIVOT), [*g, LinearDrag(0.1)]) is None
     with pytest.raises(ValueError, match="`A` and `C` must be positive"):
         steady_precession_rates(-1.0, 1.0, 1.0, 0.5, 10.0)
+
+
+@pytest.mark.parametrize("psi0", [0.0, 1.0, -2.5])
+def test_psi_is_the_trajectorys_own_euler_angle_and_the_axis_points_at_psi_minus_90deg(psi0):
+    """Issue 43: the plotted ψ was the Euler ψ + π/2 in an internal frame (2.571 for ψ₀ = 1).
+    Under gravity along −z with the axis on body z, θ, ψ and φ are the trajectory's own z-x-z
+    angles, and the axis (tip → centre of mass, space components) lies at azimuth ψ − π/2."""
+    top = heavy_top(CYLINDER, np.array(PIVOT), [Gravity((0, 0, -9.81))])
+    angles = np.array([psi0, 0.6, 0.3])
+    traj = simulate(CYLINDER, (0, 0.5), omega0=(0.0, 1.5, 100.0), Q0=matrix_from_euler(angles),
+                    forces=[Gravity((0, 0, -9.81))], pivot=PIVOT, t_eval=np.linspace(0, 0.5, 21))
+    motion = top_motion(traj, top)
+    euler = traj.euler_angles()
+    assert motion.psi[0] == pytest.approx(psi0, abs=1e-12)
+    np.testing.assert_allclose(np.unwrap(euler[:, 0]), motion.psi, atol=1e-12)
+    np.testing.assert_allclose(euler[:, 1], motion.theta, atol=1e-12)
+    axis = np.einsum("nij,j->ni", traj.Q, top.axis)  # the symmetry axis in space
+    azimuth = np.arctan2(axis[:, 1], axis[:, 0])
+    np.testing.assert_allclose(np.angle(np.exp(1j * (motion.psi - np.pi / 2 - azimuth))), 0,
+                               atol=1e-10)  # fmt: skip
+    assert motion.psi_reference().startswith("line of nodes from +x about +z")
+    assert motion.exact.psi[0] == pytest.approx(psi0, abs=1e-12)
+
+
+def test_the_top_frame_is_the_cyclic_axes_tilted_onto_the_vertical():
+    """Gravity along −x: the top's space axes are (y, z, x); the angles are those of Q in them."""
+    top = heavy_top(CYLINDER, np.array(PIVOT), [Gravity((-9.81, 0, 0))])
+    np.testing.assert_array_equal(top.space(), np.eye(3)[[1, 2, 0]])
+    np.testing.assert_array_equal(top.frame(), np.eye(3))
+    assert np.linalg.det(top.space()) == pytest.approx(1.0)

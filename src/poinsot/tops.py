@@ -112,10 +112,16 @@ class HeavyTop:
 
 
 def _axes_with_z(a) -> np.ndarray:
-    """A right-handed orthonormal basis (columns) whose third vector is the unit vector ``a``;
-    the first is perpendicular to ``a`` and to the coordinate axis least aligned with it."""
-    helper = np.eye(3)[int(np.argmin(np.abs(a)))]
-    x = np.cross(helper, a)
+    """A right-handed orthonormal basis (columns) whose third vector is the unit vector ``a``:
+    the cyclic permutation of the coordinate axes whose third is the one ``a`` lies nearest,
+    tilted onto ``a`` (the first vector is the next coordinate axis made perpendicular to
+    ``a``). For ``a`` = +z it is the identity, so that a top whose symmetry axis is body z,
+    under gravity along −z, has the z-x-z Euler angles of the trajectory itself; for ``a`` = +x
+    it is (y, z, x)."""
+    a = np.asarray(a, dtype=float)
+    k = int(np.argmax(np.abs(a)))
+    nxt = np.eye(3)[(k + 1) % 3]
+    x = nxt - (nxt @ a) * a  # |a_{k+1}|² ≤ 2/3: never degenerate
     x /= np.linalg.norm(x)
     return np.column_stack([x, np.cross(a, x), a])
 
@@ -160,8 +166,12 @@ def heavy_top(body, pivot, forces) -> HeavyTop | None:
 class TopMotion:
     """A simulated top's angles and rates (:func:`top_motion`).
 
-    ``t`` (n,) [s]; ``theta``, ``psi`` (n,) [rad]: the tilt of the axis from the upward
-    vertical and its azimuth about it (unwrapped); ``singular`` (n,) bool (θ = 0 or π, where ψ
+    ``t`` (n,) [s]; ``theta``, ``psi`` (n,) [rad]: the z-x-z Euler angles of the symmetry
+    axis in the top's space axes (:attr:`space_axes`, z up): θ the tilt of the axis from the
+    upward vertical, ψ the precession angle (unwrapped), the azimuth of the line of nodes
+    from the space x axis about the vertical; the axis itself points at azimuth ψ − π/2.
+    When gravity is along −z and the symmetry axis is body z, these are the trajectory's own
+    :meth:`~poinsot.trajectory.Trajectory.euler_angles`. ``singular`` (n,) bool (θ = 0 or π, where ψ
     is undefined); ``spin`` ω₃ [rad/s] (its value at the start; constant for a top);
     ``theta_band`` (min, max) θ [rad]; ``mean_precession_rate`` the least-squares slope of
     ψ(t) [rad/s]; ``gyroscopic_rate`` ``M g l / (C ω₃)``; ``steady_rates`` (slow, fast) at
@@ -189,9 +199,19 @@ class TopMotion:
     Q: np.ndarray | None = None
     omega: np.ndarray | None = None
     nutation_period: float = float("nan")
+    #: the top's space axes (rows: x, y, z in the run's space components; z is up): the
+    #: identity under gravity along −z
+    space_axes: np.ndarray | None = None
     #: for a simulated top, the closed form from its initial state (:func:`exact_motion`) at
     #: the same times, or None (an axis started on the vertical)
     exact: TopMotion | None = None
+
+    def psi_reference(self) -> str:
+        """Words for what ψ is measured from, for labels: ``"line of nodes from +x about +z;
+        the axis's azimuth is ψ − 90°"`` for the usual space axes."""
+        S = np.eye(3) if self.space_axes is None else self.space_axes
+        x, z = _axis_name(S[0]), _axis_name(S[2])
+        return f"line of nodes from {x} about {z}; the axis's azimuth is ψ − 90°"
 
     def summary(self) -> dict:
         """The numbers, JSON-ready (radians, rad/s)."""
@@ -227,6 +247,15 @@ class TopMotion:
         }
 
 
+def _axis_name(v) -> str:
+    """``+x``, ``−z``… for a coordinate axis, the components otherwise."""
+    v = np.asarray(v, float)
+    k = int(np.argmax(np.abs(v)))
+    if abs(abs(v[k]) - 1) < 1e-12:
+        return ("+" if v[k] > 0 else "−") + "xyz"[k]
+    return "(" + ", ".join(f"{c:.4g}" for c in v) + ")"
+
+
 def top_motion(traj, top: HeavyTop) -> TopMotion:
     """The top's precession ψ(t) and nutation θ(t) along ``traj`` (a
     :class:`~poinsot.trajectory.Trajectory` of the body of ``top``), its nutation band, mean
@@ -257,6 +286,7 @@ def top_motion(traj, top: HeavyTop) -> TopMotion:
         phi=series.angles[:, 2],
         Q=traj.Q,
         omega=traj.omega,
+        space_axes=S,
         exact=_exact_or_none(top, traj),
     )
 
@@ -333,6 +363,6 @@ def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
             theta_mean=theta_mean, mean_precession_rate=float(rate),
             gyroscopic_rate=gyroscopic_precession_rate(top.C, top.mgl, spin) if spin else np.inf,
             steady_rates=steady_precession_rates(top.A, top.C, top.mgl, theta_mean, spin),
-            phi=phi, Q=Q_t, omega=omega_t, nutation_period=float(period),
+            phi=phi, Q=Q_t, omega=omega_t, nutation_period=float(period), space_axes=S,
         ))  # fmt: skip
     return out[0] if single else out

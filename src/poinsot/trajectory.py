@@ -142,6 +142,25 @@ class Trajectory(Displayable):
         )
 
     @cached_property
+    def pivot_position(self):
+        """The pivot's fixed position in space (3,), or None for a free body."""
+        if self.system.pivot is None or not len(self.t):
+            return None
+        return _readonly(self.system.pivot_point(self.state[0]))
+
+    @cached_property
+    def angular_momentum_pivot(self):
+        """Angular momentum about the pivot, space frame, eq. (03) about the fixed point P:
+        ``L_P = Q A ω + M (R − P) × Ṙ`` (n, 3); None for a free body."""
+        if self.pivot_position is None:
+            return None
+        A = self._c(self.body.inertia)
+        return _readonly(_core.angular_momenta(A, self._c(self.omega), self._c(self.Q),
+                                               float(self.body.mass),
+                                               self._c(self.R - self.pivot_position),
+                                               self._c(self.V)))  # fmt: skip
+
+    @cached_property
     def kinetic_energy(self):
         """Kinetic energy, eq. (12): ``½ Aω·ω + ½ M |Ṙ|²`` (n,)."""
         A = self._c(self.body.inertia)
@@ -399,80 +418,95 @@ class Trajectory(Displayable):
         }
 
     # ----------------------------------------------------------------- export
-    #: CSV header: each column's name and SI unit ("1": dimensionless).
-    _COLUMNS = (
-        ["t [s]"]
-        + [f"R_{c} [m]" for c in "xyz"]
-        + [f"V_{c} [m/s]" for c in "xyz"]
-        + [f"Q_{i}{j} [1]" for i in range(1, 4) for j in range(1, 4)]
-        + [f"omega_{c} [rad/s]" for c in "xyz"]
-        + [f"q_{c} [1]" for c in "wxyz"]
-        + ["kinetic_energy [J]", "potential_energy [J]", "total_energy [J]"]
-    )
-
-    def _table(self):
-        return np.column_stack(
-            [
-                self.t,
-                self._y,
-                self.quaternion,
-                self.kinetic_energy,
-                self.potential_energy,
-                self.total_energy,
-            ]
-        )
-
-    def to_npz(self, path) -> None:
-        """Write every array to a compressed ``.npz`` file (atomically)."""
-        atomic_savez(
-            path,
-            t=self.t,
-            R=self.R,
-            V=self.V,
-            Q=self.Q,
-            omega=self.omega,
-            quaternion=self.quaternion,
-            omega_space=self.omega_space,
-            angular_momentum=self.angular_momentum,
-            kinetic_energy=self.kinetic_energy,
-            potential_energy=self.potential_energy,
-            total_energy=self.total_energy,
-            orthogonality_error=self.orthogonality_error,
-            summary=np.array(json.dumps(self.summary())),
-        )
-
-    def to_csv(self, path) -> None:
-        """Write one row per sample (t, R, V, Q, ω, quaternion, energies) to CSV, atomically;
-        the header gives each column's unit (``omega_x [rad/s]``; ``[1]`` dimensionless)."""
-        with atomic_path(path) as tmp:
-            np.savetxt(
-                tmp,
-                self._table(),
-                delimiter=",",
-                header=",".join(self._COLUMNS),
-                comments="",
-                fmt="%.17g",
-            )
-
     def variables(self) -> dict:
-        """The samples as ``name → (dims, values, attrs)`` with a ``time`` dimension, units
-        in the attributes, coordinates included: what :meth:`to_xarray` and
-        :meth:`to_netcdf` write."""
+        """Every exported field as ``name → (dims, values, attrs)``, coordinates included:
+        the one list that :meth:`to_npz`, :meth:`to_csv`, :meth:`to_netcdf` and
+        :meth:`to_xarray` write, so that every format carries the same fields. Each vector's
+        attributes name its frame and, for a moment, its reference point (``about``): the
+        angular momentum about the centre of mass (``L_G``), about the space origin (``L_O``)
+        and, for a body on a pivot, about the pivot (``L_P``)."""
         vec = ("time", "axis")
-        return {
-            "R": (vec, self.R, {"units": "m"}),
-            "V": (vec, self.V, {"units": "m/s"}),
-            "Q": (("time", "row", "col"), self.Q, {"units": "1"}),
-            "omega": (vec, self.omega, {"units": "rad/s", "frame": "body"}),
-            "omega_space": (vec, self.omega_space, {"units": "rad/s", "frame": "space"}),
-            "quaternion": (("time", "component"), self.quaternion, {"units": "1"}),
-            "angular_momentum": (vec, self.angular_momentum, {"units": "kg m2/s"}),
+        space, body = "space", "body"
+        out = {
+            "R": (vec, self.R, {"units": "m", "frame": space, "long_name":
+                                "position of the centre of mass from the space origin"}),
+            "V": (vec, self.V, {"units": "m/s", "frame": space,
+                                "long_name": "velocity of the centre of mass"}),
+            "Q": (("time", "row", "col"), self.Q, {"units": "1",
+                                                   "long_name": "attitude, body → space"}),
+            "omega": (vec, self.omega, {"units": "rad/s", "frame": body,
+                                        "long_name": "angular velocity"}),
+            "omega_space": (vec, self.omega_space, {"units": "rad/s", "frame": space,
+                                                    "long_name": "angular velocity"}),
+            "quaternion": (("time", "component"), self.quaternion, {"units": "1", "long_name":
+                           "attitude, body → space, scalar first"}),
+            "angular_momentum_com": (vec, self.angular_momentum_com, {
+                "units": "kg m2/s", "frame": space, "about": "centre of mass", "symbol": "L_G",
+                "long_name": "angular momentum about the centre of mass"}),
+            "angular_momentum_origin": (vec, self.angular_momentum, {
+                "units": "kg m2/s", "frame": space, "about": "space origin", "symbol": "L_O",
+                "long_name": "angular momentum about the space origin"}),
+        }
+        if self.angular_momentum_pivot is not None:
+            out["angular_momentum_pivot"] = (vec, self.angular_momentum_pivot, {
+                "units": "kg m2/s", "frame": space, "about": "pivot", "symbol": "L_P",
+                "pivot_position": self.pivot_position.tolist(),
+                "long_name": "angular momentum about the pivot"})
+        out |= {
             "kinetic_energy": (("time",), self.kinetic_energy, {"units": "J"}),
+            "potential_energy": (("time",), self.potential_energy, {"units": "J"}),
             "total_energy": (("time",), self.total_energy, {"units": "J"}),
+            "orthogonality_error": (("time",), self.orthogonality_error, {
+                "units": "1", "long_name": "max |Qᵀ Q − I|"}),
             "time": (("time",), self.t, {"units": "s"}),
             "axis": (("axis",), np.array(list("xyz")), {}),
             "component": (("component",), np.array(list("wxyz")), {}),
         }
+        return out  # fmt: skip
+
+    def _fields(self):
+        """The exported fields without the coordinate labels, ``t`` first."""
+        fields = {"t": ((), self.t, {"units": "s"})}
+        for name, value in self.variables().items():
+            if name not in ("time", "axis", "component"):
+                fields[name] = value
+        return fields
+
+    def to_npz(self, path) -> None:
+        """Write every field of :meth:`variables` to a compressed ``.npz`` file (atomically),
+        with ``attributes`` (JSON: each field's units, frame and reference point) and
+        ``summary`` (JSON)."""
+        fields = self._fields()
+        atomic_savez(
+            path,
+            **{name: value for name, (_, value, _) in fields.items()},
+            attributes=np.array(json.dumps({n: a for n, (_, _, a) in fields.items()})),
+            summary=np.array(json.dumps(self.summary())),
+        )
+
+    def csv_columns(self) -> list[str]:
+        """The CSV header: each column's name and SI unit (``omega_x [rad/s]``; ``[1]``
+        dimensionless); a moment's name carries its reference point
+        (``angular_momentum_com_x``), frames are those of :meth:`variables`."""
+        cols = []
+        for name, (dims, value, attrs) in self._fields().items():
+            unit = f" [{attrs.get('units', '1')}]"
+            if name == "t" or value.ndim == 1:
+                cols.append(name + unit)
+            elif dims[-1] == "col":
+                cols += [f"{name}_{i}{j}{unit}" for i in range(1, 4) for j in range(1, 4)]
+            else:
+                cols += [f"{name}_{c}{unit}" for c in ("xyz" if dims[-1] == "axis" else "wxyz")]
+        return cols
+
+    def to_csv(self, path) -> None:
+        """Write one row per sample with every field of :meth:`variables` to CSV, atomically;
+        the header is :meth:`csv_columns`."""
+        table = np.column_stack([v.reshape(len(self.t), -1)
+                                 for _, v, _ in self._fields().values()])  # fmt: skip
+        with atomic_path(path) as tmp:
+            np.savetxt(tmp, table, delimiter=",", header=",".join(self.csv_columns()),
+                       comments="", fmt="%.17g")  # fmt: skip
 
     def to_xarray(self):
         """An ``xarray.Dataset`` of :meth:`variables` (needs the ``xarray`` extra)."""

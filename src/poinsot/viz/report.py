@@ -315,7 +315,7 @@ def _top_figure(motion, go):
     lo, hi = m.theta_band
     fig = make_subplots(rows=1, cols=2, horizontal_spacing=0.1, subplot_titles=(
         "Nutation: angle θ of the axis from the upward vertical",
-        "Precession: azimuth ψ of the axis about the vertical (unwrapped)"))  # fmt: skip
+        f"Precession ψ (unwrapped): {m.psi_reference()}"))  # fmt: skip
     band = go.Scatter(x=[t[0], t[-1], t[-1], t[0], t[0]], y=[lo, lo, hi, hi, lo], fill="toself",
                       mode="lines", line={"width": 0}, fillcolor="rgba(31,119,180,0.15)",
                       name=f"nutation band {lo:.4g} – {hi:.4g} rad")  # fmt: skip

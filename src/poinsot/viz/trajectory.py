@@ -76,7 +76,7 @@ def plot_attitude(motion, *, axes=None, title=None):
     ax.grid(alpha=0.3)
     legend_below(ax, ncol=1, bbox_to_anchor=(0.0, -0.16))
     ax = axes[1]
-    ax.plot(t, m.psi, color="tab:green", lw=1.2, label="ψ(t): azimuth of the axis")
+    ax.plot(t, m.psi, color="tab:green", lw=1.2, label="ψ(t): z-x-z Euler precession angle")
     psi0 = m.psi[0]
     for rate, style, name in (
         (m.mean_precession_rate, {"color": "black", "ls": "--"}, "mean rate (fit of ψ)"),
@@ -87,7 +87,7 @@ def plot_attitude(motion, *, axes=None, title=None):
             ax.plot(t, psi0 + rate * (t - t[0]), lw=1, **style, label=f"{name}: {rate:.5g} rad/s")
     ax.set_xlabel("t [s]")
     ax.set_ylabel("ψ [rad] (unwrapped)")
-    ax.set_title("Precession: the axis's turn about the vertical", fontsize=10)
+    ax.set_title(f"Precession ψ: {m.psi_reference()}", fontsize=10)
     ax.grid(alpha=0.3)
     legend_below(ax, ncol=1, bbox_to_anchor=(0.0, -0.16))
     fig = axes[0].figure
