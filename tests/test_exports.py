@@ -49,9 +49,9 @@ def test_every_format_carries_the_same_fields_with_the_same_values(make, tmp_pat
     assert "potential_energy" in nc  # the .nc had lost it
     names = [h.split(" [")[0] for h in header]
     for name in fields:
-        cols = [i for i, h in enumerate(names) if h == name or h.startswith(name + "_")
+        cols = [i for i, h in enumerate(names) if h == name or (h.startswith(name + "_")
                 and h[len(name) + 1:] in {"x", "y", "z", "w"} | {f"{i}{j}" for i in "123"
-                                                                  for j in "123"}]  # fmt: skip
+                                                                  for j in "123"})]  # fmt: skip
         value = npz[name].reshape(len(traj.t), -1)
         assert len(cols) == value.shape[1], name
         np.testing.assert_array_equal(csv[:, cols], value)

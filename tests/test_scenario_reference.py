@@ -73,7 +73,7 @@ def test_every_key_of_the_bundled_examples_is_in_the_schema():
 def test_a_misspelt_key_is_refused_the_reference_lists_the_right_one(reference):
     with pytest.raises(sc.ScenarioError, match=r"time\.sapn: unknown key; did you mean 'span'"):
         sc.load_scenario('[model]\nname = "atwood"\n[time]\nsapn = [0, 1]\n')
-    assert "| `span` | [a, b] | required |" in reference
+    assert "| `span` | [a, b] | s | required |" in reference
 
 
 def test_cli_prints_the_reference(capsys, reference):

@@ -127,8 +127,15 @@ def test_psi_is_the_trajectorys_own_euler_angle_and_the_axis_points_at_psi_minus
     angles, and the axis (tip → centre of mass, space components) lies at azimuth ψ − π/2."""
     top = heavy_top(CYLINDER, np.array(PIVOT), [Gravity((0, 0, -9.81))])
     angles = np.array([psi0, 0.6, 0.3])
-    traj = simulate(CYLINDER, (0, 0.5), omega0=(0.0, 1.5, 100.0), Q0=matrix_from_euler(angles),
-                    forces=[Gravity((0, 0, -9.81))], pivot=PIVOT, t_eval=np.linspace(0, 0.5, 21))
+    traj = simulate(
+        CYLINDER,
+        (0, 0.5),
+        omega0=(0.0, 1.5, 100.0),
+        Q0=matrix_from_euler(angles),
+        forces=[Gravity((0, 0, -9.81))],
+        pivot=PIVOT,
+        t_eval=np.linspace(0, 0.5, 21),
+    )
     motion = top_motion(traj, top)
     euler = traj.euler_angles()
     assert motion.psi[0] == pytest.approx(psi0, abs=1e-12)

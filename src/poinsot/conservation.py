@@ -146,17 +146,35 @@ class Invariant:
             return np.abs(d) if d.ndim == 1 else _row_norms(d)
 
     def describe(self) -> dict:
-        """JSON-ready: unit, initial value, largest relative change, whether it is conserved
-        and why."""
+        """JSON-ready: unit, initial value, largest change, whether it is conserved and why.
+
+        ``max_change`` is the largest ``|x(t) − x(0)|`` in :attr:`unit`; ``max_relative_change``
+        is that over ``|x(0)|``, or None when ``x(0) = 0`` (a relative change of a zero
+        reference means nothing: the absolute change says it, with its unit)."""
         v0 = np.asarray(self.values[0], dtype=float)
+        change = self.change
+        zero = not np.any(v0)
+        scale = self.scale if np.isfinite(self.scale) and self.scale else 1.0
+        with np.errstate(over="ignore"):
+            absolute = float(change.max() * scale)
         return {
             "symbol": self.symbol,
             "unit": self.unit,
             "initial": v0.tolist() if v0.ndim else float(v0),
-            "max_relative_change": float(self.change.max()),
+            "max_change": absolute,
+            "max_relative_change": None if zero else float(change.max()),
             "expected_conserved": self.conserved,
             "reason": self.reason,
         }
+
+
+def change_text(described: dict) -> str:
+    """``"E 1.2e-09 (relative)"`` or, for a zero initial value, ``"h 6.4e-10 J (absolute;
+    h(0) = 0)"``: the largest change of an invariant as :meth:`Invariant.describe` gives it."""
+    sym, rel = described["symbol"], described["max_relative_change"]
+    if rel is not None:
+        return f"{sym} {rel:.2e} (relative)"
+    return f"{sym} {described['max_change']:.2e} {described['unit']} (absolute; {sym}(0) = 0)"
 
 
 def _row_norms(V):

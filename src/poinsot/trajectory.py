@@ -428,36 +428,85 @@ class Trajectory(Displayable):
         vec = ("time", "axis")
         space, body = "space", "body"
         out = {
-            "R": (vec, self.R, {"units": "m", "frame": space, "long_name":
-                                "position of the centre of mass from the space origin"}),
-            "V": (vec, self.V, {"units": "m/s", "frame": space,
-                                "long_name": "velocity of the centre of mass"}),
-            "Q": (("time", "row", "col"), self.Q, {"units": "1",
-                                                   "long_name": "attitude, body → space"}),
-            "omega": (vec, self.omega, {"units": "rad/s", "frame": body,
-                                        "long_name": "angular velocity"}),
-            "omega_space": (vec, self.omega_space, {"units": "rad/s", "frame": space,
-                                                    "long_name": "angular velocity"}),
-            "quaternion": (("time", "component"), self.quaternion, {"units": "1", "long_name":
-                           "attitude, body → space, scalar first"}),
-            "angular_momentum_com": (vec, self.angular_momentum_com, {
-                "units": "kg m2/s", "frame": space, "about": "centre of mass", "symbol": "L_G",
-                "long_name": "angular momentum about the centre of mass"}),
-            "angular_momentum_origin": (vec, self.angular_momentum, {
-                "units": "kg m2/s", "frame": space, "about": "space origin", "symbol": "L_O",
-                "long_name": "angular momentum about the space origin"}),
+            "R": (
+                vec,
+                self.R,
+                {
+                    "units": "m",
+                    "frame": space,
+                    "long_name": "position of the centre of mass from the space origin",
+                },
+            ),
+            "V": (
+                vec,
+                self.V,
+                {"units": "m/s", "frame": space, "long_name": "velocity of the centre of mass"},
+            ),
+            "Q": (
+                ("time", "row", "col"),
+                self.Q,
+                {"units": "1", "long_name": "attitude, body → space"},
+            ),
+            "omega": (
+                vec,
+                self.omega,
+                {"units": "rad/s", "frame": body, "long_name": "angular velocity"},
+            ),
+            "omega_space": (
+                vec,
+                self.omega_space,
+                {"units": "rad/s", "frame": space, "long_name": "angular velocity"},
+            ),
+            "quaternion": (
+                ("time", "component"),
+                self.quaternion,
+                {"units": "1", "long_name": "attitude, body → space, scalar first"},
+            ),
+            "angular_momentum_com": (
+                vec,
+                self.angular_momentum_com,
+                {
+                    "units": "kg m2/s",
+                    "frame": space,
+                    "about": "centre of mass",
+                    "symbol": "L_G",
+                    "long_name": "angular momentum about the centre of mass",
+                },
+            ),
+            "angular_momentum_origin": (
+                vec,
+                self.angular_momentum,
+                {
+                    "units": "kg m2/s",
+                    "frame": space,
+                    "about": "space origin",
+                    "symbol": "L_O",
+                    "long_name": "angular momentum about the space origin",
+                },
+            ),
         }
         if self.angular_momentum_pivot is not None:
-            out["angular_momentum_pivot"] = (vec, self.angular_momentum_pivot, {
-                "units": "kg m2/s", "frame": space, "about": "pivot", "symbol": "L_P",
-                "pivot_position": self.pivot_position.tolist(),
-                "long_name": "angular momentum about the pivot"})
+            out["angular_momentum_pivot"] = (
+                vec,
+                self.angular_momentum_pivot,
+                {
+                    "units": "kg m2/s",
+                    "frame": space,
+                    "about": "pivot",
+                    "symbol": "L_P",
+                    "pivot_position": self.pivot_position.tolist(),
+                    "long_name": "angular momentum about the pivot",
+                },
+            )
         out |= {
             "kinetic_energy": (("time",), self.kinetic_energy, {"units": "J"}),
             "potential_energy": (("time",), self.potential_energy, {"units": "J"}),
             "total_energy": (("time",), self.total_energy, {"units": "J"}),
-            "orthogonality_error": (("time",), self.orthogonality_error, {
-                "units": "1", "long_name": "max |Qᵀ Q − I|"}),
+            "orthogonality_error": (
+                ("time",),
+                self.orthogonality_error,
+                {"units": "1", "long_name": "max |Qᵀ Q − I|"},
+            ),
             "time": (("time",), self.t, {"units": "s"}),
             "axis": (("axis",), np.array(list("xyz")), {}),
             "component": (("component",), np.array(list("wxyz")), {}),

@@ -487,18 +487,34 @@ class _BadInput(ValueError):
     pass
 
 
-def _seconds(text: str) -> float:
-    """``--time-limit``: a positive, finite number of seconds."""
-    import argparse
-    import math
+def _quantity(unit: str, what: str, positive: bool = False):
+    """An argparse ``type``: a number in ``unit`` (SI), or a quantity with a unit (``"100 rpm"``,
+    ``"2 min"``) converted to it, as in scenario files (pint, the ``units`` extra)."""
 
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number of seconds, found {text!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"expected a positive number of seconds, found {text}")
-    return value
+    def convert(text: str) -> float:
+        import argparse
+        import math
+
+        from .tables import ScenarioError, _quantity
+
+        try:
+            value = float(text)
+        except ValueError:
+            try:
+                value = _quantity(text, unit, what)
+            except ScenarioError as exc:
+                raise argparse.ArgumentTypeError(str(exc)) from None
+        if not math.isfinite(value) or (positive and not value > 0):
+            kind = "a positive" if positive else "a finite"
+            raise argparse.ArgumentTypeError(f"{what}: expected {kind} number ({unit}), "
+                                             f"found {text}")  # fmt: skip
+        return value
+
+    convert.__name__ = f"quantity in {unit}"  # argparse names the type in its errors
+    return convert
+
+
+_seconds = _quantity("s", "--time-limit", positive=True)
 
 
 def _parser():
@@ -576,8 +592,12 @@ def _parser():
     )
     inertia.add_argument("body", metavar="BODY", help="scenario .toml or mesh file")
     group = inertia.add_mutually_exclusive_group()
-    group.add_argument("--mass", type=float, help="mesh: total mass (kg)")
-    group.add_argument("--density", type=float, help="mesh: density (kg/m³; default 1)")
+    group.add_argument("--mass", type=_quantity("kg", "--mass", True), help="mesh: total mass (kg)")
+    group.add_argument(
+        "--density",
+        type=_quantity("kg/m^3", "--density", True),
+        help="mesh: density (kg/m³; default 1)",
+    )
     inertia.add_argument("--json", action="store_true", help="print JSON for machines")
     inertia.set_defaults(func=_cmd_inertia, quiet=False)
 
@@ -591,7 +611,7 @@ def _parser():
     )
     pol.add_argument(
         "--moments",
-        type=float,
+        type=_quantity("kg*m^2", "--moments"),
         nargs=3,
         required=True,
         metavar=("I1", "I2", "I3"),
@@ -602,14 +622,14 @@ def _parser():
                      "them; Euler's equation is still well posed)")  # fmt: skip
     pol.add_argument(
         "--energy",
-        type=float,
+        type=_quantity("J", "--energy"),
         metavar="K",
         help="rotational kinetic energy k of the ellipsoid (default 0.5; with --omega0 it is "
         "that of ω0, and a different --energy is refused)",
     )
     pol.add_argument(
         "--omega0",
-        type=float,
+        type=_quantity("rad/s", "--omega0"),
         nargs=3,
         metavar=("W1", "W2", "W3"),
         help="an initial angular velocity (body = principal frame)",
@@ -645,9 +665,9 @@ def _parser():
                          f"e.g. {example}")  # fmt: skip
     ide.add_argument("--rotor-axis", type=float, nargs=3, metavar=("X", "Y", "Z"),
                      help="rotor axis in the sensor frame")  # fmt: skip
-    ide.add_argument("--rotor-inertia", type=float, metavar="J",
+    ide.add_argument("--rotor-inertia", type=_quantity("kg*m^2", "--rotor-inertia"), metavar="J",
                      help="rotor's axial moment of inertia (kg m²)")  # fmt: skip
-    ide.add_argument("--window", type=float, nargs=2, metavar=("T0", "T1"),
+    ide.add_argument("--window", type=_quantity("s", "--window"), nargs=2, metavar=("T0", "T1"),
                      help="the stretch of the log to use or search, in seconds")  # fmt: skip
     ide.add_argument(
         "--saturation",
@@ -661,7 +681,7 @@ def _parser():
     ide.add_argument("--decimal", choices=(".", ","), help="decimal mark (default .)")
     ide.add_argument(
         "--box",
-        type=float,
+        type=_quantity("m", "--box"),
         nargs=3,
         metavar=("A", "B", "C"),
         help="the body's size along the sensor's x, y, z in m (for axes.png)",

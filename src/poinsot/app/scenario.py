@@ -71,6 +71,8 @@ class Scenario:
     #: carrier), and its initial state.
     prepared: object = field(default=None, repr=False, compare=False)
     y0: np.ndarray | None = field(default=None, repr=False, compare=False)
+    #: values given with a unit: key path → {"given", "value" (SI), "unit"}
+    quantities: dict = field(default_factory=dict)
 
     @property
     def t_eval(self):
@@ -182,7 +184,7 @@ def _initial(t: _Table, body, pivot, omega_optional=False):
     if omega_optional and not t.has("omega"):
         pass
     elif t.has("particle_velocities"):
-        v = t.get("particle_velocities", "vectors3")
+        v = t.get("particle_velocities", "vectors3", unit="m/s")
         if not body.has_particles or len(v) != body.n_particles:
             n = body.n_particles
             raise ScenarioError(
@@ -191,13 +193,13 @@ def _initial(t: _Table, body, pivot, omega_optional=False):
             )
         out["particle_velocities"] = v
     else:
-        out["omega0"] = t.get("omega", "vector3")
+        out["omega0"] = t.get("omega", "vector3", unit="rad/s")
         out["omega_frame"] = t.get("omega_frame", "string", "body", choices=("body", "space"))
     orientation = _orientation(t)
     if orientation is not None:
         out["Q0"] = orientation
-    for key, name in (("position", "R0"), ("velocity", "V0")):
-        value = t.get(key, "vector3", None)
+    for key, name, unit in (("position", "R0", "m"), ("velocity", "V0", "m/s")):
+        value = t.get(key, "vector3", None, unit=unit)
         if value is not None:
             out[name] = value
     if pivot is not None and "V0" in out:
@@ -233,6 +235,8 @@ class LagrangianScenario:
     #: the initial state made consistent with the constraints when the file was read (every
     #: coordinate and velocity, by symbol), which the run starts from
     consistent: tuple[dict, dict] | None = None
+    #: values given with a unit: key path → {"given", "value" (SI), "unit"}
+    quantities: dict = field(default_factory=dict)
 
     @property
     def t_eval(self):
@@ -257,8 +261,9 @@ class LagrangianScenario:
         return sol
 
 
-def _by_name(t: _Table, key, known: dict, what: str):
-    """``{symbol: value}`` from a table ``{name = value}`` whose names must be in ``known``."""
+def _by_name(t: _Table, key, known: dict, what: str, units: dict | None = None):
+    """``{symbol: value}`` from a table ``{name = value}`` whose names must be in ``known``;
+    ``units`` (name → unit) lets a value be a quantity with a unit."""
     table = t.table(key, None)
     out = {}
     for name in list(table.data):
@@ -266,8 +271,16 @@ def _by_name(t: _Table, key, known: dict, what: str):
             near = difflib.get_close_matches(name, list(known), n=1, cutoff=0.5)
             hint = f"; did you mean {near[0]!r}?" if near else f"; {what}: {', '.join(known)}"
             raise ScenarioError(f"{table.where(name)}: unknown {what[:-1]}{hint}")
-        out[known[name]] = table.get(name, "number")
+        out[known[name]] = table.get(name, "number", unit=_si((units or {}).get(name)))
     return out
+
+
+def _si(unit: str | None) -> str | None:
+    """A unit as the library writes it (``"kg·m²"``, ``"m/s²"``) in pint's syntax; None for
+    none declared (the value is then a bare number)."""
+    if not unit:
+        return None
+    return unit.replace("·", "*").replace("²", "^2").replace("³", "^3")
 
 
 def _integrator(root: _Table, methods, extra: dict | None = None):
@@ -275,7 +288,7 @@ def _integrator(root: _Table, methods, extra: dict | None = None):
     ``(kind, default, choices)``."""
     it = root.table("integrator", None)
     method = it.get("method", "string", "dop853", choices=methods)
-    dt = it.get("dt", "positive", None)
+    dt = it.get("dt", "positive", None, unit="s")
     rtol = it.get("rtol", "positive", None)
     if rtol is not None and not rtol < 1:
         raise ScenarioError(f"{it.where('rtol')}: expected a number in (0, 1), found {rtol}")
@@ -293,7 +306,7 @@ def _integrator(root: _Table, methods, extra: dict | None = None):
 def _time(root: _Table):
     """``[time]``: ``((t0, t1), samples)``."""
     tt = root.table("time")
-    span = tt.get("span", "vector2")
+    span = tt.get("span", "vector2", unit="s")
     if not span[1] > span[0]:
         raise ScenarioError(
             f"{tt.where('span')}: expected [start, end] with end > start, found {span.tolist()}"
@@ -344,9 +357,14 @@ def _parse_model(root: _Table, name: str, description: str, source: str) -> Lagr
     model = models.MODELS[model_name]()
     coords = {str(q).replace("(t)", ""): q for q in model.system.coordinates}
     params_known = {str(p): p for p in model.system.parameters}
-    params = {**model.params, **_by_name(mt, "params", params_known, "parameters")}
-    q0 = _by_name(mt, "q0", coords, "coordinates") if mt.has("q0") else dict(model.q0)
-    qd0 = _by_name(mt, "qd0", coords, "coordinates") if mt.has("qd0") else dict(model.qd0)
+    p_units = {name: model.unit_of_parameter(name) for name in params_known}
+    q_units = {name: model.system.unit_of(q) for name, q in coords.items()}
+    qd_units = {name: f"{u}/s" if u else None for name, u in q_units.items()}
+    params = {**model.params, **_by_name(mt, "params", params_known, "parameters", p_units)}
+    q0 = (_by_name(mt, "q0", coords, "coordinates", q_units) if mt.has("q0")
+          else dict(model.q0))  # fmt: skip
+    qd0 = (_by_name(mt, "qd0", coords, "coordinates", qd_units) if mt.has("qd0")
+           else dict(model.qd0))  # fmt: skip
     mt.finish()
     stab_choices = ("baumgarte", "projection", "none")
     method, dt, rtol, atol, more = _integrator(
@@ -410,7 +428,7 @@ def _parse(data: dict, source: str, base_dir: Path):
     description = root.get("description", "string", "")
     bt = root.table("body")
     body = build_body(bt, base_dir)
-    pivot = bt.get("pivot", "vector3", None)
+    pivot = bt.get("pivot", "vector3", None, unit="m")
     forces = [build_force(f) for f in root.tables("forces")]
     has_ensemble = root.has("ensemble")
     initial = _initial(
@@ -433,8 +451,8 @@ def _parse(data: dict, source: str, base_dir: Path):
     at = root.table("analysis", None)
     analysis = {
         "polhodes": at.get("polhodes", "bool", True),
-        "energy": at.get("energy", "positive", None),
-        "momentum": at.get("momentum", "nonnegative", None),
+        "energy": at.get("energy", "positive", None, unit="J"),
+        "momentum": at.get("momentum", "nonnegative", None, unit="kg*m^2/s"),
         "levels": at.get("levels", "int", 9),
     }
     if analysis["levels"] > MAX_LEVELS:
@@ -500,15 +518,15 @@ def _ensemble(et: _Table, initial: dict) -> dict:
         raise ScenarioError(f"{et.where('seed')}: expected an integer, found {out['seed']}")
     out["seed"] = int(out["seed"])
     if out["distribution"] == "sphere":
-        out["speed"] = et.get("speed", "positive")
+        out["speed"] = et.get("speed", "positive", unit="rad/s")
     else:
         mean = initial.get("omega0")
-        out["mean"] = et.get("mean", "vector3", mean)
+        out["mean"] = et.get("mean", "vector3", mean, unit="rad/s")
         if out["mean"] is None:
             raise ScenarioError(
                 f"{et.where('mean')}: required for a gaussian ensemble (or give initial.omega)"
             )
-        std = et.get("std", "vector3")
+        std = et.get("std", "vector3", unit="rad/s")
         if np.any(std < 0):
             raise ScenarioError(f"{et.where('std')}: expected numbers ≥ 0, found {std.tolist()}")
         out["std"] = std
@@ -651,12 +669,20 @@ def load_scenario(source) -> Scenario:
         raise ScenarioError(f"{label}: TOML syntax error: {exc}") from None
     except RecursionError:
         raise ScenarioError(f"{label}: arrays or tables are nested too deeply") from None
+    from . import tables
+
+    quantities: dict = {}
+    outer, tables._QUANTITY_RECORDER = tables._QUANTITY_RECORDER, quantities
     try:
-        return _parse(data, label, base)
+        scenario = _parse(data, label, base)
     except ScenarioError as exc:
         raise ScenarioError(f"{label}: {exc}") from None
     except RecursionError:
         raise ScenarioError(f"{label}: arrays or tables are nested too deeply") from None
+    finally:
+        tables._QUANTITY_RECORDER = outer
+    scenario.quantities = quantities
+    return scenario
 
 
 def _decode(raw: bytes, label: str) -> str:

@@ -36,9 +36,9 @@ def _orientation(t: _Table):
     where = t.where("orientation")
     if isinstance(value, dict):
         e = _Table(value, where)
-        angles = e.get("euler", "vector3")
-        seq = e.get("seq", "string", "ZXZ")
         degrees = e.get("degrees", "bool", False)
+        angles = e.get("euler", "vector3", unit="deg" if degrees else "rad")
+        seq = e.get("seq", "string", "ZXZ")
         e.finish()
         from ..rotation import EULER_SEQUENCES, matrix_from_euler
 
@@ -81,13 +81,13 @@ def build_body(t: _Table, base_dir: Path, part: bool = False):
                 raise ScenarioError(f"{t.where('particles')}: expected at least one particle")
             masses, positions = [], []
             for p in parts:
-                masses.append(p.get("mass", "positive"))
-                positions.append(p.get("position", "vector3"))
+                masses.append(p.get("mass", "positive", unit="kg"))
+                positions.append(p.get("position", "vector3", unit="m"))
                 p.finish()
             body = RigidBody.from_particles(masses, positions)
         elif kind == "particle_grid":
-            lower = t.get("lower", "vector3", np.zeros(3))
-            upper = t.get("upper", "vector3")
+            lower = t.get("lower", "vector3", np.zeros(3), unit="m")
+            upper = t.get("upper", "vector3", unit="m")
             counts = t.get("counts", "vector3")
             if np.any(counts < 1) or np.any(counts != np.round(counts)):
                 raise ScenarioError(
@@ -99,23 +99,23 @@ def build_body(t: _Table, base_dir: Path, part: bool = False):
                     f"{t.where('counts')}: at most {MAX_PARTICLES:.0e} particles in all, found "
                     f"{' × '.join(f'{c:.0f}' for c in counts)}"
                 )
-            total = t.get("total_mass", "positive")
+            total = t.get("total_mass", "positive", unit="kg")
             axes = [np.linspace(lower[k], upper[k], int(counts[k])) for k in range(3)]
             grid = np.array(np.meshgrid(*axes, indexing="ij")).reshape(3, -1).T
             body = RigidBody.from_particles(np.full(len(grid), total / len(grid)), grid)
         elif kind in PRIMITIVES:
-            mass = t.get("mass", "positive")
+            mass = t.get("mass", "positive", unit="kg")
             args = []
             for name in PRIMITIVES[kind]:
                 vec = name in ("size", "semi_axes")
-                value = t.get(name, "vector3" if vec else "positive")
+                value = t.get(name, "vector3" if vec else "positive", unit="m")
                 if vec and np.any(value <= 0):
                     bad = int(np.argmax(value <= 0))
                     raise ScenarioError(
                         f"{t.where(name)}[{bad}]: expected a positive number, found {value[bad]}"
                     )
                 args.append(value)
-            position = t.get("position", "vector3", None)
+            position = t.get("position", "vector3", None, unit="m")
             body = getattr(RigidBody, kind)(
                 mass, *args, position=position, orientation=_orientation(t)
             )
@@ -123,8 +123,8 @@ def build_body(t: _Table, base_dir: Path, part: bool = False):
             path = Path(t.get("path", "string"))
             if not path.is_absolute():
                 path = base_dir / path
-            mass = t.get("mass", "positive", None)
-            density = t.get("density", "positive", None)
+            mass = t.get("mass", "positive", None, unit="kg")
+            density = t.get("density", "positive", None, unit="kg/m^3")
             try:
                 body = RigidBody.from_mesh(path, mass=mass, density=density)
             except ImportError as exc:
@@ -136,9 +136,9 @@ def build_body(t: _Table, base_dir: Path, part: bool = False):
             body = RigidBody.compose([build_body(p, base_dir, part=True) for p in parts])
         else:  # mass_properties
             body = RigidBody(
-                t.get("mass", "positive"),
-                t.get("inertia", "matrix3"),
-                t.get("center_of_mass", "vector3", np.zeros(3)),
+                t.get("mass", "positive", unit="kg"),
+                t.get("inertia", "matrix3", unit="kg*m^2"),
+                t.get("center_of_mass", "vector3", np.zeros(3), unit="m"),
                 allow_unphysical=t.get("allow_unphysical", "bool", False),
             )
     except ScenarioError:
@@ -178,36 +178,38 @@ def build_force(t: _Table):
     kind = t.get("type", "string", choices=FORCE_TYPES)
     try:
         if kind == "gravity":
-            force = F.Gravity(t.get("g", "vector3", np.array([0.0, 0.0, -9.81])))
+            force = F.Gravity(t.get("g", "vector3", np.array([0.0, 0.0, -9.81]), unit="m/s^2"))
         elif kind == "central_gravity":
             force = F.CentralGravity(
-                t.get("mu", "positive"),
-                t.get("center", "vector3", np.zeros(3)),
+                t.get("mu", "positive", unit="m^3/s^2"),
+                t.get("center", "vector3", np.zeros(3), unit="m"),
                 gradient=t.get("gradient", "bool", True),
             )
         elif kind == "spring":
             force = F.Spring(
-                t.get("point", "vector3"),
-                t.get("anchor", "vector3"),
-                t.get("stiffness", "positive"),
-                t.get("rest_length", "nonnegative", 0.0),
-                damping=t.get("damping", "nonnegative", 0.0),
+                t.get("point", "vector3", unit="m"),
+                t.get("anchor", "vector3", unit="m"),
+                t.get("stiffness", "positive", unit="N/m"),
+                t.get("rest_length", "nonnegative", 0.0, unit="m"),
+                damping=t.get("damping", "nonnegative", 0.0, unit="N*s/m"),
                 tether=t.get("tether", "bool", False),
             )
         elif kind in ("linear_drag", "quadratic_drag"):
             cls = F.LinearDrag if kind == "linear_drag" else F.QuadraticDrag
+            lin = kind == "linear_drag"  # F = −c V, τ = −c_rot ω; or −c |V| V, −c_rot |ω| ω
             force = cls(
-                t.get("coefficient", "nonnegative"), t.get("rotational", "nonnegative", 0.0)
+                t.get("coefficient", "nonnegative", unit="N*s/m" if lin else "N*s^2/m^2"),
+                t.get("rotational", "nonnegative", 0.0, unit="N*m*s" if lin else "N*m*s^2"),
             )
         elif kind == "point_force":
             force = F.PointForce(
-                t.get("point", "vector3"),
-                t.get("force", "vector3"),
+                t.get("point", "vector3", unit="m"),
+                t.get("force", "vector3", unit="N"),
                 frame=t.get("frame", "string", "space", choices=("space", "body")),
             )
         else:
             force = F.Torque(
-                t.get("torque", "vector3"),
+                t.get("torque", "vector3", unit="N*m"),
                 frame=t.get("frame", "string", "body", choices=("space", "body")),
             )
     except ScenarioError:

@@ -115,14 +115,14 @@ def collect_schema() -> dict:
             reader._SCHEMA_RECORDER = None
         kind = "constrained model" if re.search(r"^\[model\]", text, re.M) else "rigid body"
         tables = set()
-        for path, variant, key, vkind, default, choices in records:
+        for path, variant, key, vkind, default, choices, unit in records:
             table = re.sub(r"\[\d+\]", "[]", path) or "(top level)"
             if table.startswith("model.") or key == "type":
                 variant = None if key == "type" else variant
             where = (kind, table, variant)
             tables.add(where)
             entry = schema.setdefault(where, {})
-            entry.setdefault(key, []).append((vkind, default, choices))
+            entry.setdefault(key, []).append((vkind, default, choices, unit))
             seen.setdefault((where, key), set()).add(id(text))
         for where in tables:
             visits.setdefault(where, set()).add(id(text))
@@ -164,8 +164,8 @@ def _default(default, missing) -> str:
 
 
 def _requirement(reads, always, missing) -> str:
-    defaults = {repr(d) for _, d, _ in reads}
-    if all(d is missing for _, d, _ in reads):
+    defaults = {repr(d) for _, d, _, _ in reads}
+    if all(d is missing for _, d, _, _ in reads):
         return "required" if always else "conditional"
     if len(defaults) > 1:
         return "optional (default depends on the scenario)"
@@ -179,12 +179,15 @@ def _models_section() -> list[str]:
 
     lines = ["## `model.params`, `model.q0`, `model.qd0`", "",
              "The keys are the model's own parameter and coordinate names (any subset; the rest "
-             "keep the model's defaults):", "",
+             "keep the model's defaults); a value may carry its unit (`\"30 deg\"`), converted "
+             "to the unit shown (`qd0` in that unit per second):", "",
              "| `model.name` | `params` (numbers) | `q0`, `qd0` (coordinates) |",
              "| --- | --- | --- |"]  # fmt: skip
     for name, build in models.MODELS.items():
-        system = build().system
-        params = ", ".join(f"`{p}`" for p in system.parameters)
+        model = build()
+        system = model.system
+        params = ", ".join(f"`{p}` [{model.unit_of_parameter(p) or '—'}]"
+                           for p in system.parameters)  # fmt: skip
         coords = ", ".join(
             f"`{str(q).replace('(t)', '')}` [{system.unit_of(q) or '—'}]"
             for q in system.coordinates
@@ -205,7 +208,10 @@ def render_reference() -> str:
         "`poinsot examples --reference`); `tests/test_scenario_reference.py` checks that this",
         "file is its current output. How to write a scenario is in",
         "[`docs/scenarios.md`](scenarios.md); `poinsot examples --show NAME` prints a bundled",
-        "one as a template. Units are SI (kg, m, s, rad, N). A table may hold only the keys",
+        "one as a template. Bare numbers are SI (kg, m, s, rad, N); a key with a unit also takes",
+        'a quantity written with its unit, such as `"100 rpm"`, `"34.4 deg"` or',
+        '`"1.5 g/cm^3"` (parsed by pint: the `units` extra), converted to the unit shown and',
+        "echoed in `summary.json` under `scenario.quantities`. A table may hold only the keys",
         "listed, and a misspelt key is refused with a suggestion. *conditional*: required in",
         "some cases only (one of two alternatives, such as `initial.omega` or",
         "`initial.particle_velocities`; a key of a table that is itself optional).",
@@ -217,15 +223,17 @@ def render_reference() -> str:
             lines += [f"# A {kind} scenario", ""]
             current = kind
         title = f"`{table}`" + (f' with `type = "{variant}"`' if variant else "")
-        lines += [f"## {title}", "", "| key | value | required / default | allowed |",
-                  "| --- | --- | --- | --- |"]  # fmt: skip
+        lines += [f"## {title}", "", "| key | value | unit | required / default | allowed |",
+                  "| --- | --- | --- | --- | --- |"]  # fmt: skip
         for key, (reads, always) in keys.items():
             kind_ = reads[0][0]
-            choices = sorted({c for _, _, ch in reads if ch for c in ch},
-                             key=lambda c: next(i for _, _, ch in reads if ch
+            choices = sorted({c for _, _, ch, _ in reads if ch for c in ch},
+                             key=lambda c: next(i for _, _, ch, _ in reads if ch
                                                 for i, x in enumerate(ch) if x == c))  # fmt: skip
             allowed = ", ".join(f"`{c}`" for c in choices)
-            lines.append(f"| `{key}` | {_KINDS.get(kind_, kind_)} | "
+            units = sorted({u for _, _, _, u in reads if u})
+            unit = " or ".join(units) if units else ""
+            lines.append(f"| `{key}` | {_KINDS.get(kind_, kind_)} | {unit} | "
                          f"{_requirement(reads, always, _MISSING)} | {allowed} |")  # fmt: skip
         lines.append("")
         if table == "model":

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import warnings
 
 import numpy as np
 
@@ -19,9 +20,17 @@ class ScenarioError(ValueError):
 
 
 #: While not None, every key the validator reads is appended here as
-#: ``(table path, variant, key, kind, default, choices)``: the scenario schema, recorded from
-#: the validator itself (:mod:`poinsot.app.scenario_reference` renders it).
+#: ``(table path, variant, key, kind, default, choices, unit)``: the scenario schema, recorded
+#: from the validator itself (:mod:`poinsot.app.scenario_reference` renders it).
 _SCHEMA_RECORDER: list | None = None
+
+#: While not None, every value given as a quantity with a unit is recorded here as
+#: ``key path → {"given": text, "value": SI value, "unit": SI unit}``: the scenario echoes
+#: them in ``summary.json``.
+_QUANTITY_RECORDER: dict | None = None
+
+#: The SI unit of an angle: a bare number beyond 2π of it is most likely in degrees.
+ANGLE = "rad"
 
 
 class _Table:
@@ -35,9 +44,9 @@ class _Table:
         self.used: set[str] = set()
         self.variant = None  # the value of its "type" key, once read
 
-    def _record(self, key, kind, default=_MISSING, choices=None):
+    def _record(self, key, kind, default=_MISSING, choices=None, unit=None):
         if _SCHEMA_RECORDER is not None:
-            _SCHEMA_RECORDER.append((self.path, self.variant, key, kind, default, choices))
+            _SCHEMA_RECORDER.append((self.path, self.variant, key, kind, default, choices, unit))
 
     def where(self, key):
         return f"{self.path}.{key}" if self.path else key
@@ -46,8 +55,10 @@ class _Table:
         return key in self.data
 
     def get(self, key, kind, default=_MISSING, **kw):
+        """The value of ``key`` as a ``kind``; ``unit=`` (an SI unit such as ``"rad/s"``) lets
+        a number be written as a quantity with a unit (``"100 rpm"``), converted to it."""
         self.used.add(key)
-        self._record(key, kind, default, kw.get("choices"))
+        self._record(key, kind, default, kw.get("choices"), kw.get("unit"))
         if key not in self.data:
             if default is _MISSING:
                 self._typo_of(key)
@@ -104,26 +115,93 @@ def _show(value):
     return text if len(text) < 60 else text[:57] + "..."
 
 
-def _number(value, where):
+def _number(value, where, unit=None):
+    if isinstance(value, str) and unit is not None:
+        return _quantity(value, unit, where)
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ScenarioError(f"{where}: expected a number, found {_show(value)}")
+        hint = f' or a quantity such as "1.5 {unit}"' if unit not in (None, "1") else ""
+        raise ScenarioError(f"{where}: expected a number{hint}, found {_show(value)}")
     if not math.isfinite(value):
         raise ScenarioError(f"{where}: expected a finite number, found {value}")
+    if unit == ANGLE and abs(value) > 2 * math.pi:
+        from .._io import PoinsotWarning
+
+        warnings.warn(f"{where} = {value:g}: an angle beyond 2π rad; bare numbers are radians — "
+                      f'if it is in degrees, write "{value:g} deg"', PoinsotWarning,
+                      stacklevel=2)  # fmt: skip
     return float(value)
 
 
-def _convert(value, kind, where, choices=None):
+def _registry():
+    """pint's unit registry, made once (its first use costs about 0.5 s)."""
+    global _UREG
+    if _UREG is None:
+        import pint
+
+        _UREG = pint.UnitRegistry()
+    return _UREG
+
+
+_UREG = None
+
+
+def _quantity(text: str, unit: str, where: str) -> float:
+    """A quantity written with a unit (``"100 rpm"``, ``"1.5 g/cm^3"``), parsed by pint's own
+    expression parser (never ``eval``) and converted to the SI ``unit``; a bare number in the
+    string is SI. Refused, naming the key, when pint is missing, the unit is unknown, or the
+    dimension is not that of ``unit``."""
+    try:
+        ureg = _registry()
+    except ImportError:
+        raise ScenarioError(f"{where} = {text!r}: quantities with units need pint: "
+                            "pip install 'poinsot[units]' (or give the number in SI units, "
+                            f"{unit})") from None  # fmt: skip
+    import pint
+
+    try:
+        q = ureg.parse_expression(text)
+    except pint.UndefinedUnitError as exc:
+        names = [str(n) for n in getattr(exc, "unit_names", ())] or [str(exc)]
+        known = [n for n in dir(ureg) if not n.startswith("_")]
+        near = difflib.get_close_matches(names[0], known, n=3, cutoff=0.6)
+        hint = f"; did you mean {' or '.join(map(repr, near))}?" if near else ""
+        raise ScenarioError(f"{where} = {text!r}: unknown unit {names[0]!r}{hint}") from None
+    except Exception:  # pint's tokenizer refuses anything that is not a quantity
+        raise ScenarioError(f"{where} = {text!r}: not a number with a unit "
+                            f'(such as "1.5 {unit}")') from None  # fmt: skip
+    if not isinstance(q, ureg.Quantity):
+        q = ureg.Quantity(q, "dimensionless")
+    target = ureg.Quantity(1.0, "dimensionless" if unit == "1" else unit)
+    if q.dimensionality != target.dimensionality:
+        given = f"{q.units:~P}" or "no unit"
+        raise ScenarioError(f"{where} = {text!r}: {given} is {_dimension(q)}, not {unit} "
+                            f"({_dimension(target)})")  # fmt: skip
+    value = float(q.to(target.units).magnitude)
+    if not math.isfinite(value):
+        raise ScenarioError(f"{where} = {text!r}: expected a finite quantity")
+    if _QUANTITY_RECORDER is not None:
+        _QUANTITY_RECORDER[where] = {"given": text, "value": value, "unit": unit}
+    return value
+
+
+def _dimension(q) -> str:
+    """``"[mass]"``, ``"1 / [time]"``, ``"dimensionless"``: the dimension in pint's words."""
+    d = str(q.dimensionality)
+    return d if d != "dimensionless" else "dimensionless"
+
+
+def _convert(value, kind, where, choices=None, unit=None):
     if kind == "number":
-        return _number(value, where)
+        return _number(value, where, unit)
     if kind == "positive":
-        if isinstance(value, int | float) and not isinstance(value, bool) and not value > 0:
-            raise ScenarioError(f"{where}: expected a positive number, found {value}")
-        x = _number(value, where)
+        x = _number(value, where, unit)
+        if not x > 0:
+            raise ScenarioError(f"{where}: expected a positive number, found {_show(value)}")
         return x
     if kind == "nonnegative":
-        x = _number(value, where)
+        x = _number(value, where, unit)
         if x < 0:
-            raise ScenarioError(f"{where}: expected a number ≥ 0, found {value}")
+            raise ScenarioError(f"{where}: expected a number ≥ 0, found {_show(value)}")
         return x
     if kind == "int":
         if isinstance(value, bool) or not isinstance(value, int) or value < 1:
@@ -148,7 +226,7 @@ def _convert(value, kind, where, choices=None):
         if not isinstance(value, list) or (n is not None and len(value) != n):
             what = f"an array of {n} numbers" if n else "an array of numbers"
             raise ScenarioError(f"{where}: expected {what}, found {_show(value)}")
-        return np.array([_number(v, f"{where}[{i}]") for i, v in enumerate(value)])
+        return np.array([_number(v, f"{where}[{i}]", unit) for i, v in enumerate(value)])
     if kind == "expressions3":  # numbers, or expressions in t as strings
         if not isinstance(value, list) or len(value) != 3:
             raise ScenarioError(f"{where}: expected an array of 3 numbers or expressions in t, "
@@ -163,13 +241,15 @@ def _convert(value, kind, where, choices=None):
     if kind == "matrix3":
         if not isinstance(value, list) or len(value) != 3:
             raise ScenarioError(f"{where}: expected a 3×3 array, found {_show(value)}")
-        return np.array([_convert(row, "vector3", f"{where}[{i}]") for i, row in enumerate(value)])
+        return np.array([_convert(row, "vector3", f"{where}[{i}]", unit=unit)
+                         for i, row in enumerate(value)])  # fmt: skip
     if kind == "vectors3":
         if not isinstance(value, list) or not value:
             raise ScenarioError(
                 f"{where}: expected a non-empty array of 3-vectors, found {_show(value)}"
             )
-        return np.array([_convert(row, "vector3", f"{where}[{i}]") for i, row in enumerate(value)])
+        return np.array([_convert(row, "vector3", f"{where}[{i}]", unit=unit)
+                         for i, row in enumerate(value)])  # fmt: skip
     raise AssertionError(kind)  # pragma: no cover
 
 

@@ -84,7 +84,7 @@ def plot_identified_polhode(result, *, ax=None):
     from .torquefree import plot_energy_ellipsoid
 
     moments = np.asarray(result.principal_moments, dtype=float)
-    free = FreeRigidBody(moments / moments[2])
+    free = FreeRigidBody(moments)  # the table's own normalisation: trace 1, or kg·m²
     w = (np.asarray(result.omega_fit) - np.asarray(result.gyro_bias)) @ result.axes
     k, a = free.invariants(w[0])
     fig = plot_energy_ellipsoid(free, float(k), float(a), ax=ax, cone=False)
@@ -93,7 +93,9 @@ def plot_identified_polhode(result, *, ax=None):
     ax.scatter(*w[0], color="black", s=20)
     ax.legend(loc="upper left", fontsize=8)
     note = "" if result.model == "torque-free" else " (the rotor changes k: ω leaves it)"
-    ax.set_title(f"Fitted motion on the energy ellipsoid, principal frame{note}", fontsize=10)
+    scale = "moments in kg·m²" if result.absolute else "moments up to scale, trace 1"
+    ax.set_title(f"Fitted motion on the energy ellipsoid, principal frame{note}\n({scale}, "
+                 "as in the table)", fontsize=10)  # fmt: skip
     return fig
 
 

@@ -19,11 +19,13 @@ __all__ = [
 
 
 def omega_components(traj):
-    """``(components (n, 3), labels)``: ω along the body's sorted principal axes e1, e2, e3
-    (``ω·e_k``), each label naming its axis and moment."""
-    E = traj.body.principal_axes
-    I = traj.body.principal_moments
-    labels = [f"ω·e{'₁₂₃'[k]} (I{'₁₂₃'[k]} = {I[k]:.4g} kg·m²)" for k in range(3)]
+    """``(components (n, 3), labels)``: ω along the sorted principal axes e1, e2, e3 of the
+    inertia about the run's reference point (``ω·e_k``): the centre of mass G for a free body,
+    the pivot for a body on one; each label names its axis, its moment and that point."""
+    system = traj.system
+    E, I = system.principal_axes, system.principal_moments
+    point = "G" if system.pivot is None else "the pivot"
+    labels = [f"ω·e{'₁₂₃'[k]} (I{'₁₂₃'[k]} = {I[k]:.4g} kg·m² about {point})" for k in range(3)]
     return traj.omega @ E, labels
 
 
@@ -37,7 +39,7 @@ def plot_omega_series(traj, *, ax=None):
     >>> from poinsot.models import notebook_body
     >>> ax = plot_omega_series(simulate(notebook_body(), (0, 1), omega0=(0, 0, 1))).axes[0]
     >>> ax.get_lines()[0].get_ydata()[0], ax.get_legend().get_texts()[0].get_text()
-    (np.float64(1.0), 'ω·e₁ (I₁ = 8.333 kg·m²)')
+    (np.float64(1.0), 'ω·e₁ (I₁ = 8.333 kg·m² about G)')
     """
     plt = _plt()
     if ax is None:

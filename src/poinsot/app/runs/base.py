@@ -97,10 +97,12 @@ def add_units(summary: dict) -> None:
 
 def scenario_header(scenario, **extra) -> dict:
     """The ``scenario`` entry of a summary: name, description, source (and ``extra``)."""
+    quantities = getattr(scenario, "quantities", None)
     return {
         "name": scenario.name,
         "description": scenario.description,
         "source": scenario.source,
+        **({"quantities": quantities} if quantities else {}),
         **extra,
     }
 

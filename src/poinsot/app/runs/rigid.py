@@ -8,6 +8,7 @@ import warnings
 import numpy as np
 
 from ..._io import PoinsotWarning
+from ...conservation import change_text
 from ...torquefree.scope import check_motion_energy, exact_solution_applies, free_rotation
 from .base import Run, add_units, jsonable, png_images, pyplot, scenario_header
 
@@ -105,14 +106,10 @@ class RigidRun(Run):
             f"{i['method']} ({step}{i['nsteps']} steps); max |QᵀQ − I| "
             f"{d['orthogonality_error']:.2e}"
         )
-        kept = [
-            (v["symbol"], v["max_relative_change"])
-            for v in d["invariants"].values()
-            if v["expected_conserved"]
-        ]
+        kept = [v for v in d["invariants"].values() if v["expected_conserved"]]
         if kept:
-            changes = ", ".join(f"{s} {c:.2e}" for s, c in kept)
-            lines.append(f"  conserved by this problem, largest relative change: {changes}")
+            changes = ", ".join(change_text(v) for v in kept)
+            lines.append(f"  conserved by this problem, largest change: {changes}")
         else:
             lines.append("  nothing is conserved by this problem (its forces do work)")
         if "top" in summary:
@@ -164,15 +161,22 @@ def summarize(scenario, traj, free=None) -> dict:
     w0 = np.ascontiguousarray(traj.omega[0])
     k0 = float(rotational_energy(body.inertia, w0))
     a0 = float(np.hypot.reduce(angular_momentum_body(body.inertia, w0)))  # no overflow
+    initial = {"omega": w0.tolist()}
+    if scenario.pivot is None or free is not None:  # about the centre of mass
+        initial |= {"rotational_energy": k0, "angular_momentum_magnitude": a0}
+    else:  # about the fixed pivot: the whole kinetic energy and the moment there
+        J = traj.system.inertia
+        initial |= {
+            "rotational_energy_pivot": float(rotational_energy(J, w0)),
+            "angular_momentum_magnitude_pivot": float(
+                np.hypot.reduce(angular_momentum_body(J, w0))),
+        }  # fmt: skip
+    if free is not None:  # a torque-free analysis (about G) exists: its polhode family
+        initial["a2_over_2k"] = a0 * a0 / (2 * k0) if k0 > 0 else None
     out = {
         "scenario": scenario_header(scenario),
         "body": body.mass_properties(),
-        "initial": {
-            "omega": w0.tolist(),
-            "rotational_energy": k0,
-            "angular_momentum_magnitude": a0,
-            "a2_over_2k": a0 * a0 / (2 * k0) if k0 > 0 else None,
-        },
+        "initial": initial,
         "final": {
             "t": float(traj.t[-1]),
             "R": traj.R[-1].tolist(),
