@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from types import ModuleType
 
 import pytest
 
@@ -78,17 +79,118 @@ def test_linked_pages_exist(path):
     assert "THEORY.md" not in text and "../shared" not in text
 
 
-@pytest.mark.parametrize("page", sorted((ROOT / "docs" / "tutorials").glob("*.md")))
-def test_tutorial_code_runs(page, tmp_path, monkeypatch):
+PAGES = sorted((ROOT / "docs").rglob("*.md"))
+#: A Python block, with the HTML comment above it if any: ``<!-- script -->`` runs the block as a
+#: script of its own in a new process (a Dask recipe: its workers import it again), ``<!-- not
+#: run: REASON -->`` leaves it out (a SLURM cluster), saying why.
+_BLOCK = re.compile(r"(?:<!-- (script|not run: [^>]+) -->\n)?```python\n(.*?)```", re.S)
+
+
+def _blocks(page):
+    return _BLOCK.findall(page.read_text(encoding="utf-8"))
+
+
+@pytest.mark.parametrize("page", [p for p in PAGES if _blocks(p)],
+                         ids=lambda p: str(p.relative_to(ROOT / "docs")))  # fmt: skip
+def test_every_python_block_of_every_page_runs(page, tmp_path, monkeypatch):
+    """Each page's blocks run in order in one namespace, as a reader pastes them; a script runs
+    as ``python recipe.py`` in a new process. Only a block marked with the reason it cannot run
+    here is left out."""
+    import subprocess
+    import sys
+
     import matplotlib
 
     matplotlib.use("Agg")
     monkeypatch.chdir(tmp_path)
-    blocks = re.findall(r"```python\n(.*?)```", page.read_text(encoding="utf-8"), re.S)
-    assert blocks, page.name
-    namespace: dict = {}
-    for block in blocks:
-        exec(compile(block, str(page), "exec"), namespace)  # our own docs
+    namespace: dict = {"__name__": "__main__"}
+    for mark, block in _blocks(page):
+        if mark.startswith("not run: "):
+            assert len(mark) > len("not run: ") + 5, "say why the block cannot run"
+        elif mark == "script":
+            script = tmp_path / "recipe.py"
+            script.write_text(block, encoding="utf-8")
+            done = subprocess.run([sys.executable, str(script)], capture_output=True,
+                                  text=True, timeout=600, cwd=tmp_path)  # fmt: skip
+            assert done.returncode == 0, done.stderr[-3000:]
+        else:
+            exec(compile(block, str(page), "exec"), namespace)  # our own docs
+
+
+def test_pages_that_need_a_cluster_say_so_and_nothing_else_is_left_out():
+    skipped = [(p.name, m) for p in PAGES for m, _ in _blocks(p) if m.startswith("not run")]
+    assert {name for name, _ in skipped} <= {"ensembles.md"}, skipped
+    assert len(skipped) == 2
+
+
+def _documented():
+    """``(module, name)`` of every object the API reference documents: a module's ``__all__``
+    under ``:members:``, or the names it lists."""
+    import importlib
+
+    rst = (ROOT / "docs" / "api.rst").read_text(encoding="utf-8")
+    out = []
+    for module, options in re.findall(r"\.\. automodule:: ([\w.]+)\n((?:   :[^\n]*\n)*)", rst):
+        mod = importlib.import_module(module)
+        listed = re.search(r":members:(.*)", options)
+        names = [n.strip() for n in listed.group(1).split(",") if n.strip()] if listed else []
+        for name in names or list(getattr(mod, "__all__", [])):
+            out.append((module, name, getattr(mod, name)))
+    return out
+
+
+def _public_modules():
+    """``poinsot``, its modules and subpackages (not private, not the CLI's ``app``), and every
+    module the pages and examples import from."""
+    import pkgutil
+
+    import poinsot
+
+    names = {"poinsot"} | {f"poinsot.{m.name}" for m in pkgutil.iter_modules(poinsot.__path__)
+                           if not m.name.startswith("_") and m.name != "app"}  # fmt: skip
+    for path in [*PAGES, ROOT / "README.md", *sorted((ROOT / "examples").glob("*.py"))]:
+        text = path.read_text(encoding="utf-8")
+        names |= set(re.findall(r"^\s*from (poinsot(?:\.\w+)*) import", text, re.M))
+    return sorted(names)
+
+
+def test_the_api_reference_lists_every_public_name():
+    """Every name in the ``__all__`` of a public module (and every name the pages import) is
+    documented in ``docs/api.rst``: ``poinsot.integrate.events.Event``, which the constrained
+    tutorial imports, was missing."""
+    import importlib
+
+    documented = _documented()
+    objects = {id(obj) for _, _, obj in documented}
+    names = {name for _, name, _ in documented}
+    names |= set(re.findall(r"\.\. automodule:: ([\w.]+)", (ROOT / "docs" / "api.rst").read_text()))
+    missing = []
+    for module in _public_modules():
+        mod = importlib.import_module(module)
+        for name in getattr(mod, "__all__", []):
+            obj = getattr(mod, name)
+            plain = isinstance(obj, int | float | str | tuple | dict)
+            if (
+                not name.startswith("__")
+                and id(obj) not in objects
+                and not (plain and name in names)
+            ):
+                missing.append(f"{module}.{name}")
+    for path in [*PAGES, ROOT / "README.md"]:
+        for module, imported in re.findall(
+            r"^\s*from (poinsot(?:\.\w+)*) import ([\w, ]+)$",
+            path.read_text(encoding="utf-8"),
+            re.M,
+        ):
+            for name in (n.strip() for n in imported.split(",")):
+                obj = getattr(importlib.import_module(module), name)
+                plain = isinstance(obj, int | float | str | tuple | dict)
+                if isinstance(obj, ModuleType):  # `from poinsot import models`
+                    plain, name = True, obj.__name__
+                if id(obj) not in objects and not (plain and name in names):
+                    missing.append(f"{module}.{name} (imported in {path.name})")
+    assert not missing, f"public names missing from docs/api.rst: {sorted(set(missing))}"
+    assert "Event" in names  # the check sees the reference
 
 
 def test_sphinx_builds_the_api_reference_without_warnings(tmp_path):

@@ -155,6 +155,16 @@ def _cmd_examples(args):
     if args.show:
         sys.stdout.write(example_text(args.show))
         return EXIT_OK
+    if args.data:
+        from importlib.resources import files
+
+        from ..identify.synthetic import SAMPLE_LOG
+
+        if args.data != SAMPLE_LOG:
+            raise _BadInput(f"--data: no sample named {args.data!r}; available: {SAMPLE_LOG}")
+        sys.stdout.write(files("poinsot.identify").joinpath("samples", SAMPLE_LOG)
+                         .read_text(encoding="utf-8"))  # fmt: skip
+        return EXIT_OK
     if args.reference:
         from .scenario_reference import render_reference
 
@@ -164,6 +174,9 @@ def _cmd_examples(args):
     width = max(map(len, examples), default=0)
     for name, description in examples.items():
         print(f"{name:{width}s}  {description}")
+    print("\nsample data (`poinsot examples --data NAME > NAME`):\n"
+          "gyro.csv  a synthetic gyro log of a thrown phone, for `poinsot identify` "
+          "(docs/identify.md)")  # fmt: skip
     return EXIT_OK
 
 
@@ -579,6 +592,9 @@ def _parser():
         "starting template (`poinsot examples --show heavy-top > mine.toml`).",
     )
     ex.add_argument("--show", metavar="NAME", help="print the scenario file of example NAME")
+    ex.add_argument("--data", metavar="NAME",
+                    help="print the sample data file NAME (gyro.csv: a synthetic gyro log of a "
+                    "thrown phone, for `poinsot identify`)")  # fmt: skip
     ex.add_argument("--reference", action="store_true",
                     help="print the reference of every scenario key (Markdown)")  # fmt: skip
     ex.set_defaults(func=_cmd_examples, quiet=False)

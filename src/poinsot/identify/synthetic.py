@@ -26,7 +26,15 @@ import numpy as np
 
 from .. import _core
 
-__all__ = ["SyntheticThrow", "logger_block", "rotor_profile", "synthetic_throw"]
+__all__ = [
+    "SAMPLE_LOG",
+    "SAMPLE_PHONE",
+    "SyntheticThrow",
+    "logger_block",
+    "rotor_profile",
+    "sample_log_text",
+    "synthetic_throw",
+]
 
 #: The example body's parts: (size [m], mass [kg]).
 BLOCK = ((0.070, 0.060, 0.030), 0.20)
@@ -336,3 +344,41 @@ def synthetic_throw(
         noise=float(noise),
         saturation=saturation,
     )
+
+
+#: The sample log that ships with poinsot (``poinsot examples --data gyro.csv``): its file name,
+#: and how :func:`sample_log_text` makes it.
+SAMPLE_LOG = "gyro.csv"
+#: The sample's phone: a 190 g box of 71.5 × 147 × 7.8 mm whose principal axes are turned
+#: 3° (about the sensor's (1, 1, 0) direction) from the sensor's axes: a sensor mounted a
+#: little askew.
+SAMPLE_PHONE = {"mass": 0.19, "size": (0.0715, 0.147, 0.0078), "misalignment_deg": 3.0}
+
+
+def sample_log_text() -> str:
+    """The sample gyro log, as phyphox exports it (``"Time (s)","Gyroscope x (rad/s)",…``):
+    a **synthetic** throw made by :func:`synthetic_throw`, not a measurement. The phone of
+    :data:`SAMPLE_PHONE`, thrown from the hand (0.3 s of wind-up), 0.5 s of free flight from
+    t = 0.3 s, caught (0.3 s), logged at 200 Hz with white noise 0.005 rad/s, a bias of
+    0.01 rad/s per axis and a 35 rad/s range. The file ``identify/samples/gyro.csv`` is this
+    text (a test keeps the two equal).
+
+    Examples
+    --------
+    >>> sample_log_text().splitlines()[0].split(",")[:2]
+    ['"Time (s)"', '"Gyroscope x (rad/s)"']
+    """
+    from ..bodies import RigidBody
+    from ..rotation import matrix_from_rotvec
+
+    p = SAMPLE_PHONE
+    turn = np.radians(p["misalignment_deg"]) * np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0)
+    phone = RigidBody.box(p["mass"], p["size"], orientation=matrix_from_rotvec(turn))
+    throw = synthetic_throw(rotor=False, body=phone, rate=200.0, noise=0.005, bias=0.01,
+                            saturation=35.0, hand=True, spin=20.0, seed=2026)  # fmt: skip
+    rows = ["\"Time (s)\",\"Gyroscope x (rad/s)\",\"Gyroscope y (rad/s)\","
+            "\"Gyroscope z (rad/s)\",\"Absolute (rad/s)\""]  # fmt: skip
+    for t, w in zip(throw.t, throw.omega, strict=True):
+        values = (t, *w, float(np.sqrt(w @ w)))
+        rows.append(",".join(f"{v:.9E}" for v in values))
+    return "\n".join(rows) + "\n"

@@ -6,7 +6,7 @@ name              order adaptive conserves
 rk4               4     no       nothing (the notebook's method; its drift is reported)
 dop853            8     yes      nothing exactly (errors at the tolerance)
 rkmk4             4     no       Q on SO(3) (Lie-group method)
-splitting         2     no       Q on SO(3), |L| and spatial L (torque-free), symplectic
+splitting         2     no       Q on SO(3), ``|L|``, spatial L (torque-free), symplectic
 exact-splitting   2     no       the same; torque-free it is the exact flow at any step
 exact-splitting4  4     no       the same (Blanes & Moan's SRKN6b composition)
 exact-splitting6  6     no       the same (SRKN14a, FRB's example 1)
