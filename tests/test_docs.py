@@ -82,8 +82,10 @@ def test_linked_pages_exist(path):
 PAGES = sorted((ROOT / "docs").rglob("*.md"))
 #: A Python block, with the HTML comment above it if any: ``<!-- script -->`` runs the block as a
 #: script of its own in a new process (a Dask recipe: its workers import it again), ``<!-- not
-#: run: REASON -->`` leaves it out (a SLURM cluster), saying why.
-_BLOCK = re.compile(r"(?:<!-- (script|not run: [^>]+) -->\n)?```python\n(.*?)```", re.S)
+#: run: REASON -->`` leaves it out (a SLURM cluster), saying why; ``<!-- needs: MODULE -->`` runs
+#: it where the optional peer is installed (MuJoCo).
+_BLOCK = re.compile(r"(?:<!-- (script|needs: \w+|not run: [^>]+) -->\n)?```python\n(.*?)```",
+                    re.S)  # fmt: skip
 
 
 def _blocks(page):
@@ -107,6 +109,9 @@ def test_every_python_block_of_every_page_runs(page, tmp_path, monkeypatch):
     for mark, block in _blocks(page):
         if mark.startswith("not run: "):
             assert len(mark) > len("not run: ") + 5, "say why the block cannot run"
+        elif mark.startswith("needs: "):
+            pytest.importorskip(mark.removeprefix("needs: "))
+            exec(compile(block, str(page), "exec"), namespace)  # our own docs
         elif mark == "script":
             script = tmp_path / "recipe.py"
             script.write_text(block, encoding="utf-8")

@@ -709,7 +709,70 @@ def _parser():
     ide.add_argument("--quiet", action="store_true", help="print nothing but errors")
     ide.add_argument("--json", action="store_true", help="print the result as JSON")
     ide.set_defaults(func=_cmd_identify)
+    _grade_parser(sub)
     return p
+
+
+def _grade_parser(sub):
+    gr = sub.add_parser(
+        "grade",
+        help="grade another engine's free body or heavy top against the exact motion",
+        description="Read trajectories of a free body (or a heavy symmetric top) from any "
+        "engine — CSV (column maps as for `poinsot identify`, plus `attitude`: four quaternion "
+        "w, x, y, z or nine matrix columns) or .npz (t, omega, quaternion or Q) — and grade "
+        "each against the exact motion from its first sample: errors of ω and Q, drift of the "
+        "energy and |L|, distance from the exact polhode, flip instants, polhode family (see "
+        "docs/grade.md). One file prints its grade; several, one table row each.",
+    )
+    gr.add_argument("logs", nargs="+", metavar="FILE", help="CSV or .npz trajectories")
+    gr.add_argument("--inertia", type=_quantity("kg*m^2", "--inertia"), nargs="+",
+                    metavar="I", help="a free body: its principal moments along the body axes "
+                    "(3 numbers) or its inertia tensor Ixx Iyy Izz Ixy Ixz Iyz (6)")  # fmt: skip
+    gr.add_argument("--top", type=float, nargs=3, metavar=("A", "C", "MGL"),
+                    help="a heavy symmetric top: A about the tip across the axis, C about the "
+                    "axis (kg m²), M g l (N m)")  # fmt: skip
+    gr.add_argument(
+        "--axis",
+        type=float,
+        nargs=3,
+        default=(0.0, 0.0, 1.0),
+        metavar=("X", "Y", "Z"),
+        help="the top's axis, tip → centre of mass, body frame (default z)",
+    )
+    gr.add_argument(
+        "--up",
+        type=float,
+        nargs=3,
+        default=(0.0, 0.0, 1.0),
+        metavar=("X", "Y", "Z"),
+        help="the top's upward vertical, space frame (default z)",
+    )
+    gr.add_argument("--map", metavar="MAP.toml", help="column map (as for identify)")
+    gr.add_argument("--time", metavar="COL", help="time column (header name or 0-based number)")
+    gr.add_argument("--gyro", nargs=3, metavar=("X", "Y", "Z"), help="ω columns (body frame)")
+    gr.add_argument(
+        "--attitude",
+        nargs="+",
+        metavar="COL",
+        help="attitude columns: quaternion w x y z, or a matrix row by row",
+    )
+    gr.add_argument("--delimiter", metavar="CHAR", help="CSV delimiter (default: guessed)")
+    gr.add_argument("--decimal", choices=(".", ","), help="decimal mark (default .)")
+    gr.add_argument(
+        "--out",
+        metavar="DIR",
+        help="also write report.html, grade.json and figures (first file) into DIR",
+    )
+    gr.add_argument("--force", action="store_true", help="replace the output folder's files")
+    gr.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    gr.add_argument("--json", action="store_true", help="print the grades as JSON")
+    gr.set_defaults(func=_cmd_grade)
+
+
+def _cmd_grade(args):
+    from .grade import run_grade
+
+    return run_grade(args)
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):

@@ -10,7 +10,8 @@ arguments (the command line's options)::
     gyro = ["gyroADC[0]", "gyroADC[1]", "gyroADC[2]"]
     accel = ["accSmooth[0]", "accSmooth[1]", "accSmooth[2]"]     # optional
     rotor_speed = "rpm"                                          # optional
-
+    attitude = ["qw", "qx", "qy", "qz"]    # optional (poinsot grade): a quaternion w, x, y, z
+                                           # or nine matrix columns, body → space
     [scale]                   # one unit of the file in SI: a number, or "FACTOR UNIT"
     time = "1 us"
     gyro = "1/16.384 deg/s"
@@ -68,7 +69,7 @@ UNITS = {
 _KIND = {"time": "time", "gyro": "rate", "accel": "accel", "rotor_speed": "rate",
          "saturation": "rate"}  # fmt: skip
 _SECTIONS = {
-    "columns": ("time", "gyro", "accel", "rotor_speed"),
+    "columns": ("time", "gyro", "accel", "rotor_speed", "attitude"),
     "scale": ("time", "gyro", "accel", "rotor_speed"),
     "rotor": ("axis", "inertia"),
     "identify": ("window", "saturation"),
@@ -143,6 +144,7 @@ class LogMap:
     gyro: tuple | None = None
     accel: tuple | None = None
     rotor_speed: Column | None = None
+    attitude: tuple | None = None
     time_scale: float | None = None
     gyro_scale: float | None = None
     accel_scale: float | None = None
@@ -177,6 +179,14 @@ def _column(value, name: str) -> Column:
 def _three(value, name: str) -> tuple:
     if not isinstance(value, list | tuple) or len(value) != 3:
         raise LogMapError(f"`{name}` must list three columns (x, y, z), found {value!r}")
+    return tuple(_column(v, f"{name}[{i}]") for i, v in enumerate(value))
+
+
+def _attitude_columns(value, name: str) -> tuple:
+    """Four columns (a quaternion w, x, y, z) or nine (a matrix, row by row), body → space."""
+    if not isinstance(value, list | tuple) or len(value) not in (4, 9):
+        raise LogMapError(f"`{name}` must list four quaternion columns (w, x, y, z) or nine "
+                          f"matrix columns (row by row), found {value!r}")  # fmt: skip
     return tuple(_column(v, f"{name}[{i}]") for i, v in enumerate(value))
 
 
@@ -231,6 +241,8 @@ def _map_from_dict(data: dict, source: str = "") -> LogMap:
         kw["accel"] = _three(cols["accel"], "columns.accel")
     if "rotor_speed" in cols:
         kw["rotor_speed"] = _column(cols["rotor_speed"], "columns.rotor_speed")
+    if "attitude" in cols:
+        kw["attitude"] = _attitude_columns(cols["attitude"], "columns.attitude")
     for key in _SECTIONS["scale"]:
         if key in scale:
             kw[f"{key}_scale"] = parse_scale(scale[key], _KIND[key], f"scale.{key}")
@@ -292,6 +304,9 @@ class GyroLog:
         Specific force [m/s²].
     rotor_speed : ndarray (n,) or None
         [rad/s].
+    attitude : ndarray (n, 3, 3) or None
+        With ``columns.attitude``: the attitude, body → space (a quaternion's matrix after
+        normalising it; nine columns as they are).
     rotor_axis, rotor_inertia, window, saturation
         From the map.
     columns : dict
@@ -312,6 +327,7 @@ class GyroLog:
     columns: dict
     notes: tuple
     path: str
+    attitude: np.ndarray | None = None
 
     def identify_kwargs(self) -> dict:
         """The keyword arguments of :func:`poinsot.identify.identify` for this log."""
@@ -461,6 +477,8 @@ def read_log(path, log_map: LogMap | None = None, **options) -> GyroLog:
             wanted[f"accel.{k}"] = _resolve(c, names, f"accel {k}", src)
     if m.rotor_speed is not None:
         wanted["rotor_speed"] = _resolve(m.rotor_speed, names, "rotor speed", src)
+    for k, c in enumerate(m.attitude or ()):
+        wanted[f"attitude[{k}]"] = _resolve(c, names, f"attitude[{k}]", src)
     columns = {key: names[i].strip() for key, i in wanted.items()}
     # ------------------------------------------------------------------ the numbers
     data = np.empty((len(body) - 1, len(wanted)))
@@ -520,6 +538,21 @@ def read_log(path, log_map: LogMap | None = None, **options) -> GyroLog:
     if m.rotor_speed is not None:
         rs = scale("rotor_speed", m.rotor_speed_scale, "rate", columns["rotor_speed"])
         rotor = data[:, col] * rs
+        col += 1
+    attitude = None
+    if m.attitude is not None:
+        from ..rotation import matrix_from_quat
+
+        raw = data[:, col : col + len(m.attitude)]
+        if len(m.attitude) == 4:
+            norms = np.linalg.norm(raw, axis=1)
+            if np.any(norms == 0):
+                k = int(np.argmax(norms == 0))
+                raise LogMapError(f"{src} line {body[k + 1][0]}: the attitude quaternion is "
+                                  "zero")  # fmt: skip
+            attitude = matrix_from_quat(raw)
+        else:
+            attitude = raw.reshape(-1, 3, 3)
     return GyroLog(
         t=t,
         omega=omega,
@@ -532,6 +565,7 @@ def read_log(path, log_map: LogMap | None = None, **options) -> GyroLog:
         columns=columns,
         notes=tuple(notes),
         path=src,
+        attitude=attitude,
     )
 
 
