@@ -26,3 +26,6 @@ myst_heading_anchors = 3
 # than one of them, which is no error in the docstrings
 suppress_warnings = ["myst.xref_missing", "ref.python"]
 html_theme = "alabaster"
+# long lines of code wrap instead of scrolling sideways (docs/_static/poinsot.css)
+html_static_path = ["_static"]
+html_css_files = ["poinsot.css"]

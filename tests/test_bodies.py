@@ -227,6 +227,12 @@ def test_repr_and_html(notebook_body):
     assert "RigidBody(mass=10" in text and "particles=27" in text and "8.333333" in text
     html = notebook_body._repr_html_()
     assert html.startswith("<table>") and "principal moments" in html
+    import re
+
+    units = dict(re.findall(r"<th style='text-align:left'>([^<]+)</th><td>.*?</td>"
+                            r"<td style='color:#555'>([^<]*)</td>", html))  # fmt: skip
+    assert units["mass"] == "kg" and units["centre of mass (body frame)"] == "m"
+    assert units["principal moments I₁ ≤ I₂ ≤ I₃"] == "kg·m²"  # issue 43: no units before
 
 
 def test_arrays_are_read_only(notebook_body):

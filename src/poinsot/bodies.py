@@ -472,20 +472,24 @@ class RigidBody:
         )
 
     def _repr_html_(self) -> str:
-        def row(name, value):
-            return f"<tr><th style='text-align:left'>{name}</th><td>{value}</td></tr>"
+        def row(name, value, unit=""):
+            return (f"<tr><th style='text-align:left'>{name}</th><td>{value}</td>"
+                    f"<td style='color:#555'>{unit}</td></tr>")  # fmt: skip
 
         def mat(a):
             return "<br>".join(np.array2string(r, precision=6) for r in np.atleast_2d(a))
 
         rows = [
-            row("mass", f"{self._mass:.6g}"),
-            row("center of mass", mat(self._com)),
-            row("inertia about the centre of mass", mat(self._inertia)),
-            row("principal moments", mat(self.principal_moments)),
-            row("principal axes (columns)", mat(self.principal_axes)),
+            row("mass", f"{self._mass:.6g}", "kg"),
+            row("centre of mass (body frame)", mat(self._com), "m"),
+            row("inertia about the centre of mass (body frame)", mat(self._inertia), "kg·m²"),
+            row("principal moments I₁ ≤ I₂ ≤ I₃", mat(self.principal_moments), "kg·m²"),
+            row(
+                "principal axes e₁, e₂, e₃ (columns, body frame)", mat(self.principal_axes), "1"
+            ),
             row("symmetry", self.symmetry + (" (degenerate)" if self.is_degenerate else "")),
         ]
         if self.has_particles:
             rows.append(row("particles", str(self.n_particles)))
-        return "<table><caption>RigidBody</caption>" + "".join(rows) + "</table>"
+        return ("<table><caption>RigidBody</caption><tr><th></th><th>value</th><th>unit</th>"
+                "</tr>" + "".join(rows) + "</table>")  # fmt: skip

@@ -19,13 +19,15 @@ Examples
 
 from __future__ import annotations
 
+import ast
+import difflib
 import hashlib
 
 import numpy as np
 
 from . import _core
 
-__all__ = ["ExpressionError", "compile_expressions", "lower"]
+__all__ = ["ExpressionError", "compile_expressions", "lower", "parse"]
 
 # the core's instruction codes (crates/core/src/expressions.rs)
 CONST, INPUT, LOAD, STORE, OUTPUT, ADD, MUL, POW = range(8)
@@ -138,3 +140,160 @@ def compile_expressions(exprs, inputs):
         compiled = _core.Expressions(codes, values, len(inputs), len(exprs))
         _CACHE[key] = compiled
     return compiled
+
+
+# --------------------------------------------------------------------------- text → SymPy
+#: The functions an expression written as text may call: name in the text → SymPy's name.
+TEXT_FUNCTIONS = {
+    name: name
+    for name in (
+        "sin",
+        "cos",
+        "tan",
+        "asin",
+        "acos",
+        "atan",
+        "sinh",
+        "cosh",
+        "tanh",
+        "asinh",
+        "acosh",
+        "atanh",
+        "exp",
+        "log",
+        "sqrt",
+        "Abs",
+        "sign",
+        "atan2",
+        "Min",
+        "Max",
+    )
+}
+TEXT_FUNCTIONS |= {"abs": "Abs", "min": "Min", "max": "Max"}
+#: Constants by name.
+TEXT_CONSTANTS = ("pi", "E")
+#: The longest text accepted (a bound on parsing time and memory).
+MAX_TEXT = 20_000
+_ARITY = {"atan2": (2, 2), "Min": (2, 64), "Max": (2, 64)}
+
+
+def parse(text: str, names: dict, where: str = "expression"):
+    """The SymPy expression of ``text``, read from its syntax tree without ``eval``.
+
+    ``text`` may hold numbers, the ``names`` given (``{name: SymPy object}``: coordinates,
+    parameters, t), ``pi``, ``E``, the operators ``+ - * / ** ^`` (``^`` is a power, as in
+    mathematics), parentheses and the calls of :data:`TEXT_FUNCTIONS`. Anything else — an
+    attribute (``().__class__``), an index, a keyword, ``__import__``, a name not given — is
+    refused with :class:`ValueError` naming ``where`` and what was found, with the nearest
+    known name for a misspelt one.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x = sp.Symbol("x")
+    >>> parse("2*sin(x)^2 + pi", {"x": x})
+    2*sin(x)**2 + pi
+    >>> parse("sni(x)", {"x": x}, "potential")
+    Traceback (most recent call last):
+    ...
+    ValueError: potential: unknown function 'sni' (did you mean 'sin'?)
+    """
+    import sympy as sp
+
+    if not isinstance(text, str):
+        raise ValueError(f"{where}: expected an expression as text, found {text!r}")
+    if len(text) > MAX_TEXT:
+        raise ValueError(f"{where}: an expression of at most {MAX_TEXT} characters, found "
+                         f"{len(text)}")  # fmt: skip
+    source = text.strip().replace("^", "**")  # x^2/3 is x²/3, as in mathematics
+    try:
+        tree = ast.parse(source, mode="eval")
+    except SyntaxError as exc:
+        raise ValueError(f"{where}: not an expression: {text!r} ({exc.msg})") from None
+    except (RecursionError, MemoryError):
+        raise ValueError(f"{where}: the expression is nested too deeply") from None
+    known = {**names, **{c: getattr(sp, c) for c in TEXT_CONSTANTS}}
+    binary = {ast.Add: sp.Add, ast.Sub: lambda a, b: a - b, ast.Mult: sp.Mul,
+              ast.Div: lambda a, b: a / b, ast.Pow: None}  # fmt: skip
+
+    def refuse(node, what):
+        raise ValueError(f"{where}: {what} is not allowed in an expression (numbers, names, "
+                         f"+ - * / ^, parentheses and functions such as sin only): "
+                         f"{ast.get_source_segment(source, node) or text!r}")  # fmt: skip
+
+    def power(a, b):
+        if a.is_Number and b.is_Number and abs(float(b)) > 256:
+            raise ValueError(f"{where}: a power of numbers with an exponent beyond 256: {text!r}")
+        return a**b
+
+    def build(node, depth=0):
+        if depth > 200:
+            raise ValueError(f"{where}: the expression is nested too deeply")
+        if isinstance(node, ast.Constant):
+            v = node.value
+            if isinstance(v, bool) or not isinstance(v, int | float):
+                refuse(node, f"the constant {v!r}")
+            if isinstance(v, float) and not np.isfinite(v):
+                raise ValueError(
+                    f"{where}: the number {source[node.col_offset : node.end_col_offset]}"
+                    " is beyond the double range"
+                )
+            return sp.Integer(v) if isinstance(v, int) else sp.Float(repr(v))
+        if isinstance(node, ast.Name):
+            if node.id in known:
+                return known[node.id]
+            if node.id in TEXT_FUNCTIONS:
+                raise ValueError(f"{where}: {node.id!r} is a function: call it, "
+                                 f"{node.id}(...)")  # fmt: skip
+            near = difflib.get_close_matches(node.id, [*known, *TEXT_FUNCTIONS], n=1,
+                                             cutoff=0.6)  # fmt: skip
+            hint = (
+                f" (did you mean {near[0]!r}?)"
+                if near
+                else (f" (known: {', '.join(sorted(names))})" if names else "")
+            )
+            raise ValueError(f"{where}: unknown name {node.id!r}{hint}")
+        if isinstance(node, ast.BinOp) and type(node.op) in binary:
+            a, b = build(node.left, depth + 1), build(node.right, depth + 1)
+            op = binary[type(node.op)]
+            return power(a, b) if op is None else op(a, b)
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd):
+            a = build(node.operand, depth + 1)
+            return -a if isinstance(node.op, ast.USub) else a
+        if isinstance(node, ast.Call):
+            if not isinstance(node.func, ast.Name) or node.func.id not in TEXT_FUNCTIONS:
+                name = node.func.id if isinstance(node.func, ast.Name) else None
+                if name is None:
+                    refuse(node, "calling anything but a function by its name")
+                near = difflib.get_close_matches(name, list(TEXT_FUNCTIONS), n=1, cutoff=0.6)
+                hint = f" (did you mean {near[0]!r}?)" if near else ""
+                raise ValueError(f"{where}: unknown function {name!r}{hint}")
+            if node.keywords:
+                refuse(node, "a keyword argument")
+            fn = TEXT_FUNCTIONS[node.func.id]
+            lo, hi = _ARITY.get(fn, (1, 1))
+            if not lo <= len(node.args) <= hi or any(isinstance(a, ast.Starred)
+                                                      for a in node.args):  # fmt: skip
+                raise ValueError(f"{where}: {node.func.id}() takes "
+                                 + (f"{lo}" if lo == hi else f"{lo} or more")
+                                 + f" argument(s), found {len(node.args)}")  # fmt: skip
+            return getattr(sp, fn)(*(build(a, depth + 1) for a in node.args))
+        kinds = {
+            ast.Attribute: "an attribute",
+            ast.Subscript: "an index",
+            ast.Compare: "a comparison",
+            ast.Lambda: "a lambda",
+            ast.BoolOp: "and/or",
+        }
+        refuse(node, kinds.get(type(node), f"{type(node).__name__.lower()}"))
+        return None  # pragma: no cover
+
+    try:
+        expr = build(tree.body)
+    except (RecursionError, MemoryError):
+        raise ValueError(f"{where}: the expression is nested too deeply") from None
+    except (TypeError, ZeroDivisionError, OverflowError) as exc:
+        raise ValueError(f"{where}: cannot be read as an expression: {text!r} ({exc})") from None
+    if not isinstance(expr, sp.Expr):
+        raise ValueError(f"{where}: expected a scalar expression, found {text!r}")
+    return expr

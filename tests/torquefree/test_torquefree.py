@@ -362,6 +362,17 @@ def test_polhode_counts_are_checked_by_name(bad):
     w = body.point_on_polhode(0.5, 1.2)
     with pytest.raises(ValueError, match="`n` must be an integer from 2"):
         body.polhode(w, n=bad)
-    # levels a²/2k = 1.5, 2, 2.5: two families of two branches (2 = I2 is the separatrix: its
-    # four arcs), and the six fixed points
-    assert len(body.polhode_family(0.5, levels=3)) == 2 * 2 + 4 + 6
+    # levels a²/2k = 4/3, 5/3 (around e1) and 2.5 (around e3), two branches each, the
+    # separatrix's four arcs and the six fixed points
+    family = body.polhode_family(0.5, levels=3)
+    assert len(family) == 3 * 2 + 4 + 6
+    kinds = [p.family for p in family]
+    assert kinds.count("around e1") == 4 and kinds.count("around e3") == 2
+
+
+def test_the_polhode_family_shows_both_families_of_a_tennis_racket():
+    """Issue 43: with I2 within 7 % of I3 every level fell around e1, and a run around e3 had
+    no curve of its own family on its figure. Half the levels go to each family."""
+    racket = FreeRigidBody((0.00121, 0.01638, 0.01748))
+    kinds = [p.family for p in racket.polhode_family(0.3, levels=9)]
+    assert kinds.count("around e1") == 2 * 5 and kinds.count("around e3") == 2 * 4

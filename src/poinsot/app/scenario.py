@@ -366,6 +366,24 @@ def _parse_model(root: _Table, name: str, description: str, source: str) -> Lagr
     qd0 = (_by_name(mt, "qd0", coords, "coordinates", qd_units) if mt.has("qd0")
            else dict(model.qd0))  # fmt: skip
     mt.finish()
+    return _lagrangian_scenario(root, name, description, source, model, params, q0, qd0, "model")
+
+
+def _parse_lagrangian(root: _Table, name: str, description: str,
+                      source: str) -> LagrangianScenario:  # fmt: skip
+    """``[lagrangian]``: a system written in the file (:mod:`.scenario_lagrangian`)."""
+    from .scenario_lagrangian import build_lagrangian_model
+
+    lt = root.table("lagrangian")
+    model = build_lagrangian_model(lt, name, description)
+    lt.finish()
+    return _lagrangian_scenario(root, name, description, source, model, dict(model.params),
+                                dict(model.q0), dict(model.qd0), "lagrangian")  # fmt: skip
+
+
+def _lagrangian_scenario(root, name, description, source, model, params, q0, qd0, table):
+    """The rest of a constrained system's scenario — integrator, time, output — and its run
+    prepared and its initial state made consistent, once, when the file is read."""
     stab_choices = ("baumgarte", "projection", "none")
     method, dt, rtol, atol, more = _integrator(
         root, ("dop853", "rk4"), {"stabilization": ("string", "baumgarte", stab_choices)}
@@ -407,7 +425,7 @@ def _parse_model(root: _Table, name: str, description: str, source: str) -> Lagr
             _keyed(model.guess, system, "guess", allow_missing=True) if model.guess else None,
         )
     except ValueError as exc:
-        raise ScenarioError(f"model: {exc}") from None
+        raise ScenarioError(f"{table}: {exc}") from None
     coordinates = system.coordinates
     scenario.prepared = prepared
     scenario.consistent = (dict(zip(coordinates, q.tolist(), strict=True)),
@@ -417,6 +435,10 @@ def _parse_model(root: _Table, name: str, description: str, source: str) -> Lagr
 
 def _parse(data: dict, source: str, base_dir: Path):
     root = _Table(data, "")
+    if "lagrangian" in data and "body" not in data and "model" not in data:
+        name = root.get("name", "string", Path(source).stem if source != "<built-in>"
+                        else "lagrangian")  # fmt: skip
+        return _parse_lagrangian(root, name, root.get("description", "string", ""), source)
     if "model" in data and "body" not in data:
         name = root.get(
             "name",

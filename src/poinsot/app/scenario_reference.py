@@ -72,6 +72,9 @@ PROBES = (
     '[model]\nname = "pendulum-cartesian"\nparams = { m = 1.0 }\nq0 = { x = 0.0, y = -1.0 }\n'
     'qd0 = { x = 0.0, y = 0.0 }\n[integrator]\nmethod = "dop853"\n'
     'stabilization = "baumgarte"\n' + _TIME,
+    '[lagrangian]\ncoordinates = { x = "m" }\nparameters = { m = "1 kg", c = 0.5 }\n'
+    'inputs = { u = "sin(t)" }\nkinetic = "m*x_dot^2/2"\nforces = { x = "u - c*x_dot" }\n'
+    "q0 = { x = 0.0 }\n[lagrangian.draw]\noutline = { wall = [[0, 0, 0], [0, 1, 0]] }\n" + _TIME,
 )
 
 _KINDS = {
@@ -91,7 +94,19 @@ _KINDS = {
     "table": "table",
     "tables": "array of tables",
     "orientation": "[w, x, y, z], a 3×3 matrix, or { euler = [..], seq, degrees }",
+    "expression": "expression (text) or number",
+    "any_list": "array",
+    "quantity": 'number, or quantity ("2 kg")',
 }
+
+
+#: Tables of ``[lagrangian]`` whose keys are the file's own names (a coordinate, a
+#: parameter, a reaction, a point), listed as one row ``NAME``.
+USER_NAMED = (
+    "lagrangian.coordinates", "lagrangian.parameters", "lagrangian.inputs", "lagrangian.forces",
+    "lagrangian.q0", "lagrangian.qd0", "lagrangian.guess", "lagrangian.reactions",
+    "lagrangian.draw.points", "lagrangian.draw.outline",
+)  # fmt: skip
 
 
 def collect_schema() -> dict:
@@ -113,10 +128,17 @@ def collect_schema() -> dict:
             pass  # a probe may stop at a check after its keys were read (the mesh file)
         finally:
             reader._SCHEMA_RECORDER = None
-        kind = "constrained model" if re.search(r"^\[model\]", text, re.M) else "rigid body"
+        kind = (
+            "constrained model"
+            if re.search(r"^\[(model|lagrangian)\]", text, re.M)
+            else "rigid body"
+        )
         tables = set()
         for path, variant, key, vkind, default, choices, unit in records:
             table = re.sub(r"\[\d+\]", "[]", path) or "(top level)"
+            table = re.sub(r"^lagrangian\.reactions\..+$", "lagrangian.reactions.NAME", table)
+            if table in USER_NAMED:  # keys the file names itself: one row, NAME
+                key = "NAME"
             if table.startswith("model.") or key == "type":
                 variant = None if key == "type" else variant
             where = (kind, table, variant)
@@ -131,7 +153,10 @@ def collect_schema() -> dict:
     for kind, table, _ in order:
         first.setdefault((kind, table), len(first))
     pos = {w: i for i, w in enumerate(order)}
-    order.sort(key=lambda w: (first[(w[0], w[1])], w[2] is not None, pos[w]))
+    kinds = {}
+    for kind, _, _ in order:  # one section per kind of scenario, in the order first met
+        kinds.setdefault(kind, len(kinds))
+    order.sort(key=lambda w: (kinds[w[0]], first[(w[0], w[1])], w[2] is not None, pos[w]))
     out = {}
     for where in order:
         keys = schema[where]

@@ -150,6 +150,9 @@ def _quantity(text: str, unit: str, where: str) -> float:
     expression parser (never ``eval``) and converted to the SI ``unit``; a bare number in the
     string is SI. Refused, naming the key, when pint is missing, the unit is unknown, or the
     dimension is not that of ``unit``."""
+    if not any(c.isdigit() for c in text):
+        raise ScenarioError(f"{where}: expected a number or a quantity such as \"1.5 {unit}\", "
+                            f"found {text!r}")  # fmt: skip
     try:
         ureg = _registry()
     except ImportError:
@@ -162,8 +165,7 @@ def _quantity(text: str, unit: str, where: str) -> float:
         q = ureg.parse_expression(text)
     except pint.UndefinedUnitError as exc:
         names = [str(n) for n in getattr(exc, "unit_names", ())] or [str(exc)]
-        known = [n for n in dir(ureg) if not n.startswith("_")]
-        near = difflib.get_close_matches(names[0], known, n=3, cutoff=0.6)
+        near = difflib.get_close_matches(names[0], _units_like(ureg, unit), n=3, cutoff=0.6)
         hint = f"; did you mean {' or '.join(map(repr, near))}?" if near else ""
         raise ScenarioError(f"{where} = {text!r}: unknown unit {names[0]!r}{hint}") from None
     except Exception:  # pint's tokenizer refuses anything that is not a quantity
@@ -182,6 +184,28 @@ def _quantity(text: str, unit: str, where: str) -> float:
     if _QUANTITY_RECORDER is not None:
         _QUANTITY_RECORDER[where] = {"given": text, "value": value, "unit": unit}
     return value
+
+
+_UNITS_LIKE: dict = {}
+
+
+def _units_like(ureg, unit: str) -> list[str]:
+    """The registry's unit names of the dimension of ``unit`` (the suggestions for a misspelt
+    one: "rmp" → "rpm", never a teaspoon for a time), computed once per dimension."""
+    target = ureg.Quantity(1.0, "dimensionless" if unit == "1" else unit).dimensionality
+    key = str(target)
+    if key not in _UNITS_LIKE:
+        names = []
+        for name in dir(ureg):
+            if name.startswith("_"):
+                continue
+            try:
+                if ureg.get_dimensionality(name) == target:
+                    names.append(name)
+            except Exception:  # not a unit (a registry method, a prefix)
+                continue
+        _UNITS_LIKE[key] = names
+    return _UNITS_LIKE[key]
 
 
 def _dimension(q) -> str:
@@ -220,6 +244,17 @@ def _convert(value, kind, where, choices=None, unit=None):
             raise ScenarioError(
                 f"{where}: expected one of {', '.join(map(repr, choices))}, found {value!r}{hint}"
             )
+        return value
+    if kind == "expression":  # text read by poinsot.expressions.parse, or a number
+        if isinstance(value, bool) or not isinstance(value, str | int | float):
+            raise ScenarioError(
+                f"{where}: expected an expression as text (such as "
+                f'"m*g*l*cos(theta)") or a number, found {_show(value)}'
+            )
+        return value
+    if kind == "any_list":
+        if not isinstance(value, list):
+            raise ScenarioError(f"{where}: expected an array, found {_show(value)}")
         return value
     if kind in ("vector3", "vector4", "vector2", "vector"):
         n = {"vector3": 3, "vector4": 4, "vector2": 2, "vector": None}[kind]

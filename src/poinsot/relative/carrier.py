@@ -78,40 +78,13 @@ def _classify(value, name):
     )
 
 
-#: Names text expressions may use (text is checked before SymPy reads it: SymPy's parser
-#: evaluates Python, so arbitrary text from a scenario file must never reach it).
-TEXT_NAMES = frozenset(
-    "t pi E sin cos tan asin acos atan atan2 sinh cosh tanh exp log sqrt Abs sign Min Max".split()
-)
-_TEXT_MAX = 2000
-
-
 def _parse_text(text, where, t):
-    """A SymPy expression from text that uses only numbers, ``t``, arithmetic and
-    :data:`TEXT_NAMES`."""
-    import re
+    """A SymPy expression in the time ``t`` from text: numbers, ``t``, arithmetic and the
+    functions of :data:`poinsot.expressions.TEXT_FUNCTIONS`, read from its syntax tree
+    (:func:`poinsot.expressions.parse`; never evaluated as Python)."""
+    from ..expressions import parse
 
-    sp = _sympy()
-    if len(text) > _TEXT_MAX:
-        raise ValueError(f"`{where}` is longer than {_TEXT_MAX} characters")
-    bad = re.sub(r"[0-9A-Za-z_.+\-*/^(), \t]", "", text)
-    if bad:
-        raise ValueError(f"`{where}` contains characters an expression may not use: {bad[:10]!r}")
-    names = set(re.findall(r"[A-Za-z_][A-Za-z_0-9]*", text))
-    names -= {n for n in names if re.fullmatch(r"e[0-9]*", n)}  # exponents such as 1e-3
-    unknown = names - TEXT_NAMES
-    if unknown:
-        allowed = ", ".join(sorted(TEXT_NAMES - {"t"}))
-        raise ValueError(
-            f"`{where}` may use t, numbers, + - * / ^ ( ) and {allowed}; "
-            f"found {', '.join(sorted(unknown))}"
-        )
-    if text.count("(") != text.count(")") or len(text) - len(text.lstrip("(")) > 50:
-        raise ValueError(f"`{where}` is not an expression SymPy can read: {text!r}")
-    try:
-        return sp.sympify(text.replace("^", "**"), locals={"t": t})
-    except (sp.SympifyError, SyntaxError, TypeError, ValueError, RecursionError) as exc:
-        raise ValueError(f"`{where}` is not an expression SymPy can read: {text!r}") from exc
+    return parse(text, {"t": t}, f"`{where}`")
 
 
 def _sympy_vector(value, name, t, size=3):

@@ -101,7 +101,10 @@ class PolhodeMixin:
     def polhode_family(self, energy=0.5, *, levels=9, n=400) -> list[Polhode]:
         """Every kind of polhode on the energy ellipsoid of ``energy`` (the notebook's sweep,
         done exactly): ``levels`` values of a²/2k strictly between I1 and I3, on both branches,
-        the separatrix arcs (asymmetric bodies) and the fixed points."""
+        the separatrix arcs (asymmetric bodies) and the fixed points. For three distinct moments
+        half the levels are around e1 (evenly between I1 and I2) and half around e3 (between
+        I2 and I3), so that both families show however close I2 is to I1 or I3 (a tennis
+        racket's I2 is within 7 % of I3)."""
         I1, I2, I3 = self._I
         k = self.check_energy_range(as_positive_scalar(energy, "energy"))
         levels = as_count(levels, "levels", 1, MAX_LEVELS)
@@ -109,7 +112,16 @@ class PolhodeMixin:
         out = []
         if self.symmetry == "spherical":
             return [Polhode(np.zeros((0, 3)), "spherical", k, math.sqrt(2 * k * I1), math.inf)]
-        Ds = I1 + (I3 - I1) * (np.arange(1, levels + 1) / (levels + 1))
+        if self.symmetry == "asymmetric":  # both families, whatever the gaps I2 − I1, I3 − I2
+            low, high = (levels + 1) // 2, levels // 2
+            Ds = np.concatenate(
+                [
+                    I1 + (I2 - I1) * np.arange(1, low + 1) / (low + 1),
+                    I2 + (I3 - I2) * np.arange(1, high + 1) / (high + 1),
+                ]
+            )
+        else:
+            Ds = I1 + (I3 - I1) * (np.arange(1, levels + 1) / (levels + 1))
         for D in Ds:
             if self.symmetry == "asymmetric" and abs(D - I2) < 1e-9 * I3:
                 continue

@@ -44,6 +44,16 @@ def omega_axis_labels(ax, moments=None):
     labels = list(PRINCIPAL_LABELS)
     if moments is not None:
         labels = [f"ω·e{'₁₂₃'[k]} (I{'₁₂₃'[k]} = {moments[k]:.4g}) [rad/s]" for k in range(3)]
-    ax.set_xlabel(labels[0])
-    ax.set_ylabel(labels[1])
-    ax.set_zlabel(labels[2])
+    label_3d(ax, *labels)
+
+
+def label_3d(ax, xlabel, ylabel, zlabel, ticks=5, pad=14):
+    """Label a 3D axes with at most ``ticks`` ticks per axis, the labels ``pad`` points beyond
+    the tick labels, so that neither covers the other."""
+    from matplotlib.ticker import MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(ticks))
+    ax.set_xlabel(xlabel, labelpad=pad)
+    ax.set_ylabel(ylabel, labelpad=pad)
+    ax.set_zlabel(zlabel, labelpad=pad)

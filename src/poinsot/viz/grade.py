@@ -7,7 +7,7 @@ import html
 
 import numpy as np
 
-from ._style import legend_outside
+from ._style import label_3d, legend_outside
 
 __all__ = ["plot_grade_errors", "plot_grade_polhode", "write_grade_report_folder"]
 
@@ -83,8 +83,7 @@ def plot_grade_polhode(grade):
         ax.plot(*grade.polhode.T, color="black", lw=2.0, alpha=0.6, label="exact polhode")
     ax.plot(*grade.omega.T, color="tab:red", lw=0.9, label="ω(t) of the file")
     ax.scatter(*grade.omega[0], color="green", depthshade=False, label="first sample")
-    for setter, name in ((ax.set_xlabel, "x"), (ax.set_ylabel, "y"), (ax.set_zlabel, "z")):
-        setter(f"ω_{name} (body) [rad/s]", labelpad=12)
+    label_3d(ax, *(f"ω_{c} (body) [rad/s]" for c in "xyz"))
     ax.set_box_aspect((1, 1, 1), zoom=0.8)
     ax.set_title(f"ω(t) against the exact polhode ({grade.family})", fontsize=10)
     legend_outside(ax, bbox_to_anchor=(1.02, 0.95))

@@ -288,12 +288,20 @@ def _comparison_figure(t, errors, go):
                         horizontal_spacing=0.09)  # fmt: skip
     tiny = 1e-17
     for col, (key, _, ylabel) in enumerate(COMPARISON_PANELS, start=1):
+        drawn = []  # (label, values) already on this panel
         for n, (label, rows) in enumerate(errors.items()):
             if key in rows:
+                y = np.asarray(rows[key], dtype=float)
+                same = next((o for o, v in drawn if np.allclose(v, y, rtol=1e-9, atol=0)), None)
                 dash = "dash" if label.startswith("exact") else "solid"
                 line = {"color": _COLORS[n % len(_COLORS)], "dash": dash}
-                trace = go.Scatter(x=t, y=np.asarray(rows[key]) + tiny, name=label, line=line)
+                shown = label
+                if same is not None:  # on top of another curve: dotted, wider, and said so
+                    line |= {"dash": "dot", "width": 4}
+                    shown = f"{label} (the same as {same})"
+                trace = go.Scatter(x=t, y=y + tiny, name=shown, line=line)
                 fig.add_trace(trace, row=1, col=col)
+                drawn.append((label, y))
         fig.update_yaxes(type="log", title_text=ylabel, row=1, col=col)
     fig.update_xaxes(title_text="t [s]")
     fig.update_layout(title="Integrators against the exact torque-free solution, same step")

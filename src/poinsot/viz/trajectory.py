@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import legend_below, legend_outside
+from ._style import label_3d, legend_below, legend_outside
 from .torquefree import _plt
 
 __all__ = [
@@ -115,9 +115,7 @@ def plot_axis_trace(trace, *, ax=None, title="Trace of the symmetry axis on the 
     for setter in (ax.set_xlim, ax.set_ylim, ax.set_zlim):
         setter(-1, 1)
     ax.set_box_aspect((1, 1, 1), zoom=0.85)
-    ax.set_xlabel("x (dimensionless)")
-    ax.set_ylabel("y (dimensionless)")
-    ax.set_zlabel("z (dimensionless)")
+    label_3d(ax, "x (dimensionless)", "y (dimensionless)", "z (dimensionless)")
     ax.set_title(title, fontsize=10)
     legend_outside(ax, bbox_to_anchor=(1.0, 0.95))
     ax.figure.subplots_adjust(left=0.0, right=0.72)
@@ -228,15 +226,19 @@ def plot_method_comparison(t, errors, *, title=None):
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.8), sharex=True)
     tiny = 1e-17  # log axes: an exact zero is drawn at the floor
     for ax, (key, panel, ylabel) in zip(axes, COMPARISON_PANELS, strict=True):
+        drawn = []  # (label, values) already on this panel
         for n, (label, rows) in enumerate(errors.items()):
-            if key in rows:
-                ax.semilogy(
-                    t,
-                    np.asarray(rows[key]) + tiny,
-                    label=label,
-                    color=f"C{n}",
-                    ls="--" if label.startswith("exact") else "-",
-                )
+            if key not in rows:
+                continue
+            y = np.asarray(rows[key], dtype=float)
+            same = next((other for other, v in drawn if np.allclose(v, y, rtol=1e-9, atol=0)),
+                        None)  # fmt: skip
+            style = {"color": f"C{n}", "lw": 1.5, "ls": "--" if label.startswith("exact") else "-"}
+            if same is not None:  # a curve on top of another: dotted, thicker, and said so
+                style |= {"ls": ":", "lw": 2.6}
+                label = f"{label} (the same as {same})"
+            ax.semilogy(t, y + tiny, label=label, **style)
+            drawn.append((label.split(" (the same")[0], y))
         ax.set_title(panel, fontsize=10)
         ax.set_xlabel("t [s]")
         ax.set_ylabel(ylabel)
