@@ -484,9 +484,7 @@ class RigidBody:
             row("centre of mass (body frame)", mat(self._com), "m"),
             row("inertia about the centre of mass (body frame)", mat(self._inertia), "kg·m²"),
             row("principal moments I₁ ≤ I₂ ≤ I₃", mat(self.principal_moments), "kg·m²"),
-            row(
-                "principal axes e₁, e₂, e₃ (columns, body frame)", mat(self.principal_axes), "1"
-            ),
+            row("principal axes e₁, e₂, e₃ (columns, body frame)", mat(self.principal_axes), "1"),
             row("symmetry", self.symmetry + (" (degenerate)" if self.is_degenerate else "")),
         ]
         if self.has_particles:

@@ -171,12 +171,13 @@ def _cmd_examples(args):
         print(render_reference())
         return EXIT_OK
     examples = list_examples()
+    examples["gyro.csv"] = (
+        "sample data, not a scenario: a synthetic gyro log of a thrown phone for "
+        "`poinsot identify` (`--data gyro.csv` prints it)"
+    )
     width = max(map(len, examples), default=0)
     for name, description in examples.items():
         print(f"{name:{width}s}  {description}")
-    print("\nsample data (`poinsot examples --data NAME > NAME`):\n"
-          "gyro.csv  a synthetic gyro log of a thrown phone, for `poinsot identify` "
-          "(docs/identify.md)")  # fmt: skip
     return EXIT_OK
 
 
