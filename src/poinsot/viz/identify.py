@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._style import label_3d
 from .torquefree import _box_edges, _plt
 
 __all__ = [
@@ -159,9 +160,7 @@ def plot_identified_axes(result, *, box=None, ax=None):
     for setter in (ax.set_xlim, ax.set_ylim, ax.set_zlim):
         setter(-lim, lim)
     ax.set_box_aspect((1, 1, 1))
-    ax.set_xlabel(f"sensor x [{unit}]")
-    ax.set_ylabel(f"sensor y [{unit}]")
-    ax.set_zlabel(f"sensor z [{unit}]")
+    label_3d(ax, f"sensor x [{unit}]", f"sensor y [{unit}]", f"sensor z [{unit}]")
     r1, r2 = result.ratios
     ax.set_title(f"Principal axes (I1/I3 = {r1:.4f}, I2/I3 = {r2:.4f}) on\n{what}", fontsize=10)
     return fig
