@@ -150,11 +150,15 @@ def build_lagrangian_model(lt: _Table, name: str, description: str):
             kwargs[key] = _expr(lt.get(key, "expression"), names, lt.where(key))
     bodies, points = [], {}
     for bt in lt.tables("bodies"):
+        kind = bt.get("type", "string", "point", choices=("point", "rigid"))
         label = bt.get("name", "string", None)  # named: drawn as a point of the mechanism
         mass = _expr(bt.get("mass", "expression"), names, bt.where("mass"))
         position = _exprs(bt, "position", names, 3)
+        if kind == "point":
+            bodies.append(PointMass(mass, position))
+        else:  # T = ½ M |Ṙ|² + ½ ωᵀ A ω, ω from the orientation (the library forms it)
+            bodies.append(_rigid(bt, mass, position, names))
         bt.finish()
-        bodies.append(PointMass(mass, position))
         if label is not None:
             points[label] = tuple(position)
     if not (kwargs or bodies):
@@ -248,6 +252,40 @@ def build_lagrangian_model(lt: _Table, name: str, description: str):
     return Model(name, description, system, {**coords, **symbols}, params, q0, qd0,
                  guess=guess, reactions=reactions, points=points, links=links, outline=outline,
                  view=view, trail=trail, param_units=param_units)  # fmt: skip
+
+
+def _rigid(bt: _Table, mass, position, names):
+    """A rigid body's ``(body, position, orientation)``: ``inertia`` about its centre of mass in
+    its own axes (three principal moments, or a 3×3 array), ``orientation`` = ``{ euler =
+    [three angles], seq = "ZXZ" }``, the axes' rotations applied in order, each about the
+    turned axis (intrinsic, as :func:`poinsot.rotation.matrix_from_euler`)."""
+    from types import SimpleNamespace
+
+    sp, _ = _sp()
+    raw = bt.get("inertia", "any_list")
+    where = bt.where("inertia")
+    if len(raw) == 3 and all(not isinstance(r, list) for r in raw):
+        A = sp.diag(*(_expr(v, names, f"{where}[{i}]") for i, v in enumerate(raw)))
+    elif len(raw) == 3 and all(isinstance(r, list) and len(r) == 3 for r in raw):
+        A = sp.Matrix([[_expr(v, names, f"{where}[{i}][{j}]") for j, v in enumerate(row)]
+                       for i, row in enumerate(raw)])  # fmt: skip
+    else:
+        raise ScenarioError(f"{where}: expected three principal moments or a 3×3 array")
+    ot = bt.table("orientation")
+    seq = ot.get("seq", "string", "ZXZ")
+    if len(seq) != 3 or any(c not in "XYZ" for c in seq):
+        raise ScenarioError(f"{ot.where('seq')}: expected three of X, Y, Z such as 'ZXZ', "
+                            f"found {seq!r}")  # fmt: skip
+    angles = _exprs(ot, "euler", names, 3)
+    ot.finish()
+    Q = sp.eye(3)
+    for axis, angle in zip(seq, angles, strict=True):
+        c, s_ = sp.cos(angle), sp.sin(angle)
+        R = {"X": sp.Matrix([[1, 0, 0], [0, c, -s_], [0, s_, c]]),
+             "Y": sp.Matrix([[c, 0, s_], [0, 1, 0], [-s_, 0, c]]),
+             "Z": sp.Matrix([[c, -s_, 0], [s_, c, 0], [0, 0, 1]])}[axis]  # fmt: skip
+        Q = Q * R
+    return (SimpleNamespace(mass=mass, inertia=A), position, Q)
 
 
 def _three(value, where):
