@@ -330,13 +330,41 @@ class EnsembleResult(Displayable):
         data = {}
         if self._states is not None:
             dims = ("member", "time", "component")
-            data["omega"] = (dims, self.omega, {"units": "rad/s", "frame": "body"})
-            data["R"] = (dims, self.R, {"units": "m"})
-            data["V"] = (dims, self.V, {"units": "m/s"})
-            data["Q"] = (("member", "time", "row", "col"), self.Q, {"units": "1"})
+            data["omega"] = (
+                dims,
+                self.omega,
+                {"units": "rad/s", "frame": "body", "long_name": "angular velocity"},
+            )
+            data["R"] = (
+                dims,
+                self.R,
+                {
+                    "units": "m",
+                    "frame": "space",
+                    "long_name": "position of the centre of mass from the space origin",
+                },
+            )
+            data["V"] = (
+                dims,
+                self.V,
+                {"units": "m/s", "frame": "space", "long_name": "velocity of the centre of mass"},
+            )
+            data["Q"] = (
+                ("member", "time", "row", "col"),
+                self.Q,
+                {"units": "1", "long_name": "attitude, body → space"},
+            )
         else:
-            data["final_omega"] = (("member", "component"), self.final_omega, {"units": "rad/s"})
-            data["final_Q"] = (("member", "row", "col"), self.final_Q, {"units": "1"})
+            data["final_omega"] = (
+                ("member", "component"),
+                self.final_omega,
+                {"units": "rad/s", "frame": "body", "long_name": "angular velocity at the end"},
+            )
+            data["final_Q"] = (
+                ("member", "row", "col"),
+                self.final_Q,
+                {"units": "1", "long_name": "attitude at the end, body → space"},
+            )
         units = {"first_flip": "s", "flip_interval": "s"}
         for name, meaning in STATISTICS.items():
             attrs = {"long_name": meaning, "units": units.get(name, "1")}
