@@ -584,3 +584,24 @@ fn time_exact_omegas() {
         }
     }
 }
+
+/// A fixed point's attitude at a huge angle (a slow spin at t = 10¹⁰, which double precision
+/// still resolves): the true rotation, against the plane rotation by `cos θ`, `sin θ` of the
+/// standard library (issue 43's fuzz case was 1.3e-7 off), and the same as `exp_so3` below
+/// the wide-angle limit.
+#[test]
+fn fixed_point_attitude_at_a_huge_angle_is_the_true_rotation() {
+    let eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for &t in &[1.7e6, 1e10, 3.3e12, 4e15] {
+        let q = fixed_point_attitude(&eye, [1.0, 0.0, 0.0], t);
+        let (s, c) = t.sin_cos();
+        let want = [[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]];
+        for i in 0..3 {
+            for j in 0..3 {
+                assert!((q[i][j] - want[i][j]).abs() < 1e-15, "{t}: {i}{j}");
+            }
+        }
+    }
+    let q = fixed_point_attitude(&eye, [0.0, 2.0, 0.0], 0.3);
+    assert_eq!(q, crate::so3::exp_so3([0.0, 0.6, 0.0]));
+}

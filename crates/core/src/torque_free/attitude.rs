@@ -235,11 +235,43 @@ impl<T: Real> EllipticMotion<T> {
 }
 
 /// `Q(t) = Q0 exp(Ω t)`: the attitude at a fixed point of Euler's equation, where ω is constant
-/// (eqs (22)–(23)), by Rodrigues' formula ([`exp_so3`]).
+/// (eqs (22)–(23)), by Rodrigues' formula ([`exp_so3`]). Beyond the angle where `exp_so3`'s
+/// fast reduction of its sine and cosine stops being exact (`2²⁰ π/2`: a slow spin at
+/// t = 10¹⁰, which double precision still resolves), Rodrigues' formula on the unit axis with
+/// the standard library's sine and cosine: the true rotation, not only a rotation.
 #[inline]
 pub fn fixed_point_attitude(q0: &Mat3, w: Vec3, t: f64) -> Mat3 {
-    matmul(q0, &exp_so3([t * w[0], t * w[1], t * w[2]]))
+    let v = [t * w[0], t * w[1], t * w[2]];
+    let theta = v[0].hypot(v[1]).hypot(v[2]);
+    if !(theta > WIDE_ANGLE && theta.is_finite()) {
+        return matmul(q0, &exp_so3(v));
+    }
+    let n = [v[0] / theta, v[1] / theta, v[2] / theta];
+    let (s, c) = theta.sin_cos();
+    let b = 1.0 - c;
+    // I + sin θ N + (1 − cos θ) N², N = hat(n), N² = n nᵀ − I
+    let r = [
+        [
+            1.0 + b * (n[0] * n[0] - 1.0),
+            b * n[0] * n[1] - s * n[2],
+            b * n[0] * n[2] + s * n[1],
+        ],
+        [
+            b * n[0] * n[1] + s * n[2],
+            1.0 + b * (n[1] * n[1] - 1.0),
+            b * n[1] * n[2] - s * n[0],
+        ],
+        [
+            b * n[0] * n[2] - s * n[1],
+            b * n[1] * n[2] + s * n[0],
+            1.0 + b * (n[2] * n[2] - 1.0),
+        ],
+    ];
+    matmul(q0, &r)
 }
+
+/// `2²⁰ π/2`: beyond it [`crate::real::sin_cos`]'s three-part reduction loses digits.
+const WIDE_ANGLE: f64 = 1_647_099.329_165_285_5;
 
 /// `Q(t)` (sorted principal frame → space) of the motion from `ω(0) = w`, `Q(0) = q0`, with the
 /// regime `reg` and the attitude setup `att`.
