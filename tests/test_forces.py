@@ -229,3 +229,23 @@ def test_force_bad_input(make, match):
 def test_hat_used_consistently():
     w = np.array([1.0, 2.0, 3.0])
     assert np.allclose(hat(w) @ w, 0)
+
+
+def test_an_exception_in_a_users_force_names_the_force_and_the_time():
+    """Issue 44: an exception raised by a user's callable arrived bare. It is re-raised as a
+    ForceError naming the force and t, with the user's exception as its cause; the potential
+    and the per-force wrenches say the same."""
+    from poinsot import PointForce
+    from poinsot.forces import ForceError
+
+    def flaky(t):
+        if t > 0.3:
+            raise ZeroDivisionError("the user's bug")
+        return (0.0, 0.0, 1.0)
+
+    body = RigidBody.box(1.0, (1, 2, 3))
+    with pytest.raises(ForceError, match=r"force PointForce raised ZeroDivisionError at t = 0\.3")\
+            as err:  # fmt: skip
+        simulate(body, (0, 1), omega0=(0, 1, 0), forces=[PointForce((0, 0, 0.5), flaky)])
+    assert isinstance(err.value.__cause__, ZeroDivisionError)
+    assert "the user's bug" in str(err.value)

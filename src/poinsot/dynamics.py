@@ -24,7 +24,7 @@ import numpy as np
 
 from . import _core, layout
 from ._validation import as_array, as_rotation_matrix, as_vector3
-from .forces import BodyFrame, Force, ForceContext
+from .forces import BodyFrame, Force, ForceContext, _call_user
 
 __all__ = ["DegenerateBodyWarning", "RigidBodySystem", "rigid_velocity_from_particles"]
 
@@ -182,7 +182,7 @@ class RigidBodySystem:
                 F = np.zeros(3)
                 tau = np.zeros(3)
                 for f in others:
-                    Fi, ti = f.python_wrench(ctx)
+                    Fi, ti = _call_user(f, f.python_wrench, ctx)
                     F = F + Fi
                     tau = tau + ti
                 return (*F.tolist(), *tau.tolist())
@@ -237,7 +237,7 @@ class RigidBodySystem:
                 out.append((np.array(F), self.principal_axes @ np.array(tau)))
             else:
                 ctx = ctx or self.context(t, *layout.unpack_state(y))
-                out.append(f.python_wrench(ctx))
+                out.append(_call_user(f, f.python_wrench, ctx))
         return out
 
     def wrench(self, t, R, V, Q, omega):
@@ -273,7 +273,8 @@ class RigidBodySystem:
             if f.has_potential:
                 for i in range(len(t)):
                     R, V, Q, w = layout.unpack_state(Y[i])
-                    out[i] += f.potential(self.context(t[i], R, V, Q, w))
+                    ctx = self.context(t[i], R, V, Q, w)
+                    out[i] += _call_user(f, f.potential, ctx, "the potential of force")
         return out
 
     # ----------------------------------------------------------------- constraint

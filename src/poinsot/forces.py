@@ -56,7 +56,21 @@ __all__ = [
 
 
 class ForceError(ValueError):
-    """A force (usually a user callable) returned something unusable."""
+    """A force (usually a user callable) returned something unusable, or raised: the message
+    names the force and the time, the original exception is the cause."""
+
+
+def _call_user(force, method, ctx, what="force"):
+    """``method(ctx)`` of the Python ``force``, with an exception from the user's code re-raised
+    as :class:`ForceError` naming the force and the time ``t`` (the original as its
+    ``__cause__``); an interrupt passes through untouched."""
+    try:
+        return method(ctx)
+    except ForceError:
+        raise
+    except Exception as exc:
+        raise ForceError(f"{what} {force.name} raised {type(exc).__name__} at t = "
+                         f"{float(ctx.t):.17g}: {exc}") from exc  # fmt: skip
 
 
 class BodyFrame:

@@ -116,7 +116,10 @@ def scenario_texts(draw):
     return dumps(data)
 
 
-KEY_PATH = re.compile(r"^<built-in>: ([a-z_]+(\[\d+\])?)(\.[a-z_0-9]+(\[\d+\])?)*: \S")
+#: A refusal names the key path (the file's own names too: a parameter "M", a reaction "rod
+#: tension T"), with the value when it is a quantity (``body.mass = '2 kk': …``).
+KEY_PATH = re.compile(r"^<built-in>: ([A-Za-z_]+(\[\d+\])?)(\.[^.:=\[]+(\[\d+\])*)*"
+                      r"( = '[^']*')?: \S")  # fmt: skip
 
 
 def _check(scenario):

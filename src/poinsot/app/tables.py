@@ -171,8 +171,11 @@ def _quantity(text: str, unit: str, where: str) -> float:
     except Exception:  # pint's tokenizer refuses anything that is not a quantity
         raise ScenarioError(f"{where} = {text!r}: not a number with a unit "
                             f'(such as "1.5 {unit}")') from None  # fmt: skip
-    if not isinstance(q, ureg.Quantity):
-        q = ureg.Quantity(q, "dimensionless")
+    if not isinstance(q, ureg.Quantity):  # a bare number in a string: SI, as a bare number
+        value = float(q)
+        if not math.isfinite(value):
+            raise ScenarioError(f"{where} = {text!r}: expected a finite quantity")
+        return value
     target = ureg.Quantity(1.0, "dimensionless" if unit == "1" else unit)
     if q.dimensionality != target.dimensionality:
         given = f"{q.units:~P}" or "no unit"

@@ -26,7 +26,12 @@ from ..forces import BodyFrame
 from ..integrate.base import get_solver
 from ..integrate.driver import check_solver_fits
 from ..integrate.problem import RIGID_METHODS
-from ..integrate.solve import check_budget, check_t_span, check_tolerances
+from ..integrate.solve import (
+    check_budget,
+    check_no_silent_tolerances,
+    check_t_span,
+    check_tolerances,
+)
 from .executors import run_chunks
 from .result import EnsembleResult
 from .tasks import ChunkTask, EnsembleSpec
@@ -298,6 +303,7 @@ def _prepare(body, t_span, forces, pivot, method, dt, rtol, atol, t_eval, flips,
     check_solver_fits(solver, system)
     if solver.kind not in RIGID_METHODS:
         raise ValueError(f"`method` {solver.name!r} has no step in the compiled core")
+    check_no_silent_tolerances(solver, rtol=rtol, atol=atol)
     rtol, atol = check_tolerances(rtol, atol)
     if solver.adaptive:
         from ..integrate.control import StepSizeController

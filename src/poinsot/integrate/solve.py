@@ -166,10 +166,27 @@ def check_run(t_span, method, *, dt=None, rtol=None, atol=None, t_eval=None, sav
     """
     t0, t1 = check_t_span(t_span)
     solver = get_solver(method)
+    check_no_silent_tolerances(solver, rtol=rtol, atol=atol)
     t_eval, save_every, dt = check_sampling(t_eval, t0, t1, save_every, dt)
     rtol, atol = check_tolerances(rtol, atol)
     budget = check_budget(solver, t0, t1, dt, max_steps)
     return RunSettings(t0, t1, solver, t_eval, save_every, dt, rtol, atol, budget)
+
+
+def check_no_silent_tolerances(solver, **given) -> None:
+    """Refuse a tolerance given to a fixed-step method, which takes steps of ``dt`` and would
+    ignore it (issue 44: ``rtol`` with ``method="rk4"`` ran without a word); ``dt`` given to
+    an adaptive method is its first step, as SciPy's ``first_step``."""
+    if solver.adaptive:
+        return
+    for name, value in given.items():
+        if value is not None:
+            from .base import METHODS
+
+            adaptive = ", ".join(repr(m) for m, cls in METHODS.items() if cls.adaptive)
+            raise ValueError(f"`{name}` has no effect on the fixed-step method {solver.name!r} "
+                             f"(it takes steps of `dt`); the adaptive methods use it "
+                             f"({adaptive}): drop `{name}`, or choose one of those")  # fmt: skip
 
 
 def check_budget(solver, t0, t1, dt, max_steps=None) -> int:

@@ -1,0 +1,42 @@
+"""Issue 44, no argument without effect: a tolerance given to a fixed-step method was ignored
+without a word; it is refused, naming the argument and the methods that use it. ``dt`` given
+to the adaptive method is its first step (as SciPy's ``first_step``): it has an effect."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from poinsot import RigidBody, simulate
+from poinsot.app.scenario import ScenarioError, load_scenario
+from poinsot.ensemble import simulate_ensemble
+
+BOX = RigidBody.box(1.0, (1, 2, 3))
+
+
+@pytest.mark.parametrize("method", ["rk4", "rkmk4", "splitting", "exact-splitting4"])
+@pytest.mark.parametrize("name", ["rtol", "atol"])
+def test_a_tolerance_given_to_a_fixed_step_method_is_refused(method, name):
+    with pytest.raises(ValueError, match=rf"`{name}` has no effect on the fixed-step method "
+                                         rf"'{method}'.*'dop853'"):  # fmt: skip
+        simulate(BOX, (0, 1), omega0=(0, 1, 0.1), method=method, dt=0.01, **{name: 1e-6})
+    with pytest.raises(ValueError, match=rf"`{name}` has no effect"):
+        simulate_ensemble(BOX, (0, 1), omega0=np.ones((4, 3)), method=method, dt=0.01,
+                          **{name: 1e-6})  # fmt: skip
+
+
+def test_dt_is_the_adaptive_methods_first_step():
+    """The first step is what ``dt`` says: a tiny one costs steps, and the result is the same
+    motion to the tolerance."""
+    a = simulate(BOX, (0, 1), omega0=(0, 1, 0.1), t_eval=[0, 1])
+    b = simulate(BOX, (0, 1), omega0=(0, 1, 0.1), dt=1e-9, t_eval=[0, 1])
+    assert b.nsteps > a.nsteps
+    np.testing.assert_allclose(a.omega, b.omega, atol=1e-9)
+
+
+def test_the_same_rule_holds_for_scenario_keys():
+    text = ('[body]\ntype = "box"\nmass = 1.0\nsize = [1.0, 2.0, 3.0]\n[initial]\n'
+            'omega = [0.0, 1.0, 0.1]\n[integrator]\nmethod = "rk4"\ndt = 0.01\nrtol = 1e-6\n'
+            "[time]\nspan = [0.0, 1.0]\n")  # fmt: skip
+    with pytest.raises(ScenarioError, match=r"`rtol` has no effect on the fixed-step method"):
+        load_scenario(text)
