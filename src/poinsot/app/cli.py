@@ -732,22 +732,10 @@ def _grade_parser(sub):
     gr.add_argument("--top", type=float, nargs=3, metavar=("A", "C", "MGL"),
                     help="a heavy symmetric top: A about the tip across the axis, C about the "
                     "axis (kg m²), M g l (N m)")  # fmt: skip
-    gr.add_argument(
-        "--axis",
-        type=float,
-        nargs=3,
-        default=(0.0, 0.0, 1.0),
-        metavar=("X", "Y", "Z"),
-        help="the top's axis, tip → centre of mass, body frame (default z)",
-    )
-    gr.add_argument(
-        "--up",
-        type=float,
-        nargs=3,
-        default=(0.0, 0.0, 1.0),
-        metavar=("X", "Y", "Z"),
-        help="the top's upward vertical, space frame (default z)",
-    )
+    for flag, what in (("--axis", "the top's axis, tip → centre of mass, body frame"),
+                       ("--up", "the top's upward vertical, space frame")):  # fmt: skip
+        gr.add_argument(flag, type=float, nargs=3, default=(0.0, 0.0, 1.0),
+                        metavar=("X", "Y", "Z"), help=f"{what} (default z)")  # fmt: skip
     gr.add_argument("--map", metavar="MAP.toml", help="column map (as for identify)")
     gr.add_argument("--time", metavar="COL", help="time column (header name or 0-based number)")
     gr.add_argument("--gyro", nargs=3, metavar=("X", "Y", "Z"), help="ω columns (body frame)")

@@ -57,3 +57,26 @@ def label_3d(ax, xlabel, ylabel, zlabel, ticks=5, pad=14):
     ax.set_xlabel(xlabel, labelpad=pad)
     ax.set_ylabel(ylabel, labelpad=pad)
     ax.set_zlabel(zlabel, labelpad=pad)
+
+
+def png_images(figures, folder=None, dpi: int = 100) -> dict:
+    """``figures`` (``(figure, file name, caption)``) rendered as PNG once and closed: written
+    into ``folder`` (each file atomically) unless it is None, and returned as
+    ``{caption: PNG bytes}`` for a report. The one place a report's figures become files."""
+    import io
+    from pathlib import Path
+
+    import matplotlib.pyplot as plt
+
+    from .._io import atomic_path
+
+    images = {}
+    for fig, name, caption in figures:
+        buf = io.BytesIO()
+        fig.savefig(buf, dpi=dpi, format="png")
+        plt.close(fig)
+        if folder is not None:
+            with atomic_path(Path(folder) / name) as tmp:
+                Path(tmp).write_bytes(buf.getvalue())
+        images[caption] = buf.getvalue()
+    return images

@@ -7,7 +7,7 @@ import html
 
 import numpy as np
 
-from ._style import label_3d, legend_outside
+from ._style import label_3d, legend_outside, png_images
 
 __all__ = ["plot_grade_errors", "plot_grade_polhode", "write_grade_report_folder"]
 
@@ -94,25 +94,15 @@ def plot_grade_polhode(grade):
 def write_grade_report_folder(folder, grade, summary: dict) -> list[str]:
     """Write ``errors.png``, ``polhode.png`` (free body) and ``report.html`` into the existing
     ``folder`` (each atomically). Returns the file names written."""
-    import io
     from pathlib import Path
 
-    from .._io import atomic_path
     from .report import _image_page
 
-    plt = _plt()
     folder = Path(folder)
     drawn = [(plot_grade_errors(grade), *FIGURES[0])]
     if grade.kind == "free body":
         drawn.append((plot_grade_polhode(grade), *FIGURES[1]))
-    images = {}
-    for fig, file, caption in drawn:
-        buf = io.BytesIO()
-        fig.savefig(buf, dpi=100, format="png")
-        plt.close(fig)
-        with atomic_path(folder / file) as tmp:
-            Path(tmp).write_bytes(buf.getvalue())
-        images[caption] = buf.getvalue()
+    images = png_images(drawn, folder)
     s = summary["grade"]
     units = s.get("units", {})
     cells = "".join(

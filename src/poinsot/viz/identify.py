@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import label_3d
+from ._style import label_3d, png_images
 from .torquefree import _box_edges, _plt
 
 __all__ = [
@@ -179,24 +179,16 @@ def write_identify_report_folder(folder, result, *, name: str = "identify", box=
     """Write the figures (``fit.png``, ``polhode.png``, ``axes.png``) and ``report.html`` of
     an identification into the existing ``folder`` (each file atomically); ``extra`` entries
     join the report's JSON summary. Returns the file names written."""
-    import io
     from pathlib import Path
 
-    from .._io import atomic_path
     from .report import write_identify_report
 
-    plt = _plt()
     folder = Path(folder)
     drawn = (plot_identified_fit(result), plot_identified_polhode(result),
              plot_identified_axes(result, box=box))  # fmt: skip
-    images = {}
-    for fig, (file, caption) in zip(drawn, REPORT_FIGURES, strict=True):
-        buf = io.BytesIO()
-        fig.savefig(buf, dpi=100, format="png")
-        plt.close(fig)
-        with atomic_path(folder / file) as tmp:
-            Path(tmp).write_bytes(buf.getvalue())
-        images[caption] = buf.getvalue()
+    figures = [(fig, file, caption) for fig, (file, caption)
+               in zip(drawn, REPORT_FIGURES, strict=True)]  # fmt: skip
+    images = png_images(figures, folder)
     page = {**result.to_dict(), **(extra or {}),
             "scenario": {"name": name, "description": "Inertia from a gyroscope log"}}  # fmt: skip
     write_identify_report(folder / "report.html", page, images)

@@ -2,12 +2,9 @@
 
 from __future__ import annotations
 
-import io
 from pathlib import Path
 
 import numpy as np
-
-from ..._io import atomic_path
 
 
 class Run:
@@ -119,15 +116,9 @@ def pyplot():
 
 def png_images(figures, folder: Path | None, dpi: int = 100) -> dict[str, bytes]:
     """``figures`` (``(figure, file name, caption)``) rendered as PNG once: written into
-    ``folder`` unless it is None, and returned as ``{caption: PNG bytes}`` for the report."""
-    plt = pyplot()
-    images = {}
-    for fig, name, caption in figures:
-        buf = io.BytesIO()
-        fig.savefig(buf, dpi=dpi, format="png")
-        plt.close(fig)
-        if folder is not None:
-            with atomic_path(folder / name) as tmp:
-                Path(tmp).write_bytes(buf.getvalue())
-        images[caption] = buf.getvalue()
-    return images
+    ``folder`` unless it is None, and returned as ``{caption: PNG bytes}`` for the report
+    (:func:`poinsot.viz._style.png_images`, on the Agg backend)."""
+    pyplot()
+    from ...viz._style import png_images as render
+
+    return render(figures, folder, dpi)
