@@ -4,6 +4,8 @@ to the adaptive method is its first step (as SciPy's ``first_step``): it has an 
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -40,3 +42,31 @@ def test_the_same_rule_holds_for_scenario_keys():
             "[time]\nspan = [0.0, 1.0]\n")  # fmt: skip
     with pytest.raises(ScenarioError, match=r"`rtol` has no effect on the fixed-step method"):
         load_scenario(text)
+
+
+@pytest.mark.parametrize("name", ["rtol", "atol"])
+def test_a_lagrangian_run_refuses_tolerances_for_a_fixed_step_method(name):
+    """Its tolerances defaulted to numbers, so a fixed-step run could not tell them given."""
+    from poinsot.models import pendulum_cartesian
+
+    with pytest.raises(ValueError, match=rf"`{name}` has no effect on the fixed-step method"):
+        pendulum_cartesian().simulate((0, 0.5), method="rk4", dt=0.01, **{name: 1e-6})
+    pendulum_cartesian().simulate((0, 0.5), method="rk4", dt=0.01)  # no tolerance: it runs
+
+
+@pytest.mark.parametrize("atol", [1.0, 1e300])
+def test_a_lagrangian_solution_off_its_constraints_warns(atol):
+    """``atol = 1e300`` left a residual of 3.1e11 without a word; ``atol = 1`` left 0.20."""
+    import warnings
+
+    from poinsot.lagrange import ConstraintDriftWarning
+    from poinsot.models import pendulum_cartesian
+
+    given = re.escape(f"{atol:g}")
+    with pytest.warns(ConstraintDriftWarning, match=rf"max \|g\(q, t\)\| = .*atol = {given}"):
+        sol = pendulum_cartesian().simulate((0, 2), atol=atol)
+    assert np.abs(sol.constraint_residual).max() > 1e-6
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the defaults hold the constraints: no warning
+        sol = pendulum_cartesian().simulate((0, 2))
+    assert np.abs(sol.constraint_residual).max() < 1e-9

@@ -127,15 +127,24 @@ def test_an_inconsistent_member_is_named():
                                      params=mdl.params)  # fmt: skip
 
 
-def test_an_adaptive_member_stops_at_the_step_budget():
-    """The budget holds for adaptive members too: a member that reaches ``max_steps`` stops
-    there (status 0, NaN samples); with room enough the same ensemble finishes."""
+def test_an_adaptive_member_stops_at_the_step_budget(monkeypatch):
+    """The budget holds for adaptive members too: an ensemble whose members' estimated steps
+    exceed ``max_steps`` is refused before it runs (issue 44), and a member that still
+    reaches it (the estimate skipped here) stops there (status 0, NaN samples); with room
+    enough the same ensemble finishes."""
+    from poinsot.integrate.solve import StepBudgetError
+    from poinsot.lagrange import ensemble
     from poinsot.models import pendulum_polar
 
     mdl = pendulum_polar()
     th, l = mdl.symbols["theta"], mdl.symbols["l"]
     kw = {"q0": {th: 1.0}, "params": {**mdl.params, l: [0.5, 1.0]}}
-    cut = mdl.system.simulate_ensemble((0, 50), max_steps=20, **kw)
+    with pytest.raises(StepBudgetError, match="member 0 of 2") as err:
+        mdl.system.simulate_ensemble((0, 50), max_steps=20, **kw)
+    assert err.value.needed > 20
+    with monkeypatch.context() as m:
+        m.setattr(ensemble, "_check_members_budget", lambda *a: None)
+        cut = mdl.system.simulate_ensemble((0, 50), max_steps=20, **kw)
     assert (cut.status == 0).all() and np.isnan(cut.q).all() and (cut.nsteps == 20).all()
     done = mdl.system.simulate_ensemble((0, 50), **kw)
     assert done.success.all() and np.isfinite(done.q).all()

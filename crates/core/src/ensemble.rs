@@ -56,6 +56,9 @@ pub struct Schedule<'a> {
     pub t_eval: &'a [f64],
     /// Record the flips of every member ([`FlipObserver`](crate::observers::FlipObserver)).
     pub flips: bool,
+    /// Steps each member may take; one that reaches it stops there with
+    /// [`Status::Running`](crate::drivers::Status::Running) and NaN samples after it.
+    pub max_steps: u64,
 }
 
 /// Run a chunk of members on the current rayon pool (`rayon::ThreadPool::install` picks

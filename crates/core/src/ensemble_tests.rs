@@ -74,6 +74,7 @@ fn schedule<'a>(method: Method<'a>, t_eval: &'a [f64]) -> Schedule<'a> {
         dt: 1e-2,
         t_eval,
         flips: true,
+        max_steps: u64::MAX,
     }
 }
 

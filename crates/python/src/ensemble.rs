@@ -303,6 +303,7 @@ fn run_ensemble<'py>(
         dt: run.dt,
         t_eval: times,
         flips,
+        max_steps: run.max_steps,
     };
     // the members
     if y0.shape()[1] != STATE_SIZE {

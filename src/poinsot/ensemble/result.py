@@ -14,6 +14,8 @@ __all__ = ["EnsembleResult"]
 
 #: Status codes of the compiled drivers, as words.
 STATUS_NAMES = {1: "finished", 2: "non-finite state", 3: "step size too small", 0: "not run"}
+#: A member with status 0 that took steps: its step budget was spent before its end.
+STOPPED_AT_BUDGET = "stopped at `max_steps`"
 #: Per-member statistics that :meth:`EnsembleResult.summary` describes, with their meaning.
 STATISTICS = {
     "energy_error": "max |E(t) − E(0)| / |E(0)| over the samples (E = K + U)",
@@ -210,7 +212,7 @@ class EnsembleResult(Displayable):
     @property
     def messages(self) -> np.ndarray:
         """Each member's status in words (N,)."""
-        return np.array([STATUS_NAMES.get(int(s), str(s)) for s in self.status])
+        return np.array([_status_name(s, k) for s, k in zip(self.status, self.nsteps, strict=True)])
 
     @property
     def flip_interval(self) -> np.ndarray:
@@ -295,8 +297,10 @@ class EnsembleResult(Displayable):
             "members": len(self),
             "succeeded": int(ok.sum()),
             "failed": {
-                STATUS_NAMES.get(int(s), str(s)): int((self.status == s).sum())
-                for s in np.unique(self.status[~ok])
+                str(name): int(count)
+                for name, count in zip(
+                    *np.unique(self.messages[~ok], return_counts=True), strict=True
+                )
             },
             "method": self.method,
             "samples": len(self.t),
@@ -423,3 +427,11 @@ def _free_body(inertia):
     free = FreeRigidBody.__new__(FreeRigidBody)
     free._setup(moments, axes)
     return free
+
+
+def _status_name(status, nsteps) -> str:
+    """A member's status in words: status 0 is "not run", or, after some steps, a member
+    stopped by its step budget."""
+    if int(status) == 0 and int(nsteps) > 0:
+        return STOPPED_AT_BUDGET
+    return STATUS_NAMES.get(int(status), str(status))

@@ -27,7 +27,9 @@ from ..integrate.base import get_solver
 from ..integrate.driver import check_solver_fits
 from ..integrate.problem import RIGID_METHODS
 from ..integrate.solve import (
+    StepBudgetError,
     check_budget,
+    check_max_steps,
     check_no_silent_tolerances,
     check_t_span,
     check_tolerances,
@@ -70,6 +72,7 @@ def simulate_ensemble(
     flips=True,
     keep_states=True,
     reductions=None,
+    max_steps=None,
 ) -> EnsembleResult:
     """Integrate N motions of ``body`` at once: eqs (07)–(09) for every member, in compiled
     chunks (``docs/ensembles.md``).
@@ -131,6 +134,12 @@ def simulate_ensemble(
         a body-frame state ``y`` (18,) is evaluated at every sample (result (N, n)); a Python
         function ``g(chunk) -> array (m, ...)`` receives each chunk's
         :class:`~poinsot.ensemble.ChunkSamples` and returns one row per member.
+    max_steps : int, optional
+        Steps each member may take (default :data:`~poinsot.integrate.solve.DEFAULT_MAX_STEPS`).
+        A fixed-step run that needs more is refused before it starts; an adaptive one is
+        refused when its members' steps, estimated from a short run of the first member and
+        of the fastest spinning one (:func:`~poinsot.integrate.driver.estimate_steps`), exceed
+        it; a member that still reaches it stops there (status 0, NaN samples).
 
     Returns
     -------
@@ -152,7 +161,8 @@ def simulate_ensemble(
     """
     prepared = prepare_ensemble(body, t_span, forces=forces, pivot=pivot, method=method, dt=dt,
                                 rtol=rtol, atol=atol, t_eval=t_eval, flips=flips,
-                                keep_states=keep_states, reductions=reductions)  # fmt: skip
+                                keep_states=keep_states, reductions=reductions,
+                                max_steps=max_steps)  # fmt: skip
     return prepared.run(omega0=omega0, Q0=Q0, R0=R0, V0=V0, moments=moments, inertia=inertia,
                         chunk_size=chunk_size, threads=threads, client=client,
                         progress=progress)  # fmt: skip
@@ -160,12 +170,13 @@ def simulate_ensemble(
 
 def prepare_ensemble(body, t_span, *, forces=(), pivot=None, method="rk4", dt=None, rtol=None,
                      atol=None, t_eval=None, flips=True, keep_states=True,
-                     reductions=None) -> PreparedEnsemble:  # fmt: skip
+                     reductions=None, max_steps=None) -> PreparedEnsemble:  # fmt: skip
     """Check an ensemble's run and lower its body and forces once: the
     :class:`PreparedEnsemble` that :func:`simulate_ensemble` runs. The arguments are
     :func:`simulate_ensemble`'s less the members (``omega0``, ``Q0``, ``R0``, ``V0``,
     ``moments``, ``inertia``) and how they run (``chunk_size``, ``threads``, ``client``,
-    ``progress``), checked here with the same errors.
+    ``progress``), checked here with the same errors (an adaptive run's members are
+    estimated by :meth:`PreparedEnsemble.run`, which knows them).
 
     Examples
     --------
@@ -180,7 +191,7 @@ def prepare_ensemble(body, t_span, *, forces=(), pivot=None, method="rk4", dt=No
         raise ValueError("`reductions` are evaluated at the samples: an empty `t_eval` has none")
     spec, system = _prepare(body, t_span, forces, pivot, method, dt, rtol, atol,
                             None if no_samples else t_eval, flips, reductions,
-                            keep_states)  # fmt: skip
+                            keep_states, max_steps)  # fmt: skip
     return PreparedEnsemble(body, system, spec, no_samples)
 
 
@@ -212,6 +223,8 @@ class PreparedEnsemble:
         start = time.perf_counter()
         spec, members = _members(self.spec, self.system, omega0, Q0, R0, V0, moments, inertia)
         N = members.n
+        if spec.controller is not None:  # adaptive: each member's steps, estimated up front
+            _check_members_budget(spec, self.system, members)
         n = len(spec.t_eval)
         chunk = _chunk_size(chunk_size, N, n, threads, client)
         result = EnsembleResult.allocate(spec, N, spec.keep_states, self.body, members)
@@ -267,6 +280,28 @@ class _Members:
         )
 
 
+def _check_members_budget(spec, system, members) -> None:
+    """Refuse an adaptive ensemble whose members cannot end within the step budget: the steps
+    of the first member and of the fastest spinning one, each estimated from its own first
+    steps (:func:`~poinsot.integrate.driver.estimate_steps`, on the shared body), before any
+    chunk runs."""
+    from ..integrate.driver import estimate_steps
+
+    c = spec.controller
+    with np.errstate(over="ignore", invalid="ignore"):
+        rates = np.linalg.norm(members.omega, axis=1)
+    fastest = int(np.argmax(np.where(np.isfinite(rates), rates, -1.0)))
+    for i in dict.fromkeys((0, fastest)):
+        row = {k: None if len(a) == 0 else a[0 if len(a) == 1 else i]
+               for k, a in (("Q0", members.Q), ("R0", members.R), ("V0", members.V))}  # fmt: skip
+        y0 = system.initial_state(omega0=members.omega[i], **row)
+        needed = estimate_steps(system, spec.method_name, (spec.t0, spec.t1), y0,
+                                dt=c.first_step, rtol=c.rtol, atol=c.atol)  # fmt: skip
+        if needed > spec.max_steps:
+            what = f"member {i} of {members.n} (estimated from its first steps)"
+            raise StepBudgetError(needed, spec.max_steps, None, spec.t0, spec.t1, what)
+
+
 def _lower_per_member(system, axes):
     """Lowered forces (m, n_forces, FORCE_PARAMS) for members with their own principal axes:
     each force's own :meth:`~poinsot.forces.Force.lower`, in each member's frame."""
@@ -281,7 +316,7 @@ def _lower_per_member(system, axes):
 
 
 def _prepare(body, t_span, forces, pivot, method, dt, rtol, atol, t_eval, flips, reductions,
-             keep_states):  # fmt: skip
+             keep_states, max_steps=None):  # fmt: skip
     """The run's :class:`EnsembleSpec` (its kind that of members sharing the body's inertia)
     and the body's system, checked and lowered once."""
     from ..bodies import RigidBody
@@ -305,6 +340,7 @@ def _prepare(body, t_span, forces, pivot, method, dt, rtol, atol, t_eval, flips,
         raise ValueError(f"`method` {solver.name!r} has no step in the compiled core")
     check_no_silent_tolerances(solver, rtol=rtol, atol=atol)
     rtol, atol = check_tolerances(rtol, atol)
+    budget = check_max_steps(max_steps)
     if solver.adaptive:
         from ..integrate.control import StepSizeController
         from ..integrate.dop853 import DEFAULT_ATOL, DEFAULT_RTOL
@@ -321,7 +357,7 @@ def _prepare(body, t_span, forces, pivot, method, dt, rtol, atol, t_eval, flips,
         step = as_scalar(dt, "dt")
         if not step > 0:
             raise ValueError(f"`dt` must be a positive number, found {step}")
-        check_budget(solver, t0, t1, step)  # each member's steps within DEFAULT_MAX_STEPS
+        check_budget(solver, t0, t1, step, budget)  # each member's steps within the budget
         controller = None
     times = np.array([t1]) if t_eval is None else as_sample_times(t_eval, t0, t1)
     if len(times) == 0:
@@ -351,6 +387,7 @@ def _prepare(body, t_span, forces, pivot, method, dt, rtol, atol, t_eval, flips,
         reductions=_check_reductions(reductions),
         keep_states=bool(keep_states),
         top=heavy_top(body, pivot, list(forces)) if pivot is not None else None,
+        max_steps=budget,
     )
     return spec, system
 

@@ -52,6 +52,7 @@ class EnsembleSpec:
     reductions: dict = field(default_factory=dict)
     keep_states: bool = True
     top: object = None  # the heavy symmetric top the body, pivot and forces make (tops.heavy_top)
+    max_steps: int = 100_000_000  # steps each member may take (integrate.solve.DEFAULT_MAX_STEPS)
 
 
 @dataclass(frozen=True)
@@ -157,7 +158,8 @@ def run_chunk(
     in_place = out is not None
     Y_out = out.Y if in_place and spec.keep_states else None
     run = run_spec(spec.method_kind, t_end=spec.t1, dt=spec.dt, data=spec.method_data,
-                   controller=spec.controller, t_eval=spec.t_eval)  # fmt: skip
+                   controller=spec.controller, t_eval=spec.t_eval,
+                   max_steps=spec.max_steps)  # fmt: skip
     (Y, final, energy, momentum, orthogonality, first, last, count, status, nsteps,
      nfev) = _core.run_ensemble(
         run, spec.t0, a(inertia), a(bodies), a(axes), a(spec.force_kind), a(params), Y0,

@@ -214,6 +214,14 @@ def integrate(
 PROGRESS_CHUNK = 20_000
 
 
+#: Steps an adaptive run takes before its cost is first estimated; it is estimated again each
+#: time the steps double, from the pace of the steps since the last estimate.
+PILOT_STEPS = 1000
+#: The result of a run is held this many times while it is handed back (the core's buffers,
+#: their copy, the front-end's conversion): the samples must fit that many times in memory.
+RESULT_COPIES = 3
+
+
 def _over_budget(budget, t, t1, result) -> IntegrationError:
     """The error of a run that took its whole step budget before its end."""
     message = (
@@ -223,8 +231,148 @@ def _over_budget(budget, t, t1, result) -> IntegrationError:
     return IntegrationError(message, result(message, False))
 
 
+def _out_of_pace(state, t1, budget, since, dim, saveat, result) -> IntegrationError | None:
+    """The error of an adaptive run that, at the pace of its steps since ``since`` ``(t,
+    steps)``, cannot reach ``t1`` within its step budget, or whose samples (one per
+    ``saveat.every`` steps, without ``t_eval``) would not fit in memory; None if it can."""
+    from .._resources import available_memory, format_bytes
+
+    t, steps = state.t, state.stats.steps
+    needed, pace, taken = _pace(state, t1, since)
+    if not math.isfinite(pace):
+        return None
+    where = (
+        f"at t = {t:.9g} after {steps} steps, its steps average {pace:.3g} (over the last "
+        f"{taken}), so reaching t = {t1:g} needs about {needed:.3g} more steps"
+    )
+    if needed > budget - steps:
+        message = (
+            f"the run was stopped: {where}; the limit is `max_steps` = {budget} (shorten the "
+            "span, loosen the tolerances, or raise `max_steps`)"
+        )
+        return IntegrationError(message, result(message, False))
+    if not len(saveat.times):
+        samples = (steps + needed) / saveat.every
+        need = RESULT_COPIES * samples * (dim + 1) * 8
+        free = available_memory()
+        if free is not None and need > free:
+            message = (
+                f"the run was stopped: {where}, and keeping {_kept(saveat.every)} "
+                f"({samples:.3g} samples) would take about {format_bytes(need)}; "
+                f"{format_bytes(free)} of memory is available (raise `save_every`, or ask "
+                "for samples at chosen times with `t_eval`)"
+            )
+            return IntegrationError(message, result(message, False))
+    return None
+
+
+def _check_room(samples, dim, *, t_eval) -> None:
+    """Refuse, before any step, a run whose ``samples`` states of ``dim`` numbers would not
+    fit in the memory available (a fixed-step run keeps every ``save_every``-th step)."""
+    from .._resources import available_memory, format_bytes
+
+    need = RESULT_COPIES * samples * (dim + 1) * 8
+    free = available_memory()
+    if free is not None and need > free:
+        knob = "fewer sample times" if t_eval else "a larger `save_every`, or `t_eval`"
+        raise ValueError(
+            f"the run would keep {samples} samples of {dim} numbers, about "
+            f"{format_bytes(need)} with the result's copies; {format_bytes(free)} of memory "
+            f"is available (ask for {knob})"
+        )
+
+
+def _pace(state, t1, since) -> tuple[float, float, int]:
+    """``(needed, pace, taken)``: the steps still needed to reach ``t1`` at the mean step
+    ``pace`` of the ``taken`` steps since ``since`` ``(t, steps)`` (inf and nan if none)."""
+    taken = state.stats.steps - since[1]
+    if taken <= 0 or not state.t > since[0]:
+        return math.inf, math.nan, taken
+    pace = (state.t - since[0]) / taken
+    return (t1 - state.t) / pace, pace, taken
+
+
+def _kept(every: int) -> str:
+    """Which steps' states a run keeps, in words."""
+    return "every step's state" if every == 1 else f"the state of one step in {every}"
+
+
+def _room_for(state, result) -> None:
+    """Double the room for samples, or stop the run with a clear error when the doubled
+    samples would not fit in the memory available (never a ``MemoryError`` from deep inside)."""
+    from .._resources import available_memory, format_bytes
+
+    dim = len(state.state)
+    need = RESULT_COPIES * 2 * state.capacity * (dim + 1) * 8
+    free = available_memory()
+    if free is not None and need > free:
+        message = (
+            f"the run was stopped at t = {state.t:.9g}: its {state.stats.samples} samples would "
+            f"need {format_bytes(need)} to grow, and {format_bytes(free)} of memory is "
+            "available (raise `save_every`, or ask for samples at chosen times with `t_eval`)"
+        )
+        raise IntegrationError(message, result(message, False))
+    state.grow()
+
+
+def estimate_steps(system, method, t_span, y0, *, dt=None, rtol=None, atol=None) -> float:
+    """The steps an adaptive run of ``system`` from ``y0`` over ``t_span`` would take: the
+    steps of the run itself if it ends within :data:`PILOT_STEPS`, else those taken plus the
+    rest of the span at the pace of the last half of them (a float; it may exceed any
+    integer). The ensembles estimate their members' cost with it before running them.
+
+    >>> from poinsot import RigidBody
+    >>> from poinsot.dynamics import RigidBodySystem
+    >>> system = RigidBodySystem(RigidBody.box(1.0, (1, 2, 3)))
+    >>> y0 = system.initial_state(omega0=(0.1, 1, 0.2))
+    >>> f"{estimate_steps(system, 'dop853', (0, 1e9), y0):.1e}"
+    '3.3e+09'
+    """
+    from .control import StepSizeController
+    from .dop853 import DEFAULT_ATOL, DEFAULT_RTOL
+
+    cls = get_solver(method)
+    t0, t1 = float(t_span[0]), float(t_span[1])
+    if not cls.adaptive:
+        return math.ceil((t1 - t0) / dt)
+    controller = StepSizeController(
+        DEFAULT_RTOL if rtol is None else rtol,
+        DEFAULT_ATOL if atol is None else atol,
+        first_step=dt,
+    )
+    saveat = SaveAt(np.array([t1]), 1)
+    return _integrate_native(system, cls(), t0, t1, np.asarray(y0, dtype=float), dt,
+                             controller, saveat, None, None, None, pilot=True)  # fmt: skip
+
+
+def estimate_steps_by_spans(run_to, t0: float, t1: float) -> float:
+    """The steps a run from ``t0`` would take to ``t1``, estimated from short runs of it over
+    growing spans ``[t0, t0 + τ]`` until one takes :data:`PILOT_STEPS` steps: ``run_to(t,
+    max_steps)`` runs to ``t`` and returns ``(steps, finished)``, the steps it took and
+    whether it reached ``t`` within ``max_steps``. The estimate is the last run's steps
+    scaled to the span (a float; 0 when a short run fails: the run itself reports why).
+    Used where the run cannot be paused and resumed (the ensembles' members in the core).
+
+    >>> steps = estimate_steps_by_spans(  # steps of 1 ms
+    ...     lambda t, cap: (min(round(t / 1e-3), cap), t / 1e-3 <= cap), 0.0, 1e6)
+    >>> f"{steps:.3g}"
+    '1e+09'
+    """
+    span = t1 - t0
+    tau = span * 2.0**-30
+    for _ in range(100):
+        steps, finished = run_to(t0 + tau, 4 * PILOT_STEPS)
+        if finished is None:
+            return 0.0
+        if finished and (steps >= PILOT_STEPS or tau >= span):
+            break
+        grow = 2 * PILOT_STEPS / max(steps, 1) if finished else 1e-8  # too far: far shorter
+        tau = min(span, tau * min(1e6, grow))
+    return steps * span / tau
+
+
 def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progress, backend,
-                      observer, budget=None) -> IntegrationResult:  # fmt: skip
+                      observer, budget=None, pilot=False) -> IntegrationResult:  # fmt: skip
     """A system on the compiled core (its :class:`~poinsot.integrate.problem.NativeProblem`):
     the whole run in one call (in chunks only to report progress or to grow the output of an
     adaptive run); forces and carriers given as Python callables are called back from it (the
@@ -257,6 +405,7 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
         capacity = 256
     else:
         capacity = int(min((t1 - t0) / dt, 1e9)) // saveat.every + 3
+    _check_room(capacity, np.size(z), t_eval=len(times) > 0)
     state = _drv.RunState(t0, np.ascontiguousarray(z, dtype=float).ravel(), capacity)
     extra = dict(problem.keywords)
     if observer is not None and hasattr(observer, "first"):  # counts flips (ensembles)
@@ -265,6 +414,9 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
         extra["flips"] = (observer.first, observer.last, observer.count)
     start = time.perf_counter()
     per_call = PROGRESS_CHUNK if progress is not None else 2**62
+    # an adaptive run's cost is estimated at PILOT_STEPS steps, then each time they double
+    check_at = PILOT_STEPS if cls.adaptive else 2**62
+    since = (t0, 0)
 
     def result(message, success):
         t, y = state.samples()
@@ -288,15 +440,24 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
         left = budget - state.stats.steps
         if left <= 0:
             raise _over_budget(budget, state.t, t1, result)
-        status = problem.engine(*problem.data, spec, state, min(per_call, left), **extra)
+        steps = state.stats.steps
+        chunk = min(per_call, left, max(check_at - steps, 1))
+        status = problem.engine(*problem.data, spec, state, chunk, **extra)
         if progress is not None:
             progress(state.t)
+        if status == _drv.RUNNING and state.stats.steps >= check_at:
+            if pilot:  # the estimate only (estimate_steps)
+                return _pace(state, t1, since)[0] + state.stats.steps
+            error = _out_of_pace(state, t1, budget, since, len(z), saveat, result)
+            if error is not None:
+                raise error
+            since, check_at = (state.t, state.stats.steps), 2 * state.stats.steps
         if status == _drv.FINISHED:
-            return result("finished", True)
+            return float(state.stats.steps) if pilot else result("finished", True)
         if status == _drv.TERMINATED:  # a terminal event (the system's events say which)
             return result("a terminal event", True)
         if status == _drv.OUTPUT_FULL:
-            state.grow()
+            _room_for(state, result)
             continue
         if status == _drv.RUNNING:
             continue

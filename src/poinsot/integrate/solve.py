@@ -46,15 +46,22 @@ RTOL_FLOOR = 100 * np.finfo(float).eps
 
 
 class StepBudgetError(ValueError):
-    """A fixed-step run that needs more steps than its budget, refused before it starts;
-    :attr:`needed` (a float: it may exceed any integer) and :attr:`budget` say by how much."""
+    """A run that needs more steps than its budget, refused before it starts: a fixed-step
+    run (``dt`` given: the count), or an adaptive one whose steps were estimated from a
+    short run (``what`` says whose); :attr:`needed` (a float: it may exceed any integer)
+    and :attr:`budget` say by how much."""
 
-    def __init__(self, needed: float, budget: int, dt: float, t0: float, t1: float):
+    def __init__(self, needed: float, budget: int, dt: float | None, t0: float, t1: float,
+                 what: str | None = None):  # fmt: skip
         self.needed, self.budget, self.dt, self.t0, self.t1 = needed, budget, dt, t0, t1
+        if dt is not None:
+            need, knob = f"{needed:.3g} steps of dt = {dt:g}", "take a larger `dt`"
+        else:
+            need, knob = f"about {needed:.3g} steps", "loosen the tolerances"
         super().__init__(
-            f"the run needs {needed:.3g} steps of dt = {dt:g} over [{t0:g}, {t1:g}]; "
-            f"the limit is `max_steps` = {budget} (take a larger `dt`, a shorter span, or "
-            "raise `max_steps`)"
+            f"the run needs {need} over [{t0:g}, {t1:g}]{f' for {what}' if what else ''}; "
+            f"the limit is `max_steps` = {budget} ({knob}, a shorter span, or raise "
+            "`max_steps`)"
         )
 
 

@@ -12,12 +12,13 @@ constraints that minimal coordinates hide (:mod:`~poinsot.lagrange.reactions`).
 
 from .ensemble import LagrangianEnsemble, simulate_ensemble
 from .linear import Linearization, equilibria, linearize
-from .numeric import simulate
+from .numeric import ConstraintDriftWarning, simulate
 from .reactions import HiddenConstraint
 from .solution import LagrangianSolution
 from .system import LagrangianSystem, PointMass
 
 __all__ = [
+    "ConstraintDriftWarning",
     "HiddenConstraint",
     "LagrangianEnsemble",
     "LagrangianSolution",

@@ -183,8 +183,8 @@ def simulate_ensemble(
     inputs=None,
     method="dop853",
     dt=None,
-    rtol=1e-10,
-    atol=1e-12,
+    rtol=None,
+    atol=None,
     t_eval=None,
     stabilization="baumgarte",
     baumgarte=DEFAULT_BAUMGARTE,
@@ -304,6 +304,8 @@ def simulate_ensemble(
     else:
         run = run_spec(solver.kind, t_end=t1, dt=dt, data=solver.method_data(),
                        t_eval=times, max_steps=st.budget)  # fmt: skip
+    if solver.adaptive:  # each member's steps, estimated before the run
+        _check_members_budget(engine, control, st, P, U, Z0, gains, projection, system, N)
     parts = []
     for i0 in range(0, N, chunk):
         i1 = min(i0 + chunk, N)
@@ -315,6 +317,35 @@ def simulate_ensemble(
         times, Y = times[:0], Y[:, :0]
     return LagrangianEnsemble(system, engine, times, Y, P, U, status, nsteps, nfev,
                               solver.name, stabilization, releases)  # fmt: skip
+
+
+def _check_members_budget(engine, control, st, P, U, Z0, gains, projection, system, N) -> None:
+    """Refuse an adaptive ensemble whose members cannot end within the step budget: the
+    steps of the first member and of the fastest moving one (largest |q̇₀|), each estimated
+    from its own short runs (:func:`~poinsot.integrate.driver.estimate_steps_by_spans`)."""
+    from .. import _core
+    from ..integrate.driver import estimate_steps_by_spans, run_spec
+    from ..integrate.solve import StepBudgetError
+
+    (t0, t1), n = st.t_span, len(system.coordinates)
+    with np.errstate(over="ignore", invalid="ignore"):
+        speed = np.linalg.norm(Z0[:, n:], axis=1)
+    fastest = int(np.argmax(np.where(np.isfinite(speed), speed, -1.0)))
+    for i in dict.fromkeys((0, fastest)):
+
+        def run_to(t, cap, i=i):
+            pilot = run_spec(st.solver.kind, t_end=t, controller=control, t_eval=[t],
+                             max_steps=cap)  # fmt: skip
+            _, status, nsteps, _, _ = engine.model.run_ensemble(
+                P[i : i + 1], U[i : i + 1], Z0[i : i + 1], gains[0], gains[1], projection,
+                pilot, t0, 1, list(system.unilateral), st.event_resolution)  # fmt: skip
+            finished = {_core.FINISHED: True, _core.TERMINATED: True, 0: False}
+            return int(nsteps[0]), finished.get(int(status[0]))
+
+        needed = estimate_steps_by_spans(run_to, t0, t1)
+        if needed > st.budget:
+            what = f"member {i} of {N} (estimated from its first steps)"
+            raise StepBudgetError(needed, st.budget, None, t0, t1, what)
 
 
 def _complete_states(system, engine, t0, Z0, P, U, tol):

@@ -19,6 +19,7 @@ with ``stab`` the constraint stabilisation:
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -28,9 +29,49 @@ from .arguments import _keyed, as_params, consistent_initial_state, input_functi
 from .engine import _floats
 from .solution import LagrangianSolution
 
-__all__ = ["PreparedLagrangianRun", "prepare", "simulate"]
+__all__ = [
+    "CONSTRAINT_RESIDUAL_BOUND",
+    "DEFAULT_TOLERANCES",
+    "ConstraintDriftWarning",
+    "PreparedLagrangianRun",
+    "prepare",
+    "simulate",
+]
 
 DEFAULT_BAUMGARTE = (10.0, 10.0)
+#: The adaptive method's ``(rtol, atol)`` for a constrained system unless given.
+DEFAULT_TOLERANCES = (1e-10, 1e-12)
+#: The largest constraint residual max |g(q, t)| a solution keeps without a warning, relative
+#: to the size of its coordinates (times 1 + max |q|): at the default tolerances the residual
+#: stays near 1e-10; a solution past this bound no longer satisfies its constraints.
+CONSTRAINT_RESIDUAL_BOUND = 1e-6
+
+
+class ConstraintDriftWarning(UserWarning):
+    """A solution's constraint residual exceeds :data:`CONSTRAINT_RESIDUAL_BOUND`: its
+    coordinates have left the constraint surface (tolerances too loose, or a step too
+    large, for the stabilisation to hold them)."""
+
+
+def warn_on_drift(solution, rtol, atol, dt) -> None:
+    """Warn (:class:`ConstraintDriftWarning`) when ``solution``'s constraint residual
+    exceeds the bound, naming the residual, the bound and the settings that let it drift."""
+    g = np.abs(solution.constraint_residual)
+    if not g.size or not np.isfinite(g).any():
+        return
+    worst = float(np.nanmax(g))
+    scale = 1.0 + float(np.nanmax(np.abs(solution.q), initial=0.0))
+    bound = CONSTRAINT_RESIDUAL_BOUND * scale
+    if worst > bound:
+        how = f"rtol = {rtol:g}, atol = {atol:g}" if rtol is not None else f"dt = {dt:g}"
+        warnings.warn(
+            f"the constraints drifted: max |g(q, t)| = {worst:.3g}, above the bound "
+            f"{bound:.3g} ({CONSTRAINT_RESIDUAL_BOUND:g} × (1 + max |q|)); with {how} the "
+            "solution has left its constraints (tighten the tolerances or the step, or use "
+            "stabilization='projection')",
+            ConstraintDriftWarning,
+            stacklevel=4,
+        )
 
 
 class _EngineNumeric:
@@ -189,8 +230,8 @@ def simulate(
     params=None,
     method="dop853",
     dt=None,
-    rtol=1e-10,
-    atol=1e-12,
+    rtol=None,
+    atol=None,
     t_eval=None,
     stabilization="baumgarte",
     baumgarte=DEFAULT_BAUMGARTE,
@@ -216,7 +257,11 @@ def simulate(
         Values of every parameter (``system.parameters``).
     method, dt, rtol, atol, t_eval
         As for :func:`poinsot.simulate` (``rk4`` or ``dop853``; the Lie-group and splitting
-        methods are for rigid bodies).
+        methods are for rigid bodies). The adaptive method's tolerances default to
+        ``rtol = 1e-10``, ``atol = 1e-12`` (``DEFAULT_TOLERANCES``); a fixed-step method
+        given them refuses them. A solution whose constraint residual exceeds
+        ``CONSTRAINT_RESIDUAL_BOUND`` = 1e-6 times one plus the largest coordinate warns
+        (:class:`ConstraintDriftWarning`), whatever the tolerances that let it drift.
     stabilization : {"baumgarte", "projection", None}
     baumgarte : (alpha, beta)
         Baumgarte gains in s⁻¹ (default (10, 10): critically damped).
@@ -255,7 +300,7 @@ def simulate(
     return prepared.run(q0=q0, qd0=qd0, guess=guess)
 
 
-def prepare(system, t_span, *, params=None, method="dop853", dt=None, rtol=1e-10, atol=1e-12,
+def prepare(system, t_span, *, params=None, method="dop853", dt=None, rtol=None, atol=None,
             t_eval=None, stabilization="baumgarte", baumgarte=DEFAULT_BAUMGARTE, inputs=None,
             events=None, event_resolution=2001, engine="compiled",
             max_steps=None) -> PreparedLagrangianRun:  # fmt: skip
@@ -299,6 +344,7 @@ def check_settings(t_span, *, method, dt, rtol, atol, t_eval, stabilization, bau
     from ..integrate.solve import (
         check_budget,
         check_event_resolution,
+        check_no_silent_tolerances,
         check_sampling,
         check_t_span,
         check_tolerances,
@@ -306,8 +352,11 @@ def check_settings(t_span, *, method, dt, rtol, atol, t_eval, stabilization, bau
 
     t0, t1 = check_t_span(t_span)
     solver = check_run_options(method, stabilization)
+    check_no_silent_tolerances(solver, rtol=rtol, atol=atol)
     t_eval, _, dt = check_sampling(t_eval, t0, t1, 1, dt)
-    rtol, atol = check_tolerances(rtol, atol)
+    rtol, atol = check_tolerances(*(d if v is None else v
+                                    for v, d in zip((rtol, atol), DEFAULT_TOLERANCES,
+                                                    strict=True)))  # fmt: skip
     budget = check_budget(solver, t0, t1, dt, max_steps)
     gains = as_gains(baumgarte, "baumgarte")
     resolution = check_event_resolution(event_resolution)
@@ -407,10 +456,16 @@ class PreparedLagrangianRun:
         y_init = np.concatenate([q_init, qd_init])
         if not st.events and not system.unilateral:  # one run, no event to watch
             out_y = run(ode_of(num), t0, y_init, t1, st.t_eval)
-            return LagrangianSolution(system, st.t_eval, out_y, num, method=run.method,
-                                      nfev=run.nfev, stabilization=st.stabilization)  # fmt: skip
-        return _simulate_phases(system, num, run, ode_of, y_init, t0, t1, st.t_eval, st.events,
-                                st.event_resolution, st.stabilization)  # fmt: skip
+            solution = LagrangianSolution(system, st.t_eval, out_y, num, method=run.method,
+                                          nfev=run.nfev,
+                                          stabilization=st.stabilization)  # fmt: skip
+        else:
+            solution = _simulate_phases(system, num, run, ode_of, y_init, t0, t1, st.t_eval,
+                                        st.events, st.event_resolution,
+                                        st.stabilization)  # fmt: skip
+        tol = (st.rtol, st.atol) if solver.adaptive else (None, None)
+        warn_on_drift(solution, *tol, st.dt)
+        return solution
 
 
 def _expression_events(events, system, params):

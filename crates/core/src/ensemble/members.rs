@@ -323,7 +323,7 @@ fn integrate<S: RigidStructure, O: Observer>(
                 t_eval: schedule.t_eval,
                 every: u64::MAX,
             },
-            max_steps: u64::MAX,
+            max_steps: schedule.max_steps,
         },
         clock: &mut clock,
         z: &mut z,
@@ -335,14 +335,21 @@ fn integrate<S: RigidStructure, O: Observer>(
         counters: &mut k,
     };
     run.enter(sys);
-    let status = resume(stop, || run.chunk_rigid(sys, obs, STEPS_PER_CALL));
+    let budget = schedule.max_steps;
+    let status = resume(stop, || {
+        let left = budget.saturating_sub(run.counters.n_steps);
+        (left > 0).then(|| run.chunk_rigid(sys, obs, STEPS_PER_CALL.min(left)))
+    });
     (status, k)
 }
 
-/// Call a resumable driver until it ends or `stop` is raised.
-fn resume(stop: &AtomicBool, mut call: impl FnMut() -> Status) -> Status {
+/// Call a resumable driver until it ends, `stop` is raised or it has no steps left (`call`
+/// gives None: the member's step budget is spent, and it stays [`Status::Running`]).
+fn resume(stop: &AtomicBool, mut call: impl FnMut() -> Option<Status>) -> Status {
     loop {
-        let status = call();
+        let Some(status) = call() else {
+            return Status::Running;
+        };
         if status != Status::Running || stop.load(Ordering::Relaxed) {
             return status;
         }
