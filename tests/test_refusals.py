@@ -306,3 +306,28 @@ def test_an_omega_whose_square_overflows_fails_cleanly():
         warnings.simplefilter("error", RuntimeWarning)
         with pytest.raises(SimulationError, match="step size fell below"):
             simulate(body, (0, 1), omega0=(1e200, 1e200, 1e200), method="dop853")
+
+
+def test_a2_over_2k_of_huge_moments_is_finite():
+    """Moments of about 1e154: a² overflowed and summary.json said "inf" (true: 2.0e154);
+    a²/2k is now a · (a / 2k), checked against the closed form D = Σ I²ω² / Σ Iω²."""
+    from poinsot.app.runs.rigid import RigidRun
+
+    text = BASE.replace(BOX, 'type = "box"\nmass = 1e154\nsize = [1.0, 2.0, 3.0]')
+    run = RigidRun(load_scenario(text))
+    run.simulate()
+    summary = run.summarise()
+    I = np.diag(run.scenario.body.inertia)
+    w = run.result.omega[0]
+    expected = float(np.sum((I / 1e154) ** 2 * w**2) / np.sum((I / 1e154) * w**2)) * 1e154
+    assert summary["initial"]["a2_over_2k"] == pytest.approx(expected, rel=1e-12)
+
+
+def test_energy_drift_of_a_huge_velocity_is_finite():
+    """V0 ≈ 1e217: the energy overflows (M V²/2 > 1.8e308) and the drift was NaN; it is
+    computed on the scaled energy E/s², and equals the drift of the same run at V0 = 1."""
+    body = RigidBody.box(2.0, (1, 2, 3))
+    huge = simulate(body, (0, 1), omega0=(0, 0, 0), V0=(1e217, 0, 0), method="rk4", dt=0.01)
+    assert not np.isfinite(huge.total_energy).any()
+    unit = simulate(body, (0, 1), omega0=(0, 0, 0), V0=(1.0, 0, 0), method="rk4", dt=0.01)
+    assert huge.diagnostics()["energy_drift"] == unit.diagnostics()["energy_drift"] == 0.0

@@ -70,3 +70,23 @@ def test_a_lagrangian_solution_off_its_constraints_warns(atol):
         warnings.simplefilter("error")  # the defaults hold the constraints: no warning
         sol = pendulum_cartesian().simulate((0, 2))
     assert np.abs(sol.constraint_residual).max() < 1e-9
+
+
+def test_event_resolution_without_events_is_refused():
+    """It was accepted at −1, 0 and 2.5 with no event to watch, and at 1e300 it stalled."""
+    from poinsot.models import pendulum_cartesian, sliding_ladder
+
+    for value in (-1, 0, 2.5, 1e300, 2001):
+        with pytest.raises(ValueError, match="`event_resolution` has no effect: this run "
+                                             "watches no events"):  # fmt: skip
+            simulate(BOX, (0, 1), omega0=(0, 1, 0.1), event_resolution=value)
+        with pytest.raises(ValueError, match="`event_resolution` has no effect"):
+            pendulum_cartesian().simulate((0, 0.5), event_resolution=value)
+    event = lambda t, y: t - 0.5  # noqa: E731
+    with pytest.raises(ValueError, match=r"`event_resolution` must be an integer from 2 to "
+                                         r"1e\+07, found 1e\+300"):  # fmt: skip
+        simulate(BOX, (0, 1), omega0=(0, 1, 0.1), events=event, event_resolution=1e300)
+    traj = simulate(BOX, (0, 1), omega0=(0, 1, 0.1), events=event, event_resolution=11)
+    assert traj.t_events[0] == pytest.approx([0.5])
+    ladder = sliding_ladder()  # one-sided: the release is watched on the grid
+    assert ladder.simulate((0, 1), event_resolution=101).t[-1] == 1.0

@@ -130,7 +130,8 @@ def as_count(value, name: str, low: int = 1, high: int | None = None) -> int:
         )
     else:
         rule = "a positive integer" if low == 1 else f"an integer ≥ {low}"
-    raise ValueError(f"`{name}` must be {rule}, found {value!r}")
+    found = f"{float(value):.3g}" if ok and abs(value) >= 10**15 else repr(value)
+    raise ValueError(f"`{name}` must be {rule}, found {found}")
 
 
 def as_positive_scalar(value, name: str) -> float:

@@ -54,7 +54,7 @@ def prepare(
     save_every=1,
     backend=None,
     events=None,
-    event_resolution=2001,
+    event_resolution=None,
     max_steps=None,
 ) -> PreparedRun:
     """Check a rigid body's run and lower it for the compiled core, once: the
@@ -82,7 +82,7 @@ def prepare(
 
         normalize_events(events)  # refused here, naming the event, before any step
         events = tuple(events) if isinstance(events, list | tuple) else (events,)
-    event_resolution = check_event_resolution(event_resolution)
+    event_resolution = check_event_resolution(event_resolution, events is not None)
     return PreparedRun(system, settings, backend, events, event_resolution)
 
 
@@ -184,7 +184,7 @@ def simulate(
     backend=None,
     scalar_first=True,
     events=None,
-    event_resolution=2001,
+    event_resolution=None,
     max_steps=None,
 ) -> Trajectory:
     """Integrate the motion of ``body`` under ``forces``: eqs (07) ``M R̈ = F``,
@@ -236,8 +236,9 @@ def simulate(
         (row-major), ω]`` whose zeros are located, as in :func:`scipy.integrate.solve_ivp`
         (attributes ``terminal`` and ``direction``): ``traj.t_events``, ``traj.y_events``. A
         terminal event ends the run there (:mod:`poinsot.integrate.events`).
-    event_resolution : int
-        Grid points on which events are detected before they are located exactly.
+    event_resolution : int, optional
+        Grid points on which events are detected before they are located exactly (default
+        2001); refused without ``events``, where it would have no effect.
     max_steps : int, optional
         The most steps the run may take (default
         :data:`~poinsot.integrate.solve.DEFAULT_MAX_STEPS`): a fixed-step run that needs more

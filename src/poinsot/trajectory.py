@@ -368,6 +368,14 @@ class Trajectory(Displayable):
         E = self.total_energy
         if not len(E):  # no samples (an empty t_eval): no drift either
             return _readonly(E)
+        if not np.isfinite(E).all():  # overflowed (V ≈ 1e217): E / s², s the largest rate
+            w, V = self.omega, self.V
+            s = float(max(np.abs(w).max(), np.abs(V).max()))
+            if np.isfinite(s) and s > 0:
+                A, M = self._c(self.body.inertia), float(self.body.mass)
+                with np.errstate(over="ignore"):
+                    U = self.potential_energy / (s * s)
+                E = _core.kinetic_energies(A, M, self._c(w / s), self._c(V / s)) + U
         return _readonly((E - E[0]) / (abs(E[0]) or 1.0))
 
     @cached_property

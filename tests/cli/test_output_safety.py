@@ -300,3 +300,27 @@ def test_a_signal_inside_the_npz_writer_lands_after_it_and_leaves_nothing(tmp_pa
     assert len(calls) == 2  # both arrays written: the signal waited for the archive
     assert list(tmp_path.iterdir()) == []
     assert unraisable == []
+
+
+def test_the_disk_check_asks_for_what_this_run_writes(tmp_path, monkeypatch, capsys):
+    """It asked for 10 MB whatever the output: a 28 KB run, with the figures and the report
+    off, was refused with 2.1 MB free. Now it asks for the outputs asked for."""
+    import shutil
+
+    import poinsot._io
+
+    free = 2_100_000
+    usage = shutil.disk_usage(tmp_path)
+    monkeypatch.setattr(poinsot._io.shutil, "disk_usage",
+                        lambda path: usage._replace(free=free))  # fmt: skip
+    data_only = tmp_path / "data.toml"
+    data_only.write_text(BOX_SCENARIO + "\n[output]\nfigures = false\nreport = false\n")
+    assert main(["run", str(data_only), "--out", str(tmp_path / "a"), "--quiet"]) == 0
+    written = sum(p.stat().st_size for p in (tmp_path / "a").iterdir())
+    assert written < free
+    full = tmp_path / "full.toml"
+    full.write_text(BOX_SCENARIO)
+    assert main(["run", str(full), "--out", str(tmp_path / "b"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "not enough disk space" in err and "2.1 MB are free" in err
+    assert not (tmp_path / "b").exists()

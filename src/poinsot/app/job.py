@@ -41,7 +41,8 @@ def run_scenario(
     """
     stage = on_stage or (lambda name: None)
     run = run_for(scenario)
-    folder = OutputFolder(out, force=force, command="run", needs_bytes=run.estimated_bytes())
+    needs = run.estimated_bytes(report=report, plotlyjs=plotlyjs)
+    folder = OutputFolder(out, force=force, command="run", needs_bytes=needs)
     start = time.perf_counter()
     stage("simulating")
     run.simulate(progress=progress)

@@ -27,6 +27,7 @@ from .._validation import as_positive_scalar, as_sample_times, as_scalar
 from .base import get_solver
 
 __all__ = [
+    "DEFAULT_EVENT_RESOLUTION",
     "DEFAULT_MAX_STEPS",
     "MAX_EVENT_RESOLUTION",
     "RTOL_FLOOR",
@@ -152,12 +153,26 @@ def check_max_steps(max_steps) -> int:
 MAX_EVENT_RESOLUTION = 10**7
 
 
-def check_event_resolution(value) -> int:
-    """The detection grid's number of points, ``event_resolution``: an integer from 2 to
-    :data:`MAX_EVENT_RESOLUTION` (events are looked for at points no further apart than that
-    grid would be)."""
+#: The detection grid's points unless ``event_resolution`` says otherwise.
+DEFAULT_EVENT_RESOLUTION = 2001
+
+
+def check_event_resolution(value, watched: bool = True) -> int:
+    """The detection grid's number of points, ``event_resolution``: None (the default,
+    :data:`DEFAULT_EVENT_RESOLUTION`) or an integer from 2 to :data:`MAX_EVENT_RESOLUTION`
+    (events are looked for at points no further apart than that grid would be). A run that
+    watches nothing (``watched`` false: no events, no one-sided constraint) refuses a value,
+    which would have no effect."""
     from .._validation import as_count
 
+    if value is None:
+        return DEFAULT_EVENT_RESOLUTION
+    if not watched:
+        raise ValueError(
+            "`event_resolution` has no effect: this run watches no events (it is the grid on "
+            "which `events`, and the releases of one-sided constraints, are detected); drop "
+            "it, or give `events`"
+        )
     return as_count(value, "event_resolution", 2, MAX_EVENT_RESOLUTION)
 
 

@@ -192,7 +192,7 @@ def simulate_ensemble(
     chunk_size=None,
     tol=1e-9,
     max_steps=None,
-    event_resolution=2001,
+    event_resolution=None,
 ) -> LagrangianEnsemble:
     """Integrate N members of ``system``, each with its own parameters, inputs and initial
     state, with the compiled engine.
@@ -226,9 +226,11 @@ def simulate_ensemble(
         whose members need more is refused before it starts, with the count; an adaptive
         member that reaches it stops there (status 0, NaN samples). With one-sided
         constraints, per phase between releases (as :meth:`LagrangianSystem.simulate`).
-    event_resolution : int
-        The one-sided constraints' releases (``system.unilateral``) are detected at the steps'
-        ends and at points no further apart than a grid of this many points on the run, and
+    event_resolution : int, optional
+        The one-sided constraints' releases (``system.unilateral``) are detected at the
+        steps' ends and at points no further apart than a grid of this many points on the
+        run (default 2001; refused by a system without one-sided constraints, where it
+        would have no effect), and
         located inside the core's time loop, member by member, as
         :meth:`LagrangianSystem.simulate` does: each member equals its single run bit for bit;
         ``ens.releases`` holds the instants.
@@ -261,7 +263,8 @@ def simulate_ensemble(
     # the run's settings, checked as a single run checks them (the budget is per member)
     st = check_settings(t_span, method=method, dt=dt, rtol=rtol, atol=atol, t_eval=t_eval,
                         stabilization=stabilization, baumgarte=baumgarte,
-                        event_resolution=event_resolution, max_steps=max_steps)  # fmt: skip
+                        event_resolution=event_resolution, max_steps=max_steps,
+                        watched=bool(system.unilateral))  # fmt: skip
     (t0, t1), solver, dt, gains = st.t_span, st.solver, st.dt, st.gains
     no_samples = len(st.t_eval) == 0  # the run to t1, none of its states
     times = np.array([t1]) if no_samples else st.t_eval

@@ -238,7 +238,7 @@ def simulate(
     guess=None,
     inputs=None,
     events=None,
-    event_resolution=2001,
+    event_resolution=None,
     engine="compiled",
     max_steps=None,
 ) -> LagrangianSolution:
@@ -277,12 +277,13 @@ def simulate(
         found in ``sol.t_events``, ``sol.y_events``. A terminal event ends the run there.
         Every event is located inside the core's time loop (a Python function is called
         back from it: the slow path).
-    event_resolution : int
+    event_resolution : int, optional
         Events, and the release of one-sided constraints (``system.unilateral``), are
         detected at the steps' ends and at points no further apart than a grid of this many
-        points on the run, then located to the integrator's accuracy (Brent's method on the
-        step's dense output or restarted step: :mod:`poinsot.integrate.events`);
-        ``sol.releases`` lists the releases.
+        points on the run (default 2001), then located to the integrator's accuracy (Brent's
+        method on the step's dense output or restarted step: :mod:`poinsot.integrate.events`);
+        ``sol.releases`` lists the releases. Refused by a run that watches neither, where it
+        would have no effect.
     engine : {"compiled"}
         How the equations are evaluated: the model's expressions (M, f, G, b, γ, g, h with
         shared subexpressions, parameters and inputs as runtime arguments) compiled to
@@ -302,7 +303,7 @@ def simulate(
 
 def prepare(system, t_span, *, params=None, method="dop853", dt=None, rtol=None, atol=None,
             t_eval=None, stabilization="baumgarte", baumgarte=DEFAULT_BAUMGARTE, inputs=None,
-            events=None, event_resolution=2001, engine="compiled",
+            events=None, event_resolution=None, engine="compiled",
             max_steps=None) -> PreparedLagrangianRun:  # fmt: skip
     """Check a Lagrangian system's run and lower it for the core, once: the compiled model,
     its parameters, inputs and events, the method, sampling and budget. The arguments are
@@ -322,7 +323,8 @@ def prepare(system, t_span, *, params=None, method="dop853", dt=None, rtol=None,
 
     settings = check_settings(t_span, method=method, dt=dt, rtol=rtol, atol=atol,
                               t_eval=t_eval, stabilization=stabilization, baumgarte=baumgarte,
-                              event_resolution=event_resolution, max_steps=max_steps)  # fmt: skip
+                              event_resolution=event_resolution, max_steps=max_steps,
+                              watched=bool(events) or bool(system.unilateral))  # fmt: skip
     check_engine(engine)
     params = as_params(params, system)
     compiled = compile_system(system)
@@ -336,7 +338,7 @@ def prepare(system, t_span, *, params=None, method="dop853", dt=None, rtol=None,
 
 
 def check_settings(t_span, *, method, dt, rtol, atol, t_eval, stabilization, baumgarte,
-                   event_resolution, max_steps) -> _Settings:  # fmt: skip
+                   event_resolution, max_steps, watched=True) -> _Settings:  # fmt: skip
     """A Lagrangian run's settings, checked once (single runs and ensembles): the span, the
     method (one for general ODEs) with ``dt`` (a fixed-step method's step, the adaptive
     method's first step), tolerances, sample times (201 by default), the stabilisation and
@@ -359,7 +361,7 @@ def check_settings(t_span, *, method, dt, rtol, atol, t_eval, stabilization, bau
                                                     strict=True)))  # fmt: skip
     budget = check_budget(solver, t0, t1, dt, max_steps)
     gains = as_gains(baumgarte, "baumgarte")
-    resolution = check_event_resolution(event_resolution)
+    resolution = check_event_resolution(event_resolution, watched)
     times = np.linspace(t0, t1, 201) if t_eval is None else np.asarray(t_eval, float)
     return _Settings(solver, (t0, t1), times, dt, rtol, atol, budget, stabilization, gains, [],
                      resolution)  # fmt: skip

@@ -19,8 +19,8 @@ class EnsembleRun(Run):
 
     free = None  # the free body whose exact flip intervals grade the members, where it applies
 
-    def estimated_bytes(self):
-        return 10_000_000 + 2_000 * int(self.scenario.ensemble["members"])
+    def rows(self):
+        return int(self.scenario.ensemble["members"])
 
     def simulate(self, progress=None):
         # members done, where the progress object counts them (the command line's does)

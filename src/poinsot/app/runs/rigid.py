@@ -172,7 +172,7 @@ def summarize(scenario, traj, free=None) -> dict:
                 np.hypot.reduce(angular_momentum_body(J, w0))),
         }  # fmt: skip
     if free is not None:  # a torque-free analysis (about G) exists: its polhode family
-        initial["a2_over_2k"] = a0 * a0 / (2 * k0) if k0 > 0 else None
+        initial["a2_over_2k"] = a0 * (a0 / (2 * k0)) if k0 > 0 else None  # a² may overflow
     out = {
         "scenario": scenario_header(scenario),
         "body": body.mass_properties(),
