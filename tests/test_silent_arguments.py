@@ -90,3 +90,30 @@ def test_event_resolution_without_events_is_refused():
     assert traj.t_events[0] == pytest.approx([0.5])
     ladder = sliding_ladder()  # one-sided: the release is watched on the grid
     assert ladder.simulate((0, 1), event_resolution=101).t[-1] == 1.0
+
+
+def test_save_every_with_t_eval_is_refused():
+    """The run keeps the states at `t_eval`; `save_every = 10` was ignored without a word."""
+    with pytest.raises(ValueError, match="`save_every` = 10 has no effect with `t_eval`"):
+        simulate(BOX, (0, 1), omega0=(0, 1, 0.1), t_eval=[0, 0.5, 1], save_every=10)
+    assert len(simulate(BOX, (0, 1), omega0=(0, 1, 0.1), save_every=10, method="rk4",
+                        dt=0.01).t) == 11  # fmt: skip
+
+
+def test_threads_with_a_dask_client_is_refused():
+    """The Dask workers run the chunks: `threads` was ignored. Refused before the client is
+    even looked at."""
+    with pytest.raises(ValueError, match="`threads` has no effect with `client`"):
+        simulate_ensemble(BOX, (0, 1), omega0=np.ones((4, 3)), dt=0.01, threads=2,
+                          client=object())  # fmt: skip
+
+
+def test_baumgarte_gains_without_baumgarte_stabilisation_are_refused():
+    from poinsot.models import pendulum_cartesian
+
+    with pytest.raises(ValueError, match="`baumgarte` has no effect with "
+                                         "stabilization='projection'"):  # fmt: skip
+        pendulum_cartesian().simulate((0, 0.5), stabilization="projection", baumgarte=(1, 1))
+    a = pendulum_cartesian().simulate((0, 0.5), baumgarte=(1, 1), t_eval=[0.5])
+    b = pendulum_cartesian().simulate((0, 0.5), t_eval=[0.5])
+    assert not np.array_equal(a.q, b.q)  # the gains have an effect where they apply

@@ -40,6 +40,7 @@ __all__ = [
     "atomic_path",
     "atomic_savez",
     "atomic_write_text",
+    "read_toml",
     "safe_name",
     "write_netcdf",
     "xarray_dataset",
@@ -229,13 +230,16 @@ def xarray_dataset(variables: dict, attrs: dict):
 
 
 def write_netcdf(path, variables: dict, attrs: dict | None = None) -> None:
-    """Write a NetCDF-3 file (64-bit offsets) atomically with SciPy's writer, in every install
-    (no xarray needed; xarray, netCDF4 and ncdump read it).
+    """Write a NetCDF-3 file (64-bit offsets) atomically, in every install (no xarray needed;
+    xarray, netCDF4, ncdump and SciPy read it), streaming each variable to the file a few
+    megabytes at a time: the memory it takes is that of the arrays given, not a second copy
+    of the whole file (SciPy's writer holds every variable until it closes).
 
     ``variables``: ``name → (dims, data, attrs)``; a variable named like its dimension is that
     dimension's coordinate. NetCDF-3 has no 64-bit integers: int64 is written as int32 (refused
     if it does not fit), bool as int8, strings as characters along a ``NAME_strlen`` dimension
-    (xarray reads them back as strings). Attribute values are numbers or strings (UTF-8).
+    (xarray reads them back as strings). Attribute values are numbers (integers as int32,
+    others as double) or strings (UTF-8).
 
     Examples
     --------
@@ -245,52 +249,125 @@ def write_netcdf(path, variables: dict, attrs: dict | None = None) -> None:
     >>> write_netcdf(path, {"time": (("time",), np.arange(3.0), {"units": "s"}),
     ...                     "E": (("time",), np.ones(3), {"units": "J"})}, {"method": "rk4"})
     >>> with netcdf_file(path, mmap=False) as f:
-    ...     f.variables["E"].units, f.method
-    (b'J', b'rk4')
+    ...     f.variables["E"].units, f.method, f.variables["time"][:].tolist()
+    (b'J', b'rk4', [0.0, 1.0, 2.0])
     """
     import numpy as np
-    from scipy.io import netcdf_file
 
     sizes: dict[str, int] = {}
     prepared = []
     for name, (dims, data, var_attrs) in variables.items():
         a = np.asarray(data)
         dims = tuple(dims)
-        if a.dtype.kind in "US":  # strings: a character dimension of their longest length
-            width = max(1, max((len(str(x)) for x in a.ravel()), default=1))
-            a = np.array([[c.encode() for c in str(x).ljust(width)] for x in a.ravel()],
-                         dtype="S1").reshape(*a.shape, width)  # fmt: skip
+        if a.dtype.kind in "US":  # strings: UTF-8 bytes along a dimension of the longest
+            raw = [x if isinstance(x, bytes) else str(x).encode() for x in a.ravel()]
+            width = max(1, max(map(len, raw), default=1))
+            a = np.frombuffer(b"".join(r.ljust(width, b" ") for r in raw) or b" ",
+                              dtype="S1")[: len(raw) * width].reshape(*a.shape, width)  # fmt: skip
             dims = (*dims, f"{name}_strlen")
             var_attrs = {**(var_attrs or {}), "_Encoding": "utf-8"}  # read back as str
-        elif a.dtype == bool:
-            a = a.astype(np.int8)
-        elif a.dtype.kind in "iu" and a.dtype.itemsize > 4:
+        if a.dtype == bool:
+            target = np.dtype(">i1")
+        elif a.dtype.kind == "u" and a.dtype.itemsize < 4:  # no unsigned types: widened
+            target = np.dtype(f">i{2 * a.dtype.itemsize}")
+        elif a.dtype.kind in "iu" and a.dtype.itemsize >= 4 + (a.dtype.kind == "i"):
             if a.size and (a.max() > np.iinfo(np.int32).max or a.min() < np.iinfo(np.int32).min):
                 raise ValueError(f"`{name}`: integers beyond 32 bits cannot go into NetCDF-3")
-            a = a.astype(np.int32)
+            target = np.dtype(">i4")
         elif a.dtype.kind == "f":
-            a = a.astype(np.float64)
+            target = np.dtype(">f8")
+        elif a.dtype.kind == "S":
+            target = np.dtype("S1")
+        elif a.dtype.kind == "i":
+            target = np.dtype(f">i{a.dtype.itemsize}")
+        else:
+            raise ValueError(f"`{name}`: NetCDF-3 cannot hold values of type {a.dtype}")
         if a.ndim != len(dims):
             raise ValueError(f"`{name}`: {a.ndim} axes but dimensions {dims}")
         for d, n in zip(dims, a.shape, strict=True):
             if sizes.setdefault(d, n) != n:
                 raise ValueError(f"dimension `{d}` has sizes {sizes[d]} and {n}")
-        prepared.append((name, dims, a, var_attrs or {}))
-    with atomic_path(path) as tmp:
-        f = netcdf_file(tmp, "w", version=2)
-        try:
-            for d, n in sizes.items():
-                f.createDimension(d, n)
-            for name, dims, a, var_attrs in prepared:
-                v = f.createVariable(name, a.dtype, dims)
-                if a.size:
-                    v[...] = a
-                for key, value in var_attrs.items():
-                    setattr(v, key, _attribute(value))
-            for key, value in (attrs or {}).items():
-                setattr(f, key, _attribute(value))
-        finally:
-            f.close()
+        prepared.append((name, dims, a, target, var_attrs or {}))
+    empty = [d for d, n in sizes.items() if n == 0]  # NetCDF-3's record dimension, 0 records
+    for name, dims, *_ in prepared:
+        if len(empty) > 1 or any(d in empty for d in dims[1:]):
+            raise ValueError(f"`{name}`: NetCDF-3 holds an empty dimension only as the first "
+                             f"one, and one at most (empty: {', '.join(empty)})")  # fmt: skip
+    _write_cdf2(path, sizes, prepared, attrs or {})
+
+
+#: NetCDF-3's type codes (the classic format specification, "nc_type").
+_NC_TYPES = {("S", 1): 2, ("i", 1): 1, ("i", 2): 3, ("i", 4): 4, ("f", 4): 5, ("f", 8): 6}
+#: Bytes a variable is written in at most, per write (its rows are converted that many at once).
+_NC_WRITE_BYTES = 1 << 22
+
+
+def _write_cdf2(path, sizes, prepared, attrs) -> None:
+    """The file of the NetCDF classic format with 64-bit offsets ("CDF-2"): the header (the
+    dimensions, global attributes and variables with their offsets), then each variable's
+    values, big-endian, padded to 4 bytes, written rows at a time."""
+    import struct
+
+    import numpy as np
+
+    def name_bytes(s: str) -> bytes:
+        raw = s.encode("utf-8")
+        return struct.pack(">i", len(raw)) + raw + b"\0" * (-len(raw) % 4)
+
+    def attributes(items: dict) -> bytes:
+        if not items:
+            return b"\0" * 8  # ABSENT
+        out = [struct.pack(">ii", 12, len(items))]  # NC_ATTRIBUTE
+        for key, value in items.items():
+            value = _attribute(value)
+            if isinstance(value, bytes):
+                kind, raw, count = 2, value, len(value)
+            else:
+                v = np.atleast_1d(np.asarray(value))
+                integral = v.dtype.kind in "iub" and np.all(np.abs(v) < 2**31)
+                v = v.astype(">i4" if integral else ">f8")
+                kind, raw, count = (4 if integral else 6), v.tobytes(), v.size
+            out.append(name_bytes(key) + struct.pack(">ii", kind, count) + raw
+                       + b"\0" * (-len(raw) % 4))  # fmt: skip
+        return b"".join(out)
+
+    dim_ids = {d: i for i, d in enumerate(sizes)}
+    head = [b"CDF\x02", struct.pack(">i", 0)]  # 64-bit offsets; no records
+    if sizes:
+        head.append(struct.pack(">ii", 10, len(sizes)))  # NC_DIMENSION
+        head += [name_bytes(d) + struct.pack(">i", n) for d, n in sizes.items()]
+    else:
+        head.append(b"\0" * 8)
+    head.append(attributes(attrs))
+    entries, lengths = [], []
+    for name, dims, a, target, var_attrs in prepared:
+        nbytes = a.size * target.itemsize
+        lengths.append(nbytes + (-nbytes % 4))
+        if dims and sizes[dims[0]] == 0:  # a record variable (no records): one record's size
+            record = int(np.prod(a.shape[1:], dtype=np.int64)) * target.itemsize
+            vsize = record + (-record % 4)
+        else:
+            vsize = lengths[-1]
+        entries.append(name_bytes(name) + struct.pack(">i", len(dims))
+                       + b"".join(struct.pack(">i", dim_ids[d]) for d in dims)
+                       + attributes(var_attrs)
+                       + struct.pack(">iI", _NC_TYPES[target.kind, target.itemsize],
+                                     min(vsize, 2**32 - 1)))  # fmt: skip
+    var_list = struct.pack(">ii", 11, len(entries)) if entries else b"\0" * 8
+    size = sum(map(len, head)) + len(var_list) + sum(len(e) + 8 for e in entries)
+    begins = size + np.concatenate([[0], np.cumsum(lengths[:-1])]).astype(np.int64)
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        f.write(b"".join(head) + var_list)
+        for entry, begin in zip(entries, begins, strict=True):
+            f.write(entry + struct.pack(">q", int(begin)))
+        for (_, _, a, target, _), length in zip(prepared, lengths, strict=True):
+            if not a.size:
+                continue
+            rows = a.reshape(len(a) if a.ndim else 1, -1)
+            step = max(1, _NC_WRITE_BYTES // max(1, rows.shape[1] * target.itemsize))
+            for i in range(0, len(rows), step):
+                f.write(np.ascontiguousarray(rows[i : i + step], dtype=target).tobytes())
+            f.write(b"\0" * (length - a.size * target.itemsize))
 
 
 def _read_manifest(folder: Path) -> dict | None:
@@ -523,3 +600,61 @@ def is_disk_full(exc: BaseException) -> bool:
 def _attribute(value):
     """A NetCDF-3 attribute: strings as UTF-8 bytes (SciPy's writer takes only ASCII text)."""
     return value.encode("utf-8") if isinstance(value, str) else value
+
+
+class TOMLError(ValueError):
+    """A TOML text that does not parse: the message names the file, the line and the column
+    (``file:line:column: ...``, as compilers write it, so that editors can jump there)."""
+
+
+def read_toml(text: str, label: str) -> dict:
+    """The tables of the TOML ``text`` read from ``label`` (a file's name, for messages), or a
+    :class:`TOMLError` naming ``label``, the line and the column of a syntax error (the end of
+    the file included) or of the point where arrays and tables nest too deeply.
+
+    >>> read_toml('a = 1', 'f.toml')
+    {'a': 1}
+    >>> read_toml('a = 1\\nb = [1, 2', 'f.toml')
+    Traceback (most recent call last):
+    ...
+    poinsot._io.TOMLError: f.toml:2:10: TOML syntax error: Unclosed array (at the end of the file)
+    """
+    import re
+    import tomllib
+
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        message = str(exc)
+        at = re.search(r"\(at line (\d+), column (\d+)\)$", message)
+        if at:
+            line, column = int(at.group(1)), int(at.group(2))
+            message = message[: at.start()].rstrip()
+        else:  # "(at end of document)": the last line's end
+            lines = text.split("\n")
+            line, column = len(lines), len(lines[-1]) + 1
+            message = message.replace("(at end of document)", "(at the end of the file)")
+        raise TOMLError(f"{label}:{line}:{column}: TOML syntax error: {message}") from None
+    except RecursionError:
+        line, column = _deepest(text)
+        raise TOMLError(f"{label}:{line}:{column}: arrays or tables are nested too deeply "
+                        "(the parser's recursion limit)") from None  # fmt: skip
+
+
+def _deepest(text: str) -> tuple[int, int]:
+    """The line and column where the brackets and braces of ``text`` first nest deepest
+    (strings and comments are not told apart: a message's pointer, not a parser)."""
+    depth = best = 0
+    where = (1, 1)
+    line, column = 1, 0
+    for ch in text:
+        column += 1
+        if ch == "\n":
+            line, column = line + 1, 0
+        elif ch in "[{":
+            depth += 1
+            if depth > best:
+                best, where = depth, (line, column)
+        elif ch in "]}":
+            depth -= 1
+    return where

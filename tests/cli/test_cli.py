@@ -624,3 +624,42 @@ def test_every_kind_of_scenario_refuses_an_impossible_step_count_up_front(
     )
     assert "a run may take at most 1e+08 steps" in err and "Traceback" not in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+def test_an_ensemble_whose_members_all_fail_names_the_keys(tmp_path, capsys):
+    """`dt = 1.0` and `std = 1e300`: every member blows up, and the run said only "no
+    statistic with a finite value to draw"."""
+    from importlib.resources import files
+
+    text = (files("poinsot.app") / "scenarios" / "tennis-racket-ensemble.toml").read_text()
+    text = (text.replace("dt = 1e-3", "dt = 1.0").replace("members = 2000", "members = 20")
+            .replace("std = [0.05, 0.0, 0.05]", "std = [1e300, 0.0, 1e300]"))  # fmt: skip
+    path = tmp_path / "blow.toml"
+    path.write_text(text)
+    assert main(["run", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 1
+    err = capsys.readouterr().err
+    assert "every one of the 20 members failed (non-finite state: 20)" in err
+    assert "`ensemble.std` = [1e+300, 0.0, 1e+300]" in err and "`integrator.dt` = 1" in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_an_internal_error_is_one_line_without_a_traceback(tmp_path, capsys, monkeypatch):
+    """A bug (here a struct.error from a writer, as 3·10⁷ members once met) reached the user
+    as a traceback; it is one line naming it, exit code 70, and nothing half-written."""
+    import struct
+
+    import poinsot.app.job
+
+    def broken(*args, **kwargs):
+        raise struct.error("'i' format requires -2147483648 <= number <= 2147483647")
+
+    monkeypatch.setattr(poinsot.app.job, "atomic_write_text", broken)
+    path = tmp_path / "s.toml"
+    path.write_text(BOX_SCENARIO)
+    assert main(["run", str(path), "--out", str(tmp_path / "o")]) == 70
+    err = capsys.readouterr().err
+    assert "poinsot: internal error: error: 'i' format requires" in err
+    assert "Traceback" not in err and not (tmp_path / "o").exists()
+    monkeypatch.setenv("POINSOT_TRACEBACK", "1")
+    assert main(["run", str(path), "--out", str(tmp_path / "o")]) == 70
+    assert "Traceback" in capsys.readouterr().err  # asked for, for a report

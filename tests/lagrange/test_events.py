@@ -8,7 +8,7 @@ import oracle
 import pytest
 
 from poinsot import Gravity, RigidBody, models, simulate
-from poinsot.integrate.events import integrate_with_events
+from poinsot.integrate.events import EventError, integrate_with_events
 
 
 def test_sliding_ladder_leaves_the_wall_at_two_thirds_of_its_height():
@@ -190,10 +190,13 @@ def test_an_event_function_that_raises_stops_the_run_with_its_error():
             raise ZeroDivisionError("the user's event broke")
         return y[0] - 1.0
 
-    with pytest.raises(ZeroDivisionError, match="the user's event broke"):
+    with pytest.raises(EventError, match=r"`events\[0\]` raised ZeroDivisionError at "
+                                         r"t = 0\.5.*: the user's event broke") as err:  # fmt: skip
         mdl.simulate((0, 1), events=broken)
+    assert isinstance(err.value.__cause__, ZeroDivisionError)  # the user's own, kept
     # one that returns no number is named, among the run's events
-    with pytest.raises(TypeError, match=r"`events\[1\]` must return a number, found NoneType"):
+    with pytest.raises(EventError, match=r"`events\[1\]` returned None at t = 0: an event "
+                                         r"must return a number"):  # fmt: skip
         mdl.simulate((0, 1), events=[lambda t, y: y[0], lambda t, y: None])
 
 

@@ -224,4 +224,5 @@ def test_event_resolution_is_an_integer_from_two(bad):
         mdl.system.simulate_ensemble((0, 0.5), q0={th: [0.3]}, params=mdl.params,
                                      event_resolution=bad)  # fmt: skip
     with pytest.raises(ValueError, match=match):
-        simulate(RigidBody.box(1.0, (1, 2, 3)), (0, 1), omega0=(0, 1, 0), event_resolution=bad)
+        simulate(RigidBody.box(1.0, (1, 2, 3)), (0, 1), omega0=(0, 1, 0),
+                 events=lambda t, y: t - 0.5, event_resolution=bad)  # fmt: skip

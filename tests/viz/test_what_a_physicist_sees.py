@@ -141,7 +141,7 @@ def _figures():
     ens.ensemble["members"] = 50
     res = ens.simulate_ensemble()
     yield "histograms", plot_ensemble_histograms(res)
-    exact = FreeRigidBody.from_body(ens.body).flip_interval(res.initial_state[:, 15:18])
+    exact = FreeRigidBody.from_body(ens.body).flip_interval(res.initial_omega)
     yield "flips", plot_flip_intervals(res, exact)
 
 

@@ -287,7 +287,11 @@ pub fn check_inertia(j: &Mat3, rtol: f64) -> InertiaCheck {
     if asym > rtol * scale {
         return InertiaCheck::NotSymmetric(asym);
     }
-    let (m, _) = principal_decomposition(j);
+    // decomposed at the scale of its largest entry, by a power of two (exact): entries near
+    // ±1.8e308 no longer overflow to moments of −inf
+    let pow2 = 2f64.powi(scale.log2().floor() as i32);
+    let scaled = j.map(|row| row.map(|x| x / pow2));
+    let m = principal_decomposition(&scaled).0.map(|x| x * pow2);
     let tol = rtol * m[2].abs().max(f64::MIN_POSITIVE);
     if m[0] < -tol {
         InertiaCheck::NotPositive(m)
@@ -599,5 +603,33 @@ mod tests {
         let inward: Vec<[usize; 3]> = f.iter().map(|t| [t[0], t[2], t[1]]).collect();
         assert!(polyhedron_mass_properties(&v, &inward).unwrap().0 < 0.0);
         assert!(polyhedron_mass_properties(&v, &[[0, 1, 8]]).is_none());
+    }
+
+    /// Entries near the largest double are decomposed without overflow: the moments are those
+    /// of the same tensor at a small scale times that scale (a power of two: exact).
+    #[test]
+    fn huge_entries_give_finite_moments() {
+        let neg = [
+            [-1.7e308, 0.0, 0.0],
+            [0.0, 0.01638, 0.0],
+            [0.0, 0.0, 0.01748],
+        ];
+        let InertiaCheck::NotPositive(m) = check_inertia(&neg, 1e-12) else {
+            panic!("not positive")
+        };
+        assert_eq!(m[0], -1.7e308); // the small ones keep 12 digits (subnormal when scaled)
+        assert!((m[1] / 0.01638 - 1.0).abs() < 1e-12 && (m[2] / 0.01748 - 1.0).abs() < 1e-12);
+        let big = [
+            [1.7e308, 0.0, 0.0],
+            [0.0, 1.6e308, 0.0],
+            [0.0, 0.0, 0.3e308],
+        ];
+        let small = big.map(|r| r.map(|x| x / 2f64.powi(1000)));
+        let (InertiaCheck::Valid(m), InertiaCheck::Valid(s)) =
+            (check_inertia(&big, 1e-12), check_inertia(&small, 1e-12))
+        else {
+            panic!("both valid")
+        };
+        assert_eq!(m, s.map(|x| x * 2f64.powi(1000)));
     }
 }

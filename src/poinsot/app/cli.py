@@ -11,7 +11,8 @@ output folder that cannot or may not be written; 1 numerical failure (with the d
 disk that filled while writing, or ``--time-limit`` reached (saying how far the run got); 130
 interrupted (Ctrl-C), 143 terminated (SIGTERM), at any moment, within a second and without a
 traceback (:mod:`poinsot.app.interrupts`): in all failures nothing half-written is left. 141:
-stdout was closed early (``--json | head``).
+stdout was closed early (``--json | head``). 70: an internal error, a bug in poinsot: one
+line names it (``POINSOT_TRACEBACK=1`` prints the traceback for a report).
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from .interrupts import flush_streams, guard  # light: the handlers come before 
 __all__ = ["main"]
 
 EXIT_OK, EXIT_NUMERICAL, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
-EXIT_TERMINATED, EXIT_BROKEN_PIPE = 143, 141
+EXIT_TERMINATED, EXIT_BROKEN_PIPE, EXIT_INTERNAL = 143, 141, 70
 DEFAULT_EXAMPLE = "notebook"
 
 
@@ -196,12 +197,12 @@ def _cmd_inertia(args):
         try:
             body = load_scenario(path).body
         except ScenarioError:
-            import tomllib
+            from .._io import TOMLError, read_toml
 
             try:  # a file with only a [body] table is fine too
-                data = tomllib.loads(path.read_text(encoding="utf-8"))
-            except tomllib.TOMLDecodeError as exc:
-                raise ScenarioError(f"{path}: TOML syntax error: {exc}") from None
+                data = read_toml(path.read_text(encoding="utf-8"), str(path))
+            except TOMLError as exc:
+                raise ScenarioError(str(exc)) from None
             if set(data) != {"body"}:
                 raise
             try:
@@ -538,7 +539,7 @@ def _parser():
         prog="poinsot",
         description="Dynamics of rigid bodies and constrained mechanical systems.",
         epilog="Exit codes: 0 success, 2 bad input, 1 numerical failure or --time-limit "
-        "reached, 130 interrupted (Ctrl-C), 143 terminated (SIGTERM).",
+        "reached, 130 interrupted (Ctrl-C), 143 terminated (SIGTERM), 70 internal error.",
     )
     p.add_argument("--version", action="version", version=f"poinsot {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
@@ -864,6 +865,17 @@ def _failure(exc) -> int:
             return EXIT_NUMERICAL
         print(f"poinsot: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except Exception as exc:  # a bug: one line, never a traceback unless asked for
+        import os
+
+        if os.environ.get("POINSOT_TRACEBACK"):
+            import traceback
+
+            traceback.print_exception(exc, file=sys.stderr)
+        print(f"poinsot: internal error: {type(exc).__name__}: {exc} (a bug in poinsot, "
+              "please report it; POINSOT_TRACEBACK=1 prints where it happened); no partial "
+              "output was left", file=sys.stderr)  # fmt: skip
+        return EXIT_INTERNAL
 
 
 if __name__ == "__main__":  # pragma: no cover

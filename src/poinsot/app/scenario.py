@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._io import TOMLError, read_toml
 from ..integrate.base import CORE_METHODS, get_solver
 from .scenario_parts import (
     MAX_LEVELS,
@@ -686,11 +687,9 @@ def load_scenario(source) -> Scenario:
         text, label, base = str(source), "<built-in>", Path.cwd()
     text = text.removeprefix("\ufeff")  # a byte-order mark, as some editors write
     try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{label}: TOML syntax error: {exc}") from None
-    except RecursionError:
-        raise ScenarioError(f"{label}: arrays or tables are nested too deeply") from None
+        data = read_toml(text, label)
+    except TOMLError as exc:
+        raise ScenarioError(str(exc)) from None
     from . import tables
 
     quantities: dict = {}

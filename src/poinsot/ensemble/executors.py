@@ -81,6 +81,10 @@ def run_chunks(spec, tasks, total, chunk, absorb, *, threads=None, client=None, 
     """Run every :class:`~poinsot.ensemble.tasks.ChunkTask` of ``tasks`` (an iterator) and hand
     each output to ``absorb``. In this process, ``views(start, stop)`` (when given) says where
     a chunk writes its states in place."""
+    if client is not None and threads is not None:
+        raise ValueError("`threads` has no effect with `client`: the Dask workers run the "
+                         "chunks (give each worker its threads when starting the cluster); "
+                         "drop one of them")  # fmt: skip
     n_chunks = -(-total // chunk)
     bar = _Progress(progress, total, n_chunks)
     try:

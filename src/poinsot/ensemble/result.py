@@ -51,7 +51,6 @@ class EnsembleResult(Displayable):
     t: np.ndarray
     method: str
     final_state: np.ndarray
-    initial_state: np.ndarray
     energy_error: np.ndarray
     momentum_error: np.ndarray
     orthogonality_error: np.ndarray
@@ -78,7 +77,6 @@ class EnsembleResult(Displayable):
             t=_readonly(spec.t_eval.copy()),
             method=spec.method_name,
             final_state=np.empty((N, STATE_SIZE)),
-            initial_state=np.empty((N, STATE_SIZE)),
             energy_error=np.empty(N),
             momentum_error=np.empty(N),
             orthogonality_error=np.empty(N),
@@ -101,6 +99,7 @@ class EnsembleResult(Displayable):
             },
         )
         res._N = N
+        res._spec, res._members = spec, members  # the initial states, computed on demand
         return res
 
     def views(self, start, stop):
@@ -110,7 +109,7 @@ class EnsembleResult(Displayable):
 
         s = slice(start, stop)
         Y = None if self._states is None else self._states[s]
-        return ChunkViews(Y, self.final_state[s], self.initial_state[s])
+        return ChunkViews(Y, self.final_state[s])
 
     def absorb(self, out) -> None:
         """Copy one chunk's output into place (called as chunks finish, in any order); its
@@ -120,7 +119,6 @@ class EnsembleResult(Displayable):
             if self._states is not None:
                 self._states[s] = out.Y
             self.final_state[s] = out.final
-            self.initial_state[s] = out.Y0
         for name in ("energy", "momentum", "orthogonality"):
             getattr(self, f"{name}_error")[s] = getattr(out, name)
         self.first_flip[s] = out.first_flip
@@ -151,6 +149,40 @@ class EnsembleResult(Displayable):
             f"EnsembleResult(N={len(self)}, samples={len(self.t)}, method={self.method!r}, "
             f"succeeded={ok}/{len(self)})"
         )
+
+    #: Members whose initial states are computed at once by :meth:`initial_block`.
+    INITIAL_CHUNK = 65_536
+
+    @property
+    def initial_state(self) -> np.ndarray:
+        """Body-frame initial states (N, 18), computed from the members' inputs when asked
+        for (the run does not keep them: 144 bytes a member); :meth:`initial_block` gives one
+        quantity in less memory."""
+        return self._initial("state")
+
+    @property
+    def initial_omega(self) -> np.ndarray:
+        """Body-frame initial angular velocities (N, 3)."""
+        return self._initial("omega")
+
+    def initial_block(self, name: str) -> np.ndarray:
+        """One quantity of the initial states (``"omega"``, ``"Q"``, ``"R"``, ``"V"``): (N, 3)
+        or (N, 3, 3), computed a chunk of members at a time."""
+        if name not in STATE_SLICES:
+            raise ValueError(f"`name` must be one of {', '.join(STATE_SLICES)}, found {name!r}")
+        return self._initial(name)
+
+    def _initial(self, name):
+        from .tasks import initial_states
+
+        N, step = len(self), self.INITIAL_CHUNK
+        width = STATE_SIZE if name == "state" else STATE_SLICES[name].stop - STATE_SLICES[
+            name].start  # fmt: skip
+        out = np.empty((N, width))
+        for i0 in range(0, N, step):
+            Y0 = initial_states(self._spec, self._members.task(i0, min(i0 + step, N)))
+            out[i0 : i0 + len(Y0)] = Y0 if name == "state" else Y0[:, STATE_SLICES[name]]
+        return out.reshape(N, 3, 3) if name == "Q" else out
 
     @property
     def state(self) -> np.ndarray:
@@ -214,6 +246,13 @@ class EnsembleResult(Displayable):
         """Each member's status in words (N,)."""
         return np.array([_status_name(s, k) for s, k in zip(self.status, self.nsteps, strict=True)])
 
+    def _failures(self, failed) -> dict:
+        """``{status in words: members}`` of the members where ``failed`` (N,) is true (only
+        those are named: a message per member of a large run would take 100 bytes each)."""
+        names = [_status_name(s, k) for s, k in zip(self.status[failed], self.nsteps[failed],
+                                                      strict=True)]  # fmt: skip
+        return {str(n): int(c) for n, c in zip(*np.unique(names, return_counts=True), strict=True)}
+
     @property
     def flip_interval(self) -> np.ndarray:
         """Mean time between successive flips, ``(last − first)/(count − 1)`` (NaN with fewer
@@ -238,12 +277,19 @@ class EnsembleResult(Displayable):
         ``Rotation.mean``) and each member's angle from it, summarised."""
         from scipy.spatial.transform import Rotation
 
-        ok = self.success
-        if not ok.any():
+        ok = np.flatnonzero(self.success)
+        if not len(ok):
             return {}
-        rot = Rotation.from_matrix(self.final_Q[ok])
-        mean = rot.mean()
-        angles = (mean.inv() * rot).magnitude()
+        step = self.INITIAL_CHUNK  # matrices to quaternions a chunk at a time: 32 B a member
+        quats = np.empty((len(ok), 4))
+        for i in range(0, len(ok), step):
+            quats[i : i + step] = Rotation.from_matrix(self.final_Q[ok[i : i + step]]).as_quat()
+        mean = Rotation.from_quat(quats).mean()
+        angles = np.empty(len(ok))
+        for i in range(0, len(ok), step):
+            angles[i : i + step] = (
+                mean.inv() * Rotation.from_quat(quats[i : i + step])
+            ).magnitude()
         return {
             "mean_rotation_vector": mean.as_rotvec().tolist(),
             "angle_from_mean": _describe(angles),
@@ -260,8 +306,7 @@ class EnsembleResult(Displayable):
         from ..torquefree import FreeRigidBody
 
         t = self.t - self.options["t_span"][0]
-        W0 = self.initial_state[:, STATE_SLICES["omega"]]
-        Q0 = self._block("Q", self.initial_state)
+        W0, Q0 = self.initial_omega, self.initial_block("Q")
         omega, Q = self.omega, self.Q
         top = self.options.get("top")
         if top is not None and self.member_moments is None:
@@ -296,12 +341,7 @@ class EnsembleResult(Displayable):
         out = {
             "members": len(self),
             "succeeded": int(ok.sum()),
-            "failed": {
-                str(name): int(count)
-                for name, count in zip(
-                    *np.unique(self.messages[~ok], return_counts=True), strict=True
-                )
-            },
+            "failed": self._failures(~ok),
             "method": self.method,
             "samples": len(self.t),
             "t_span": list(self.options["t_span"]),

@@ -75,12 +75,11 @@ class ChunkTask:
 class ChunkViews:
     """Where a chunk run in this process writes its states in place (MuJoCo's ``rollout``
     style, no copy): views of the result's arrays for its members, samples ``Y``
-    (m, n, 18, or None when the states are not kept), final states and initial states
-    (m, 18), all C-contiguous."""
+    (m, n, 18, or None when the states are not kept) and final states (m, 18), all
+    C-contiguous."""
 
     Y: np.ndarray | None
     final: np.ndarray
-    Y0: np.ndarray
 
 
 @dataclass
@@ -128,6 +127,20 @@ def _native(x):
     return None if x is None else np.require(x, requirements=("C", "A"))
 
 
+def initial_states(spec: EnsembleSpec, task: ChunkTask) -> np.ndarray:
+    """The body-frame initial states (m, 18) of a chunk's members, from their inputs (the
+    core's ``initial_states``: the reference point's velocity from a pivot, and so on).
+    A chunk computes them to run; the result computes them again on demand
+    (:attr:`~poinsot.ensemble.EnsembleResult.initial_state`) instead of keeping them."""
+    from .. import _core
+
+    line = [0.0] * 3  # degenerate bodies are refused before any chunk runs
+    a = _native
+    return _core.initial_states(a(task.Q), a(task.omega), a(task.R), a(task.V),
+                                list(spec.com), list(spec.c), list(spec.pivot), spec.has_pivot,
+                                line)  # fmt: skip
+
+
 def run_chunk(
     spec: EnsembleSpec, task: ChunkTask, threads: int = 1, out: ChunkViews | None = None
 ) -> ChunkOutput:
@@ -138,15 +151,8 @@ def run_chunk(
     from .. import _core
     from ..integrate.driver import run_spec
 
-    line = [0.0] * 3  # degenerate bodies are refused before any chunk runs
     a = _native  # arrays that crossed to a Dask worker may come unaligned
-    args = (a(task.Q), a(task.omega), a(task.R), a(task.V), list(spec.com), list(spec.c),
-            list(spec.pivot), spec.has_pivot, line)  # fmt: skip
-    if out is not None:
-        _core.initial_states(*args, out=out.Y0)
-        Y0 = out.Y0
-    else:
-        Y0 = _core.initial_states(*args)
+    Y0 = initial_states(spec, task)
     if task.inertia is not None:
         bodies, axes, _ = _core.member_bodies(spec.mass, a(task.inertia), list(spec.c),
                                               spec.has_pivot)  # fmt: skip

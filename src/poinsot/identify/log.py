@@ -199,15 +199,15 @@ def load_map(path) -> LogMap:
     LogMapError
         Naming the file and the key.
     """
-    import tomllib
+    from .._io import TOMLError, read_toml
 
     path = Path(path)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        data = read_toml(path.read_text(encoding="utf-8"), str(path))
     except FileNotFoundError:
         raise LogMapError(f"{path}: no such file") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise LogMapError(f"{path}: TOML syntax error: {exc}") from None
+    except TOMLError as exc:
+        raise LogMapError(str(exc)) from None
     except UnicodeDecodeError:
         raise LogMapError(f"{path}: not a UTF-8 text file") from None
     try:

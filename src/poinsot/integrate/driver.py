@@ -53,11 +53,13 @@ class IntegrationResult:
 
 
 class IntegrationError(RuntimeError):
-    """The run stopped early; ``partial`` holds the samples computed before the failure."""
+    """The run stopped early; ``partial`` holds the samples computed before the failure;
+    ``t`` and ``y``, where known, the time and the state (the user's layout) where it
+    failed, for a front-end to say why (an input that is not finite there)."""
 
-    def __init__(self, message, partial: IntegrationResult):
+    def __init__(self, message, partial: IntegrationResult, t=None, y=None):
         super().__init__(message)
-        self.partial = partial
+        self.partial, self.t, self.y = partial, t, y
 
 
 class ODESystem:
@@ -220,6 +222,9 @@ PILOT_STEPS = 1000
 #: The result of a run is held this many times while it is handed back (the core's buffers,
 #: their copy, the front-end's conversion): the samples must fit that many times in memory.
 RESULT_COPIES = 3
+#: Samples that take less than this are not checked against the memory available (a run's
+#: start then reads no system file).
+SMALL_BYTES = 64_000_000
 
 
 def _over_budget(budget, t, t1, result) -> IntegrationError:
@@ -254,7 +259,7 @@ def _out_of_pace(state, t1, budget, since, dim, saveat, result) -> IntegrationEr
     if not len(saveat.times):
         samples = (steps + needed) / saveat.every
         need = RESULT_COPIES * samples * (dim + 1) * 8
-        free = available_memory()
+        free = available_memory() if need > SMALL_BYTES else None
         if free is not None and need > free:
             message = (
                 f"the run was stopped: {where}, and keeping {_kept(saveat.every)} "
@@ -272,7 +277,7 @@ def _check_room(samples, dim, *, t_eval) -> None:
     from .._resources import available_memory, format_bytes
 
     need = RESULT_COPIES * samples * (dim + 1) * 8
-    free = available_memory()
+    free = available_memory() if need > SMALL_BYTES else None
     if free is not None and need > free:
         knob = "fewer sample times" if t_eval else "a larger `save_every`, or `t_eval`"
         raise ValueError(
@@ -304,7 +309,7 @@ def _room_for(state, result) -> None:
 
     dim = len(state.state)
     need = RESULT_COPIES * 2 * state.capacity * (dim + 1) * 8
-    free = available_memory()
+    free = available_memory() if need > SMALL_BYTES else None
     if free is not None and need > free:
         message = (
             f"the run was stopped at t = {state.t:.9g}: its {state.stats.samples} samples would "
@@ -462,15 +467,16 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
         if status == _drv.RUNNING:
             continue
         if status == _drv.NONFINITE:
-            message = _describe_nonfinite(system.state_slices, state.t,
-                                          system.from_internal(state.state))  # fmt: skip
-            raise IntegrationError(message, result(message, False))
+            where = system.from_internal(state.state)
+            message = _describe_nonfinite(system.state_slices, state.t, where)
+            raise IntegrationError(message, result(message, False), state.t, where)
         if status == _drv.STEP_TOO_SMALL:
             message = (
                 f"the step size fell below the resolution of t = {state.t:.9g} (the problem "
                 "may be stiff or singular there, or the tolerances too tight)"
             )
-            raise IntegrationError(message, result(message, False))
+            where = system.from_internal(state.state)
+            raise IntegrationError(message, result(message, False), state.t, where)
         raise IntegrationError(f"the run stopped with status {status}", result("failed", False))
 
 

@@ -101,8 +101,43 @@ def normalize_events(events):
                 f"`events[{i}]` must be a function g(t, y) or an Event, found "
                 f"{type(g).__name__}{hint}"
             )
+        if getattr(g, "batch", None) is None:  # a user's function: its failures named
+            g = _UserEvent(g, f"events[{i}]")
         out.append((g, bool(terminal), np.sign(float(direction))))
     return out
+
+
+class EventError(ValueError):
+    """An event function raised, or gave something other than a number: the message names
+    the event and the time t, and the original exception is the cause."""
+
+
+class _UserEvent:
+    """A user's event ``g(t, y)``, its failures named: an exception is re-raised as an
+    :class:`EventError` naming the event and t (the original as its cause; an interrupt
+    passes through untouched), and a value that is not a number (NaN, text, an array of
+    several values) is refused the same way, where it gave "cannot reshape array of size 0"."""
+
+    __slots__ = ("g", "label")
+
+    def __init__(self, g, label):
+        self.g, self.label = g, label
+
+    def __call__(self, t, y):
+        try:
+            value = self.g(t, y)
+        except Exception as exc:
+            raise EventError(f"`{self.label}` raised {type(exc).__name__} at t = "
+                             f"{float(t):.17g}: {exc}") from exc  # fmt: skip
+        try:
+            x = float(value)
+        except (TypeError, ValueError):
+            raise EventError(f"`{self.label}` returned {value!r} at t = {float(t):.17g}: an "
+                             "event must return a number") from None  # fmt: skip
+        if x != x:
+            raise EventError(f"`{self.label}` returned nan at t = {float(t):.17g}: an event "
+                             "must return a number (its zeros are located)")  # fmt: skip
+        return x
 
 
 def event_items(events) -> list:

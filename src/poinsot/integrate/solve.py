@@ -115,6 +115,9 @@ def check_sampling(t_eval, t0, t1, save_every, dt):
         t_eval = as_sample_times(t_eval, t0, t1)
     if not isinstance(save_every, int | np.integer) or save_every < 1:
         raise ValueError(f"`save_every` must be a positive integer, found {save_every!r}")
+    if t_eval is not None and save_every != 1:
+        raise ValueError(f"`save_every` = {save_every} has no effect with `t_eval`: the run "
+                         "keeps the states at those times; drop one of them")  # fmt: skip
     if dt is not None:
         dt = as_positive_scalar(dt, "dt")
     return t_eval, int(save_every), dt

@@ -148,8 +148,11 @@ def input_function(inputs, system):
 
         funcs = [component(i) if f is None else f for i, f in enumerate(funcs)]
 
+    labels = [f"inputs[{str(u).replace('(t)', '')}]" for u in names]
+
     def u_of(t, q, qd):
-        return np.array([float(f(t, q, qd)) for f in funcs])
+        return np.array([_input_value(f, label, t, q, qd)
+                         for f, label in zip(funcs, labels, strict=True)])  # fmt: skip
 
     #: the values when every input is a constant (the core takes them), else None
     u_of.constant = np.array(constants) if len(constants) == len(names) else None
@@ -157,6 +160,35 @@ def input_function(inputs, system):
     #: expression (the core evaluates them), else None
     u_of.compiled = compiled
     return u_of
+
+
+class InputError(ValueError):
+    """An input of a Lagrangian system (a user's function, or an expression) raised, or gave
+    something other than a finite real number: the message names the input and the time t,
+    and the original exception is the cause."""
+
+
+def _input_value(f, label, t, q, qd) -> float:
+    """The value of the input ``label`` at ``(t, q, q̇)``: a finite real number, or an
+    :class:`InputError` naming the input, the time and what was wrong (the user's own
+    exception kept as the cause; an interrupt passes through untouched)."""
+    try:
+        value = f(t, q, qd)
+    except Exception as exc:
+        raise InputError(f"`{label}` raised {type(exc).__name__} at t = {float(t):.17g}: "
+                         f"{exc}") from exc  # fmt: skip
+    if np.iscomplexobj(value) and np.imag(value) != 0:
+        raise InputError(f"`{label}` returned the complex number {complex(value)} at t = "
+                         f"{float(t):.17g}: an input must be real")  # fmt: skip
+    try:
+        x = float(np.real(value))
+    except (TypeError, ValueError):
+        raise InputError(f"`{label}` returned {value!r} at t = {float(t):.17g}: an input must "
+                         "be a number") from None  # fmt: skip
+    if not np.isfinite(x):
+        raise InputError(f"`{label}` returned {x} at t = {float(t):.17g}: an input must be "
+                         "finite")  # fmt: skip
+    return x
 
 
 def _sympy_if_needed(values):

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import as_scalar
-from .numeric import DEFAULT_BAUMGARTE, check_settings
+from .numeric import check_settings
 
 __all__ = ["LagrangianEnsemble", "simulate_ensemble"]
 
@@ -187,7 +187,7 @@ def simulate_ensemble(
     atol=None,
     t_eval=None,
     stabilization="baumgarte",
-    baumgarte=DEFAULT_BAUMGARTE,
+    baumgarte=None,
     threads=None,
     chunk_size=None,
     tol=1e-9,

@@ -234,7 +234,7 @@ def simulate(
     atol=None,
     t_eval=None,
     stabilization="baumgarte",
-    baumgarte=DEFAULT_BAUMGARTE,
+    baumgarte=None,
     guess=None,
     inputs=None,
     events=None,
@@ -263,8 +263,9 @@ def simulate(
         ``CONSTRAINT_RESIDUAL_BOUND`` = 1e-6 times one plus the largest coordinate warns
         (:class:`ConstraintDriftWarning`), whatever the tolerances that let it drift.
     stabilization : {"baumgarte", "projection", None}
-    baumgarte : (alpha, beta)
-        Baumgarte gains in s⁻¹ (default (10, 10): critically damped).
+    baumgarte : (alpha, beta), optional
+        Baumgarte gains in s⁻¹ (default (10, 10): critically damped); refused with another
+        ``stabilization``, which does not use them.
     inputs : dict {input: value}, optional
         A value for every specified input of the system (``system.inputs``, by function or
         name): a number, a function of ``t``, or a function of ``(t, q, q̇)`` (feedback; ``q``
@@ -302,7 +303,7 @@ def simulate(
 
 
 def prepare(system, t_span, *, params=None, method="dop853", dt=None, rtol=None, atol=None,
-            t_eval=None, stabilization="baumgarte", baumgarte=DEFAULT_BAUMGARTE, inputs=None,
+            t_eval=None, stabilization="baumgarte", baumgarte=None, inputs=None,
             events=None, event_resolution=None, engine="compiled",
             max_steps=None) -> PreparedLagrangianRun:  # fmt: skip
     """Check a Lagrangian system's run and lower it for the core, once: the compiled model,
@@ -360,7 +361,11 @@ def check_settings(t_span, *, method, dt, rtol, atol, t_eval, stabilization, bau
                                     for v, d in zip((rtol, atol), DEFAULT_TOLERANCES,
                                                     strict=True)))  # fmt: skip
     budget = check_budget(solver, t0, t1, dt, max_steps)
-    gains = as_gains(baumgarte, "baumgarte")
+    if baumgarte is not None and stabilization != "baumgarte":
+        raise ValueError(f"`baumgarte` has no effect with stabilization={stabilization!r} (the "
+                         "gains are Baumgarte's stabilisation's): drop it, or use "
+                         "stabilization='baumgarte'")  # fmt: skip
+    gains = as_gains(DEFAULT_BAUMGARTE if baumgarte is None else baumgarte, "baumgarte")
     resolution = check_event_resolution(event_resolution, watched)
     times = np.linspace(t0, t1, 201) if t_eval is None else np.asarray(t_eval, float)
     return _Settings(solver, (t0, t1), times, dt, rtol, atol, budget, stabilization, gains, [],
@@ -442,7 +447,9 @@ class PreparedLagrangianRun:
                 out = integrate(ode, solver, (ta, tb), ya, t_eval=times, dt=st.dt,
                                 max_steps=st.budget, **tol)  # fmt: skip
             except IntegrationError as exc:
-                raise SimulationError(str(exc), None) from exc
+                _blame_inputs(self.u_of, exc, len(system.coordinates))
+                raise SimulationError(_at_start(exc, ta, ya, len(system.coordinates)),
+                                      None) from exc  # fmt: skip
             run.nfev += out.nfev
             run.method = out.method
             return out.y
@@ -468,6 +475,35 @@ class PreparedLagrangianRun:
         tol = (st.rtol, st.atol) if solver.adaptive else (None, None)
         warn_on_drift(solution, *tol, st.dt)
         return solution
+
+
+def _at_start(exc, t0, y0, n) -> str:
+    """The message of a run that failed: where it failed before its first step, the initial
+    state it could not leave is named (``qd0 = 1e300`` read as a singular mass matrix)."""
+    if exc.t is None or exc.t != t0:
+        return str(exc)
+    y0 = np.asarray(y0, dtype=float)
+    q, v = np.abs(y0[:n]).max(initial=0.0), np.abs(y0[n:]).max(initial=0.0)
+    return (f"{exc}; the run could not take its first step from the initial state "
+            f"(largest |q0| = {q:.3g}, largest |qd0| = {v:.3g}): check `q0`, `qd0` and "
+            "`params`")  # fmt: skip
+
+
+def _blame_inputs(u_of, exc, n) -> None:
+    """Re-raise a failed run as the :class:`~poinsot.lagrange.arguments.InputError` of an
+    input that is not a finite real number where it failed, or just after (``sqrt(2 - t)``
+    stalls the step size as t nears 2, where it stops being real: the input, not the step,
+    is the cause), when the state there is finite; else return."""
+    from .arguments import InputError
+
+    if u_of is None or exc.t is None or exc.y is None or not np.isfinite(exc.y).all():
+        return
+    y = np.asarray(exc.y, dtype=float)
+    for t in (exc.t, exc.t + 1e-6 * (1.0 + abs(exc.t))):
+        try:
+            u_of(t, y[:n], y[n:])
+        except InputError as bad:
+            raise bad from exc
 
 
 def _expression_events(events, system, params):
