@@ -518,15 +518,20 @@ pub fn dop853_step<S: VectorField + ?Sized>(
     out_f: &mut [f64],
 ) {
     let n = sys.dim();
+    let (y, ytmp) = (&y[..n], &mut ytmp[..n]);
     k[..n].copy_from_slice(&f[..n]);
     for s in 1..=DOP853_STAGES {
-        // rows 1–11: the stages; row 12: the derivative at the new point (B is row 12 of A)
-        for idx in 0..n {
-            let mut acc = 0.0;
-            for m in 0..s {
-                acc += DOP853_A[s][m] * k[m * n + idx];
+        // rows 1–11: the stages; row 12: the derivative at the new point (B is row 12 of A).
+        // Summed stage by stage over whole rows (they vectorise), each element's terms in
+        // the same order as element by element: the same numbers
+        ytmp.fill(0.0);
+        for (m, a) in DOP853_A[s][..s].iter().enumerate() {
+            for (acc, km) in ytmp.iter_mut().zip(&k[m * n..(m + 1) * n]) {
+                *acc += a * km;
             }
-            ytmp[idx] = y[idx] + h * acc;
+        }
+        for (acc, yi) in ytmp.iter_mut().zip(y) {
+            *acc = yi + h * *acc;
         }
         if s == DOP853_STAGES {
             out_y[..n].copy_from_slice(&ytmp[..n]);
@@ -572,7 +577,9 @@ pub fn dop853_error_norm(
 
 /// The coefficients `fd` (7 · n) of the 7th-order interpolant over the last step
 /// `[t_old, t_old + h]` from `y_old` to `y` (`f = ẏ` at the end): three more stages (rows
-/// 13–15 of `k`) and the dense-output matrix `D`.
+/// 13–15 of `k`) and the dense-output matrix `D`. Always inlined: the state's length is then
+/// a constant of the system, and its loops are unrolled without link-time optimisation.
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn dop853_dense<S: VectorField + ?Sized>(
     sys: &S,
@@ -590,14 +597,18 @@ pub fn dop853_dense<S: VectorField + ?Sized>(
     let (y_old, y, f, ytmp) = (&y_old[..n], &y[..n], &f[..n], &mut ytmp[..n]);
     let k = &mut k[..DOP853_STAGES_EXTENDED * n];
     let fd = &mut fd[..7 * n];
+    // the sums run stage by stage over whole rows (contiguous, so they vectorise), each
+    // element's terms added in the same order as element by element: the same numbers
     for s in DOP853_STAGES + 1..DOP853_STAGES_EXTENDED {
         let (done, next) = k.split_at_mut(s * n);
-        for idx in 0..n {
-            let mut acc = 0.0;
-            for (m, a) in DOP853_A[s][..s].iter().enumerate() {
-                acc += a * done[m * n + idx];
+        ytmp.fill(0.0);
+        for (m, a) in DOP853_A[s][..s].iter().enumerate() {
+            for (acc, km) in ytmp.iter_mut().zip(&done[m * n..(m + 1) * n]) {
+                *acc += a * km;
             }
-            ytmp[idx] = y_old[idx] + h * acc;
+        }
+        for (acc, yo) in ytmp.iter_mut().zip(y_old) {
+            *acc = yo + h * *acc;
         }
         sys.rhs(t_old + DOP853_C[s] * h, ytmp, &mut next[..n]);
     }
@@ -607,12 +618,17 @@ pub fn dop853_dense<S: VectorField + ?Sized>(
         fd[idx] = dy;
         fd[n + idx] = h * k[idx] - dy;
         fd[2 * n + idx] = 2.0 * dy - h * (f[idx] + k[idx]);
-        for (r, d) in DOP853_D.iter().enumerate() {
-            let mut acc = 0.0;
-            for (s, c) in d.iter().enumerate() {
-                acc += c * k[s * n + idx];
+    }
+    for (r, d) in DOP853_D.iter().enumerate() {
+        let row = &mut fd[(3 + r) * n..(4 + r) * n];
+        row.fill(0.0);
+        for (s, c) in d.iter().enumerate() {
+            for (acc, ks) in row.iter_mut().zip(&k[s * n..(s + 1) * n]) {
+                *acc += c * ks;
             }
-            fd[(3 + r) * n + idx] = h * acc;
+        }
+        for acc in row.iter_mut() {
+            *acc *= h;
         }
     }
 }
