@@ -94,7 +94,7 @@ def _lagrangian(case):
             return
         event("residual and energy checked")
         stabilised = kw.get("stabilization", "baumgarte") is not None
-        gains = kw.get("baumgarte", (10.0, 10.0))
+        gains = kw.get("baumgarte") or (10.0, 10.0)  # None: the default gains
         if name == "cartesian" and stabilised and min(gains) > 0:
             assert np.abs(sol.constraint_residual).max() < 1e-4
         if name == "polar" or (stabilised and min(gains) > 0):
