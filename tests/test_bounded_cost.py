@@ -147,3 +147,15 @@ def test_an_ensemble_member_stops_at_its_budget():
     assert list(res.messages) == ["stopped at `max_steps`"] * 2
     assert res.summary()["failed"] == {"stopped at `max_steps`": 2}
     assert np.isnan(res.omega).all()
+
+
+def test_a_member_that_fails_in_the_estimate_fails_alone():
+    """The estimate's short run of a member that blows up is not the run: the ensemble runs,
+    and that member alone reports its failure, as before the estimate existed."""
+    omega0 = np.array([[1e300, 1e300, 0.0], W0])
+    res = simulate_ensemble(BOX, (0, 10), omega0=omega0, method="dop853")
+    assert list(res.success) == [False, True]
+    assert res.messages[0] in ("step size too small", "non-finite state")
+    system = RigidBodySystem(BOX)
+    y0 = system.initial_state(omega0=omega0[0])
+    assert estimate_steps(system, "dop853", (0, 10), y0) == 0.0

@@ -324,7 +324,9 @@ def estimate_steps(system, method, t_span, y0, *, dt=None, rtol=None, atol=None)
     """The steps an adaptive run of ``system`` from ``y0`` over ``t_span`` would take: the
     steps of the run itself if it ends within :data:`PILOT_STEPS`, else those taken plus the
     rest of the span at the pace of the last half of them (a float; it may exceed any
-    integer). The ensembles estimate their members' cost with it before running them.
+    integer); 0 when the short run fails (a member that blows up: the run itself reports
+    it, member by member). The ensembles estimate their members' cost with it before
+    running them.
 
     >>> from poinsot import RigidBody
     >>> from poinsot.dynamics import RigidBodySystem
@@ -346,8 +348,11 @@ def estimate_steps(system, method, t_span, y0, *, dt=None, rtol=None, atol=None)
         first_step=dt,
     )
     saveat = SaveAt(np.array([t1]), 1)
-    return _integrate_native(system, cls(), t0, t1, np.asarray(y0, dtype=float), dt,
-                             controller, saveat, None, None, None, pilot=True)  # fmt: skip
+    try:
+        return _integrate_native(system, cls(), t0, t1, np.asarray(y0, dtype=float), dt,
+                                 controller, saveat, None, None, None, pilot=True)  # fmt: skip
+    except IntegrationError:
+        return 0.0
 
 
 def estimate_steps_by_spans(run_to, t0: float, t1: float) -> float:
