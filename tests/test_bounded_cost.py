@@ -98,6 +98,8 @@ def test_the_estimate_is_the_steps_the_run_takes():
     assert estimate_steps(system, "dop853", (0, 2000), y0) == pytest.approx(run.nsteps, rel=0.05)
     short = simulate(BOX, (0, 10), omega0=W0, t_eval=[10])
     assert estimate_steps(system, "dop853", (0, 10), y0) == short.nsteps  # ends in the pilot
+    with pytest.raises(ValueError, match="'rk4' is fixed-step: its steps need no estimate"):
+        estimate_steps(system, "rk4", (0, 10), y0, dt=0.1)
 
 
 def test_the_estimate_by_spans_of_a_steady_pace():

@@ -285,13 +285,12 @@ def _check_members_budget(spec, system, members) -> None:
     of the first member and of the fastest spinning one, each estimated from its own first
     steps (:func:`~poinsot.integrate.driver.estimate_steps`, on the shared body), before any
     chunk runs."""
-    from ..integrate.driver import estimate_steps
+    from ..integrate.driver import estimate_steps, pilot_members
 
     c = spec.controller
     with np.errstate(over="ignore", invalid="ignore"):
         rates = np.linalg.norm(members.omega, axis=1)
-    fastest = int(np.argmax(np.where(np.isfinite(rates), rates, -1.0)))
-    for i in dict.fromkeys((0, fastest)):
+    for i in pilot_members(rates):
         row = {k: None if len(a) == 0 else a[0 if len(a) == 1 else i]
                for k, a in (("Q0", members.Q), ("R0", members.R), ("V0", members.V))}  # fmt: skip
         y0 = system.initial_state(omega0=members.omega[i], **row)

@@ -236,12 +236,23 @@ def _over_budget(budget, t, t1, result) -> IntegrationError:
     return IntegrationError(message, result(message, False))
 
 
+def _short_of_memory(samples, dim) -> tuple[str, str] | None:
+    """``(needed, available)`` in words when ``samples`` states of ``dim`` numbers, held
+    :data:`RESULT_COPIES` times, would not fit in the memory available; None when they fit
+    (or take under :data:`SMALL_BYTES`: no system file is read then)."""
+    from .._resources import available_memory, format_bytes
+
+    need = RESULT_COPIES * samples * (dim + 1) * 8
+    free = available_memory() if need > SMALL_BYTES else None
+    if free is None or need <= free:
+        return None
+    return format_bytes(need), format_bytes(free)
+
+
 def _out_of_pace(state, t1, budget, since, dim, saveat, result) -> IntegrationError | None:
     """The error of an adaptive run that, at the pace of its steps since ``since`` ``(t,
     steps)``, cannot reach ``t1`` within its step budget, or whose samples (one per
     ``saveat.every`` steps, without ``t_eval``) would not fit in memory; None if it can."""
-    from .._resources import available_memory, format_bytes
-
     t, steps = state.t, state.stats.steps
     needed, pace, taken = _pace(state, t1, since)
     if not math.isfinite(pace):
@@ -258,14 +269,13 @@ def _out_of_pace(state, t1, budget, since, dim, saveat, result) -> IntegrationEr
         return IntegrationError(message, result(message, False))
     if not len(saveat.times):
         samples = (steps + needed) / saveat.every
-        need = RESULT_COPIES * samples * (dim + 1) * 8
-        free = available_memory() if need > SMALL_BYTES else None
-        if free is not None and need > free:
+        short = _short_of_memory(samples, dim)
+        if short is not None:
             message = (
                 f"the run was stopped: {where}, and keeping {_kept(saveat.every)} "
-                f"({samples:.3g} samples) would take about {format_bytes(need)}; "
-                f"{format_bytes(free)} of memory is available (raise `save_every`, or ask "
-                "for samples at chosen times with `t_eval`)"
+                f"({samples:.3g} samples) would take about {short[0]}; {short[1]} of memory "
+                "is available (raise `save_every`, or ask for samples at chosen times with "
+                "`t_eval`)"
             )
             return IntegrationError(message, result(message, False))
     return None
@@ -274,16 +284,12 @@ def _out_of_pace(state, t1, budget, since, dim, saveat, result) -> IntegrationEr
 def _check_room(samples, dim, *, t_eval) -> None:
     """Refuse, before any step, a run whose ``samples`` states of ``dim`` numbers would not
     fit in the memory available (a fixed-step run keeps every ``save_every``-th step)."""
-    from .._resources import available_memory, format_bytes
-
-    need = RESULT_COPIES * samples * (dim + 1) * 8
-    free = available_memory() if need > SMALL_BYTES else None
-    if free is not None and need > free:
+    short = _short_of_memory(samples, dim)
+    if short is not None:
         knob = "fewer sample times" if t_eval else "a larger `save_every`, or `t_eval`"
         raise ValueError(
-            f"the run would keep {samples} samples of {dim} numbers, about "
-            f"{format_bytes(need)} with the result's copies; {format_bytes(free)} of memory "
-            f"is available (ask for {knob})"
+            f"the run would keep {samples} samples of {dim} numbers, about {short[0]} with "
+            f"the result's copies; {short[1]} of memory is available (ask for {knob})"
         )
 
 
@@ -305,16 +311,12 @@ def _kept(every: int) -> str:
 def _room_for(state, result) -> None:
     """Double the room for samples, or stop the run with a clear error when the doubled
     samples would not fit in the memory available (never a ``MemoryError`` from deep inside)."""
-    from .._resources import available_memory, format_bytes
-
-    dim = len(state.state)
-    need = RESULT_COPIES * 2 * state.capacity * (dim + 1) * 8
-    free = available_memory() if need > SMALL_BYTES else None
-    if free is not None and need > free:
+    short = _short_of_memory(2 * state.capacity, len(state.state))
+    if short is not None:
         message = (
             f"the run was stopped at t = {state.t:.9g}: its {state.stats.samples} samples would "
-            f"need {format_bytes(need)} to grow, and {format_bytes(free)} of memory is "
-            "available (raise `save_every`, or ask for samples at chosen times with `t_eval`)"
+            f"need {short[0]} to grow, and {short[1]} of memory is available (raise "
+            "`save_every`, or ask for samples at chosen times with `t_eval`)"
         )
         raise IntegrationError(message, result(message, False))
     state.grow()
@@ -323,8 +325,8 @@ def _room_for(state, result) -> None:
 def estimate_steps(system, method, t_span, y0, *, dt=None, rtol=None, atol=None) -> float:
     """The steps an adaptive run of ``system`` from ``y0`` over ``t_span`` would take: the
     steps of the run itself if it ends within :data:`PILOT_STEPS`, else those taken plus the
-    rest of the span at the pace of the last half of them (a float; it may exceed any
-    integer); 0 when the short run fails (a member that blows up: the run itself reports
+    rest of the span at their mean pace (a float; it may exceed any integer); 0 when the
+    short run fails (a member that blows up: the run itself reports
     it, member by member). The ensembles estimate their members' cost with it before
     running them.
 
@@ -339,9 +341,9 @@ def estimate_steps(system, method, t_span, y0, *, dt=None, rtol=None, atol=None)
     from .dop853 import DEFAULT_ATOL, DEFAULT_RTOL
 
     cls = get_solver(method)
+    if not cls.adaptive:  # a fixed-step run's count is exact: integrate.solve.check_budget
+        raise ValueError(f"`method` {cls.name!r} is fixed-step: its steps need no estimate")
     t0, t1 = float(t_span[0]), float(t_span[1])
-    if not cls.adaptive:
-        return math.ceil((t1 - t0) / dt)
     controller = StepSizeController(
         DEFAULT_RTOL if rtol is None else rtol,
         DEFAULT_ATOL if atol is None else atol,
@@ -506,3 +508,14 @@ def run_spec(kind, *, t_end, dt=None, data=None, controller=None, t_eval=None,
                        max_factor=c.max_factor, max_step=c.max_step,
                        first_step=c.first_step or 0.0)  # fmt: skip
     return _core.RunSpec(kind, **options)
+
+
+def pilot_members(speeds) -> tuple[int, ...]:
+    """The members of an ensemble whose steps are estimated before it runs: the first, and
+    the fastest (the largest of ``speeds`` (N,), |ω₀| or |q̇₀|; non-finite ones ignored).
+
+    >>> pilot_members([1.0, 3.0, float("inf")]), pilot_members([2.0, 1.0])
+    ((0, 1), (0,))
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    return tuple(dict.fromkeys((0, int(np.argmax(np.where(np.isfinite(speeds), speeds, -1.0))))))

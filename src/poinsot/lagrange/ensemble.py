@@ -327,14 +327,13 @@ def _check_members_budget(engine, control, st, P, U, Z0, gains, projection, syst
     steps of the first member and of the fastest moving one (largest |q̇₀|), each estimated
     from its own short runs (:func:`~poinsot.integrate.driver.estimate_steps_by_spans`)."""
     from .. import _core
-    from ..integrate.driver import estimate_steps_by_spans, run_spec
+    from ..integrate.driver import estimate_steps_by_spans, pilot_members, run_spec
     from ..integrate.solve import StepBudgetError
 
     (t0, t1), n = st.t_span, len(system.coordinates)
     with np.errstate(over="ignore", invalid="ignore"):
         speed = np.linalg.norm(Z0[:, n:], axis=1)
-    fastest = int(np.argmax(np.where(np.isfinite(speed), speed, -1.0)))
-    for i in dict.fromkeys((0, fastest)):
+    for i in pilot_members(speed):
 
         def run_to(t, cap, i=i):
             pilot = run_spec(st.solver.kind, t_end=t, controller=control, t_eval=[t],
