@@ -104,8 +104,11 @@ def _nevers() -> list[Never]:
         out.append(Never(c["name"], strip(c["source_modules"]), strip(c["forbidden_modules"]),
                          ignored))  # fmt: skip
     for name, rule in config["tool"]["poinsot"]["nevers"].items():
-        out.append(Never(name, frozenset(rule["source"]), frozenset(rule["forbidden"]),
-                         frozenset()))  # fmt: skip
+        sources = set(rule["source"])
+        if "*" in sources:  # every child of the container, less those excepted
+            sources = (sources - {"*"}) | set(LAYER_OF)
+        sources -= set(rule.get("except", ()))
+        out.append(Never(name, frozenset(sources), frozenset(rule["forbidden"]), frozenset()))
     return out
 
 
@@ -224,6 +227,78 @@ def test_the_nevers_catch_the_breaks_they_name(tmp_path):
     assert "app/runs.py:1 imports poinsot._core: app or viz -> the bindings" in found
     assert "app/runs.py:2 imports poinsot.integrate.x: Never: app -> the integrators" in found
     assert "viz/report.py:1 imports poinsot._core.equivalent_box" in found
+
+
+def test_the_library_reaches_the_bindings_only_through_their_facades(tmp_path):
+    """The never that keeps a binding's name in one place is not vacuous: a library module
+    importing ``poinsot._core`` (as a module, or a name from it) is caught, and a facade is
+    not."""
+    package = tmp_path / CONTAINER
+    (package / "_bindings").mkdir(parents=True)
+    for path in (package / "__init__.py", package / "_bindings" / "__init__.py"):
+        path.write_text("")
+    (package / "bodies.py").write_text("from . import _core\nfrom ._core import box_inertia\n")
+    (package / "_bindings" / "inertia.py").write_text("from .._core import box_inertia\n")
+    found = "\n".join(_forbidden_imports(package))
+    never = "the library -> the bindings, past their facades"
+    assert f"bodies.py:1 imports poinsot._core: {never}" in found
+    assert f"bodies.py:2 imports poinsot._core.box_inertia: {never}" in found
+    assert "_bindings" not in found
+
+
+def _facade_names() -> dict[str, list[str]]:
+    """``{facade module: the bindings it names}``: every ``from .._core import ...`` of the
+    ``_bindings`` modules and every ``_core.NAME`` that ``layout.py`` reads."""
+    names = {}
+    for path in sorted((PACKAGE / "_bindings").glob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        names[f"_bindings.{path.stem}"] = [
+            alias.name
+            for node in ast.walk(tree)
+            if isinstance(node, ast.ImportFrom) and node.module == "_core"
+            for alias in node.names
+        ]
+    tree = ast.parse(LAYOUT.read_text(encoding="utf-8"))
+    names["layout"] = sorted(
+        {
+            node.attr
+            for node in ast.walk(tree)
+            if isinstance(node, ast.Attribute) and getattr(node.value, "id", "") == "_core"
+        }
+    )
+    return names
+
+
+def test_every_binding_has_exactly_one_facade():
+    """The facades partition the bindings by concept: each name of ``poinsot._core`` is named
+    by exactly one facade (so a new binding must be given a concept), and each facade names
+    only bindings that exist."""
+    from poinsot import _core
+
+    bindings = {name for name in dir(_core) if not name.startswith("__")}
+    owners: dict[str, list[str]] = {}
+    for facade, names in _facade_names().items():
+        for name in names:
+            assert name in bindings, f"{facade} names {name}, which poinsot._core lacks"
+            owners.setdefault(name, []).append(facade)
+    twice = {name: where for name, where in owners.items() if len(where) > 1}
+    assert not twice, f"named by two facades: {twice}"
+    assert not sorted(bindings - set(owners)), "bindings with no facade (give each a concept)"
+
+
+def test_the_facades_hold_no_code():
+    """A facade module is thin: a docstring, the import of its bindings, and ``__all__``,
+    which lists exactly what it imports."""
+    for path in sorted((PACKAGE / "_bindings").glob("*.py")):
+        body = ast.parse(path.read_text(encoding="utf-8")).body
+        kinds = [type(node).__name__ for node in body]
+        if path.stem == "__init__":
+            assert kinds == ["Expr"], f"{path.name}: {kinds}"
+            continue
+        assert kinds == ["Expr", "ImportFrom", "Assign"], f"{path.name}: {kinds}"
+        imported = [alias.name for alias in body[1].names]
+        listed = ast.literal_eval(body[2].value)
+        assert sorted(listed) == sorted(set(imported)), f"{path.name}: __all__"
 
 
 def test_the_only_import_by_name_is_the_display_backend():

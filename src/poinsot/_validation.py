@@ -222,7 +222,7 @@ def as_rotation_matrix(value, name: str) -> np.ndarray:
                 f"`{name}` is not a rotation: the quaternion {_QUAT_ORDER[True]} has norm "
                 f"{norm:.9g}, not 1"
             )
-        from ._core import quat_to_matrix
+        from ._bindings.rotations import quat_to_matrix
 
         return quat_to_matrix(arr / norm)
     orth = float(np.max(np.abs(arr.T @ arr - np.eye(3))))
@@ -285,7 +285,7 @@ def as_rotation_matrices(value, name: str, n: int | None = None) -> np.ndarray:
                 f"`{name}[{i}]` is not a rotation: the quaternion {_QUAT_ORDER[True]} has norm "
                 f"{norms[i]:.9g}, not 1"
             )
-        from ._core import quat_to_matrix
+        from ._bindings.rotations import quat_to_matrix
 
         return quat_to_matrix(arr / norms[:, None])
     orth = np.abs(np.einsum("nki,nkj->nij", arr, arr) - np.eye(3)).max(axis=(1, 2))

@@ -15,7 +15,7 @@ from functools import cached_property
 
 import numpy as np
 
-from . import _core
+from ._bindings import inertia as core_inertia
 from ._validation import (
     as_array,
     as_positive_array,
@@ -31,8 +31,8 @@ __all__ = ["SYMMETRY_CLASSES", "RigidBody", "UnphysicalInertiaWarning"]
 DEFAULT_RTOL = 1e-9
 #: Two principal moments closer than this, relative to the largest, are equal (one tolerance for
 #: every class: ``crates/core/src/inertia.rs``).
-SYMMETRY_RTOL = _core.SYMMETRY_RTOL
-SYMMETRY_CLASSES = _core.SYMMETRY_CLASSES
+SYMMETRY_RTOL = core_inertia.SYMMETRY_RTOL
+SYMMETRY_CLASSES = core_inertia.SYMMETRY_CLASSES
 
 
 class UnphysicalInertiaWarning(UserWarning):
@@ -71,7 +71,7 @@ def check_inertia(J, name: str = "inertia", *, rtol: float = DEFAULT_RTOL,
     array([2., 3., 4.])
     """
     J = np.asarray(J, dtype=float)
-    codes, moments, asym, line = _core.check_inertia(J, float(rtol))
+    codes, moments, asym, line = core_inertia.check_inertia(J, float(rtol))
     codes, moments = np.atleast_1d(codes), moments.reshape(-1, 3)
     asym, line = np.atleast_1d(asym), np.atleast_1d(line)
     for i in np.flatnonzero(codes):
@@ -190,14 +190,14 @@ class RigidBody:
                 f"`masses` and `positions` must have the same length, found {len(m)} and {len(r)}"
             )
         with np.errstate(over="ignore", invalid="ignore"):  # overflow is refused by _build
-            com = _core.center_of_mass(m, r)
+            com = core_inertia.center_of_mass(m, r)
             u = r - com
-            return cls._build(m.sum(), _core.particle_inertia(m, u), com, m, u)
+            return cls._build(m.sum(), core_inertia.particle_inertia(m, u), com, m, u)
 
     @classmethod
     def _primitive(cls, mass, inertia_local, position, orientation) -> RigidBody:
         pos, rot = _placement(position, orientation)
-        return cls._build(mass, _core.rotate_inertia(inertia_local, rot), pos)
+        return cls._build(mass, core_inertia.rotate_inertia(inertia_local, rot), pos)
 
     @classmethod
     def box(cls, mass, size, *, position=None, orientation=None) -> RigidBody:
@@ -212,21 +212,21 @@ class RigidBody:
         """
         m = as_positive_scalar(mass, "mass")
         size = as_positive_array(size, "size", (3,))
-        return cls._primitive(m, _core.box_inertia(m, size), position, orientation)
+        return cls._primitive(m, core_inertia.box_inertia(m, size), position, orientation)
 
     @classmethod
     def sphere(cls, mass, radius, *, position=None, orientation=None) -> RigidBody:
         """Uniform solid sphere: ``A = 2/5 M r² 𝟙``."""
         m = as_positive_scalar(mass, "mass")
         r = as_positive_scalar(radius, "radius")
-        return cls._primitive(m, _core.sphere_inertia(m, r), position, orientation)
+        return cls._primitive(m, core_inertia.sphere_inertia(m, r), position, orientation)
 
     @classmethod
     def spherical_shell(cls, mass, radius, *, position=None, orientation=None) -> RigidBody:
         """Thin uniform spherical shell: ``A = 2/3 M r² 𝟙``."""
         m = as_positive_scalar(mass, "mass")
         r = as_positive_scalar(radius, "radius")
-        return cls._primitive(m, _core.spherical_shell_inertia(m, r), position, orientation)
+        return cls._primitive(m, core_inertia.spherical_shell_inertia(m, r), position, orientation)
 
     @classmethod
     def cylinder(cls, mass, radius, height, *, position=None, orientation=None) -> RigidBody:
@@ -234,21 +234,21 @@ class RigidBody:
         m = as_positive_scalar(mass, "mass")
         r = as_positive_scalar(radius, "radius")
         h = as_positive_scalar(height, "height")
-        return cls._primitive(m, _core.cylinder_inertia(m, r, h), position, orientation)
+        return cls._primitive(m, core_inertia.cylinder_inertia(m, r, h), position, orientation)
 
     @classmethod
     def ellipsoid(cls, mass, semi_axes, *, position=None, orientation=None) -> RigidBody:
         """Uniform solid ellipsoid with semi-axes ``(a, b, c)`` along x, y, z."""
         m = as_positive_scalar(mass, "mass")
         ax = as_positive_array(semi_axes, "semi_axes", (3,))
-        return cls._primitive(m, _core.ellipsoid_inertia(m, ax), position, orientation)
+        return cls._primitive(m, core_inertia.ellipsoid_inertia(m, ax), position, orientation)
 
     @classmethod
     def rod(cls, mass, length, *, position=None, orientation=None) -> RigidBody:
         """Thin uniform rod along z: the degenerate (collinear) body, ``I1 = 0``."""
         m = as_positive_scalar(mass, "mass")
         length = as_positive_scalar(length, "length")
-        return cls._primitive(m, _core.rod_inertia(m, length), position, orientation)
+        return cls._primitive(m, core_inertia.rod_inertia(m, length), position, orientation)
 
     @classmethod
     def cone(cls, mass, radius, height, *, position=None, orientation=None) -> RigidBody:
@@ -256,7 +256,7 @@ class RigidBody:
         m = as_positive_scalar(mass, "mass")
         r = as_positive_scalar(radius, "radius")
         h = as_positive_scalar(height, "height")
-        return cls._primitive(m, _core.cone_inertia(m, r, h), position, orientation)
+        return cls._primitive(m, core_inertia.cone_inertia(m, r, h), position, orientation)
 
     @classmethod
     def from_mesh(cls, mesh, *, mass=None, density=None) -> RigidBody:
@@ -305,8 +305,10 @@ class RigidBody:
             raise ValueError("`parts` must contain at least one body or particle")
         masses = np.array([b.mass for b in bodies])
         coms = np.array([b.center_of_mass for b in bodies])
-        com = _core.center_of_mass(masses, coms)
-        total = sum(_core.parallel_axis(b.inertia, b.mass, b.center_of_mass - com) for b in bodies)
+        com = core_inertia.center_of_mass(masses, coms)
+        total = sum(
+            core_inertia.parallel_axis(b.inertia, b.mass, b.center_of_mass - com) for b in bodies
+        )
         if all(b.has_particles for b in bodies):
             pm = np.concatenate([b.particle_masses for b in bodies])
             pos = np.concatenate([b.particle_positions for b in bodies])
@@ -323,7 +325,7 @@ class RigidBody:
         offsets = None if self._particle_offsets is None else self._particle_offsets @ rot.T
         return type(self)._build(
             self._mass,
-            _core.rotate_inertia(self._inertia, rot),
+            core_inertia.rotate_inertia(self._inertia, rot),
             pos,
             self._particle_masses,
             offsets,
@@ -348,11 +350,11 @@ class RigidBody:
     def inertia_about(self, point) -> np.ndarray:
         """Inertia (3, 3) about ``point`` (3,), by the parallel-axis theorem."""
         p = as_vector3(point, "point")
-        return _core.parallel_axis(self._inertia, self._mass, p - self._com)
+        return core_inertia.parallel_axis(self._inertia, self._mass, p - self._com)
 
     @cached_property
     def _principal(self) -> tuple[np.ndarray, np.ndarray]:
-        moments, axes = _core.principal_decomposition(self._inertia)
+        moments, axes = core_inertia.principal_decomposition(self._inertia)
         return _readonly(moments), _readonly(axes)
 
     @property
@@ -383,7 +385,7 @@ class RigidBody:
     @property
     def planar_inertia(self) -> np.ndarray:
         """Planar inertia tensor ``J' = Σ m ρρᵀ = ½ tr(J) 𝟙 − J`` (paper eqs (3)–(4))."""
-        return _readonly(_core.planar_inertia(self._inertia))
+        return _readonly(core_inertia.planar_inertia(self._inertia))
 
     @property
     def equivalent_box_half_extents(self) -> np.ndarray:
@@ -394,18 +396,22 @@ class RigidBody:
         >>> RigidBody.box(12.0, (2.0, 4.0, 6.0)).equivalent_box_half_extents
         array([3., 2., 1.])
         """
-        return _readonly(_core.equivalent_box_half_extents(self.principal_moments, self._mass))
+        return _readonly(
+            core_inertia.equivalent_box_half_extents(self.principal_moments, self._mass)
+        )
 
     @property
     def is_degenerate(self) -> bool:
         """True when ``A`` is singular (I1 ≈ 0): all the mass lies on one line."""
-        return bool(_core.is_degenerate(self.principal_moments, _core.DEGENERATE_RTOL))
+        return bool(
+            core_inertia.is_degenerate(self.principal_moments, core_inertia.DEGENERATE_RTOL)
+        )
 
     def classify_symmetry(self, rtol: float = SYMMETRY_RTOL) -> str:
         """``"spherical"`` (I1 = I3), ``"oblate"`` (I1 = I2 < I3), ``"prolate"`` (I1 < I2 = I3)
         or ``"asymmetric"``, with moments equal when they differ by ≤ ``rtol · I3``
         (``symmetry_code`` of ``crates/core/src/inertia.rs``)."""
-        return SYMMETRY_CLASSES[_core.symmetry_code(self.principal_moments, float(rtol))]
+        return SYMMETRY_CLASSES[core_inertia.symmetry_code(self.principal_moments, float(rtol))]
 
     @property
     def symmetry(self) -> str:

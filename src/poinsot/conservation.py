@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _core
+from ._bindings import invariants as core_invariants
 
 __all__ = [
     "Invariant",
@@ -51,12 +51,12 @@ def _c(a):
 
 def _momentum_com(A, Q, w):
     """``Q A ω`` per sample (n, 3): the angular momentum about the centre of mass, space frame."""
-    return _core.angular_momenta(_c(A), _c(w).reshape(-1, 3), _c(Q).reshape(-1, 3, 3))
+    return core_invariants.angular_momenta(_c(A), _c(w).reshape(-1, 3), _c(Q).reshape(-1, 3, 3))
 
 
 def _momentum(A, M, R, V, Q, w):
     """``Q A ω + M R × V`` per sample (n, 3), eq. (03)."""
-    return _core.angular_momenta(
+    return core_invariants.angular_momenta(
         _c(A), _c(w).reshape(-1, 3), _c(Q).reshape(-1, 3, 3), float(M),
         _c(R).reshape(-1, 3), _c(V).reshape(-1, 3),
     )  # fmt: skip
@@ -72,7 +72,9 @@ def rotational_energy(inertia, omega) -> np.ndarray:
     3.0
     """
     w = np.asarray(omega, dtype=float)
-    return _core.rotational_energies(_c(inertia), _c(w).reshape(-1, 3)).reshape(w.shape[:-1])
+    return core_invariants.rotational_energies(_c(inertia), _c(w).reshape(-1, 3)).reshape(
+        w.shape[:-1]
+    )
 
 
 def angular_momentum_body(inertia, omega) -> np.ndarray:
@@ -85,7 +87,7 @@ def angular_momentum_body(inertia, omega) -> np.ndarray:
     [1.0, 2.0, 3.0]
     """
     w = np.asarray(omega, dtype=float)
-    return _core.angular_momenta(_c(inertia), _c(w).reshape(-1, 3)).reshape(w.shape)
+    return core_invariants.angular_momenta(_c(inertia), _c(w).reshape(-1, 3)).reshape(w.shape)
 
 
 def orthogonality_error(Q) -> np.ndarray:
@@ -97,7 +99,7 @@ def orthogonality_error(Q) -> np.ndarray:
     0.0
     """
     Q = np.asarray(Q, dtype=float)
-    return _core.orthogonality_errors(_c(Q).reshape(-1, 3, 3)).reshape(Q.shape[:-2])
+    return core_invariants.orthogonality_errors(_c(Q).reshape(-1, 3, 3)).reshape(Q.shape[:-2])
 
 
 _rotational_energy = rotational_energy
@@ -190,13 +192,91 @@ def _norm_scale(v0):
 def _symmetry_axis(system):
     """The body-frame unit axis ``e₃`` of a symmetric top about the pivot (two equal moments
     about the pivot and the centre of mass on the third axis), or None."""
-    axis = _core.symmetric_top_axis(  # the one criterion of a symmetric top (tops.rs)
+    axis = core_invariants.symmetric_top_axis(  # the one criterion of a symmetric top (tops.rs)
         [float(x) for x in system.principal_moments],
         np.asarray(system.principal_axes, float).tolist(),
         [float(x) for x in system.c],
         TOP_RTOL,
     )
     return None if axis is None else np.array(axis)
+
+
+#: The name and SI unit of each quantity :func:`invariants_of` can report, by symbol.
+_QUANTITIES = {
+    "E": ("total energy", "J"),
+    "L_G": ("angular momentum about the centre of mass (space frame)", "kg·m²/s"),
+    "|L_G|": ("|angular momentum| about the centre of mass", "kg·m²/s"),
+    "K_rot": ("rotational energy ½ ω·Aω", "J"),
+    "p": ("linear momentum M Ṙ", "kg·m/s"),
+    "L_P": ("angular momentum about the pivot (space frame)", "kg·m²/s"),
+    "L_P·ĝ": ("angular momentum about the pivot · vertical", "kg·m²/s"),
+    "L_P·e₃": ("angular momentum about the pivot · symmetry axis", "kg·m²/s"),
+    "L_O": ("angular momentum about the attracting centre (orbit + spin)", "kg·m²/s"),
+}
+
+
+def _invariant(symbol, values, conserved, reason, scale) -> Invariant:
+    """The :class:`Invariant` ``symbol``, its name and unit taken from :data:`_QUANTITIES`."""
+    name, unit = _QUANTITIES[symbol]
+    return Invariant(name, symbol, unit, values, conserved, reason, scale)
+
+
+def _energy(traj, conservative) -> Invariant:
+    """The total energy, conserved when every force is conservative."""
+    E = np.asarray(traj.total_energy)
+    return _invariant(
+        "E",
+        E,
+        conservative,
+        "every force has a potential and none dissipates"
+        if conservative
+        else "a force does work that no potential accounts for (drag, a torque, damping)",
+        float(abs(E[0])) or float(np.abs(traj.kinetic_energy).max()),
+    )
+
+
+def _about_com(motion, E, uniform, free) -> list[Invariant]:
+    """What no torque about the centre of mass conserves: ``L_G``, ``|L_G|``, ``K_rot`` and,
+    for a ``free`` body with no force, the linear momentum ``p``."""
+    A, M, R, V, Q, w = motion
+    L = _momentum_com(A, Q, w)
+    why = "no force has a torque about the centre of mass" + (
+        " (uniform gravity acts at it)" if uniform else ""
+    )
+    scale = _norm_scale(L[0])
+    k = _rotational_energy(A, w)
+    out = [
+        _invariant("L_G", L, True, why, scale),
+        _invariant("|L_G|", _row_norms(L), True, why, scale),
+        _invariant("K_rot", k, True, why, float(k[0]) or float(np.abs(E[0])) or 1.0),
+    ]
+    if free:
+        P = M * V
+        scale = _norm_scale(P[0]) or M * float(np.abs(R).max() or 1.0)
+        out.append(_invariant("p", P, True, "no force acts", scale))
+    return out
+
+
+def _about_pivot(traj, motion, g, uniform) -> list[Invariant]:
+    """The momenta about a fixed pivot with no force or uniform gravity ``g`` only."""
+    A, M, R, V, Q, w = motion
+    system = traj.system
+    point = system.pivot_point(traj.state[0])
+    L = _momentum(A, M, R - point, V, Q, w)
+    scale = _norm_scale(L[0])
+    if not uniform or not np.any(g):
+        why = "no force acts; the pivot's reaction has no moment about it"
+        return [_invariant("L_P", L, True, why, scale)]
+    down = g / np.linalg.norm(g)
+    why = "gravity's torque about the pivot is horizontal"
+    out = [_invariant("L_P·ĝ", L @ down, True, why, scale)]
+    axis = _symmetry_axis(system)
+    if axis is not None:
+        Lb = np.einsum("nji,nj->ni", Q, L)  # body components Qᵀ L_P
+        why = "symmetric top: gravity's torque about the pivot is perpendicular to e₃"
+        out.append(_invariant("L_P·e₃", Lb @ axis, True, why, scale))
+    out.append(_invariant("L_P", L, False, "gravity has a torque about the pivot", scale))
+    return out
 
 
 def invariants_of(traj) -> list[Invariant]:
@@ -229,164 +309,26 @@ def invariants_of(traj) -> list[Invariant]:
     A = np.asarray(traj.body.inertia, float)
     M = float(traj.body.mass)
     R, V, Q, w = (np.ascontiguousarray(a) for a in (traj.R, traj.V, traj.Q, traj.omega))
-    out = []
-    conservative = system.conservative
-    E = np.asarray(traj.total_energy)
-    out.append(
-        Invariant(
-            "total energy",
-            "E",
-            "J",
-            E,
-            conservative,
-            "every force has a potential and none dissipates"
-            if conservative
-            else "a force does work that no potential accounts for (drag, a torque, damping)",
-            float(abs(E[0])) or float(np.abs(traj.kinetic_energy).max()),
-        )
-    )
+    motion = (A, M, R, V, Q, w)
+    energy = _energy(traj, system.conservative)
     uniform = [f for f in forces if isinstance(f, Gravity)]
     only_gravity = len(uniform) == len(forces)
     g = sum((f.g for f in uniform), np.zeros(3))
     pivot = system.pivot
     at_com = pivot is None or not np.any(system.c)
     if only_gravity and at_com:  # no torque about the centre of mass
-        L = _momentum_com(A, Q, w)
-        why = "no force has a torque about the centre of mass" + (
-            " (uniform gravity acts at it)" if uniform else ""
-        )
-        scale = _norm_scale(L[0])
-        out.append(
-            Invariant(
-                "angular momentum about the centre of mass (space frame)",
-                "L_G",
-                "kg·m²/s",
-                L,
-                True,
-                why,
-                scale,
-            )
-        )
-        out.append(
-            Invariant(
-                "|angular momentum| about the centre of mass",
-                "|L_G|",
-                "kg·m²/s",
-                _row_norms(L),
-                True,
-                why,
-                scale,
-            )
-        )
-        k = _rotational_energy(A, w)
-        out.append(
-            Invariant(
-                "rotational energy ½ ω·Aω",
-                "K_rot",
-                "J",
-                k,
-                True,
-                why,
-                float(k[0]) or float(np.abs(E[0])) or 1.0,
-            )
-        )
-        if pivot is None and not forces:
-            P = M * V
-            out.append(
-                Invariant(
-                    "linear momentum M Ṙ",
-                    "p",
-                    "kg·m/s",
-                    P,
-                    True,
-                    "no force acts",
-                    _norm_scale(P[0]) or M * float(np.abs(R).max() or 1.0),
-                )
-            )
-        return out
+        free = pivot is None and not forces
+        return [energy, *_about_com(motion, energy.values, bool(uniform), free)]
     if pivot is not None and only_gravity:
-        point = system.pivot_point(traj.state[0])
-        L = _momentum(A, M, R - point, V, Q, w)
-        scale = _norm_scale(L[0])
-        if not uniform or not np.any(g):
-            out.append(
-                Invariant(
-                    "angular momentum about the pivot (space frame)",
-                    "L_P",
-                    "kg·m²/s",
-                    L,
-                    True,
-                    "no force acts; the pivot's reaction has no moment about it",
-                    scale,
-                )
-            )
-            return out
-        down = g / np.linalg.norm(g)
-        out.append(
-            Invariant(
-                "angular momentum about the pivot · vertical",
-                "L_P·ĝ",
-                "kg·m²/s",
-                L @ down,
-                True,
-                "gravity's torque about the pivot is horizontal",
-                scale,
-            )
-        )
-        axis = _symmetry_axis(system)
-        if axis is not None:
-            Lb = np.einsum("nji,nj->ni", Q, L)  # body components Qᵀ L_P
-            out.append(
-                Invariant(
-                    "angular momentum about the pivot · symmetry axis",
-                    "L_P·e₃",
-                    "kg·m²/s",
-                    Lb @ axis,
-                    True,
-                    "symmetric top: gravity's torque about the pivot is perpendicular to e₃",
-                    scale,
-                )
-            )
-        out.append(
-            Invariant(
-                "angular momentum about the pivot (space frame)",
-                "L_P",
-                "kg·m²/s",
-                L,
-                False,
-                "gravity has a torque about the pivot",
-                scale,
-            )
-        )
-        return out
+        return [energy, *_about_pivot(traj, motion, g, bool(uniform))]
     central = [f for f in forces if isinstance(f, CentralGravity)]
     if pivot is None and forces and len(central) == len(forces):
         centres = {tuple(f.center) for f in central}
         if len(centres) == 1:
             point = np.array(next(iter(centres)))
             L = _momentum(A, M, R - point, V, Q, w)
-            out.append(
-                Invariant(
-                    "angular momentum about the attracting centre (orbit + spin)",
-                    "L_O",
-                    "kg·m²/s",
-                    L,
-                    True,
-                    "the potential is invariant under rotations about the centre",
-                    _norm_scale(L[0]),
-                )
-            )
-            return out
+            why = "the potential is invariant under rotations about the centre"
+            return [energy, _invariant("L_O", L, True, why, _norm_scale(L[0]))]
     L = _momentum_com(A, Q, w)
-    out.append(
-        Invariant(
-            "angular momentum about the centre of mass (space frame)",
-            "L_G",
-            "kg·m²/s",
-            L,
-            False,
-            "a force has a torque about the centre of mass",
-            _norm_scale(L[0]),
-        )
-    )
-    return out
+    why = "a force has a torque about the centre of mass"
+    return [energy, _invariant("L_G", L, False, why, _norm_scale(L[0]))]

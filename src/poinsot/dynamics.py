@@ -22,7 +22,10 @@ from typing import ClassVar
 
 import numpy as np
 
-from . import _core, layout
+from . import layout
+from ._bindings import inertia as core_inertia
+from ._bindings import invariants as core_invariants
+from ._bindings import rigid as core_rigid
 from ._validation import as_array, as_rotation_matrix, as_vector3
 from .forces import BodyFrame, Force, ForceContext, _call_user
 
@@ -81,8 +84,8 @@ class RigidBodySystem:
         if self.pivot is None:  # the body's own decomposition, computed once and cached
             moments, axes = body.principal_moments, body.principal_axes
         else:
-            moments, axes = _core.principal_decomposition(self.inertia)
-        self._body_params, degenerate = _core.rigid_body_parameters(
+            moments, axes = core_inertia.principal_decomposition(self.inertia)
+        self._body_params, degenerate = core_rigid.rigid_body_parameters(
             float(body.mass),
             [float(m) for m in moments],
             np.ascontiguousarray(axes, dtype=float),
@@ -144,18 +147,18 @@ class RigidBodySystem:
         y = np.asarray(y, dtype=float)
         axes = np.ascontiguousarray(self.principal_axes, dtype=float)
         rows = np.ascontiguousarray(y.reshape(-1, layout.STATE_SIZE))
-        return _core.states_principal(axes, rows).reshape(y.shape)
+        return core_rigid.states_principal(axes, rows).reshape(y.shape)
 
     def from_internal(self, z) -> np.ndarray:
         """States (or their time derivatives) from the principal frame to the body frame."""
         z = np.asarray(z, dtype=float)
         axes = np.ascontiguousarray(self.principal_axes, dtype=float)
         rows = np.ascontiguousarray(z.reshape(-1, layout.STATE_SIZE))
-        return _core.states_principal(axes, rows, inverse=True).reshape(z.shape)
+        return core_rigid.states_principal(axes, rows, inverse=True).reshape(z.shape)
 
     def pivot_point(self, y) -> np.ndarray:
         """The fixed point ``P = R − Q c`` in space, from a body-frame state (with a pivot)."""
-        return np.array(_core.pivot_point(self._body_params, self.to_internal(y)))
+        return np.array(core_rigid.pivot_point(self._body_params, self.to_internal(y)))
 
     def body_parameters(self, pivot_point=None) -> np.ndarray:
         """The body's parameter vector for the engine, with the pivot held at ``pivot_point``."""
@@ -201,7 +204,7 @@ class RigidBodySystem:
         from .integrate.problem import RIGID_METHODS, NativeProblem
 
         return NativeProblem(
-            _core.integrate_rigid,
+            core_rigid.integrate_rigid,
             self.native(y0),
             RIGID_METHODS,
             tuple(f.name for f in self.python_forces),
@@ -216,7 +219,7 @@ class RigidBodySystem:
         """``(ẏ, wrench)`` of a body-frame state, in the principal frame (the core)."""
         body, kinds, params, axes, user = self.native(y)
         z = np.ascontiguousarray(self.to_internal(y))
-        return _core.rigid_rates(body, kinds, params, axes, user, float(t), z)
+        return core_rigid.rigid_rates(body, kinds, params, axes, user, float(t), z)
 
     def force_wrenches(self, t, y) -> list[tuple[np.ndarray, np.ndarray]]:
         """Each force's ``(F (3,) space frame, τ (3,) body frame about the centre of mass)`` at
@@ -231,7 +234,7 @@ class RigidBodySystem:
         for f in self.forces:
             if f.compiled:
                 kind, row = next(rows)
-                (F, tau), _ = _core.force_wrench_potential(
+                (F, tau), _ = core_rigid.force_wrench_potential(
                     int(kind), np.ascontiguousarray(row), params, float(t), z
                 )
                 out.append((np.array(F), self.principal_axes @ np.array(tau)))
@@ -262,7 +265,7 @@ class RigidBodySystem:
         if not len(t):
             return np.zeros(0)
         params = self.body_parameters(self.pivot_point(Y[0]) if self.pivot is not None else None)
-        out = _core.potential_energies(
+        out = core_invariants.potential_energies(
             params,
             np.ascontiguousarray(self.force_kind, dtype=np.int64),
             np.ascontiguousarray(self.force_params, dtype=float).reshape(-1, layout.FORCE_PARAMS),
@@ -293,7 +296,7 @@ class RigidBodySystem:
             return np.array(y, dtype=float)
         y = np.asarray(y, dtype=float)
         z = np.ascontiguousarray(self.to_internal(y)).reshape(-1, layout.STATE_SIZE)
-        z = _core.project_onto_pivot(self.body_parameters(pivot_point), z)
+        z = core_rigid.project_onto_pivot(self.body_parameters(pivot_point), z)
         return self.from_internal(z).reshape(y.shape)
 
     # ----------------------------------------------------------------- initial state
@@ -322,7 +325,7 @@ class RigidBodySystem:
                 stacklevel=3,
             )
         none = np.zeros((0, 3))
-        return _core.initial_states(
+        return core_rigid.initial_states(
             np.ascontiguousarray(Q[None], dtype=float),
             np.ascontiguousarray(w[None], dtype=float),
             none if R0 is None else as_vector3(R0, "R0")[None],
@@ -362,7 +365,7 @@ def rigid_velocity_from_particles(body, velocities):
         A_inv = np.linalg.pinv(A, rcond=1e-12, hermitian=True)
     else:
         A_inv = np.linalg.inv(A)
-    V, omega, norms = _core.rigid_motion_from_particles(
+    V, omega, norms = core_rigid.rigid_motion_from_particles(
         np.ascontiguousarray(body.particle_masses, dtype=float),
         np.ascontiguousarray(body.particle_positions, dtype=float),
         np.ascontiguousarray(v, dtype=float),

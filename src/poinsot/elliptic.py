@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _core
+from ._bindings import elliptic as core_elliptic
 
 __all__ = [
     "ellipf",
@@ -31,33 +31,33 @@ def jacobi(u, m, m1):
     """``(sn, cn, dn)`` of ``u`` with ``m1 = 1 − m`` given to full precision; small ``cn`` and
     ``dn`` near the quarter periods keep their relative precision (see
     ``elliptic::jacobi_reduced`` of the core for the error bound)."""
-    sn, cn, dn, _, _ = _core.jacobi_reduced(_floats(u), float(m), float(m1), ellipk(m1))
+    sn, cn, dn, _, _ = core_elliptic.jacobi_reduced(_floats(u), float(m), float(m1), ellipk(m1))
     return sn, cn, dn
 
 
 def jacobi_am(u, m, m1):
     """``(sn, cn, dn, am)`` by the plain AGM (``am`` continuous in ``u``)."""
-    return tuple(_core.jacobi_sn_cn_dn_am(_floats(u), float(m), float(m1)))
+    return tuple(core_elliptic.jacobi_sn_cn_dn_am(_floats(u), float(m), float(m1)))
 
 
 def ellipk(m1):
     """Complete integral of the first kind ``K(m)`` from ``m1 = 1 − m``; ``inf`` at
     ``m1 = 0``."""
-    return float(_core.ellipk_m1(float(m1)))
+    return float(core_elliptic.ellipk_m1(float(m1)))
 
 
 def ellipf(phi, m, m1):
     """Incomplete integral of the first kind ``F(φ | m)`` for any real ``φ`` (scalar or
     array): the core's ``elliptic::ellipf``."""
     phi = _floats(phi)
-    out = _core.ellipf(phi, float(m), float(m1))
+    out = core_elliptic.ellipf(phi, float(m), float(m1))
     return out if phi.ndim else float(out)
 
 
 def ellippi_complete(n, m, m1):
     """Complete integral of the third kind ``Π(n | m)`` for ``n < 1``."""
     _check_n(n)
-    return float(_core.ellippi_complete(float(n), float(m), float(m1)))
+    return float(core_elliptic.ellippi_complete(float(n), float(m), float(m1)))
 
 
 def ellippi(n, phi, m, m1):
@@ -66,14 +66,14 @@ def ellippi(n, phi, m, m1):
     (scalar or array): the core's ``elliptic::ellippi``."""
     _check_n(n)
     phi = _floats(phi)
-    out = _core.ellippi(float(n), phi, float(m), float(m1))
+    out = core_elliptic.ellippi(float(n), phi, float(m), float(m1))
     return out if phi.ndim else float(out)
 
 
 def first_kind_from_sn_cn(s, c, m, m1):
     """The argument ``u`` in (−2K, 2K] with ``sn u = s``, ``cn u = c`` (``s² + c² = 1``):
     the core's ``elliptic::first_kind_from_sn_cn``."""
-    return float(_core.first_kind_from_sn_cn(float(s), float(c), float(m), float(m1)))
+    return float(core_elliptic.first_kind_from_sn_cn(float(s), float(c), float(m), float(m1)))
 
 
 def third_kind_u(n, u, m, m1):
@@ -81,7 +81,7 @@ def third_kind_u(n, u, m, m1):
     (scalar or array): the core's ``elliptic::third_kind_u``."""
     _check_n(n)
     u = _floats(u)
-    out = _core.third_kind_u(float(n), u, float(m), float(m1))
+    out = core_elliptic.third_kind_u(float(n), u, float(m), float(m1))
     return out if u.ndim else float(out)
 
 

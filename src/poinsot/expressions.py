@@ -25,7 +25,7 @@ import hashlib
 
 import numpy as np
 
-from . import _core
+from ._bindings import lagrange as core_lagrange
 
 __all__ = ["ExpressionError", "compile_expressions", "lower", "parse"]
 
@@ -137,7 +137,7 @@ def compile_expressions(exprs, inputs):
     key = hashlib.sha256(shape + codes.tobytes() + values.tobytes()).hexdigest()
     compiled = _CACHE.get(key)
     if compiled is None:
-        compiled = _core.Expressions(codes, values, len(inputs), len(exprs))
+        compiled = core_lagrange.Expressions(codes, values, len(inputs), len(exprs))
         _CACHE[key] = compiled
     return compiled
 
@@ -177,6 +177,119 @@ MAX_TEXT = 20_000
 _ARITY = {"atan2": (2, 2), "Min": (2, 64), "Max": (2, 64)}
 
 
+#: The syntax a text may not hold, in words, by node type (others are named by their type).
+_REFUSED_NODES = {
+    ast.Attribute: "an attribute",
+    ast.Subscript: "an index",
+    ast.Compare: "a comparison",
+    ast.Lambda: "a lambda",
+    ast.BoolOp: "and/or",
+}
+
+
+class _TextReader:
+    """The SymPy expression of a parsed text, built node by node from its syntax tree; every
+    refusal names ``where`` (see :func:`parse`)."""
+
+    def __init__(self, text: str, source: str, names: dict, where: str):
+        import sympy as sp
+
+        self.text, self.source, self.names, self.where = text, source, names, where
+        self.known = {**names, **{c: getattr(sp, c) for c in TEXT_CONSTANTS}}
+        self.binary = {ast.Add: sp.Add, ast.Sub: lambda a, b: a - b, ast.Mult: sp.Mul,
+                       ast.Div: lambda a, b: a / b, ast.Pow: None}  # fmt: skip
+
+    def refuse(self, node, what):
+        """Refuse ``what`` (a kind of syntax) at ``node``, quoting it."""
+        raise ValueError(f"{self.where}: {what} is not allowed in an expression (numbers, "
+                         f"names, + - * / ^, parentheses and functions such as sin only): "
+                         f"{ast.get_source_segment(self.source, node) or self.text!r}")  # fmt: skip
+
+    def power(self, a, b):
+        """``a**b``, refused for a power of numbers with an exponent beyond 256."""
+        if a.is_Number and b.is_Number and abs(float(b)) > 256:
+            raise ValueError(
+                f"{self.where}: a power of numbers with an exponent beyond 256: {self.text!r}"
+            )
+        return a**b
+
+    def build(self, node, depth=0):
+        """The SymPy expression of the syntax-tree ``node``, ``depth`` levels down."""
+        if depth > 200:
+            raise ValueError(f"{self.where}: the expression is nested too deeply")
+        if isinstance(node, ast.Constant):
+            return self.number(node)
+        if isinstance(node, ast.Name):
+            return self.name(node)
+        if isinstance(node, ast.BinOp) and type(node.op) in self.binary:
+            a, b = self.build(node.left, depth + 1), self.build(node.right, depth + 1)
+            op = self.binary[type(node.op)]
+            return self.power(a, b) if op is None else op(a, b)
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd):
+            a = self.build(node.operand, depth + 1)
+            return -a if isinstance(node.op, ast.USub) else a
+        if isinstance(node, ast.Call):
+            fn = self.function(node)
+            return fn(*(self.build(a, depth + 1) for a in node.args))
+        self.refuse(node, _REFUSED_NODES.get(type(node), f"{type(node).__name__.lower()}"))
+        return None  # pragma: no cover
+
+    def number(self, node):
+        """The SymPy number of a constant: an integer or a finite float, nothing else."""
+        import sympy as sp
+
+        v = node.value
+        if isinstance(v, bool) or not isinstance(v, int | float):
+            self.refuse(node, f"the constant {v!r}")
+        if isinstance(v, float) and not np.isfinite(v):
+            raise ValueError(
+                f"{self.where}: the number {self.source[node.col_offset : node.end_col_offset]}"
+                " is beyond the double range"
+            )
+        return sp.Integer(v) if isinstance(v, int) else sp.Float(repr(v))
+
+    def name(self, node):
+        """The object of a known name; an unknown one is refused with the nearest known."""
+        known, names, where = self.known, self.names, self.where
+        if node.id in known:
+            return known[node.id]
+        if node.id in TEXT_FUNCTIONS:
+            raise ValueError(f"{where}: {node.id!r} is a function: call it, "
+                             f"{node.id}(...)")  # fmt: skip
+        near = difflib.get_close_matches(node.id, [*known, *TEXT_FUNCTIONS], n=1,
+                                         cutoff=0.6)  # fmt: skip
+        hint = (
+            f" (did you mean {near[0]!r}?)"
+            if near
+            else (f" (known: {', '.join(sorted(names))})" if names else "")
+        )
+        raise ValueError(f"{where}: unknown name {node.id!r}{hint}")
+
+    def function(self, node):
+        """SymPy's function that a call calls, after checking that it is one of
+        :data:`TEXT_FUNCTIONS`, called by name with the right number of arguments."""
+        import sympy as sp
+
+        where = self.where
+        if not isinstance(node.func, ast.Name) or node.func.id not in TEXT_FUNCTIONS:
+            name = node.func.id if isinstance(node.func, ast.Name) else None
+            if name is None:
+                self.refuse(node, "calling anything but a function by its name")
+            near = difflib.get_close_matches(name, list(TEXT_FUNCTIONS), n=1, cutoff=0.6)
+            hint = f" (did you mean {near[0]!r}?)" if near else ""
+            raise ValueError(f"{where}: unknown function {name!r}{hint}")
+        if node.keywords:
+            self.refuse(node, "a keyword argument")
+        fn = TEXT_FUNCTIONS[node.func.id]
+        lo, hi = _ARITY.get(fn, (1, 1))
+        if not lo <= len(node.args) <= hi or any(isinstance(a, ast.Starred)
+                                                  for a in node.args):  # fmt: skip
+            raise ValueError(f"{where}: {node.func.id}() takes "
+                             + (f"{lo}" if lo == hi else f"{lo} or more")
+                             + f" argument(s), found {len(node.args)}")  # fmt: skip
+        return getattr(sp, fn)
+
+
 def parse(text: str, names: dict, where: str = "expression"):
     """The SymPy expression of ``text``, read from its syntax tree without ``eval``.
 
@@ -212,84 +325,9 @@ def parse(text: str, names: dict, where: str = "expression"):
         raise ValueError(f"{where}: not an expression: {text!r} ({exc.msg})") from None
     except (RecursionError, MemoryError):
         raise ValueError(f"{where}: the expression is nested too deeply") from None
-    known = {**names, **{c: getattr(sp, c) for c in TEXT_CONSTANTS}}
-    binary = {ast.Add: sp.Add, ast.Sub: lambda a, b: a - b, ast.Mult: sp.Mul,
-              ast.Div: lambda a, b: a / b, ast.Pow: None}  # fmt: skip
-
-    def refuse(node, what):
-        raise ValueError(f"{where}: {what} is not allowed in an expression (numbers, names, "
-                         f"+ - * / ^, parentheses and functions such as sin only): "
-                         f"{ast.get_source_segment(source, node) or text!r}")  # fmt: skip
-
-    def power(a, b):
-        if a.is_Number and b.is_Number and abs(float(b)) > 256:
-            raise ValueError(f"{where}: a power of numbers with an exponent beyond 256: {text!r}")
-        return a**b
-
-    def build(node, depth=0):
-        if depth > 200:
-            raise ValueError(f"{where}: the expression is nested too deeply")
-        if isinstance(node, ast.Constant):
-            v = node.value
-            if isinstance(v, bool) or not isinstance(v, int | float):
-                refuse(node, f"the constant {v!r}")
-            if isinstance(v, float) and not np.isfinite(v):
-                raise ValueError(
-                    f"{where}: the number {source[node.col_offset : node.end_col_offset]}"
-                    " is beyond the double range"
-                )
-            return sp.Integer(v) if isinstance(v, int) else sp.Float(repr(v))
-        if isinstance(node, ast.Name):
-            if node.id in known:
-                return known[node.id]
-            if node.id in TEXT_FUNCTIONS:
-                raise ValueError(f"{where}: {node.id!r} is a function: call it, "
-                                 f"{node.id}(...)")  # fmt: skip
-            near = difflib.get_close_matches(node.id, [*known, *TEXT_FUNCTIONS], n=1,
-                                             cutoff=0.6)  # fmt: skip
-            hint = (
-                f" (did you mean {near[0]!r}?)"
-                if near
-                else (f" (known: {', '.join(sorted(names))})" if names else "")
-            )
-            raise ValueError(f"{where}: unknown name {node.id!r}{hint}")
-        if isinstance(node, ast.BinOp) and type(node.op) in binary:
-            a, b = build(node.left, depth + 1), build(node.right, depth + 1)
-            op = binary[type(node.op)]
-            return power(a, b) if op is None else op(a, b)
-        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd):
-            a = build(node.operand, depth + 1)
-            return -a if isinstance(node.op, ast.USub) else a
-        if isinstance(node, ast.Call):
-            if not isinstance(node.func, ast.Name) or node.func.id not in TEXT_FUNCTIONS:
-                name = node.func.id if isinstance(node.func, ast.Name) else None
-                if name is None:
-                    refuse(node, "calling anything but a function by its name")
-                near = difflib.get_close_matches(name, list(TEXT_FUNCTIONS), n=1, cutoff=0.6)
-                hint = f" (did you mean {near[0]!r}?)" if near else ""
-                raise ValueError(f"{where}: unknown function {name!r}{hint}")
-            if node.keywords:
-                refuse(node, "a keyword argument")
-            fn = TEXT_FUNCTIONS[node.func.id]
-            lo, hi = _ARITY.get(fn, (1, 1))
-            if not lo <= len(node.args) <= hi or any(isinstance(a, ast.Starred)
-                                                      for a in node.args):  # fmt: skip
-                raise ValueError(f"{where}: {node.func.id}() takes "
-                                 + (f"{lo}" if lo == hi else f"{lo} or more")
-                                 + f" argument(s), found {len(node.args)}")  # fmt: skip
-            return getattr(sp, fn)(*(build(a, depth + 1) for a in node.args))
-        kinds = {
-            ast.Attribute: "an attribute",
-            ast.Subscript: "an index",
-            ast.Compare: "a comparison",
-            ast.Lambda: "a lambda",
-            ast.BoolOp: "and/or",
-        }
-        refuse(node, kinds.get(type(node), f"{type(node).__name__.lower()}"))
-        return None  # pragma: no cover
-
+    reader = _TextReader(text, source, names, where)
     try:
-        expr = build(tree.body)
+        expr = reader.build(tree.body)
     except (RecursionError, MemoryError):
         raise ValueError(f"{where}: the expression is nested too deeply") from None
     except (TypeError, ZeroDivisionError, OverflowError) as exc:

@@ -34,7 +34,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from . import _core
+from ._bindings import rigid as core_rigid
 from ._validation import as_positive_scalar, as_scalar, as_vector3
 from .layout import FORCE_KINDS, FORCE_PARAMS, pack_state
 
@@ -103,8 +103,8 @@ def _particles(R, Q, u, omega=None):
     Q = c(Q, dtype=float).reshape(1, 3, 3)
     u = c(u, dtype=float).reshape(-1, 3)
     if omega is None:
-        return _core.particle_motion(R, Q, u)[0]
-    return _core.particle_motion(R, Q, u, c(omega, dtype=float).reshape(1, 3))[0]
+        return core_rigid.particle_motion(R, Q, u)[0]
+    return core_rigid.particle_motion(R, Q, u, c(omega, dtype=float).reshape(1, 3))[0]
 
 
 class ForceContext:
@@ -209,7 +209,7 @@ class Force:
         if not self.compiled:
             return self.python_potential(ctx)
         body_params, frame = _body_frame_parameters(ctx.body)
-        _, U = _core.force_wrench_potential(
+        _, U = core_rigid.force_wrench_potential(
             FORCE_KINDS[self.kind], self.lower(frame), body_params, float(ctx.t), ctx.state()
         )
         return float(U)
@@ -230,7 +230,7 @@ def _core_wrench(ctx, kind, lower):
     mass)``. Forces given by Python callables whose output is a built-in kind's data (a
     point force's vector, a torque) go through it, so the formula lives in the core only."""
     body_params, frame = _body_frame_parameters(ctx.body)
-    (F, tau), _ = _core.force_wrench_potential(
+    (F, tau), _ = core_rigid.force_wrench_potential(
         FORCE_KINDS[kind], lower(frame), body_params, float(ctx.t), ctx.state()
     )
     return np.array(F), np.array(tau)
@@ -240,7 +240,7 @@ def _body_frame_parameters(body):
     """The parameter vector of a free body in its own frame (identity axes), for evaluating one
     force outside the engine."""
     inertia = np.ascontiguousarray(body.inertia, dtype=float)
-    params = _core.body_vector(
+    params = core_rigid.body_vector(
         float(body.mass), [float(x) for x in np.diag(inertia)], [0.0] * 3, inertia, [0.0] * 3,
         False, -1,
     )  # fmt: skip

@@ -28,12 +28,19 @@ from . import _core
 
 __all__ = [
     "BODY_SIZE",
+    "COM_OFFSET",
     "FORCE_KINDS",
     "FORCE_PARAMS",
+    "HAS_PIVOT",
+    "INERTIA_COM",
+    "INV_MASS",
+    "INV_MOMENTS",
+    "MASS",
     "MOMENTS",
     "OMEGA_AT",
     "PIVOT",
     "Q_AT",
+    "ROTOR",
     "R_AT",
     "STATE_SIZE",
     "STATE_SLICES",
@@ -47,8 +54,16 @@ R_AT: int = _core.R_AT
 V_AT: int = _core.V_AT
 Q_AT: int = _core.Q_AT
 OMEGA_AT: int = _core.OMEGA_AT
-MOMENTS: int = _core.MOMENTS
-PIVOT: int = _core.PIVOT
+# The body's parameter vector (BODY_SIZE numbers, ``crates/core/src/layout.rs``), offsets of:
+MASS: int = _core.MASS  # M
+INV_MASS: int = _core.INV_MASS  # 1/M
+MOMENTS: int = _core.MOMENTS  # the principal moments about the reference point (3)
+INV_MOMENTS: int = _core.INV_MOMENTS  # their inverses (3), zero where a moment is zero
+COM_OFFSET: int = _core.COM_OFFSET  # c, centre of mass − reference point (3)
+INERTIA_COM: int = _core.INERTIA_COM  # the inertia about the centre of mass (9, row-major)
+PIVOT: int = _core.PIVOT  # the fixed point in space (3)
+HAS_PIVOT: int = _core.HAS_PIVOT  # 1.0 when the body turns about a fixed point
+ROTOR: int = _core.ROTOR  # the free-rotor flow: −1 asymmetric, k symmetric about axis k
 BODY_SIZE: int = _core.BODY_SIZE
 FORCE_PARAMS: int = _core.FORCE_PARAMS
 #: Built-in force kinds: name → code.

@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-from ._core import polyhedron_mass_properties
+from ._bindings.inertia import polyhedron_mass_properties
 
 __all__ = ["check_closed_oriented", "load_mesh_arrays", "mesh_mass_properties"]
 

@@ -26,7 +26,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import _core as so3
+from ._bindings import rotations as core_rotations
 from ._validation import as_array
 
 __all__ = [
@@ -103,32 +103,34 @@ def euler_from_matrix(R, seq: str = "ZXZ", *, degrees: bool = False) -> np.ndarr
 
 def quat_from_euler(angles, seq: str = "ZXZ", *, degrees: bool = False) -> np.ndarray:
     """Scalar-first unit quaternions (..., 4), w ≥ 0, from Euler angles (..., 3)."""
-    return so3.matrix_to_quat(matrix_from_euler(angles, seq, degrees=degrees))
+    return core_rotations.matrix_to_quat(matrix_from_euler(angles, seq, degrees=degrees))
 
 
 def euler_from_quat(q, seq: str = "ZXZ", *, degrees: bool = False) -> np.ndarray:
     """Euler angles (..., 3) of scalar-first unit quaternions (..., 4)."""
-    return euler_from_matrix(so3.quat_to_matrix(so3.quat_normalize(q)), seq, degrees=degrees)
+    return euler_from_matrix(
+        core_rotations.quat_to_matrix(core_rotations.quat_normalize(q)), seq, degrees=degrees
+    )
 
 
 def matrix_from_quat(q) -> np.ndarray:
     """Rotation matrices (..., 3, 3) of scalar-first quaternions (..., 4) (normalised first)."""
-    return so3.quat_to_matrix(so3.quat_normalize(q))
+    return core_rotations.quat_to_matrix(core_rotations.quat_normalize(q))
 
 
 def quat_from_matrix(R) -> np.ndarray:
     """Scalar-first unit quaternions (..., 4) with w ≥ 0 (Shepperd's method)."""
-    return so3.matrix_to_quat(R)
+    return core_rotations.matrix_to_quat(R)
 
 
 def matrix_from_rotvec(rotvec) -> np.ndarray:
     """Rotation matrices (..., 3, 3) of rotation vectors (..., 3) (Rodrigues)."""
-    return so3.exp_so3(rotvec)
+    return core_rotations.exp_so3(rotvec)
 
 
 def rotvec_from_matrix(R) -> np.ndarray:
     """Rotation vectors (..., 3), angle in [0, π], of rotation matrices (..., 3, 3)."""
-    return so3.log_so3(R)
+    return core_rotations.log_so3(R)
 
 
 def body_rates_from_euler(angles, rates) -> np.ndarray:
@@ -158,7 +160,7 @@ def body_rates_from_euler(angles, rates) -> np.ndarray:
         raise ValueError(
             f"`angles` and `rates` must have the same shape, found {a.shape}, {d.shape}"
         )
-    return so3.zxz_body_rates(a, d)
+    return core_rotations.zxz_body_rates(a, d)
 
 
 def euler_rates_from_body(angles, omega) -> np.ndarray:
@@ -176,7 +178,7 @@ def euler_rates_from_body(angles, omega) -> np.ndarray:
         )
     if np.any(np.abs(np.sin(a[..., 1])) < 1e-12):
         raise ValueError("`angles`: Euler rates are undefined at θ = 0 or π (gimbal lock)")
-    return so3.zxz_angle_rates(a, w)
+    return core_rotations.zxz_angle_rates(a, w)
 
 
 #: ``|sin θ|`` below which the z-x-z angles are flagged singular (gimbal lock, θ = 0 or π): ψ and
@@ -236,7 +238,7 @@ def euler_series(Q, omega, t=None) -> EulerSeries:
     angles = np.ascontiguousarray(euler_from_matrix(Q, "ZXZ"))
     singular = np.abs(np.sin(angles[:, 1])) < EULER_SINGULAR
     with np.errstate(divide="ignore", invalid="ignore"):
-        rates = np.asarray(so3.zxz_angle_rates(angles, w), dtype=float)
+        rates = np.asarray(core_rotations.zxz_angle_rates(angles, w), dtype=float)
     rates[singular] = np.nan
     if len(angles) > 1:
         dt = np.zeros(len(angles) - 1) if t is None else np.diff(np.asarray(t, dtype=float))

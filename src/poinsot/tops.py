@@ -21,7 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _core
+from ._bindings import inertia as core_inertia
+from ._bindings import invariants as core_invariants
+from ._bindings import tops as core_tops
 from ._validation import as_scalar
 
 __all__ = [
@@ -72,7 +74,7 @@ def steady_precession_rates(A, C, mgl, theta, spin) -> tuple[float, float]:
                                               (theta, "theta"), (spin, "spin"))]  # fmt: skip
     if not (args[0] > 0 and args[1] > 0):
         raise ValueError(f"`A` and `C` must be positive, found {args[0]}, {args[1]}")
-    return _core.steady_precession_rates(*args)
+    return core_tops.steady_precession_rates(*args)
 
 
 def gyroscopic_precession_rate(C, mgl, spin) -> float:
@@ -83,8 +85,8 @@ def gyroscopic_precession_rate(C, mgl, spin) -> float:
     >>> round(gyroscopic_precession_rate(0.045, 4.905, 100.0), 6)
     1.09
     """
-    return _core.gyroscopic_precession_rate(as_scalar(C, "C"), as_scalar(mgl, "mgl"),
-                                            as_scalar(spin, "spin"))  # fmt: skip
+    return core_tops.gyroscopic_precession_rate(as_scalar(C, "C"), as_scalar(mgl, "mgl"),
+                                                as_scalar(spin, "spin"))  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -150,8 +152,8 @@ def heavy_top(body, pivot, forces) -> HeavyTop | None:
     if not (length > 0 and np.linalg.norm(g) > 0):
         return None
     J = body.inertia_about(pivot)
-    moments, E = _core.principal_decomposition(J)
-    sym = _core.symmetric_top_axis(moments.tolist(), E.tolist(), c.tolist(), TOP_RTOL)
+    moments, E = core_inertia.principal_decomposition(J)
+    sym = core_invariants.symmetric_top_axis(moments.tolist(), E.tolist(), c.tolist(), TOP_RTOL)
     if sym is None:  # not symmetric about the pivot, or the centre of mass off the axis
         return None
     axis = c / length
@@ -347,7 +349,7 @@ def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
         raise ValueError("`Q0` puts the top's axis on the vertical, where ψ is undefined: "
                          "tilt it (a sleeping top is the limit of a small tilt)")  # fmt: skip
     rates = euler_rates_from_body(angles, w @ F)
-    motion, summary = _core.heavy_top_motions(top.A, top.C, top.mgl, angles, rates, times)
+    motion, summary = core_tops.heavy_top_motions(top.A, top.C, top.mgl, angles, rates, times)
     out = []
     for m, (u1, u2, _, period, rate, spin, _) in zip(motion, summary, strict=True):
         psi, theta, phi = m[:, 0], m[:, 1], m[:, 2]

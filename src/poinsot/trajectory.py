@@ -7,8 +7,9 @@ from functools import cached_property
 
 import numpy as np
 
-from . import _core
-from ._core import matrix_to_quat
+from ._bindings import invariants as core_invariants
+from ._bindings import rigid as core_rigid
+from ._bindings.rotations import matrix_to_quat
 from ._io import atomic_path, atomic_savez
 from .display import Displayable
 from .layout import STATE_SIZE, STATE_SLICES
@@ -20,6 +21,40 @@ def _readonly(a):
     a = np.asarray(a)
     a.flags.writeable = False
     return a
+
+
+_VEC = ("time", "axis")
+_MOMENTUM = {"units": "kg m2/s", "frame": "space"}
+#: The exported fields of the motion, in order (:meth:`Trajectory.variables`):
+#: ``(name, the attribute holding the values, dims, attrs)``.
+_MOTION_VARIABLES = (
+    ("R", "R", _VEC, {"units": "m", "frame": "space",
+                      "long_name": "position of the centre of mass from the space origin"}),
+    ("V", "V", _VEC, {"units": "m/s", "frame": "space",
+                      "long_name": "velocity of the centre of mass"}),
+    ("Q", "Q", ("time", "row", "col"), {"units": "1", "long_name": "attitude, body → space"}),
+    ("omega", "omega", _VEC, {"units": "rad/s", "frame": "body",
+                              "long_name": "angular velocity"}),
+    ("omega_space", "omega_space", _VEC, {"units": "rad/s", "frame": "space",
+                                          "long_name": "angular velocity"}),
+    ("quaternion", "quaternion", ("time", "component"),
+     {"units": "1", "long_name": "attitude, body → space, scalar first"}),
+    ("angular_momentum_com", "angular_momentum_com", _VEC,
+     {**_MOMENTUM, "about": "centre of mass", "symbol": "L_G",
+      "long_name": "angular momentum about the centre of mass"}),
+    ("angular_momentum_origin", "angular_momentum", _VEC,
+     {**_MOMENTUM, "about": "space origin", "symbol": "L_O",
+      "long_name": "angular momentum about the space origin"}),
+)  # fmt: skip
+#: The exported scalar fields and the time, after the momentum about a pivot.
+_SCALAR_VARIABLES = (
+    ("kinetic_energy", "kinetic_energy", ("time",), {"units": "J"}),
+    ("potential_energy", "potential_energy", ("time",), {"units": "J"}),
+    ("total_energy", "total_energy", ("time",), {"units": "J"}),
+    ("orthogonality_error", "orthogonality_error", ("time",),
+     {"units": "1", "long_name": "max |Qᵀ Q − I|"}),
+    ("time", "t", ("time",), {"units": "s"}),
+)  # fmt: skip
 
 
 class Trajectory(Displayable):
@@ -118,20 +153,20 @@ class Trajectory(Displayable):
     @cached_property
     def omega_space(self):
         """Angular velocity in the space frame, ``Q ω`` (n, 3)."""
-        return _readonly(_core.omega_space(self._c(self.Q), self._c(self.omega)))
+        return _readonly(core_invariants.omega_space(self._c(self.Q), self._c(self.omega)))
 
     @cached_property
     def angular_momentum_com(self):
         """Angular momentum about the centre of mass, space frame: ``Q A ω`` (n, 3)."""
         A = self._c(self.body.inertia)
-        return _readonly(_core.angular_momenta(A, self._c(self.omega), self._c(self.Q)))
+        return _readonly(core_invariants.angular_momenta(A, self._c(self.omega), self._c(self.Q)))
 
     @cached_property
     def angular_momentum(self):
         """Angular momentum about the space origin, eq. (03): ``L = Q A ω + M R × Ṙ`` (n, 3)."""
         A = self._c(self.body.inertia)
         return _readonly(
-            _core.angular_momenta(
+            core_invariants.angular_momenta(
                 A,
                 self._c(self.omega),
                 self._c(self.Q),
@@ -155,17 +190,19 @@ class Trajectory(Displayable):
         if self.pivot_position is None:
             return None
         A = self._c(self.body.inertia)
-        return _readonly(_core.angular_momenta(A, self._c(self.omega), self._c(self.Q),
-                                               float(self.body.mass),
-                                               self._c(self.R - self.pivot_position),
-                                               self._c(self.V)))  # fmt: skip
+        return _readonly(core_invariants.angular_momenta(A, self._c(self.omega), self._c(self.Q),
+                                                         float(self.body.mass),
+                                                         self._c(self.R - self.pivot_position),
+                                                         self._c(self.V)))  # fmt: skip
 
     @cached_property
     def kinetic_energy(self):
         """Kinetic energy, eq. (12): ``½ Aω·ω + ½ M |Ṙ|²`` (n,)."""
         A = self._c(self.body.inertia)
         return _readonly(
-            _core.kinetic_energies(A, float(self.body.mass), self._c(self.omega), self._c(self.V))
+            core_invariants.kinetic_energies(
+                A, float(self.body.mass), self._c(self.omega), self._c(self.V)
+            )
         )
 
     @property
@@ -186,7 +223,7 @@ class Trajectory(Displayable):
 
     def positions(self):
         """Particle trajectories ``r_i = Q u_i + R``, shape (n, N, 3); needs a particle body."""
-        return _core.particle_motion(self._c(self.R), self._c(self.Q), self._c(self.body.u))
+        return core_rigid.particle_motion(self._c(self.R), self._c(self.Q), self._c(self.body.u))
 
     # ----------------------------------------------------------------- attitude
     def _frame(self, frame):
@@ -324,7 +361,7 @@ class Trajectory(Displayable):
     @cached_property
     def orthogonality_error(self):
         """``max |QᵀQ − I|`` per sample (n,)."""
-        return _readonly(_core.orthogonality_errors(self._c(self.Q)))
+        return _readonly(core_invariants.orthogonality_errors(self._c(self.Q)))
 
     @cached_property
     def rigidity_error(self):
@@ -375,7 +412,7 @@ class Trajectory(Displayable):
                 A, M = self._c(self.body.inertia), float(self.body.mass)
                 with np.errstate(over="ignore"):
                     U = self.potential_energy / (s * s)
-                E = _core.kinetic_energies(A, M, self._c(w / s), self._c(V / s)) + U
+                E = core_invariants.kinetic_energies(A, M, self._c(w / s), self._c(V / s)) + U
         return _readonly((E - E[0]) / (abs(E[0]) or 1.0))
 
     @cached_property
@@ -433,93 +470,24 @@ class Trajectory(Displayable):
         attributes name its frame and, for a moment, its reference point (``about``): the
         angular momentum about the centre of mass (``L_G``), about the space origin (``L_O``)
         and, for a body on a pivot, about the pivot (``L_P``)."""
-        vec = ("time", "axis")
-        space, body = "space", "body"
-        out = {
-            "R": (
-                vec,
-                self.R,
-                {
-                    "units": "m",
-                    "frame": space,
-                    "long_name": "position of the centre of mass from the space origin",
-                },
-            ),
-            "V": (
-                vec,
-                self.V,
-                {"units": "m/s", "frame": space, "long_name": "velocity of the centre of mass"},
-            ),
-            "Q": (
-                ("time", "row", "col"),
-                self.Q,
-                {"units": "1", "long_name": "attitude, body → space"},
-            ),
-            "omega": (
-                vec,
-                self.omega,
-                {"units": "rad/s", "frame": body, "long_name": "angular velocity"},
-            ),
-            "omega_space": (
-                vec,
-                self.omega_space,
-                {"units": "rad/s", "frame": space, "long_name": "angular velocity"},
-            ),
-            "quaternion": (
-                ("time", "component"),
-                self.quaternion,
-                {"units": "1", "long_name": "attitude, body → space, scalar first"},
-            ),
-            "angular_momentum_com": (
-                vec,
-                self.angular_momentum_com,
-                {
-                    "units": "kg m2/s",
-                    "frame": space,
-                    "about": "centre of mass",
-                    "symbol": "L_G",
-                    "long_name": "angular momentum about the centre of mass",
-                },
-            ),
-            "angular_momentum_origin": (
-                vec,
-                self.angular_momentum,
-                {
-                    "units": "kg m2/s",
-                    "frame": space,
-                    "about": "space origin",
-                    "symbol": "L_O",
-                    "long_name": "angular momentum about the space origin",
-                },
-            ),
-        }
+        out = self._table_fields(_MOTION_VARIABLES)
         if self.angular_momentum_pivot is not None:
             out["angular_momentum_pivot"] = (
-                vec,
+                _VEC,
                 self.angular_momentum_pivot,
-                {
-                    "units": "kg m2/s",
-                    "frame": space,
-                    "about": "pivot",
-                    "symbol": "L_P",
-                    "pivot_position": self.pivot_position.tolist(),
-                    "long_name": "angular momentum about the pivot",
-                },
-            )
-        out |= {
-            "kinetic_energy": (("time",), self.kinetic_energy, {"units": "J"}),
-            "potential_energy": (("time",), self.potential_energy, {"units": "J"}),
-            "total_energy": (("time",), self.total_energy, {"units": "J"}),
-            "orthogonality_error": (
-                ("time",),
-                self.orthogonality_error,
-                {"units": "1", "long_name": "max |Qᵀ Q − I|"},
-            ),
-            "time": (("time",), self.t, {"units": "s"}),
-            "axis": (("axis",), np.array(list("xyz")), {}),
-            "component": (("component",), np.array(list("wxyz")), {}),
-        }
-        return out  # fmt: skip
+                {**_MOMENTUM, "about": "pivot", "symbol": "L_P",
+                 "pivot_position": self.pivot_position.tolist(),
+                 "long_name": "angular momentum about the pivot"},
+            )  # fmt: skip
+        out |= self._table_fields(_SCALAR_VARIABLES)
+        out["axis"] = (("axis",), np.array(list("xyz")), {})
+        out["component"] = (("component",), np.array(list("wxyz")), {})
+        return out
+
+    def _table_fields(self, table) -> dict:
+        """The fields ``name → (dims, values, attrs)`` of one table of exported fields
+        (:data:`_MOTION_VARIABLES`, :data:`_SCALAR_VARIABLES`), each with its own attrs."""
+        return {name: (dims, getattr(self, attr), dict(attrs)) for name, attr, dims, attrs in table}
 
     def _fields(self):
         """The exported fields without the coordinate labels, ``t`` first."""

@@ -240,21 +240,21 @@ def test_sigterm_is_handled_like_sigint(tmp_path):
 
 
 def test_polhodes_writes_its_folder_atomically(tmp_path, monkeypatch):
-    import poinsot.app.cli
+    import poinsot.app.commands
 
     calls = {"n": 0}
-    real = poinsot.app.cli._write_polhodes
+    real = poinsot.app.commands._write_polhodes
 
     def interrupted(out, *args):
         (out / "polhodes.png").write_bytes(b"half")  # some files written, then Ctrl-C
         calls["n"] += 1
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(poinsot.app.cli, "_write_polhodes", interrupted)
+    monkeypatch.setattr(poinsot.app.commands, "_write_polhodes", interrupted)
     moments = ["polhodes", "--moments", "1", "2", "3", "--out", str(tmp_path / "p")]
     assert main([*moments, "--quiet"]) == 130
     assert calls["n"] == 1 and list(tmp_path.iterdir()) == []
-    monkeypatch.setattr(poinsot.app.cli, "_write_polhodes", real)
+    monkeypatch.setattr(poinsot.app.commands, "_write_polhodes", real)
     assert main([*moments, "--quiet"]) == 0
     assert MANIFEST in {p.name for p in (tmp_path / "p").iterdir()}
     assert main([*moments, "--quiet"]) == 2  # exists, no --force

@@ -226,3 +226,34 @@ def test_event_resolution_is_an_integer_from_two(bad):
     with pytest.raises(ValueError, match=match):
         simulate(RigidBody.box(1.0, (1, 2, 3)), (0, 1), omega0=(0, 1, 0),
                  events=lambda t, y: t - 0.5, event_resolution=bad)  # fmt: skip
+
+
+def test_a_prepared_ensemble_runs_other_members_without_lowering_again(monkeypatch):
+    """``system.prepare_ensemble`` checks the run and compiles the model once; its ``run``
+    takes any members (parameters, initial states), each bit for bit the one-call ensemble's,
+    and lowers nothing again (neither the compiler nor the settings' check is called)."""
+    from poinsot.lagrange import engine
+    from poinsot.lagrange import ensemble as lagrange_ensemble
+
+    mdl = models.pendulum_on_cart()
+    s = mdl.symbols
+    t = np.linspace(0, 1, 6)
+    sets = [{"q0": {s["x"]: 0.0, s["theta"]: np.linspace(0.2, 0.6, len(masses))},
+             "qd0": mdl.qd0, "params": {**mdl.params, s["M"]: masses}}
+            for masses in ([0.5, 1.0], [2.0, 4.0, 8.0])]  # fmt: skip
+    once = [mdl.system.simulate_ensemble((0, 1), t_eval=t, **members) for members in sets]
+    prepared = mdl.system.prepare_ensemble((0, 1), t_eval=t)
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("lowered or checked again")
+
+    monkeypatch.setattr(engine, "compile_system", refuse)
+    monkeypatch.setattr(lagrange_ensemble, "check_settings", refuse)
+    for members, expected in zip(sets, once, strict=True):
+        ens = prepared.run(**members)
+        assert np.array_equal(ens.q, expected.q) and len(ens) == len(expected)
+    with pytest.raises(AssertionError, match="lowered or checked again"):
+        mdl.system.simulate_ensemble((0, 1), t_eval=t, **sets[0])  # the patch is in effect
+    monkeypatch.undo()
+    with pytest.raises(ValueError, match="`threads` must be a positive integer"):
+        mdl.system.prepare_ensemble((0, 1), threads=0)

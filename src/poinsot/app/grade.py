@@ -19,14 +19,14 @@ def _reference(args):
     """``(kind, inertia or HeavyTop)`` from ``--inertia`` or ``--top``."""
     import numpy as np
 
-    from .cli import _BadInput
+    from .commands import BadInput
 
     if (args.inertia is None) == (args.top is None):
-        raise _BadInput("give the body as exactly one of --inertia (a free body) or --top A C "
+        raise BadInput("give the body as exactly one of --inertia (a free body) or --top A C "
                         "MGL (a heavy symmetric top)")  # fmt: skip
     if args.inertia is not None:
         if len(args.inertia) not in (3, 6):
-            raise _BadInput(
+            raise BadInput(
                 "--inertia takes three principal moments along the body axes, or "
                 f"six: Ixx Iyy Izz Ixy Ixz Iyz; found {len(args.inertia)} numbers"
             )
@@ -38,18 +38,18 @@ def _reference(args):
         try:
             check_inertia(J, "--inertia")
         except ValueError as exc:
-            raise _BadInput(str(exc)) from None
+            raise BadInput(str(exc)) from None
         return "free body", J
     from ..tops import HeavyTop
 
     A, C, mgl = args.top
     if not (A > 0 and C > 0 and mgl > 0):
-        raise _BadInput(f"--top: A, C and M g l must be positive, found {A}, {C}, {mgl}")
+        raise BadInput(f"--top: A, C and M g l must be positive, found {A}, {C}, {mgl}")
     axis = np.asarray(args.axis, dtype=float)
     up = np.asarray(args.up, dtype=float)
     for name, v in (("--axis", axis), ("--up", up)):
         if not np.linalg.norm(v) > 0:
-            raise _BadInput(f"{name}: expected a non-zero direction, found {v.tolist()}")
+            raise BadInput(f"{name}: expected a non-zero direction, found {v.tolist()}")
     return "heavy top", HeavyTop(A, C, mgl, axis / np.linalg.norm(axis),
                                  up / np.linalg.norm(up), math.nan)  # fmt: skip
 
@@ -67,7 +67,7 @@ def _options(args) -> dict:
 def _grade_one(path, args, kind, ref):
     from ..grade import grade_free, grade_top, read_motion
     from ..identify.log import LogMap, LogMapError, load_map
-    from .cli import _BadInput
+    from .commands import BadInput
 
     try:
         log_map = load_map(args.map) if args.map else None
@@ -78,13 +78,13 @@ def _grade_one(path, args, kind, ref):
             log_map = log_map or LogMap()
         motion = read_motion(path, log_map, **options)
     except LogMapError as exc:
-        raise _BadInput(str(exc)) from None
+        raise BadInput(str(exc)) from None
     try:
         if kind == "free body":
             return motion, grade_free(motion.t, motion.omega, ref, motion.Q)
         return motion, grade_top(motion.t, motion.omega, motion.Q, ref)
     except ValueError as exc:
-        raise _BadInput(f"{path}: {exc}") from None
+        raise BadInput(f"{path}: {exc}") from None
 
 
 def lines_of(grade, path) -> list[str]:
@@ -180,7 +180,7 @@ def table_of(rows) -> list[str]:
 
 
 def run_grade(args) -> int:
-    from .cli import EXIT_OK, _say
+    from .commands import EXIT_OK, say
 
     kind, ref = _reference(args)
     rows = [(path, _grade_one(path, args, kind, ref)[1]) for path in args.logs]
@@ -191,14 +191,14 @@ def run_grade(args) -> int:
         return EXIT_OK
     if len(rows) == 1:
         for line in lines_of(rows[0][1], rows[0][0]):
-            _say(args, line)
+            say(args, line)
     else:
-        _say(args, f"{len(rows)} {kind} trajectories graded against the exact motion from "
+        say(args, f"{len(rows)} {kind} trajectories graded against the exact motion from "
                    "each file's first sample")  # fmt: skip
         for line in table_of(rows):
-            _say(args, line)
+            say(args, line)
     if args.out:
-        _say(args, f"wrote {args.out}/ (report.html, grade.json, errors.png"
+        say(args, f"wrote {args.out}/ (report.html, grade.json, errors.png"
                    + (", polhode.png)" if kind == "free body" else ")"))  # fmt: skip
     sys.stdout.flush()
     return EXIT_OK

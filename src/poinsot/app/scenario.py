@@ -559,6 +559,14 @@ def _ensemble(et: _Table, initial: dict) -> dict:
 
 def _check_physics(s: Scenario):
     """Refuse what cannot run: infeasible torque-free invariants, a bad initial state."""
+    _check_invariants(s)
+    system = _prepare_run(s)
+    _check_initial_state(s, system)
+
+
+def _check_invariants(s: Scenario):
+    """Refuse an ``analysis.energy`` or ``analysis.momentum`` no torque-free motion of the body
+    has."""
     energy, momentum = s.analysis["energy"], s.analysis["momentum"]
     if energy is not None and not s.body.is_degenerate:
         from ..torquefree import FreeRigidBody
@@ -576,48 +584,65 @@ def _check_physics(s: Scenario):
             FreeRigidBody.from_body(s.body).check_feasible(energy, momentum)
         except ValueError as exc:
             raise ScenarioError(f"analysis.momentum: {exc}") from None
+
+
+def _prepare_run(s: Scenario):
+    """Check and lower the run once into ``s.prepared``: a rigid body's (or an ensemble's), or
+    the carrier's relative motion; returns the rigid-body system of the body."""
     from ..dynamics import RigidBodySystem
-    from ..simulation import ForceUndefinedError, StepBudgetError, initial_velocities, prepare
+    from ..simulation import StepBudgetError
 
-    if s.carrier is None:  # a rigid body's run (or an ensemble's): checked and lowered once
-        try:
-            if s.ensemble is None:
-                s.prepared = prepare(s.body, s.t_span, forces=s.forces, pivot=s.pivot,
-                                     method=s.method, dt=s.dt, rtol=s.rtol, atol=s.atol,
-                                     t_eval=s.t_eval)  # fmt: skip
-            else:
-                from ..ensemble import prepare_ensemble
-
-                keep = s.ensemble["keep_states"]
-                s.prepared = prepare_ensemble(s.body, s.t_span, forces=s.forces,
-                                              pivot=s.pivot, method=s.method, dt=s.dt,
-                                              rtol=s.rtol, atol=s.atol,
-                                              t_eval=s.t_eval if keep else None,
-                                              keep_states=keep)  # fmt: skip
-        except StepBudgetError as exc:
-            raise ScenarioError(_budget_message(exc)) from None
-        except (ValueError, TypeError) as exc:
-            raise ScenarioError(f"{_key_of(exc)}: {exc}") from None
-        system = s.prepared.system
-    else:  # relative motion: the carrier's run, checked and lowered once
-        from ..relative import prepare_relative
-
-        c = s.carrier
+    system = None
+    if s.carrier is not None:
         try:
             system = RigidBodySystem(s.body, s.forces, s.pivot)
         except (ValueError, TypeError) as exc:
             raise ScenarioError(f"body: {exc}") from None
-        try:
-            s.prepared = prepare_relative(s.body, s.t_span, carrier=c["carrier"],
-                                          forces=s.forces,
-                                          balance_transport=c["balance_transport"],
-                                          hold_com=c["hold_com"], method=s.method, dt=s.dt,
-                                          rtol=s.rtol, atol=s.atol,
-                                          t_eval=s.t_eval)  # fmt: skip
-        except StepBudgetError as exc:
-            raise ScenarioError(_budget_message(exc)) from None
-        except (ValueError, TypeError) as exc:
-            raise ScenarioError(f"{_key_of(exc)}: {exc}") from None
+    try:
+        s.prepared = _prepared_rigid(s) if s.carrier is None else _prepared_relative(s)
+    except StepBudgetError as exc:
+        raise ScenarioError(_budget_message(exc)) from None
+    except (ValueError, TypeError) as exc:
+        raise ScenarioError(f"{_key_of(exc)}: {exc}") from None
+    return s.prepared.system if system is None else system
+
+
+def _prepared_rigid(s: Scenario):
+    """A rigid body's run (or an ensemble's), checked and lowered by its front-end."""
+    from ..simulation import prepare
+
+    if s.ensemble is None:
+        return prepare(s.body, s.t_span, forces=s.forces, pivot=s.pivot,
+                       method=s.method, dt=s.dt, rtol=s.rtol, atol=s.atol,
+                       t_eval=s.t_eval)  # fmt: skip
+    from ..ensemble import prepare_ensemble
+
+    keep = s.ensemble["keep_states"]
+    return prepare_ensemble(s.body, s.t_span, forces=s.forces,
+                            pivot=s.pivot, method=s.method, dt=s.dt,
+                            rtol=s.rtol, atol=s.atol,
+                            t_eval=s.t_eval if keep else None,
+                            keep_states=keep)  # fmt: skip
+
+
+def _prepared_relative(s: Scenario):
+    """The carrier's relative motion, checked and lowered by its front-end."""
+    from ..relative import prepare_relative
+
+    c = s.carrier
+    return prepare_relative(s.body, s.t_span, carrier=c["carrier"],
+                            forces=s.forces,
+                            balance_transport=c["balance_transport"],
+                            hold_com=c["hold_com"], method=s.method, dt=s.dt,
+                            rtol=s.rtol, atol=s.atol,
+                            t_eval=s.t_eval)  # fmt: skip
+
+
+def _check_initial_state(s: Scenario, system):
+    """Set ``s.y0`` from ``[initial]`` (particle velocities first turned into V0 and ω0),
+    refusing a bad initial state; nothing for an ensemble or a start without ω0."""
+    from ..simulation import ForceUndefinedError, initial_velocities
+
     initial = dict(s.initial)
     if "particle_velocities" in initial:
         try:

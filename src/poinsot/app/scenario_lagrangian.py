@@ -94,11 +94,52 @@ def _exprs(t: _Table, key, names, size=None):
 def build_lagrangian_model(lt: _Table, name: str, description: str):
     """The :class:`~poinsot.models.Model` of a ``[lagrangian]`` table, with its parameters'
     values, initial values and units; every error names its key path."""
-    sp, dynamicsymbols = _sp()
-    from ..lagrange import LagrangianSystem, PointMass
+    sp, _ = _sp()
+    from ..lagrange import LagrangianSystem
     from ..models import Model
 
     # ---------------------------------------------------------------- names
+    coords, units = _read_coordinates(lt)
+    t = sp.Symbol("t")
+    names = {"t": t}
+    for cname, q in coords.items():
+        names[cname] = q
+        names[f"{cname}_dot"] = q.diff(t)
+    hidden_tables = lt.tables("hidden")
+    aux = _read_auxiliary_coordinates(hidden_tables, names, t)
+    params, param_units, symbols = _read_parameters(lt, names)
+    _read_inputs(lt, names, symbols, t)
+    # ---------------------------------------------------------------- the system
+    kwargs = _read_energies(lt, names)
+    bodies, points = _read_bodies(lt, names)
+    if not (kwargs or bodies):
+        raise ScenarioError(f"{lt.path}: give kinetic (and potential) energy, the lagrangian, or "
+                            "[[lagrangian.bodies]]")  # fmt: skip
+    constraints = {key: _exprs(lt, key, names) for key in ("holonomic", "nonholonomic",
+                                                           "unilateral")}  # fmt: skip
+    forces = _read_forces(lt, coords, names)
+    hidden = _read_hidden(hidden_tables, aux, {"t": t, **symbols, **coords})
+    try:
+        system = LagrangianSystem(list(coords.values()), bodies=bodies, forces=forces,
+                                  units=units, hidden=hidden, **kwargs,
+                                  **constraints)  # fmt: skip
+    except (ValueError, TypeError) as exc:
+        raise ScenarioError(f"{lt.path}: {exc}") from None
+    # ---------------------------------------------------------------- initial values, reports
+    q0 = _values(lt, "q0", coords, units, "")
+    qd0 = _values(lt, "qd0", coords, units, "/s")
+    guess = _values(lt, "guess", coords, units, "")
+    reactions = _read_reactions(lt, names, system)
+    points, links, outline, view, trail = _read_drawing(lt, names, symbols, t, points)
+    return Model(name, description, system, {**coords, **symbols}, params, q0, qd0,
+                 guess=guess, reactions=reactions, points=points, links=links, outline=outline,
+                 view=view, trail=trail, param_units=param_units)  # fmt: skip
+
+
+def _read_coordinates(lt: _Table):
+    """The ``coordinates`` table: ``{name: dynamic symbol}`` and ``{symbol: unit}``, in order;
+    at least one."""
+    _, dynamicsymbols = _sp()
     coord_table = lt.table("coordinates")
     coords, units = {}, {}
     for cname in coord_table.data:
@@ -109,18 +150,26 @@ def build_lagrangian_model(lt: _Table, name: str, description: str):
     coord_table.finish()
     if not coords:
         raise ScenarioError(f"{lt.where('coordinates')}: give at least one coordinate")
-    t = sp.Symbol("t")
-    names = {"t": t}
-    for cname, q in coords.items():
-        names[cname] = q
-        names[f"{cname}_dot"] = q.diff(t)
-    hidden_tables = lt.tables("hidden")
+    return coords, units
+
+
+def _read_auxiliary_coordinates(hidden_tables, names, t):
+    """The auxiliary coordinates of the ``[[hidden]]`` tables, named (with their speeds) in
+    ``names`` before any expression is read; ``{name: dynamic symbol}``."""
+    _, dynamicsymbols = _sp()
     aux = {}
-    for ht in hidden_tables:  # the auxiliary coordinates, named before any expression is read
+    for ht in hidden_tables:
         aname = ht.get("coordinate", "string")
         _check_name(aname, ht.where("coordinate"), taken=names)
         aux[aname] = dynamicsymbols(aname)
         names[aname], names[f"{aname}_dot"] = aux[aname], aux[aname].diff(t)
+    return aux
+
+
+def _read_parameters(lt: _Table, names):
+    """The ``parameters`` table, each a symbol added to ``names``: their SI values, their units
+    and ``{name: symbol}``."""
+    sp, _ = _sp()
     param_table = lt.table("parameters", None)
     params, param_units, symbols = {}, {}, {}
     for pname in param_table.data:
@@ -132,6 +181,12 @@ def build_lagrangian_model(lt: _Table, name: str, description: str):
         names[pname] = symbols[pname] = sym
         params[sym], param_units[sym] = value, unit
     param_table.finish()
+    return params, param_units, symbols
+
+
+def _read_inputs(lt: _Table, names, symbols, t):
+    """The ``inputs`` table: each a function of t and the parameters, added to ``names`` and
+    ``symbols``."""
     input_table = lt.table("inputs", None)
     for iname in input_table.data:
         _check_name(iname, input_table.where(iname), taken=names)
@@ -139,7 +194,11 @@ def build_lagrangian_model(lt: _Table, name: str, description: str):
         expr = _expr(text, {"t": t, **symbols}, input_table.where(iname))
         names[iname] = symbols[iname] = expr
     input_table.finish()
-    # ---------------------------------------------------------------- the system
+
+
+def _read_energies(lt: _Table, names):
+    """The Lagrangian, or the kinetic and potential energies, as keyword arguments of
+    :class:`~poinsot.lagrange.LagrangianSystem`; not both."""
     given = [k for k in ENERGY_KEYS if lt.has(k)]
     kwargs = {}
     if "lagrangian" in given and len(given) > 1:
@@ -148,6 +207,14 @@ def build_lagrangian_model(lt: _Table, name: str, description: str):
     for key in ENERGY_KEYS:
         if lt.has(key):
             kwargs[key] = _expr(lt.get(key, "expression"), names, lt.where(key))
+    return kwargs
+
+
+def _read_bodies(lt: _Table, names):
+    """The ``[[bodies]]``, point masses or rigid bodies, and the named ones' positions as
+    points to draw."""
+    from ..lagrange import PointMass
+
     bodies, points = [], {}
     for bt in lt.tables("bodies"):
         kind = bt.get("type", "string", "point", choices=("point", "rigid"))
@@ -161,11 +228,11 @@ def build_lagrangian_model(lt: _Table, name: str, description: str):
         bt.finish()
         if label is not None:
             points[label] = tuple(position)
-    if not (kwargs or bodies):
-        raise ScenarioError(f"{lt.path}: give kinetic (and potential) energy, the lagrangian, or "
-                            "[[lagrangian.bodies]]")  # fmt: skip
-    constraints = {key: _exprs(lt, key, names) for key in ("holonomic", "nonholonomic",
-                                                           "unilateral")}  # fmt: skip
+    return bodies, points
+
+
+def _read_forces(lt: _Table, coords, names):
+    """The ``forces`` table: one ``{coordinate: generalized force}`` per entry."""
     force_table = lt.table("forces", None)
     forces = []
     for cname in force_table.data:
@@ -174,12 +241,17 @@ def build_lagrangian_model(lt: _Table, name: str, description: str):
         text = force_table.get(cname, "expression")
         forces.append({coords[cname]: _expr(text, names, force_table.where(cname))})
     force_table.finish()
+    return forces
+
+
+def _read_hidden(hidden_tables, aux, fixed):
+    """The :class:`~poinsot.lagrange.HiddenConstraint` of each ``[[hidden]]`` table, its value
+    an expression of ``fixed`` (t, the parameters and the coordinates)."""
     from ..lagrange import HiddenConstraint
 
     hidden = []
     for ht, (aname, rho) in zip(hidden_tables, aux.items(), strict=True):
-        value = _expr(ht.get("value", "expression"), {"t": t, **symbols, **coords},
-                      ht.where("value"))  # fmt: skip
+        value = _expr(ht.get("value", "expression"), fixed, ht.where("value"))
         hidden.append(HiddenConstraint(
             rho, value, ht.get("name", "string", f"force holding {aname}"),
             ht.get("unit", "string", "N"), ht.get("sign", "number", 1.0),
@@ -187,16 +259,12 @@ def build_lagrangian_model(lt: _Table, name: str, description: str):
         if hidden[-1].sign not in (1.0, -1.0):
             raise ScenarioError(f"{ht.where('sign')}: expected 1 or -1, found {hidden[-1].sign}")
         ht.finish()
-    try:
-        system = LagrangianSystem(list(coords.values()), bodies=bodies, forces=forces,
-                                  units=units, hidden=hidden, **kwargs,
-                                  **constraints)  # fmt: skip
-    except (ValueError, TypeError) as exc:
-        raise ScenarioError(f"{lt.path}: {exc}") from None
-    # ---------------------------------------------------------------- initial values, reports
-    q0 = _values(lt, "q0", coords, units, "")
-    qd0 = _values(lt, "qd0", coords, units, "/s")
-    guess = _values(lt, "guess", coords, units, "")
+    return hidden
+
+
+def _read_reactions(lt: _Table, names, system):
+    """The ``reactions`` to report: ``{name: (expression, unit, meaning)}``, the expressions
+    also of the multipliers ``lambda1``, ``lambda2``, ..."""
     lam = {f"lambda{k + 1}": v for k, v in enumerate(system.lam_vec)}
     reactions = {}
     rt = lt.table("reactions", None)
@@ -208,14 +276,43 @@ def build_lagrangian_model(lt: _Table, name: str, description: str):
                             entry.get("meaning", "string", ""))  # fmt: skip
         entry.finish()
     rt.finish()
+    return reactions
+
+
+def _read_drawing(lt: _Table, names, symbols, t, points):
+    """The ``draw`` table, with the bodies' named ``points``: the points, links, outline, view
+    and trail of the mechanism's drawing."""
+    sp, _ = _sp()
     draw = lt.table("draw", None)
     extra = draw.table("points", None)
     for pname in extra.data:
         extra.used.add(pname)
         points[pname] = tuple(_exprs(extra, pname, names, 3))
     extra.finish()
+    ring_links = _read_rings(draw, names, points)
+    links = tuple(tuple(pair) for pair in draw.get("links", "any_list", []))
+    for i, pair in enumerate(links):
+        if len(pair) != 2 or any(p not in points for p in pair):
+            raise ScenarioError(
+                f"{draw.where('links')}[{i}]: expected two of the points "
+                f"{', '.join(points) or '(none)'}, found {list(pair)!r}"
+            )
+    outline = _read_outline(draw, {"t": t, **symbols})
+    trail = draw.get("trail", "string", None)
+    if trail is not None and trail not in points:
+        raise ScenarioError(_unknown(draw.where("trail"), trail, points, "point"))
+    links += tuple(ring_links)
+    flat = all(sp.sympify(p[2]) == 0 for p in points.values())
+    view = draw.get("view", "string", "xy" if flat else "3d", choices=("xy", "3d"))
+    draw.finish()
+    return points, links, outline, view, trail
+
+
+def _read_rings(draw: _Table, names, points):
+    """The ``[[draw.rings]]``, circles drawn as polygons (a rim, a hoop): their vertices added
+    to ``points``; returns their links."""
     ring_links = []
-    for rt_ in draw.tables("rings"):  # a circle drawn as a polygon: a rim, a hoop
+    for rt_ in draw.tables("rings"):
         from ..models import _ring
 
         rname = rt_.get("name", "string")
@@ -226,32 +323,21 @@ def build_lagrangian_model(lt: _Table, name: str, description: str):
         rt_.finish()
         points |= ring
         ring_links += rl
-    links = tuple(tuple(pair) for pair in draw.get("links", "any_list", []))
-    for i, pair in enumerate(links):
-        if len(pair) != 2 or any(p not in points for p in pair):
-            raise ScenarioError(
-                f"{draw.where('links')}[{i}]: expected two of the points "
-                f"{', '.join(points) or '(none)'}, found {list(pair)!r}"
-            )
+    return ring_links
+
+
+def _read_outline(draw: _Table, fixed):
+    """The ``draw.outline`` table: ``{name: [vertex, ...]}``, each vertex three expressions of
+    ``fixed`` (t and the parameters)."""
     outline = {}
     ot = draw.table("outline", None)
-    fixed = {"t": t, **{k: v for k, v in symbols.items()}}
     for oname in ot.data:
         vertices = ot.get(oname, "any_list")
         outline[oname] = [tuple(_expr(c, fixed, f"{ot.where(oname)}[{i}][{j}]")
                                 for j, c in enumerate(_three(v, f"{ot.where(oname)}[{i}]")))
                           for i, v in enumerate(vertices)]  # fmt: skip
     ot.finish()
-    trail = draw.get("trail", "string", None)
-    if trail is not None and trail not in points:
-        raise ScenarioError(_unknown(draw.where("trail"), trail, points, "point"))
-    links += tuple(ring_links)
-    flat = all(sp.sympify(p[2]) == 0 for p in points.values())
-    view = draw.get("view", "string", "xy" if flat else "3d", choices=("xy", "3d"))
-    draw.finish()
-    return Model(name, description, system, {**coords, **symbols}, params, q0, qd0,
-                 guess=guess, reactions=reactions, points=points, links=links, outline=outline,
-                 view=view, trail=trail, param_units=param_units)  # fmt: skip
+    return outline
 
 
 def _rigid(bt: _Table, mass, position, names):

@@ -76,59 +76,13 @@ def build_body(t: _Table, base_dir: Path, part: bool = False):
     )
     try:
         if kind == "particles":
-            parts = t.tables("particles")
-            if not parts:
-                raise ScenarioError(f"{t.where('particles')}: expected at least one particle")
-            masses, positions = [], []
-            for p in parts:
-                masses.append(p.get("mass", "positive", unit="kg"))
-                positions.append(p.get("position", "vector3", unit="m"))
-                p.finish()
-            body = RigidBody.from_particles(masses, positions)
+            body = _particles_body(t)
         elif kind == "particle_grid":
-            lower = t.get("lower", "vector3", np.zeros(3), unit="m")
-            upper = t.get("upper", "vector3", unit="m")
-            counts = t.get("counts", "vector3")
-            if np.any(counts < 1) or np.any(counts != np.round(counts)):
-                raise ScenarioError(
-                    f"{t.where('counts')}: expected three positive integers, "
-                    f"found {counts.tolist()}"
-                )
-            if float(np.prod(counts)) > MAX_PARTICLES:
-                raise ScenarioError(
-                    f"{t.where('counts')}: at most {MAX_PARTICLES:.0e} particles in all, found "
-                    f"{' × '.join(f'{c:.0f}' for c in counts)}"
-                )
-            total = t.get("total_mass", "positive", unit="kg")
-            axes = [np.linspace(lower[k], upper[k], int(counts[k])) for k in range(3)]
-            grid = np.array(np.meshgrid(*axes, indexing="ij")).reshape(3, -1).T
-            body = RigidBody.from_particles(np.full(len(grid), total / len(grid)), grid)
+            body = _particle_grid_body(t)
         elif kind in PRIMITIVES:
-            mass = t.get("mass", "positive", unit="kg")
-            args = []
-            for name in PRIMITIVES[kind]:
-                vec = name in ("size", "semi_axes")
-                value = t.get(name, "vector3" if vec else "positive", unit="m")
-                if vec and np.any(value <= 0):
-                    bad = int(np.argmax(value <= 0))
-                    raise ScenarioError(
-                        f"{t.where(name)}[{bad}]: expected a positive number, found {value[bad]}"
-                    )
-                args.append(value)
-            position = t.get("position", "vector3", None, unit="m")
-            body = getattr(RigidBody, kind)(
-                mass, *args, position=position, orientation=_orientation(t)
-            )
+            body = _primitive_body(t, kind)
         elif kind == "mesh":
-            path = Path(t.get("path", "string"))
-            if not path.is_absolute():
-                path = base_dir / path
-            mass = t.get("mass", "positive", None, unit="kg")
-            density = t.get("density", "positive", None, unit="kg/m^3")
-            try:
-                body = RigidBody.from_mesh(path, mass=mass, density=density)
-            except ImportError as exc:
-                raise ScenarioError(f"{t.where('path')}: {exc}") from None
+            body = _mesh_body(t, base_dir)
         elif kind == "composite":
             parts = t.tables("parts")
             if not parts:
@@ -157,6 +111,80 @@ def build_body(t: _Table, base_dir: Path, part: bool = False):
         )
     t.finish(set() if part else {"pivot"})
     return body
+
+
+def _particles_body(t: _Table):
+    """A body of point masses, from the ``[[body.particles]]`` tables (at least one)."""
+    from ..bodies import RigidBody
+
+    parts = t.tables("particles")
+    if not parts:
+        raise ScenarioError(f"{t.where('particles')}: expected at least one particle")
+    masses, positions = [], []
+    for p in parts:
+        masses.append(p.get("mass", "positive", unit="kg"))
+        positions.append(p.get("position", "vector3", unit="m"))
+        p.finish()
+    return RigidBody.from_particles(masses, positions)
+
+
+def _particle_grid_body(t: _Table):
+    """A body of equal point masses on a ``counts`` grid from ``lower`` to ``upper``, at most
+    :data:`MAX_PARTICLES` of them."""
+    from ..bodies import RigidBody
+
+    lower = t.get("lower", "vector3", np.zeros(3), unit="m")
+    upper = t.get("upper", "vector3", unit="m")
+    counts = t.get("counts", "vector3")
+    if np.any(counts < 1) or np.any(counts != np.round(counts)):
+        raise ScenarioError(
+            f"{t.where('counts')}: expected three positive integers, found {counts.tolist()}"
+        )
+    if float(np.prod(counts)) > MAX_PARTICLES:
+        raise ScenarioError(
+            f"{t.where('counts')}: at most {MAX_PARTICLES:.0e} particles in all, found "
+            f"{' × '.join(f'{c:.0f}' for c in counts)}"
+        )
+    total = t.get("total_mass", "positive", unit="kg")
+    axes = [np.linspace(lower[k], upper[k], int(counts[k])) for k in range(3)]
+    grid = np.array(np.meshgrid(*axes, indexing="ij")).reshape(3, -1).T
+    return RigidBody.from_particles(np.full(len(grid), total / len(grid)), grid)
+
+
+def _primitive_body(t: _Table, kind):
+    """A solid of one of the :data:`PRIMITIVES` shapes: its mass, its sizes (positive), its
+    position and orientation."""
+    from ..bodies import RigidBody
+
+    mass = t.get("mass", "positive", unit="kg")
+    args = []
+    for name in PRIMITIVES[kind]:
+        vec = name in ("size", "semi_axes")
+        value = t.get(name, "vector3" if vec else "positive", unit="m")
+        if vec and np.any(value <= 0):
+            bad = int(np.argmax(value <= 0))
+            raise ScenarioError(
+                f"{t.where(name)}[{bad}]: expected a positive number, found {value[bad]}"
+            )
+        args.append(value)
+    position = t.get("position", "vector3", None, unit="m")
+    return getattr(RigidBody, kind)(mass, *args, position=position, orientation=_orientation(t))
+
+
+def _mesh_body(t: _Table, base_dir: Path):
+    """A solid from a closed triangle mesh file (relative to ``base_dir``), with its mass or
+    density."""
+    from ..bodies import RigidBody
+
+    path = Path(t.get("path", "string"))
+    if not path.is_absolute():
+        path = base_dir / path
+    mass = t.get("mass", "positive", None, unit="kg")
+    density = t.get("density", "positive", None, unit="kg/m^3")
+    try:
+        return RigidBody.from_mesh(path, mass=mass, density=density)
+    except ImportError as exc:
+        raise ScenarioError(f"{t.where('path')}: {exc}") from None
 
 
 # --------------------------------------------------------------------------- forces

@@ -221,7 +221,7 @@ class EnsembleResult(Displayable):
     @property
     def quaternion(self) -> np.ndarray:
         """Attitude as unit quaternions (w, x, y, z), w ≥ 0 (N, n, 4)."""
-        from .._core import matrix_to_quat
+        from .._bindings.rotations import matrix_to_quat
 
         return matrix_to_quat(np.ascontiguousarray(self.Q))
 

@@ -261,9 +261,9 @@ class _Members:
         inertia = None if self.inertia is None else self.inertia[i0:i1]
         force_params = None
         if self.lower_per_member:  # forces with body points, on bodies with their own axes
-            from .. import _core
+            from .._bindings import ensemble as core_ensemble
 
-            _, axes, _ = _core.member_bodies(
+            _, axes, _ = core_ensemble.member_bodies(
                 float(self.system.mass), np.ascontiguousarray(inertia),
                 [float(x) for x in self.system.c], self.system.pivot is not None,
             )  # fmt: skip

@@ -132,13 +132,13 @@ def initial_states(spec: EnsembleSpec, task: ChunkTask) -> np.ndarray:
     core's ``initial_states``: the reference point's velocity from a pivot, and so on).
     A chunk computes them to run; the result computes them again on demand
     (:attr:`~poinsot.ensemble.EnsembleResult.initial_state`) instead of keeping them."""
-    from .. import _core
+    from .._bindings import rigid as core_rigid
 
     line = [0.0] * 3  # degenerate bodies are refused before any chunk runs
     a = _native
-    return _core.initial_states(a(task.Q), a(task.omega), a(task.R), a(task.V),
-                                list(spec.com), list(spec.c), list(spec.pivot), spec.has_pivot,
-                                line)  # fmt: skip
+    return core_rigid.initial_states(a(task.Q), a(task.omega), a(task.R), a(task.V),
+                                     list(spec.com), list(spec.c), list(spec.pivot),
+                                     spec.has_pivot, line)  # fmt: skip
 
 
 def run_chunk(
@@ -148,14 +148,14 @@ def run_chunk(
     the members in parallel on ``threads`` threads): initial states, bodies and forces by
     member, the run, the statistics streamed per member. With ``out``, the states are written
     to its views (a run in this process); else new arrays are returned (a Dask worker)."""
-    from .. import _core
+    from .._bindings import ensemble as core_ensemble
     from ..integrate.driver import run_spec
 
     a = _native  # arrays that crossed to a Dask worker may come unaligned
     Y0 = initial_states(spec, task)
     if task.inertia is not None:
-        bodies, axes, _ = _core.member_bodies(spec.mass, a(task.inertia), list(spec.c),
-                                              spec.has_pivot)  # fmt: skip
+        bodies, axes, _ = core_ensemble.member_bodies(spec.mass, a(task.inertia),
+                                                      list(spec.c), spec.has_pivot)  # fmt: skip
         inertia = task.inertia
     else:
         bodies, axes, inertia = spec.body_params[None], spec.axes, spec.inertia
@@ -167,7 +167,7 @@ def run_chunk(
                    controller=spec.controller, t_eval=spec.t_eval,
                    max_steps=spec.max_steps)  # fmt: skip
     (Y, final, energy, momentum, orthogonality, first, last, count, status, nsteps,
-     nfev) = _core.run_ensemble(
+     nfev) = core_ensemble.run_ensemble(
         run, spec.t0, a(inertia), a(bodies), a(axes), a(spec.force_kind), a(params), Y0,
         flips=spec.flips, keep_samples=keep, threads=threads, samples_out=Y_out,
         finals_out=out.final if in_place else None,

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _core
+from .._bindings import inertia as core_inertia
 from .result import IdentifyResult
 
 __all__ = ["CombinedResult", "combine"]
@@ -131,7 +131,7 @@ def combine(results) -> CombinedResult:
     weight = 1.0 / np.mean(np.maximum(sr, tiny) ** 2, axis=1)
     mean = np.einsum("i,ijk->jk", weight, tensors) / weight.sum()
     mean = 0.5 * (mean + mean.T)
-    moments, axes = (np.asarray(x) for x in _core.principal_decomposition(mean))
+    moments, axes = (np.asarray(x) for x in core_inertia.principal_decomposition(mean))
     ratios = moments[:2] / moments[2]
     dof = max(n - 1, 1)
     chi_r = np.sum(wr * (rs - ratios) ** 2, axis=0)

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _core
+from .._bindings import identify as core_identify
 from .signals import smooth, smoothing_window
 
 __all__ = ["EquationErrorFit", "equation_error", "inertia_from_entries"]
@@ -164,7 +164,7 @@ def equation_error(
         axis = np.asarray(rotor_axis, dtype=float)
     # the filter's ends extrapolate: drop half a window on each side when there is room
     keep = slice(win // 2, n - win // 2) if n > 4 * win else slice(0, n)
-    phi = _core.gyrostat_regressor(
+    phi = core_identify.gyrostat_regressor(
         np.ascontiguousarray(ws[keep]),
         np.ascontiguousarray(wd[keep]),
         np.ascontiguousarray(s[keep]),

@@ -15,7 +15,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from .. import _core
+from .._bindings import inertia as core_inertia
 from .._validation import as_array, as_positive_scalar, as_vector3
 from .flight import find_free_flight
 from .result import IdentifyResult, ModelMismatchWarning, NotIdentifiableError
@@ -112,6 +112,79 @@ def _cone_deg(w) -> float:
     return float(np.degrees(np.arccos(np.clip(u @ mean, -1.0, 1.0))).max())
 
 
+def _rotor_inputs(rotor_speed, rotor_axis, rotor_inertia, n: int):
+    """Check and convert the rotor's arguments: ``(speed (n,), unit axis, J)``, each None
+    without a rotor (or without its ``J``)."""
+    if rotor_speed is not None and rotor_axis is None:
+        raise ValueError("`rotor_speed` was given without `rotor_axis`: give the rotor's axis "
+                         "in the sensor frame")  # fmt: skip
+    if rotor_axis is not None and rotor_speed is None:
+        raise ValueError("`rotor_axis` was given without `rotor_speed`")
+    if rotor_inertia is not None and rotor_speed is None:
+        raise ValueError("`rotor_inertia` was given without `rotor_speed` and `rotor_axis`")
+    speed = None if rotor_speed is None else _series(rotor_speed, "rotor_speed", n, None)
+    axis = None
+    if rotor_axis is not None:
+        axis = as_vector3(rotor_axis, "rotor_axis")
+        norm = float(np.linalg.norm(axis))
+        if not norm > 0:
+            raise ValueError("`rotor_axis` must be a nonzero vector")
+        axis = axis / norm
+    J = None if rotor_inertia is None else as_positive_scalar(rotor_inertia, "rotor_inertia")
+    return speed, axis, J
+
+
+def _fit_options(loss: str, segment, max_nfev) -> float:
+    """Check the fit's options ``loss`` and ``max_nfev``; the ``segment`` length [s]."""
+    from .output_error import LOSSES
+
+    if loss not in LOSSES:
+        raise ValueError(f"`loss` must be one of {LOSSES}, found {loss!r}")
+    seg = as_positive_scalar(segment, "segment")
+    if isinstance(max_nfev, bool) or not isinstance(max_nfev, int | np.integer) or max_nfev < 1:
+        raise ValueError(f"`max_nfev` must be a positive integer, found {max_nfev!r}")
+    return seg
+
+
+def _check_flight(ts, ws, found_by: str, seg: float):
+    """Refuse a free flight too short, too long, split into too many segments, turning too
+    little or not at all: ``(where, cone, rotation)``, ``where`` naming the window."""
+    m = len(ts)
+    where = (f"the window t = {ts[0]:.4g} … {ts[-1]:.4g} s ({m} samples, found by the "
+             f"{found_by})")  # fmt: skip
+    if m < MIN_SAMPLES:
+        raise NotIdentifiableError(
+            f"`window`: {where} is too short: at least {MIN_SAMPLES} samples are needed; the "
+            "ratios I1/I3, I2/I3 and the axes e1, e2, e3 are not identifiable from it",
+            ("I1/I3", "I2/I3", "e1", "e2", "e3"),
+        )
+    if m > MAX_SAMPLES:
+        raise ValueError(f"`window`: {where} holds more than {MAX_SAMPLES} samples: give the "
+                         "free flight (a throw lasts well under 2 s)")  # fmt: skip
+    pieces = int(np.ceil((ts[-1] - ts[0]) / seg - 1e-9))
+    if pieces > MAX_SEGMENTS:
+        raise ValueError(f"`segment` = {seg:g} s splits {where} into {pieces} pieces, each "
+                         f"with its own initial ω; at most {MAX_SEGMENTS} are fitted")  # fmt: skip
+    rotation = float(np.sum(0.5 * (np.linalg.norm(ws[1:], axis=1) + np.linalg.norm(ws[:-1], axis=1))
+                            * np.diff(ts)))  # fmt: skip
+    cone = _cone_deg(ws)
+    if rotation < MIN_ROTATION:
+        raise NotIdentifiableError(
+            f"`omega`: too little rotation in {where}: the body turned {rotation:.3g} rad "
+            f"(at least {MIN_ROTATION:g} is needed), so the ratios I1/I3, I2/I3 and the axes "
+            "e1, e2, e3 are not identifiable; throw it with more spin or give a longer window",
+            ("I1/I3", "I2/I3", "e1", "e2", "e3"),
+        )
+    if not np.ptp(ws, axis=0).max() > 0:
+        raise NotIdentifiableError(
+            f"`omega`: ω is constant over {where}, a steady spin about one axis that excites "
+            "nothing else: the ratios I1/I3, I2/I3 and the axes e1, e2, e3 are not "
+            "identifiable; throw it tumbling (spinning about a direction between the axes)",
+            ("I1/I3", "I2/I3", "e1", "e2", "e3"),
+        )
+    return where, cone, rotation
+
+
 def identify(
     t,
     omega,
@@ -191,72 +264,19 @@ def identify(
     >>> bool(abs(res.trace / np.trace(throw.inertia) - 1) < 0.02)
     True
     """
-    from .output_error import LOSSES
-
     t = _times(t)
     n = len(t)
     w = _series(omega, "omega", n, 3)
-    if rotor_speed is not None and rotor_axis is None:
-        raise ValueError("`rotor_speed` was given without `rotor_axis`: give the rotor's axis "
-                         "in the sensor frame")  # fmt: skip
-    if rotor_axis is not None and rotor_speed is None:
-        raise ValueError("`rotor_axis` was given without `rotor_speed`")
-    if rotor_inertia is not None and rotor_speed is None:
-        raise ValueError("`rotor_inertia` was given without `rotor_speed` and `rotor_axis`")
-    speed = None if rotor_speed is None else _series(rotor_speed, "rotor_speed", n, None)
-    axis = None
-    if rotor_axis is not None:
-        axis = as_vector3(rotor_axis, "rotor_axis")
-        norm = float(np.linalg.norm(axis))
-        if not norm > 0:
-            raise ValueError("`rotor_axis` must be a nonzero vector")
-        axis = axis / norm
-    J = None if rotor_inertia is None else as_positive_scalar(rotor_inertia, "rotor_inertia")
+    speed, axis, J = _rotor_inputs(rotor_speed, rotor_axis, rotor_inertia, n)
     win = _window(window, t)
     acc = None if accel is None else _series(accel, "accel", n, 3)
     sat = None if saturation is None else as_positive_scalar(saturation, "saturation")
-    if loss not in LOSSES:
-        raise ValueError(f"`loss` must be one of {LOSSES}, found {loss!r}")
-    seg = as_positive_scalar(segment, "segment")
-    if isinstance(max_nfev, bool) or not isinstance(max_nfev, int | np.integer) or max_nfev < 1:
-        raise ValueError(f"`max_nfev` must be a positive integer, found {max_nfev!r}")
+    seg = _fit_options(loss, segment, max_nfev)
 
     flight = find_free_flight(t, w, acc, saturation=sat, window=win)
     sl = slice(flight.start, flight.stop)
     ts, ws = t[sl], w[sl]
-    m = len(ts)
-    where = (f"the window t = {ts[0]:.4g} … {ts[-1]:.4g} s ({m} samples, found by the "
-             f"{flight.found_by})")  # fmt: skip
-    if m < MIN_SAMPLES:
-        raise NotIdentifiableError(
-            f"`window`: {where} is too short: at least {MIN_SAMPLES} samples are needed; the "
-            "ratios I1/I3, I2/I3 and the axes e1, e2, e3 are not identifiable from it",
-            ("I1/I3", "I2/I3", "e1", "e2", "e3"),
-        )
-    if m > MAX_SAMPLES:
-        raise ValueError(f"`window`: {where} holds more than {MAX_SAMPLES} samples: give the "
-                         "free flight (a throw lasts well under 2 s)")  # fmt: skip
-    pieces = int(np.ceil((ts[-1] - ts[0]) / seg - 1e-9))
-    if pieces > MAX_SEGMENTS:
-        raise ValueError(f"`segment` = {seg:g} s splits {where} into {pieces} pieces, each "
-                         f"with its own initial ω; at most {MAX_SEGMENTS} are fitted")  # fmt: skip
-    rotation = float(np.sum(0.5 * (np.linalg.norm(ws[1:], axis=1) + np.linalg.norm(ws[:-1], axis=1))
-                            * np.diff(ts)))  # fmt: skip
-    cone = _cone_deg(ws)
-    if rotation < MIN_ROTATION:
-        raise NotIdentifiableError(
-            f"`omega`: too little rotation in {where}: the body turned {rotation:.3g} rad "
-            f"(at least {MIN_ROTATION:g} is needed), so the ratios I1/I3, I2/I3 and the axes "
-            "e1, e2, e3 are not identifiable; throw it with more spin or give a longer window",
-            ("I1/I3", "I2/I3", "e1", "e2", "e3"),
-        )
-    if not np.ptp(ws, axis=0).max() > 0:
-        raise NotIdentifiableError(
-            f"`omega`: ω is constant over {where}, a steady spin about one axis that excites "
-            "nothing else: the ratios I1/I3, I2/I3 and the axes e1, e2, e3 are not "
-            "identifiable; throw it tumbling (spinning about a direction between the axes)",
-            ("I1/I3", "I2/I3", "e1", "e2", "e3"),
-        )
+    where, cone, rotation = _check_flight(ts, ws, flight.found_by, seg)
     sp = None if speed is None else speed[sl]
     try:
         oe, nfev = _fit(ts, ws, sp, axis, J, seg, loss, max_nfev)
@@ -311,15 +331,9 @@ def _fit(ts, ws, sp, axis, J, seg, loss, max_nfev):
     return oe, nfev
 
 
-def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyResult:
-    m, E = oe.moments, oe.axes
-    absolute = oe.absolute
-    scale = 1.0 if absolute else float(np.sum(m))
-    moments = m / scale
-    inertia = E @ np.diag(moments) @ E.T
-    inertia = 0.5 * (inertia + inertia.T)
-    ratios = m[:2] / m[2]
-    dr = oe.ratios_stderr
+def _moments_stderr(oe, moments, ratios, absolute: bool):
+    """The standard errors of the principal moments (3,) and of the trace, propagated from
+    the covariance of the ratios (and of the scale ``η`` when ``absolute``)."""
     if absolute:
         # m = I3⁰ e^η (ρ1, ρ2, 1), expanded at η = 0: ∂m/∂(ρ1, ρ2, η)
         k = [oe.names.index(x) for x in ("rho1", "rho2", "eta")]
@@ -344,14 +358,12 @@ def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyRes
             var = np.diag(G @ C @ G.T)
         dm = np.sqrt(np.where(np.isnan(var), np.inf, np.clip(var, 0.0, None)))
         dtrace = 0.0
-    rotor_inertia = None
-    dJ = None
-    if has_rotor:
-        if absolute:
-            rotor_inertia, dJ = float(J), 0.0
-        else:
-            rotor_inertia = float(oe.rotor_inertia) * float(m[2]) / scale
-            dJ = oe.stderr("kappa") * float(m[2]) / scale
+    return dm, dtrace
+
+
+def _misfit(oe, ws, robust: bool):
+    """The residuals against the gyro's noise: ``(noise (3,), residual RMS (3,), total noise
+    RMS, ratio)``, the ratio of a robust scale (1.4826 MAD) of the residuals when ``robust``."""
     noise = white_noise_std(ws)
     rms = np.sqrt(np.mean(oe.residuals**2, axis=0))
     floor = 1e-9 * float(np.sqrt(np.mean(ws**2)))
@@ -362,6 +374,12 @@ def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyRes
         ratio = float(np.sqrt(np.mean(spread**2)) / total_noise)
     else:
         ratio = float(np.sqrt(np.mean(rms**2)) / total_noise)
+    return noise, rms, total_noise, ratio
+
+
+def _flags(oe, ratio: float, total_noise: float, has_rotor: bool, moments) -> list[str]:
+    """What is wrong with the fit, in words: a model that does not explain the readings, no
+    convergence, moments that no body has."""
     flags = []
     if ratio > MISMATCH_RATIO:
         model = "gyrostat" if has_rotor else "torque-free"
@@ -375,11 +393,37 @@ def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyRes
         )
     if not oe.success:
         flags.append(f"the fit did not converge: {oe.message}")
-    if _core.check_inertia(np.diag(moments), 1e-3)[0] == 4:  # the triangle, as a fit resolves it
+    if (
+        core_inertia.check_inertia(np.diag(moments), 1e-3)[0] == 4
+    ):  # the triangle, as a fit resolves it
         flags.append(
             f"the moments break the triangle inequality I1 + I2 ≥ I3 (I1 + I2 = "
             f"{moments[0] + moments[1]:.4g}, I3 = {moments[2]:.4g}): no body has them"
         )
+    return flags
+
+
+def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyResult:
+    """The :class:`IdentifyResult` of the output-error fit ``oe`` over the window ``ts``."""
+    m, E = oe.moments, oe.axes
+    absolute = oe.absolute
+    scale = 1.0 if absolute else float(np.sum(m))
+    moments = m / scale
+    inertia = E @ np.diag(moments) @ E.T
+    inertia = 0.5 * (inertia + inertia.T)
+    ratios = m[:2] / m[2]
+    dr = oe.ratios_stderr
+    dm, dtrace = _moments_stderr(oe, moments, ratios, absolute)
+    rotor_inertia = None
+    dJ = None
+    if has_rotor:
+        if absolute:
+            rotor_inertia, dJ = float(J), 0.0
+        else:
+            rotor_inertia = float(oe.rotor_inertia) * float(m[2]) / scale
+            dJ = oe.stderr("kappa") * float(m[2]) / scale
+    noise, rms, total_noise, ratio = _misfit(oe, ws, robust)
+    flags = _flags(oe, ratio, total_noise, has_rotor, moments)
     bias_k = [oe.names.index(x) for x in ("bias.x", "bias.y", "bias.z")]
     return IdentifyResult(
         inertia=inertia,

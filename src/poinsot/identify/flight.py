@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _core
+from .._bindings import identify as core_identify
 from .signals import smooth, smoothing_window
 
 __all__ = ["FreeFlight", "find_free_flight", "lever_arm_design", "saturated_samples"]
@@ -131,7 +131,7 @@ def lever_arm_design(omega, omega_dot) -> np.ndarray:
     w = np.ascontiguousarray(omega, dtype=float)
     wd = np.ascontiguousarray(omega_dot, dtype=float)
     D = np.zeros((len(w), 3, 6))
-    D[:, :, :3] = _core.point_acceleration_matrices(w, wd)
+    D[:, :, :3] = core_identify.point_acceleration_matrices(w, wd)
     D[:, :, 3:] = np.eye(3)
     return D
 

@@ -405,6 +405,120 @@ def _resolve(col: Column, names, what: str, source: str) -> int:
     return col
 
 
+def _lines(path, skip_rows: int, src: str) -> list:
+    """The header and sample lines of the file ``(line number, text)``: after ``skip_rows``,
+    neither blank nor a ``#`` comment; refused when there is no header and sample."""
+    try:
+        with open(path, encoding="utf-8-sig", newline="") as fh:
+            lines = fh.read().splitlines()
+    except FileNotFoundError:
+        raise LogMapError(f"{src}: no such file") from None
+    except IsADirectoryError:
+        raise LogMapError(f"{src}: is a folder, not a CSV file") from None
+    except UnicodeDecodeError:
+        raise LogMapError(f"{src}: not a UTF-8 text file (a CSV export is expected)") from None
+    body = [(i + 1, ln) for i, ln in enumerate(lines) if i >= skip_rows and ln.strip()
+            and not ln.lstrip().startswith("#")]  # fmt: skip
+    if len(body) < 2:
+        raise LogMapError(f"{src}: expected a header line and samples, found "
+                          f"{len(body)} non-empty line(s)")  # fmt: skip
+    return body
+
+
+def _wanted_columns(m: LogMap, names, src: str) -> dict:
+    """The column number of each quantity read (``"time"``, ``"gyro.x"``, …): the map's, or
+    the time and gyro recognised by their header names."""
+    t_col = m.time if m.time is not None else _find_time(names)
+    if t_col is None:
+        raise LogMapError(f"{src}: no time column recognised in the header (give "
+                          "`columns.time` in a map file or --time)")  # fmt: skip
+    g_cols = m.gyro if m.gyro is not None else _find_gyro(names)
+    if g_cols is None:
+        raise LogMapError(f"{src}: no gyro x, y, z columns recognised in the header (give "
+                          "`columns.gyro` in a map file or --gyro X Y Z)")  # fmt: skip
+    wanted = {"time": _resolve(t_col, names, "time", src)}
+    for k, c in zip("xyz", g_cols, strict=True):
+        wanted[f"gyro.{k}"] = _resolve(c, names, f"gyro {k}", src)
+    if m.accel is not None:
+        for k, c in zip("xyz", m.accel, strict=True):
+            wanted[f"accel.{k}"] = _resolve(c, names, f"accel {k}", src)
+    if m.rotor_speed is not None:
+        wanted["rotor_speed"] = _resolve(m.rotor_speed, names, "rotor speed", src)
+    for k, c in enumerate(m.attitude or ()):
+        wanted[f"attitude[{k}]"] = _resolve(c, names, f"attitude[{k}]", src)
+    return wanted
+
+
+def _numbers(body, wanted: dict, columns: dict, delim: str, decimal: str, src: str):
+    """The samples (n, len(wanted)) of the wanted columns; a missing, empty, non-numeric or
+    non-finite cell is refused with its line and column."""
+    data = np.empty((len(body) - 1, len(wanted)))
+    reader = csv.reader((ln for _, ln in body[1:]), delimiter=delim)
+    idx = list(wanted.values())
+    keys = list(wanted)
+    for r, row in enumerate(reader):
+        line = body[1 + r][0]
+        for j, i in enumerate(idx):
+            if i >= len(row):
+                raise LogMapError(f"{src} line {line}: the row has {len(row)} fields, so no "
+                                  f"column {columns[keys[j]]!r}")  # fmt: skip
+            cell = row[i].strip()
+            if decimal == ",":
+                cell = cell.replace(",", ".")
+            try:
+                data[r, j] = float(cell)
+            except ValueError:
+                what = "is empty" if not cell else f"{cell!r} is not a number"
+                raise LogMapError(f"{src} line {line}, column {columns[keys[j]]!r}: "
+                                  f"{what}") from None  # fmt: skip
+            if not math.isfinite(data[r, j]):
+                raise LogMapError(f"{src} line {line}, column {columns[keys[j]]!r}: "
+                                  f"{cell!r} is not a finite number (NaN sample)")  # fmt: skip
+    return data
+
+
+def _scale(key: str, given, kind: str, header: str, notes: list) -> float:
+    """One unit of a column in SI: the map's ``given`` scale, else the header's unit, else 1
+    (SI); the last two add a line to ``notes``."""
+    if given is not None:
+        return given
+    unit = _header_unit(header, kind)
+    if unit is not None:
+        notes.append(f"{key}: unit read from the header {header!r}")
+        return unit
+    si = {"time": "s", "rate": "rad/s", "accel": "m/s²"}[kind]
+    notes.append(f"{key}: no scale and no unit in the header {header!r}: taken as {si}")
+    return 1.0
+
+
+def _check_increasing(t, data, body, columns: dict, src: str) -> None:
+    """Refuse times ``t`` that do not increase strictly, naming the two lines."""
+    d = np.diff(t)
+    if np.any(d <= 0):
+        k = int(np.flatnonzero(d <= 0)[0])
+        what = "repeats the time of" if d[k] == 0 else "goes back in time from"
+        raise LogMapError(
+            f"{src}: column {columns['time']!r} must increase strictly: line "
+            f"{body[k + 2][0]} ({float(data[k + 1, 0])!r}) {what} line {body[k + 1][0]} "
+            f"({float(data[k, 0])!r})"
+        )
+
+
+def _attitude(raw, body, src: str):
+    """The attitude matrices (n, 3, 3) of four quaternion columns (normalised; a zero one is
+    refused) or of nine matrix columns."""
+    from ..rotation import matrix_from_quat
+
+    if raw.shape[1] == 4:
+        norms = np.linalg.norm(raw, axis=1)
+        if np.any(norms == 0):
+            k = int(np.argmax(norms == 0))
+            raise LogMapError(f"{src} line {body[k + 1][0]}: the attitude quaternion is "
+                              "zero")  # fmt: skip
+        return matrix_from_quat(raw)
+    return raw.reshape(-1, 3, 3)
+
+
 def read_log(path, log_map: LogMap | None = None, **options) -> GyroLog:
     """Read a gyro log from a CSV file.
 
@@ -440,119 +554,35 @@ def read_log(path, log_map: LogMap | None = None, **options) -> GyroLog:
     m = (log_map or LogMap()).updated(**options)
     path = Path(path)
     src = str(path)
-    try:
-        with open(path, encoding="utf-8-sig", newline="") as fh:
-            lines = fh.read().splitlines()
-    except FileNotFoundError:
-        raise LogMapError(f"{src}: no such file") from None
-    except IsADirectoryError:
-        raise LogMapError(f"{src}: is a folder, not a CSV file") from None
-    except UnicodeDecodeError:
-        raise LogMapError(f"{src}: not a UTF-8 text file (a CSV export is expected)") from None
-    body = [(i + 1, ln) for i, ln in enumerate(lines) if i >= m.skip_rows and ln.strip()
-            and not ln.lstrip().startswith("#")]  # fmt: skip
-    if len(body) < 2:
-        raise LogMapError(f"{src}: expected a header line and samples, found "
-                          f"{len(body)} non-empty line(s)")  # fmt: skip
+    body = _lines(path, m.skip_rows, src)
     _header_line, header = body[0]
     delim = m.delimiter or _sniff(header, m.decimal)
     if delim == "," and m.decimal == ",":
         raise LogMapError(f'{src}: `csv.decimal` "," needs another `csv.delimiter` than ","')
     names = next(csv.reader([header], delimiter=delim))
     notes = []
-    # ------------------------------------------------------------------ the columns
-    t_col = m.time if m.time is not None else _find_time(names)
-    if t_col is None:
-        raise LogMapError(f"{src}: no time column recognised in the header (give "
-                          "`columns.time` in a map file or --time)")  # fmt: skip
-    g_cols = m.gyro if m.gyro is not None else _find_gyro(names)
-    if g_cols is None:
-        raise LogMapError(f"{src}: no gyro x, y, z columns recognised in the header (give "
-                          "`columns.gyro` in a map file or --gyro X Y Z)")  # fmt: skip
-    wanted = {"time": _resolve(t_col, names, "time", src)}
-    for k, c in zip("xyz", g_cols, strict=True):
-        wanted[f"gyro.{k}"] = _resolve(c, names, f"gyro {k}", src)
-    if m.accel is not None:
-        for k, c in zip("xyz", m.accel, strict=True):
-            wanted[f"accel.{k}"] = _resolve(c, names, f"accel {k}", src)
-    if m.rotor_speed is not None:
-        wanted["rotor_speed"] = _resolve(m.rotor_speed, names, "rotor speed", src)
-    for k, c in enumerate(m.attitude or ()):
-        wanted[f"attitude[{k}]"] = _resolve(c, names, f"attitude[{k}]", src)
+    wanted = _wanted_columns(m, names, src)
     columns = {key: names[i].strip() for key, i in wanted.items()}
-    # ------------------------------------------------------------------ the numbers
-    data = np.empty((len(body) - 1, len(wanted)))
-    reader = csv.reader((ln for _, ln in body[1:]), delimiter=delim)
-    idx = list(wanted.values())
-    keys = list(wanted)
-    for r, row in enumerate(reader):
-        line = body[1 + r][0]
-        for j, i in enumerate(idx):
-            if i >= len(row):
-                raise LogMapError(f"{src} line {line}: the row has {len(row)} fields, so no "
-                                  f"column {columns[keys[j]]!r}")  # fmt: skip
-            cell = row[i].strip()
-            if m.decimal == ",":
-                cell = cell.replace(",", ".")
-            try:
-                data[r, j] = float(cell)
-            except ValueError:
-                what = "is empty" if not cell else f"{cell!r} is not a number"
-                raise LogMapError(f"{src} line {line}, column {columns[keys[j]]!r}: "
-                                  f"{what}") from None  # fmt: skip
-            if not math.isfinite(data[r, j]):
-                raise LogMapError(f"{src} line {line}, column {columns[keys[j]]!r}: "
-                                  f"{cell!r} is not a finite number (NaN sample)")  # fmt: skip
-
-    # ------------------------------------------------------------------ the scales
-    def scale(key, given, kind, header):
-        if given is not None:
-            return given
-        unit = _header_unit(header, kind)
-        if unit is not None:
-            notes.append(f"{key}: unit read from the header {header!r}")
-            return unit
-        si = {"time": "s", "rate": "rad/s", "accel": "m/s²"}[kind]
-        notes.append(f"{key}: no scale and no unit in the header {header!r}: taken as {si}")
-        return 1.0
-
-    ts = scale("time", m.time_scale, "time", columns["time"])
+    data = _numbers(body, wanted, columns, delim, m.decimal, src)
+    ts = _scale("time", m.time_scale, "time", columns["time"], notes)
     t = data[:, 0] * ts
-    d = np.diff(t)
-    if np.any(d <= 0):
-        k = int(np.flatnonzero(d <= 0)[0])
-        what = "repeats the time of" if d[k] == 0 else "goes back in time from"
-        raise LogMapError(
-            f"{src}: column {columns['time']!r} must increase strictly: line "
-            f"{body[k + 2][0]} ({float(data[k + 1, 0])!r}) {what} line {body[k + 1][0]} "
-            f"({float(data[k, 0])!r})"
-        )
-    gs = scale("gyro", m.gyro_scale, "rate", columns["gyro.x"])
+    _check_increasing(t, data, body, columns, src)
+    gs = _scale("gyro", m.gyro_scale, "rate", columns["gyro.x"], notes)
     omega = data[:, 1:4] * gs
     col = 4
     accel = None
     if m.accel is not None:
-        accel = data[:, col : col + 3] * scale("accel", m.accel_scale, "accel", columns["accel.x"])
+        acs = _scale("accel", m.accel_scale, "accel", columns["accel.x"], notes)
+        accel = data[:, col : col + 3] * acs
         col += 3
     rotor = None
     if m.rotor_speed is not None:
-        rs = scale("rotor_speed", m.rotor_speed_scale, "rate", columns["rotor_speed"])
+        rs = _scale("rotor_speed", m.rotor_speed_scale, "rate", columns["rotor_speed"], notes)
         rotor = data[:, col] * rs
         col += 1
     attitude = None
     if m.attitude is not None:
-        from ..rotation import matrix_from_quat
-
-        raw = data[:, col : col + len(m.attitude)]
-        if len(m.attitude) == 4:
-            norms = np.linalg.norm(raw, axis=1)
-            if np.any(norms == 0):
-                k = int(np.argmax(norms == 0))
-                raise LogMapError(f"{src} line {body[k + 1][0]}: the attitude quaternion is "
-                                  "zero")  # fmt: skip
-            attitude = matrix_from_quat(raw)
-        else:
-            attitude = raw.reshape(-1, 3, 3)
+        attitude = _attitude(data[:, col : col + len(m.attitude)], body, src)
     return GyroLog(
         t=t,
         omega=omega,

@@ -35,7 +35,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import _core
+from .._bindings import identify as core_identify
+from .._bindings import inertia as core_inertia
 from ..rotation import matrix_from_rotvec
 
 __all__ = ["LOSSES", "OutputErrorFit", "output_error"]
@@ -195,7 +196,7 @@ class _Model:
             rt, rs, ax = np.zeros(0), np.zeros(0), np.array([1.0, 0.0, 0.0])
         else:
             rt, rs, ax = self.rotor
-        out = _core.gyrostat_omegas(moments, axes, J, w0, ts, rt, rs, ax, self.max_step)
+        out = core_identify.gyrostat_omegas(moments, axes, J, w0, ts, rt, rs, ax, self.max_step)
         self.nfev += m
         return out
 
@@ -261,8 +262,131 @@ def _segments(n: int, t, segment: float) -> list[slice]:
 def _sorted_frame(moments, axes):
     """Moments ascending and the matching right-handed axes (the core's sign rule)."""
     I = axes @ np.diag(moments) @ axes.T
-    m, E = _core.principal_decomposition(0.5 * (I + I.T))
+    m, E = core_inertia.principal_decomposition(0.5 * (I + I.T))
     return np.asarray(m), np.asarray(E)
+
+
+def _start_frame(initial_inertia):
+    """The starting principal moments (each at least 1e-3 of the largest), axes and ``I3`` of
+    ``initial_inertia``; refused when they give no finite start."""
+    I0 = 0.5 * (np.asarray(initial_inertia, float) + np.asarray(initial_inertia, float).T)
+    m0, E0 = core_inertia.principal_decomposition(I0)
+    m0 = np.abs(np.asarray(m0, float))
+    m0 = np.maximum(m0, 1e-3 * m0.max())
+    E0 = np.asarray(E0, float)
+    I3_0 = float(m0[2])
+    if not (I3_0 > 0 and np.isfinite(m0).all()):
+        _no_start(I3_0)
+    return m0, E0, I3_0
+
+
+def _default_max_step(t, omega) -> float:
+    """The longest RK4 step when none is given (see :func:`output_error`'s ``max_step``)."""
+    n = len(t)
+    top = float(np.max(np.linalg.norm(omega, axis=1))) if n else 0.0
+    interval = float(np.max(np.diff(t))) if n > 1 else 0.0
+    max_step = MAX_TURN_PER_STEP / top if top > 0 else 0.0
+    max_step = max(max_step, interval / MAX_SUBSTEPS)  # a bounded cost
+    if max_step >= interval:
+        max_step = 0.0  # one step per sample
+    return max_step
+
+
+def _start_omegas(t, omega, omega0, segments):
+    """ω at the start of each segment: ``omega0`` broadcast, or the (smoothed) readings."""
+    if omega0 is None:
+        from .signals import smooth
+
+        ws = smooth(t, omega) if len(t) >= 7 else omega
+        return np.array([ws[s.start] for s in segments])
+    return np.broadcast_to(np.asarray(omega0, float), (len(segments), 3)).copy()
+
+
+def _parameter_vector(extra, w0, moments, J, bias):
+    """The model's parameters ``x`` about the principal frame of ``moments`` (``δ = 0``,
+    ``η = 0``): ω0, the ratios to ``I3``, ``κ = J/I3`` when fitted, and the bias."""
+    I3 = float(moments[2])
+    x = [*np.ravel(w0), moments[0] / I3, moments[1] / I3, 0.0, 0.0, 0.0]
+    if extra == "eta":
+        x.append(0.0)
+    elif extra == "kappa":
+        x.append(float(J) / I3)
+    return np.array([*x, *bias], dtype=float)
+
+
+def _residual_scale(omega, f_scale) -> float:
+    """The residual size [rad/s] where a robust loss begins to down-weight: ``f_scale``, by
+    default the readings' noise, 1 when that is not a positive number."""
+    from .signals import white_noise_std
+
+    noise = white_noise_std(omega)
+    scale = float(np.nanmedian(noise)) if f_scale is None else float(f_scale)
+    if not np.isfinite(scale) or scale <= 0:
+        scale = 1.0
+    return scale
+
+
+def _from_log(y, lr):
+    """The parameters of the optimiser's variables ``y``: the ratios (slice ``lr``) back from
+    their logarithms, clipped to :data:`LOG_RATIO_LIMIT`."""
+    x = y.copy()
+    x[lr] = np.exp(np.clip(y[lr], -LOG_RATIO_LIMIT, LOG_RATIO_LIMIT))
+    return x
+
+
+def _minimise(model, x0, lr, loss, scale, max_nfev):
+    """SciPy's result of the fit from ``x0`` (the ratios ``lr`` as logarithms), its ``x``
+    turned back into the model's parameters; a robust loss by reweighting."""
+    from scipy.optimize import least_squares
+
+    def jac(y):
+        x = _from_log(y, lr)
+        Jy = model.jacobian(x)
+        inside = np.abs(y[lr]) < LOG_RATIO_LIMIT  # flat where clipped
+        Jy[:, lr] *= np.where(inside, x[lr], 0.0)
+        return Jy
+
+    # a robust loss by iteratively reweighted least squares: each pass is a weighted
+    # least-squares fit (Levenberg–Marquardt) with the weights ρ'(r²/f²) of the last pass's
+    # residuals; its fixed point is the minimum of Σ ρ(r²/f²) (the same stationarity
+    # condition Σ ρ' r ∇r = 0 as least_squares with that loss)
+    weight = np.ones(3 * len(model.t))
+    for _ in range(IRLS_PASSES if loss != "linear" else 1):
+        root = np.sqrt(weight)
+        sol = least_squares(
+            lambda y, root=root: root * model.residuals(_from_log(y, lr)),
+            x0,
+            jac=lambda y, root=root: root[:, None] * jac(y),
+            x_scale="jac",
+            max_nfev=max_nfev,
+            method="lm",
+        )
+        if loss == "linear":
+            break
+        new = _loss_weight(loss, (model.residuals(_from_log(sol.x, lr)) / scale) ** 2)
+        x0 = sol.x
+        if np.max(np.abs(new - weight)) < IRLS_TOLERANCE:
+            break
+        weight = new
+    sol.x = _from_log(sol.x, lr)
+    return sol
+
+
+def _uncertainty(model, x, loss, scale, moments):
+    """``(covariance, condition, s²)`` of the fit at ``x``: Gauss–Newton, weighted by a
+    robust loss's weights, with a symmetric body's free turn held fixed."""
+    r = model.residuals(x)
+    Jac = model.jacobian(x)
+    if loss != "linear":
+        z = (r / scale) ** 2
+        weight = np.sqrt(_loss_weight(loss, z))
+        r = r * weight
+        Jac = Jac * weight[:, None]
+    dof = max(len(r) - model.p, 1)
+    s2 = float(r @ r) / dof
+    cov, cond = _gauss_newton_covariance(Jac, s2)
+    cov = _profile_symmetric_pairs(Jac, s2, cov, moments, model.names)
+    return cov, cond, s2
 
 
 def output_error(
@@ -320,10 +444,6 @@ def output_error(
     -------
     OutputErrorFit
     """
-    from scipy.optimize import least_squares
-
-    from .signals import white_noise_std
-
     if loss not in LOSSES:
         raise ValueError(f"`loss` must be one of {LOSSES}, found {loss!r}")
     t = np.asarray(t, dtype=float)
@@ -333,38 +453,14 @@ def output_error(
     rotor = None
     if rotor_speed is not None:
         rotor = (t.copy(), np.asarray(rotor_speed, float), np.asarray(rotor_axis, float))
-    I0 = 0.5 * (np.asarray(initial_inertia, float) + np.asarray(initial_inertia, float).T)
-    m0, E0 = _core.principal_decomposition(I0)
-    m0 = np.abs(np.asarray(m0, float))
-    m0 = np.maximum(m0, 1e-3 * m0.max())
-    E0 = np.asarray(E0, float)
-    I3_0 = float(m0[2])
-    if not (I3_0 > 0 and np.isfinite(m0).all()):
-        _no_start(I3_0)
+    m0, E0, I3_0 = _start_frame(initial_inertia)
     if max_step is None:
-        top = float(np.max(np.linalg.norm(omega, axis=1))) if n else 0.0
-        interval = float(np.max(np.diff(t))) if n > 1 else 0.0
-        max_step = MAX_TURN_PER_STEP / top if top > 0 else 0.0
-        max_step = max(max_step, interval / MAX_SUBSTEPS)  # a bounded cost
-        if max_step >= interval:
-            max_step = 0.0  # one step per sample
+        max_step = _default_max_step(t, omega)
     model = _Model(t, omega, segments, rotor, rotor_inertia, E0, I3_0, max_step)
     K = len(segments)
-    if omega0 is None:
-        from .signals import smooth
-
-        ws = smooth(t, omega) if n >= 7 else omega
-        w0 = np.array([ws[s.start] for s in segments])
-    else:
-        w0 = np.broadcast_to(np.asarray(omega0, float), (K, 3)).copy()
-    x0 = [*w0.ravel(), m0[0] / I3_0, m0[1] / I3_0, 0.0, 0.0, 0.0]
-    if model.extra == "eta":
-        x0.append(0.0)
-    elif model.extra == "kappa":
-        J0 = initial_rotor_inertia if initial_rotor_inertia is not None else 0.0
-        x0.append(float(J0) / I3_0)
-    x0 += [0.0, 0.0, 0.0]
-    x0 = np.array(x0, dtype=float)
+    w0 = _start_omegas(t, omega, omega0, segments)
+    J0 = initial_rotor_inertia if initial_rotor_inertia is not None else 0.0
+    x0 = _parameter_vector(model.extra, w0, m0, J0, (0.0, 0.0, 0.0))
     if not np.isfinite(x0).all():
         _no_start(I3_0)
     # the ratios are fitted as their logarithms (positive without bounds, which lets MINPACK's
@@ -372,68 +468,15 @@ def output_error(
     # solve on a busy machine)
     lr = slice(3 * K, 3 * K + 2)
     x0[lr] = np.log(np.clip(x0[lr], 1e-3, 1e3))
-
-    def to_x(y):
-        x = y.copy()
-        x[lr] = np.exp(np.clip(y[lr], -LOG_RATIO_LIMIT, LOG_RATIO_LIMIT))
-        return x
-
-    def jac(y):
-        x = to_x(y)
-        Jy = model.jacobian(x)
-        inside = np.abs(y[lr]) < LOG_RATIO_LIMIT  # flat where clipped
-        Jy[:, lr] *= np.where(inside, x[lr], 0.0)
-        return Jy
-
-    noise = white_noise_std(omega)
-    scale = float(np.nanmedian(noise)) if f_scale is None else float(f_scale)
-    if not np.isfinite(scale) or scale <= 0:
-        scale = 1.0
-    # a robust loss by iteratively reweighted least squares: each pass is a weighted
-    # least-squares fit (Levenberg–Marquardt) with the weights ρ'(r²/f²) of the last pass's
-    # residuals; its fixed point is the minimum of Σ ρ(r²/f²) (the same stationarity
-    # condition Σ ρ' r ∇r = 0 as least_squares with that loss)
-    weight = np.ones(3 * n)
-    for _ in range(IRLS_PASSES if loss != "linear" else 1):
-        root = np.sqrt(weight)
-        sol = least_squares(
-            lambda y, root=root: root * model.residuals(to_x(y)),
-            x0,
-            jac=lambda y, root=root: root[:, None] * jac(y),
-            x_scale="jac",
-            max_nfev=max_nfev,
-            method="lm",
-        )
-        if loss == "linear":
-            break
-        new = _loss_weight(loss, (model.residuals(to_x(sol.x)) / scale) ** 2)
-        x0 = sol.x
-        if np.max(np.abs(new - weight)) < IRLS_TOLERANCE:
-            break
-        weight = new
-    sol.x = to_x(sol.x)
+    scale = _residual_scale(omega, f_scale)
+    sol = _minimise(model, x0, lr, loss, scale, max_nfev)
     # re-expand about the optimum: axes sorted by ascending moment, δ = 0, η = 0
     w0, rho, delta, extra, bias = model.unpack(sol.x)
     moments, axes, J = model.physical(rho, delta, extra)
     moments, axes = _sorted_frame(moments, axes)
     final = _Model(t, omega, segments, rotor, rotor_inertia, axes, float(moments[2]), max_step)
-    x = [*w0.ravel(), moments[0] / moments[2], moments[1] / moments[2], 0.0, 0.0, 0.0]
-    if final.extra == "eta":
-        x.append(0.0)
-    elif final.extra == "kappa":
-        x.append(float(J) / float(moments[2]))
-    x = np.array([*x, *bias])
-    r = final.residuals(x)
-    Jac = final.jacobian(x)
-    if loss != "linear":
-        z = (r / scale) ** 2
-        weight = np.sqrt(_loss_weight(loss, z))
-        r = r * weight
-        Jac = Jac * weight[:, None]
-    dof = max(len(r) - final.p, 1)
-    s2 = float(r @ r) / dof
-    cov, cond = _gauss_newton_covariance(Jac, s2)
-    cov = _profile_symmetric_pairs(Jac, s2, cov, moments, final.names)
+    x = _parameter_vector(final.extra, w0, moments, J, bias)
+    cov, cond, s2 = _uncertainty(final, x, loss, scale, moments)
     pred = final.prediction(x)
     if final.extra == "eta":
         moments_out = moments

@@ -150,10 +150,10 @@ class IdentifyResult:
         """The shape of the uniform box with the fitted principal moments: its half extents
         (3,) along ``e1, e2, e3``, the largest 1 (dimensionless: a fit gives the moments'
         ratios; ``equivalent_box_half_extents`` of ``crates/core/src/shapes.rs``)."""
-        from .. import _core
+        from .._bindings import inertia as core_inertia
 
         moments = np.asarray(self.principal_moments, dtype=float)
-        half = np.asarray(_core.equivalent_box_half_extents(moments, 1.0))
+        half = np.asarray(core_inertia.equivalent_box_half_extents(moments, 1.0))
         return half / half.max()
 
     def check(self) -> None:

@@ -24,7 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _core
+from .._bindings import identify as core_identify
+from .._bindings import inertia as core_inertia
 
 __all__ = [
     "SAMPLE_LOG",
@@ -192,6 +193,68 @@ def _smoothstep(x):
     return x * x * (3.0 - 2.0 * x)
 
 
+def _motion(body, moments, axes, a, J, rotor, tau, dt, duration, rotor_speeds):
+    """ω(t) at the flight times ``tau`` as a function of ω0: the exact torque-free motion, or
+    the gyrostat with the flywheel (inertia ``J``, axis ``a``) integrated by the core."""
+    from ..torquefree import FreeRigidBody
+
+    def motion(w0):
+        if not rotor:
+            return FreeRigidBody.from_body(body).exact_omega(w0, tau)
+        fine = dt / 8 * np.arange(8 * (len(tau) - 1) + 1)
+        speed, _ = rotor_profile(fine, duration, rotor_speeds)
+        return core_identify.gyrostat_omegas(moments[None], axes[None], np.array([J]), w0[None],
+                                             tau, fine, speed, a, dt / 8)[0]  # fmt: skip
+
+    return motion
+
+
+def _within_max_spin(motion, w0, given: bool, max_spin: float):
+    """``(ω0, ω(t))`` with a random ``ω0`` (not ``given``) scaled down until ``|ω(t)|`` stays
+    within ``max_spin`` (exact for torque-free motion; three tries)."""
+    w = motion(w0)
+    for _ in range(3):  # |ω| up to max_spin: scale ω0 (exact for torque-free motion)
+        top = np.abs(w).max()
+        if given or top <= max_spin:
+            break
+        w0 = w0 * (0.995 * max_spin / top)
+        w = motion(w0)
+    return w0, w
+
+
+def _flight_specific_force(moments, axes, w, J, a, speed, speed_rate, p):
+    """The specific force ``ω̇ × p + ω × (ω × p)`` (n, 3) of the accelerometer at ``p`` in
+    flight, with the flywheel's momentum ``J speed a`` and its rate."""
+    h = J * speed[:, None] * a
+    h_dot = J * speed_rate[:, None] * a
+    wd = core_identify.gyrostat_omega_dot(moments, axes, w, h, h_dot)
+    return core_identify.point_acceleration_matrices(w, wd) @ p  # ω̇ × p + ω × (ω × p)
+
+
+def _with_hand(rng, tau, dt, rate, w0, w, f, speed):
+    """The log with the throw from the hand before and the catch after the flight:
+    ``(t, window, ω, specific force, rotor speed)``."""
+    m = round(HAND_TIME * rate)
+    pre = -dt * np.arange(m, 0, -1)
+    post = tau[-1] + dt * np.arange(1, m + 1)
+    up = rng.standard_normal(3)
+    up /= np.linalg.norm(up)
+    s_pre = _smoothstep((pre + 0.12) / 0.12)  # the wind-up: 0 → 1 over the last 0.12 s
+    s_post = 1.0 - _smoothstep((post - tau[-1]) / 0.05)  # the catch stops it in 0.05 s
+    w_pre = s_pre[:, None] * w0
+    w_post = s_post[:, None] * w[-1]
+    push = np.sin(np.pi * np.clip((pre + 0.12) / 0.12, 0, 1))[:, None] * 25.0 * up
+    jolt = np.exp(-(post - tau[-1]) / 0.02)[:, None] * 30.0 * rng.standard_normal(3)
+    f_pre = STANDARD_GRAVITY * up + push
+    f_post = STANDARD_GRAVITY * up + jolt
+    t = np.concatenate([pre, tau, post]) + HAND_TIME
+    window = (HAND_TIME, HAND_TIME + float(tau[-1]))
+    w_true = np.concatenate([w_pre, w, w_post])
+    f = np.concatenate([f_pre, f, f_post])
+    rotor_read = np.concatenate([np.full(m, speed[0]), speed, np.full(m, speed[-1])])
+    return t, window, w_true, f, rotor_read
+
+
 def synthetic_throw(
     *,
     rotor: bool = True,
@@ -256,8 +319,6 @@ def synthetic_throw(
     >>> bool(np.abs(throw.omega_true).max() <= 30.0), throw.rotor_speed.max().round(6)
     (True, np.float64(1300.0))
     """
-    from ..torquefree import FreeRigidBody
-
     rng = np.random.default_rng(seed)
     if body is None:
         body, p_default = logger_block()
@@ -265,7 +326,7 @@ def synthetic_throw(
         p_default = np.zeros(3)
     p = p_default if imu_position is None else np.asarray(imu_position, dtype=float)
     inertia = np.array(body.inertia, dtype=float)
-    moments, axes = (np.asarray(x) for x in _core.principal_decomposition(inertia))
+    moments, axes = (np.asarray(x) for x in core_inertia.principal_decomposition(inertia))
     a = np.asarray(rotor_axis, dtype=float)
     a = a / np.linalg.norm(a)
     dt = 1.0 / rate
@@ -273,27 +334,10 @@ def synthetic_throw(
     tau = dt * np.arange(n)
     w0 = spin * _direction(rng, axes) if omega0 is None else np.asarray(omega0, dtype=float)
     J = rotor_inertia if rotor else 0.0
-
-    def motion(w0):
-        if not rotor:
-            return FreeRigidBody.from_body(body).exact_omega(w0, tau)
-        fine = dt / 8 * np.arange(8 * (n - 1) + 1)
-        speed, _ = rotor_profile(fine, duration, rotor_speeds)
-        return _core.gyrostat_omegas(moments[None], axes[None], np.array([J]), w0[None], tau,
-                                     fine, speed, a, dt / 8)[0]  # fmt: skip
-
-    w = motion(w0)
-    for _ in range(3):  # |ω| up to max_spin: scale ω0 (exact for torque-free motion)
-        top = np.abs(w).max()
-        if omega0 is not None or top <= max_spin:
-            break
-        w0 = w0 * (0.995 * max_spin / top)
-        w = motion(w0)
+    motion = _motion(body, moments, axes, a, J, rotor, tau, dt, duration, rotor_speeds)
+    w0, w = _within_max_spin(motion, w0, omega0 is not None, max_spin)
     speed, speed_rate = rotor_profile(tau, duration, rotor_speeds)
-    h = J * speed[:, None] * a
-    h_dot = J * speed_rate[:, None] * a
-    wd = _core.gyrostat_omega_dot(moments, axes, w, h, h_dot)
-    f = _core.point_acceleration_matrices(w, wd) @ p  # ω̇ × p + ω × (ω × p)
+    f = _flight_specific_force(moments, axes, w, J, a, speed, speed_rate, p)
     b_gyro = bias * rng.choice([-1.0, 1.0], 3)
     b_acc = accel_bias * rng.choice([-1.0, 1.0], 3)
     t = tau
@@ -301,24 +345,7 @@ def synthetic_throw(
     rotor_read = speed
     window = (0.0, float(tau[-1]))
     if hand:
-        m = round(HAND_TIME * rate)
-        pre = -dt * np.arange(m, 0, -1)
-        post = tau[-1] + dt * np.arange(1, m + 1)
-        up = rng.standard_normal(3)
-        up /= np.linalg.norm(up)
-        s_pre = _smoothstep((pre + 0.12) / 0.12)  # the wind-up: 0 → 1 over the last 0.12 s
-        s_post = 1.0 - _smoothstep((post - tau[-1]) / 0.05)  # the catch stops it in 0.05 s
-        w_pre = s_pre[:, None] * w0
-        w_post = s_post[:, None] * w[-1]
-        push = np.sin(np.pi * np.clip((pre + 0.12) / 0.12, 0, 1))[:, None] * 25.0 * up
-        jolt = np.exp(-(post - tau[-1]) / 0.02)[:, None] * 30.0 * rng.standard_normal(3)
-        f_pre = STANDARD_GRAVITY * up + push
-        f_post = STANDARD_GRAVITY * up + jolt
-        t = np.concatenate([pre, tau, post]) + HAND_TIME
-        window = (HAND_TIME, HAND_TIME + float(tau[-1]))
-        w_true = np.concatenate([w_pre, w, w_post])
-        f = np.concatenate([f_pre, f, f_post])
-        rotor_read = np.concatenate([np.full(m, speed[0]), speed, np.full(m, speed[-1])])
+        t, window, w_true, f, rotor_read = _with_hand(rng, tau, dt, rate, w0, w, f, speed)
     readings = w_true + b_gyro + noise * rng.standard_normal(w_true.shape)
     if saturation is not None:
         readings = np.clip(readings, -saturation, saturation)

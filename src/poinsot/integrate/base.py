@@ -34,7 +34,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .. import _core
+from .._bindings import runs as core_runs
 
 __all__ = ["INVARIANTS", "METHODS", "Solver", "get_solver", "register", "register_core_methods"]
 
@@ -119,7 +119,7 @@ def register(cls: type[Solver]) -> type[Solver]:
 
 #: The core's registry by name: ``{name, kind, order, tableau, conserves, kicks, adaptive,
 #: summary}`` for each method it runs by name.
-CORE_METHODS: dict[str, dict[str, Any]] = {e["name"]: e for e in _core.METHODS}
+CORE_METHODS: dict[str, dict[str, Any]] = {e["name"]: e for e in core_runs.METHODS}
 
 
 def _declare(cls: type[Solver], entry: dict[str, Any]) -> None:
@@ -128,12 +128,12 @@ def _declare(cls: type[Solver], entry: dict[str, Any]) -> None:
     cls.order = entry["order"]
     cls.adaptive = entry["adaptive"]
     cls.conserves = frozenset(entry["conserves"])
-    cls.requires = "ode" if entry["kind"] in _core.FIELD_KINDS else "rigid"
+    cls.requires = "ode" if entry["kind"] in core_runs.FIELD_KINDS else "rigid"
     cls.needs_position_only_forces = entry["kicks"]
     if entry["kind"] == "exact-splitting":
-        cls.flows, cls.kicks, cls.kick_first = _core.composition(entry["tableau"])
+        cls.flows, cls.kicks, cls.kick_first = core_runs.composition(entry["tableau"])
     elif entry["tableau"]:
-        cls.A, cls.B, cls.C = _core.tableau(entry["tableau"])
+        cls.A, cls.B, cls.C = core_runs.tableau(entry["tableau"])
 
 
 def register_core_methods() -> None:

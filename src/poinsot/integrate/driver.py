@@ -78,7 +78,7 @@ class ODESystem:
         self.state_slices = getattr(problem, "state_slices", None) or {"state": slice(0, n)}
 
     def problem(self, y0):
-        from .. import _core
+        from .._bindings import runs as core_runs
         from .problem import GENERAL_METHODS, NativeProblem
 
         rhs, project = self.rhs, self._project
@@ -90,7 +90,7 @@ class ODESystem:
             return np.asarray(project(y, t), dtype=float)
 
         data = (field, onto if project is not None else None)
-        return NativeProblem(_core.integrate_python, data, GENERAL_METHODS,
+        return NativeProblem(core_runs.integrate_python, data, GENERAL_METHODS,
                              ("the right-hand side rhs(t, y)",))  # fmt: skip
 
     def to_internal(self, y):
@@ -383,25 +383,72 @@ def estimate_steps_by_spans(run_to, t0: float, t1: float) -> float:
     return steps * span / tau
 
 
-def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progress, backend,
-                      observer, budget=None, pilot=False) -> IntegrationResult:  # fmt: skip
-    """A system on the compiled core (its :class:`~poinsot.integrate.problem.NativeProblem`):
-    the whole run in one call (in chunks only to report progress or to grow the output of an
-    adaptive run); forces and carriers given as Python callables are called back from it (the
-    slow path)."""
-    from .. import _core as _drv
-
-    cls = type(solver)
-    problem = system.problem(y0)
+def _native_backend(problem, backend) -> str:
+    """The backend of a run: ``backend`` checked against the problem, by default
+    ``"compiled"`` unless the problem calls Python back."""
     if backend is None:
-        backend = "compiled" if problem.compiled else "python"
-    elif backend not in BACKENDS:
+        return "compiled" if problem.compiled else "python"
+    if backend not in BACKENDS:
         raise ValueError(f"`backend` must be one of {BACKENDS}, found {backend!r}")
     if backend == "compiled" and not problem.compiled:
         raise ValueError(
             "`backend='compiled'` needs built-in forces; these are Python "
             f"callables (use backend='python'): {', '.join(problem.slow)}"
         )
+    return backend
+
+
+def _first_capacity(saveat, adaptive: bool, t0, t1, dt) -> int:
+    """The samples a run makes room for at its start: every ``t_eval`` time, every kept
+    step of a fixed-step run, or 256 for an adaptive run to grow from."""
+    if len(saveat.times):
+        return len(saveat.times)
+    if adaptive:
+        return 256
+    return int(min((t1 - t0) / dt, 1e9)) // saveat.every + 3
+
+
+def _engine_keywords(problem, observer) -> dict:
+    """The keyword arguments of the problem's engine, with the arrays of an ``observer`` that
+    counts flips (ensembles)."""
+    extra = dict(problem.keywords)
+    if observer is not None and hasattr(observer, "first"):  # counts flips (ensembles)
+        if not problem.observes_flips:
+            raise ValueError("this system's engine does not count flips")
+        extra["flips"] = (observer.first, observer.last, observer.count)
+    return extra
+
+
+def _failure(status, state, system, result) -> IntegrationError:
+    """The error of a run that stopped with a failing ``status``: a state that is not finite,
+    a step that underflows, or an unknown status."""
+    from .._bindings import runs as core_runs
+
+    if status == core_runs.NONFINITE:
+        where = system.from_internal(state.state)
+        message = _describe_nonfinite(system.state_slices, state.t, where)
+        return IntegrationError(message, result(message, False), state.t, where)
+    if status == core_runs.STEP_TOO_SMALL:
+        message = (
+            f"the step size fell below the resolution of t = {state.t:.9g} (the problem "
+            "may be stiff or singular there, or the tolerances too tight)"
+        )
+        where = system.from_internal(state.state)
+        return IntegrationError(message, result(message, False), state.t, where)
+    return IntegrationError(f"the run stopped with status {status}", result("failed", False))
+
+
+def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progress, backend,
+                      observer, budget=None, pilot=False) -> IntegrationResult:  # fmt: skip
+    """A system on the compiled core (its :class:`~poinsot.integrate.problem.NativeProblem`):
+    the whole run in one call (in chunks only to report progress or to grow the output of an
+    adaptive run); forces and carriers given as Python callables are called back from it (the
+    slow path)."""
+    from .._bindings import runs as core_runs
+
+    cls = type(solver)
+    problem = system.problem(y0)
+    backend = _native_backend(problem, backend)
     kind = problem.kind_of(solver.kind)
     if kind is None:
         raise ValueError(f"`method` {cls.name!r} has no step in the compiled core for this system")
@@ -410,20 +457,10 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
                     t_eval=saveat.times, save_every=saveat.every,
                     max_steps=budget)  # fmt: skip
     z = system.to_internal(y0)
-    times = saveat.times
-    if len(times):
-        capacity = len(times)
-    elif cls.adaptive:
-        capacity = 256
-    else:
-        capacity = int(min((t1 - t0) / dt, 1e9)) // saveat.every + 3
-    _check_room(capacity, np.size(z), t_eval=len(times) > 0)
-    state = _drv.RunState(t0, np.ascontiguousarray(z, dtype=float).ravel(), capacity)
-    extra = dict(problem.keywords)
-    if observer is not None and hasattr(observer, "first"):  # counts flips (ensembles)
-        if not problem.observes_flips:
-            raise ValueError("this system's engine does not count flips")
-        extra["flips"] = (observer.first, observer.last, observer.count)
+    capacity = _first_capacity(saveat, cls.adaptive, t0, t1, dt)
+    _check_room(capacity, np.size(z), t_eval=len(saveat.times) > 0)
+    state = core_runs.RunState(t0, np.ascontiguousarray(z, dtype=float).ravel(), capacity)
+    extra = _engine_keywords(problem, observer)
     start = time.perf_counter()
     per_call = PROGRESS_CHUNK if progress is not None else 2**62
     # an adaptive run's cost is estimated at PILOT_STEPS steps, then each time they double
@@ -457,34 +494,23 @@ def _integrate_native(system, solver, t0, t1, y0, dt, controller, saveat, progre
         status = problem.engine(*problem.data, spec, state, chunk, **extra)
         if progress is not None:
             progress(state.t)
-        if status == _drv.RUNNING and state.stats.steps >= check_at:
+        if status == core_runs.RUNNING and state.stats.steps >= check_at:
             if pilot:  # the estimate only (estimate_steps)
                 return _pace(state, t1, since)[0] + state.stats.steps
             error = _out_of_pace(state, t1, budget, since, len(z), saveat, result)
             if error is not None:
                 raise error
             since, check_at = (state.t, state.stats.steps), 2 * state.stats.steps
-        if status == _drv.FINISHED:
+        if status == core_runs.FINISHED:
             return float(state.stats.steps) if pilot else result("finished", True)
-        if status == _drv.TERMINATED:  # a terminal event (the system's events say which)
+        if status == core_runs.TERMINATED:  # a terminal event (the system's events say which)
             return result("a terminal event", True)
-        if status == _drv.OUTPUT_FULL:
+        if status == core_runs.OUTPUT_FULL:
             _room_for(state, result)
             continue
-        if status == _drv.RUNNING:
+        if status == core_runs.RUNNING:
             continue
-        if status == _drv.NONFINITE:
-            where = system.from_internal(state.state)
-            message = _describe_nonfinite(system.state_slices, state.t, where)
-            raise IntegrationError(message, result(message, False), state.t, where)
-        if status == _drv.STEP_TOO_SMALL:
-            message = (
-                f"the step size fell below the resolution of t = {state.t:.9g} (the problem "
-                "may be stiff or singular there, or the tolerances too tight)"
-            )
-            where = system.from_internal(state.state)
-            raise IntegrationError(message, result(message, False), state.t, where)
-        raise IntegrationError(f"the run stopped with status {status}", result("failed", False))
+        raise _failure(status, state, system, result)
 
 
 def run_spec(kind, *, t_end, dt=None, data=None, controller=None, t_eval=None,
@@ -495,7 +521,7 @@ def run_spec(kind, *, t_end, dt=None, data=None, controller=None, t_eval=None,
     and RKMK, the composition of an exact-flow splitting) or its ``controller`` (a
     :class:`~poinsot.integrate.control.StepSizeController`, DOP853), the step ``dt`` of a
     fixed-step method, the sampling and the step budget."""
-    from .. import _core
+    from .._bindings import runs as core_runs
 
     options = {"t_end": float(t_end), "dt": float(dt or 0.0), "save_every": int(save_every),
                "max_steps": int(max_steps)}  # fmt: skip
@@ -507,7 +533,7 @@ def run_spec(kind, *, t_end, dt=None, data=None, controller=None, t_eval=None,
         options.update(rtol=c.rtol, atol=c.atol, safety=c.safety, min_factor=c.min_factor,
                        max_factor=c.max_factor, max_step=c.max_step,
                        first_step=c.first_step or 0.0)  # fmt: skip
-    return _core.RunSpec(kind, **options)
+    return core_runs.RunSpec(kind, **options)
 
 
 def pilot_members(speeds) -> tuple[int, ...]:

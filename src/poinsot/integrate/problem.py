@@ -12,16 +12,16 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from .. import _core
+from .._bindings import runs as core_runs
 
 __all__ = ["GENERAL_METHODS", "RIGID_METHODS", "NativeProblem"]
 
 #: The core's kinds of method for any vector field: the adaptive DOP853 and explicit tableaux
 #: (classical RK4's included).
-GENERAL_METHODS = frozenset(_core.FIELD_KINDS)
+GENERAL_METHODS = frozenset(core_runs.FIELD_KINDS)
 #: ... and for a rigid body, every kind: those that use its structure too (RKMK on SO(3), the
 #: splitting method with the free-rotor flows; RK4 with the state in registers).
-RIGID_METHODS = frozenset(_core.METHOD_KINDS)
+RIGID_METHODS = frozenset(core_runs.METHOD_KINDS)
 
 
 @dataclass(frozen=True)

@@ -5,12 +5,18 @@
 generalized constraint forces, constraint residuals and energy (the default
 ``engine="compiled"``: the model's expressions compiled to machine code in the core in
 milliseconds, stepped by the core's integrators); ``system.simulate_ensemble``
-runs parameter ensembles; ``system.equilibria`` and ``system.linearize`` give equilibria,
+runs parameter ensembles (``system.prepare_ensemble`` checks and lowers one once, for any
+members); ``system.equilibria`` and ``system.linearize`` give equilibria,
 natural frequencies and stability; ``system.reaction_forces`` gives the forces of the
 constraints that minimal coordinates hide (:mod:`~poinsot.lagrange.reactions`).
 """
 
-from .ensemble import LagrangianEnsemble, simulate_ensemble
+from .ensemble import (
+    LagrangianEnsemble,
+    PreparedLagrangianEnsemble,
+    prepare_ensemble,
+    simulate_ensemble,
+)
 from .linear import Linearization, equilibria, linearize
 from .numeric import ConstraintDriftWarning, simulate
 from .reactions import HiddenConstraint
@@ -25,8 +31,10 @@ __all__ = [
     "LagrangianSystem",
     "Linearization",
     "PointMass",
+    "PreparedLagrangianEnsemble",
     "equilibria",
     "linearize",
+    "prepare_ensemble",
     "simulate",
     "simulate_ensemble",
 ]

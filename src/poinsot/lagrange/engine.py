@@ -175,7 +175,7 @@ def compile_system(system) -> CompiledSystem:
     done = system.__dict__.get(_ATTR)
     if done is not None:
         return done
-    from .. import _core
+    from .._bindings import lagrange as core_lagrange
 
     key = _model_key(system)
     model = _MODELS.get(key)
@@ -188,7 +188,7 @@ def compile_system(system) -> CompiledSystem:
             with _no_cyclic_gc():
                 program = _program(system)
             _save(path, *program, sizes)
-        model = _core.LagrangianModel(*program, *sizes)
+        model = core_lagrange.LagrangianModel(*program, *sizes)
         _MODELS[key] = model
     out = CompiledSystem(model, system.parameters, system.inputs, key)
     system.__dict__[_ATTR] = out

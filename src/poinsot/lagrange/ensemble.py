@@ -12,12 +12,19 @@ on its own data only: the same bit for bit whatever the chunking or the number o
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .._validation import as_scalar
 from .numeric import check_settings
 
-__all__ = ["LagrangianEnsemble", "simulate_ensemble"]
+__all__ = [
+    "LagrangianEnsemble",
+    "PreparedLagrangianEnsemble",
+    "prepare_ensemble",
+    "simulate_ensemble",
+]
 
 
 def _column(value, where):
@@ -123,9 +130,9 @@ class LagrangianEnsemble:
     @property
     def success(self) -> np.ndarray:
         """(N,) bool: the members whose run finished."""
-        from .. import _core
+        from .._bindings import runs as core_runs
 
-        return self.status == _core.FINISHED
+        return self.status == core_runs.FINISHED
 
     def samples(self, i: int) -> dict:
         """Member ``i``'s accelerations, multipliers (``lam``), generalized constraint forces,
@@ -255,7 +262,34 @@ def simulate_ensemble(
     >>> np.sign(ens[th][:, -1].round(5)).tolist()
     [-1.0, 0.0, 1.0]
     """
-    from .._threads import available_cpus
+    prepared = prepare_ensemble(system, t_span, method=method, dt=dt, rtol=rtol, atol=atol,
+                                t_eval=t_eval, stabilization=stabilization,
+                                baumgarte=baumgarte, threads=threads, chunk_size=chunk_size,
+                                max_steps=max_steps,
+                                event_resolution=event_resolution)  # fmt: skip
+    return prepared.run(q0=q0, qd0=qd0, params=params, inputs=inputs, tol=tol)
+
+
+def prepare_ensemble(system, t_span, *, method="dop853", dt=None, rtol=None, atol=None,
+                     t_eval=None, stabilization="baumgarte", baumgarte=None, threads=None,
+                     chunk_size=None, max_steps=None,
+                     event_resolution=None) -> PreparedLagrangianEnsemble:  # fmt: skip
+    """Check an ensemble's run and lower it for the core, once: the compiled model, the
+    method, sampling, tolerances, stabilisation, budget and the run specification. The
+    arguments are :func:`simulate_ensemble`'s less the members (initial states, parameters,
+    inputs), checked here with the same errors; :meth:`PreparedLagrangianEnsemble.run` runs
+    any members.
+
+    Examples
+    --------
+    >>> from poinsot.models import pendulum_polar
+    >>> model = pendulum_polar()
+    >>> th, l = model.symbols["theta"], model.symbols["l"]
+    >>> prepared = model.system.prepare_ensemble((0, 1), t_eval=[0, 1])
+    >>> ens = prepared.run(q0={th: [0.1, 0.2]}, params={**model.params, l: 2.0})
+    >>> ens[th].shape
+    (2, 2)
+    """
     from ..integrate.control import StepSizeController
     from ..integrate.driver import run_spec
     from .engine import compile_system
@@ -265,14 +299,87 @@ def simulate_ensemble(
                         stabilization=stabilization, baumgarte=baumgarte,
                         event_resolution=event_resolution, max_steps=max_steps,
                         watched=bool(system.unilateral))  # fmt: skip
-    (t0, t1), solver, dt, gains = st.t_span, st.solver, st.dt, st.gains
-    no_samples = len(st.t_eval) == 0  # the run to t1, none of its states
-    times = np.array([t1]) if no_samples else st.t_eval
     if threads is not None and (not isinstance(threads, int) or threads < 1):
         raise ValueError(f"`threads` must be a positive integer, found {threads!r}")
     if chunk_size is not None and (not isinstance(chunk_size, int) or chunk_size < 1):
         raise ValueError(f"`chunk_size` must be a positive integer, found {chunk_size!r}")
+    t1 = st.t_span[1]
+    times = np.array([t1]) if len(st.t_eval) == 0 else st.t_eval  # none: the run to t1
+    control = None
+    if st.solver.adaptive:  # dt: the first step, as for a single run
+        control = StepSizeController(st.rtol, st.atol, first_step=st.dt)
+        run = run_spec(st.solver.kind, t_end=t1, controller=control, t_eval=times,
+                       max_steps=st.budget)  # fmt: skip
+    else:
+        run = run_spec(st.solver.kind, t_end=t1, dt=st.dt, data=st.solver.method_data(),
+                       t_eval=times, max_steps=st.budget)  # fmt: skip
+    return PreparedLagrangianEnsemble(system, compile_system(system), st, run, control,
+                                      threads, chunk_size)  # fmt: skip
 
+
+@dataclass(frozen=True)
+class PreparedLagrangianEnsemble:
+    """A Lagrangian ensemble's run, checked and lowered (:func:`prepare_ensemble`):
+    :meth:`run` integrates any members (parameters, inputs, initial states) with it, lowering
+    nothing again.
+
+    Attributes
+    ----------
+    system : LagrangianSystem
+    compiled : CompiledSystem
+        The compiled model; parameters and inputs are runtime arguments.
+    settings : the checked span, method, sampling, tolerances, stabilisation and budget
+    spec : RunSpec
+        The core's run specification, shared by every chunk.
+    controller : StepSizeController or None
+        The adaptive method's step control (for the members' cost estimate).
+    threads, chunk_size : int or None
+    """
+
+    system: object
+    compiled: object
+    settings: object
+    spec: object
+    controller: object
+    threads: int | None
+    chunk_size: int | None
+
+    def run(self, *, q0, qd0=None, params=None, inputs=None, tol=1e-9) -> LagrangianEnsemble:
+        """Integrate the members given by ``q0``, ``qd0``, ``params`` and ``inputs`` (as
+        :func:`simulate_ensemble` takes them; ``tol`` is the largest relative constraint
+        residual accepted in an initial state)."""
+        from .._threads import available_cpus
+
+        system, engine, st = self.system, self.compiled, self.settings
+        P, U, Z0 = _member_tables(system, engine, q0, qd0, params, inputs)
+        t0 = st.t_span[0]
+        if np.isnan(Z0).any():
+            _complete_states(system, engine, t0, Z0, P, U, tol)
+        _check_consistent(engine, t0, Z0, P, U, tol)
+        gains = st.gains if st.stabilization == "baumgarte" else (0.0, 0.0)
+        projection = st.stabilization == "projection" and system.n_constraints > 0
+        workers = self.threads or available_cpus()
+        N = len(Z0)
+        chunk = self.chunk_size or max(1, min(1000, -(-N // workers)))
+        if self.controller is not None:  # each member's steps, estimated before the run
+            _check_members_budget(engine, self.controller, st, P, U, Z0, gains, projection,
+                                  system, N)  # fmt: skip
+        parts = [engine.model.run_ensemble(
+            P[i0:i0 + chunk], U[i0:i0 + chunk], Z0[i0:i0 + chunk], gains[0], gains[1],
+            projection, self.spec, t0, workers, list(system.unilateral), st.event_resolution)
+            for i0 in range(0, N, chunk)]  # fmt: skip
+        Y, status, nsteps, nfev, releases = (np.concatenate(c) for c in zip(*parts, strict=True))
+        times = st.t_eval
+        if len(times) == 0:  # the run to t1, none of its states
+            Y = Y[:, :0]
+        return LagrangianEnsemble(system, engine, times, Y, P, U, status, nsteps, nfev,
+                                  st.solver.name, st.stabilization, releases)  # fmt: skip
+
+
+def _member_tables(system, engine, q0, qd0, params, inputs):
+    """The members' tables ``(P, U, Z0)``, one row per member: parameters and inputs in the
+    compiled model's order, and the initial states ``[q, q̇]`` (NaN where a coordinate or a
+    velocity is omitted and must be solved from the constraints)."""
     m = system.n_constraints
     P_cols = _by_key(params, system.parameters, "params", "parameter")
     U_cols = _by_key(inputs, system.inputs, "inputs", "input")
@@ -286,47 +393,17 @@ def simulate_ensemble(
             out[:, j] = cols[k] if k in cols else default
         return out
 
-    engine = compile_system(system)
-    P = table(engine.parameters, P_cols)
-    U = table(engine.inputs, U_cols)
     Z0 = np.concatenate([table(system.coordinates, Q_cols, np.nan),
                          table(system.coordinates, V_cols, 0.0 if not m else np.nan)],
                         axis=1)  # fmt: skip
-    if np.isnan(Z0).any():
-        _complete_states(system, engine, t0, Z0, P, U, tol)
-    _check_consistent(engine, t0, Z0, P, U, tol)
-
-    gains = gains if stabilization == "baumgarte" else (0.0, 0.0)
-    projection = stabilization == "projection" and m > 0
-    workers = threads or available_cpus()
-    chunk = chunk_size or max(1, min(1000, -(-N // workers)))
-    if solver.adaptive:  # dt: the first step, as for a single run
-        control = StepSizeController(st.rtol, st.atol, first_step=dt)
-        run = run_spec(solver.kind, t_end=t1, controller=control, t_eval=times,
-                       max_steps=st.budget)  # fmt: skip
-    else:
-        run = run_spec(solver.kind, t_end=t1, dt=dt, data=solver.method_data(),
-                       t_eval=times, max_steps=st.budget)  # fmt: skip
-    if solver.adaptive:  # each member's steps, estimated before the run
-        _check_members_budget(engine, control, st, P, U, Z0, gains, projection, system, N)
-    parts = []
-    for i0 in range(0, N, chunk):
-        i1 = min(i0 + chunk, N)
-        parts.append(engine.model.run_ensemble(
-            P[i0:i1], U[i0:i1], Z0[i0:i1], gains[0], gains[1], projection, run, t0, workers,
-            list(system.unilateral), st.event_resolution))  # fmt: skip
-    Y, status, nsteps, nfev, releases = (np.concatenate(c) for c in zip(*parts, strict=True))
-    if no_samples:
-        times, Y = times[:0], Y[:, :0]
-    return LagrangianEnsemble(system, engine, times, Y, P, U, status, nsteps, nfev,
-                              solver.name, stabilization, releases)  # fmt: skip
+    return table(engine.parameters, P_cols), table(engine.inputs, U_cols), Z0
 
 
 def _check_members_budget(engine, control, st, P, U, Z0, gains, projection, system, N) -> None:
     """Refuse an adaptive ensemble whose members cannot end within the step budget: the
     steps of the first member and of the fastest moving one (largest |q̇₀|), each estimated
     from its own short runs (:func:`~poinsot.integrate.driver.estimate_steps_by_spans`)."""
-    from .. import _core
+    from .._bindings import runs as core_runs
     from ..integrate.driver import estimate_steps_by_spans, pilot_members, run_spec
     from ..integrate.solve import StepBudgetError
 
@@ -341,7 +418,7 @@ def _check_members_budget(engine, control, st, P, U, Z0, gains, projection, syst
             _, status, nsteps, _, _ = engine.model.run_ensemble(
                 P[i : i + 1], U[i : i + 1], Z0[i : i + 1], gains[0], gains[1], projection,
                 pilot, t0, 1, list(system.unilateral), st.event_resolution)  # fmt: skip
-            finished = {_core.FINISHED: True, _core.TERMINATED: True, 0: False}
+            finished = {core_runs.FINISHED: True, core_runs.TERMINATED: True, 0: False}
             return int(nsteps[0]), finished.get(int(status[0]))
 
         needed = estimate_steps_by_spans(run_to, t0, t1)

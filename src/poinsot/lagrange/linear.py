@@ -124,8 +124,6 @@ def equilibria(system, params=None, *, bounds=None, starts=None, t=0.0, tol=1e-1
     inputs : dict {input: number}, optional
         Constant values of the system's inputs.
     """
-    from scipy.optimize import least_squares, root
-
     from .._validation import as_scalar
     from .arguments import input_function
 
@@ -141,6 +139,58 @@ def equilibria(system, params=None, *, bounds=None, starts=None, t=0.0, tol=1e-1
         num = num.bound(u_of)
     n, nh, m = system.n_coordinates, system.n_holonomic, system.n_constraints
     zeros = np.zeros(n)
+    lo, hi = _search_box(system, bounds)
+
+    def parts(q):
+        f = num.mat(num.f, q, zeros, t, (n,))
+        G = num.mat(num.G, q, zeros, t, (m, n)) if m else np.zeros((0, n))
+        g = num.mat(num.g, q, zeros, t, (nh,)) if nh else np.zeros(0)
+        return f, G, g
+
+    def residual(x):
+        q, lam = x[:n], x[n:]
+        f, G, g = parts(q)
+        return np.concatenate([f + G.T @ lam, g])
+
+    rng = np.random.default_rng(1)
+    free = _free_coordinates(parts, rng.uniform(lo, hi))
+    solve = [j for j in range(n) if j not in free]
+    if n <= 2:
+        k = starts or (13 if n == 1 else 7)
+        grid = [np.linspace(lo[i], hi[i], k) for i in range(n)]
+        points = [np.array(p) for p in itertools.product(*grid)]
+    else:
+        points = list(rng.uniform(lo, hi, size=(starts or 150, n)))
+    found = []
+    for p in points:
+        p = p.copy()
+        p[free] = np.clip(0.0, lo[free], hi[free])
+        solution = _rest_from(p, residual, solve, m, square=len(solve) + m == n - len(free) + nh,
+                              tol=tol)  # fmt: skip
+        if solution is None:
+            continue
+        q, lam = solution
+        if not any(np.max(np.abs(q - f[0])) < 1e-7 * (1 + np.max(np.abs(q))) for f in found):
+            found.append((q, lam))
+    found.sort(key=lambda ql: tuple(np.round(ql[0], 9)))
+    from sympy.physics.vector.printing import vsprint  # q̇ printed as q'
+
+    names = [vsprint(g) for g in [*system.holonomic, *system.nonholonomic]]
+    out = []
+    for q, lam in found:
+        eq = Equilibrium(zip(system.coordinates, map(float, q), strict=True))
+        eq.reactions = dict(zip(names, map(float, lam), strict=True))
+        eq.free = tuple(system.coordinates[j] for j in free)
+        out.append(eq)
+    return out
+
+
+def _search_box(system, bounds):
+    """The box ``(lo, hi)`` the Newton iterations start in: ``bounds`` checked, ``(−π, π)``
+    for the coordinates it does not name."""
+    from .._validation import as_scalar
+
+    n = system.n_coordinates
     lo = np.full(n, -np.pi)
     hi = np.full(n, np.pi)
     if bounds is not None and not isinstance(bounds, dict):
@@ -155,72 +205,46 @@ def equilibria(system, params=None, *, bounds=None, starts=None, t=0.0, tol=1e-1
         if not a < b:
             raise ValueError(f"`bounds[{q}]` must have low < high, found ({a}, {b})")
         lo[system.coordinates.index(q)], hi[system.coordinates.index(q)] = a, b
+    return lo, hi
 
-    def parts(q):
-        f = num.mat(num.f, q, zeros, t, (n,))
-        G = num.mat(num.G, q, zeros, t, (m, n)) if m else np.zeros((0, n))
-        g = num.mat(num.g, q, zeros, t, (nh,)) if nh else np.zeros(0)
-        return f, G, g
 
-    def residual(x):
-        q, lam = x[:n], x[n:]
-        f, G, g = parts(q)
-        return np.concatenate([f + G.T @ lam, g])
-
-    # coordinates nothing depends on (a position on a plane, a heading): held where they start
-    rng = np.random.default_rng(1)
-    probe = rng.uniform(lo, hi)
+def _free_coordinates(parts, probe):
+    """The coordinates nothing depends on (a position on a plane, a heading): ``parts`` (f, G
+    and g at rest) unchanged when one moves from ``probe``; held where they start."""
     base = np.concatenate([c.ravel() for c in parts(probe)])
     free = []
-    for j in range(n):
+    for j in range(len(probe)):
         shifted = probe.copy()
         shifted[j] += 0.37
         if np.allclose(np.concatenate([c.ravel() for c in parts(shifted)]), base, atol=1e-12):
             free.append(j)
-    solve = [j for j in range(n) if j not in free]
-    if n <= 2:
-        k = starts or (13 if n == 1 else 7)
-        grid = [np.linspace(lo[i], hi[i], k) for i in range(n)]
-        points = [np.array(p) for p in itertools.product(*grid)]
-    else:
-        points = list(rng.uniform(lo, hi, size=(starts or 150, n)))
-    found = []
-    for p in points:
-        p = p.copy()
-        p[free] = np.clip(0.0, lo[free], hi[free])
+    return free
 
-        def reduced(z, p=p):
-            q = p.copy()
-            q[solve] = z[: len(solve)]
-            return residual(np.concatenate([q, z[len(solve) :]]))
 
-        z0 = np.concatenate([p[solve], np.zeros(m)])
-        with np.errstate(all="ignore"):
-            if len(solve) + m == n - len(free) + nh:  # square: Newton
-                z = root(reduced, z0, method="hybr", tol=1e-14).x
-            else:  # more multipliers than holonomic rows: least squares
-                z = least_squares(reduced, z0, xtol=1e-15, ftol=1e-15, gtol=1e-15).x
-        if not np.all(np.isfinite(z)):
-            continue
-        r = reduced(z)
-        if np.max(np.abs(r)) > tol * (1 + np.max(np.abs(z))):
-            continue
+def _rest_from(p, residual, solve, m, *, square, tol):
+    """Solve for the coordinates ``solve`` and the ``m`` multipliers from the start ``p`` (Newton
+    when the system is ``square``, else least squares): ``(q, λ)``, or None when it fails."""
+    from scipy.optimize import least_squares, root
+
+    def reduced(z):
         q = p.copy()
         q[solve] = z[: len(solve)]
-        lam = z[len(solve) :]
-        if not any(np.max(np.abs(q - f[0])) < 1e-7 * (1 + np.max(np.abs(q))) for f in found):
-            found.append((q, lam))
-    found.sort(key=lambda ql: tuple(np.round(ql[0], 9)))
-    from sympy.physics.vector.printing import vsprint  # q̇ printed as q'
+        return residual(np.concatenate([q, z[len(solve) :]]))
 
-    names = [vsprint(g) for g in [*system.holonomic, *system.nonholonomic]]
-    out = []
-    for q, lam in found:
-        eq = Equilibrium(zip(system.coordinates, map(float, q), strict=True))
-        eq.reactions = dict(zip(names, map(float, lam), strict=True))
-        eq.free = tuple(system.coordinates[j] for j in free)
-        out.append(eq)
-    return out
+    z0 = np.concatenate([p[solve], np.zeros(m)])
+    with np.errstate(all="ignore"):
+        if square:  # square: Newton
+            z = root(reduced, z0, method="hybr", tol=1e-14).x
+        else:  # more multipliers than holonomic rows: least squares
+            z = least_squares(reduced, z0, xtol=1e-15, ftol=1e-15, gtol=1e-15).x
+    if not np.all(np.isfinite(z)):
+        return None
+    r = reduced(z)
+    if np.max(np.abs(r)) > tol * (1 + np.max(np.abs(z))):
+        return None
+    q = p.copy()
+    q[solve] = z[: len(solve)]
+    return q, z[len(solve) :]
 
 
 def _null_space(A, n):

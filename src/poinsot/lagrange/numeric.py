@@ -173,7 +173,7 @@ class _NativeODE:
         self.events = events  # the core's events tuple (see _CoreEvents), or None
 
     def problem(self, y0):
-        from .. import _core
+        from .._bindings import lagrange as core_lagrange
         from ..integrate.problem import GENERAL_METHODS, NativeProblem
 
         active = getattr(self.num, "active", None)
@@ -183,7 +183,7 @@ class _NativeODE:
         data = (self.engine.model, self._p, self._inputs, float(self._gains[0]),
                 float(self._gains[1]), self._projection, active)  # fmt: skip
         keywords = {} if self.events is None else {"events": self.events}
-        return NativeProblem(_core.integrate_lagrange, data, GENERAL_METHODS, slow,
+        return NativeProblem(core_lagrange.integrate_lagrange, data, GENERAL_METHODS, slow,
                              keywords=keywords)  # fmt: skip
 
     def to_internal(self, y):

@@ -18,10 +18,19 @@ with SymPy's ``mass_matrix``/``forcing`` (``M q̈ = f`` before constraint forces
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from functools import cached_property
 
 from ..display import HTMLDisplay
+from .construction import (
+    _as_coordinates,
+    _as_units,
+    _as_zero_form,
+    _bodies_kinetic,
+    _check_constraints,
+    _check_inputs,
+    _generalized_forces,
+    _pythagorean,
+)
 
 __all__ = ["LagrangianSystem", "PointMass"]
 
@@ -41,21 +50,6 @@ class PointMass:
         self.position = sp.Matrix(position)
         if self.position.shape != (3, 1):
             raise ValueError(f"`position` must be a 3-vector, found shape {self.position.shape}")
-
-
-def _as_zero_form(expr, name):
-    """A constraint as one expression ``e`` meaning ``e = 0``: an equation ``Eq(lhs, rhs)``
-    becomes ``lhs − rhs``; anything SymPy cannot read is refused, named."""
-    sp = _sympy()
-    if isinstance(expr, sp.Equality):
-        return expr.lhs - expr.rhs
-    try:
-        e = sp.sympify(expr)
-    except (sp.SympifyError, TypeError, ValueError):
-        raise TypeError(f"`{name}` must be a SymPy expression, found {expr!r}") from None
-    if isinstance(e, sp.logic.boolalg.Boolean) or not isinstance(e, sp.Expr):
-        raise TypeError(f"`{name}` must be an expression (= 0) or an Eq, found {e}")
-    return e
 
 
 class LagrangianSystem(HTMLDisplay):
@@ -139,59 +133,17 @@ class LagrangianSystem(HTMLDisplay):
         self.frame = frame
         self.t = sp.Symbol("t")
         self.hidden = ()
-        if hidden:
-            from .reactions import _check, _held
-
-            if isinstance(coordinates, str | bytes) or not hasattr(coordinates, "__iter__"):
-                raise TypeError("`coordinates` must be a sequence of functions of time")
-            coordinates = list(coordinates)
-            hidden = _check(hidden, coordinates, self.t)
-            holonomic, unilateral = list(holonomic), list(unilateral)
-            # the augmented system: the coordinates and the auxiliary ones, each held by its
-            # constraint ρ − value = 0 (after the user's holonomic ones, before one-sided ones)
-            augmented = LagrangianSystem(
-                coordinates + [h.coordinate for h in hidden], lagrangian, kinetic=kinetic,
-                potential=potential, bodies=bodies,
-                holonomic=holonomic + [h.coordinate - h.value for h in hidden],
-                nonholonomic=nonholonomic, forces=forces, units=units, unilateral=unilateral,
-                frame=frame)  # fmt: skip
-            # this system: the augmented one with every ρ held at its value, after the
-            # Lagrangian and the generalized forces are formed
-            n, nh = len(coordinates), len(holonomic)
-            # sin² + cos² = 1 collapsed (exact): the freed positions leave such sums behind
-            lagrangian = _pythagorean(_held(augmented.lagrangian, hidden))
+        if hidden:  # the minimal system: each auxiliary coordinate held at its value
+            coordinates, lagrangian, holonomic, unilateral, nonholonomic, forces = (
+                self._hold_hidden(coordinates, hidden, lagrangian, kinetic, potential, bodies,
+                                  holonomic, nonholonomic, forces, units, unilateral))  # fmt: skip
             kinetic = potential = None
             bodies = ()
-            holonomic = [_held(g, hidden) for g in augmented.holonomic[:nh]]
-            unilateral = [_held(g, hidden) for g in augmented.holonomic[nh + len(hidden) :]]
-            nonholonomic = [_held(a, hidden) for a in augmented.nonholonomic]
-            forces = [{q: _held(Q, hidden)} for q, Q in
-                      zip(coordinates, augmented.generalized_forces[:n], strict=True)
-                      if Q != 0]  # fmt: skip
-            self.hidden = hidden
-            self._augmented = augmented
-        if isinstance(coordinates, str | bytes) or not hasattr(coordinates, "__iter__"):
-            raise TypeError(
-                "`coordinates` must be a sequence of functions of time (dynamicsymbols), found "
-                f"{type(coordinates).__name__}"
-            )
-        self.coordinates = list(coordinates)
-        if not self.coordinates:
-            raise ValueError("`coordinates` must hold at least one generalized coordinate")
-        for i, q in enumerate(self.coordinates):
-            if not (
-                isinstance(q, sp.Function | sp.core.function.AppliedUndef) and q.args == (self.t,)
-            ):
-                raise ValueError(
-                    f"`coordinates[{i}]` = {q} is not a function of time: use "
-                    "sympy.physics.mechanics.dynamicsymbols (e.g. dynamicsymbols('x'))"
-                )
-        if len(set(self.coordinates)) != len(self.coordinates):
-            raise ValueError("`coordinates` must be distinct")
+        self.coordinates = _as_coordinates(coordinates, self.t)
         self.speeds = [q.diff(self.t) for q in self.coordinates]
         if lagrangian is not None and (kinetic is not None or potential is not None):
             raise ValueError("give `lagrangian`, or `kinetic`/`potential`, not both")
-        T = sp.sympify(0 if kinetic is None else kinetic) + self._bodies_kinetic(bodies)
+        T = sp.sympify(0 if kinetic is None else kinetic) + _bodies_kinetic(bodies, self.t, frame)
         self.potential = sp.sympify(0 if potential is None else potential)
         #: ``[(mass, position)]`` when the kinetic energy is that of point masses alone (the
         #: equations then follow from the positions' Jacobians, :attr:`_point_mass_route`)
@@ -214,10 +166,45 @@ class LagrangianSystem(HTMLDisplay):
         self.nonholonomic = [
             _as_zero_form(a, f"nonholonomic[{i}]") for i, a in enumerate(nonholonomic)
         ]
-        self._check_constraints()
-        self.generalized_forces = self._generalized_forces(forces)
-        self.units = self._units(units)
-        self._check_inputs()
+        _check_constraints(self)
+        self.generalized_forces = _generalized_forces(forces, self.coordinates, self.speeds, frame)
+        self.units = _as_units(units, self.coordinates)
+        _check_inputs(self)
+
+    def _hold_hidden(self, coordinates, hidden, lagrangian, kinetic, potential, bodies,
+                     holonomic, nonholonomic, forces, units, unilateral):  # fmt: skip
+        """Form the augmented system (the coordinates and the auxiliary ones of ``hidden``),
+        then hold every auxiliary coordinate at its value: the minimal system's coordinates,
+        Lagrangian, holonomic, one-sided and non-holonomic constraints, and forces."""
+        from .reactions import _check, _held
+
+        if isinstance(coordinates, str | bytes) or not hasattr(coordinates, "__iter__"):
+            raise TypeError("`coordinates` must be a sequence of functions of time")
+        coordinates = list(coordinates)
+        hidden = _check(hidden, coordinates, self.t)
+        holonomic, unilateral = list(holonomic), list(unilateral)
+        # the augmented system: the coordinates and the auxiliary ones, each held by its
+        # constraint ρ − value = 0 (after the user's holonomic ones, before one-sided ones)
+        augmented = LagrangianSystem(
+            coordinates + [h.coordinate for h in hidden], lagrangian, kinetic=kinetic,
+            potential=potential, bodies=bodies,
+            holonomic=holonomic + [h.coordinate - h.value for h in hidden],
+            nonholonomic=nonholonomic, forces=forces, units=units, unilateral=unilateral,
+            frame=self.frame)  # fmt: skip
+        # this system: the augmented one with every ρ held at its value, after the
+        # Lagrangian and the generalized forces are formed
+        n, nh = len(coordinates), len(holonomic)
+        # sin² + cos² = 1 collapsed (exact): the freed positions leave such sums behind
+        lagrangian = _pythagorean(_held(augmented.lagrangian, hidden))
+        holonomic = [_held(g, hidden) for g in augmented.holonomic[:nh]]
+        unilateral = [_held(g, hidden) for g in augmented.holonomic[nh + len(hidden) :]]
+        nonholonomic = [_held(a, hidden) for a in augmented.nonholonomic]
+        forces = [{q: _held(Q, hidden)} for q, Q in
+                  zip(coordinates, augmented.generalized_forces[:n], strict=True)
+                  if Q != 0]  # fmt: skip
+        self.hidden = hidden
+        self._augmented = augmented
+        return coordinates, lagrangian, holonomic, unilateral, nonholonomic, forces
 
     @cached_property
     def inputs(self) -> list:
@@ -243,29 +230,6 @@ class LagrangianSystem(HTMLDisplay):
                 if f.args == (self.t,) and f not in self.coordinates:
                     found.add(f)
         return sorted(found, key=str)
-
-    def _check_inputs(self):
-        sp = _sympy()
-        exprs = [self.lagrangian, *self.holonomic, *self.nonholonomic, *self.generalized_forces]
-        for e in exprs:
-            for d in sp.sympify(e).atoms(sp.Derivative):
-                if d.expr in self.inputs:
-                    raise ValueError(
-                        f"the input {d.expr} appears differentiated ({d}): give its derivative "
-                        "as an input of its own"
-                    )
-
-    def _units(self, units):
-        if units is None:
-            return {}
-        if not isinstance(units, Mapping):
-            raise TypeError(f"`units` must be a dict {{coordinate: unit}}, found {units!r}")
-        for q, u in units.items():
-            if q not in self.coordinates:
-                raise ValueError(f"`units`: {q} is not one of the coordinates")
-            if not isinstance(u, str):
-                raise TypeError(f"`units[{q}]` must be a string such as 'm' or 'rad'")
-        return dict(units)
 
     @property
     def augmented(self) -> LagrangianSystem:
@@ -344,138 +308,6 @@ class LagrangianSystem(HTMLDisplay):
     def unit_of(self, coordinate) -> str:
         """The unit of a coordinate ("" when not given)."""
         return self.units.get(coordinate, "")
-
-    # ----------------------------------------------------------------- construction
-    def _bodies_kinetic(self, bodies):
-        sp = _sympy()
-        T = sp.Integer(0)
-        for i, item in enumerate(bodies):
-            if isinstance(item, PointMass):
-                v = item.position.diff(self.t)
-                T += item.mass * (v.T * v)[0] / 2
-                continue
-            if _is_sympy_body(item):  # a sympy.physics.mechanics Particle or RigidBody
-                if self.frame is None:
-                    raise ValueError(
-                        f"`bodies[{i}]` is a SymPy {type(item).__name__}: give the inertial "
-                        "`frame` (a ReferenceFrame) its velocities are taken in"
-                    )
-                T += item.kinetic_energy(self.frame)
-                continue
-            try:
-                body, position, orientation = item
-            except (TypeError, ValueError):
-                raise TypeError(
-                    f"`bodies[{i}]` must be a PointMass or a (RigidBody, position, "
-                    "orientation) triple"
-                ) from None
-            R = sp.Matrix(position)
-            Q = sp.Matrix(orientation)
-            if R.shape != (3, 1) or Q.shape != (3, 3):
-                raise ValueError(f"`bodies[{i}]`: position must be 3×1 and orientation 3×3")
-            v = R.diff(self.t)
-            # ω (body frame) = vee(Qᵀ Q̇): only its three entries, reduced by sin² = 1 − cos²
-            # and expanded (exact, and milliseconds where simplify() took seconds for Euler
-            # angles)
-            W = Q.T * Q.diff(self.t)
-            w = sp.Matrix([_pythagorean(W[i, j]) for i, j in ((2, 1), (0, 2), (1, 0))])
-            A = sp.Matrix(body.inertia.tolist())
-            T += body.mass * (v.T * v)[0] / 2 + (w.T * A * w)[0] / 2
-        return T
-
-    def _check_constraints(self):
-        sp = _sympy()
-        for kind, exprs in (("holonomic", self.holonomic), ("nonholonomic", self.nonholonomic)):
-            for k, g in enumerate(exprs):
-                wrt = self.coordinates if kind == "holonomic" else self.speeds
-                if all(sp.simplify(g.diff(s)) == 0 for s in wrt):
-                    what = "coordinates" if kind == "holonomic" else "velocities"
-                    raise ValueError(
-                        f"`{kind}[{k}]` = {g} does not depend on the {what}: it constrains nothing"
-                    )
-                if kind == "nonholonomic":
-                    for s in self.speeds:
-                        if sp.simplify(g.diff(s).diff(s)) != 0:
-                            raise ValueError(
-                                f"`nonholonomic[{k}]` = {g} is not linear in the "
-                                "velocities (Pfaffian form Σ a_kj q̇_j + a_k0)"
-                            )
-                    if any(g.has(s.diff(self.t)) for s in self.speeds):
-                        raise ValueError(f"`nonholonomic[{k}]` must not contain accelerations")
-                elif any(g.has(s) for s in self.speeds):
-                    raise ValueError(
-                        f"`holonomic[{k}]` = {g} contains velocities: give it as a "
-                        "nonholonomic (Pfaffian) constraint"
-                    )
-        if self.n_constraints:
-            self._check_rank()
-
-    def _check_rank(self):
-        """Refuse redundant or inconsistent constraints: G must have full row rank at a generic
-        point (random coordinates, velocities and parameters)."""
-        import numpy as np
-
-        rng = np.random.default_rng(12345)
-        G = self.constraint_jacobian
-        syms = sorted(G.free_symbols - {self.t}, key=str)
-        subs = {s: float(rng.uniform(0.7, 1.9)) for s in syms}
-        subs.update({q: float(rng.uniform(-1.3, 1.3)) for q in self.coordinates})
-        subs[self.t] = 0.37
-        for _ in range(3):
-            value = np.array(G.subs(subs).evalf(), dtype=float)
-            rank = np.linalg.matrix_rank(value, tol=1e-9 * max(1.0, np.abs(value).max()))
-            if rank == self.n_constraints:
-                return
-            subs.update({q: float(rng.uniform(-1.3, 1.3)) for q in self.coordinates})
-        raise ValueError(
-            f"the constraints are redundant or inconsistent: the constraint Jacobian has rank "
-            f"{rank} < {self.n_constraints} constraints (rank-deficient Jacobian)"
-        )
-
-    def _generalized_forces(self, forces):
-        sp = _sympy()
-        Q = sp.zeros(len(self.coordinates), 1)
-        for i, item in enumerate(forces):
-            if isinstance(item, Mapping):
-                for q, value in item.items():
-                    if q not in self.coordinates:
-                        raise ValueError(f"`forces[{i}]`: {q} is not one of the coordinates")
-                    Q[self.coordinates.index(q)] += sp.sympify(value)
-                continue
-            if _is_sympy_load(item):
-                Q += self._sympy_load(item, i)
-                continue
-            try:
-                point, force = item
-            except (TypeError, ValueError):
-                raise TypeError(
-                    f"`forces[{i}]` must be a (point, force) pair of 3-vectors or "
-                    "a {coordinate: generalized force} mapping"
-                ) from None
-            r = sp.Matrix(point)
-            F = sp.Matrix(force)
-            if r.shape != (3, 1) or F.shape != (3, 1):
-                raise ValueError(f"`forces[{i}]`: point and force must be 3-vectors")
-            for j, q in enumerate(self.coordinates):  # Q_j = F · ∂r/∂q_j  (6.61)
-                Q[j] += (F.T * r.diff(q))[0]
-        return Q
-
-    def _sympy_load(self, item, i):
-        """Generalized force (n × 1) of a SymPy load: a force at a Point, a torque on a
-        ReferenceFrame (or a sympy.physics.mechanics Force/Torque), by partial velocities."""
-        sp = _sympy()
-        from sympy.physics.vector import Point, ReferenceFrame
-
-        if self.frame is None:
-            raise ValueError(f"`forces[{i}]` is a SymPy load: give the inertial `frame`")
-        where, vector = (item.location, item.vector) if hasattr(item, "location") else item
-        if isinstance(where, Point):
-            velocity = where.vel(self.frame)
-        elif isinstance(where, ReferenceFrame):
-            velocity = where.ang_vel_in(self.frame)
-        else:  # pragma: no cover - guarded by _is_sympy_load
-            raise TypeError(f"`forces[{i}]`: expected a Point or a ReferenceFrame")
-        return sp.Matrix([vector.dot(velocity.diff(v, self.frame)) for v in self.speeds])
 
     @classmethod
     def from_sympy(cls, model, *, units=None):
@@ -852,6 +684,13 @@ class LagrangianSystem(HTMLDisplay):
 
         return simulate_ensemble(self, t_span, q0=q0, qd0=qd0, params=params, **kwargs)
 
+    def prepare_ensemble(self, t_span, **kwargs):
+        """Check an ensemble's run and lower it once, for any members; see
+        :func:`poinsot.lagrange.ensemble.prepare_ensemble`."""
+        from .ensemble import prepare_ensemble
+
+        return prepare_ensemble(self, t_span, **kwargs)
+
     def equilibria(self, params=None, **kwargs):
         """Equilibria ``{coordinate: value}``; see :func:`poinsot.lagrange.linear.equilibria`."""
         from .linear import equilibria
@@ -864,31 +703,6 @@ class LagrangianSystem(HTMLDisplay):
         from .linear import linearize
 
         return linearize(self, equilibrium, params=params, **kwargs)
-
-
-def _pythagorean(expr):
-    """``expr`` expanded with every ``sin(a)²`` replaced by ``1 − cos(a)²``: the identity
-    that collapses the products of elementary rotations (exact)."""
-    sp = _sympy()
-    e = sp.expand(expr)
-    squares = {s**2: 1 - sp.cos(s.args[0]) ** 2 for s in e.atoms(sp.sin)}
-    return sp.expand(e.subs(squares)) if squares else e
-
-
-def _is_sympy_body(item) -> bool:
-    from sympy.physics.mechanics import Particle, RigidBody
-
-    return isinstance(item, Particle | RigidBody)
-
-
-def _is_sympy_load(item) -> bool:
-    from sympy.physics.vector import Point, ReferenceFrame, Vector
-
-    if hasattr(item, "location") and hasattr(item, "vector"):  # mechanics Force / Torque
-        return True
-    if not (isinstance(item, tuple | list) and len(item) == 2):
-        return False
-    return isinstance(item[0], Point | ReferenceFrame) and isinstance(item[1], Vector)
 
 
 def _holding_speeds(expr, coordinates, speeds, q):

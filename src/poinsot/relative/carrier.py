@@ -477,11 +477,11 @@ class Carrier:
 
     def motions(self, t) -> np.ndarray:
         """``(ω_e, ε_e, a_O)`` at the times ``t`` (n,) → (n, 9), carrier components."""
-        from .. import _core
+        from .._bindings import relative as core_relative
 
         t = np.ascontiguousarray(as_times(t, "t"))
         if self.kind != "python":
-            return _core.carrier_motions(self.engine, t)
+            return core_relative.carrier_motions(self.engine, t)
         out = np.empty((len(t), 9))
         for i, s in enumerate(t):
             out[i] = self.motion_tuple(float(s))

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import _core
+from .._bindings import inertia as core_inertia
+from .._bindings import relative as core_relative
 from .._validation import as_array
 
 __all__ = [
@@ -79,7 +80,7 @@ def planar_inertia(J) -> np.ndarray:
     >>> np.diag(planar_inertia(np.diag([1.0, 2.0, 3.0]))).tolist()  # A' = (B + C − A)/2, …
     [2.0, 1.0, 0.0]
     """
-    return _core.planar_inertia(_inertia(J))
+    return core_inertia.planar_inertia(_inertia(J))
 
 
 def planar_principal_moments(moments) -> np.ndarray:
@@ -93,7 +94,7 @@ def planar_principal_moments(moments) -> np.ndarray:
     [2.5, 1.5, 0.5]
     """
     m = as_array(moments, "moments", (3,))
-    return np.diag(_core.planar_inertia(np.diag(m))).copy()
+    return np.diag(core_inertia.planar_inertia(np.diag(m))).copy()
 
 
 def planar_inertia_ellipsoid(J):
@@ -135,7 +136,7 @@ def transport_moment(J, omega_e, epsilon_e) -> np.ndarray:
     """
     J = _inertia(J)
     w, e = _pair(omega_e, epsilon_e, "omega_e", "epsilon_e")
-    return _rows(_core.transport_moments, J, a=w, b=e)
+    return _rows(core_relative.transport_moments, J, a=w, b=e)
 
 
 def balancing_moment(J, omega_e, epsilon_e) -> np.ndarray:
@@ -175,7 +176,7 @@ def coriolis_moment(J, omega_r, omega_e) -> np.ndarray:
     """
     J = _inertia(J)
     r, w = _pair(omega_r, omega_e, "omega_r", "omega_e")
-    return _rows(_core.coriolis_moments, J, a=r, b=w)
+    return _rows(core_relative.coriolis_moments, J, a=r, b=w)
 
 
 def coriolis_moment_three_term(J, omega_r, omega_e) -> np.ndarray:
@@ -191,7 +192,7 @@ def coriolis_moment_three_term(J, omega_r, omega_e) -> np.ndarray:
     """
     J = _inertia(J)
     r, w = _pair(omega_r, omega_e, "omega_r", "omega_e")
-    return _rows(_core.coriolis_moments_three_term, J, a=r, b=w)
+    return _rows(core_relative.coriolis_moments_three_term, J, a=r, b=w)
 
 
 def coriolis_moment_particles(masses, rho, omega_r, omega_e) -> np.ndarray:
@@ -218,5 +219,5 @@ def coriolis_moment_particles(masses, rho, omega_r, omega_e) -> np.ndarray:
         raise ValueError(f"`masses[{i}]` must be a positive number, found {m[i]}")
     rho = as_array(rho, "rho", (len(m), 3))
     r, w = _pair(omega_r, omega_e, "omega_r", "omega_e")
-    return _rows(_core.coriolis_moments_particles, np.ascontiguousarray(m),
+    return _rows(core_relative.coriolis_moments_particles, np.ascontiguousarray(m),
                  np.ascontiguousarray(rho), a=r, b=w)  # fmt: skip

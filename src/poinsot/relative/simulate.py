@@ -8,7 +8,8 @@ from functools import cached_property
 
 import numpy as np
 
-from .. import _core
+from .._bindings import invariants as core_invariants
+from .._bindings import relative as core_relative
 from .._validation import as_rotation_matrix, as_vector3
 from ..display import Displayable
 from ..integrate.solve import check_run, solve
@@ -324,7 +325,7 @@ class RelativeTrajectory(Displayable):
     def absolute_states(self) -> np.ndarray:
         """The absolute body-frame states ``[R, V, Q, ω]`` (n, 18)."""
         motions = np.ascontiguousarray(self.carrier_motion)
-        return _readonly(_core.absolute_states(np.ascontiguousarray(self._y), motions))
+        return _readonly(core_relative.absolute_states(np.ascontiguousarray(self._y), motions))
 
     @property
     def Q_absolute(self) -> np.ndarray:
@@ -368,7 +369,7 @@ class RelativeTrajectory(Displayable):
         """The relative rotational energy ``½ ω_r·Jω_r`` (n,) (eq. (17): constant under the
         balancing moment (16))."""
         J = np.ascontiguousarray(self.body.inertia, dtype=float)
-        return _readonly(_core.rotational_energies(J, np.ascontiguousarray(self.omega_r)))
+        return _readonly(core_invariants.rotational_energies(J, np.ascontiguousarray(self.omega_r)))
 
     @cached_property
     def transport_moment(self) -> np.ndarray:

@@ -13,7 +13,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from .. import _core, layout
+from .. import layout
+from .._bindings import relative as core_relative
+from .._bindings import rigid as core_rigid
 from ..dynamics import RigidBodySystem
 
 __all__ = ["RELATIVE_SLICES", "RelativeMotionSystem"]
@@ -89,7 +91,7 @@ class RelativeMotionSystem:
         y = np.array(y, dtype=float)
         Y = np.atleast_2d(y).copy()
         n = layout.STATE_SIZE
-        Y[:, :n] = _core.states_principal(
+        Y[:, :n] = core_rigid.states_principal(
             self.principal_axes, np.ascontiguousarray(Y[:, :n]), inverse
         )
         return Y.reshape(y.shape)
@@ -108,9 +110,11 @@ class RelativeMotionSystem:
         slow = tuple(f.name for f in self.rigid.python_forces)
         if not self.carrier.compiled:
             slow = (*slow, f"{self.carrier.name} (a Python callable)")
-        return NativeProblem(_core.integrate_relative, self._data(y0), GENERAL_METHODS, slow)
+        return NativeProblem(
+            core_relative.integrate_relative, self._data(y0), GENERAL_METHODS, slow
+        )
 
     def rhs(self, t, y) -> np.ndarray:
         """``ẏ`` of a body-frame relative state (33,): eqs (11)–(12) and the kinematics."""
         z = np.ascontiguousarray(self.to_internal(y))
-        return self.from_internal(_core.relative_rhs(*self._data(z), float(t), z))
+        return self.from_internal(core_relative.relative_rhs(*self._data(z), float(t), z))

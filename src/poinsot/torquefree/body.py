@@ -13,7 +13,8 @@ import math
 
 import numpy as np
 
-from .. import _core
+from .._bindings import inertia as core_inertia
+from .._bindings import torquefree as core_torquefree
 from .._validation import _real_array, as_array, as_scalar
 from ..display import Displayable
 from .polhodes import PolhodeMixin
@@ -29,7 +30,7 @@ __all__ = [
 
 #: Moments closer than this (relative to I3) are treated as equal (symmetric body); the same
 #: tolerance as :attr:`poinsot.bodies.RigidBody.symmetry`: the core's own value.
-SYMMETRY_RTOL = _core.SYMMETRY_RTOL
+SYMMETRY_RTOL = core_inertia.SYMMETRY_RTOL
 
 
 def energy_ellipsoid_semi_axes(moments, energy) -> np.ndarray:
@@ -40,7 +41,7 @@ def energy_ellipsoid_semi_axes(moments, energy) -> np.ndarray:
     array([1.41421356, 1.        , 0.70710678])
     """
     moments = as_array(moments, "moments", shape=(3,))
-    return _core.energy_ellipsoid_semi_axes(moments, as_scalar(energy, "energy"))
+    return core_torquefree.energy_ellipsoid_semi_axes(moments, as_scalar(energy, "energy"))
 
 
 def momentum_ellipsoid_semi_axes(moments, momentum) -> np.ndarray:
@@ -51,7 +52,7 @@ def momentum_ellipsoid_semi_axes(moments, momentum) -> np.ndarray:
     array([2. , 1. , 0.5])
     """
     moments = as_array(moments, "moments", shape=(3,))
-    return _core.momentum_ellipsoid_semi_axes(moments, as_scalar(momentum, "momentum"))
+    return core_torquefree.momentum_ellipsoid_semi_axes(moments, as_scalar(momentum, "momentum"))
 
 
 class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin, Displayable):
@@ -118,8 +119,8 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin, Displayable):
         # hold products such as I1 I2 I3, which would leave the double range for moments
         # beyond 1e±103; times and ω are unchanged by this scaling (ω̇ = −I⁻¹(ω × Iω))
         self._In = np.ldexp(self._I, -int(np.frexp(self._I[2])[1]))
-        self._symmetry_code = int(_core.symmetry_code(self._I, SYMMETRY_RTOL))
-        self.symmetry = _core.SYMMETRY_CLASSES[self._symmetry_code]
+        self._symmetry_code = int(core_inertia.symmetry_code(self._I, SYMMETRY_RTOL))
+        self.symmetry = core_inertia.SYMMETRY_CLASSES[self._symmetry_code]
         self.inertia = body_axes @ np.diag(moments) @ body_axes.T
 
     @classmethod
@@ -179,7 +180,7 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin, Displayable):
         [1.0, 0.0, -3.0]
         """
         self.check_feasible(energy, momentum)
-        return _core.cone_coefficients(self._I, float(energy), float(momentum))
+        return core_torquefree.cone_coefficients(self._I, float(energy), float(momentum))
 
     def cone_matrix(self, energy, momentum) -> np.ndarray:
         """The cone (32) as a quadratic form in the body frame: ``ωᵀ C ω = 0``, (3, 3)."""
@@ -230,4 +231,4 @@ class FreeRigidBody(SolutionMixin, StabilityMixin, PolhodeMixin, Displayable):
         w = as_array(raw, "omega", (None,) * (raw.ndim - 1) + (3,))
         S = self._S
         w_sorted = np.ascontiguousarray(w.reshape(-1, 3) @ S)
-        return (_core.euler_omega_dot_free(self._I, w_sorted) @ S.T).reshape(w.shape)
+        return (core_torquefree.euler_omega_dot_free(self._I, w_sorted) @ S.T).reshape(w.shape)

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from .. import _core
+from .._bindings import torquefree as core_torquefree
 from .._validation import _real_array, as_rotation_matrices, as_times, as_vector3, as_vectors
 
 __all__ = ["MAX_PHASE", "SolutionMixin"]
@@ -28,9 +28,9 @@ __all__ = ["MAX_PHASE", "SolutionMixin"]
 MAX_PHASE = 2.0**52
 #: Offsets of the regime row (``poinsot._core.torque_free_regimes``): ``"case"``, ``"u0"``,
 #: ``"lam"``, … and ``"size"``.
-REGIME = _core.REGIME_OFFSETS
+REGIME = core_torquefree.REGIME_OFFSETS
 #: The polhode family of each case code, as :meth:`SolutionMixin.classify` names it.
-CASE_NAMES = tuple(_core.TORQUE_FREE_CASE_NAMES)
+CASE_NAMES = tuple(core_torquefree.TORQUE_FREE_CASE_NAMES)
 
 
 class SolutionMixin:
@@ -97,11 +97,11 @@ class SolutionMixin:
 
     def _regimes(self, W):
         """The regime rows (N, ``REGIME["size"]``) of the body-frame ω ``W`` (N, 3)."""
-        return _core.torque_free_regimes(self._In, self._S, self._symmetry_code, W)
+        return core_torquefree.torque_free_regimes(self._In, self._S, self._symmetry_code, W)
 
     def _families(self, W):
         """``(case, period, flip interval)`` (N, 3) of the body-frame ω ``W`` (N, 3)."""
-        return _core.torque_free_families(self._In, self._S, self._symmetry_code, W)
+        return core_torquefree.torque_free_families(self._In, self._S, self._symmetry_code, W)
 
     # ----------------------------------------------------------------- invariants
     def invariants(self, omega):
@@ -116,7 +116,7 @@ class SolutionMixin:
         """
         W, single = self._initial(omega, "omega")
         with np.errstate(over="ignore"):  # beyond ~1e308 they are inf: not representable
-            k, a = _core.principal_invariants(self._I, np.ascontiguousarray(W @ self._S))
+            k, a = core_torquefree.principal_invariants(self._I, np.ascontiguousarray(W @ self._S))
         return (float(k[0]), float(a[0])) if single else (k, a)
 
     # ----------------------------------------------------------------- families and times
@@ -181,7 +181,7 @@ class SolutionMixin:
         W, single = self._initial(omega0)
         t = self._times(t)
         self._resolved(W, t)
-        out = _core.torque_free_omegas(self._In, self._S, self._symmetry_code, W, t)
+        out = core_torquefree.torque_free_omegas(self._In, self._S, self._symmetry_code, W, t)
         return out[0] if single else out
 
     def exact_attitude(self, omega0, t, Q0=None) -> np.ndarray:
@@ -204,7 +204,7 @@ class SolutionMixin:
         Q = np.eye(3)[None] if Q0 is None else as_rotation_matrices(Q0, "Q0", len(W))
         t = self._times(t)
         self._resolved(W, t)
-        out = _core.torque_free_attitudes(
+        out = core_torquefree.torque_free_attitudes(
             self._In, self._S, self._symmetry_code, W, np.ascontiguousarray(Q), t
         )
         return out[0] if single else out
@@ -267,7 +267,9 @@ class SolutionMixin:
         Q = self.exact_attitude(tr.omega[0], t, tr.Q[0])
         k0, a0 = self.invariants(tr.omega[0])
         omega = np.ascontiguousarray(tr.omega, dtype=float)
-        ks, As = _core.rotational_energies_and_momenta(np.ascontiguousarray(self.inertia), omega)
+        ks, As = core_torquefree.rotational_energies_and_momenta(
+            np.ascontiguousarray(self.inertia), omega
+        )
         return {
             "omega": np.abs(tr.omega - w).max(axis=1),
             "attitude": np.abs(tr.Q - Q).max(axis=(1, 2)),

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _core
+from .._bindings import torquefree as core_torquefree
 
 __all__ = ["FixedPointSet", "Stability", "StabilityMixin"]
 
@@ -109,7 +109,7 @@ class StabilityMixin:
     def jacobian(self, omega) -> np.ndarray:
         """``∂ω̇/∂ω = A⁻¹(hat(Aω) − hat(ω) A)`` (3, 3), body frame."""
         w = self._spin(omega, "omega")
-        return _core.euler_jacobian(np.ascontiguousarray(self.inertia, dtype=float), w)
+        return core_torquefree.euler_jacobian(np.ascontiguousarray(self.inertia, dtype=float), w)
 
     def stability(self, omega) -> Stability:
         """Linear stability of the fixed point ``omega`` (body frame); see :class:`Stability`."""
@@ -153,7 +153,9 @@ class StabilityMixin:
         self._resolved(w[None], t)
         Q0 = np.eye(3) if Q0 is None else as_rotation_matrix(Q0, "Q0")
         if method == "rodrigues":
-            return _core.fixed_point_attitudes(w, np.ascontiguousarray(Q0, dtype=float), t)
+            return core_torquefree.fixed_point_attitudes(
+                w, np.ascontiguousarray(Q0, dtype=float), t
+            )
         if method != "jordan":
             raise ValueError(f"`method` must be 'rodrigues' or 'jordan', found {method!r}")
         speed = np.linalg.norm(w)

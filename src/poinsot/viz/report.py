@@ -83,61 +83,11 @@ def _body_figure(traj, go):
         Q = traj.Q[i]
         R = Q @ c
         pts = (corners @ E.T) @ Q.T + R  # box in principal axes, then attitude and position
-        xs, ys, zs = [], [], []
-        for a, b in edges:
-            for p in (pts[a], pts[b]):
-                xs.append(p[0])
-                ys.append(p[1])
-                zs.append(p[2])
-            xs.append(None)
-            ys.append(None)
-            zs.append(None)
-        out = [
-            go.Scatter3d(
-                x=xs,
-                y=ys,
-                z=zs,
-                mode="lines",
-                line={"color": "#444", "width": 4},
-                name="body (equivalent box)",
-            )
-        ]
-        for k, color in enumerate(("#d62728", "#2ca02c", "#1f77b4")):
-            tip = R + Q @ E[:, k] * 1.3 * half[k]
-            out.append(
-                go.Scatter3d(
-                    x=[R[0], tip[0]],
-                    y=[R[1], tip[1]],
-                    z=[R[2], tip[2]],
-                    mode="lines",
-                    line={"color": color, "width": 7},
-                    name=f"e{k + 1}",
-                )
-            )
+        out = [_box_trace(go, pts, edges), *_axes_traces(go, Q, R, E, half)]
         if pivot is not None:
-            out.append(
-                go.Scatter3d(
-                    x=[0, R[0]],
-                    y=[0, R[1]],
-                    z=[0, R[2]],
-                    mode="lines+markers",
-                    line={"color": "#8c564b", "width": 5},
-                    marker={"size": [5, 2]},
-                    name="pivot → centre of mass",
-                )
-            )
+            out.append(_pivot_trace(go, R))
         if particles is not None:
-            P = particles @ Q.T + R
-            out.append(
-                go.Scatter3d(
-                    x=P[:, 0],
-                    y=P[:, 1],
-                    z=P[:, 2],
-                    mode="markers",
-                    marker={"size": 3, "color": "#ff7f0e"},
-                    name="particles",
-                )
-            )
+            out.append(_particles_trace(go, particles @ Q.T + R))
         return out
 
     fig = go.Figure(
@@ -157,6 +107,72 @@ def _body_figure(traj, go):
         **_animation_controls(fig.frames, traj.t[idx]),
     )
     return fig
+
+
+def _box_trace(go, pts, edges):
+    """The equivalent box's edges through its placed corners ``pts``, as one None-separated
+    polyline."""
+    xs, ys, zs = [], [], []
+    for a, b in edges:
+        for p in (pts[a], pts[b]):
+            xs.append(p[0])
+            ys.append(p[1])
+            zs.append(p[2])
+        xs.append(None)
+        ys.append(None)
+        zs.append(None)
+    return go.Scatter3d(
+        x=xs,
+        y=ys,
+        z=zs,
+        mode="lines",
+        line={"color": "#444", "width": 4},
+        name="body (equivalent box)",
+    )
+
+
+def _axes_traces(go, Q, R, E, half):
+    """The principal axes e₁, e₂, e₃ (red, green, blue) from the centre of mass ``R``, turned
+    by ``Q``, each 1.3 times the box's half extent."""
+    out = []
+    for k, color in enumerate(("#d62728", "#2ca02c", "#1f77b4")):
+        tip = R + Q @ E[:, k] * 1.3 * half[k]
+        out.append(
+            go.Scatter3d(
+                x=[R[0], tip[0]],
+                y=[R[1], tip[1]],
+                z=[R[2], tip[2]],
+                mode="lines",
+                line={"color": color, "width": 7},
+                name=f"e{k + 1}",
+            )
+        )
+    return out
+
+
+def _pivot_trace(go, R):
+    """The segment from the fixed pivot (the origin) to the centre of mass ``R``."""
+    return go.Scatter3d(
+        x=[0, R[0]],
+        y=[0, R[1]],
+        z=[0, R[2]],
+        mode="lines+markers",
+        line={"color": "#8c564b", "width": 5},
+        marker={"size": [5, 2]},
+        name="pivot → centre of mass",
+    )
+
+
+def _particles_trace(go, P):
+    """The body's particles at their placed positions ``P`` (n × 3)."""
+    return go.Scatter3d(
+        x=P[:, 0],
+        y=P[:, 1],
+        z=P[:, 2],
+        mode="markers",
+        marker={"size": 3, "color": "#ff7f0e"},
+        name="particles",
+    )
 
 
 def _frame_indices(n: int):

@@ -81,81 +81,22 @@ def carrier_only_note(sol) -> str:
 def summarize_relative(scenario, sol) -> dict:
     """The numbers of a motion relative to ``[carrier]``, JSON-ready, with a ``table`` of
     ``name → (value, unit, meaning)`` for the report and the terminal."""
-    from ...relative import planar_principal_moments
-
     c = scenario.carrier
-    body = scenario.body
     E = sol.relative_energy
     drift = float(np.ptp(E) / abs(E[0])) if E[0] != 0 else None
     ratio, bound = sol.hodograph_ratio(), sol.hodograph_bound()
-    rotation = ", ".join(str(v) for v in c["rotation"])
-    description = f"{c['given']} = ({rotation})" + (
-        f", origin acceleration ({', '.join(str(v) for v in c['origin_acceleration'])}) m/s²"
-        if c["origin_acceleration"] is not None
-        else ""
-    )
-    moments = np.asarray(body.principal_moments, float)
-    table = {
-        "principal moments A, B, C": (
-            ", ".join(f"{m:.6g}" for m in moments),
-            "kg·m²",
-            "about the centre of mass, ascending",
-        ),
-        "planar moments A', B', C'": (
-            ", ".join(f"{m:.6g}" for m in planar_principal_moments(moments)),
-            "kg·m²",
-            "A' = (B + C − A)/2, … (planar inertia tensor)",
-        ),
-        "initial |ω_r|": (
-            float(np.linalg.norm(sol.omega_r[0])),
-            "rad/s",
-            "relative angular velocity",
-        ),
-        "final |ω_r|": (float(np.linalg.norm(sol.omega_r[-1])), "rad/s", ""),
-        "max |ω| absolute": (
-            float(np.linalg.norm(sol.omega_absolute, axis=1).max()),
-            "rad/s",
-            "the body's angular velocity in space (inertial frame)",
-        ),
-        "relative energy T_r(0)": (float(E[0]), "J", "½ ω_r·Jω_r"),
-        "relative energy at the end": (float(E[-1]), "J", ""),
-    }
-    if c["balance_transport"]:
-        table.update(
-            {
-                "relative energy drift": (
-                    drift,
-                    "",
-                    "(max − min)/T_r(0): conserved under the "
-                    "balancing moment (16), up to the integrator's tolerance",
-                ),
-                "max|ω_r| / min|ω_r|": (ratio, "", "over the samples"),
-                "bound √(C/A)": (bound, "", "eq. (18): the ratio can approach it, never exceed it"),
-            }
-        )
-    table.update({
-        "steps": (int(sol.nsteps), "", f"{sol.method}, {sol.backend} backend"),
-    })  # fmt: skip
+    table = _relative_table(scenario, sol, drift, ratio, bound)
     return jsonable(
         {
             "scenario": scenario_header(scenario),
-            "carrier": {
-                "description": description,
-                "given": c["given"],
-                "rotation": [str(v) for v in c["rotation"]],
-                "origin_acceleration": None
-                if c["origin_acceleration"] is None
-                else [str(v) for v in c["origin_acceleration"]],
-                "balance_transport": c["balance_transport"],
-                "hold_com": c["hold_com"],
-            },
+            "carrier": _carrier_summary(c),
             "lead": (
                 "Integrated in the carrier frame with the compact relative Euler equation "
                 "(11)–(12)"
                 + ("; the transport moment is balanced (16)." if c["balance_transport"] else ".")
                 + carrier_only_note(sol)
             ),
-            "body": body.mass_properties(),
+            "body": scenario.body.mass_properties(),
             "relative_energy": {
                 "initial": float(E[0]),
                 "min": float(E.min()),
@@ -186,6 +127,77 @@ def summarize_relative(scenario, sol) -> dict:
             "table": table,
         }
     )
+
+
+def _carrier_summary(c) -> dict:
+    """The ``carrier`` entry of the summary: the carrier's motion in words and as given."""
+    rotation = ", ".join(str(v) for v in c["rotation"])
+    description = f"{c['given']} = ({rotation})" + (
+        f", origin acceleration ({', '.join(str(v) for v in c['origin_acceleration'])}) m/s²"
+        if c["origin_acceleration"] is not None
+        else ""
+    )
+    return {
+        "description": description,
+        "given": c["given"],
+        "rotation": [str(v) for v in c["rotation"]],
+        "origin_acceleration": None
+        if c["origin_acceleration"] is None
+        else [str(v) for v in c["origin_acceleration"]],
+        "balance_transport": c["balance_transport"],
+        "hold_com": c["hold_com"],
+    }
+
+
+def _relative_table(scenario, sol, drift, ratio, bound) -> dict:
+    """The summary's ``table``, ``name → (value, unit, meaning)``: moments, |ω_r|, the relative
+    energy, and (when the transport moment is balanced) its drift and the hodograph's ratio."""
+    from ...relative import planar_principal_moments
+
+    E = sol.relative_energy
+    moments = np.asarray(scenario.body.principal_moments, float)
+    table = {
+        "principal moments A, B, C": (
+            ", ".join(f"{m:.6g}" for m in moments),
+            "kg·m²",
+            "about the centre of mass, ascending",
+        ),
+        "planar moments A', B', C'": (
+            ", ".join(f"{m:.6g}" for m in planar_principal_moments(moments)),
+            "kg·m²",
+            "A' = (B + C − A)/2, … (planar inertia tensor)",
+        ),
+        "initial |ω_r|": (
+            float(np.linalg.norm(sol.omega_r[0])),
+            "rad/s",
+            "relative angular velocity",
+        ),
+        "final |ω_r|": (float(np.linalg.norm(sol.omega_r[-1])), "rad/s", ""),
+        "max |ω| absolute": (
+            float(np.linalg.norm(sol.omega_absolute, axis=1).max()),
+            "rad/s",
+            "the body's angular velocity in space (inertial frame)",
+        ),
+        "relative energy T_r(0)": (float(E[0]), "J", "½ ω_r·Jω_r"),
+        "relative energy at the end": (float(E[-1]), "J", ""),
+    }
+    if scenario.carrier["balance_transport"]:
+        table.update(
+            {
+                "relative energy drift": (
+                    drift,
+                    "",
+                    "(max − min)/T_r(0): conserved under the "
+                    "balancing moment (16), up to the integrator's tolerance",
+                ),
+                "max|ω_r| / min|ω_r|": (ratio, "", "over the samples"),
+                "bound √(C/A)": (bound, "", "eq. (18): the ratio can approach it, never exceed it"),
+            }
+        )
+    table.update({
+        "steps": (int(sol.nsteps), "", f"{sol.method}, {sol.backend} backend"),
+    })  # fmt: skip
+    return table
 
 
 def _relative_csv(path: Path, sol):
