@@ -57,6 +57,47 @@ pub struct Counters {
     pub n_rejected: u64,
 }
 
+impl Counters {
+    /// The next sample due by `upto` (the time of `t_eval` at `next_sample`, when at most
+    /// `upto`): its row and time, counted as written.
+    #[inline(always)]
+    pub(crate) fn next_due(&mut self, t_eval: &[f64], upto: f64) -> Option<(usize, f64)> {
+        if self.next_sample < t_eval.len() && t_eval[self.next_sample] <= upto {
+            let due = (self.n_out, t_eval[self.next_sample]);
+            self.n_out += 1;
+            self.next_sample += 1;
+            Some(due)
+        } else {
+            None
+        }
+    }
+
+    /// Without sample times: the row of the state after a step that ended at `t`, when it is
+    /// due (every `every`-th step, and at the end, unless an event's zero ended the step:
+    /// `ended`), counted as written.
+    #[inline(always)]
+    fn step_due(&mut self, sampling: &Sampling, t: f64, ended: bool) -> Option<usize> {
+        if ended || !(self.n_steps % sampling.every.max(1) == 0 || t >= sampling.t_end) {
+            return None;
+        }
+        self.n_out += 1;
+        Some(self.n_out - 1)
+    }
+
+    /// Write the samples at a run's start `t` through `write(row, time)`: the sample times
+    /// due by then, or (without sample times) the start itself.
+    #[inline(always)]
+    fn samples_at_start(&mut self, t_eval: &[f64], t: f64, mut write: impl FnMut(usize, f64)) {
+        if t_eval.is_empty() {
+            write(self.n_out, t);
+            self.n_out += 1;
+        }
+        while let Some((i, ti)) = self.next_due(t_eval, t) {
+            write(i, ti);
+        }
+    }
+}
+
 /// The current time and, for the adaptive method, the next step size (0 before the first).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Clock {
@@ -74,6 +115,14 @@ impl Output<'_> {
     #[inline(always)]
     fn capacity(&self) -> usize {
         self.t.len()
+    }
+
+    /// Write sample `i`: the time `t` and the state `y` (a row).
+    #[inline(always)]
+    fn store(&mut self, i: usize, t: f64, y: &[f64]) {
+        let n = y.len();
+        self.t[i] = t;
+        self.y[i * n..(i + 1) * n].copy_from_slice(y);
     }
 }
 
@@ -373,107 +422,31 @@ where
     M: FixedMethod<S>,
     O: Observer,
 {
-    let n = sys.dim();
-    let t_eval = sampling.t_eval;
-    let t_end = sampling.t_end;
-    let save_every = sampling.every.max(1);
     // the two state buffers swap roles every step; whole cache lines, so that vector loads
     // and stores of many states at once (crate::lanes) never straddle two
     let mut a = Lines::from_slice(z);
-    let mut b = Lines::zeros(n);
+    let mut b = Lines::zeros(sys.dim());
     let mut checkpoint = Lines::from_slice(z); // the last state verified finite
-    let n_eval = t_eval.len();
-    let use_eval = n_eval > 0;
-    let mut t = clock.t;
-    let mut nout = counters.n_out;
-    let mut k = counters.next_sample;
-    let mut nsteps = counters.n_steps;
-    let mut nfev = counters.n_fev;
-    if nsteps == 0 && nout == 0 {
-        if use_eval {
-            while k < n_eval && t_eval[k] <= t {
-                save(method, sys, t_eval[k], &a, out, nout);
-                nout += 1;
-                k += 1;
-            }
-        } else {
-            save(method, sys, t, &a, out, nout);
-            nout += 1;
-        }
+    let (mut t, mut c) = (clock.t, *counters);
+    if c.n_steps == 0 && c.n_out == 0 {
+        fixed_samples(sys, method, (sampling, &mut c, out), &a, (t, t), false);
     }
-    let mut status = Status::Running;
-    if t >= t_end || (use_eval && k >= n_eval) {
-        status = Status::Finished;
-    }
+    let mut status = first_status(sampling, t, &c);
     let mut taken: u64 = 0;
     let per_step = method.evals_per_step();
     let slack = dt * (1.0 + 1e-9);
     let mut exact = false;
     while status == Status::Running && taken < max_steps {
-        if !use_eval && nout >= out.capacity() {
+        if sampling.t_eval.is_empty() && c.n_out >= out.capacity() {
             status = Status::OutputFull;
             break;
         }
-        // plan: `run` whole steps of dt, then (`lands`) one step onto the target; the run ends
-        // early at a finiteness check, at `max_steps` or at a `save_every` sample
-        let target = if use_eval { t_eval[k] } else { t_end };
-        let mut budget = (if exact { 1 } else { CHECK_EVERY }).min(max_steps - taken);
-        if !use_eval {
-            budget = budget.min(save_every - nsteps % save_every);
-        }
-        let mut run = 0u64;
-        let mut tt = t;
-        while run < budget && target - tt > slack {
-            tt += dt;
-            run += 1;
-        }
-        let lands = run < budget;
+        let plan = Plan::new(sampling, &c, t, (dt, slack), exact, max_steps - taken);
         let t_checked = t;
         checkpoint.copy_from_slice(&a);
-        let planned = if lands { run + 1 } else { run };
-        let mut done = 0;
-        let mut ended = None;
-        while done < planned {
-            let i = done;
-            let h = if i < run { dt } else { target - t };
-            method.step(sys, t, &a, h, &mut b);
-            observer.observe(0, t, &a, t + h, &b);
-            let t1 = if i < run { t + h } else { target };
-            done += 1;
-            if O::WATCHES {
-                // the state within the step: the step from t, shortened
-                let (ta, za) = (t, &a);
-                let at = &mut |s: f64, out: &mut [f64]| method.step(sys, ta, za, s - ta, out);
-                if let Some(tz) = observer.watch(t, &a, t1, &b, at) {
-                    if tz < t1 {
-                        method.step(sys, t, &a, tz - t, &mut b);
-                    }
-                    std::mem::swap(&mut a, &mut b);
-                    t = tz;
-                    ended = Some(tz);
-                    break;
-                }
-                if observer.watch_failed() {
-                    break;
-                }
-            }
-            std::mem::swap(&mut a, &mut b);
-            t = t1;
-        }
-        if sys.failed() || observer.watch_failed() {
-            nsteps += done;
-            nfev += done * per_step;
-            status = Status::CallbackFailed;
-            break;
-        }
-        if !all_finite(&a) {
-            if exact {
-                // a replayed single step: this is where it stopped being finite
-                nsteps += done;
-                nfev += done * per_step;
-                status = Status::NonFinite;
-                break;
-            }
+        let (done, ended) = take_steps(sys, method, observer, &mut a, &mut b, &mut t, plan);
+        let verdict = verdict(sys, observer, &a, exact);
+        if verdict == Verdict::Replay {
             // replay from the last verified state one checked step at a time, to report the
             // exact step where the state stopped being finite
             a.copy_from_slice(&checkpoint);
@@ -481,24 +454,16 @@ where
             exact = true;
             continue;
         }
-        nsteps += done;
-        taken += done;
-        nfev += done * per_step;
-        if use_eval {
-            let tol = 1e-12 * t.abs().max(1.0);
-            while k < n_eval && t_eval[k] <= t + tol {
-                save(method, sys, t_eval[k], &a, out, nout);
-                nout += 1;
-                k += 1;
-            }
-            if k >= n_eval {
-                status = Status::Finished;
-            }
-        } else if ended.is_none() && (nsteps % save_every == 0 || t >= t_end) {
-            save(method, sys, t, &a, out, nout);
-            nout += 1;
+        c.n_steps += done;
+        c.n_fev += done * per_step;
+        if let Verdict::Stop(s) = verdict {
+            status = s;
+            break;
         }
-        if t >= t_end {
+        taken += done;
+        let upto = t + 1e-12 * t.abs().max(1.0);
+        let to = (sampling, &mut c, &mut *out);
+        if fixed_samples(sys, method, to, &a, (t, upto), ended.is_some()) || t >= sampling.t_end {
             status = Status::Finished;
         }
         if ended.is_some() {
@@ -507,11 +472,448 @@ where
     }
     z.copy_from_slice(&a);
     clock.t = t;
-    counters.n_out = nout;
-    counters.next_sample = k;
-    counters.n_steps = nsteps;
-    counters.n_fev = nfev;
+    *counters = c;
     status
+}
+
+/// A call's status before its first step: finished when `t` is at the end or every sample
+/// time is written.
+#[inline(always)]
+fn first_status(sampling: &Sampling, t: f64, c: &Counters) -> Status {
+    let n_eval = sampling.t_eval.len();
+    if t >= sampling.t_end || (n_eval > 0 && c.next_sample >= n_eval) {
+        Status::Finished
+    } else {
+        Status::Running
+    }
+}
+
+/// [`run_fixed`]'s next run of steps: `run` whole steps of `dt`, then (`planned` > `run`) one
+/// step onto `target`, the next sample time or the end.
+#[derive(Clone, Copy)]
+struct Plan {
+    dt: f64,
+    target: f64,
+    run: u64,
+    planned: u64,
+}
+
+impl Plan {
+    /// The run of steps from `t` (`slack`: how far short of the target a whole step still
+    /// goes): at most [`CHECK_EVERY`] steps (1 while replaying them one checked step at a
+    /// time: `exact`) before the next look at the state, at most the `left` steps of the
+    /// call and, without sample times, the steps to the next `every`-th.
+    #[inline(always)]
+    fn new(
+        sampling: &Sampling,
+        c: &Counters,
+        t: f64,
+        (dt, slack): (f64, f64),
+        exact: bool,
+        left: u64,
+    ) -> Plan {
+        let use_eval = !sampling.t_eval.is_empty();
+        let target = if use_eval {
+            sampling.t_eval[c.next_sample]
+        } else {
+            sampling.t_end
+        };
+        let mut budget = (if exact { 1 } else { CHECK_EVERY }).min(left);
+        if !use_eval {
+            let every = sampling.every.max(1);
+            budget = budget.min(every - c.n_steps % every);
+        }
+        let (mut run, mut tt) = (0u64, t);
+        while run < budget && target - tt > slack {
+            tt += dt;
+            run += 1;
+        }
+        let planned = if run < budget { run + 1 } else { run };
+        Plan {
+            dt,
+            target,
+            run,
+            planned,
+        }
+    }
+}
+
+/// Take the planned steps from `(t, a)` ([`Plan`]), each observed; `a` and `t` follow them
+/// (`b` is each step's scratch). Stops at a terminal event's zero (the state left there, its
+/// time returned) or when the watch's callback failed. Returns the steps taken.
+#[inline(always)]
+fn take_steps<S, M, O>(
+    sys: &S,
+    method: &mut M,
+    observer: &mut O,
+    a: &mut Lines,
+    b: &mut Lines,
+    t: &mut f64,
+    plan: Plan,
+) -> (u64, Option<f64>)
+where
+    S: VectorField + ?Sized,
+    M: FixedMethod<S>,
+    O: Observer,
+{
+    let mut done = 0;
+    while done < plan.planned {
+        let whole = done < plan.run;
+        let h = if whole { plan.dt } else { plan.target - *t };
+        method.step(sys, *t, a, h, b);
+        observer.observe(0, *t, a, *t + h, b);
+        let t1 = if whole { *t + h } else { plan.target };
+        done += 1;
+        if O::WATCHES {
+            if let Some(tz) = watch_step(sys, method, observer, a, b, *t, t1) {
+                std::mem::swap(a, b);
+                *t = tz;
+                return (done, Some(tz));
+            }
+            if observer.watch_failed() {
+                break;
+            }
+        }
+        std::mem::swap(a, b);
+        *t = t1;
+    }
+    (done, None)
+}
+
+/// A watching observer's look at the fixed step from `(t, a)` to `(t1, b)` (the state within
+/// it: the step from `t`, shortened): a terminal event's zero `tz`, with `b` the step
+/// retaken onto it.
+#[inline(always)]
+fn watch_step<S, M, O>(
+    sys: &S,
+    method: &mut M,
+    observer: &mut O,
+    a: &[f64],
+    b: &mut [f64],
+    t: f64,
+    t1: f64,
+) -> Option<f64>
+where
+    S: VectorField + ?Sized,
+    M: FixedMethod<S>,
+    O: Observer,
+{
+    let at = &mut |s: f64, out: &mut [f64]| method.step(sys, t, a, s - t, out);
+    let tz = observer.watch(t, a, t1, b, at)?;
+    if tz < t1 {
+        method.step(sys, t, a, tz - t, b);
+    }
+    Some(tz)
+}
+
+/// What [`run_fixed`]'s checks after a run of steps say.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Verdict {
+    Go,
+    /// Replay the steps from the last verified state, one checked step at a time.
+    Replay,
+    Stop(Status),
+}
+
+/// The checks after a run of steps ending in `a`: a failed callback stops the run; a state no
+/// longer finite stops it after a single checked step (`exact`: this is where it stopped
+/// being finite), and has the steps replayed after several.
+#[inline(always)]
+fn verdict<S, O>(sys: &S, observer: &O, a: &[f64], exact: bool) -> Verdict
+where
+    S: VectorField + ?Sized,
+    O: Observer,
+{
+    if sys.failed() || observer.watch_failed() {
+        return Verdict::Stop(Status::CallbackFailed);
+    }
+    if !all_finite(a) {
+        return if exact {
+            Verdict::Stop(Status::NonFinite)
+        } else {
+            Verdict::Replay
+        };
+    }
+    Verdict::Go
+}
+
+/// The samples after a fixed step that ended at `t` in the state `a` (and at a run's start,
+/// where `upto` is `t`): with sample times, those due by `upto`, and true once the last is
+/// written; without, the state at `t` when due ([`Counters::step_due`]; `ended`: an event's
+/// zero ended the step). (Calls of [`save`], not a closure: always inlined, in the caller's
+/// instruction set.)
+#[inline(always)]
+fn fixed_samples<S: VectorField + ?Sized, M: FixedMethod<S>>(
+    sys: &S,
+    method: &M,
+    (sampling, c, out): (&Sampling, &mut Counters, &mut Output),
+    a: &[f64],
+    (t, upto): (f64, f64),
+    ended: bool,
+) -> bool {
+    if sampling.t_eval.is_empty() {
+        if let Some(i) = c.step_due(sampling, t, ended) {
+            save(method, sys, t, a, out, i);
+        }
+        return false;
+    }
+    while let Some((i, ti)) = c.next_due(sampling.t_eval, upto) {
+        save(method, sys, ti, a, out, i);
+    }
+    c.next_sample >= sampling.t_eval.len()
+}
+
+/// The smallest step from `t` (10 ulps of t), with `h_abs` clamped to it and to `max_step`:
+/// the adaptive drivers' clamp before a step's trials.
+#[inline(always)]
+pub(crate) fn clamp_step(t: f64, h_abs: &mut f64, max_step: f64) -> f64 {
+    let min_step = 10.0 * (next_up(t) - t).abs();
+    if *h_abs > max_step {
+        *h_abs = max_step;
+    } else if *h_abs < min_step {
+        *h_abs = min_step;
+    }
+    min_step
+}
+
+/// A trial step from `t` of length `h_abs` cut at `t_end`: its end and signed length
+/// `(t_new, h)`, with `h_abs = |h|`; `None` when `h_abs` is below `min_step`.
+#[inline(always)]
+pub(crate) fn trial_step(t: f64, h_abs: &mut f64, min_step: f64, t_end: f64) -> Option<(f64, f64)> {
+    if *h_abs < min_step {
+        return None;
+    }
+    let mut t_new = t + *h_abs;
+    if t_new > t_end {
+        t_new = t_end;
+    }
+    let h = t_new - t;
+    *h_abs = h.abs();
+    Some((t_new, h))
+}
+
+/// The state of a step: `(t, z, f)`, the time, the state and its derivative.
+type StepStart<'a> = (f64, &'a [f64], &'a [f64]);
+
+/// What every step of one call of [`run_adaptive`] reads: the system, its controller and its
+/// sampling. (The buffers the steps write are the call's own locals, handed to each helper
+/// as slices: distinct allocations, which the compiler then knows do not overlap, so that
+/// the stages' and the dense output's loops vectorise.)
+struct Adaptive<'a, S: ?Sized> {
+    sys: &'a S,
+    control: &'a Control,
+    sampling: &'a Sampling<'a>,
+}
+
+impl<S: VectorField + ?Sized> Adaptive<'_, S> {
+    /// The first call of a run: `f` at `(t, z)`, the samples at `t`, and the first step size
+    /// (`h_abs` when given, else `control.first_step`, else [`initial_step_size`], with the
+    /// buffers `ytmp` and `ftmp`).
+    #[inline(always)]
+    fn start(
+        &self,
+        (t, z, f): (f64, &[f64], &mut [f64]),
+        h_abs: f64,
+        out: &mut Output,
+        c: &mut Counters,
+        (ytmp, ftmp): (&mut [f64], &mut [f64]),
+    ) -> f64 {
+        let (sys, control) = (self.sys, self.control);
+        sys.rhs(t, z, f);
+        c.n_fev += 1;
+        c.samples_at_start(self.sampling.t_eval, t, |i, ti| out.store(i, ti, z));
+        if h_abs != 0.0 {
+            return h_abs;
+        }
+        if control.first_step > 0.0 {
+            return control.first_step;
+        }
+        c.n_fev += 1;
+        initial_step_size(sys, t, z, f, self.sampling.t_end, 7.0, control, ytmp, ftmp)
+    }
+
+    /// One accepted DOP853 step from `(t, z, f)`: trial steps ([`clamp_step`],
+    /// [`trial_step`]) until the error norm is below 1 (or a callback failed), `h_abs` scaled
+    /// by the controller after each ([`step_size_factor`]) and each rejection counted; then
+    /// the step's end put back on the constraints (its derivative anew) and the step counted.
+    /// Returns `(t_new, h)`, with the end in `z_new`, its derivative in `f_new` and the stages
+    /// in `kk` (`ytmp` their scratch); else sets `status` to what stops the run: the step
+    /// size fell below 10 ulps of t, or a callback failed.
+    #[inline(always)]
+    fn step(
+        &self,
+        (t, z, f): StepStart,
+        h_abs: &mut f64,
+        (kk, ytmp, z_new, f_new): (&mut [f64], &mut [f64], &mut [f64], &mut [f64]),
+        c: &mut Counters,
+        status: &mut Status,
+    ) -> Option<(f64, f64)> {
+        let (sys, control) = (self.sys, self.control);
+        let min_step = clamp_step(t, h_abs, control.max_step);
+        let mut rejected = false;
+        let (t_new, h) = loop {
+            let Some((t_new, h)) = trial_step(t, h_abs, min_step, self.sampling.t_end) else {
+                *status = Status::StepTooSmall;
+                return None;
+            };
+            dop853_step(sys, t, z, f, h, kk, ytmp, z_new, f_new);
+            c.n_fev += DOP853_STAGES as u64;
+            let (rtol, atol) = (control.rtol, control.atol);
+            let err = dop853_error_norm(kk, sys.dim(), h, z, z_new, rtol, atol);
+            *h_abs *= step_size_factor(err, 7.0, rejected, control);
+            if err < 1.0 || sys.failed() {
+                break (t_new, h);
+            }
+            rejected = true;
+            c.n_rejected += 1;
+        };
+        if sys.failed() {
+            *status = Status::CallbackFailed;
+            return None;
+        }
+        if sys.project(t_new, z_new) {
+            sys.rhs(t_new, z_new, f_new);
+            c.n_fev += 1;
+        }
+        c.n_steps += 1;
+        Some((t_new, h))
+    }
+
+    /// A watching observer's look at the accepted step from `z` to `t_new` (the state within
+    /// it: the dense output, projected): a terminal event's zero.
+    #[inline(always)]
+    fn watch<O: Observer>(
+        &self,
+        observer: &mut O,
+        dense: &mut Dense,
+        z: &[f64],
+        t_new: f64,
+    ) -> Option<f64> {
+        if !O::WATCHES {
+            return None;
+        }
+        let (sys, t, z_new) = (self.sys, dense.step.0, dense.ends.0);
+        let at = &mut |s: f64, out: &mut [f64]| dense.at(sys, z, s, out);
+        observer.watch(t, z, t_new, z_new, at)
+    }
+
+    /// The samples after the accepted step from `z` to `t_new`: with sample times, those due
+    /// by its end or by an event's zero `ended` in it, the step's end itself and the dense
+    /// output elsewhere (`sample` its buffer), and true once the last is written; without,
+    /// the step's end when due ([`Counters::step_due`]). (Written without a closure of the
+    /// dense output, whose buffers then stay distinct to the compiler.)
+    #[inline(always)]
+    fn samples(
+        &self,
+        (c, out): (&mut Counters, &mut Output),
+        dense: &mut Dense,
+        (z, t_new, ended): (&[f64], f64, Option<f64>),
+        sample: &mut [f64],
+    ) -> bool {
+        let (sampling, z_new) = (self.sampling, dense.ends.0);
+        if sampling.t_eval.is_empty() {
+            if let Some(i) = c.step_due(sampling, t_new, ended.is_some()) {
+                out.store(i, t_new, z_new);
+            }
+            return false;
+        }
+        while let Some((i, ti)) = c.next_due(sampling.t_eval, ended.unwrap_or(t_new)) {
+            if ti == t_new {
+                out.store(i, ti, z_new);
+            } else {
+                dense.at(self.sys, z, ti, sample);
+                out.store(i, ti, sample);
+            }
+        }
+        c.next_sample >= sampling.t_eval.len()
+    }
+
+    /// Leave `(z, f)` at a terminal event's zero `tz` in the accepted step that ends at
+    /// `t_new`: the dense output there, projected, and its derivative anew; or the step's end
+    /// when `tz` is it. Returns the evaluations it made (1 or 0).
+    #[inline(always)]
+    fn settle_at_zero(
+        &self,
+        dense: &mut Dense,
+        (t_new, tz): (f64, f64),
+        (z, f): (&mut [f64], &mut [f64]),
+        sample: &mut [f64],
+    ) -> u64 {
+        if tz < t_new {
+            dense.at(self.sys, z, tz, sample);
+            z.copy_from_slice(sample);
+            self.sys.rhs(tz, z, f);
+            return 1;
+        }
+        z.copy_from_slice(dense.ends.0);
+        f.copy_from_slice(dense.ends.1);
+        0
+    }
+}
+
+/// The dense output of an accepted step `(t, h)` of [`run_adaptive`] to its `ends` (the
+/// state and its derivative at `t + h`): [`dop853_dense`] on the step's stages `kk` (`ytmp`
+/// its scratch) into the interpolant `fd`, made on first use (`ready`) at the cost of three
+/// more evaluations, added to `evals`.
+struct Dense<'w> {
+    step: (f64, f64),
+    ends: (&'w [f64], &'w [f64]),
+    kk: &'w mut [f64],
+    ytmp: &'w mut [f64],
+    fd: &'w mut [f64],
+    ready: bool,
+    evals: &'w mut u64,
+}
+
+impl<'w> Dense<'w> {
+    /// The dense output of the step `(t, h)` to `ends`, not made yet.
+    #[inline(always)]
+    fn new(
+        step: (f64, f64),
+        ends: (&'w [f64], &'w [f64]),
+        (kk, ytmp, fd): (&'w mut [f64], &'w mut [f64], &'w mut [f64]),
+        evals: &'w mut u64,
+    ) -> Self {
+        Dense {
+            step,
+            ends,
+            kk,
+            ytmp,
+            fd,
+            ready: false,
+            evals,
+        }
+    }
+
+    /// The state at `s` within the step from `z`, projected onto the constraints, into
+    /// `out`.
+    #[inline(always)]
+    fn at<S: VectorField + ?Sized>(&mut self, sys: &S, z: &[f64], s: f64, out: &mut [f64]) {
+        let ((t, h), (z_new, f_new)) = (self.step, self.ends);
+        if !self.ready {
+            dop853_dense(sys, t, h, z, z_new, f_new, self.kk, self.ytmp, self.fd);
+            *self.evals += (DOP853_STAGES_EXTENDED - DOP853_STAGES - 1) as u64;
+            self.ready = true;
+        }
+        dop853_interpolate(self.fd, z, (s - t) / h, out);
+        sys.project(s, out);
+    }
+}
+
+/// The buffers of one call of [`run_adaptive`] for a state of `n` numbers: the stages, the
+/// interpolant, the scratch of a stage, the step's end and its derivative, a sample.
+#[inline(always)]
+fn adaptive_buffers(n: usize) -> [Vec<f64>; 6] {
+    let stages = vec![0.0; DOP853_STAGES_EXTENDED * n];
+    let interpolant = vec![0.0; DOP853_INTERPOLATOR_POWER * n];
+    [
+        stages,
+        interpolant,
+        vec![0.0; n],
+        vec![0.0; n],
+        vec![0.0; n],
+        vec![0.0; n],
+    ]
 }
 
 /// Integrate with adaptive Dormand–Prince 8(5,3) from `clock.t` to `sampling.t_end`,
@@ -538,109 +940,30 @@ where
     S: VectorField + ?Sized,
     O: Observer,
 {
-    let n = sys.dim();
-    let t_eval = sampling.t_eval;
-    let t_end = sampling.t_end;
-    let save_every = sampling.every.max(1);
-    let mut kk = vec![0.0; DOP853_STAGES_EXTENDED * n];
-    let mut fd = vec![0.0; DOP853_INTERPOLATOR_POWER * n];
-    let mut ytmp = vec![0.0; n];
-    let mut znew = vec![0.0; n];
-    let mut fnew = vec![0.0; n];
-    let mut sample = vec![0.0; n];
-    let (rtol, atol, max_step) = (control.rtol, control.atol, control.max_step);
-    let n_eval = t_eval.len();
-    let use_eval = n_eval > 0;
-    let mut t = clock.t;
-    let mut h_abs = clock.h;
-    let mut nout = counters.n_out;
-    let mut k = counters.next_sample;
-    let mut nsteps = counters.n_steps;
-    let mut nfev = counters.n_fev;
-    let mut nrej = counters.n_rejected;
-    let store = |out: &mut Output, i: usize, t: f64, y: &[f64]| {
-        out.t[i] = t;
-        out.y[i * n..(i + 1) * n].copy_from_slice(y);
+    let cx = Adaptive {
+        sys,
+        control,
+        sampling,
     };
-    if nfev == 0 {
-        sys.rhs(t, z, f);
-        nfev += 1;
-        if use_eval {
-            while k < n_eval && t_eval[k] <= t {
-                store(out, nout, t_eval[k], z);
-                nout += 1;
-                k += 1;
-            }
-        } else {
-            store(out, nout, t, z);
-            nout += 1;
-        }
-        if h_abs == 0.0 {
-            if control.first_step > 0.0 {
-                h_abs = control.first_step;
-            } else {
-                h_abs = initial_step_size(sys, t, z, f, t_end, 7.0, control, &mut ytmp, &mut fnew);
-                nfev += 1;
-            }
-        }
+    let [mut kk, mut fd, mut ytmp, mut znew, mut fnew, mut sample] = adaptive_buffers(sys.dim());
+    let (mut t, mut h_abs, mut c, mut evals) = (clock.t, clock.h, *counters, 0);
+    if c.n_fev == 0 {
+        h_abs = cx.start((t, z, f), h_abs, out, &mut c, (&mut ytmp, &mut fnew));
     }
-    let mut status = Status::Running;
-    if t >= t_end || (use_eval && k >= n_eval) {
-        status = Status::Finished;
-    }
+    let mut status = first_status(sampling, t, &c);
     if sys.failed() {
         status = Status::CallbackFailed;
     }
     let mut taken: u64 = 0;
     while status == Status::Running && taken < max_steps {
-        if !use_eval && nout >= out.capacity() {
+        if sampling.t_eval.is_empty() && c.n_out >= out.capacity() {
             status = Status::OutputFull;
             break;
         }
-        let min_step = 10.0 * (next_up(t) - t).abs();
-        if h_abs > max_step {
-            h_abs = max_step;
-        } else if h_abs < min_step {
-            h_abs = min_step;
-        }
-        let mut rejected = false;
-        let mut t_new;
-        let mut h;
-        loop {
-            if h_abs < min_step {
-                status = Status::StepTooSmall;
-                t_new = t;
-                h = 0.0;
-                break;
-            }
-            t_new = t + h_abs;
-            if t_new > t_end {
-                t_new = t_end;
-            }
-            h = t_new - t;
-            h_abs = h.abs();
-            dop853_step(sys, t, z, f, h, &mut kk, &mut ytmp, &mut znew, &mut fnew);
-            nfev += DOP853_STAGES as u64;
-            let err = dop853_error_norm(&kk, n, h, z, &znew, rtol, atol);
-            h_abs *= step_size_factor(err, 7.0, rejected, control);
-            if err < 1.0 || sys.failed() {
-                break;
-            }
-            rejected = true;
-            nrej += 1;
-        }
-        if status != Status::Running {
+        let work = (&mut kk[..], &mut ytmp[..], &mut znew[..], &mut fnew[..]);
+        let Some((t_new, h)) = cx.step((t, z, f), &mut h_abs, work, &mut c, &mut status) else {
             break;
-        }
-        if sys.failed() {
-            status = Status::CallbackFailed;
-            break;
-        }
-        if sys.project(t_new, &mut znew) {
-            sys.rhs(t_new, &znew, &mut fnew);
-            nfev += 1;
-        }
-        nsteps += 1;
+        };
         taken += 1;
         observer.observe(0, t, z, t_new, &znew);
         if !all_finite(&znew) {
@@ -649,67 +972,18 @@ where
             status = Status::NonFinite;
             break;
         }
-        let mut dense = false;
-        let mut ended = None;
-        if O::WATCHES {
-            // the state within the step: the dense output, projected
-            let extra = (DOP853_STAGES_EXTENDED - DOP853_STAGES - 1) as u64;
-            let (za, zb, fb) = (&*z, &znew, &fnew);
-            let at = &mut |s: f64, out: &mut [f64]| {
-                if !dense {
-                    dop853_dense(sys, t, h, za, zb, fb, &mut kk, &mut ytmp, &mut fd);
-                    nfev += extra;
-                    dense = true;
-                }
-                dop853_interpolate(&fd, za, (s - t) / h, out);
-                sys.project(s, out);
-            };
-            ended = observer.watch(t, za, t_new, zb, at);
-            if observer.watch_failed() {
-                status = Status::CallbackFailed;
-                break;
-            }
+        let buffers = (&mut kk[..], &mut ytmp[..], &mut fd[..]);
+        let mut dense = Dense::new((t, h), (&znew, &fnew), buffers, &mut evals);
+        let ended = cx.watch(observer, &mut dense, z, t_new);
+        if O::WATCHES && observer.watch_failed() {
+            status = Status::CallbackFailed;
+            break;
         }
-        let t_stop = ended.unwrap_or(t_new);
-        if use_eval {
-            while k < n_eval && t_eval[k] <= t_stop {
-                if t_eval[k] == t_new {
-                    store(out, nout, t_new, &znew);
-                } else {
-                    if !dense {
-                        dop853_dense(sys, t, h, z, &znew, &fnew, &mut kk, &mut ytmp, &mut fd);
-                        nfev += (DOP853_STAGES_EXTENDED - DOP853_STAGES - 1) as u64;
-                        dense = true;
-                    }
-                    dop853_interpolate(&fd, z, (t_eval[k] - t) / h, &mut sample);
-                    sys.project(t_eval[k], &mut sample);
-                    store(out, nout, t_eval[k], &sample);
-                }
-                nout += 1;
-                k += 1;
-            }
-            if k >= n_eval {
-                status = Status::Finished;
-            }
-        } else if ended.is_none() && (nsteps % save_every == 0 || t_new >= t_end) {
-            store(out, nout, t_new, &znew);
-            nout += 1;
+        if cx.samples((&mut c, out), &mut dense, (z, t_new, ended), &mut sample) {
+            status = Status::Finished;
         }
         if let Some(tz) = ended {
-            if tz < t_new {
-                if !dense {
-                    dop853_dense(sys, t, h, z, &znew, &fnew, &mut kk, &mut ytmp, &mut fd);
-                    nfev += (DOP853_STAGES_EXTENDED - DOP853_STAGES - 1) as u64;
-                }
-                dop853_interpolate(&fd, z, (tz - t) / h, &mut sample);
-                sys.project(tz, &mut sample);
-                z.copy_from_slice(&sample);
-                sys.rhs(tz, z, f);
-                nfev += 1;
-            } else {
-                z.copy_from_slice(&znew);
-                f.copy_from_slice(&fnew);
-            }
+            c.n_fev += cx.settle_at_zero(&mut dense, (t_new, tz), (z, f), &mut sample);
             t = tz;
             status = Status::Terminated;
             break;
@@ -717,20 +991,17 @@ where
         z.copy_from_slice(&znew);
         f.copy_from_slice(&fnew);
         t = t_new;
-        if t >= t_end {
+        if t >= sampling.t_end {
             status = Status::Finished;
         }
         if sys.failed() {
             status = Status::CallbackFailed;
         }
     }
+    c.n_fev += evals;
     clock.t = t;
     clock.h = h_abs;
-    counters.n_out = nout;
-    counters.next_sample = k;
-    counters.n_steps = nsteps;
-    counters.n_fev = nfev;
-    counters.n_rejected = nrej;
+    *counters = c;
     status
 }
 

@@ -207,6 +207,137 @@ impl<'a, E: EventFunctions + ?Sized> Watch<'a, E> {
             1
         }
     }
+
+    /// The events at the start `t0` of a step, `y0` there, in `g0`: those of the last step's
+    /// end, unless a driver replays steps from an earlier state (what was logged after `t0`
+    /// is then dropped, to be found again). False when a callback failed.
+    #[inline(always)]
+    fn start_at(&mut self, t0: f64, y0: &[f64]) -> bool {
+        if self.known && t0 != self.g0_at {
+            // a driver replaying steps from an earlier state (to pin a non-finite state to
+            // its step): what was found after it is found again
+            self.log.retain(|c| c.t <= t0);
+            self.known = false;
+        }
+        if !self.known {
+            if !self.functions.values(t0, y0, &mut self.g0) {
+                self.failed = true;
+                return false;
+            }
+            self.known = true;
+        }
+        true
+    }
+
+    /// Detection point `j` of `pieces` in the step from `t0` to `(t1, y1)` (step 1 of the
+    /// module's documentation): its time, the state there in `yb` (reached within the step,
+    /// or the step's end) and the events there in `g1`; `None` when a callback failed.
+    #[inline(always)]
+    fn point(
+        &mut self,
+        j: usize,
+        pieces: usize,
+        t0: f64,
+        (t1, y1): (f64, &[f64]),
+        at: &mut dyn FnMut(f64, &mut [f64]),
+    ) -> Option<f64> {
+        let sb = if j == pieces {
+            self.yb.copy_from_slice(y1);
+            t1
+        } else {
+            let s = t0 + (t1 - t0) * (j as f64 / pieces as f64);
+            at(s, &mut self.yb);
+            s
+        };
+        if !self.functions.values(sb, &self.yb, &mut self.g1) {
+            self.failed = true;
+            return None;
+        }
+        Some(sb)
+    }
+
+    /// The zeros between the detection points `sa` and `sb` (steps 2 and 3 of the module's
+    /// documentation): each event whose values there (`g0`, `g1`) cross in its direction,
+    /// located by [`brent`] and logged with its state. Returns the earliest zero of a
+    /// terminal event; `failed` is set when a callback failed.
+    #[inline(always)]
+    fn zeros_between(
+        &mut self,
+        sa: f64,
+        sb: f64,
+        at: &mut dyn FnMut(f64, &mut [f64]),
+    ) -> Option<f64> {
+        let mut stop: Option<f64> = None;
+        for k in 0..self.functions.count() {
+            let (ga, gb) = (self.g0[k], self.g1[k]);
+            if !crosses(ga, gb, self.direction[k]) {
+                continue;
+            }
+            let Some(tz) = self.locate(k, (sa, ga), (sb, gb), at) else {
+                self.failed = true;
+                return None;
+            };
+            let y = if tz == sa {
+                self.ya.clone()
+            } else if tz == sb {
+                self.yb.clone()
+            } else {
+                at(tz, &mut self.yz);
+                self.yz.clone()
+            };
+            self.log.push(Crossing { event: k, t: tz, y });
+            if self.terminal[k] && stop.map_or(true, |s| tz < s) {
+                stop = Some(tz);
+            }
+        }
+        stop
+    }
+
+    /// Event `k`'s zero between `(sa, ga)` and `(sb, gb)` by [`brent`], on the state reached
+    /// within the step; `None` when a callback failed.
+    #[inline]
+    fn locate(
+        &mut self,
+        k: usize,
+        (sa, ga): (f64, f64),
+        (sb, gb): (f64, f64),
+        at: &mut dyn FnMut(f64, &mut [f64]),
+    ) -> Option<f64> {
+        let (functions, yz) = (self.functions, &mut self.yz);
+        let mut failed = false;
+        let tz = brent(
+            |s| {
+                at(s, yz);
+                functions.value(k, s, yz).unwrap_or_else(|| {
+                    failed = true;
+                    f64::NAN
+                })
+            },
+            (sa, ga),
+            (sb, gb),
+            1e-14 * sb.abs().max(1.0),
+            4.0 * f64::EPSILON,
+            MAX_ITER,
+        );
+        (!failed).then_some(tz)
+    }
+
+    /// The zeros logged since `first` put in time order, those after a terminal zero `stop`
+    /// dropped first (step 4 of the module's documentation: they did not happen).
+    #[inline(always)]
+    fn settle_log(&mut self, first: usize, stop: Option<f64>) {
+        if let Some(ts) = stop {
+            let mut i = first;
+            while i < self.log.len() {
+                if self.log[i].t > ts {
+                    self.log.remove(i);
+                } else {
+                    i += 1;
+                }
+            }
+        }
+        self.log[first..].sort_by(|a, b| a.t.total_cmp(&b.t));
+    }
 }
 
 impl<E: EventFunctions + ?Sized> Observer for Watch<'_, E> {
@@ -223,92 +354,23 @@ impl<E: EventFunctions + ?Sized> Observer for Watch<'_, E> {
         y1: &[f64],
         at: &mut dyn FnMut(f64, &mut [f64]),
     ) -> Option<f64> {
-        let n = self.functions.count();
-        if n == 0 || self.failed {
+        if self.functions.count() == 0 || self.failed || !self.start_at(t0, y0) {
             return None;
-        }
-        if self.known && t0 != self.g0_at {
-            // a driver replaying steps from an earlier state (to pin a non-finite state to
-            // its step): what was found after it is found again
-            self.log.retain(|c| c.t <= t0);
-            self.known = false;
-        }
-        if !self.known {
-            if !self.functions.values(t0, y0, &mut self.g0) {
-                self.failed = true;
-                return None;
-            }
-            self.known = true;
         }
         let pieces = self.pieces(t1 - t0);
         let mut sa = t0;
         self.ya.copy_from_slice(y0);
         for j in 1..=pieces {
-            let sb = if j == pieces {
-                self.yb.copy_from_slice(y1);
-                t1
-            } else {
-                let s = t0 + (t1 - t0) * (j as f64 / pieces as f64);
-                at(s, &mut self.yb);
-                s
-            };
-            if !self.functions.values(sb, &self.yb, &mut self.g1) {
-                self.failed = true;
+            let sb = self.point(j, pieces, t0, (t1, y1), at)?;
+            let first = self.log.len();
+            let stop = self.zeros_between(sa, sb, at);
+            if self.failed {
                 return None;
             }
-            let first = self.log.len();
-            let mut stop: Option<f64> = None;
-            for k in 0..n {
-                let (ga, gb) = (self.g0[k], self.g1[k]);
-                if !crosses(ga, gb, self.direction[k]) {
-                    continue;
-                }
-                let (functions, yz) = (self.functions, &mut self.yz);
-                let mut failed = false;
-                let tz = brent(
-                    |s| {
-                        at(s, yz);
-                        functions.value(k, s, yz).unwrap_or_else(|| {
-                            failed = true;
-                            f64::NAN
-                        })
-                    },
-                    (sa, ga),
-                    (sb, gb),
-                    1e-14 * sb.abs().max(1.0),
-                    4.0 * f64::EPSILON,
-                    MAX_ITER,
-                );
-                if failed {
-                    self.failed = true;
-                    return None;
-                }
-                let y = if tz == sa {
-                    self.ya.clone()
-                } else if tz == sb {
-                    self.yb.clone()
-                } else {
-                    at(tz, &mut self.yz);
-                    self.yz.clone()
-                };
-                self.log.push(Crossing { event: k, t: tz, y });
-                if self.terminal[k] && stop.map_or(true, |s| tz < s) {
-                    stop = Some(tz);
-                }
+            self.settle_log(first, stop);
+            if stop.is_some() {
+                return stop;
             }
-            if let Some(ts) = stop {
-                let mut i = first;
-                while i < self.log.len() {
-                    if self.log[i].t > ts {
-                        self.log.remove(i);
-                    } else {
-                        i += 1;
-                    }
-                }
-                self.log[first..].sort_by(|a, b| a.t.total_cmp(&b.t));
-                return Some(ts);
-            }
-            self.log[first..].sort_by(|a, b| a.t.total_cmp(&b.t));
             std::mem::swap(&mut self.g0, &mut self.g1);
             std::mem::swap(&mut self.ya, &mut self.yb);
             sa = sb;

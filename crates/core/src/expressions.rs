@@ -100,6 +100,63 @@ fn binary(k: usize, a: f64, b: f64) -> f64 {
     }
 }
 
+/// Instruction `i` of a [`Program`] (code `c`, value `v`) decoded and checked: a known code,
+/// an input index below `n_inputs`, a temporary loaded only once stored (`stored`, which a
+/// store extends). Returns the instruction and how many values it pops and pushes.
+fn decode(
+    i: usize,
+    c: i64,
+    v: f64,
+    n_inputs: usize,
+    stored: &mut Vec<bool>,
+) -> Result<(Op, usize, usize), String> {
+    Ok(match c {
+        CONST => (Op::Const(v), 0, 1),
+        INPUT => {
+            let k = index(i, v)?;
+            if k >= n_inputs {
+                return Err(format!("instruction {i}: input {k} of {n_inputs}"));
+            }
+            (Op::Input(k), 0, 1)
+        }
+        LOAD => {
+            let k = index(i, v)?;
+            if !stored.get(k).copied().unwrap_or(false) {
+                return Err(format!("instruction {i}: temporary {k} loaded before set"));
+            }
+            (Op::Load(k), 0, 1)
+        }
+        STORE => {
+            let k = index(i, v)?;
+            if k >= stored.len() {
+                stored.resize(k + 1, false);
+            }
+            stored[k] = true;
+            (Op::Store(k), 1, 0)
+        }
+        OUTPUT => (Op::Output, 1, 0),
+        ADD => (Op::Add, 2, 1),
+        MUL => (Op::Mul, 2, 1),
+        POW => (Op::Pow, 2, 1),
+        c if (UNARY..UNARY + UNARY_NAMES.len() as i64).contains(&c) => {
+            (Op::Unary((c - UNARY) as usize), 1, 1)
+        }
+        c if (BINARY..BINARY + BINARY_NAMES.len() as i64).contains(&c) => {
+            (Op::Binary((c - BINARY) as usize), 2, 1)
+        }
+        _ => return Err(format!("instruction {i}: unknown code {c}")),
+    })
+}
+
+/// The value `v` of instruction `i` as an index: a whole number from 0 below 10⁹.
+fn index(i: usize, v: f64) -> Result<usize, String> {
+    if v >= 0.0 && v.fract() == 0.0 && v < 1e9 {
+        Ok(v as usize)
+    } else {
+        Err(format!("instruction {i}: {v} is no index"))
+    }
+}
+
 /// One instruction of a checked [`Program`] (indices in range, the stack never empty).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Op {
@@ -152,57 +209,15 @@ impl Program {
                 values.len()
             ));
         }
-        let index = |i: usize, v: f64| -> Result<usize, String> {
-            if v >= 0.0 && v.fract() == 0.0 && v < 1e9 {
-                Ok(v as usize)
-            } else {
-                Err(format!("instruction {i}: {v} is no index"))
-            }
-        };
         let mut ops = Vec::with_capacity(codes.len());
         let mut depth: usize = 0;
         let mut stored: Vec<bool> = Vec::new();
         let mut outputs = 0;
         for (i, (&c, &v)) in codes.iter().zip(values).enumerate() {
-            let (op, pops, pushes) = match c {
-                CONST => (Op::Const(v), 0, 1),
-                INPUT => {
-                    let k = index(i, v)?;
-                    if k >= n_inputs {
-                        return Err(format!("instruction {i}: input {k} of {n_inputs}"));
-                    }
-                    (Op::Input(k), 0, 1)
-                }
-                LOAD => {
-                    let k = index(i, v)?;
-                    if !stored.get(k).copied().unwrap_or(false) {
-                        return Err(format!("instruction {i}: temporary {k} loaded before set"));
-                    }
-                    (Op::Load(k), 0, 1)
-                }
-                STORE => {
-                    let k = index(i, v)?;
-                    if k >= stored.len() {
-                        stored.resize(k + 1, false);
-                    }
-                    stored[k] = true;
-                    (Op::Store(k), 1, 0)
-                }
-                OUTPUT => {
-                    outputs += 1;
-                    (Op::Output, 1, 0)
-                }
-                ADD => (Op::Add, 2, 1),
-                MUL => (Op::Mul, 2, 1),
-                POW => (Op::Pow, 2, 1),
-                c if (UNARY..UNARY + UNARY_NAMES.len() as i64).contains(&c) => {
-                    (Op::Unary((c - UNARY) as usize), 1, 1)
-                }
-                c if (BINARY..BINARY + BINARY_NAMES.len() as i64).contains(&c) => {
-                    (Op::Binary((c - BINARY) as usize), 2, 1)
-                }
-                _ => return Err(format!("instruction {i}: unknown code {c}")),
-            };
+            let (op, pops, pushes) = decode(i, c, v, n_inputs, &mut stored)?;
+            if matches!(op, Op::Output) {
+                outputs += 1;
+            }
             if depth < pops {
                 return Err(format!("instruction {i}: the stack is empty"));
             }

@@ -86,38 +86,9 @@ impl TopMotion {
         let q0 = (s * thd) * (s * thd);
         let q1 = -beta * s2 - 2.0 * u0 * e + 2.0 * a * w;
         let q2 = 2.0 * beta * u0 - e - a * a;
-        let g = |x: f64| ((beta * x + q2) * x + q1) * x + q0;
-        let dg = |x: f64| (3.0 * beta * x + 2.0 * q2) * x + q1;
         let one_minus_u0 = 2.0 * (0.5 * th0).sin().powi(2);
         let one_plus_u0 = 2.0 * (0.5 * th0).cos().powi(2);
-        // x₃ ≥ 1 − u₀: g(1 − u₀) = f(1) = −(b − a)² ≤ 0
-        let mut lo = one_minus_u0;
-        let mut hi = lo.max(1.0);
-        while g(hi) <= 0.0 && hi < 1e300 {
-            lo = hi;
-            hi *= 2.0;
-        }
-        let x3 = polish(&g, &dg, bisect(&g, lo, hi), lo, hi);
-        // the deflated quadratic x² + p1 x + p0 = g(x) / (β (x − x₃)): p0 = x₁ x₂ ≤ 0
-        let p1 = q2 / beta + x3;
-        let p0 = -q0 / (beta * x3);
-        let disc = (p1 * p1 - 4.0 * p0).max(0.0);
-        let r = -0.5 * (p1 + disc.sqrt().copysign(p1));
-        let (mut x1, mut x2) = if r == 0.0 {
-            (0.0, 0.0)
-        } else {
-            (r.min(p0 / r), r.max(p0 / r))
-        };
-        if q0 == 0.0 {
-            // a turning point at t = 0: u₀ is itself a root
-            if x1.abs() < x2.abs() {
-                x1 = 0.0;
-            } else {
-                x2 = 0.0;
-            }
-        }
-        x1 = polish(&g, &dg, x1.min(0.0), -one_plus_u0, 0.0);
-        x2 = polish(&g, &dg, x2.max(0.0), 0.0, one_minus_u0);
+        let [x1, x2, x3] = cubic_roots(beta, [q0, q1, q2], (one_minus_u0, one_plus_u0));
         let mut top = TopMotion {
             angles0: angles,
             u0,
@@ -213,6 +184,45 @@ impl TopMotion {
             self.m,
         ]
     }
+}
+
+/// The roots `x₁ ≤ 0 ≤ x₂`, `x₃ ≥ 1 − u₀` of (T1) about `u₀` (`x = u − u₀`), from the
+/// cubic's Taylor coefficients `g(x) = q0 + q1 x + q2 x² + β x³` (see the module docs): `x₃`
+/// by bisection and Newton, then `x₁` and `x₂` from the deflated quadratic, polished by
+/// Newton within `[−(1 + u₀), 0]` and `[0, 1 − u₀]` (`bounds`: `(1 − u₀, 1 + u₀)`).
+fn cubic_roots(beta: f64, [q0, q1, q2]: [f64; 3], bounds: (f64, f64)) -> [f64; 3] {
+    let (one_minus_u0, one_plus_u0) = bounds;
+    let g = |x: f64| ((beta * x + q2) * x + q1) * x + q0;
+    let dg = |x: f64| (3.0 * beta * x + 2.0 * q2) * x + q1;
+    // x₃ ≥ 1 − u₀: g(1 − u₀) = f(1) = −(b − a)² ≤ 0
+    let mut lo = one_minus_u0;
+    let mut hi = lo.max(1.0);
+    while g(hi) <= 0.0 && hi < 1e300 {
+        lo = hi;
+        hi *= 2.0;
+    }
+    let x3 = polish(&g, &dg, bisect(&g, lo, hi), lo, hi);
+    // the deflated quadratic x² + p1 x + p0 = g(x) / (β (x − x₃)): p0 = x₁ x₂ ≤ 0
+    let p1 = q2 / beta + x3;
+    let p0 = -q0 / (beta * x3);
+    let disc = (p1 * p1 - 4.0 * p0).max(0.0);
+    let r = -0.5 * (p1 + disc.sqrt().copysign(p1));
+    let (mut x1, mut x2) = if r == 0.0 {
+        (0.0, 0.0)
+    } else {
+        (r.min(p0 / r), r.max(p0 / r))
+    };
+    if q0 == 0.0 {
+        // a turning point at t = 0: u₀ is itself a root
+        if x1.abs() < x2.abs() {
+            x1 = 0.0;
+        } else {
+            x2 = 0.0;
+        }
+    }
+    x1 = polish(&g, &dg, x1.min(0.0), -one_plus_u0, 0.0);
+    x2 = polish(&g, &dg, x2.max(0.0), 0.0, one_minus_u0);
+    [x1, x2, x3]
 }
 
 /// A root of `g` in `[lo, hi]` (`g(lo) ≤ 0 < g(hi)` or the reverse), by bisection to a

@@ -217,52 +217,11 @@ fn multiplier_is_the_rod_tension_and_accelerations_are_newtons() {
 #[test]
 fn cartesian_and_angle_models_move_alike() {
     let cart = cartesian_pendulum();
-    let ang = angle_pendulum();
     let l = P[1];
     let th0: f64 = 1.1;
     let t_eval: Vec<f64> = (0..=20).map(|k| k as f64 * 0.25).collect();
-    let control = tight_control();
-    let stop = AtomicBool::new(false);
-    let st = Stabilization {
-        alpha: 10.0,
-        beta: 10.0,
-        projection: false,
-    };
-    let mut a = vec![0.0; t_eval.len() * 4];
-    let y0 = [l * th0.sin(), -l * th0.cos(), 0.0, 0.0];
-    let run = run_member(
-        &cart,
-        &P,
-        &[],
-        &y0,
-        st,
-        Method::Dop853(control),
-        0.0,
-        5.0,
-        0.0,
-        &t_eval,
-        &mut a,
-        u64::MAX,
-        &stop,
-    );
-    assert_eq!(run.status, Status::Finished);
-    let mut b = vec![0.0; t_eval.len() * 2];
-    let run = run_member(
-        &ang,
-        &P,
-        &[],
-        &[th0, 0.0],
-        st,
-        Method::Dop853(control),
-        0.0,
-        5.0,
-        0.0,
-        &t_eval,
-        &mut b,
-        u64::MAX,
-        &stop,
-    );
-    assert_eq!(run.status, Status::Finished);
+    let a = run_tight(&cart, &[l * th0.sin(), -l * th0.cos(), 0.0, 0.0], &t_eval);
+    let b = run_tight(&angle_pendulum(), &[th0, 0.0], &t_eval);
     for k in 0..t_eval.len() {
         let th = b[2 * k];
         let (x, y) = (a[4 * k], a[4 * k + 1]);
@@ -302,6 +261,37 @@ fn cartesian_and_angle_models_move_alike() {
         // Gᵀλ = λ (x, y)
         assert!((f[2 * k] - lam[k] * a[4 * k]).abs() < 1e-12);
     }
+}
+
+/// A member of `model` (parameters [`P`], no inputs) from `y0` over [0, 5], DOP853 at
+/// [`tight_control`] with Baumgarte's gains 10 and 10: its samples at `t_eval`, the run
+/// checked finished.
+fn run_tight(model: &Model, y0: &[f64], t_eval: &[f64]) -> Vec<f64> {
+    let st = Stabilization {
+        alpha: 10.0,
+        beta: 10.0,
+        projection: false,
+    };
+    let mut out = vec![0.0; t_eval.len() * y0.len()];
+    let stop = AtomicBool::new(false);
+    let method = Method::Dop853(tight_control());
+    let run = run_member(
+        model,
+        &P,
+        &[],
+        y0,
+        st,
+        method,
+        0.0,
+        5.0,
+        0.0,
+        t_eval,
+        &mut out,
+        u64::MAX,
+        &stop,
+    );
+    assert_eq!(run.status, Status::Finished);
+    out
 }
 
 /// Projection puts a state back on the constraint: |q| = l and q · q̇ = 0.
@@ -465,7 +455,6 @@ fn a_singular_system_gives_nan() {
 /// is logged on the way, and the terminal release ends the run there.
 #[test]
 fn a_string_goes_slack_where_the_energy_says() {
-    use crate::drivers::{Output, Sampling};
     use crate::events::Watch;
     let model = cartesian_pendulum();
     let l = P[1];
@@ -480,57 +469,9 @@ fn a_string_goes_slack_where_the_energy_says() {
     let events = LagrangeEvents::new(&sys, &sources, Some(&height), NoCallbacks).unwrap();
     let (terminal, direction) = ([false, true], [1.0, 1.0]);
     let t_eval: Vec<f64> = (0..=40).map(|k| k as f64 * 0.05).collect();
-    let control = tight_control();
     for adaptive in [false, true] {
         let mut watch = Watch::new(&events, &terminal, &direction, 0.01, 4);
-        let (mut ts, mut ys) = (vec![0.0; t_eval.len()], vec![0.0; t_eval.len() * 4]);
-        let mut out = Output {
-            t: &mut ts,
-            y: &mut ys,
-        };
-        let sampling = Sampling {
-            t_end: 2.0,
-            t_eval: &t_eval,
-            every: 1,
-        };
-        let mut clock = Clock { t: 0.0, h: 0.0 };
-        let mut k = Counters::default();
-        let mut z = y0.to_vec();
-        let status = if adaptive {
-            let mut f = vec![0.0; 4];
-            run_adaptive(
-                &sys,
-                &mut watch,
-                &mut clock,
-                &mut z,
-                &mut f,
-                &control,
-                &sampling,
-                &mut out,
-                &mut k,
-                u64::MAX,
-            )
-        } else {
-            let flat = RK4_A.concat();
-            let tab = Tableau {
-                a: &flat,
-                b: &RK4_B,
-                c: &RK4_C,
-            };
-            let mut m = Erk::new(tab, 4);
-            run_fixed(
-                &sys,
-                &mut m,
-                &mut watch,
-                &mut clock,
-                &mut z,
-                1e-3,
-                &sampling,
-                &mut out,
-                &mut k,
-                u64::MAX,
-            )
-        };
+        let (status, clock, z, k) = watched_run(&sys, &mut watch, &y0, &t_eval, adaptive);
         assert_eq!(status, Status::Terminated, "adaptive: {adaptive}");
         let log = &watch.log;
         assert_eq!(log.len(), 2, "{log:?}");
@@ -546,6 +487,70 @@ fn a_string_goes_slack_where_the_energy_says() {
         // samples up to the release only
         assert!(k.n_out < t_eval.len() && t_eval[k.n_out - 1] <= slack.t);
     }
+}
+
+/// A run of `sys` from `y0` over [0, 2], sampled at `t_eval` and watched by `observer`:
+/// DOP853 at [`tight_control`] (`adaptive`), else RK4 (its tableau) in steps of 10⁻³. Its
+/// status, clock, final state and counters.
+fn watched_run<I: Inputs, O: crate::observers::Observer>(
+    sys: &Lagrangian<'_, I>,
+    observer: &mut O,
+    y0: &[f64],
+    t_eval: &[f64],
+    adaptive: bool,
+) -> (Status, Clock, Vec<f64>, Counters) {
+    use crate::drivers::{Output, Sampling};
+    let (mut ts, mut ys) = (vec![0.0; t_eval.len()], vec![0.0; t_eval.len() * 4]);
+    let mut out = Output {
+        t: &mut ts,
+        y: &mut ys,
+    };
+    let sampling = Sampling {
+        t_end: 2.0,
+        t_eval,
+        every: 1,
+    };
+    let mut clock = Clock { t: 0.0, h: 0.0 };
+    let mut k = Counters::default();
+    let mut z = y0.to_vec();
+    let (c, s) = (&mut clock, &sampling);
+    let status = if adaptive {
+        let mut f = vec![0.0; 4];
+        let control = tight_control();
+        run_adaptive(
+            sys,
+            observer,
+            c,
+            &mut z,
+            &mut f,
+            &control,
+            s,
+            &mut out,
+            &mut k,
+            u64::MAX,
+        )
+    } else {
+        let flat = RK4_A.concat();
+        let tab = Tableau {
+            a: &flat,
+            b: &RK4_B,
+            c: &RK4_C,
+        };
+        let mut m = Erk::new(tab, 4);
+        run_fixed(
+            sys,
+            &mut m,
+            observer,
+            c,
+            &mut z,
+            1e-3,
+            s,
+            &mut out,
+            &mut k,
+            u64::MAX,
+        )
+    };
+    (status, clock, z, k)
 }
 
 /// A member whose string goes slack ([`run_member_with`], the constraint one-sided): the

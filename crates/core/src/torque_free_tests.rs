@@ -489,17 +489,7 @@ fn families_in_lanes_equal_each_members_regime_bit_for_bit() {
 #[test]
 #[ignore]
 fn time_exact_omegas() {
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let ws: Vec<Vec3> = (0..1_000_000)
-        .map(|_| {
-            [0; 3].map(|_| {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            })
-        })
-        .collect();
+    let ws = random_omegas(1_000_000);
     for nt in [1usize, 10, 100] {
         let ts: Vec<f64> = (0..nt).map(|j| 1.0 + 0.3 * j as f64).collect();
         let ws = &ws[..ws.len() / nt.min(10)];
@@ -519,61 +509,8 @@ fn time_exact_omegas() {
             let mut best = f64::INFINITY;
             for _ in 0..5 {
                 let t0 = std::time::Instant::now();
-                match name {
-                    "exact_omegas" => exact_omegas([1.0, 2.0, 3.0], &EYE, 0, ws, &ts, &mut out),
-                    "one by one" => {
-                        for (w, o) in ws.iter().zip(out.chunks_mut(nt)) {
-                            omegas_one_by_one([1.0, 2.0, 3.0], &EYE, &radicals, 0, *w, &ts, o)
-                        }
-                    }
-                    "8 lanes" => {
-                        omegas_in_lanes::<8>([1.0, 2.0, 3.0], &EYE, &radicals, ws, &ts, &mut out)
-                    }
-                    "16 lanes" => {
-                        omegas_in_lanes::<16>([1.0, 2.0, 3.0], &EYE, &radicals, ws, &ts, &mut out)
-                    }
-                    "16 lanes, AVX2" => {
-                        if !Isa::Avx2.available() {
-                            break;
-                        }
-                        let ms = [1.0, 2.0, 3.0];
-                        omegas_in_lanes_with::<16>(
-                            Isa::Avx2,
-                            ms,
-                            &EYE,
-                            &radicals,
-                            ws,
-                            &ts,
-                            &mut out,
-                        )
-                    }
-                    "64 lanes" => {
-                        omegas_in_lanes::<64>([1.0, 2.0, 3.0], &EYE, &radicals, ws, &ts, &mut out)
-                    }
-                    "32 lanes, AVX2" => {
-                        if !Isa::Avx2.available() {
-                            break;
-                        }
-                        let ms = [1.0, 2.0, 3.0];
-                        omegas_in_lanes_with::<32>(
-                            Isa::Avx2,
-                            ms,
-                            &EYE,
-                            &radicals,
-                            ws,
-                            &ts,
-                            &mut out,
-                        )
-                    }
-                    "16 lanes, baseline" => omegas_in_lanes_any::<16>(
-                        [1.0, 2.0, 3.0],
-                        &EYE,
-                        &radicals,
-                        ws,
-                        &ts,
-                        &mut out,
-                    ),
-                    _ => omegas_in_lanes::<32>([1.0, 2.0, 3.0], &EYE, &radicals, ws, &ts, &mut out),
+                if !omegas_by(name, &radicals, ws, &ts, &mut out) {
+                    break;
                 }
                 best = best.min(t0.elapsed().as_secs_f64());
             }
@@ -583,6 +520,44 @@ fn time_exact_omegas() {
             );
         }
     }
+}
+
+/// `n` values of ω, each component uniform in [−0.5, 0.5) (xorshift64).
+fn random_omegas(n: usize) -> Vec<Vec3> {
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    (0..n)
+        .map(|_| {
+            [0; 3].map(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            })
+        })
+        .collect()
+}
+
+/// ω(t) of the body (1, 2, 3) from each of `ws` at the times `ts` into `out`, by the route
+/// `name` ([`time_exact_omegas`]); false when this CPU lacks the route's instruction set.
+fn omegas_by(name: &str, radicals: &Radicals, ws: &[Vec3], ts: &[f64], out: &mut [Vec3]) -> bool {
+    let ms = [1.0, 2.0, 3.0];
+    match name {
+        "exact_omegas" => exact_omegas(ms, &EYE, 0, ws, ts, out),
+        "one by one" => {
+            for (w, o) in ws.iter().zip(out.chunks_mut(ts.len())) {
+                omegas_one_by_one(ms, &EYE, radicals, 0, *w, ts, o)
+            }
+        }
+        "8 lanes" => omegas_in_lanes::<8>(ms, &EYE, radicals, ws, ts, out),
+        "16 lanes" => omegas_in_lanes::<16>(ms, &EYE, radicals, ws, ts, out),
+        "64 lanes" => omegas_in_lanes::<64>(ms, &EYE, radicals, ws, ts, out),
+        "16 lanes, AVX2" | "32 lanes, AVX2" if !Isa::Avx2.available() => return false,
+        "16 lanes, AVX2" => omegas_in_lanes_with::<16>(Isa::Avx2, ms, &EYE, radicals, ws, ts, out),
+        "32 lanes, AVX2" => omegas_in_lanes_with::<32>(Isa::Avx2, ms, &EYE, radicals, ws, ts, out),
+        "16 lanes, baseline" => omegas_in_lanes_any::<16>(ms, &EYE, radicals, ws, ts, out),
+        _ => omegas_in_lanes::<32>(ms, &EYE, radicals, ws, ts, out),
+    }
+    true
 }
 
 /// A fixed point's attitude at a huge angle (a slow spin at t = 10¹⁰, which double precision

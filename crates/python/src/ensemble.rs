@@ -272,8 +272,46 @@ fn run_ensemble<'py>(
     samples_out: Option<PyReadwriteArray3<'py, f64>>,
     finals_out: Option<PyReadwriteArray2<'py, f64>>,
 ) -> PyResult<Outputs<'py>> {
-    // the schedule: the run's own, checked when it was built, from t0
     let run = spec.core();
+    let schedule = schedule_from(&run, t0, flips, threads)?;
+    let args = MemberArgs {
+        inertia: &inertia,
+        bodies: &bodies,
+        axes: &axes,
+        force_kind: &force_kind,
+        force_params: &force_params,
+        y0: &y0,
+    };
+    let members = Members::new(args)?;
+    let (m, n) = (members.m, schedule.t_eval.len());
+    let mut buffers = Buffers::new(samples_out, finals_out, keep_samples, (m, n))?;
+    let (samples, finals) = buffers.slices()?;
+    // the run: workers on the pool, this thread looking for an interrupt
+    let mut summaries = vec![MemberSummary::default(); m];
+    let pool = pool(threads as usize)?;
+    {
+        let (summaries, schedule, members) = (&mut summaries, &schedule, &members);
+        interruptible(py, &pool, move |stop| {
+            // each member's body, axes, inertia, forces and initial state, made on the pool's
+            // threads with the run (the GIL released)
+            let members: Vec<Member> = (0..m).into_par_iter().map(|i| members.member(i)).collect();
+            run_members(schedule, &members, samples, finals, summaries, stop)
+        })?;
+    }
+    let (samples, finals) = buffers.returned(py, (m, n))?;
+    Ok(outputs(py, samples, finals, &summaries))
+}
+
+/// The schedule of a chunk: the run `spec`'s own (checked when it was built; a method a rigid
+/// body runs) from `t0`, its end at or after `t0` and at least one sample time, all within
+/// `[t0, t_end]`, the flips recorded or not; and the pool's size `threads`, positive. Checked
+/// in this order, each error naming its argument.
+fn schedule_from<'s>(
+    run: &poinsot_core::spec::RunSpec<'s>,
+    t0: f64,
+    flips: bool,
+    threads: i64,
+) -> PyResult<Schedule<'s>> {
     run.check_for(true).map_err(value_error)?;
     let (t1, times) = (run.sampling.t_end, run.sampling.t_eval);
     if !(t0.is_finite() && t1 >= t0) {
@@ -296,7 +334,7 @@ fn run_ensemble<'py>(
             "`threads` must be a positive integer, found {threads}"
         )));
     }
-    let schedule = Schedule {
+    Ok(Schedule {
         method: run.method,
         t0,
         t1,
@@ -304,112 +342,206 @@ fn run_ensemble<'py>(
         t_eval: times,
         flips,
         max_steps: run.max_steps,
-    };
-    // the members
-    if y0.shape()[1] != STATE_SIZE {
-        return Err(value_error(format!(
-            "`y0` must have shape (m, {STATE_SIZE}), found {:?}",
-            y0.shape()
-        )));
-    }
-    let m = y0.shape()[0];
-    let inertia = mats(&inertia, m, "inertia")?;
-    let axes = mats(&axes, m, "axes")?;
-    let bodies = bodies.as_array();
-    if bodies.ncols() != BODY_SIZE {
-        return Err(value_error(format!(
-            "`bodies` must have shape (n, {BODY_SIZE}), found {:?}",
-            bodies.shape()
-        )));
-    }
-    shared_or_per_member(bodies.nrows(), m, "bodies", &BODY_SIZE.to_string())?;
-    let bodies = (0..bodies.nrows())
-        .map(|i| body_from(&bodies.row(i).to_vec()))
-        .collect::<PyResult<Vec<Body>>>()?;
-    let forces = member_forces(force_kind.as_slice()?, &force_params, m)?;
-    let pick = |len: usize, i: usize| if len > 1 { i } else { 0 };
-    let y0 = y0.as_slice()?; // C order: the argument is converted when it is not
-                             // each member's body, axes, inertia, forces and initial state, made on the pool's threads
-                             // with the run (the GIL released)
-    let member = |i: usize| {
-        Member::new(
-            bodies[pick(bodies.len(), i)],
-            mat(&axes, i),
-            mat(&inertia, i),
-            &forces[pick(forces.len(), i)],
-            load(&y0[i * STATE_SIZE..(i + 1) * STATE_SIZE]),
-        )
-    };
-    // the outputs: the caller's arrays, or new ones
-    let n = times.len();
-    let mut samples_out = samples_out;
-    let mut finals_out = finals_out;
-    if let Some(a) = &samples_out {
-        if !keep_samples || a.shape() != [m, n, STATE_SIZE] {
+    })
+}
+
+/// The member arguments of `run_ensemble`, as received.
+struct MemberArgs<'a, 'py> {
+    inertia: &'a Floats3<'py>,
+    bodies: &'a Floats2<'py>,
+    axes: &'a Floats3<'py>,
+    force_kind: &'a Ints1<'py>,
+    force_params: &'a Floats3<'py>,
+    y0: &'a Floats2<'py>,
+}
+
+/// A chunk's `m` members, checked: per member (one row shared by all, or one row each) the
+/// inertia, the principal axes, the body and the lowered forces; each member's initial
+/// state (`y0`, m · 18, C order).
+struct Members<'a> {
+    m: usize,
+    inertia: ArrayView3<'a, f64>,
+    axes: ArrayView3<'a, f64>,
+    bodies: Vec<Body>,
+    forces: Vec<Vec<Force>>,
+    y0: &'a [f64],
+}
+
+impl<'a> Members<'a> {
+    /// The members of `args`, checked in the order of the arguments' names in the errors:
+    /// `y0`, `inertia`, `axes`, `bodies`, the forces.
+    fn new(args: MemberArgs<'a, '_>) -> PyResult<Self> {
+        let y0 = args.y0;
+        if y0.shape()[1] != STATE_SIZE {
             return Err(value_error(format!(
-                "`samples_out` must have shape ({m}, {n}, {STATE_SIZE}) with `keep_samples`, \
-                 found {:?}",
-                a.shape()
+                "`y0` must have shape (m, {STATE_SIZE}), found {:?}",
+                y0.shape()
             )));
         }
-    }
-    if let Some(a) = &finals_out {
-        if a.shape() != [m, STATE_SIZE] {
+        let m = y0.shape()[0];
+        let inertia = mats(args.inertia, m, "inertia")?;
+        let axes = mats(args.axes, m, "axes")?;
+        let bodies = args.bodies.as_array();
+        if bodies.ncols() != BODY_SIZE {
             return Err(value_error(format!(
-                "`finals_out` must have shape ({m}, {STATE_SIZE}), found {:?}",
-                a.shape()
+                "`bodies` must have shape (n, {BODY_SIZE}), found {:?}",
+                bodies.shape()
             )));
         }
-    }
-    let mut own_samples = Vec::new();
-    let mut own_finals = Vec::new();
-    let samples: Option<&mut [f64]> = match &mut samples_out {
-        Some(a) => Some(c_order(
-            a.is_c_contiguous(),
-            a.as_slice_mut(),
-            "samples_out",
-        )?),
-        None if keep_samples => {
-            own_samples = vec![0.0; m * n * STATE_SIZE];
-            Some(&mut own_samples[..])
-        }
-        None => None,
-    };
-    let finals: &mut [f64] = match &mut finals_out {
-        Some(a) => c_order(a.is_c_contiguous(), a.as_slice_mut(), "finals_out")?,
-        None => {
-            own_finals = vec![0.0; m * STATE_SIZE];
-            &mut own_finals[..]
-        }
-    };
-    // the run: workers on the pool, this thread looking for an interrupt
-    let mut summaries = vec![MemberSummary::default(); m];
-    let pool = pool(threads as usize)?;
-    {
-        let summaries = &mut summaries;
-        let schedule = &schedule;
-        interruptible(py, &pool, move |stop| {
-            let members: Vec<Member> = (0..m).into_par_iter().map(member).collect();
-            run_members(schedule, &members, samples, finals, summaries, stop)
-        })?;
-    }
-    let returned = keep_samples && samples_out.is_none();
-    let samples = returned
-        .then(|| {
-            Array3::from_shape_vec((m, n, STATE_SIZE), own_samples).map(|a| a.into_pyarray(py))
+        shared_or_per_member(bodies.nrows(), m, "bodies", &BODY_SIZE.to_string())?;
+        let bodies = (0..bodies.nrows())
+            .map(|i| body_from(&bodies.row(i).to_vec()))
+            .collect::<PyResult<Vec<Body>>>()?;
+        let forces = member_forces(args.force_kind.as_slice()?, args.force_params, m)?;
+        Ok(Members {
+            m,
+            inertia,
+            axes,
+            bodies,
+            forces,
+            // C order: the argument is converted when it is not
+            y0: y0.as_slice()?,
         })
-        .transpose()
-        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    let finals = finals_out
-        .is_none()
-        .then(|| Array2::from_shape_vec((m, STATE_SIZE), own_finals).map(|a| a.into_pyarray(py)))
-        .transpose()
-        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    }
+
+    /// Member `i`: its body, axes, inertia, forces and initial state.
+    fn member(&self, i: usize) -> Member<'_> {
+        let pick = |len: usize| if len > 1 { i } else { 0 };
+        Member::new(
+            self.bodies[pick(self.bodies.len())],
+            mat(&self.axes, i),
+            mat(&self.inertia, i),
+            &self.forces[pick(self.forces.len())],
+            load(&self.y0[i * STATE_SIZE..(i + 1) * STATE_SIZE]),
+        )
+    }
+}
+
+/// Where a chunk's samples and final states go: the caller's arrays (`samples_out`,
+/// `finals_out`) or buffers of our own; samples only when kept (`keep`).
+struct Buffers<'py> {
+    samples_out: Option<PyReadwriteArray3<'py, f64>>,
+    finals_out: Option<PyReadwriteArray2<'py, f64>>,
+    own_samples: Vec<f64>,
+    own_finals: Vec<f64>,
+    keep: bool,
+}
+
+impl<'py> Buffers<'py> {
+    /// The buffers of `m` members with `n` samples each: the caller's arrays' shapes checked
+    /// (`samples_out` only with `keep`), our own made where they are not given.
+    fn new(
+        samples_out: Option<PyReadwriteArray3<'py, f64>>,
+        finals_out: Option<PyReadwriteArray2<'py, f64>>,
+        keep: bool,
+        (m, n): (usize, usize),
+    ) -> PyResult<Self> {
+        if let Some(a) = &samples_out {
+            if !keep || a.shape() != [m, n, STATE_SIZE] {
+                return Err(value_error(format!(
+                    "`samples_out` must have shape ({m}, {n}, {STATE_SIZE}) with `keep_samples`, \
+                     found {:?}",
+                    a.shape()
+                )));
+            }
+        }
+        if let Some(a) = &finals_out {
+            if a.shape() != [m, STATE_SIZE] {
+                return Err(value_error(format!(
+                    "`finals_out` must have shape ({m}, {STATE_SIZE}), found {:?}",
+                    a.shape()
+                )));
+            }
+        }
+        let own_samples = vec![
+            0.0;
+            if keep && samples_out.is_none() {
+                m * n * STATE_SIZE
+            } else {
+                0
+            }
+        ];
+        let own_finals = vec![
+            0.0;
+            if finals_out.is_none() {
+                m * STATE_SIZE
+            } else {
+                0
+            }
+        ];
+        Ok(Buffers {
+            samples_out,
+            finals_out,
+            own_samples,
+            own_finals,
+            keep,
+        })
+    }
+
+    /// The memory the run writes: the samples (None when not kept) and the final states, the
+    /// caller's arrays checked C-contiguous.
+    fn slices(&mut self) -> PyResult<(Option<&mut [f64]>, &mut [f64])> {
+        let samples = match &mut self.samples_out {
+            Some(a) => Some(c_order(
+                a.is_c_contiguous(),
+                a.as_slice_mut(),
+                "samples_out",
+            )?),
+            None if self.keep => Some(&mut self.own_samples[..]),
+            None => None,
+        };
+        let finals = match &mut self.finals_out {
+            Some(a) => c_order(a.is_c_contiguous(), a.as_slice_mut(), "finals_out")?,
+            None => &mut self.own_finals[..],
+        };
+        Ok((samples, finals))
+    }
+
+    /// The arrays returned: our own samples (m, n, 18) and final states (m, 18), None for
+    /// what went to the caller's arrays or was not kept.
+    #[allow(clippy::type_complexity)]
+    fn returned(
+        self,
+        py: Python<'py>,
+        (m, n): (usize, usize),
+    ) -> PyResult<(
+        Option<Bound<'py, PyArray3<f64>>>,
+        Option<Bound<'py, PyArray2<f64>>>,
+    )> {
+        let returned = self.keep && self.samples_out.is_none();
+        let own_samples = self.own_samples;
+        let samples = returned
+            .then(|| {
+                Array3::from_shape_vec((m, n, STATE_SIZE), own_samples).map(|a| a.into_pyarray(py))
+            })
+            .transpose()
+            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        let own_finals = self.own_finals;
+        let finals = self
+            .finals_out
+            .is_none()
+            .then(|| {
+                Array2::from_shape_vec((m, STATE_SIZE), own_finals).map(|a| a.into_pyarray(py))
+            })
+            .transpose()
+            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        Ok((samples, finals))
+    }
+}
+
+/// `run_ensemble`'s result ([`Outputs`]): the samples and final states returned, and the
+/// members' summaries column by column.
+fn outputs<'py>(
+    py: Python<'py>,
+    samples: Option<Bound<'py, PyArray3<f64>>>,
+    finals: Option<Bound<'py, PyArray2<f64>>>,
+    summaries: &[MemberSummary],
+) -> Outputs<'py> {
     let column =
         |f: fn(&MemberSummary) -> f64| Array1::from_iter(summaries.iter().map(f)).into_pyarray(py);
     let counts =
         |f: fn(&MemberSummary) -> i64| Array1::from_iter(summaries.iter().map(f)).into_pyarray(py);
-    Ok((
+    (
         samples,
         finals,
         column(|s| s.energy),
@@ -421,7 +553,7 @@ fn run_ensemble<'py>(
         counts(|s| s.status as i64),
         counts(|s| s.n_steps as i64),
         counts(|s| s.n_fev as i64),
-    ))
+    )
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -147,7 +147,33 @@ fn gyrostat_omegas<'py>(
     rotor_axis: Floats1<'py>,
     max_step: f64,
 ) -> PyResult<Bound<'py, PyArray3<f64>>> {
-    let mo = rows(&moments, 3, "moments")?;
+    let members = gyrostats(&moments, &axes, &rotor_inertia, &omega0)?;
+    let ts = t.as_slice()?.to_vec();
+    increasing(&ts, "t")?;
+    let rotor = Rotor::new(&rotor_t, &rotor_speed, &rotor_axis)?;
+    if !max_step.is_finite() {
+        return Err(value_error("`max_step` must be finite"));
+    }
+    let (m, n) = (members.len(), ts.len());
+    let out = detached(py, || rotor.omegas(&members, &ts, max_step))?;
+    let flat: Vec<f64> = out.into_iter().flatten().collect();
+    let arr = Array3::from_shape_vec((m, n, 3), flat).map_err(|e| value_error(e.to_string()))?;
+    Ok(arr.into_pyarray(py))
+}
+
+/// A member of `gyrostat_omegas`: its principal moments and axes, its rotor's inertia, its ω
+/// at the first time.
+type Gyrostat = (Vec3, Mat3, f64, Vec3);
+
+/// The members of `gyrostat_omegas`, their shapes checked against the m rows of `moments`,
+/// in the order of the arguments.
+fn gyrostats(
+    moments: &Floats2<'_>,
+    axes: &Floats3<'_>,
+    rotor_inertia: &Floats1<'_>,
+    omega0: &Floats2<'_>,
+) -> PyResult<Vec<Gyrostat>> {
+    let mo = rows(moments, 3, "moments")?;
     let m = mo.nrows();
     let ax = axes.as_array();
     if ax.shape() != [m, 3, 3] {
@@ -163,52 +189,73 @@ fn gyrostat_omegas<'py>(
             j.len()
         )));
     }
-    let w0 = rows(&omega0, 3, "omega0")?;
+    let w0 = rows(omega0, 3, "omega0")?;
     if w0.nrows() != m {
         return Err(value_error(format!(
             "`omega0` must have shape ({m}, 3), found {:?}",
             w0.shape()
         )));
     }
-    let ts = t.as_slice()?.to_vec();
-    increasing(&ts, "t")?;
-    let (rt, rs) = (
-        rotor_t.as_slice()?.to_vec(),
-        rotor_speed.as_slice()?.to_vec(),
-    );
-    if rt.len() != rs.len() {
-        return Err(value_error(format!(
-            "`rotor_speed` must have the length of `rotor_t` ({}), found {}",
-            rt.len(),
-            rs.len()
-        )));
-    }
-    increasing(&rt, "rotor_t")?;
-    if let Some(k) = rs.iter().position(|x| !x.is_finite()) {
-        return Err(value_error(format!("`rotor_speed[{k}]` is not finite")));
-    }
-    let a = vec3_from(&rotor_axis, "rotor_axis")?;
-    if !max_step.is_finite() {
-        return Err(value_error("`max_step` must be finite"));
-    }
-    let members: Vec<(Vec3, Mat3, f64, Vec3)> = (0..m)
+    Ok((0..m)
         .map(|i| {
             let e: Mat3 = std::array::from_fn(|r| std::array::from_fn(|c| ax[[i, r, c]]));
             (v3(&mo, i), e, j[i], v3(&w0, i))
         })
-        .collect();
-    let n = ts.len();
-    let out = detached(py, || {
-        let mut out = vec![[0.0; 3]; m * n];
-        let run = |(member, block): (&(Vec3, Mat3, f64, Vec3), &mut [Vec3])| {
+        .collect())
+}
+
+/// The rotor every member of `gyrostat_omegas` shares: its speed `speed` sampled at the
+/// times `t` (increasing, finite) about `axis`.
+struct Rotor {
+    t: Vec<f64>,
+    speed: Vec<f64>,
+    axis: Vec3,
+}
+
+impl Rotor {
+    /// The rotor's arguments, checked in their order.
+    fn new(
+        rotor_t: &Floats1<'_>,
+        rotor_speed: &Floats1<'_>,
+        rotor_axis: &Floats1<'_>,
+    ) -> PyResult<Self> {
+        let (rt, rs) = (
+            rotor_t.as_slice()?.to_vec(),
+            rotor_speed.as_slice()?.to_vec(),
+        );
+        if rt.len() != rs.len() {
+            return Err(value_error(format!(
+                "`rotor_speed` must have the length of `rotor_t` ({}), found {}",
+                rt.len(),
+                rs.len()
+            )));
+        }
+        increasing(&rt, "rotor_t")?;
+        if let Some(k) = rs.iter().position(|x| !x.is_finite()) {
+            return Err(value_error(format!("`rotor_speed[{k}]` is not finite")));
+        }
+        let axis = vec3_from(rotor_axis, "rotor_axis")?;
+        Ok(Rotor {
+            t: rt,
+            speed: rs,
+            axis,
+        })
+    }
+
+    /// Each member's ω at the times `ts` (m · n rows, in parallel when there are several);
+    /// NaN from where a member's motion stops being finite.
+    fn omegas(&self, members: &[Gyrostat], ts: &[f64], max_step: f64) -> Vec<Vec3> {
+        let n = ts.len();
+        let mut out = vec![[0.0; 3]; members.len() * n];
+        let run = |(member, block): (&Gyrostat, &mut [Vec3])| {
             let (mom, e, ji, w) = member;
             let rotor = SampledRotor {
-                t: &rt,
-                speed: &rs,
-                axis: a,
+                t: &self.t,
+                speed: &self.speed,
+                axis: self.axis,
                 inertia: *ji,
             };
-            let status = omegas(*mom, e, rotor, *w, &ts, max_step, block);
+            let status = omegas(*mom, e, rotor, *w, ts, max_step, block);
             if status != Status::Finished {
                 for o in block
                     .iter_mut()
@@ -219,17 +266,14 @@ fn gyrostat_omegas<'py>(
             }
         };
         if n > 0 {
-            if m > 1 {
+            if members.len() > 1 {
                 members.par_iter().zip(out.par_chunks_mut(n)).for_each(run);
             } else {
                 members.iter().zip(out.chunks_mut(n)).for_each(run);
             }
         }
         out
-    })?;
-    let flat: Vec<f64> = out.into_iter().flatten().collect();
-    let arr = Array3::from_shape_vec((m, n, 3), flat).map_err(|e| value_error(e.to_string()))?;
-    Ok(arr.into_pyarray(py))
+    }
 }
 
 /// `hat(ω̇) + hat(ω)²` (n, 3, 3) at body-frame `omega`, `omega_dot` (n, 3): the matrices with

@@ -10,8 +10,8 @@ use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
 use poinsot_core::expressions::Program;
 use poinsot_core::lagrange::{
-    run_members_with, samples as core_samples, Constant, Lagrangian, Model, OneSided, SampleOut,
-    Shape, Stabilization,
+    run_members_with, samples as core_samples, Constant, Lagrangian, MemberRun, Model, OneSided,
+    SampleOut, Shape, Stabilization,
 };
 use poinsot_core::system::VectorField;
 use poinsot_jit::Jit;
@@ -400,7 +400,7 @@ impl LagrangianModel {
         params, inputs, y0, alpha, beta, projection, spec, t0, threads, unilateral=Vec::new(),
         resolution=2001
     ))]
-    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    #[allow(clippy::too_many_arguments)]
     fn run_ensemble<'py>(
         &self,
         py: Python<'py>,
@@ -415,26 +415,9 @@ impl LagrangianModel {
         threads: usize,
         unilateral: Vec<usize>,
         resolution: usize,
-    ) -> PyResult<(
-        Bound<'py, PyArray3<f64>>,
-        Bound<'py, PyArray1<i64>>,
-        Bound<'py, PyArray1<i64>>,
-        Bound<'py, PyArray1<i64>>,
-        Bound<'py, PyArray2<f64>>,
-    )> {
+    ) -> PyResult<EnsembleOutputs<'py>> {
         let s = self.shape();
-        let pp = rows(&params, s.np, "P")?;
-        let uu = rows(&inputs, s.nu, "U")?;
-        let zz = rows(&y0, 2 * s.n, "Y0")?;
-        let k = zz.nrows();
-        if pp.nrows() != k || uu.nrows() != k {
-            return Err(value_error(
-                "`P`, `U` and `Y0` must have one row per member",
-            ));
-        }
-        let pv: Vec<f64> = pp.iter().copied().collect();
-        let uv: Vec<f64> = uu.iter().copied().collect();
-        let zv: Vec<f64> = zz.iter().copied().collect();
+        let rows = self.member_rows(&params, &inputs, &y0)?;
         let run = spec.core();
         run.check_for(false).map_err(value_error)?;
         let (method, dt, max_steps) = (run.method, run.dt, run.max_steps);
@@ -447,32 +430,18 @@ impl LagrangianModel {
             beta,
             projection,
         };
-        if let Some(&c) = unilateral.iter().find(|&&c| c >= s.m) {
-            return Err(value_error(format!(
-                "`unilateral` names constraint {c}; the model has {}",
-                s.m
-            )));
-        }
-        if resolution < 2 {
-            return Err(value_error(format!(
-                "`resolution` must be at least 2, found {resolution}"
-            )));
-        }
-        let per = t_eval.len() * 2 * s.n;
-        let mut samples = vec![0.0; k * per];
+        let one_sided = one_sided(&unilateral, s.m, resolution)?;
+        let k = rows.k;
+        let mut samples = vec![0.0; k * t_eval.len() * 2 * s.n];
         let mut releases = vec![f64::NAN; k * unilateral.len()];
         let pool = pool(threads.max(1))?;
         let model = &*self.model;
-        let one_sided = OneSided {
-            constraints: &unilateral,
-            resolution,
-        };
         let runs = {
-            let (samples, releases) = (&mut samples, &mut releases);
+            let (samples, releases, rows) = (&mut samples, &mut releases, &rows);
             interruptible(py, &pool, move |stop| {
                 run_members_with(
                     model,
-                    (&pv, &uv, &zv),
+                    (&rows.params, &rows.inputs, &rows.y0),
                     st,
                     method,
                     (t0, t1, dt),
@@ -489,17 +458,91 @@ impl LagrangianModel {
             .expect("members · one-sided constraints");
         let samples = Array3::from_shape_vec((k, t_eval.len(), 2 * s.n), samples)
             .expect("members · samples · 2n");
-        let col = |f: fn(&poinsot_core::lagrange::MemberRun) -> i64| {
-            Array1::from_iter(runs.iter().map(f)).into_pyarray(py)
-        };
-        Ok((
-            samples.into_pyarray(py),
-            col(|r| r.status as i64),
-            col(|r| r.n_steps as i64),
-            col(|r| r.n_fev as i64),
-            releases.into_pyarray(py),
-        ))
+        Ok(ensemble_outputs(py, samples, &runs, releases))
     }
+}
+
+/// What `LagrangianModel.run_ensemble` returns: the samples (k, len(t_eval), 2n), the status,
+/// steps and evaluations per member, and the release times (k, len(unilateral)).
+type EnsembleOutputs<'py> = (
+    Bound<'py, PyArray3<f64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray2<f64>>,
+);
+
+/// The members of a parameter ensemble, checked: `k` rows of parameters `P` (k, np), constant
+/// inputs `U` (k, nu) and initial states `Y0` (k, 2n), each flattened in C order.
+struct MemberRows {
+    k: usize,
+    params: Vec<f64>,
+    inputs: Vec<f64>,
+    y0: Vec<f64>,
+}
+
+impl LagrangianModel {
+    /// The members' rows `P`, `U` and `Y0` ([`MemberRows`]), their widths and counts checked.
+    fn member_rows(
+        &self,
+        params: &Floats2<'_>,
+        inputs: &Floats2<'_>,
+        y0: &Floats2<'_>,
+    ) -> PyResult<MemberRows> {
+        let s = self.shape();
+        let pp = rows(params, s.np, "P")?;
+        let uu = rows(inputs, s.nu, "U")?;
+        let zz = rows(y0, 2 * s.n, "Y0")?;
+        let k = zz.nrows();
+        if pp.nrows() != k || uu.nrows() != k {
+            return Err(value_error(
+                "`P`, `U` and `Y0` must have one row per member",
+            ));
+        }
+        Ok(MemberRows {
+            k,
+            params: pp.iter().copied().collect(),
+            inputs: uu.iter().copied().collect(),
+            y0: zz.iter().copied().collect(),
+        })
+    }
+}
+
+/// The one-sided constraints `unilateral` of a model with `m` constraints, checked in range,
+/// with the detection grid's `resolution` (at least 2 points).
+fn one_sided(unilateral: &[usize], m: usize, resolution: usize) -> PyResult<OneSided<'_>> {
+    if let Some(&c) = unilateral.iter().find(|&&c| c >= m) {
+        return Err(value_error(format!(
+            "`unilateral` names constraint {c}; the model has {m}"
+        )));
+    }
+    if resolution < 2 {
+        return Err(value_error(format!(
+            "`resolution` must be at least 2, found {resolution}"
+        )));
+    }
+    Ok(OneSided {
+        constraints: unilateral,
+        resolution,
+    })
+}
+
+/// The ensemble's result ([`EnsembleOutputs`]): the samples, the members' runs column by
+/// column, the release times.
+fn ensemble_outputs<'py>(
+    py: Python<'py>,
+    samples: Array3<f64>,
+    runs: &[MemberRun],
+    releases: Array2<f64>,
+) -> EnsembleOutputs<'py> {
+    let col = |f: fn(&MemberRun) -> i64| Array1::from_iter(runs.iter().map(f)).into_pyarray(py);
+    (
+        samples.into_pyarray(py),
+        col(|r| r.status as i64),
+        col(|r| r.n_steps as i64),
+        col(|r| r.n_fev as i64),
+        releases.into_pyarray(py),
+    )
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

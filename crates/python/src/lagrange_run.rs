@@ -13,8 +13,8 @@ use poinsot_core::drivers::Status;
 use poinsot_core::events::{Crossing, Watch};
 use poinsot_core::expressions::Function;
 use poinsot_core::lagrange::{
-    Callbacks, CompiledInputs, Constant, Inputs, LagrangeEvents, Lagrangian, NoCallbacks, Source,
-    Stabilization,
+    Callbacks, CompiledInputs, Constant, Inputs, LagrangeEvents, Lagrangian, Model, NoCallbacks,
+    Source, Stabilization,
 };
 use poinsot_core::observers::NoObserver;
 use poinsot_core::system::VectorField;
@@ -282,14 +282,8 @@ pub(crate) fn integrate_lagrange<'py>(
     let p = p.as_slice()?.to_vec();
     slice_len(&p, s.np, "p")?;
     let active = mask(active, s.m)?;
-    let st = Stabilization {
-        alpha,
-        beta,
-        projection,
-    };
     let state = &mut *state;
     let mut run = state.run(&run_spec, 2 * s.n, false)?;
-    let refuse = |e: String| value_error(e);
     let (spec, callables, log) = match events {
         Some(arg) => {
             let (spec, callables, log) = event_spec(arg)?;
@@ -297,94 +291,24 @@ pub(crate) fn integrate_lagrange<'py>(
         }
         None => (None, Vec::new(), None),
     };
-    let spec = spec.as_ref();
-    let events_of_callables = spec.map_or(Vec::new(), |e| {
-        let mut at = vec![0; callables.len()];
-        for (i, source) in e.sources.iter().enumerate() {
-            if let Source::Callback(k) = *source {
-                at[k] = i;
-            }
-        }
-        at
-    });
-    let callbacks = PyEventCallbacks {
+    let callbacks = PyEventCallbacks::new(py, callables, spec.as_ref());
+    let call = Call {
         py,
-        funcs: callables,
-        events: events_of_callables,
-        error: RefCell::new(None),
+        model: &model,
+        p: &p,
+        st: Stabilization {
+            alpha,
+            beta,
+            projection,
+        },
+        active,
+        spec: spec.as_ref(),
+        callbacks: &callbacks,
+        steps,
     };
-    // the events checked against the system, once, before the run
-    let check = |sys: &Lagrangian<'_, Constant<'_>>| -> PyResult<()> {
-        if let Some(e) = spec {
-            LagrangeEvents::new(sys, &e.sources, e.expressions.as_deref(), NoCallbacks)
-                .map_err(refuse)?;
-        }
-        Ok(())
-    };
-    let no_u = vec![0.0; s.nu];
-    check(&Lagrangian::new(&model, &p, Constant(&no_u), st, active.clone()).map_err(refuse)?)?;
-    let slow_events =
-        spec.is_some_and(|e| e.sources.iter().any(|x| matches!(x, Source::Callback(_))));
+    call.check_events()?;
     let mut found = Vec::new();
-    let status = if let Ok(u) = inputs.extract::<Floats1<'py>>() {
-        let u = u.as_slice()?.to_vec();
-        Lagrangian::new(&model, &p, Constant(&u), st, active.clone()).map_err(refuse)?;
-        if slow_events {
-            let sys = Lagrangian::new(&model, &p, Constant(&u), st, active).map_err(refuse)?;
-            run_held(py, &mut run, steps, &sys, spec, &callbacks, &mut found)?
-        } else {
-            let (model, p, u, active) = (&*model, &p, &u, &active);
-            let make = || {
-                Lagrangian::new(model, p, Constant(u), st, active.clone()).expect("checked above")
-            };
-            run_released(py, &mut run, steps, make, spec, &mut found)?
-        }
-    } else if let Ok(e) = inputs.cast::<Expressions>() {
-        let function: Arc<Function> = e.get().function.clone();
-        let fp = function.program();
-        if fp.n_inputs != 1 + 2 * s.n || fp.n_outputs != s.nu {
-            return Err(value_error(format!(
-                "the inputs' expressions take {} values to {}; [t, q, qd] ({}) to {} are needed",
-                fp.n_inputs,
-                fp.n_outputs,
-                1 + 2 * s.n,
-                s.nu
-            )));
-        }
-        let (model, p, active, function) = (&*model, &p, &active, &*function);
-        let make = || {
-            Lagrangian::new(model, p, CompiledInputs::new(function), st, active.clone())
-                .expect("sizes checked above")
-        };
-        if slow_events {
-            run_held(py, &mut run, steps, &make(), spec, &callbacks, &mut found)?
-        } else {
-            run_released(py, &mut run, steps, make, spec, &mut found)?
-        }
-    } else if inputs.is_callable() {
-        let sys = Lagrangian::new(
-            &model,
-            &p,
-            PyInputs {
-                py,
-                func: inputs,
-                count: s.nu,
-                error: RefCell::new(None),
-            },
-            st,
-            active,
-        )
-        .map_err(refuse)?;
-        let status = run_held(py, &mut run, steps, &sys, spec, &callbacks, &mut found)?;
-        if let Some(err) = sys.inputs.error.borrow_mut().take() {
-            return Err(err);
-        }
-        status
-    } else {
-        return Err(PyTypeError::new_err(
-            "`inputs` must be an array of numbers, compiled expressions or a callable (t, q, qd)",
-        ));
-    };
+    let status = call.run(inputs, &mut run, &mut found)?;
     if let Some(err) = callbacks.error.borrow_mut().take() {
         return Err(err);
     }
@@ -395,4 +319,167 @@ pub(crate) fn integrate_lagrange<'py>(
     }
     state.status = status;
     Ok(status as i64)
+}
+
+impl<'py> PyEventCallbacks<'py> {
+    /// The callables `funcs` of the events `spec`, each named in errors by its index among
+    /// the events.
+    fn new(py: Python<'py>, funcs: Vec<Bound<'py, PyAny>>, spec: Option<&EventSpec>) -> Self {
+        let events = spec.map_or(Vec::new(), |e| {
+            let mut at = vec![0; funcs.len()];
+            for (i, source) in e.sources.iter().enumerate() {
+                if let Source::Callback(k) = *source {
+                    at[k] = i;
+                }
+            }
+            at
+        });
+        PyEventCallbacks {
+            py,
+            funcs,
+            events,
+            error: RefCell::new(None),
+        }
+    }
+}
+
+/// One `integrate_lagrange` call, its arguments checked: the model, its parameters, the
+/// stabilisation and the constraints in play, the events (their Python callables in
+/// `callbacks`) and the steps the call may take.
+struct Call<'a, 'py> {
+    py: Python<'py>,
+    model: &'a Model,
+    p: &'a [f64],
+    st: Stabilization,
+    active: Option<Vec<bool>>,
+    spec: Option<&'a EventSpec>,
+    callbacks: &'a PyEventCallbacks<'py>,
+    steps: u64,
+}
+
+impl<'py> Call<'_, 'py> {
+    /// The system with the inputs `inputs`.
+    fn system<I: Inputs>(&self, inputs: I) -> PyResult<Lagrangian<'_, I>> {
+        let active = self.active.clone();
+        Lagrangian::new(self.model, self.p, inputs, self.st, active).map_err(value_error)
+    }
+
+    /// The events checked against the system (no inputs), once, before the run.
+    fn check_events(&self) -> PyResult<()> {
+        let no_u = vec![0.0; self.model.shape.nu];
+        let sys = self.system(Constant(&no_u))?;
+        if let Some(e) = self.spec {
+            LagrangeEvents::new(&sys, &e.sources, e.expressions.as_deref(), NoCallbacks)
+                .map_err(value_error)?;
+        }
+        Ok(())
+    }
+
+    /// Whether an event is a Python callable: the run then holds the GIL.
+    fn slow_events(&self) -> bool {
+        self.spec
+            .is_some_and(|e| e.sources.iter().any(|x| matches!(x, Source::Callback(_))))
+    }
+
+    /// The run with the inputs `inputs`: an array of constants, compiled expressions or a
+    /// Python callable (each checked); the zeros of the events into `found`.
+    fn run(
+        &self,
+        inputs: Bound<'py, PyAny>,
+        run: &mut Run,
+        found: &mut Vec<Crossing>,
+    ) -> PyResult<Status> {
+        if let Ok(u) = inputs.extract::<Floats1<'py>>() {
+            let u = u.as_slice()?.to_vec(); // a copy: the run may release the GIL
+            self.run_constant(run, &u, found)
+        } else if let Ok(e) = inputs.cast::<Expressions>() {
+            self.run_compiled(run, &e.get().function, found)
+        } else if inputs.is_callable() {
+            self.run_callable(run, inputs, found)
+        } else {
+            Err(PyTypeError::new_err(
+                "`inputs` must be an array of numbers, compiled expressions or a callable (t, q, qd)",
+            ))
+        }
+    }
+
+    /// The run with constant inputs `u`: the GIL released unless an event is a callable.
+    fn run_constant(
+        &self,
+        run: &mut Run,
+        u: &[f64],
+        found: &mut Vec<Crossing>,
+    ) -> PyResult<Status> {
+        self.system(Constant(u))?;
+        let (py, steps, spec) = (self.py, self.steps, self.spec);
+        if self.slow_events() {
+            let sys = self.system(Constant(u))?;
+            return run_held(py, run, steps, &sys, spec, self.callbacks, found);
+        }
+        let (model, p, st, active) = (self.model, self.p, self.st, &self.active);
+        let make =
+            || Lagrangian::new(model, p, Constant(u), st, active.clone()).expect("checked above");
+        run_released(py, run, steps, make, spec, found)
+    }
+
+    /// The run with inputs compiled from expressions of `[t, q, q̇]` (their sizes checked):
+    /// the GIL released unless an event is a callable.
+    fn run_compiled(
+        &self,
+        run: &mut Run,
+        function: &Function,
+        found: &mut Vec<Crossing>,
+    ) -> PyResult<Status> {
+        let s = self.model.shape;
+        let fp = function.program();
+        if fp.n_inputs != 1 + 2 * s.n || fp.n_outputs != s.nu {
+            return Err(value_error(format!(
+                "the inputs' expressions take {} values to {}; [t, q, qd] ({}) to {} are needed",
+                fp.n_inputs,
+                fp.n_outputs,
+                1 + 2 * s.n,
+                s.nu
+            )));
+        }
+        let (model, p, st, active) = (self.model, self.p, self.st, &self.active);
+        let make = || {
+            Lagrangian::new(model, p, CompiledInputs::new(function), st, active.clone())
+                .expect("sizes checked above")
+        };
+        let (py, steps, spec) = (self.py, self.steps, self.spec);
+        if self.slow_events() {
+            run_held(py, run, steps, &make(), spec, self.callbacks, found)
+        } else {
+            run_released(py, run, steps, make, spec, found)
+        }
+    }
+
+    /// The run with inputs from the Python callable `func` (the slow path: the GIL held);
+    /// the first error it raised is raised after the run.
+    fn run_callable(
+        &self,
+        run: &mut Run,
+        func: Bound<'py, PyAny>,
+        found: &mut Vec<Crossing>,
+    ) -> PyResult<Status> {
+        let sys = self.system(PyInputs {
+            py: self.py,
+            func,
+            count: self.model.shape.nu,
+            error: RefCell::new(None),
+        })?;
+        let status = run_held(
+            self.py,
+            run,
+            self.steps,
+            &sys,
+            self.spec,
+            self.callbacks,
+            found,
+        )?;
+        if let Some(err) = sys.inputs.error.borrow_mut().take() {
+            return Err(err);
+        }
+        Ok(status)
+    }
 }

@@ -9,7 +9,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
-use super::{Constant, LagrangeEvents, Lagrangian, Model, NoCallbacks, Source, Stabilization};
+use super::{
+    Constant, Inputs, LagrangeEvents, Lagrangian, Model, NoCallbacks, Source, Stabilization,
+};
 use crate::drivers::{Clock, Counters, Output, Sampling, Status, STEPS_PER_CALL};
 use crate::events::Watch;
 use crate::observers::{NoObserver, Observer};
@@ -109,17 +111,9 @@ pub fn run_member_with(
 ) -> MemberRun {
     let (t0, t1, dt) = span;
     releases.fill(f64::NAN);
-    let failed = |samples: &mut [f64]| {
-        samples.fill(f64::NAN);
-        MemberRun {
-            status: Status::NonFinite,
-            n_steps: 0,
-            n_fev: 0,
-        }
-    };
     let s = model.shape;
     if one_sided.constraints.iter().any(|&c| c >= s.m) {
-        return failed(samples);
+        return failed_member(samples);
     }
     let dim = 2 * s.n;
     let mut times = vec![0.0; t_eval.len()];
@@ -128,21 +122,10 @@ pub fn run_member_with(
     let (mut ta, mut written) = (t0, 0usize);
     let (mut n_steps, mut n_fev) = (0u64, 0u64);
     let status = loop {
-        let mask = active
-            .iter()
-            .all(|&a| a)
-            .then_some(())
-            .map_or(Some(active.clone()), |_| None);
-        let sys = match Lagrangian::new(model, p, Constant(u), stabilization, mask) {
-            Ok(sys) => sys,
-            Err(_) => return failed(samples),
+        let mask = (!active.iter().all(|&a| a)).then(|| active.clone());
+        let Ok(sys) = Lagrangian::new(model, p, Constant(u), stabilization, mask) else {
+            return failed_member(samples);
         };
-        let watched: Vec<Source> = one_sided
-            .constraints
-            .iter()
-            .filter(|&&c| active[c])
-            .map(|&c| Source::Release(c))
-            .collect();
         let out = Output {
             t: &mut times[written..],
             y: &mut samples[written * dim..],
@@ -152,44 +135,23 @@ pub fn run_member_with(
             t_eval: &t_eval[written..],
             every: u64::MAX,
         };
-        let mut phase = Phase {
-            clock: Clock { t: ta, h: 0.0 },
-            counters: Counters::default(),
-        };
-        let status = if watched.is_empty() {
-            phase.run(
-                &sys,
-                &mut NoObserver,
-                method,
-                dt,
-                &mut z,
-                sampling,
-                out,
-                max_steps,
-                stop,
+        let mut phase = Phase::new((method, dt, max_steps), stop, ta);
+        let watched = one_sided.in_play(&active);
+        let (status, released) = if watched.is_empty() {
+            (
+                phase.run(&sys, &mut NoObserver, &mut z, sampling, out),
+                None,
             )
         } else {
-            let events = LagrangeEvents::new(&sys, &watched, None, NoCallbacks)
-                .expect("constraints in play");
-            let terminal = vec![true; watched.len()];
-            let direction = vec![-1.0; watched.len()];
             let spacing = (t1 - ta) / (one_sided.resolution.max(2) - 1) as f64;
-            let mut watch = Watch::new(&events, &terminal, &direction, spacing, dim);
-            let status = phase.run(
-                &sys, &mut watch, method, dt, &mut z, sampling, out, max_steps, stop,
-            );
-            if status == Status::Terminated {
-                let t = phase.clock.t;
-                let last = watch.log.iter().rev().find(|c| c.t == t).map(|c| c.event);
-                if let Some(Source::Release(c)) = last.map(|e| watched[e]) {
-                    active[c] = false;
-                    if let Some(slot) = one_sided.constraints.iter().position(|&k| k == c) {
-                        releases[slot] = t;
-                    }
-                }
-            }
-            status
+            phase.run_releasing(&sys, &watched, spacing, &mut z, sampling, out)
         };
+        if let Some(c) = released {
+            active[c] = false;
+            if let Some(slot) = one_sided.constraints.iter().position(|&k| k == c) {
+                releases[slot] = phase.clock.t;
+            }
+        }
         n_steps += phase.counters.n_steps;
         n_fev += phase.counters.n_fev;
         written += phase.counters.n_out;
@@ -208,33 +170,68 @@ pub fn run_member_with(
     }
 }
 
-/// One phase of a member's run: its clock and counters (fresh at its start).
-struct Phase {
+/// A member that cannot run (a one-sided constraint out of range, a system that cannot be
+/// made): NaN samples, no steps.
+fn failed_member(samples: &mut [f64]) -> MemberRun {
+    samples.fill(f64::NAN);
+    MemberRun {
+        status: Status::NonFinite,
+        n_steps: 0,
+        n_fev: 0,
+    }
+}
+
+impl OneSided<'_> {
+    /// The releases to watch: those of the one-sided constraints still in play (`active`).
+    fn in_play(&self, active: &[bool]) -> Vec<Source> {
+        self.constraints
+            .iter()
+            .filter(|&&c| active[c])
+            .map(|&c| Source::Release(c))
+            .collect()
+    }
+}
+
+/// One phase of a member's run: the run's method, step and step budget `max_steps`, the stop
+/// flag, and the phase's clock and counters (fresh at its start).
+struct Phase<'s> {
+    method: Method<'s>,
+    dt: f64,
+    max_steps: u64,
+    stop: &'s AtomicBool,
     clock: Clock,
     counters: Counters,
 }
 
-impl Phase {
+impl<'s> Phase<'s> {
+    /// A phase from `ta`.
+    fn new((method, dt, max_steps): (Method<'s>, f64, u64), stop: &'s AtomicBool, ta: f64) -> Self {
+        Phase {
+            method,
+            dt,
+            max_steps,
+            stop,
+            clock: Clock { t: ta, h: 0.0 },
+            counters: Counters::default(),
+        }
+    }
+
     /// Run the phase to its end (or a terminal event, `max_steps` steps, `stop`), in chunks
     /// of [`STEPS_PER_CALL`] steps between looks at `stop`.
-    #[allow(clippy::too_many_arguments)]
     fn run<S: VectorField, O: Observer>(
         &mut self,
         sys: &S,
         observer: &mut O,
-        method: Method,
-        dt: f64,
         z: &mut [f64],
         sampling: Sampling,
         out: Output,
-        max_steps: u64,
-        stop: &AtomicBool,
     ) -> Status {
         let mut f = vec![0.0; sys.dim()];
+        let max_steps = self.max_steps;
         let mut run = Run {
             spec: RunSpec {
-                method,
-                dt,
+                method: self.method,
+                dt: self.dt,
                 sampling,
                 max_steps,
             },
@@ -248,11 +245,41 @@ impl Phase {
             let chunk = STEPS_PER_CALL.min(max_steps.saturating_sub(run.counters.n_steps));
             let s = run.chunk(sys, observer, chunk);
             if s != Status::Running
-                || stop.load(Ordering::Relaxed)
+                || self.stop.load(Ordering::Relaxed)
                 || run.counters.n_steps >= max_steps
             {
                 break s;
             }
+        }
+    }
+
+    /// Run the phase watching the releases `watched` ([`LagrangeEvents`]: the multipliers of
+    /// the one-sided constraints in play) at detection points no further apart than
+    /// `spacing`: where a multiplier falls through zero the phase ends there
+    /// ([`Status::Terminated`]), and that constraint is returned with the status.
+    fn run_releasing<I: Inputs>(
+        &mut self,
+        sys: &Lagrangian<'_, I>,
+        watched: &[Source],
+        spacing: f64,
+        z: &mut [f64],
+        sampling: Sampling,
+        out: Output,
+    ) -> (Status, Option<usize>) {
+        let events =
+            LagrangeEvents::new(sys, watched, None, NoCallbacks).expect("constraints in play");
+        let terminal = vec![true; watched.len()];
+        let direction = vec![-1.0; watched.len()];
+        let mut watch = Watch::new(&events, &terminal, &direction, spacing, sys.dim());
+        let status = self.run(sys, &mut watch, z, sampling, out);
+        if status != Status::Terminated {
+            return (status, None);
+        }
+        let t = self.clock.t;
+        let last = watch.log.iter().rev().find(|c| c.t == t).map(|c| c.event);
+        match last.map(|e| watched[e]) {
+            Some(Source::Release(c)) => (status, Some(c)),
+            _ => (status, None),
         }
     }
 }

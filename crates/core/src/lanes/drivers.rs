@@ -8,7 +8,9 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::{at, block_mut, gather, scatter, Block, BlockState, LaneRates, LANES};
-use crate::drivers::{next_up, run_fixed, Clock, Counters, FixedMethod, Output, Sampling, Status};
+use crate::drivers::{
+    clamp_step, run_fixed, trial_step, Clock, Counters, FixedMethod, Output, Sampling, Status,
+};
 use crate::layout::{OMEGA_AT, STATE_SIZE};
 use crate::observers::Observer;
 use crate::rigid::State;
@@ -306,8 +308,248 @@ fn dop853_errors(
     err
 }
 
+/// Write sample `i` of lane `l`: the state `y` into its block of `samples`.
+#[inline(always)]
+fn store(samples: &mut [f64], i: usize, y: &State, l: usize) {
+    let row = STATE_SIZE * LANES;
+    let r: &mut BlockState = (&mut samples[i * row..(i + 1) * row])
+        .try_into()
+        .expect("a sample");
+    scatter(y, l, r);
+}
+
+/// The interpolant of lane `l`'s accepted step `(t, h)` from `y0` to `(y1, f1)`: the lane's
+/// stages (its numbers in the block's `k`), three more, and the interpolant, by the single
+/// run's [`dop853_dense`] on the lane's numbers.
+#[inline(always)]
+fn lane_dense<S: VectorField>(
+    sys: &S,
+    l: usize,
+    k: &[f64],
+    (t, h): (f64, f64),
+    (y0, y1, f1): (&State, &State, &State),
+) -> [f64; DOP853_INTERPOLATOR_POWER * STATE_SIZE] {
+    let (n, row) = (STATE_SIZE, STATE_SIZE * LANES);
+    let mut kl = [0.0; DOP853_STAGES_EXTENDED * STATE_SIZE];
+    for s in 0..=DOP853_STAGES {
+        for cc in 0..n {
+            kl[s * n + cc] = k[s * row + at(cc, l)];
+        }
+    }
+    let mut fd = [0.0; DOP853_INTERPOLATOR_POWER * STATE_SIZE];
+    let mut ytmp = [0.0; STATE_SIZE];
+    dop853_dense(sys, t, h, y0, y1, f1, &mut kl, &mut ytmp, &mut fd);
+    fd
+}
+
+/// [`dop853_any`]'s run: what the lanes share (the block, the controller's settings, the end
+/// `t1`, the sample times) and each lane's own controller, as the single run's
+/// [`crate::drivers::run_adaptive`] keeps it: its status, counters and time, its step sizes
+/// (the next `h_abs`, the trial's `h` to `t_new`, the smallest `min_step`), whether its last
+/// trial was rejected, and whether its next trial starts a step (`fresh`).
+struct LaneRun<'a, 'b, S, const SHARED: bool> {
+    block: &'a Block<'b, S, SHARED>,
+    control: &'a Control,
+    t1: f64,
+    t_eval: &'a [f64],
+    status: [Status; LANES],
+    counters: [Counters; LANES],
+    t: [f64; LANES],
+    h_abs: [f64; LANES],
+    h: [f64; LANES],
+    t_new: [f64; LANES],
+    min_step: [f64; LANES],
+    rejected: [bool; LANES],
+    fresh: [bool; LANES],
+}
+
+impl<'a, 'b, S: LaneRates + VectorField, const SHARED: bool> LaneRun<'a, 'b, S, SHARED> {
+    /// Every lane at `t0`, before its start ([`LaneRun::start`]).
+    #[inline(always)]
+    fn new(
+        block: &'a Block<'b, S, SHARED>,
+        control: &'a Control,
+        (t0, t1): (f64, f64),
+        t_eval: &'a [f64],
+    ) -> Self {
+        LaneRun {
+            block,
+            control,
+            t1,
+            t_eval,
+            status: [Status::Running; LANES],
+            counters: [Counters::default(); LANES],
+            t: [t0; LANES],
+            h_abs: [0.0; LANES],
+            h: [0.0; LANES],
+            t_new: [t0; LANES],
+            min_step: [0.0; LANES],
+            rejected: [false; LANES],
+            fresh: [true; LANES], // the lane's next trial starts a step
+        }
+    }
+
+    /// Each lane's start, as the single run's first call: `f` at `(t0, z)` (into the block
+    /// `f`), the samples at `t0`, the first step size; finished at once when `t0` is the end
+    /// or every sample time is written.
+    #[inline(always)]
+    fn start(&mut self, t0: f64, z: &BlockState, f: &mut [f64], samples: &mut [f64]) {
+        let (control, t1) = (self.control, self.t1);
+        let (mut ytmp, mut fnew) = ([0.0; STATE_SIZE], [0.0; STATE_SIZE]);
+        for l in 0..LANES {
+            let sys = self.block.lane(l);
+            let y = gather(z, l);
+            let fl = sys.rates(t0, &y);
+            scatter(&fl, l, block_mut(f));
+            let c = &mut self.counters[l];
+            c.n_fev = 1;
+            while let Some((i, _)) = c.next_due(self.t_eval, t0) {
+                store(samples, i, &y, l);
+            }
+            self.h_abs[l] = if control.first_step > 0.0 {
+                control.first_step
+            } else {
+                c.n_fev += 1;
+                initial_step_size(sys, t0, &y, &fl, t1, 7.0, control, &mut ytmp, &mut fnew)
+            };
+            if t0 >= t1 || c.next_sample >= self.t_eval.len() {
+                self.status[l] = Status::Finished;
+            }
+        }
+    }
+
+    /// Each running lane's trial step (the single run's clamp at a step's first trial,
+    /// [`clamp_step`], then [`trial_step`]); `h` is 0 on a lane not running, and a lane whose
+    /// step size fell below 10 ulps of t stops there.
+    #[inline(always)]
+    fn trials(&mut self) {
+        for l in 0..LANES {
+            self.h[l] = 0.0;
+            if self.status[l] != Status::Running {
+                continue;
+            }
+            if self.fresh[l] {
+                self.min_step[l] = clamp_step(self.t[l], &mut self.h_abs[l], self.control.max_step);
+                self.rejected[l] = false;
+                self.fresh[l] = false;
+            }
+            match trial_step(self.t[l], &mut self.h_abs[l], self.min_step[l], self.t1) {
+                Some((t_new, h)) => (self.t_new[l], self.h[l]) = (t_new, h),
+                None => self.status[l] = Status::StepTooSmall,
+            }
+        }
+    }
+
+    /// The single run's controller on lane `l`'s trial with error norm `err`
+    /// ([`step_size_factor`]): its evaluations counted and its step size scaled; true when
+    /// the step is accepted, else (a NaN norm too, as the single run's `err < 1` test) the
+    /// lane retries, the rejection counted.
+    #[inline(always)]
+    fn accept(&mut self, l: usize, err: f64) -> bool {
+        let c = &mut self.counters[l];
+        c.n_fev += DOP853_STAGES as u64;
+        self.h_abs[l] *= step_size_factor(err, 7.0, self.rejected[l], self.control);
+        if err < 1.0 {
+            self.fresh[l] = true;
+            return true;
+        }
+        self.rejected[l] = true;
+        c.n_rejected += 1;
+        false
+    }
+
+    /// Lane `l`'s accepted step, as the single run takes it: its end (the lane's numbers in
+    /// `z_new`, its derivative the last stage in `k`) put back on the constraints with its
+    /// derivative anew, the step counted, its flips observed, the end checked finite, the
+    /// samples written ([`LaneRun::samples`]), and the end taken into `z` and `f`.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn take(
+        &mut self,
+        l: usize,
+        (k, z_new): (&[f64], &BlockState),
+        z: &mut BlockState,
+        f: &mut [f64],
+        samples: &mut [f64],
+        flips: Option<&mut BlockFlips>,
+    ) {
+        let sys = self.block.lane(l);
+        let (t, t_new) = (self.t[l], self.t_new[l]);
+        let y0 = gather(z, l);
+        let mut y1 = gather(z_new, l);
+        let mut f1: State = [0.0; STATE_SIZE];
+        for (cc, x) in f1.iter_mut().enumerate() {
+            *x = k[DOP853_STAGES * STATE_SIZE * LANES + at(cc, l)];
+        }
+        let c = &mut self.counters[l];
+        if sys.project(t_new, &mut y1) {
+            // about a pivot: the state put back on the constraint, its derivative anew
+            sys.rhs(t_new, &y1, &mut f1);
+            c.n_fev += 1;
+        }
+        c.n_steps += 1;
+        if let Some(obs) = flips {
+            let mut one = crate::observers::FlipObserver {
+                first: &mut obs.first,
+                last: &mut obs.last,
+                count: &mut obs.count,
+                offset: 0,
+            };
+            one.observe(l, t, &y0, t_new, &y1);
+        }
+        if !y1.iter().all(|x| x.is_finite()) {
+            scatter(&y1, l, z);
+            self.t[l] = t_new;
+            self.status[l] = Status::NonFinite;
+            return;
+        }
+        if self.samples(l, k, (&y0, &y1, &f1), samples) {
+            self.status[l] = Status::Finished;
+        }
+        scatter(&y1, l, z);
+        scatter(&f1, l, block_mut(f));
+        self.t[l] = t_new;
+        if self.t[l] >= self.t1 {
+            self.status[l] = Status::Finished;
+        }
+    }
+
+    /// Lane `l`'s samples due by the end of its accepted step from `y0` to `(y1, f1)`: the
+    /// end itself, elsewhere the dense output ([`lane_dense`], made once, three more
+    /// evaluations), projected. True once the last sample time is written.
+    #[inline(always)]
+    fn samples(
+        &mut self,
+        l: usize,
+        k: &[f64],
+        (y0, y1, f1): (&State, &State, &State),
+        samples: &mut [f64],
+    ) -> bool {
+        let sys = self.block.lane(l);
+        let (t, h, t_new) = (self.t[l], self.h[l], self.t_new[l]);
+        let mut dense: Option<[f64; DOP853_INTERPOLATOR_POWER * STATE_SIZE]> = None;
+        let c = &mut self.counters[l];
+        while let Some((i, te)) = c.next_due(self.t_eval, t_new) {
+            if te == t_new {
+                store(samples, i, y1, l);
+                continue;
+            }
+            let fd = dense.get_or_insert_with(|| lane_dense(sys, l, k, (t, h), (y0, y1, f1)));
+            let mut sample = [0.0; STATE_SIZE];
+            dop853_interpolate(fd, y0, (te - t) / h, &mut sample);
+            sys.project(te, &mut sample);
+            store(samples, i, &sample, l);
+        }
+        if dense.is_some() {
+            c.n_fev += (DOP853_STAGES_EXTENDED - DOP853_STAGES - 1) as u64;
+        }
+        c.next_sample >= self.t_eval.len()
+    }
+}
+
 /// The lanes' adaptive loop, inlined into each target's copy of it: the single run's
-/// [`crate::drivers::run_adaptive`] lane by lane, the stages and error norms in lanes.
+/// [`crate::drivers::run_adaptive`] lane by lane ([`LaneRun`]), the stages and error norms in
+/// lanes.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn dop853_any<S: LaneRates + VectorField, const SHARED: bool>(
@@ -321,178 +563,37 @@ fn dop853_any<S: LaneRates + VectorField, const SHARED: bool>(
     samples: &mut [f64],
     stop: &AtomicBool,
 ) -> BlockAdaptiveRun {
-    let n = STATE_SIZE;
     let row = STATE_SIZE * LANES;
-    let n_eval = t_eval.len();
     let z = block_mut(z);
     let mut k = vec![0.0; DOP853_STAGES_EXTENDED * row];
     let mut z_new = vec![0.0; row];
     let mut f = vec![0.0; row];
     let mut obs = BlockFlips::default();
-    let mut status = [Status::Running; LANES];
-    let mut counters = [Counters::default(); LANES];
-    let mut t = [t0; LANES];
-    let mut h_abs = [0.0; LANES];
-    let mut h = [0.0; LANES];
-    let mut t_new = [t0; LANES];
-    let mut min_step = [0.0; LANES];
-    let mut rejected = [false; LANES];
-    let mut fresh = [true; LANES]; // the lane's next trial starts a step
-    let (mut ytmp, mut fnew) = ([0.0; STATE_SIZE], [0.0; STATE_SIZE]);
-    let store = |samples: &mut [f64], i: usize, y: &State, l: usize| {
-        let r: &mut BlockState = (&mut samples[i * row..(i + 1) * row])
-            .try_into()
-            .expect("a sample");
-        scatter(y, l, r);
-    };
-    // each lane's start: f, the samples at t0, the first step
-    for l in 0..LANES {
-        let sys = block.lane(l);
-        let y = gather(z, l);
-        let fl = sys.rates(t0, &y);
-        scatter(&fl, l, block_mut(&mut f));
-        let c = &mut counters[l];
-        c.n_fev = 1;
-        while c.next_sample < n_eval && t_eval[c.next_sample] <= t0 {
-            store(samples, c.n_out, &y, l);
-            c.n_out += 1;
-            c.next_sample += 1;
-        }
-        h_abs[l] = if control.first_step > 0.0 {
-            control.first_step
-        } else {
-            c.n_fev += 1;
-            initial_step_size(sys, t0, &y, &fl, t1, 7.0, control, &mut ytmp, &mut fnew)
-        };
-        if t0 >= t1 || c.next_sample >= n_eval {
-            status[l] = Status::Finished;
-        }
-    }
+    let mut run = LaneRun::new(block, control, (t0, t1), t_eval);
+    run.start(t0, z, &mut f, samples);
     let mut rounds: u64 = 0;
-    while status.contains(&Status::Running) {
+    while run.status.contains(&Status::Running) {
         rounds += 1;
         if rounds % crate::drivers::STEPS_PER_CALL == 0 && stop.load(Ordering::Relaxed) {
             break;
         }
-        // each running lane's trial step size (the single run's clamps and checks)
-        for l in 0..LANES {
-            h[l] = 0.0;
-            if status[l] != Status::Running {
-                continue;
-            }
-            if fresh[l] {
-                min_step[l] = 10.0 * (next_up(t[l]) - t[l]).abs();
-                if h_abs[l] > control.max_step {
-                    h_abs[l] = control.max_step;
-                } else if h_abs[l] < min_step[l] {
-                    h_abs[l] = min_step[l];
-                }
-                rejected[l] = false;
-                fresh[l] = false;
-            }
-            if h_abs[l] < min_step[l] {
-                status[l] = Status::StepTooSmall;
-                continue;
-            }
-            t_new[l] = t[l] + h_abs[l];
-            if t_new[l] > t1 {
-                t_new[l] = t1;
-            }
-            h[l] = t_new[l] - t[l];
-            h_abs[l] = h[l].abs();
-        }
+        run.trials();
         k[..row].copy_from_slice(&f);
         let zn: &mut BlockState = (&mut z_new[..]).try_into().expect("a block");
-        dop853_stages(block, &t, &h, z, &mut k, zn);
-        let err = dop853_errors(&k, &h, z, zn, control);
+        dop853_stages(block, &run.t, &run.h, z, &mut k, zn);
+        let err = dop853_errors(&k, &run.h, z, zn, control);
         // each lane: accept or retry; an accepted step observed, sampled and taken
         let zn: &BlockState = (&z_new[..]).try_into().expect("a block");
         for l in 0..LANES {
-            if status[l] != Status::Running {
-                continue;
-            }
-            let c = &mut counters[l];
-            c.n_fev += DOP853_STAGES as u64;
-            h_abs[l] *= step_size_factor(err[l], 7.0, rejected[l], control);
-            let accepted = err[l] < 1.0;
-            if !accepted {
-                // rejected (a NaN norm too, as the single run's `err < 1` test)
-                rejected[l] = true;
-                c.n_rejected += 1;
-                continue;
-            }
-            fresh[l] = true;
-            let sys = block.lane(l);
-            let y0 = gather(z, l);
-            let mut y1 = gather(zn, l);
-            let mut f1: State = [0.0; STATE_SIZE];
-            for cc in 0..n {
-                f1[cc] = k[DOP853_STAGES * row + at(cc, l)];
-            }
-            if sys.project(t_new[l], &mut y1) {
-                // about a pivot: the state put back on the constraint, its derivative anew
-                sys.rhs(t_new[l], &y1, &mut f1);
-                c.n_fev += 1;
-            }
-            c.n_steps += 1;
-            if flips {
-                let mut one = crate::observers::FlipObserver {
-                    first: &mut obs.first,
-                    last: &mut obs.last,
-                    count: &mut obs.count,
-                    offset: 0,
-                };
-                one.observe(l, t[l], &y0, t_new[l], &y1);
-            }
-            let y1_finite = y1.iter().all(|x| x.is_finite());
-            if !y1_finite {
-                scatter(&y1, l, z);
-                t[l] = t_new[l];
-                status[l] = Status::NonFinite;
-                continue;
-            }
-            let mut dense: Option<[f64; DOP853_INTERPOLATOR_POWER * STATE_SIZE]> = None;
-            while c.next_sample < n_eval && t_eval[c.next_sample] <= t_new[l] {
-                let te = t_eval[c.next_sample];
-                if te == t_new[l] {
-                    store(samples, c.n_out, &y1, l);
-                } else {
-                    let fd = dense.get_or_insert_with(|| {
-                        // the lane's stages, three more, and the interpolant (the single
-                        // run's dop853_dense on the lane's numbers)
-                        let mut kl = [0.0; DOP853_STAGES_EXTENDED * STATE_SIZE];
-                        for s in 0..=DOP853_STAGES {
-                            for cc in 0..n {
-                                kl[s * n + cc] = k[s * row + at(cc, l)];
-                            }
-                        }
-                        let mut fd = [0.0; DOP853_INTERPOLATOR_POWER * STATE_SIZE];
-                        dop853_dense(sys, t[l], h[l], &y0, &y1, &f1, &mut kl, &mut ytmp, &mut fd);
-                        c.n_fev += (DOP853_STAGES_EXTENDED - DOP853_STAGES - 1) as u64;
-                        fd
-                    });
-                    let mut sample = [0.0; STATE_SIZE];
-                    dop853_interpolate(fd, &y0, (te - t[l]) / h[l], &mut sample);
-                    sys.project(te, &mut sample);
-                    store(samples, c.n_out, &sample, l);
-                }
-                c.n_out += 1;
-                c.next_sample += 1;
-            }
-            if c.next_sample >= n_eval {
-                status[l] = Status::Finished;
-            }
-            scatter(&y1, l, z);
-            scatter(&f1, l, block_mut(&mut f));
-            t[l] = t_new[l];
-            if t[l] >= t1 {
-                status[l] = Status::Finished;
+            if run.status[l] == Status::Running && run.accept(l, err[l]) {
+                let flips = flips.then_some(&mut obs);
+                run.take(l, (&k, zn), z, &mut f, samples, flips);
             }
         }
     }
     BlockAdaptiveRun {
-        status,
-        counters,
+        status: run.status,
+        counters: run.counters,
         flips: flips.then_some(obs),
     }
 }

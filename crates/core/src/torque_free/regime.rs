@@ -201,54 +201,68 @@ impl Regime {
         // scale ω by a power of two (exactly) so that squares neither underflow nor overflow
         let e = frexp(big).1;
         let sc = ldexp(1.0, -e);
-        let x0 = w0 * sc;
-        let x1 = w1 * sc;
-        let x2 = w2 * sc;
-        let (k, a) = principal_invariants(moments, [x0, x1, x2]);
+        let x = [w0 * sc, w1 * sc, w2 * sc];
+        let (k, a) = principal_invariants(moments, x);
         reg.energy = ldexp(k, 2 * e);
         reg.momentum = ldexp(a, e);
         if symmetry == 3 {
             return reg;
         }
         if symmetry != 0 {
-            // prolate (1): axis e1, I⊥ = I3; oblate (2): axis e3, I⊥ = I1
-            let s: usize = if symmetry == 2 { 2 } else { 0 };
-            let i_perp = if symmetry == 2 {
-                moments[0]
-            } else {
-                moments[2]
-            };
-            let ws = if s == 2 { w2 } else { w0 };
-            let nu = (1.0 / moments[s] - 1.0 / i_perp) * moments[s] * ws;
-            let transverse_zero = if s == 2 {
-                w0 == 0.0 && w1 == 0.0
-            } else {
-                w1 == 0.0 && w2 == 0.0
-            };
-            reg.case = if nu == 0.0 || transverse_zero {
-                FIXED
-            } else {
-                PRECESSION
-            };
-            reg.nu = nu;
-            reg.axis = s as u8;
-            reg.i_perp = i_perp;
-            return reg;
+            reg.set_precession(moments, symmetry, w);
+        } else {
+            reg.set_elliptic(moments, radicals, x, e);
         }
+        reg
+    }
+
+    /// A symmetric body's motion (`symmetry` 1, prolate: axis e1, `I⊥ = I3`; 2, oblate: axis
+    /// e3, `I⊥ = I1`): `π = Aω` turns about the axis at the rate `−ν`,
+    /// `ν = (1/I_s − 1/I⊥) I_s ω_s`; fixed when ν or the transverse ω vanishes.
+    fn set_precession(&mut self, moments: Vec3, symmetry: u8, w: Vec3) {
+        let [w0, w1, w2] = w;
+        let s: usize = if symmetry == 2 { 2 } else { 0 };
+        let i_perp = if symmetry == 2 {
+            moments[0]
+        } else {
+            moments[2]
+        };
+        let ws = if s == 2 { w2 } else { w0 };
+        let nu = (1.0 / moments[s] - 1.0 / i_perp) * moments[s] * ws;
+        let transverse_zero = if s == 2 {
+            w0 == 0.0 && w1 == 0.0
+        } else {
+            w1 == 0.0 && w2 == 0.0
+        };
+        self.case = if nu == 0.0 || transverse_zero {
+            FIXED
+        } else {
+            PRECESSION
+        };
+        self.nu = nu;
+        self.axis = s as u8;
+        self.i_perp = i_perp;
+    }
+
+    /// Three distinct moments, from the scaled ω `x` (`ω = 2^e x`): fixed on an axis (or
+    /// within [`NEAR_UNSTABLE_AXIS`] of the intermediate one), else the Jacobi form (eqs
+    /// (20)–(33)) with its quarter period `K(m)` and its argument `u0` at t = 0, around e3,
+    /// around e1 or on the separatrix (`m1 = 0`).
+    fn set_elliptic(&mut self, moments: Vec3, radicals: &Radicals, x: Vec3, e: i32) {
+        let [x0, x1, x2] = x;
         if py_max(x0.abs(), x2.abs()) <= NEAR_UNSTABLE_AXIS * x1.abs() {
-            reg.case = FIXED;
-            return reg;
+            self.case = FIXED;
+            return;
         }
-        let x = [x0, x1, x2];
         let (q3, q1) = polhode_radii(radicals, x, &mut true);
         if q3 == 0.0 || q1 == 0.0 {
             // on e3 or on e1
-            reg.case = FIXED;
-            return reg;
+            self.case = FIXED;
+            return;
         }
         let f = JacobiForm::new(moments, radicals, x, q3, q1);
         let (m, m1) = (f.m, f.m1);
-        reg.case = if m1 == 0.0 {
+        self.case = if m1 == 0.0 {
             SEPARATRIX
         } else if f.e3 {
             AROUND_E3
@@ -256,21 +270,20 @@ impl Regime {
             AROUND_E1
         };
         if m1 == 0.0 {
-            reg.quarter = f64::INFINITY;
+            self.quarter = f64::INFINITY;
             let a_cn = if f.e3 { f.alpha[0] } else { f.alpha[2] };
-            reg.u0 = first_kind_from_sn_cn(f.sn0 / f.alpha[1], f.cn0 / a_cn, m, m1);
+            self.u0 = first_kind_from_sn_cn(f.sn0 / f.alpha[1], f.cn0 / a_cn, m, m1);
         } else {
-            reg.agm = Agm::new(m1);
-            reg.quarter = reg.agm.quarter(); // = ellipk_m1(m1), the same sequence
-            reg.u0 = first_kind_in_period(f.cot0, f.sn0, f.cn0, &reg.agm, reg.quarter);
+            self.agm = Agm::new(m1);
+            self.quarter = self.agm.quarter(); // = ellipk_m1(m1), the same sequence
+            self.u0 = first_kind_in_period(f.cot0, f.sn0, f.cn0, &self.agm, self.quarter);
         }
-        reg.alpha = f.alpha.map(|a| ldexp(a, e));
-        reg.lam = ldexp(f.lam, e);
-        reg.m = m;
-        reg.m1 = m1;
-        reg.signs = [f.s1, f.s1 * f.s3, f.s3];
-        reg.pole = if f.e3 { 2 } else { 0 };
-        reg
+        self.alpha = f.alpha.map(|a| ldexp(a, e));
+        self.lam = ldexp(f.lam, e);
+        self.m = m;
+        self.m1 = m1;
+        self.signs = [f.s1, f.s1 * f.s3, f.s3];
+        self.pole = if f.e3 { 2 } else { 0 };
     }
 
     /// The flat row (`row::SIZE` numbers at the offsets of [`row`]) of
