@@ -299,12 +299,14 @@ def test_core_gyrostat_omegas(kt, km, ks):
     moments = np.array([[2.0, 3.0, 4.0]])
     axes = np.eye(3)[None]
     args = (np.array([0.01]), np.array([[1.0, 0.5, 0.25]]))
-    rest = (np.array([0.0, 0.0, 1.0]), 1 / 128)
+    from poinsot.identify.output_error import gyrostat_run
+
+    axis = np.array([0.0, 0.0, 1.0])
     got = _core.gyrostat_omegas(
-        layout(moments, *km), layout(axes, *km), *args, layout(t, *kt),
-        layout(t, *kt), layout(speed, *ks), *rest,
+        layout(moments, *km), layout(axes, *km), *args, gyrostat_run(layout(t, *kt), 1 / 128),
+        layout(t, *kt), layout(speed, *ks), axis,
     )  # fmt: skip
-    ref = _core.gyrostat_omegas(moments, axes, *args, t, t, speed, *rest)
+    ref = _core.gyrostat_omegas(moments, axes, *args, gyrostat_run(t, 1 / 128), t, speed, axis)
     assert _equal(got, ref)
 
 

@@ -686,11 +686,10 @@ def gyrostat_omegas(
     axes: ArrayLike,
     rotor_inertia: ArrayLike,
     omega0: ArrayLike,
-    t: ArrayLike,
+    spec: RunSpec,
     rotor_t: ArrayLike,
     rotor_speed: ArrayLike,
     rotor_axis: ArrayLike,
-    max_step: float,
 ) -> _F64: ...
 
 # ------------------------------------------------------------------------------- tops.rs

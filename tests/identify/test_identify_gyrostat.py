@@ -10,7 +10,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from poinsot import _core
+from poinsot.identify.output_error import gyrostat_run
 from poinsot.identify.synthetic import rotor_profile
+from poinsot.integrate.driver import run_spec
 from poinsot.rotation import matrix_from_rotvec
 
 MOMENTS = np.array([1.2e-4, 1.5e-4, 1.8e-4])
@@ -75,12 +77,13 @@ def test_the_integrated_gyrostat_matches_scipy_on_the_velocity_form():
 
     w0 = np.array([12.0, -20.0, 6.0])
     ref = solve_ivp(rhs, (0, 0.5), w0, method="DOP853", t_eval=t, rtol=1e-12, atol=1e-12).y.T
-    got = _core.gyrostat_omegas(MOMENTS[None], AXES[None], np.array([J]), w0[None], t, tr,
-                                speed, a, 1.0 / 16000)[0]  # fmt: skip
+    run = gyrostat_run(t, 1.0 / 16000)
+    got = _core.gyrostat_omegas(MOMENTS[None], AXES[None], np.array([J]), w0[None], run, tr,
+                                speed, a)[0]  # fmt: skip
     assert np.abs(got - ref).max() < 1e-6 * np.abs(ref).max()
     # and the rotor does matter here: J = 0 is far off
-    free = _core.gyrostat_omegas(MOMENTS[None], AXES[None], np.zeros(1), w0[None], t, tr,
-                                 speed, a, 1.0 / 16000)[0]  # fmt: skip
+    free = _core.gyrostat_omegas(MOMENTS[None], AXES[None], np.zeros(1), w0[None], run, tr,
+                                 speed, a)[0]  # fmt: skip
     assert np.abs(free - ref).max() > 1.0
 
 
@@ -92,10 +95,11 @@ def test_members_are_independent_and_match_single_runs():
     moments = np.array([MOMENTS, MOMENTS * [1, 1.1, 1], MOMENTS * 2])
     axes = np.array([AXES, np.eye(3), AXES.T])
     J = np.array([1.7e-6, 0.0, 3e-6])
-    batch = _core.gyrostat_omegas(moments, axes, J, w0, t, t, speed, a, 0.0)
+    run = gyrostat_run(t, 0.0)
+    batch = _core.gyrostat_omegas(moments, axes, J, w0, run, t, speed, a)
     for i in range(3):
         one = _core.gyrostat_omegas(moments[i : i + 1], axes[i : i + 1], J[i : i + 1],
-                                    w0[i : i + 1], t, t, speed, a, 0.0)  # fmt: skip
+                                    w0[i : i + 1], run, t, speed, a)  # fmt: skip
         np.testing.assert_array_equal(batch[i], one[0])
     np.testing.assert_allclose(batch[:, 0], w0, rtol=1e-14, atol=1e-14)
 
@@ -103,7 +107,8 @@ def test_members_are_independent_and_match_single_runs():
 @pytest.mark.parametrize(
     ("change", "name"),
     [
-        ({"t": np.array([0.0, 0.1, 0.1])}, "`t`"),
+        ({"spec": gyrostat_run(np.array([0.0, 0.1, 0.1]), 0.0)}, "`t_eval`"),
+        ({"spec": run_spec("splitting", t_end=0.2, dt=0.1, t_eval=[0.0, 0.2])}, "rigid body"),
         ({"rotor_t": np.array([0.0, 2.0, 1.0])}, "`rotor_t`"),
         ({"rotor_speed": np.array([1.0, 2.0])}, "`rotor_speed`"),
         ({"omega0": np.zeros((2, 3))}, "`omega0`"),
@@ -117,12 +122,30 @@ def test_binding_refuses_bad_arguments_by_name(change, name):
         "axes": AXES[None],
         "rotor_inertia": np.zeros(1),
         "omega0": np.ones((1, 3)),
-        "t": np.array([0.0, 0.1, 0.2]),
+        "spec": gyrostat_run(np.array([0.0, 0.1, 0.2]), 0.0),
         "rotor_t": np.array([0.0, 1.0, 2.0]),
         "rotor_speed": np.array([1.0, 2.0, 3.0]),
         "rotor_axis": np.array([0.0, 0.0, 1.0]),
-        "max_step": 0.0,
     }
     args.update(change)
     with pytest.raises(ValueError, match=name):
         _core.gyrostat_omegas(**args)
+
+
+def test_the_fits_run_takes_its_method_from_the_spec():
+    """The gyrostat runs through the run contract: a DOP853 spec at tight tolerances gives
+    the motion RK4 gives at a fine step (two routes), and the fit's spec is built once per
+    stretch and shared by every call."""
+    from poinsot.integrate.control import StepSizeController
+
+    t = np.arange(401) / 4000.0
+    speed = np.linspace(200, 900, 401)
+    a, J = np.array([0.0, 0.6, 0.8]), np.array([1.7e-6])
+    w0 = np.array([[10.0, -20.0, 5.0]])
+    rk4 = _core.gyrostat_omegas(MOMENTS[None], AXES[None], J, w0, gyrostat_run(t, 1e-5), t,
+                                speed, a)[0]  # fmt: skip
+    control = StepSizeController(1e-12, 1e-12)
+    dop = run_spec("dop853", t_end=t[-1], controller=control, t_eval=t)
+    other = _core.gyrostat_omegas(MOMENTS[None], AXES[None], J, w0, dop, t, speed, a)[0]
+    np.testing.assert_allclose(other, rk4, rtol=0, atol=1e-9 * np.abs(w0).max())
+    assert not np.array_equal(other, rk4)

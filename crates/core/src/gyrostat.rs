@@ -21,15 +21,16 @@
 //! * [`gyrostat_regressor`]: the same equation written as a linear map of the six entries of
 //!   `I` and of `J`, the regressor of an equation-error fit (`poinsot.identify`);
 //! * [`SampledRotor`] and [`Gyrostat`]: the momentum form as a [`VectorField`], stepped by the
-//!   crate's drivers; [`gyrostat_omegas`] integrates it with RK4 onto sample times;
+//!   crate's drivers; [`gyrostat_omegas`] integrates it onto sample times with a run's spec;
 //! * [`point_acceleration_matrix`]: what an accelerometer on the body reads in free flight, the
 //!   lever-arm model that finds the flight in a log.
 
-use crate::drivers::{run_fixed, Clock, Counters, Erk, Output, Sampling, Status};
+use crate::drivers::{Clock, Counters, Output, Status};
 use crate::observers::NoObserver;
 use crate::rigid::omega_dot_principal;
+use crate::run::Run;
 use crate::so3::{cross, Mat3, Vec3};
-use crate::steppers::RK4;
+use crate::spec::RunSpec;
 use crate::system::VectorField;
 
 /// `Eᵀ v`: the components along the columns of `axes` of a vector given in the body frame.
@@ -255,68 +256,45 @@ impl VectorField for Gyrostat<'_> {
     }
 }
 
-/// Body-frame `ω` (n) at the increasing times `t` (n) of the gyrostat with inertia
-/// `E diag(moments) Eᵀ` and rotor `rotor` (its speed sampled on its own times), from
-/// `ω(t[0]) = omega0`: the momentum form stepped by the classical RK4 ([`Erk`] with the
-/// `RK4_*` tableau) through [`run_fixed`], landing on every sample time with steps of at most
-/// `max_step` (≤ 0: one step per sample interval). Returns the driver's status
-/// ([`Status::Finished`], or [`Status::NonFinite`] with the samples not reached left as NaN).
+/// Body-frame `ω` at the sample times `t = spec.sampling.t_eval` (n, increasing) of the
+/// gyrostat with inertia `E diag(moments) Eᵀ` and rotor `rotor` (its speed sampled on its own
+/// times), from `ω(t[0]) = omega0`: the momentum form run by the drivers' one path
+/// ([`Run`]) with `spec`'s method (any method of a vector field: RK4, an explicit tableau,
+/// DOP853), step and budget. Returns the driver's status ([`Status::Finished`], or the
+/// failure with the samples not reached left as NaN).
 pub fn gyrostat_omegas(
     moments: Vec3,
     axes: &Mat3,
     rotor: SampledRotor<'_>,
     omega0: Vec3,
-    t: &[f64],
-    max_step: f64,
+    spec: &RunSpec,
     out: &mut [Vec3],
 ) -> Status {
+    let t = spec.sampling.t_eval;
     let n = t.len();
     assert_eq!(out.len(), n, "gyrostat_omegas: `out` has the wrong length");
     if n == 0 {
         return Status::Finished;
     }
     let sys = Gyrostat::new(moments, *axes, rotor);
-    let mut method = Erk::new(RK4, 3);
     let mut z = sys.state_of(t[0], omega0).to_vec();
-    let span = t[n - 1] - t[0];
-    let dt = if max_step > 0.0 {
-        max_step
-    } else {
-        // the longest interval: every step then lands on the next sample
-        t.windows(2)
-            .map(|p| p[1] - p[0])
-            .fold(0.0, f64::max)
-            .max(f64::MIN_POSITIVE)
-    };
+    let mut f = vec![0.0; 3];
     let mut out_t = vec![f64::NAN; n];
     let mut out_y = vec![f64::NAN; 3 * n];
     let mut clock = Clock { t: t[0], h: 0.0 };
     let mut counters = Counters::default();
-    let sampling = Sampling {
-        t_end: t[n - 1],
-        t_eval: t,
-        every: 1,
-    };
-    let steps = if span > 0.0 {
-        (span / dt).ceil() as u64 + 2 * n as u64 + 16
-    } else {
-        n as u64 + 16
-    };
-    let status = run_fixed(
-        &sys,
-        &mut method,
-        &mut NoObserver,
-        &mut clock,
-        &mut z,
-        dt,
-        &sampling,
-        &mut Output {
+    let mut run = Run {
+        spec: *spec,
+        clock: &mut clock,
+        z: &mut z,
+        f: &mut f,
+        out: Output {
             t: &mut out_t,
             y: &mut out_y,
         },
-        &mut counters,
-        steps,
-    );
+        counters: &mut counters,
+    };
+    let status = run.chunk(&sys, &mut NoObserver, spec.max_steps);
     for (k, o) in out.iter_mut().enumerate() {
         *o = if k < counters.n_out {
             sys.omega_of(t[k], &out_y[3 * k..3 * k + 3])
@@ -330,11 +308,53 @@ pub fn gyrostat_omegas(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::drivers::Sampling;
     use crate::freebody::euler_omega_dot;
     use crate::inertia::principal_decomposition;
     use crate::invariants::{angular_momentum_body, rotational_energy};
     use crate::so3::{exp_so3, matmul};
+    use crate::spec::Method;
+    use crate::steppers::Control;
     use crate::torque_free::exact_omegas;
+
+    /// A run onto the samples `t` with `method`: steps of at most `max_step` (≤ 0: one step
+    /// per sample interval), as `poinsot.identify` builds it.
+    fn onto<'a>(t: &'a [f64], max_step: f64, method: Method<'a>) -> RunSpec<'a> {
+        let longest = t.windows(2).map(|p| p[1] - p[0]).fold(0.0, f64::max);
+        let dt = if max_step > 0.0 {
+            max_step
+        } else {
+            longest.max(f64::MIN_POSITIVE)
+        };
+        let span = t[t.len() - 1] - t[0];
+        let steps = (span / dt).ceil() as u64 + 2 * t.len() as u64 + 16;
+        let sampling = Sampling {
+            t_end: t[t.len() - 1],
+            t_eval: t,
+            every: 1,
+        };
+        RunSpec::new(method, dt, sampling, steps).expect("a valid run")
+    }
+
+    /// RK4 onto the samples `t` (the fits' run).
+    fn rk4_omegas(
+        moments: Vec3,
+        axes: &Mat3,
+        rotor: SampledRotor<'_>,
+        omega0: Vec3,
+        t: &[f64],
+        max_step: f64,
+        out: &mut [Vec3],
+    ) -> Status {
+        gyrostat_omegas(
+            moments,
+            axes,
+            rotor,
+            omega0,
+            &onto(t, max_step, Method::Rk4),
+            out,
+        )
+    }
 
     fn body() -> (Vec3, Mat3, Mat3) {
         // principal moments and axes tilted away from the body frame, and the full tensor
@@ -467,7 +487,7 @@ mod tests {
         };
         let h = rotor.momentum_at(0.0);
         let mut out = vec![[0.0; 3]; t.len()];
-        let status = gyrostat_omegas(moments, &axes, rotor, [20.0, 3.0, -9.0], &t, 0.0, &mut out);
+        let status = rk4_omegas(moments, &axes, rotor, [20.0, 3.0, -9.0], &t, 0.0, &mut out);
         assert_eq!(status, Status::Finished);
         let l_norm = |w: Vec3| {
             let iw = angular_momentum_body(&inertia, w);
@@ -502,7 +522,7 @@ mod tests {
             inertia: j,
         };
         let mut out = vec![[0.0; 3]; t.len()];
-        let status = gyrostat_omegas(
+        let status = rk4_omegas(
             moments,
             &axes,
             rotor,
@@ -540,7 +560,7 @@ mod tests {
         };
         let w0 = [14.0, 25.0, -6.0];
         let mut out = vec![[0.0; 3]; t.len()];
-        gyrostat_omegas(moments, &axes, rotor, w0, &t, 0.0, &mut out);
+        rk4_omegas(moments, &axes, rotor, w0, &t, 0.0, &mut out);
         // the closed form (Jacobi elliptic functions) wants the axes right-handed and sorted
         let (m, s) = principal_decomposition(&{
             let d = [
@@ -581,7 +601,7 @@ mod tests {
         let t = [0.0, 0.4];
         let end = |h: f64| {
             let mut out = [[0.0; 3]; 2];
-            gyrostat_omegas(moments, &axes, rotor, [10.0, -20.0, 5.0], &t, h, &mut out);
+            rk4_omegas(moments, &axes, rotor, [10.0, -20.0, 5.0], &t, h, &mut out);
             out[1]
         };
         let reference = end(1e-5);
@@ -625,5 +645,41 @@ mod tests {
         assert_eq!(r.speed_at(2.0), 10.0);
         assert_eq!(r.speed_at(5.0), 0.0);
         assert_eq!(r.momentum_at(0.5), [0.0, 0.0, 30.0]);
+    }
+
+    #[test]
+    fn the_run_takes_its_method_from_the_spec() {
+        // the same motion by DOP853 at tight tolerances and by RK4 at a fine step
+        let (moments, axes, _) = body();
+        let tr: Vec<f64> = (0..=400).map(|k| k as f64 * 1e-3).collect();
+        let speed: Vec<f64> = tr.iter().map(|&x| 200.0 + 2000.0 * x).collect();
+        let rotor = SampledRotor {
+            t: &tr,
+            speed: &speed,
+            axis: [0.0, 0.6, 0.8],
+            inertia: 1.7e-6,
+        };
+        let t: Vec<f64> = (0..=40).map(|k| k as f64 * 1e-2).collect();
+        let w0 = [10.0, -20.0, 5.0];
+        let mut rk4 = vec![[0.0; 3]; t.len()];
+        rk4_omegas(moments, &axes, rotor, w0, &t, 1e-5, &mut rk4);
+        let control = Control {
+            rtol: 1e-12,
+            atol: 1e-12,
+            safety: 0.9,
+            min_factor: 0.2,
+            max_factor: 10.0,
+            max_step: f64::INFINITY,
+            first_step: 0.0,
+        };
+        let mut dop = vec![[0.0; 3]; t.len()];
+        let spec = onto(&t, 0.0, Method::Dop853(control));
+        let status = gyrostat_omegas(moments, &axes, rotor, w0, &spec, &mut dop);
+        assert_eq!(status, Status::Finished);
+        for (a, b) in rk4.iter().zip(&dop) {
+            let d = norm([a[0] - b[0], a[1] - b[1], a[2] - b[2]]);
+            assert!(d < 1e-9 * norm(w0), "{d}");
+        }
+        assert_ne!(rk4[t.len() - 1], dop[t.len() - 1]); // two routes, not one
     }
 }

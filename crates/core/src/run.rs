@@ -5,8 +5,10 @@
 //! system's phase; the method's stepper comes from the registry's one table
 //! ([`crate::spec::Method::on_rigid`], [`crate::spec::Method::on_field`]).
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use crate::drivers::{
-    run_adaptive, run_fixed_native, Clock, Counters, FixedMethod, Output, Status,
+    run_adaptive, run_fixed_native, Clock, Counters, FixedMethod, Output, Status, STEPS_PER_CALL,
 };
 use crate::observers::Observer;
 use crate::spec::{RunSpec, UseMethod};
@@ -66,6 +68,30 @@ impl Run<'_> {
                 },
             )
             .unwrap_or(Status::CallbackFailed)
+    }
+
+    /// Run to the end (or a terminal event, or a failure), a chunk of at most
+    /// [`STEPS_PER_CALL`] steps at a time (`chunk`: [`Run::chunk_rigid`] or [`Run::chunk`] of
+    /// the caller's system and observer), looking at `stop` between chunks. A run that spends
+    /// its step budget (`spec.max_steps`) stops there and stays [`Status::Running`], as one
+    /// stopped by `stop` does. Every member of an ensemble runs through here: a rigid body's
+    /// (`crate::ensemble`) and each phase of a constrained system's (`crate::lagrange`).
+    pub fn to_end(
+        &mut self,
+        stop: &AtomicBool,
+        mut chunk: impl FnMut(&mut Self, u64) -> Status,
+    ) -> Status {
+        let budget = self.spec.max_steps;
+        loop {
+            let left = budget.saturating_sub(self.counters.n_steps);
+            if left == 0 {
+                return Status::Running;
+            }
+            let status = chunk(self, STEPS_PER_CALL.min(left));
+            if status != Status::Running || stop.load(Ordering::Relaxed) {
+                return status;
+            }
+        }
     }
 
     /// The method's own state from the system's in `z`, at the start of a call of a rigid

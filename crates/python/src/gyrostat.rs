@@ -18,6 +18,8 @@ use rayon::prelude::*;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use crate::args::{mat3_from, rows, v3, value_error};
+use crate::spec::RunSpec;
+use poinsot_core::spec::RunSpec as CoreSpec;
 
 /// Run `f` without the GIL; a panic becomes `RuntimeError`.
 fn detached<T: Send, F: FnOnce() -> T + Send>(py: Python<'_>, f: F) -> PyResult<T> {
@@ -126,36 +128,38 @@ fn gyrostat_regressor<'py>(
     Ok(arr.into_pyarray(py))
 }
 
-/// Body-frame ω (m, n, 3) at the times `t` (n,) of m gyrostats: member i has the inertia
-/// `E_i diag(moments_i) E_iᵀ` (`moments` (m, 3), `axes` (m, 3, 3)), the rotor inertia
-/// `rotor_inertia[i]` and starts from `omega0[i]` at `t[0]`; all share the rotor speed
-/// `rotor_speed` (k,) sampled at `rotor_t` (k,) (linear between samples) about `rotor_axis`.
-/// RK4 on the momentum form with steps of at most `max_step` (≤ 0: one step per interval of
-/// `t`). A member whose motion stops being finite reads NaN from there on.
+/// Body-frame ω (m, n, 3) at the sample times `spec.t_eval` (n,) of m gyrostats: member i
+/// has the inertia `E_i diag(moments_i) E_iᵀ` (`moments` (m, 3), `axes` (m, 3, 3)), the rotor
+/// inertia `rotor_inertia[i]` and starts from `omega0[i]` at `t_eval[0]`; all share the rotor
+/// speed `rotor_speed` (k,) sampled at `rotor_t` (k,) (linear between samples) about
+/// `rotor_axis`. The momentum form is run by `spec` (a `RunSpec` of a method for any vector
+/// field, with its step, sample times and budget), built once and shared by every member and
+/// every call of a fit. A member whose motion stops being finite reads NaN from there on.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
-#[pyo3(signature = (moments, axes, rotor_inertia, omega0, t, rotor_t, rotor_speed, rotor_axis, max_step))]
+#[pyo3(signature = (moments, axes, rotor_inertia, omega0, spec, rotor_t, rotor_speed, rotor_axis))]
 fn gyrostat_omegas<'py>(
     py: Python<'py>,
     moments: Floats2<'py>,
     axes: Floats3<'py>,
     rotor_inertia: Floats1<'py>,
     omega0: Floats2<'py>,
-    t: Floats1<'py>,
+    spec: PyRef<'py, RunSpec>,
     rotor_t: Floats1<'py>,
     rotor_speed: Floats1<'py>,
     rotor_axis: Floats1<'py>,
-    max_step: f64,
 ) -> PyResult<Bound<'py, PyArray3<f64>>> {
     let members = gyrostats(&moments, &axes, &rotor_inertia, &omega0)?;
-    let ts = t.as_slice()?.to_vec();
-    increasing(&ts, "t")?;
-    let rotor = Rotor::new(&rotor_t, &rotor_speed, &rotor_axis)?;
-    if !max_step.is_finite() {
-        return Err(value_error("`max_step` must be finite"));
+    let run = spec.core();
+    run.check_for(false).map_err(value_error)?;
+    let ts = run.sampling.t_eval;
+    if ts.is_empty() {
+        return Err(value_error("`spec` must have sample times `t_eval`"));
     }
+    increasing(ts, "t_eval")?;
+    let rotor = Rotor::new(&rotor_t, &rotor_speed, &rotor_axis)?;
     let (m, n) = (members.len(), ts.len());
-    let out = detached(py, || rotor.omegas(&members, &ts, max_step))?;
+    let out = detached(py, || rotor.omegas(&members, &run))?;
     let flat: Vec<f64> = out.into_iter().flatten().collect();
     let arr = Array3::from_shape_vec((m, n, 3), flat).map_err(|e| value_error(e.to_string()))?;
     Ok(arr.into_pyarray(py))
@@ -242,10 +246,10 @@ impl Rotor {
         })
     }
 
-    /// Each member's ω at the times `ts` (m · n rows, in parallel when there are several);
-    /// NaN from where a member's motion stops being finite.
-    fn omegas(&self, members: &[Gyrostat], ts: &[f64], max_step: f64) -> Vec<Vec3> {
-        let n = ts.len();
+    /// Each member's ω at the sample times of `run` (m · n rows, in parallel when there are
+    /// several); NaN from where a member's motion stops being finite.
+    fn omegas(&self, members: &[Gyrostat], run: &CoreSpec<'_>) -> Vec<Vec3> {
+        let n = run.sampling.t_eval.len();
         let mut out = vec![[0.0; 3]; members.len() * n];
         let run = |(member, block): (&Gyrostat, &mut [Vec3])| {
             let (mom, e, ji, w) = member;
@@ -255,7 +259,7 @@ impl Rotor {
                 axis: self.axis,
                 inertia: *ji,
             };
-            let status = omegas(*mom, e, rotor, *w, ts, max_step, block);
+            let status = omegas(*mom, e, rotor, *w, run, block);
             if status != Status::Finished {
                 for o in block
                     .iter_mut()

@@ -31,12 +31,14 @@ error is ``√(var δ_i + var δ_j)``.
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._bindings import identify as core_identify
 from .._bindings import inertia as core_inertia
+from .._validation import as_scalar
 from ..rotation import matrix_from_rotvec
 
 __all__ = ["LOSSES", "OutputErrorFit", "output_error"]
@@ -148,6 +150,8 @@ class _Model:
         self.E0 = E0
         self.I3_0 = I3_0
         self.max_step = max_step
+        # each segment's run, built once: every member and every call of the fit shares it
+        self.runs = [gyrostat_run(t[seg], max_step) for seg in segments]
         self.extra = "eta" if (rotor is not None and rotor_inertia is not None) else (
             "kappa" if rotor is not None else None)  # fmt: skip
         names = [f"omega0[{k}].{c}" for k in range(self.K) for c in "xyz"]
@@ -184,19 +188,18 @@ class _Model:
         return moments, axes, J
 
     # ------------------------------------------------------------------ the model
-    def _simulate(self, seg, members):
-        """ω (m, n_seg, 3) of the members ``[(moments, axes, J, ω0)]`` over segment ``seg``."""
+    def _simulate(self, k, members):
+        """ω (m, n_seg, 3) of the members ``[(moments, axes, J, ω0)]`` over segment ``k``."""
         m = len(members)
         moments = np.array([a for a, _, _, _ in members])
         axes = np.array([b for _, b, _, _ in members])
         J = np.array([c for _, _, c, _ in members])
         w0 = np.array([d for _, _, _, d in members])
-        ts = self.t[seg]
         if self.rotor is None:
             rt, rs, ax = np.zeros(0), np.zeros(0), np.array([1.0, 0.0, 0.0])
         else:
             rt, rs, ax = self.rotor
-        out = core_identify.gyrostat_omegas(moments, axes, J, w0, ts, rt, rs, ax, self.max_step)
+        out = core_identify.gyrostat_omegas(moments, axes, J, w0, self.runs[k], rt, rs, ax)
         self.nfev += m
         return out
 
@@ -206,7 +209,7 @@ class _Model:
         moments, axes, J = self.physical(rho, delta, extra)
         out = np.empty_like(self.omega)
         for k, seg in enumerate(self.segments):
-            out[seg] = self._simulate(seg, [(moments, axes, J, w0[k])])[0] + bias
+            out[seg] = self._simulate(k, [(moments, axes, J, w0[k])])[0] + bias
         return out
 
     def residuals(self, x):
@@ -242,7 +245,7 @@ class _Model:
                     xj[j] += sgn * h[j]
                     w0j, rj, dj, ej, _ = self.unpack(xj)
                     members.append((*self.physical(rj, dj, ej), w0j[k]))
-            out = self._simulate(seg, members)
+            out = self._simulate(k, members)
             for i, j in enumerate(cols):
                 Jm[seg, :, j] = (out[2 * i] - out[2 * i + 1]) / (2.0 * h[j])
         for c in range(3):
@@ -278,6 +281,22 @@ def _start_frame(initial_inertia):
     if not (I3_0 > 0 and np.isfinite(m0).all()):
         _no_start(I3_0)
     return m0, E0, I3_0
+
+
+def gyrostat_run(t, max_step: float):
+    """The run of a gyrostat's motion onto the sample times ``t`` (increasing), as the core
+    takes it (:func:`~poinsot.integrate.driver.run_spec`): RK4 with steps of at most
+    ``max_step`` (≤ 0: one step per sample interval, the longest), within a step budget that
+    covers the samples' own step ends. Built once per stretch of a log and shared by every
+    member and every call of a fit (:func:`output_error`,
+    :func:`~poinsot.identify.synthetic_throw`)."""
+    from ..integrate.driver import run_spec
+
+    t = np.ascontiguousarray(t, dtype=float)
+    longest = float(np.max(np.diff(t))) if len(t) > 1 else 0.0
+    dt = max_step if max_step > 0 else max(longest, np.finfo(float).tiny)
+    budget = math.ceil((t[-1] - t[0]) / dt) + 2 * len(t) + 16
+    return run_spec("rk4", t_end=t[-1], dt=dt, t_eval=t, max_steps=budget)
 
 
 def _default_max_step(t, omega) -> float:
@@ -454,8 +473,7 @@ def output_error(
     if rotor_speed is not None:
         rotor = (t.copy(), np.asarray(rotor_speed, float), np.asarray(rotor_axis, float))
     m0, E0, I3_0 = _start_frame(initial_inertia)
-    if max_step is None:
-        max_step = _default_max_step(t, omega)
+    max_step = _default_max_step(t, omega) if max_step is None else as_scalar(max_step, "max_step")
     model = _Model(t, omega, segments, rotor, rotor_inertia, E0, I3_0, max_step)
     K = len(segments)
     w0 = _start_omegas(t, omega, omega0, segments)

@@ -197,6 +197,7 @@ def _motion(body, moments, axes, a, J, rotor, tau, dt, duration, rotor_speeds):
     """ω(t) at the flight times ``tau`` as a function of ω0: the exact torque-free motion, or
     the gyrostat with the flywheel (inertia ``J``, axis ``a``) integrated by the core."""
     from ..torquefree import FreeRigidBody
+    from .output_error import gyrostat_run
 
     def motion(w0):
         if not rotor:
@@ -204,7 +205,8 @@ def _motion(body, moments, axes, a, J, rotor, tau, dt, duration, rotor_speeds):
         fine = dt / 8 * np.arange(8 * (len(tau) - 1) + 1)
         speed, _ = rotor_profile(fine, duration, rotor_speeds)
         return core_identify.gyrostat_omegas(moments[None], axes[None], np.array([J]), w0[None],
-                                             tau, fine, speed, a, dt / 8)[0]  # fmt: skip
+                                             gyrostat_run(tau, dt / 8), fine, speed,
+                                             a)[0]  # fmt: skip
 
     return motion
 

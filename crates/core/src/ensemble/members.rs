@@ -4,9 +4,9 @@
 //! the flips, and its largest drifts of the energy (kinetic energy (12) plus the potential),
 //! of the angular momentum (eq. (03)) and of the orthogonality of `Q` ([`Drift`]).
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 
-use super::{Schedule, STEPS_PER_CALL};
+use super::Schedule;
 use crate::drivers::{Clock, Counters, Output, Sampling, Status};
 use crate::forces::Force;
 use crate::inertia::{parallel_axis, principal_decomposition};
@@ -200,8 +200,8 @@ impl Default for MemberSummary {
 }
 
 /// Integrate one member: its samples at `schedule.t_eval` go to `samples` (n · 18, body
-/// frame; NaN if the run fails), with its summary. The driver is called [`STEPS_PER_CALL`]
-/// steps at a time until it ends or `stop` is raised.
+/// frame; NaN if the run fails), with its summary. It runs through the members' one runner,
+/// [`crate::run::Run::to_end`], until it ends, spends its step budget or `stop` is raised.
 pub fn run_member(
     schedule: &Schedule,
     member: &Member,
@@ -335,23 +335,6 @@ fn integrate<S: RigidStructure, O: Observer>(
         counters: &mut k,
     };
     run.enter(sys);
-    let budget = schedule.max_steps;
-    let status = resume(stop, || {
-        let left = budget.saturating_sub(run.counters.n_steps);
-        (left > 0).then(|| run.chunk_rigid(sys, obs, STEPS_PER_CALL.min(left)))
-    });
+    let status = run.to_end(stop, |run, steps| run.chunk_rigid(sys, obs, steps));
     (status, k)
-}
-
-/// Call a resumable driver until it ends, `stop` is raised or it has no steps left (`call`
-/// gives None: the member's step budget is spent, and it stays [`Status::Running`]).
-fn resume(stop: &AtomicBool, mut call: impl FnMut() -> Option<Status>) -> Status {
-    loop {
-        let Some(status) = call() else {
-            return Status::Running;
-        };
-        if status != Status::Running || stop.load(Ordering::Relaxed) {
-            return status;
-        }
-    }
 }

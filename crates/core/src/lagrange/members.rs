@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use super::{
     Constant, Inputs, LagrangeEvents, Lagrangian, Model, NoCallbacks, Source, Stabilization,
 };
-use crate::drivers::{Clock, Counters, Output, Sampling, Status, STEPS_PER_CALL};
+use crate::drivers::{Clock, Counters, Output, Sampling, Status};
 use crate::events::Watch;
 use crate::observers::{NoObserver, Observer};
 use crate::run::Run;
@@ -216,8 +216,8 @@ impl<'s> Phase<'s> {
         }
     }
 
-    /// Run the phase to its end (or a terminal event, `max_steps` steps, `stop`), in chunks
-    /// of [`STEPS_PER_CALL`] steps between looks at `stop`.
+    /// Run the phase to its end (or a terminal event, `max_steps` steps, `stop`): the
+    /// members' one runner, [`Run::to_end`].
     fn run<S: VectorField, O: Observer>(
         &mut self,
         sys: &S,
@@ -241,16 +241,7 @@ impl<'s> Phase<'s> {
             out,
             counters: &mut self.counters,
         };
-        loop {
-            let chunk = STEPS_PER_CALL.min(max_steps.saturating_sub(run.counters.n_steps));
-            let s = run.chunk(sys, observer, chunk);
-            if s != Status::Running
-                || self.stop.load(Ordering::Relaxed)
-                || run.counters.n_steps >= max_steps
-            {
-                break s;
-            }
-        }
+        run.to_end(self.stop, |run, steps| run.chunk(sys, observer, steps))
     }
 
     /// Run the phase watching the releases `watched` ([`LagrangeEvents`]: the multipliers of
