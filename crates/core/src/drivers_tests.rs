@@ -37,15 +37,7 @@ impl VectorField for BlowUp {
     }
 }
 
-const CONTROL: Control = Control {
-    rtol: 1e-10,
-    atol: 1e-12,
-    safety: 0.9,
-    min_factor: 0.2,
-    max_factor: 10.0,
-    max_step: f64::INFINITY,
-    first_step: 0.0,
-};
+const CONTROL: Control = Control::with_tolerances(1e-10, 1e-12);
 
 /// A fixed-step run of `sys` from y0 at 0 to `t_end`, samples at `t_eval`, at most
 /// `max_steps` steps: (status, final state, clock, counters, sample times, samples).

@@ -15,15 +15,7 @@ use crate::steppers::{Control, Tableau};
 use crate::systems::TorqueFree;
 use crate::tableaux::{RK4_A, RK4_B, RK4_C};
 
-const CONTROL: Control = Control {
-    rtol: 1e-10,
-    atol: 1e-12,
-    safety: 0.9,
-    min_factor: 0.2,
-    max_factor: 10.0,
-    max_step: f64::INFINITY,
-    first_step: 0.0,
-};
+const CONTROL: Control = Control::with_tolerances(1e-10, 1e-12);
 
 fn rot(a: f64, b: f64) -> Mat3 {
     let (sa, ca) = a.sin_cos();

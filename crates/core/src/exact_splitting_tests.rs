@@ -233,15 +233,7 @@ fn frb_example_1_is_reproduced() {
 fn the_orders_are_2_4_6_on_a_heavy_top() {
     let (sys, y0) = frb_top();
     let t_end = 20.0;
-    let control = Control {
-        rtol: 1e-14,
-        atol: 1e-16,
-        safety: 0.9,
-        min_factor: 0.2,
-        max_factor: 10.0,
-        max_step: f64::INFINITY,
-        first_step: 0.0,
-    };
+    let control = Control::with_tolerances(1e-14, 1e-16);
     let reference = run_to(&sys, Method::Dop853(control), &y0, t_end, 0.0);
     let error = |name: &str, dt: f64| {
         let y = run_to(&sys, exact(name), &y0, t_end, dt);

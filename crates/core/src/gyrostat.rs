@@ -663,15 +663,7 @@ mod tests {
         let w0 = [10.0, -20.0, 5.0];
         let mut rk4 = vec![[0.0; 3]; t.len()];
         rk4_omegas(moments, &axes, rotor, w0, &t, 1e-5, &mut rk4);
-        let control = Control {
-            rtol: 1e-12,
-            atol: 1e-12,
-            safety: 0.9,
-            min_factor: 0.2,
-            max_factor: 10.0,
-            max_step: f64::INFINITY,
-            first_step: 0.0,
-        };
+        let control = Control::with_tolerances(1e-12, 1e-12);
         let mut dop = vec![[0.0; 3]; t.len()];
         let spec = onto(&t, 0.0, Method::Dop853(control));
         let status = gyrostat_omegas(moments, &axes, rotor, w0, &spec, &mut dop);

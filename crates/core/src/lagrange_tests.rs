@@ -163,15 +163,7 @@ fn slack_launch() -> ([f64; 4], Stabilization) {
 
 /// DOP853 at rtol 1e-11, atol 1e-12 with SciPy's controller constants.
 fn tight_control() -> Control {
-    Control {
-        rtol: 1e-11,
-        atol: 1e-12,
-        safety: 0.9,
-        min_factor: 0.2,
-        max_factor: 10.0,
-        max_step: f64::INFINITY,
-        first_step: 0.0,
-    }
+    Control::with_tolerances(1e-11, 1e-12)
 }
 
 /// The rod's tension from Newton's law at the bob: along the rod, m v²/l + m g cos θ; the

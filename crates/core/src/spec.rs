@@ -379,15 +379,7 @@ mod tests {
     use super::*;
     use crate::steppers::RK4;
 
-    const CONTROL: Control = Control {
-        rtol: 1e-8,
-        atol: 1e-10,
-        safety: 0.9,
-        min_factor: 0.2,
-        max_factor: 10.0,
-        max_step: f64::INFINITY,
-        first_step: 0.0,
-    };
+    const CONTROL: Control = Control::with_tolerances(1e-8, 1e-10);
     const NO_TABLEAU: Tableau<'static> = Tableau {
         a: &[],
         b: &[],

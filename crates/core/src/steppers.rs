@@ -662,6 +662,22 @@ pub struct Control {
     pub first_step: f64,
 }
 
+impl Control {
+    /// The controller with tolerances `rtol`, `atol` and SciPy's constants: safety 0.9, the
+    /// factor within [0.2, 10], no largest step, the first step chosen automatically.
+    pub const fn with_tolerances(rtol: f64, atol: f64) -> Self {
+        Control {
+            rtol,
+            atol,
+            safety: 0.9,
+            min_factor: 0.2,
+            max_factor: 10.0,
+            max_step: f64::INFINITY,
+            first_step: 0.0,
+        }
+    }
+}
+
 /// The standard controller (Hairer, Nørsett & Wanner §II.4): the next step is the last one
 /// times `safety · err^(−1/(q+1))`, clipped to `[min_factor, max_factor]` (and not above 1
 /// right after a rejection); `q` the order of the error estimator.
