@@ -1,5 +1,5 @@
-//! Formulas of the torque-free body (`docs/theory.md` §1, "Torque-free body", eqs (20)–(33);
-//! the port of `poinsot.kernels.freebody`), in principal axes with ascending moments
+//! Formulas of the torque-free body (`docs/theory.md` §1, "Torque-free body", eqs (20)–(33)),
+//! in principal axes with ascending moments
 //! `I1 ≤ I2 ≤ I3`:
 //!
 //! * the invariants (30)–(31), `k` with `2k = Σ I_i ω_i²` and `a = |L|`: [`invariants`]
@@ -39,8 +39,8 @@ pub fn cone_coefficients(moments: Vec3, energy: f64, momentum: f64) -> Vec3 {
 
 /// `ω̇` of the torque-free Euler equation (20) in principal components, eqs (27)–(29):
 /// `I1 ω̇1 = (I2 − I3) ω2 ω3`, `I2 ω̇2 = (I3 − I1) ω3 ω1`, `I3 ω̇3 = (I1 − I2) ω1 ω2`
-/// (as `poinsot.kernels.rigid.omega_dot_principal` with zero torque; a zero moment gives a
-/// zero rate, the minimum-norm solution).
+/// (as [`crate::rigid::omega_dot_principal`] with zero torque; a zero moment gives a zero
+/// rate, the minimum-norm solution).
 pub fn euler_omega_dot(moments: Vec3, w: Vec3) -> Vec3 {
     let inv = moments.map(|i| if i != 0.0 { 1.0 / i } else { 0.0 });
     crate::rigid::omega_dot_principal(moments, inv, w, [0.0; 3])

@@ -1,7 +1,8 @@
 //! Runge–Kutta methods as data: the Butcher tableaux of the integrators.
 //!
-//! The steppers read these arrays; nothing else knows a coefficient. The values are those of
-//! `poinsot/kernels/tableaux.py`, printed to the last bit (`repr`).
+//! The steppers read these arrays; nothing else knows a coefficient. The values are printed to
+//! the last bit (`repr` of the doubles of the cited tables); Python reads them from here
+//! (`poinsot._core.tableau`).
 //!
 //! * `RK4_*`: the classical fourth-order method (Kutta 1901), the source notebook's integrator.
 //! * `DOP853_*`: Dormand–Prince 8(5,3) with its 7th-order dense output (Hairer, Nørsett &

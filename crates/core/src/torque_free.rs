@@ -85,8 +85,8 @@ pub const CASE_NAMES: [&str; 6] = [
 /// the orbit underflow in double precision.
 pub const NEAR_UNSTABLE_AXIS: f64 = 1e-140;
 
-/// Offsets of the flat regime row (`poinsot.kernels.torque_free`'s layout), see
-/// [`Regime::to_row`].
+/// Offsets of the flat regime row (`poinsot._core.REGIME_OFFSETS` names them for the
+/// Python package), see [`Regime::to_row`].
 pub mod row {
     pub const CASE: usize = 0;
     pub const ENERGY: usize = 1;

@@ -286,8 +286,8 @@ impl Regime {
         self.pole = if f.e3 { 2 } else { 0 };
     }
 
-    /// The flat row (`row::SIZE` numbers at the offsets of [`row`]) of
-    /// `poinsot.kernels.torque_free.regime_into`.
+    /// The flat row (`row::SIZE` numbers at the offsets of [`row`]) that
+    /// `poinsot._core.torque_free_regimes` returns, one per motion.
     pub fn to_row(&self) -> [f64; row::SIZE] {
         let mut out = [0.0; row::SIZE];
         out[row::CASE] = self.case as f64;
