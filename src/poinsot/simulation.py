@@ -17,7 +17,7 @@ import numpy as np
 
 from ._validation import _rotation_input
 from .dynamics import RigidBodySystem, rigid_velocity_from_particles
-from .integrate.base import get_solver
+from .integrate.base import CORE_METHODS, get_solver
 from .integrate.driver import IntegrationError, check_backend, check_solver_fits, integrate
 from .integrate.solve import (
     RunSettings,
@@ -38,6 +38,10 @@ __all__ = [
     "prepare",
     "simulate",
 ]
+
+#: The methods a rigid body's run takes, by name: the core's registry, in its order (a motion
+#: relative to a carrier takes those of any vector field, and refuses the others itself).
+METHODS = tuple(CORE_METHODS)
 
 
 def prepare(

@@ -19,7 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from .._io import TOMLError, read_toml
-from ..integrate.base import CORE_METHODS, get_solver
+from ..simulation import METHODS as RIGID_METHODS
+from ..simulation import StepBudgetError
 from .scenario_parts import (
     MAX_LEVELS,
     MAX_SAMPLES,
@@ -39,10 +40,8 @@ __all__ = [
     "load_scenario",
 ]
 
-#: The methods a scenario may name: the core's registry, in its order.
-METHOD_NAMES = tuple(CORE_METHODS)
-#: ... and those that need a rigid body's structure (not a carrier's relative motion).
-RIGID_ONLY = tuple(n for n in CORE_METHODS if get_solver(n).requires == "rigid")
+#: The methods a scenario may name: the rigid body's front-end's (the core's registry).
+METHOD_NAMES = RIGID_METHODS
 
 
 @dataclass
@@ -328,20 +327,6 @@ def _time(root: _Table):
     return (float(span[0]), float(span[1])), samples
 
 
-def _check_steps(method, dt, t_span):
-    """Refuse, before anything runs, a fixed-step run that needs more steps than a run may
-    take (:data:`~poinsot.integrate.solve.DEFAULT_MAX_STEPS`), naming both keys. (The rigid
-    body's run is checked again, with everything else, by :func:`poinsot.simulation.prepare`;
-    the other front-ends have no ``prepare`` yet.)"""
-    from ..integrate.base import get_solver
-    from ..integrate.solve import StepBudgetError, check_budget
-
-    try:
-        check_budget(get_solver(method), t_span[0], t_span[1], dt)
-    except StepBudgetError as exc:
-        raise ScenarioError(_budget_message(exc)) from None
-
-
 def _outputs(root: _Table):
     """``[output]``: which of data, figures and report to write."""
     ot = root.table("output", None)
@@ -391,7 +376,6 @@ def _lagrangian_scenario(root, name, description, source, model, params, q0, qd0
     )
     stab = more["stabilization"]
     t_span, samples = _time(root)
-    _check_steps(method, dt, t_span)
     outputs = _outputs(root)
     root.finish()
     scenario = LagrangianScenario(
@@ -425,6 +409,8 @@ def _lagrangian_scenario(root, name, description, source, model, params, q0, qd0
             _keyed(qd0, system, "qd0", allow_missing=True),
             _keyed(model.guess, system, "guess", allow_missing=True) if model.guess else None,
         )
+    except StepBudgetError as exc:
+        raise ScenarioError(_budget_message(exc)) from None
     except ValueError as exc:
         raise ScenarioError(f"{table}: {exc}") from None
     coordinates = system.coordinates
@@ -458,19 +444,12 @@ def _parse(data: dict, source: str, base_dir: Path):
         root.table("initial", None if has_ensemble else _MISSING), body, pivot, has_ensemble
     )
     method, dt, rtol, atol, _ = _integrator(root, METHOD_NAMES)
-    t_span, samples = _time(root)
-    if root.has("carrier"):  # a rigid body's run is checked whole by its `prepare`
-        _check_steps(method, dt, t_span)
+    t_span, samples = _time(root)  # the run is checked whole by its front-end's `prepare`
     outputs = _outputs(root)
     ensemble = _ensemble(root.table("ensemble"), initial) if has_ensemble else None
     carrier = _carrier(root.table("carrier"), initial, pivot) if root.has("carrier") else None
     if carrier is not None and has_ensemble:
         raise ScenarioError("carrier: an ensemble of relative motions is not supported yet")
-    if carrier is not None and method in RIGID_ONLY:
-        raise ScenarioError(
-            f"integrator.method: {method!r} needs the rigid-body structure; relative motion "
-            "([carrier]) runs with 'dop853' or 'rk4'"
-        )
     at = root.table("analysis", None)
     analysis = {
         "polhodes": at.get("polhodes", "bool", True),
@@ -590,7 +569,6 @@ def _prepare_run(s: Scenario):
     """Check and lower the run once into ``s.prepared``: a rigid body's (or an ensemble's), or
     the carrier's relative motion; returns the rigid-body system of the body."""
     from ..dynamics import RigidBodySystem
-    from ..simulation import StepBudgetError
 
     system = None
     if s.carrier is not None:
