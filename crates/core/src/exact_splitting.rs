@@ -25,7 +25,9 @@ use crate::rigid::free_rotor_symmetric;
 use crate::so3::{Mat3, Vec3};
 use crate::steppers::{hold_pivot, kick, momentum_to_velocity, velocity_to_momentum};
 use crate::system::RigidStructure;
-use crate::torque_free::{motion_at, AttitudeSetup, Radicals, Regime};
+use crate::torque_free::{
+    motion_at, motion_from_start, AttitudeSetup, Radicals, Regime, ThirdKindStart,
+};
 
 /// A composition of free flows and kicks, as fractions of the step: `kick_first` (the
 /// "BAB" form) runs `kicks[0], flows[0], kicks[1], …, flows[m−1], kicks[m]`; otherwise
@@ -106,6 +108,8 @@ pub struct FreeFlow {
 struct Motion {
     reg: Regime,
     att: AttitudeSetup,
+    /// `Π(u) − Π(u0)` as a difference of reductions (elliptic motions off the separatrix).
+    start: Option<ThirdKindStart>,
     w0: Vec3,
     q0: Mat3,
     began: f64,
@@ -152,8 +156,10 @@ impl FreeFlow {
                     let w0 = [0, 1, 2].map(|k| z[OMEGA_AT + k] * body.inv_moments[k]);
                     let q0: Mat3 = [0, 1, 2].map(|r| [0, 1, 2].map(|c| z[Q_AT + 3 * r + c]));
                     let reg = Regime::with(moments, &self.radicals, self.symmetry, w0);
+                    let (att, start) = start_motion(moments, &reg, w0, &q0);
                     Motion {
-                        att: AttitudeSetup::new(moments, &reg, w0, &q0),
+                        att,
+                        start,
                         reg,
                         w0,
                         q0,
@@ -166,7 +172,10 @@ impl FreeFlow {
                 }
             };
             let t = m.steps + ((within - m.began) + m.carry);
-            let (w, q) = motion_at(moments, &m.reg, &m.att, m.w0, &m.q0, t);
+            let (w, q) = match m.start.as_mut() {
+                Some(start) => motion_from_start(moments, &m.reg, &m.att, start, t),
+                None => motion_at(moments, &m.reg, &m.att, m.w0, &m.q0, t),
+            };
             for k in 0..3 {
                 z[OMEGA_AT + k] = moments[k] * w[k];
             }
@@ -186,6 +195,26 @@ impl FreeFlow {
             }
         }
     }
+}
+
+/// What a motion from `ω(0) = w0`, `Q(0) = q0` with regime `reg` needs for its attitude:
+/// for the elliptic motions whose `Π(u)` comes from the reduction, the frame alone
+/// ([`AttitudeSetup::frame`]) and the start of `Π(u) − Π(u0)` ([`ThirdKindStart`]: no
+/// `Π(u0)` reduction, `Π(n|m)` only if the flow leaves its half period); otherwise the whole
+/// [`AttitudeSetup`] (eqs (20)–(33); `docs/theory.md` §5).
+fn start_motion(
+    moments: Vec3,
+    reg: &Regime,
+    w0: Vec3,
+    q0: &Mat3,
+) -> (AttitudeSetup, Option<ThirdKindStart>) {
+    if reg.is_elliptic() {
+        let att = AttitudeSetup::frame(moments, reg, w0, q0);
+        if let Some(start) = ThirdKindStart::new(reg, &att, w0) {
+            return (att, Some(start));
+        }
+    }
+    (AttitudeSetup::new(moments, reg, w0, q0), None)
 }
 
 /// The exact-flow splitting method with a composition: a [`FixedMethod`] on the momentum

@@ -23,6 +23,23 @@ pub(super) fn relabelled_angles(pole: u8, p: Vec3) -> (f64, f64) {
     (b0.hypot(b1).atan2(b2), b0.atan2(b1))
 }
 
+/// `Rzxz(0, θ, φ)` of the body momentum `π` (relabelled as [`relabelled_angles`]) from the
+/// ratios `sin θ = ρ/|π|`, `cos θ = π_p/|π|`, `(sin φ, cos φ) = (π_1', π_2')/ρ`,
+/// `ρ = |(π_1', π_2')|` (no angle formed; `φ = 0` where ρ = 0), as
+/// [`EllipticMotion::attitude`] forms the rotation at every time.
+#[inline]
+fn start_rotation(pole: u8, p: Vec3) -> Mat3 {
+    let [b0, b1, b2] = if pole == 0 { [p[2], -p[1], p[0]] } else { p };
+    let rho = f64::norm2(b0, b1, &mut true);
+    let r = f64::norm2(rho, b2, &mut true);
+    let phi = if rho == 0.0 {
+        [0.0, 1.0]
+    } else {
+        [b0 / rho, b1 / rho]
+    };
+    zxz_matrix_sc([0.0, 1.0], [rho / r, b2 / r], phi)
+}
+
 /// What the elliptic attitude needs beyond the regime: the invariable frame `p0`
 /// (`Q(t) = P0 Rzxz(ψ, θ, φ) B`), the characteristic `n`, `I_p`, `I_q` and `Π(u0)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -58,14 +75,30 @@ impl AttitudeSetup {
         if !reg.is_elliptic() {
             return AttitudeSetup::default();
         }
+        let mut att = AttitudeSetup::frame(moments, reg, w, q0);
+        att.pi_u0 = if reduced_third_kind(reg) {
+            att.pi_complete = ellippi_complete(att.n, reg.m, reg.m1);
+            // Π at t = 0 by the very route of every later time, so that ψ(0) = 0 exactly
+            let (sn, cn, dn, p, _) =
+                jacobi_reduced_with(reg.u0, reg.m, reg.m1, reg.quarter, &reg.agm);
+            EllipticMotion::of(reg, &att).third_kind(sn, cn, dn, p)
+        } else {
+            third_kind_u(att.n, reg.u0, reg.m, reg.m1, reg.quarter)
+        };
+        att
+    }
+
+    /// [`AttitudeSetup::new`] without its third-kind integrals (`Π(u0)` and `Π(n|m)` left
+    /// zero): the invariable frame `p0`, `n`, `I_p`, `I_q` and ψ's factor of an elliptic
+    /// regime, the part every start of a motion needs ([`ThirdKindStart`] takes the rest).
+    pub fn frame(moments: Vec3, reg: &Regime, w: Vec3, q0: &Mat3) -> AttitudeSetup {
         let [i1, i2, i3] = moments;
         let (ip, iq, n) = if reg.pole == 2 {
             (i3, i1, -i3 * (i2 - i1) / (i1 * (i3 - i2)))
         } else {
             (i1, i3, -i1 * (i3 - i2) / (i3 * (i2 - i1)))
         };
-        let (theta, phi) = relabelled_angles(reg.pole, [i1 * w[0], i2 * w[1], i3 * w[2]]);
-        let r0 = zxz_matrix(0.0, theta, phi);
+        let r0 = start_rotation(reg.pole, [i1 * w[0], i2 * w[1], i3 * w[2]]);
         // P0 = Q0 Bᵀ R0ᵀ: Q(0) = Q0 with ψ(0) = 0
         let mut qb = [[0.0; 3]; 3];
         for r in 0..3 {
@@ -83,7 +116,7 @@ impl AttitudeSetup {
             }
         }
         let a = reg.momentum;
-        let mut att = AttitudeSetup {
+        AttitudeSetup {
             p0,
             n,
             i_pole: ip,
@@ -91,18 +124,85 @@ impl AttitudeSetup {
             pi_u0: 0.0,
             pi_complete: 0.0,
             psi_pi: a * (ip - iq) / (ip * iq * reg.lam),
-        };
-        att.pi_u0 = if reduced_third_kind(reg) {
-            att.pi_complete = ellippi_complete(n, reg.m, reg.m1);
-            // Π at t = 0 by the very route of every later time, so that ψ(0) = 0 exactly
-            let (sn, cn, dn, p, _) =
-                jacobi_reduced_with(reg.u0, reg.m, reg.m1, reg.quarter, &reg.agm);
-            EllipticMotion::of(reg, &att).third_kind(sn, cn, dn, p)
-        } else {
-            third_kind_u(n, reg.u0, reg.m, reg.m1, reg.quarter)
-        };
-        att
+        }
     }
+}
+
+/// `Π(u) − Π(u0)` of an elliptic motion taken as a difference of reductions (the exact-flow
+/// splitting's free flow, [`crate::exact_splitting::FreeFlow`]; `docs/theory.md` §5): with
+/// `u = 2pK + v`, `u0 = 2p0 K + v0` (|v|, |v0| ≤ K),
+/// `Π(u) − Π(u0) = G(v) − G(v0) + 2(p − p0) Π(n|m)`, `G` of DLMF 19.25.14
+/// ([`third_kind_reduced`] at p = 0). `G(v0)` comes from the start's own Jacobi functions,
+/// `(sn, cn, dn)(u0) = ω_i/(σ_i α_i)` (no reduction of `u0`), and the complete `Π(n|m)`
+/// only once `p ≠ p0` (a short flow stays in its half period and never needs it).
+#[derive(Clone, Copy, Debug)]
+pub struct ThirdKindStart {
+    /// `G(v0)` and `p0`.
+    g0: f64,
+    p0: f64,
+    /// `Π(n|m)`, once needed.
+    pi_complete: Option<f64>,
+}
+
+impl ThirdKindStart {
+    /// The start of the motion from `w` with regime `reg` and frame `att`
+    /// ([`AttitudeSetup::frame`]); `None` where the attitude does not take `Π(u)` from the
+    /// reduction (outside the elliptic cases, on the separatrix, `m1 <` [`TINY_M1`]).
+    pub fn new(reg: &Regime, att: &AttitudeSetup, w: Vec3) -> Option<ThirdKindStart> {
+        if !(reg.is_elliptic() && reduced_third_kind(reg)) {
+            return None;
+        }
+        // ω = (σ1 α1 cn, σ2 α2 sn, σ3 α3 dn) about e3, (dn, sn, cn) about e1
+        let f = |i: usize| w[i] / (reg.signs[i] * reg.alpha[i]);
+        let (sn, cn, dn) = if reg.pole == 2 {
+            (f(1), f(0), f(2))
+        } else {
+            (f(1), f(2), f(0))
+        };
+        let p0 = (reg.u0 / (2.0 * reg.quarter)).round_ties_even();
+        let par = parity(p0);
+        Some(ThirdKindStart {
+            g0: third_kind_reduced(att.n, par * sn, par * cn, dn, 0.0, 0.0),
+            p0,
+            pi_complete: None,
+        })
+    }
+
+    /// `Π(u) − Π(u0)` from the reduction `(sn u, cn u, dn u, p)` of `u`
+    /// ([`jacobi_reduced_with`]).
+    #[inline]
+    fn difference(&mut self, reg: &Regime, n: f64, sn: f64, cn: f64, dn: f64, p: f64) -> f64 {
+        let par = parity(p);
+        let g = third_kind_reduced(n, par * sn, par * cn, dn, 0.0, 0.0) - self.g0;
+        if p == self.p0 {
+            return g;
+        }
+        let pc = *self
+            .pi_complete
+            .get_or_insert_with(|| ellippi_complete(n, reg.m, reg.m1));
+        g + 2.0 * (p - self.p0) * pc
+    }
+}
+
+/// `(ω(t), Q(t))` of the elliptic motion from `ω(0) = w` ([`motion_at`]'s values to
+/// round-off) with `Π(u) − Π(u0)` by [`ThirdKindStart`]: one reduction of `u = u0 + λt`
+/// for ω and Π, and no `Π(u0)` or `Π(n|m)` made up front (eqs (20)–(33)).
+pub fn motion_from_start(
+    moments: Vec3,
+    reg: &Regime,
+    att: &AttitudeSetup,
+    start: &mut ThirdKindStart,
+    t: f64,
+) -> (Vec3, Mat3) {
+    let u = reg.u0 + reg.lam * t;
+    let (sn, cn, dn, p, _) = jacobi_reduced_with(u, reg.m, reg.m1, reg.quarter, &reg.agm);
+    let motion = EllipticMotion::of(reg, att);
+    let omega = jacobi_omega(reg.pole == 2, motion.sa, sn, cn, dn);
+    let big_pi = start.difference(reg, att.n, sn, cn, dn, p);
+    (
+        omega,
+        motion.attitude_with(moments, t, omega, big_pi, &mut true),
+    )
 }
 
 /// What `Q(t)` of an elliptic motion needs at each time beyond the reduction of `u = u0 + λt`
@@ -196,9 +296,23 @@ impl<T: Real> EllipticMotion<T> {
         p: T,
         plain: &mut T::Mask,
     ) -> [[T; 3]; 3] {
-        let c = T::splat;
         let v = jacobi_omega(self.e3, self.sa, sn, cn, dn);
         let big_pi = self.third_kind(sn, cn, dn, p) - self.pi_u0;
+        self.attitude_with(moments, t, v, big_pi, plain)
+    }
+
+    /// [`EllipticMotion::attitude`] from ω(t) `v` (the Jacobi form) and `Π(u) − Π(u0)`
+    /// `big_pi`.
+    #[inline(always)]
+    pub(super) fn attitude_with(
+        &self,
+        moments: Vec3,
+        t: T,
+        v: [T; 3],
+        big_pi: T,
+        plain: &mut T::Mask,
+    ) -> [[T; 3]; 3] {
+        let c = T::splat;
         let psi = self.momentum * t / self.i_pole + self.psi_pi * big_pi;
         let pi = [
             c(moments[0]) * v[0],
