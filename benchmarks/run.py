@@ -599,6 +599,8 @@ def main(argv=None):
                     f"{r['energy_error']:.1e}, abs L {r['momentum_error']:.1e}, "
                     f"QᵀQ−I {r['orthogonality_error']:.1e} | | |"
                 )
+            elif "cold_cache_s" not in r:  # not measured: a peer is missing (the row says which)
+                print(f"| {r['case']} | not measured: {r.get('note', 'no figures')} | | | |")
             else:
                 print(
                     f"| {r['case']} | cold cache {_fmt_time(r['cold_cache_s'])}, warm cache "
