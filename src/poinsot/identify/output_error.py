@@ -149,7 +149,6 @@ class _Model:
         self.J = rotor_inertia  # given J, or None
         self.E0 = E0
         self.I3_0 = I3_0
-        self.max_step = max_step
         # each segment's run, built once: every member and every call of the fit shares it
         self.runs = [gyrostat_run(t[seg], max_step) for seg in segments]
         self.extra = "eta" if (rotor is not None and rotor_inertia is not None) else (
