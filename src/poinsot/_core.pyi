@@ -135,6 +135,7 @@ __all__ = [
     "integrate_python",
     "integrate_relative",
     "integrate_rigid",
+    "integrate_sensitivities",
     "is_degenerate",
     "jacobi_reduced",
     "jacobi_sn_cn_dn_am",
@@ -173,6 +174,7 @@ __all__ = [
     "rotational_energies_and_momenta",
     "rotvec_to_quat",
     "run_ensemble",
+    "sensitivity_start",
     "sphere_inertia",
     "spherical_shell_inertia",
     "states_principal",
@@ -296,6 +298,25 @@ def integrate_rigid(
     steps: int,
     flips: tuple[_F64, _F64, _F64] | None = None,
 ) -> int: ...
+def integrate_sensitivities(
+    body: ArrayLike,
+    force_kind: ArrayLike,
+    force_params: ArrayLike,
+    moment_seeds: ArrayLike,
+    force_seeds: ArrayLike,
+    control_all: bool,
+    spec: RunSpec,
+    state: RunState,
+    steps: int,
+) -> int: ...
+def sensitivity_start(
+    body: ArrayLike,
+    axes: ArrayLike,
+    z0: ArrayLike,
+    kinds: ArrayLike,
+    components: ArrayLike,
+    omega_space: bool = False,
+) -> _F64: ...
 def integrate_python(
     rhs: Callable[[float, _F64], _Numbers],
     project: Callable[[_F64, float], _Numbers] | None,

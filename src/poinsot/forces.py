@@ -191,6 +191,15 @@ class Force:
     def check(self, body) -> None:
         """Refuse a body this force cannot act on (raises ``ValueError``)."""
 
+    def sensitive_parameters(self) -> tuple:
+        """The numeric parameters a run may differentiate with respect to
+        (``simulate(..., sensitivities=("forces[i].name",))``): ``(name, offset in the
+        lowered row, size, frame)``, ``frame`` ``"body"`` where :meth:`lower` turns the
+        parameter into the principal frame, else ``"space"`` (it is copied as given). A force
+        evaluated in Python has none."""
+        raise ValueError(f"{self.name} is evaluated in Python: a run cannot differentiate "
+                         "with respect to its parameters")  # fmt: skip
+
     def lower(self, frame: BodyFrame) -> np.ndarray:
         """The force's parameters for the compiled engine, a new array (FORCE_PARAMS,), with body
         points and body-fixed vectors expressed in ``frame``. The force itself is unchanged."""
@@ -290,6 +299,9 @@ class Gravity(Force):
     def __init__(self, g=(0.0, 0.0, -9.81)):
         self._freeze(g=_readonly(as_vector3(g, "g")))
 
+    def sensitive_parameters(self):
+        return (("g", 0, 3, "space"),)
+
     def lower(self, frame):
         return _row(self.g)
 
@@ -317,6 +329,9 @@ class CentralGravity(Force):
             center=_readonly(as_vector3(center, "center")),
             gradient=bool(gradient),
         )
+
+    def sensitive_parameters(self):
+        return (("mu", 0, 1, "space"), ("center", 1, 3, "space"))
 
     def lower(self, frame):
         return _row(self.mu, self.center, float(self.gradient))
@@ -357,6 +372,10 @@ class Spring(Force):
             dissipative=damping > 0,
         )
 
+    def sensitive_parameters(self):
+        return (("point", 0, 3, "body"), ("anchor", 3, 3, "space"), ("stiffness", 6, 1, "space"),
+                ("rest_length", 7, 1, "space"), ("damping", 8, 1, "space"))  # fmt: skip
+
     def lower(self, frame):
         return _row(
             frame.point(self.point),
@@ -380,6 +399,9 @@ class _Drag(Force):
         if c < 0 or r < 0:
             raise ValueError("drag coefficients `coefficient` and `rotational` must be ≥ 0")
         self._freeze(coefficient=c, rotational=r)
+
+    def sensitive_parameters(self):
+        return (("coefficient", 0, 1, "space"), ("rotational", 1, 1, "space"))
 
     def lower(self, frame):
         return _row(self.coefficient, self.rotational)
@@ -422,6 +444,9 @@ class PointForce(Force):
             kind="point_force" if constant else None,
         )
 
+    def sensitive_parameters(self):
+        return (("point", 0, 3, "body"), ("force", 3, 3, self.frame))
+
     def lower(self, frame, force=None):
         f = self.force if force is None else force
         f = frame.vector(f) if self.frame == "body" else f
@@ -446,6 +471,9 @@ class Torque(Force):
             frame=_frame_name(frame),
             kind="torque" if constant else None,
         )
+
+    def sensitive_parameters(self):
+        return (("torque", 0, 3, self.frame),)
 
     def lower(self, frame, torque=None):
         tau = self.torque if torque is None else torque

@@ -60,6 +60,8 @@ def prepare(
     events=None,
     event_resolution=None,
     max_steps=None,
+    sensitivities=None,
+    control_sensitivities=True,
 ) -> PreparedRun:
     """Check a rigid body's run and lower it for the compiled core, once: the
     :class:`PreparedRun` that :func:`simulate` runs. The arguments are :func:`simulate`'s
@@ -87,7 +89,36 @@ def prepare(
         normalize_events(events)  # refused here, naming the event, before any step
         events = tuple(events) if isinstance(events, list | tuple) else (events,)
     event_resolution = check_event_resolution(event_resolution, events is not None)
-    return PreparedRun(system, settings, backend, events, event_resolution)
+    dirs = None
+    if sensitivities is not None:
+        dirs = _check_sensitivities(system, settings.solver, sensitivities, events, backend)
+    elif control_sensitivities is not True:
+        raise ValueError("`control_sensitivities` has no effect without `sensitivities`")
+    return PreparedRun(system, settings, backend, events, event_resolution, dirs,
+                       bool(control_sensitivities))  # fmt: skip
+
+
+def _check_sensitivities(system, solver, wrt, events, backend):
+    """The directions of a run's ``sensitivities``, refused where the run cannot carry them."""
+    from .sensitivity import SENSITIVE_METHODS, directions
+
+    if solver.kind not in SENSITIVE_METHODS:
+        raise ValueError(f"`sensitivities` are computed with 'rk4', 'dop853' or an explicit "
+                         f"Runge–Kutta tableau; `method` {solver.name!r} has none yet")  # fmt: skip
+    slow = [f.name for f in system.forces if not f.compiled]
+    if slow:
+        raise ValueError(
+            "`sensitivities` need built-in forces; these are evaluated in Python: "
+            + ", ".join(slow)
+        )
+    if events is not None:
+        raise ValueError("`sensitivities` and `events` cannot be combined yet")
+    if backend == "python":
+        raise ValueError("`sensitivities` are computed in the compiled core: omit "
+                         "`backend='python'`")  # fmt: skip
+    if system.degenerate:
+        raise ValueError("`sensitivities` need a body with three non-zero principal moments")
+    return directions(system, wrt)
 
 
 @dataclass(frozen=True)
@@ -105,6 +136,10 @@ class PreparedRun:
         ``"compiled"``, ``"python"`` or None (chosen from the forces).
     events : tuple of callables or None
     event_resolution : int
+    sensitivities : poinsot.sensitivity.Directions or None
+        The directions of the run's sensitivities, when it carries them.
+    control_sensitivities : bool
+        DOP853's error control weighs the sensitivities too.
     """
 
     system: RigidBodySystem
@@ -112,6 +147,8 @@ class PreparedRun:
     backend: str | None = None
     events: tuple | None = None
     event_resolution: int = 2001
+    sensitivities: object = None
+    control_sensitivities: bool = True
 
     @property
     def t_span(self) -> tuple[float, float]:
@@ -124,6 +161,8 @@ class PreparedRun:
         s = self.settings
         budget = check_budget(solver, s.t0, s.t1, s.dt, s.max_steps)
         check_solver_fits(solver, self.system)
+        if self.sensitivities is not None:
+            _check_sensitivities(self.system, solver, self.sensitivities.names, None, self.backend)
         return dataclasses.replace(
             self, settings=dataclasses.replace(s, solver=solver, max_steps=budget)
         )
@@ -158,12 +197,29 @@ class PreparedRun:
             y0 = self.initial_state(omega0=omega0, Q0=Q0, R0=R0, V0=V0, omega_frame=omega_frame,
                                     particle_velocities=particle_velocities,
                                     scalar_first=scalar_first)  # fmt: skip
+        if self.sensitivities is not None:
+            return self._run_sensitive(y0, omega_frame == "space", progress)
         if self.events is not None:
             return _simulate_events(self.system, self.settings, y0, self.backend, self.events,
                                     self.event_resolution)  # fmt: skip
         return solve(self.system, y0, self.settings,
                      trajectory=lambda r: _trajectory(r, self.system), progress=progress,
                      backend=self.backend)  # fmt: skip
+
+    def _run_sensitive(self, y0, omega_space, progress) -> Trajectory:
+        """The run with its sensitivities: the augmented system through the same driver."""
+        from .sensitivity import SensitiveSystem, split
+
+        aug = SensitiveSystem(self.system, self.sensitivities, omega_space=omega_space,
+                              control_all=self.control_sensitivities)  # fmt: skip
+
+        def trajectory(result):
+            y, sens = split(result.y, self.sensitivities)
+            traj = _trajectory(dataclasses.replace(result, y=y), self.system)
+            traj.sensitivities = sens
+            return traj
+
+        return solve(aug, y0, self.settings, trajectory=trajectory, progress=progress)
 
 
 def simulate(
@@ -190,6 +246,8 @@ def simulate(
     events=None,
     event_resolution=None,
     max_steps=None,
+    sensitivities=None,
+    control_sensitivities=True,
 ) -> Trajectory:
     """Integrate the motion of ``body`` under ``forces``: eqs (07) ``M R̈ = F``,
     (08) ``A ω̇ + ω × Aω = Σ u_i × Qᵀ F_i`` and (09) ``Q̇ = QΩ``.
@@ -248,6 +306,16 @@ def simulate(
         :data:`~poinsot.integrate.solve.DEFAULT_MAX_STEPS`): a fixed-step run that needs more
         is refused before it starts; an adaptive one that reaches it stops with a
         :class:`SimulationError`.
+    sensitivities : str or sequence of str, optional
+        Parameters to differentiate the motion with respect to (forward sensitivities,
+        :mod:`poinsot.sensitivity`): ``"omega0"``, ``"Q0"`` (a rotation vector), ``"R0"``,
+        ``"V0"``, ``"inertia"`` (the principal moments), ``"forces[i]"`` or
+        ``"forces[i].name"``. The variational equations are integrated with the motion by the
+        same method and steps (``"rk4"``, ``"dop853"``, explicit tableaux); then
+        ``traj.sensitivity(output, wrt)`` gives ``∂output(tᵢ)/∂wrt``.
+    control_sensitivities : bool
+        With ``"dop853"``, whether the error control weighs the sensitivities too (default,
+        as CVODES' ``errconS``); ``False`` steps on the motion's error alone.
 
     Returns
     -------
@@ -276,7 +344,8 @@ def simulate(
     prepared = prepare(body, t_span, forces=forces, pivot=pivot, method=method, dt=dt,
                        rtol=rtol, atol=atol, t_eval=t_eval, save_every=save_every,
                        backend=backend, events=events, event_resolution=event_resolution,
-                       max_steps=max_steps)  # fmt: skip
+                       max_steps=max_steps, sensitivities=sensitivities,
+                       control_sensitivities=control_sensitivities)  # fmt: skip
     return prepared.run(omega0=omega0, Q0=Q0, R0=R0, V0=V0, omega_frame=omega_frame,
                         particle_velocities=particle_velocities, scalar_first=scalar_first,
                         progress=progress)  # fmt: skip

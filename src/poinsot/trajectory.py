@@ -74,10 +74,13 @@ class Trajectory(Displayable):
         compiled core; nothing is compiled at run time).
     t_events, y_events : list of ndarray
         With ``simulate(..., events=)``: per event, the times and states of its zeros.
+    sensitivities : poinsot.sensitivity.Sensitivities or None
+        With ``simulate(..., sensitivities=)``: ``∂y(tᵢ)/∂p`` (:meth:`sensitivity`).
     """
 
     t_events: tuple = ()
     y_events: tuple = ()
+    sensitivities = None
 
     def __init__(
         self,
@@ -462,6 +465,32 @@ class Trajectory(Displayable):
             "diagnostics": self.diagnostics(),
         }
 
+    # ----------------------------------------------------------------- sensitivities
+    def sensitivity(self, output, wrt=None) -> np.ndarray:
+        """``∂output(tᵢ)/∂wrt`` at every sample, shape (samples, size of ``output``, size of
+        ``wrt``), of a run that asked for them (``simulate(..., sensitivities=...)``).
+
+        Parameters
+        ----------
+        output : {"R", "V", "Q", "omega", "state"}
+            A block of the state (``"Q"`` row-major, 9; ``"state"`` all 18), in the frames of
+            :attr:`R`, :attr:`V`, :attr:`Q` and :attr:`omega`.
+        wrt : str, optional
+            One of the names the run asked for; None: all of them, in order.
+
+        Examples
+        --------
+        >>> from poinsot import RigidBody, simulate
+        >>> traj = simulate(RigidBody.box(1.0, (1, 2, 3)), (0, 1), omega0=(0, 1, 0),
+        ...                 method="rk4", dt=1e-2, sensitivities="omega0")
+        >>> traj.sensitivity("omega", "omega0").shape
+        (101, 3, 3)
+        """
+        if self.sensitivities is None:
+            raise ValueError("this run carries no sensitivities: ask for them with "
+                             "simulate(..., sensitivities=(...))")  # fmt: skip
+        return self.sensitivities.of(output, wrt)
+
     # ----------------------------------------------------------------- export
     def variables(self) -> dict:
         """Every exported field as ``name → (dims, values, attrs)``, coordinates included:
@@ -480,6 +509,8 @@ class Trajectory(Displayable):
                  "long_name": "angular momentum about the pivot"},
             )  # fmt: skip
         out |= self._table_fields(_SCALAR_VARIABLES)
+        if self.sensitivities is not None:
+            out |= _sensitivity_variables(self.sensitivities)
         out["axis"] = (("axis",), np.array(list("xyz")), {})
         out["component"] = (("component",), np.array(list("wxyz")), {})
         return out
@@ -489,11 +520,14 @@ class Trajectory(Displayable):
         (:data:`_MOTION_VARIABLES`, :data:`_SCALAR_VARIABLES`), each with its own attrs."""
         return {name: (dims, getattr(self, attr), dict(attrs)) for name, attr, dims, attrs in table}
 
-    def _fields(self):
-        """The exported fields without the coordinate labels, ``t`` first."""
+    def _fields(self, table=False):
+        """The exported fields without the coordinate labels, ``t`` first (for a ``table``,
+        without the sensitivities)."""
         fields = {"t": ((), self.t, {"units": "s"})}
         for name, value in self.variables().items():
-            if name not in ("time", "axis", "component"):
+            if name in ("time", "axis", "component", *_SENSITIVITY_COORDS):
+                continue
+            if not (table and "parameter" in value[0]):
                 fields[name] = value
         return fields
 
@@ -514,7 +548,7 @@ class Trajectory(Displayable):
         dimensionless); a moment's name carries its reference point
         (``angular_momentum_com_x``), frames are those of :meth:`variables`."""
         cols = []
-        for name, (dims, value, attrs) in self._fields().items():
+        for name, (dims, value, attrs) in self._fields(table=True).items():
             unit = f" [{attrs.get('units', '1')}]"
             if name == "t" or value.ndim == 1:
                 cols.append(name + unit)
@@ -526,9 +560,10 @@ class Trajectory(Displayable):
 
     def to_csv(self, path) -> None:
         """Write one row per sample with every field of :meth:`variables` to CSV, atomically;
-        the header is :meth:`csv_columns`."""
+        the header is :meth:`csv_columns`. The sensitivities (three axes) are not a table's:
+        the other formats carry them."""
         table = np.column_stack([v.reshape(len(self.t), -1)
-                                 for _, v, _ in self._fields().values()])  # fmt: skip
+                                 for _, v, _ in self._fields(table=True).values()])  # fmt: skip
         with atomic_path(path) as tmp:
             np.savetxt(tmp, table, delimiter=",", header=",".join(self.csv_columns()),
                        comments="", fmt="%.17g")  # fmt: skip
@@ -547,3 +582,22 @@ class Trajectory(Displayable):
 
         write_netcdf(path, self.variables(), {"method": self.method,
                                               "summary": json.dumps(self.summary())})  # fmt: skip
+
+
+#: The coordinates of the exported sensitivities.
+_SENSITIVITY_COORDS = ("state_component", "parameter")
+
+
+def _sensitivity_variables(sens) -> dict:
+    """The exported sensitivities: ``sensitivity (time, state_component, parameter)`` with
+    its two label coordinates."""
+    names = [f"{b}_{c}" for b in ("R", "V") for c in "xyz"]
+    names += [f"Q_{i}{j}" for i in range(1, 4) for j in range(1, 4)]
+    names += [f"omega_{c}" for c in "xyz"]
+    return {
+        "sensitivity": (("time", "state_component", "parameter"), sens.S,
+                        {"long_name": "forward sensitivity d state / d parameter",
+                         "frames": "R, V space frame; Q body to space; omega body frame"}),
+        "state_component": (("state_component",), np.array(names), {}),
+        "parameter": (("parameter",), np.array(sens.directions.labels), {}),
+    }  # fmt: skip

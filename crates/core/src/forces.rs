@@ -17,6 +17,7 @@
 //! | torque | torque (0:3), body-fixed (3) |
 
 use crate::layout::{Body, FORCE_PARAMS, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
+use crate::real::Scalar;
 
 /// The kinds of built-in force, with the codes the Python package lowers them to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -69,7 +70,7 @@ type State = [f64; STATE_SIZE];
 /// `b × Qᵀ F`: the torque about the centre of mass (body frame) of the force `F` (space frame)
 /// applied at the body point `b` (body frame, from the centre of mass), eq. (08).
 #[inline(always)]
-pub fn moment_about_center(b: [f64; 3], y: &State, f: [f64; 3]) -> [f64; 3] {
+pub fn moment_about_center<T: Scalar>(b: [T; 3], y: &[T; STATE_SIZE], f: [T; 3]) -> [T; 3] {
     let c0 = y[Q_AT] * f[0] + y[Q_AT + 3] * f[1] + y[Q_AT + 6] * f[2];
     let c1 = y[Q_AT + 1] * f[0] + y[Q_AT + 4] * f[1] + y[Q_AT + 7] * f[2];
     let c2 = y[Q_AT + 2] * f[0] + y[Q_AT + 5] * f[1] + y[Q_AT + 8] * f[2];
@@ -82,7 +83,7 @@ pub fn moment_about_center(b: [f64; 3], y: &State, f: [f64; 3]) -> [f64; 3] {
 
 /// Space position `R + Q b` of the body point `b`.
 #[inline(always)]
-fn body_point(b: [f64; 3], y: &State) -> [f64; 3] {
+fn body_point<T: Scalar>(b: [T; 3], y: &[T; STATE_SIZE]) -> [T; 3] {
     [
         y[R_AT] + y[Q_AT] * b[0] + y[Q_AT + 1] * b[1] + y[Q_AT + 2] * b[2],
         y[R_AT + 1] + y[Q_AT + 3] * b[0] + y[Q_AT + 4] * b[1] + y[Q_AT + 5] * b[2],
@@ -93,9 +94,10 @@ fn body_point(b: [f64; 3], y: &State) -> [f64; 3] {
 /// Uniform gravity `g`: `F = M g` at the centre of mass and no torque about it
 /// (`Σ u_i × Qᵀ m_i g = 0` since `Σ m_i u_i = 0`).
 #[inline(always)]
-fn gravity(p: &[f64; FORCE_PARAMS], body: &Body) -> [f64; 6] {
+fn gravity<T: Scalar>(p: &[T; FORCE_PARAMS], body: &Body<T>) -> [T; 6] {
     let m = body.mass;
-    [m * p[0], m * p[1], m * p[2], 0.0, 0.0, 0.0]
+    let z = T::splat(0.0);
+    [m * p[0], m * p[1], m * p[2], z, z, z]
 }
 
 /// Gravity of a point mass `μ = G M_c` at a centre, with MacCullagh's gravity-gradient terms
@@ -103,7 +105,12 @@ fn gravity(p: &[f64; FORCE_PARAMS], body: &Body) -> [f64; 6] {
 /// 15μ/(2|r|⁷) (b·Ab) r` and `τ = 3μ/|r|⁵ b × A b`, `b = Qᵀ r` (Hughes, *Spacecraft Attitude
 /// Dynamics*, §8.2). A body at the centre gives non-finite values (the engine stops there).
 #[inline(always)]
-fn central_gravity(p: &[f64; FORCE_PARAMS], body: &Body, y: &State) -> [f64; 6] {
+fn central_gravity<T: Scalar>(
+    p: &[T; FORCE_PARAMS],
+    body: &Body<T>,
+    y: &[T; STATE_SIZE],
+) -> [T; 6] {
+    let s = T::splat;
     let mu = p[0];
     let rx = y[R_AT] - p[1];
     let ry = y[R_AT + 1] - p[2];
@@ -126,21 +133,21 @@ fn central_gravity(p: &[f64; FORCE_PARAMS], body: &Body, y: &State) -> [f64; 6] 
     let tra = a[0][0] + a[1][1] + a[2][2];
     let r5 = r3 * r2;
     let r7 = r5 * r2;
-    let radial = -1.5 * mu * tra / r5 + 7.5 * mu * bab / r7;
+    let radial = s(-1.5) * mu * tra / r5 + s(7.5) * mu * bab / r7;
     let s0 = y[Q_AT] * a0 + y[Q_AT + 1] * a1 + y[Q_AT + 2] * a2; // Q A b
     let s1 = y[Q_AT + 3] * a0 + y[Q_AT + 4] * a1 + y[Q_AT + 5] * a2;
     let s2 = y[Q_AT + 6] * a0 + y[Q_AT + 7] * a1 + y[Q_AT + 8] * a2;
-    let g = 3.0 * mu / r5;
+    let g = s(3.0) * mu / r5;
     let gradient = [
-        point[0] + (radial * rx - 3.0 * mu * s0 / r5),
-        point[1] + (radial * ry - 3.0 * mu * s1 / r5),
-        point[2] + (radial * rz - 3.0 * mu * s2 / r5),
+        point[0] + (radial * rx - s(3.0) * mu * s0 / r5),
+        point[1] + (radial * ry - s(3.0) * mu * s1 / r5),
+        point[2] + (radial * rz - s(3.0) * mu * s2 / r5),
         g * (b1 * a2 - b2 * a1),
         g * (b2 * a0 - b0 * a2),
         g * (b0 * a1 - b1 * a0),
     ];
-    let plain = [point[0], point[1], point[2], 0.0, 0.0, 0.0];
-    let on = p[4] != 0.0;
+    let plain = [point[0], point[1], point[2], s(0.0), s(0.0), s(0.0)];
+    let on = p[4].unequal(s(0.0));
     [0, 1, 2, 3, 4, 5].map(|i| if on { gradient[i] } else { plain[i] })
 }
 
@@ -173,7 +180,8 @@ fn central_gravity_potential(p: &[f64; FORCE_PARAMS], body: &Body, y: &State) ->
 /// `v_b = V + Q (ω × b)`; `F = T d̂` at the point. A tether pulls only when stretched; at
 /// `ℓ = 0` the direction is undefined and the spring exerts nothing.
 #[inline(always)]
-fn spring(p: &[f64; FORCE_PARAMS], y: &State) -> [f64; 6] {
+fn spring<T: Scalar>(p: &[T; FORCE_PARAMS], y: &[T; STATE_SIZE]) -> [T; 6] {
+    let zero = T::splat(0.0);
     let b = [p[0], p[1], p[2]];
     let x = body_point(b, y);
     let dx = p[3] - x[0];
@@ -181,14 +189,14 @@ fn spring(p: &[f64; FORCE_PARAMS], y: &State) -> [f64; 6] {
     let dz = p[5] - x[2];
     let length = (dx * dx + dy * dy + dz * dz).sqrt();
     let stretch = length - p[7];
-    let mut tension = 0.0;
-    let (mut ux, mut uy, mut uz) = (0.0, 0.0, 0.0);
-    if length > 0.0 && (p[9] == 0.0 || stretch > 0.0) {
+    let mut tension = zero;
+    let (mut ux, mut uy, mut uz) = (zero, zero, zero);
+    if length.gt(zero) && (p[9].equal(zero) || stretch.gt(zero)) {
         ux = dx / length;
         uy = dy / length;
         uz = dz / length;
         tension = p[6] * stretch;
-        if p[8] != 0.0 {
+        if p[8].unequal(zero) {
             let (w0, w1, w2) = (y[OMEGA_AT], y[OMEGA_AT + 1], y[OMEGA_AT + 2]);
             let c0 = w1 * b[2] - w2 * b[1];
             let c1 = w2 * b[0] - w0 * b[2];
@@ -196,7 +204,7 @@ fn spring(p: &[f64; FORCE_PARAMS], y: &State) -> [f64; 6] {
             let vx = y[V_AT] + y[Q_AT] * c0 + y[Q_AT + 1] * c1 + y[Q_AT + 2] * c2;
             let vy = y[V_AT + 1] + y[Q_AT + 3] * c0 + y[Q_AT + 4] * c1 + y[Q_AT + 5] * c2;
             let vz = y[V_AT + 2] + y[Q_AT + 6] * c0 + y[Q_AT + 7] * c1 + y[Q_AT + 8] * c2;
-            tension -= p[8] * (ux * vx + uy * vy + uz * vz);
+            tension = tension - p[8] * (ux * vx + uy * vy + uz * vz);
         }
     }
     let f = [tension * ux, tension * uy, tension * uz];
@@ -221,7 +229,7 @@ fn spring_potential(p: &[f64; FORCE_PARAMS], y: &State) -> f64 {
 /// Linear (Stokes) drag `F = −c V` on the centre of mass and the rotational model
 /// `τ = −c_rot ω`.
 #[inline(always)]
-fn linear_drag(p: &[f64; FORCE_PARAMS], y: &State) -> [f64; 6] {
+fn linear_drag<T: Scalar>(p: &[T; FORCE_PARAMS], y: &[T; STATE_SIZE]) -> [T; 6] {
     let (c, r) = (p[0], p[1]);
     [
         -c * y[V_AT],
@@ -235,9 +243,12 @@ fn linear_drag(p: &[f64; FORCE_PARAMS], y: &State) -> [f64; 6] {
 
 /// Quadratic drag `F = −c |V| V` on the centre of mass and `τ = −c_rot |ω| ω`.
 #[inline(always)]
-fn quadratic_drag(p: &[f64; FORCE_PARAMS], y: &State) -> [f64; 6] {
-    let v = (y[V_AT].powi(2) + y[V_AT + 1].powi(2) + y[V_AT + 2].powi(2)).sqrt();
-    let w = (y[OMEGA_AT].powi(2) + y[OMEGA_AT + 1].powi(2) + y[OMEGA_AT + 2].powi(2)).sqrt();
+fn quadratic_drag<T: Scalar>(p: &[T; FORCE_PARAMS], y: &[T; STATE_SIZE]) -> [T; 6] {
+    let v = (y[V_AT] * y[V_AT] + y[V_AT + 1] * y[V_AT + 1] + y[V_AT + 2] * y[V_AT + 2]).sqrt();
+    let w = (y[OMEGA_AT] * y[OMEGA_AT]
+        + y[OMEGA_AT + 1] * y[OMEGA_AT + 1]
+        + y[OMEGA_AT + 2] * y[OMEGA_AT + 2])
+        .sqrt();
     let c = p[0] * v;
     let r = p[1] * w;
     [
@@ -253,9 +264,9 @@ fn quadratic_drag(p: &[f64; FORCE_PARAMS], y: &State) -> [f64; 6] {
 /// A constant force `f` at the body point `b`: `F = f` (space frame) or `F = Q f`
 /// (body-fixed), with its moment `b × Qᵀ F`.
 #[inline(always)]
-fn point_force(p: &[f64; FORCE_PARAMS], y: &State) -> [f64; 6] {
+fn point_force<T: Scalar>(p: &[T; FORCE_PARAMS], y: &[T; STATE_SIZE]) -> [T; 6] {
     let (f0, f1, f2) = (p[3], p[4], p[5]);
-    let f = if p[6] != 0.0 {
+    let f = if p[6].unequal(T::splat(0.0)) {
         [
             y[Q_AT] * f0 + y[Q_AT + 1] * f1 + y[Q_AT + 2] * f2,
             y[Q_AT + 3] * f0 + y[Q_AT + 4] * f1 + y[Q_AT + 5] * f2,
@@ -270,15 +281,16 @@ fn point_force(p: &[f64; FORCE_PARAMS], y: &State) -> [f64; 6] {
 
 /// A pure couple `τ`: body-fixed, or fixed in space (body components `Qᵀ τ`).
 #[inline(always)]
-fn torque(p: &[f64; FORCE_PARAMS], y: &State) -> [f64; 6] {
+fn torque<T: Scalar>(p: &[T; FORCE_PARAMS], y: &[T; STATE_SIZE]) -> [T; 6] {
+    let z = T::splat(0.0);
     let (t0, t1, t2) = (p[0], p[1], p[2]);
-    if p[3] != 0.0 {
-        return [0.0, 0.0, 0.0, t0, t1, t2];
+    if p[3].unequal(z) {
+        return [z, z, z, t0, t1, t2];
     }
     [
-        0.0,
-        0.0,
-        0.0,
+        z,
+        z,
+        z,
         y[Q_AT] * t0 + y[Q_AT + 3] * t1 + y[Q_AT + 6] * t2,
         y[Q_AT + 1] * t0 + y[Q_AT + 4] * t1 + y[Q_AT + 7] * t2,
         y[Q_AT + 2] * t0 + y[Q_AT + 5] * t1 + y[Q_AT + 8] * t2,
@@ -290,16 +302,7 @@ impl Force {
     /// mass (body frame).
     #[inline(always)]
     pub fn wrench(&self, body: &Body, _t: f64, y: &State) -> [f64; 6] {
-        let p = &self.p;
-        match self.kind {
-            ForceKind::Gravity => gravity(p, body),
-            ForceKind::CentralGravity => central_gravity(p, body, y),
-            ForceKind::Spring => spring(p, y),
-            ForceKind::LinearDrag => linear_drag(p, y),
-            ForceKind::QuadraticDrag => quadratic_drag(p, y),
-            ForceKind::PointForce => point_force(p, y),
-            ForceKind::Torque => torque(p, y),
-        }
+        wrench_of(self.kind, &self.p, body, y)
     }
 
     /// The potential energy (zero for kinds without one): `U = −M g·R` for gravity.
@@ -314,6 +317,27 @@ impl Force {
             ForceKind::Spring => spring_potential(p, y),
             _ => 0.0,
         }
+    }
+}
+
+/// The wrench of a force of kind `kind` with the parameter row `p`, in numbers of type `T`
+/// (`f64`, or dual numbers that differentiate it with respect to the state, the body and the
+/// parameters): [`Force::wrench`].
+#[inline(always)]
+pub fn wrench_of<T: Scalar>(
+    kind: ForceKind,
+    p: &[T; FORCE_PARAMS],
+    body: &Body<T>,
+    y: &[T; STATE_SIZE],
+) -> [T; 6] {
+    match kind {
+        ForceKind::Gravity => gravity(p, body),
+        ForceKind::CentralGravity => central_gravity(p, body, y),
+        ForceKind::Spring => spring(p, y),
+        ForceKind::LinearDrag => linear_drag(p, y),
+        ForceKind::QuadraticDrag => quadratic_drag(p, y),
+        ForceKind::PointForce => point_force(p, y),
+        ForceKind::Torque => torque(p, y),
     }
 }
 

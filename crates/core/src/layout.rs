@@ -7,6 +7,7 @@
 //! same layout is used in the body's *principal* frame, where Euler's equation takes its
 //! component form (27)–(29).
 
+use crate::real::Real;
 use crate::so3::{Mat3, Vec3};
 
 /// Length of the rigid-body state.
@@ -47,21 +48,23 @@ pub const BODY_SIZE: usize = 25;
 pub const FORCE_PARAMS: usize = 10;
 
 /// A rigid body as the engine reads it (principal frame of the inertia about the reference
-/// point: the centre of mass, or the pivot).
+/// point: the centre of mass, or the pivot). Its numbers are `f64`, or dual numbers
+/// ([`crate::dual::Dual`]) where a run differentiates with respect to them
+/// ([`Body::lift`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Body {
-    pub mass: f64,
-    pub inv_mass: f64,
+pub struct Body<T = f64> {
+    pub mass: T,
+    pub inv_mass: T,
     /// Ascending principal moments about the reference point.
-    pub moments: Vec3,
+    pub moments: [T; 3],
     /// `1/I_k`, or 0 where `I_k = 0`.
-    pub inv_moments: Vec3,
+    pub inv_moments: [T; 3],
     /// Centre of mass seen from the reference point (zero for a free body).
-    pub com_offset: Vec3,
+    pub com_offset: [T; 3],
     /// Inertia about the centre of mass.
-    pub inertia_com: Mat3,
+    pub inertia_com: [[T; 3]; 3],
     /// The fixed point in space.
-    pub pivot: Vec3,
+    pub pivot: [T; 3],
     pub has_pivot: bool,
     /// Free-rotor flow: −1 asymmetric, k ∈ {0, 2} symmetric about axis k.
     pub rotor: i32,
@@ -122,6 +125,43 @@ impl Body {
         out[HAS_PIVOT] = if has_pivot { 1.0 } else { 0.0 };
         out[ROTOR] = rotor as f64;
         out
+    }
+}
+
+impl Body {
+    /// The body in numbers of type `T` (dual numbers: their derivatives zero), its principal
+    /// moments `I_k` moved by `dm[k]` (the derivative seeds of the moments): the inverse
+    /// moments `1/I_k` then carry `−dm[k]/I_k²`, and the inertia about the centre of mass,
+    /// `A_G = A_P − M (|c|² 1 − c cᵀ)` in the same principal axes, its diagonal `dm[k]`.
+    pub fn lift<T: Real>(&self, dm: [T; 3]) -> Body<T> {
+        let s = T::splat;
+        let moments = [0, 1, 2].map(|k| s(self.moments[k]) + dm[k]);
+        Body {
+            mass: s(self.mass),
+            inv_mass: s(self.inv_mass),
+            inv_moments: [0, 1, 2].map(|k| {
+                if self.moments[k] != 0.0 {
+                    s(1.0) / moments[k]
+                } else {
+                    s(0.0)
+                }
+            }),
+            moments,
+            com_offset: self.com_offset.map(s),
+            inertia_com: [0, 1, 2].map(|i| {
+                [0, 1, 2].map(|j| {
+                    let a = s(self.inertia_com[i][j]);
+                    if i == j {
+                        a + dm[i]
+                    } else {
+                        a
+                    }
+                })
+            }),
+            pivot: self.pivot.map(s),
+            has_pivot: self.has_pivot,
+            rotor: self.rotor,
+        }
     }
 }
 

@@ -29,6 +29,7 @@
 
 pub mod cmath;
 pub mod drivers;
+pub mod dual;
 pub mod elliptic;
 pub mod ensemble;
 pub mod events;
@@ -50,6 +51,7 @@ pub mod real;
 pub mod relative;
 pub mod rigid;
 pub mod run;
+pub mod sensitivity;
 pub mod shapes;
 pub mod so3;
 pub mod spec;

@@ -86,9 +86,16 @@ pub trait Real:
     fn norm2(a: Self, b: Self, plain: &mut Self::Mask) -> Self;
 }
 
+/// A [`Real`] one number at a time (its comparisons are plain `bool`): `f64`, and the dual
+/// numbers of [`crate::dual`]. Formulas that branch on their data (the forces' switches, a
+/// slack tether) are generic over it.
+pub trait Scalar: Real<Mask = bool> {}
+
+impl<T: Real<Mask = bool>> Scalar for T {}
+
 /// Whether `√(a² + b²)` may be taken as the square root of the sum `s = a² + b²`.
 #[inline(always)]
-fn sum_of_squares_is_safe(s: f64) -> bool {
+pub(crate) fn sum_of_squares_is_safe(s: f64) -> bool {
     s.is_normal() && s < 1e300
 }
 

@@ -10,6 +10,7 @@
 //!   [`state_to_principal`], [`state_from_principal`].
 
 use crate::layout::{Body, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
+use crate::real::Real;
 use crate::so3::{exp_so3, Mat3, Vec3};
 
 /// A rigid-body state `[R, V, Q, ω]`.
@@ -19,7 +20,12 @@ pub type State = [f64; STATE_SIZE];
 /// `I1 ω̇1 = τ1 + (I2 − I3) ω2 ω3` and cyclically. `inv[k] = 1/I_k`, or 0 where `I_k = 0`
 /// (a degenerate body: no angular acceleration about its line, the minimum-norm solution).
 #[inline(always)]
-pub fn omega_dot_principal(moments: Vec3, inv: Vec3, w: Vec3, tau: Vec3) -> Vec3 {
+pub fn omega_dot_principal<T: Real>(
+    moments: [T; 3],
+    inv: [T; 3],
+    w: [T; 3],
+    tau: [T; 3],
+) -> [T; 3] {
     let [i1, i2, i3] = moments;
     [
         inv[0] * (tau[0] + (i2 - i3) * w[1] * w[2]),
@@ -60,7 +66,7 @@ pub fn omega_dot_free_acc(c: Vec3, b: &Vec3, a: f64, w: &Vec3) -> Vec3 {
 /// Row `i` of `Q̇ = QΩ` (09): `q_i × ω` (`q_i` row i of Q, ω body components). Each row of
 /// the attitude moves on its own, driven by ω.
 #[inline(always)]
-pub fn attitude_row_rate(q: &[f64; 3], w: Vec3) -> [f64; 3] {
+pub fn attitude_row_rate<T: Real>(q: &[T; 3], w: [T; 3]) -> [T; 3] {
     let [w0, w1, w2] = w;
     [
         q[1] * w2 - q[2] * w1,
@@ -83,7 +89,7 @@ pub fn attitude_row_acc(b: &[f64; 3], a: f64, q: &[f64; 3], w: &Vec3) -> [f64; 3
 
 /// `Q̇ = QΩ` (09), row by row ([`attitude_row_rate`]; Q row-major, ω body components).
 #[inline(always)]
-pub fn attitude_rate(q: &[f64], w: Vec3) -> [f64; 9] {
+pub fn attitude_rate<T: Real>(q: &[T], w: [T; 3]) -> [T; 9] {
     let r0 = attitude_row_rate(&[q[0], q[1], q[2]], w);
     let r1 = attitude_row_rate(&[q[3], q[4], q[5]], w);
     let r2 = attitude_row_rate(&[q[6], q[7], q[8]], w);
@@ -95,7 +101,7 @@ pub fn attitude_rate(q: &[f64], w: Vec3) -> [f64; 9] {
 /// The torque about the reference point, `τ_P = τ_G + c × Qᵀ F` (`c` the centre of mass seen
 /// from the reference point, body frame; zero for a free body).
 #[inline(always)]
-pub fn shift_torque_to_pivot(body: &Body, y: &State, w: [f64; 6]) -> [f64; 6] {
+pub fn shift_torque_to_pivot<T: Real>(body: &Body<T>, y: &[T; STATE_SIZE], w: [T; 6]) -> [T; 6] {
     let [c0, c1, c2] = body.com_offset;
     let (fx, fy, fz) = (w[0], w[1], w[2]);
     let b0 = y[Q_AT] * fx + y[Q_AT + 3] * fy + y[Q_AT + 6] * fz; // Qᵀ F
@@ -114,7 +120,11 @@ pub fn shift_torque_to_pivot(body: &Body, y: &State, w: [f64; 6]) -> [f64; 6] {
 /// `ẏ` of a free body under the force `F` (space frame) and the torque `τ` about its centre
 /// of mass (principal frame), eqs (07)–(09): `M R̈ = F`, Euler's equation (27)–(29), `Q̇ = QΩ`.
 #[inline(always)]
-pub fn free_rigid_rates(body: &Body, y: &State, w: [f64; 6]) -> State {
+pub fn free_rigid_rates<T: Real>(
+    body: &Body<T>,
+    y: &[T; STATE_SIZE],
+    w: [T; 6],
+) -> [T; STATE_SIZE] {
     let om = [y[OMEGA_AT], y[OMEGA_AT + 1], y[OMEGA_AT + 2]];
     let a = attitude_rate(&y[Q_AT..Q_AT + 9], om);
     let d = omega_dot_principal(body.moments, body.inv_moments, om, [w[3], w[4], w[5]]);
@@ -146,7 +156,7 @@ pub fn free_rigid_rates(body: &Body, y: &State, w: [f64; 6]) -> State {
 /// slaved to the attitude and `R̈ = Q (ω̇ × c + ω × (ω × c))` (the pivot's reaction does the
 /// rest).
 #[inline(always)]
-pub fn rigid_rates(body: &Body, y: &State, w: [f64; 6]) -> State {
+pub fn rigid_rates<T: Real>(body: &Body<T>, y: &[T; STATE_SIZE], w: [T; 6]) -> [T; STATE_SIZE] {
     let mut r = free_rigid_rates(body, y, w);
     if body.has_pivot {
         let (w0, w1, w2) = (y[OMEGA_AT], y[OMEGA_AT + 1], y[OMEGA_AT + 2]);
@@ -169,7 +179,7 @@ pub fn rigid_rates(body: &Body, y: &State, w: [f64; 6]) -> State {
 /// The state with `R = P + Q c` and `V = Q (ω × c)` reset from the attitude, so that the pivot
 /// stays exactly fixed; unchanged for a free body.
 #[inline(always)]
-pub fn pivot_constrained(body: &Body, mut y: State) -> State {
+pub fn pivot_constrained<T: Real>(body: &Body<T>, mut y: [T; STATE_SIZE]) -> [T; STATE_SIZE] {
     if body.has_pivot {
         let [c0, c1, c2] = body.com_offset;
         let (w0, w1, w2) = (y[OMEGA_AT], y[OMEGA_AT + 1], y[OMEGA_AT + 2]);

@@ -543,11 +543,14 @@ pub fn dop853_step<S: VectorField + ?Sized>(
 
 /// The scaled error of the last DOP853 step: Hairer's combination of the 5th- and 3rd-order
 /// estimators, `|h| Σe5² / √((Σe5² + 0.01 Σe3²) n)` with `e = (Σ_i E_i k_i)/sc`,
-/// `sc = atol + rtol max(|y|, |y_new|)`. A step is accepted below 1.
+/// `sc = atol + rtol max(|y|, |y_new|)`, over the first `n_err` of the `n` components
+/// ([`crate::system::VectorField::error_dim`]). A step is accepted below 1.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn dop853_error_norm(
     k: &[f64],
     n: usize,
+    n_err: usize,
     h: f64,
     y: &[f64],
     y_new: &[f64],
@@ -556,7 +559,7 @@ pub fn dop853_error_norm(
 ) -> f64 {
     let mut e5 = 0.0;
     let mut e3 = 0.0;
-    for idx in 0..n {
+    for idx in 0..n_err {
         let scale = atol + y[idx].abs().max(y_new[idx].abs()) * rtol;
         let mut a5 = 0.0;
         let mut a3 = 0.0;
@@ -572,7 +575,7 @@ pub fn dop853_error_norm(
     if e5 == 0.0 && e3 == 0.0 {
         return 0.0;
     }
-    h.abs() * e5 / ((e5 + 0.01 * e3) * n as f64).sqrt()
+    h.abs() * e5 / ((e5 + 0.01 * e3) * n_err as f64).sqrt()
 }
 
 /// The coefficients `fd` (7 · n) of the 7th-order interpolant over the last step

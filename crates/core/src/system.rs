@@ -8,7 +8,9 @@
 //! 3. [`VectorField::project`]: put `y` back on the system's constraint manifold at `t`, in
 //!    place, and say whether the system is constrained (the drivers then recompute a cached
 //!    derivative). Unconstrained systems keep the default, a no-op returning `false`.
-//! 4. [`VectorField::failed`]: a system that calls out (a Python callback) reports here that a
+//! 4. [`VectorField::error_dim`]: the leading components the adaptive error control weighs
+//!    (all by default).
+//! 5. [`VectorField::failed`]: a system that calls out (a Python callback) reports here that a
 //!    call failed; the drivers stop with [`crate::drivers::Status::CallbackFailed`].
 //!
 //! Rigid bodies offer more structure ([`RigidStructure`]): their parameters, for the steppers
@@ -30,6 +32,13 @@ pub trait VectorField {
     #[inline(always)]
     fn project(&self, _t: f64, _y: &mut [f64]) -> bool {
         false
+    }
+    /// How many leading components of the state the adaptive method's error control weighs:
+    /// all of them, unless the system says otherwise (a run with forward sensitivities may
+    /// leave them out of the control, as CVODES lets it).
+    #[inline(always)]
+    fn error_dim(&self) -> usize {
+        self.dim()
     }
     /// True once a call out of the engine (a user callback) has failed.
     #[inline(always)]

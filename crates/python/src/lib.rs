@@ -17,6 +17,7 @@ mod lagrange;
 mod lagrange_run;
 mod relative;
 mod rigid;
+mod sensitivity;
 mod spec;
 mod tops;
 
@@ -55,6 +56,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
         m.add(name, status as i64)?;
     }
     rigid::register(m)?;
+    sensitivity::register(m)?;
     relative::register(m)?;
     geometry::register(m)?;
     exact::register(m)?;

@@ -1,0 +1,282 @@
+//! Forward sensitivities of a rigid body's run (`docs/sensitivities.md`): the derivatives
+//! `S_j(t) = ∂y(t)/∂p_j` of the state with respect to `P` parameters, integrated alongside the
+//! motion as the variational equations `Ṡ_j = ∂f/∂y S_j + ∂f/∂p_j`, by the same method and
+//! the same steps (Hairer, Nørsett & Wanner, *Solving ODEs I*, §I.14).
+//!
+//! **No derivative is written by hand.** The right-hand side is the engine's own, eqs
+//! (07)–(09) with the built-in forces ([`rigid_rates`], [`wrench_of`]), evaluated on dual
+//! numbers ([`Dual`]): the state's derivative parts are the columns `S_j`, the body's
+//! principal moments and the forces' parameter rows carry their own seeds, and the result's
+//! derivative parts are `∂f/∂y S_j + ∂f/∂p_j` exactly. The directions run [`BLOCK`] at a time,
+//! one AVX-512 instruction per operation of their derivatives.
+//!
+//! **Discrete sensitivities.** An explicit Runge–Kutta method applied to the augmented system
+//! `(y, S)` computes, in `S`, the exact derivative of its own `y` map (the method is linear in
+//! its stages, so differentiating the step and stepping the variational equations commute:
+//! Hairer, Nørsett & Wanner, §II.6 on internal differentiation). With RK4 or an explicit
+//! tableau at a fixed step, `S` is the derivative of what was computed, to round-off; with
+//! DOP853 the accepted steps are held (their dependence on `p` is not differentiated, as in
+//! CVODES) and the error control weighs `S` too unless [`Sensitive::control_all`] is off.
+//!
+//! The augmented state is `[y (18), S_1 (18), …, S_P (18)]`: the motion in the engine's
+//! principal frame and each direction's column after it.
+
+use crate::dual::Dual;
+use crate::forces::{wrench_of, Force};
+use crate::layout::{Body, FORCE_PARAMS, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
+use crate::real::Real;
+use crate::rigid::{pivot_constrained, rigid_rates, shift_torque_to_pivot, State};
+use crate::so3::{exp_so3, Mat3};
+use crate::system::VectorField;
+
+/// Directions per dual evaluation: eight derivatives, one AVX-512 register.
+pub const BLOCK: usize = 8;
+
+type D = Dual<BLOCK>;
+
+/// What a direction's initial column moves: nothing (a parameter of the body or a force),
+/// or one component of the initial state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Start {
+    /// A parameter: the initial column is zero.
+    None,
+    /// `ω0_k`: in the body frame, or in the space frame where the run reads ω0 there.
+    Omega(usize),
+    /// The rotation vector `δ_k` of the initial attitude, `Q0 → exp(δ̂) Q0` (space frame).
+    Attitude(usize),
+    /// `R0_k`.
+    Position(usize),
+    /// `V0_k`.
+    Velocity(usize),
+}
+
+impl Start {
+    /// The start of a code pair `(kind, k)`: 0 none, 1 ω0, 2 attitude, 3 R0, 4 V0; `None`
+    /// for an unknown code or a component outside 0..3.
+    pub fn from_code(kind: i64, k: i64) -> Option<Start> {
+        let k = usize::try_from(k).ok().filter(|k| *k < 3)?;
+        Some(match kind {
+            0 => Start::None,
+            1 => Start::Omega(k),
+            2 => Start::Attitude(k),
+            3 => Start::Position(k),
+            4 => Start::Velocity(k),
+            _ => return None,
+        })
+    }
+}
+
+/// The augmented system `(y, S)` of a body under built-in forces: [`VectorField`] of
+/// dimension `18 (1 + P)`.
+pub struct Sensitive<'a> {
+    pub body: Body,
+    pub forces: &'a [Force],
+    /// The number of directions `P`.
+    pub p: usize,
+    /// Per direction, the derivative seeds of the three principal moments (engine order).
+    pub moment_seeds: Vec<[f64; 3]>,
+    /// Per direction and force (`j · forces + i`), the seeds of the force's parameter row.
+    pub force_seeds: Vec<[f64; FORCE_PARAMS]>,
+    /// Whether DOP853's error control weighs the sensitivities (CVODES' `errconS`).
+    pub control_all: bool,
+}
+
+impl Sensitive<'_> {
+    /// Directions `lo..hi` (at most [`BLOCK`]) of the augmented state `y` as dual numbers.
+    #[inline(always)]
+    fn state_block(y: &[f64], lo: usize, hi: usize) -> [D; STATE_SIZE] {
+        let mut yd = [D::default(); STATE_SIZE];
+        for (i, x) in yd.iter_mut().enumerate() {
+            x.v = y[i];
+            for l in 0..hi - lo {
+                x.d[l] = y[STATE_SIZE * (1 + lo + l) + i];
+            }
+        }
+        yd
+    }
+
+    /// Write the dual state `r` back: its value (when `value`) and directions `lo..hi`.
+    #[inline(always)]
+    fn write_block(r: &[D; STATE_SIZE], out: &mut [f64], lo: usize, hi: usize, value: bool) {
+        for (i, x) in r.iter().enumerate() {
+            if value {
+                out[i] = x.v;
+            }
+            for l in 0..hi - lo {
+                out[STATE_SIZE * (1 + lo + l) + i] = x.d[l];
+            }
+        }
+    }
+
+    /// The blocks of directions, `(lo, hi)`.
+    fn blocks(&self) -> impl Iterator<Item = (usize, usize)> {
+        let p = self.p;
+        (0..p.div_ceil(BLOCK).max(1)).map(move |b| (b * BLOCK, ((b + 1) * BLOCK).min(p)))
+    }
+
+    /// A seed of directions `lo..hi`: `v` with the derivatives `seed(j)`.
+    #[inline(always)]
+    fn seeded(v: f64, lo: usize, hi: usize, seed: impl Fn(usize) -> f64) -> D {
+        let mut x = D::splat(v);
+        for l in 0..hi - lo {
+            x.d[l] = seed(lo + l);
+        }
+        x
+    }
+}
+
+impl VectorField for Sensitive<'_> {
+    #[inline(always)]
+    fn dim(&self) -> usize {
+        STATE_SIZE * (1 + self.p)
+    }
+
+    /// `ẏ = f(y, p)` and `Ṡ_j = ∂f/∂y S_j + ∂f/∂p_j`: the engine's rates (eqs (07)–(09) with
+    /// the built-in forces about the reference point) on dual numbers.
+    fn rhs(&self, _t: f64, y: &[f64], out: &mut [f64]) {
+        let nf = self.forces.len();
+        for (lo, hi) in self.blocks() {
+            let yd = Self::state_block(y, lo, hi);
+            let dm = [0, 1, 2].map(|k| Self::seeded(0.0, lo, hi, |j| self.moment_seeds[j][k]));
+            let body = self.body.lift(dm);
+            let mut w = [D::splat(0.0); 6];
+            for (i, f) in self.forces.iter().enumerate() {
+                let p: [D; FORCE_PARAMS] = std::array::from_fn(|m| {
+                    Self::seeded(f.p[m], lo, hi, |j| self.force_seeds[j * nf + i][m])
+                });
+                let v = wrench_of(f.kind, &p, &body, &yd);
+                for k in 0..6 {
+                    w[k] = w[k] + v[k];
+                }
+            }
+            let r = rigid_rates(&body, &yd, shift_torque_to_pivot(&body, &yd, w));
+            Self::write_block(&r, out, lo, hi, lo == 0);
+        }
+    }
+
+    /// About a pivot, `R = P + Q c` and `V = Q (ω × c)` reset from the attitude
+    /// ([`pivot_constrained`]), and their sensitivities with them.
+    fn project(&self, _t: f64, y: &mut [f64]) -> bool {
+        if !self.body.has_pivot {
+            return false;
+        }
+        let body = self.body.lift([D::splat(0.0); 3]);
+        for (lo, hi) in self.blocks() {
+            let r = pivot_constrained(&body, Self::state_block(y, lo, hi));
+            Self::write_block(&r, y, lo, hi, lo == 0);
+        }
+        true
+    }
+
+    #[inline(always)]
+    fn error_dim(&self) -> usize {
+        if self.control_all {
+            self.dim()
+        } else {
+            STATE_SIZE
+        }
+    }
+}
+
+/// The augmented initial state `[z0, S_1(0), …, S_P(0)]` (`18 (1 + P)`) of the engine state
+/// `z0` (principal frame; `axes` the principal axes as columns in body coordinates) and the
+/// directions' starts: the derivatives of the initial state the run builds from ω0 (body
+/// frame, or space frame when `omega_space`: `ω = Q0ᵀ ω0`), `Q0 → exp(δ̂) Q0`, `R0` and `V0`,
+/// by the same dual numbers (the rotation's [`exp_so3`] at `δ = 0`, the pivot's
+/// [`pivot_constrained`] about a pivot).
+pub fn initial_tangents(
+    body: &Body,
+    axes: &Mat3,
+    z0: &State,
+    starts: &[Start],
+    omega_space: bool,
+) -> Vec<f64> {
+    let p = starts.len();
+    let mut out = vec![0.0; STATE_SIZE * (1 + p)];
+    out[..STATE_SIZE].copy_from_slice(z0);
+    let lifted = body.lift([D::splat(0.0); 3]);
+    for lo in (0..p.max(1)).step_by(BLOCK) {
+        let hi = (lo + BLOCK).min(p);
+        let seed = |what: fn(Start) -> Option<usize>, k: usize| {
+            let mut x = D::splat(0.0);
+            for l in 0..hi - lo {
+                x.d[l] = if what(starts[lo + l]) == Some(k) {
+                    1.0
+                } else {
+                    0.0
+                };
+            }
+            x
+        };
+        let omega = |s: Start| {
+            if let Start::Omega(k) = s {
+                Some(k)
+            } else {
+                None
+            }
+        };
+        let turn = |s: Start| {
+            if let Start::Attitude(k) = s {
+                Some(k)
+            } else {
+                None
+            }
+        };
+        let at_r = |s: Start| {
+            if let Start::Position(k) = s {
+                Some(k)
+            } else {
+                None
+            }
+        };
+        let at_v = |s: Start| {
+            if let Start::Velocity(k) = s {
+                Some(k)
+            } else {
+                None
+            }
+        };
+        let mut y = [D::default(); STATE_SIZE];
+        // Q = exp(δ̂) Q0 (engine Q = Q_body E: the space-frame turn acts alike on both)
+        let e = exp_so3([0, 1, 2].map(|k| seed(turn, k)));
+        for r in 0..3 {
+            for c in 0..3 {
+                let mut q = D::splat(0.0);
+                for m in 0..3 {
+                    q = q + e[r][m] * D::splat(z0[Q_AT + 3 * m + c]);
+                }
+                y[Q_AT + 3 * r + c] = q;
+            }
+        }
+        // ω0 as the run read it: ω_p = Eᵀ ω_body, or ω_p = Qᵀ ω_space
+        let w_p = [0, 1, 2].map(|k| D::splat(z0[OMEGA_AT + k]));
+        for j in 0..3 {
+            let mut w = D::splat(0.0);
+            for k in 0..3 {
+                w = w + if omega_space {
+                    let ws: f64 = (0..3).map(|c| z0[Q_AT + 3 * k + c] * w_p[c].v).sum();
+                    y[Q_AT + 3 * k + j] * (D::splat(ws) + seed(omega, k))
+                } else {
+                    let wb: f64 = (0..3).map(|c| axes[k][c] * w_p[c].v).sum();
+                    D::splat(axes[k][j]) * (D::splat(wb) + seed(omega, k))
+                };
+            }
+            y[OMEGA_AT + j] = w;
+        }
+        for k in 0..3 {
+            y[R_AT + k] = D::splat(z0[R_AT + k]) + seed(at_r, k);
+            y[V_AT + k] = D::splat(z0[V_AT + k]) + seed(at_v, k);
+        }
+        let y = pivot_constrained(&lifted, y);
+        for (i, x) in y.iter().enumerate() {
+            for l in 0..hi - lo {
+                out[STATE_SIZE * (1 + lo + l) + i] = x.d[l];
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+#[path = "sensitivity_tests.rs"]
+mod tests;

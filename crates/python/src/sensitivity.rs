@@ -1,0 +1,136 @@
+//! Bindings of the forward sensitivities of a rigid body's run (`poinsot_core::sensitivity`):
+//! the augmented initial state of the directions, and the run of the augmented system in the
+//! run's buffers (`poinsot.integrate.driver`). Checks at the boundary name the argument.
+
+use crate::arrays::{Floats1, Floats2, Ints1};
+use crate::engine::in_chunks;
+use numpy::{IntoPyArray, PyArray1};
+use poinsot_core::layout::{load, FORCE_PARAMS, STATE_SIZE};
+use poinsot_core::observers::NoObserver;
+use poinsot_core::sensitivity::{initial_tangents, Sensitive, Start};
+use pyo3::prelude::*;
+
+use crate::args::{body_from, forces_from, mat3_from, value_error};
+use crate::spec::{RunSpec, RunState};
+
+/// The directions' starts from their codes `kinds` (p,) and `components` (p,).
+fn starts_from(kinds: &[i64], components: &[i64]) -> PyResult<Vec<Start>> {
+    if kinds.len() != components.len() {
+        return Err(value_error(format!(
+            "`components` must have one entry per direction ({}), found {}",
+            kinds.len(),
+            components.len()
+        )));
+    }
+    kinds
+        .iter()
+        .zip(components)
+        .enumerate()
+        .map(|(j, (&kind, &k))| {
+            Start::from_code(kind, k).ok_or_else(|| {
+                value_error(format!(
+                    "direction {j}: unknown start ({kind}, {k}); kinds are 0 (a parameter), \
+                     1 (omega0), 2 (Q0), 3 (R0), 4 (V0), components 0, 1 or 2"
+                ))
+            })
+        })
+        .collect()
+}
+
+/// The augmented initial state `[z0, S_1(0), …, S_P(0)]` (18 (1 + P),): `z0` (18,) the engine
+/// state (principal frame), `axes` (3, 3) the principal axes as columns, each direction's
+/// start `kinds[j]` (0 a parameter, 1 ω0, 2 the rotation vector of Q0, 3 R0, 4 V0) and
+/// component `components[j]`; `omega_space`: ω0 was given in the space frame.
+#[pyfunction]
+#[pyo3(signature = (body, axes, z0, kinds, components, omega_space=false))]
+fn sensitivity_start<'py>(
+    py: Python<'py>,
+    body: Floats1<'py>,
+    axes: Floats2<'py>,
+    z0: Floats1<'py>,
+    kinds: Ints1<'py>,
+    components: Ints1<'py>,
+    omega_space: bool,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let body = body_from(body.as_slice()?)?;
+    let axes = mat3_from(&axes, "axes")?;
+    let z0 = z0.as_slice()?;
+    if z0.len() != STATE_SIZE {
+        return Err(value_error(format!(
+            "`z0` must hold {STATE_SIZE} numbers, found {}",
+            z0.len()
+        )));
+    }
+    let starts = starts_from(kinds.as_slice()?, components.as_slice()?)?;
+    Ok(initial_tangents(&body, &axes, &load(z0), &starts, omega_space).into_pyarray(py))
+}
+
+/// Integrate a body under built-in forces with the forward sensitivities of `P` directions,
+/// for at most `steps` more steps of the run `spec` (RK4, an explicit tableau or DOP853), in
+/// `state` (its state the augmented `18 (1 + P)`, from `sensitivity_start`). Each direction
+/// moves the principal moments by `moment_seeds[j]` (P, 3) and force `i`'s parameter row by
+/// `force_seeds[j, i·10 : (i+1)·10]` (P, 10 k); `control_all`: DOP853's error control weighs
+/// the sensitivities too. Returns the status (also `state.status`).
+#[pyfunction]
+#[pyo3(signature = (body, force_kind, force_params, moment_seeds, force_seeds, control_all, spec, state, steps))]
+#[allow(clippy::too_many_arguments)]
+fn integrate_sensitivities<'py>(
+    py: Python<'py>,
+    body: Floats1<'py>,
+    force_kind: Ints1<'py>,
+    force_params: Floats2<'py>,
+    moment_seeds: Floats2<'py>,
+    force_seeds: Floats2<'py>,
+    control_all: bool,
+    spec: PyRef<'py, RunSpec>,
+    mut state: PyRefMut<'py, RunState>,
+    steps: u64,
+) -> PyResult<i64> {
+    let body = body_from(body.as_slice()?)?;
+    let forces = forces_from(force_kind.as_slice()?, &force_params)?;
+    let (ms, fs) = (moment_seeds.as_array(), force_seeds.as_array());
+    let p = ms.nrows();
+    if p == 0 || ms.ncols() != 3 {
+        return Err(value_error(format!(
+            "`moment_seeds` must have shape (P, 3) with P ≥ 1, found {:?}",
+            ms.shape()
+        )));
+    }
+    let nf = forces.len();
+    if fs.nrows() != p || fs.ncols() != nf * FORCE_PARAMS {
+        return Err(value_error(format!(
+            "`force_seeds` must have shape ({p}, {}), found {:?}",
+            nf * FORCE_PARAMS,
+            fs.shape()
+        )));
+    }
+    let mut force_rows = Vec::with_capacity(p * nf);
+    for j in 0..p {
+        for i in 0..nf {
+            force_rows.push(std::array::from_fn(|m| fs[[j, i * FORCE_PARAMS + m]]));
+        }
+    }
+    let sys = Sensitive {
+        body,
+        forces: &forces,
+        p,
+        moment_seeds: (0..p)
+            .map(|j| [ms[[j, 0]], ms[[j, 1]], ms[[j, 2]]])
+            .collect(),
+        force_seeds: force_rows,
+        control_all,
+    };
+    let state = &mut *state;
+    let mut run = state.run(&spec, STATE_SIZE * (1 + p), false)?;
+    let status = in_chunks(py, &mut run, steps, |r, n| {
+        py.detach(|| r.chunk(&sys, &mut NoObserver, n))
+    })?;
+    state.status = status;
+    Ok(status as i64)
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(sensitivity_start, m)?)?;
+    m.add_function(wrap_pyfunction!(integrate_sensitivities, m)?)?;
+    Ok(())
+}

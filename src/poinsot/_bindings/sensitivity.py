@@ -1,0 +1,7 @@
+"""Forward sensitivities of a rigid body's run: the augmented initial state of the directions
+and the run of the augmented system (``crates/core/src/sensitivity.rs``, ``dual.rs``).
+"""
+
+from .._core import integrate_sensitivities, sensitivity_start
+
+__all__ = ["integrate_sensitivities", "sensitivity_start"]

@@ -1,0 +1,224 @@
+"""Forward sensitivities of a rigid body's run: ``∂y(tᵢ)/∂p`` at every sample.
+
+A run asks for them through its spec, ``simulate(..., sensitivities=("omega0", "inertia"))``;
+the result's :meth:`Trajectory.sensitivity(output, wrt) <poinsot.trajectory.Trajectory.
+sensitivity>` returns them. The parameters ``p`` (the *directions*) are named by
+:data:`WRT` or by a force: ``"forces[i]"`` (every numeric parameter of the i-th force) or
+``"forces[i].name"`` (one of them, :meth:`~poinsot.forces.Force.sensitive_parameters`).
+
+The variational equations ``Ṡ = ∂f/∂y S + ∂f/∂p`` are integrated in the compiled core
+alongside the motion, by the same method and steps, on dual numbers: no derivative is
+written by hand (``crates/core/src/sensitivity.rs``; ``docs/sensitivities.md``). This module
+only names the directions and moves the results between frames; it holds no physics.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import layout
+from ._bindings import sensitivity as core_sensitivity
+from .integrate.problem import NativeProblem
+
+__all__ = [
+    "OUTPUTS",
+    "SENSITIVE_METHODS",
+    "WRT",
+    "Directions",
+    "SensitiveSystem",
+    "Sensitivities",
+    "directions",
+]
+
+#: The parameters a run differentiates with respect to, with their sizes and meaning.
+WRT = {
+    "omega0": (3, "the initial angular velocity ω0, in the frame it was given (omega_frame)"),
+    "Q0": (3, "the rotation vector δ of the initial attitude, Q0 → exp(δ̂) Q0 (space frame)"),
+    "R0": (3, "the initial centre of mass (free body)"),
+    "V0": (3, "the initial velocity of the centre of mass (free body)"),
+    "inertia": (3, "the principal moments about the reference point, in the order of "
+                   "RigidBodySystem.principal_moments (ascending)"),
+}  # fmt: skip
+#: The outputs a sensitivity is taken of: blocks of the body-frame state.
+OUTPUTS = {**layout.STATE_SLICES, "state": slice(0, layout.STATE_SIZE)}
+#: The methods whose runs carry sensitivities: the core's kinds for any vector field
+#: (classical RK4, explicit tableaux, DOP853).
+SENSITIVE_METHODS = frozenset({"rk4", "erk", "dop853"})
+
+_START = {"omega0": 1, "Q0": 2, "R0": 3, "V0": 4}
+_FORCE = re.compile(r"forces\[(\d+)\](?:\.(\w+))?$")
+
+
+@dataclass(frozen=True)
+class Directions:
+    """The directions of a run's sensitivities, in the order of its columns.
+
+    Attributes
+    ----------
+    names : tuple of str
+        The parameters asked for (``wrt``), in order.
+    columns : dict
+        ``name → slice`` of the columns of each.
+    labels : tuple of str
+        One label per column (``"omega0[0]"``, ``"forces[1].stiffness"``).
+    kinds, components : ndarray (P,)
+        Each column's start in the initial state (the core's codes: 0 a parameter).
+    moment_seeds : ndarray (P, 3)
+    force_seeds : ndarray (P, 10 k)
+        Each column's seeds of the principal moments and of the lowered force rows.
+    """
+
+    names: tuple
+    columns: dict
+    labels: tuple
+    kinds: np.ndarray
+    components: np.ndarray
+    moment_seeds: np.ndarray
+    force_seeds: np.ndarray
+
+    @property
+    def size(self) -> int:
+        return len(self.labels)
+
+
+def directions(system, wrt) -> Directions:
+    """The :class:`Directions` of ``wrt`` (a name or a sequence of names) for a
+    :class:`~poinsot.dynamics.RigidBodySystem`, checked: each name known, once, and with an
+    effect on this system."""
+    names = (wrt,) if isinstance(wrt, str) else tuple(wrt)
+    if not names:
+        raise ValueError("`sensitivities` must name at least one parameter")
+    nf = len(system.force_kind)
+    kinds, comps, moments, forces, labels, columns = [], [], [], [], [], {}
+    for i, name in enumerate(names):
+        if not isinstance(name, str):
+            raise TypeError(f"`sensitivities[{i}]` must be a name, found {name!r}")
+        if name in columns:
+            raise ValueError(f"`sensitivities[{i}]`: {name!r} is named twice")
+        start = len(labels)
+        for label, kind, comp, dm, df in _columns(system, name, i, nf):
+            labels.append(label)
+            kinds.append(kind)
+            comps.append(comp)
+            moments.append(dm)
+            forces.append(df)
+        columns[name] = slice(start, len(labels))
+    seeds = np.array(forces, dtype=float).reshape(len(labels), nf * layout.FORCE_PARAMS)
+    return Directions(names, columns, tuple(labels), np.array(kinds, dtype=np.int64),
+                      np.array(comps, dtype=np.int64), np.array(moments, dtype=float),
+                      seeds)  # fmt: skip
+
+
+def _columns(system, name, i, nf):
+    """The columns of one name: ``(label, start kind, component, moment seeds, force
+    seeds)``."""
+    zero_f = np.zeros((nf, layout.FORCE_PARAMS))
+    if name in _START:
+        if system.pivot is not None and name in ("R0", "V0"):
+            raise ValueError(f"`sensitivities[{i}]`: {name!r} has no effect about a pivot (the "
+                             "pivot sets the centre of mass and its velocity)")  # fmt: skip
+        return [(f"{name}[{k}]", _START[name], k, np.zeros(3), zero_f) for k in range(3)]
+    if name == "inertia":
+        return [(f"inertia[{k}]", 0, 0, np.eye(3)[k], zero_f) for k in range(3)]
+    m = _FORCE.match(name)
+    if m is None:
+        known = ", ".join(repr(n) for n in WRT)
+        raise ValueError(f"`sensitivities[{i}]`: unknown parameter {name!r}; known: {known}, "
+                         "'forces[i]' and 'forces[i].<parameter>'")  # fmt: skip
+    k, which = int(m.group(1)), m.group(2)
+    if k >= len(system.forces):
+        raise ValueError(f"`sensitivities[{i}]`: {name!r} names force {k}; the run has "
+                         f"{len(system.forces)}")  # fmt: skip
+    force = system.forces[k]
+    params = force.sensitive_parameters()
+    if which is not None:
+        params = [p for p in params if p[0] == which]
+        if not params:
+            names = ", ".join(p[0] for p in force.sensitive_parameters())
+            raise ValueError(f"`sensitivities[{i}]`: {force.name} has no parameter {which!r}; "
+                             f"its parameters: {names}")  # fmt: skip
+    out = []
+    for pname, offset, size, frame in params:
+        block = np.eye(size) if frame == "space" else system.principal_axes.T
+        for c in range(size):
+            df = zero_f.copy()
+            df[k, offset : offset + size] = block[:, c]
+            label = f"forces[{k}].{pname}" + (f"[{c}]" if size > 1 else "")
+            out.append((label, 0, 0, np.zeros(3), df))
+    return out
+
+
+class SensitiveSystem:
+    """A rigid body's run with its sensitivities, as the run contract takes a system
+    (:mod:`poinsot.integrate.problem`): the augmented state ``[y, S_1, …, S_P]`` in the
+    body frame outside the core, in the principal frame inside."""
+
+    structure = "sensitivities"
+    state_slices = layout.STATE_SLICES
+
+    def __init__(self, system, dirs: Directions, *, control_all=True, omega_space=False):
+        self.system, self.directions = system, dirs
+        self.control_all, self.omega_space = bool(control_all), bool(omega_space)
+        self.forces = system.forces
+
+    def problem(self, y0) -> NativeProblem:
+        body, kinds, params, _, _ = self.system.native(np.asarray(y0, float)[: layout.STATE_SIZE])
+        d = self.directions
+        data = (body, kinds, params, np.ascontiguousarray(d.moment_seeds),
+                np.ascontiguousarray(d.force_seeds), self.control_all)  # fmt: skip
+        return NativeProblem(core_sensitivity.integrate_sensitivities, data, SENSITIVE_METHODS)
+
+    def to_internal(self, y0) -> np.ndarray:
+        """The augmented initial state (principal frame) of a body-frame state ``y0`` (18,):
+        the directions' initial columns, by the core."""
+        y0 = np.asarray(y0, dtype=float)[: layout.STATE_SIZE]
+        body = self.system.native(y0)[0]
+        d = self.directions
+        return core_sensitivity.sensitivity_start(
+            body, np.ascontiguousarray(self.system.principal_axes, dtype=float),
+            np.ascontiguousarray(self.system.to_internal(y0)), d.kinds, d.components,
+            self.omega_space,
+        )  # fmt: skip
+
+    def from_internal(self, z) -> np.ndarray:
+        """Augmented states (n, 18 (1 + P)) from the principal frame to the body frame: the
+        state's map, linear, applied to each column."""
+        z = np.asarray(z, dtype=float)
+        blocks = z.reshape(-1, layout.STATE_SIZE)
+        return self.system.from_internal(blocks).reshape(z.shape)
+
+
+@dataclass(frozen=True)
+class Sensitivities:
+    """The sensitivities of a run: ``S[i, :, j] = ∂y(tᵢ)/∂p_j`` of the body-frame state ``y``
+    (18: ``R``, ``V``, ``Q`` row-major, ``ω``), one column per label of its directions."""
+
+    S: np.ndarray
+    directions: Directions
+
+    def of(self, output, wrt=None) -> np.ndarray:
+        """``∂output/∂wrt`` (samples, size of ``output``, size of ``wrt``); ``wrt`` None: every
+        column."""
+        if output not in OUTPUTS:
+            raise ValueError(f"`output` must be one of {', '.join(map(repr, OUTPUTS))}, "
+                             f"found {output!r}")  # fmt: skip
+        cols = slice(None)
+        if wrt is not None:
+            if wrt not in self.directions.columns:
+                asked = ", ".join(map(repr, self.directions.names))
+                raise ValueError(f"`wrt` {wrt!r} was not asked of this run; it has: {asked} "
+                                 "(simulate(..., sensitivities=...))")  # fmt: skip
+            cols = self.directions.columns[wrt]
+        return self.S[:, OUTPUTS[output], cols]
+
+
+def split(y_aug, dirs: Directions) -> tuple[np.ndarray, Sensitivities]:
+    """The body-frame states (n, 18) and :class:`Sensitivities` of augmented states."""
+    n, size = len(y_aug), layout.STATE_SIZE
+    blocks = np.asarray(y_aug, dtype=float).reshape(n, 1 + dirs.size, size)
+    S = np.ascontiguousarray(blocks[:, 1:, :].transpose(0, 2, 1))
+    S.flags.writeable = False
+    return blocks[:, 0, :], Sensitivities(S, dirs)

@@ -1,0 +1,165 @@
+"""Forward sensitivities of rigid-body runs against an independent route: central finite
+differences of plain runs, Richardson-extrapolated, for every built-in force, free and about
+a pivot, and for every kind of parameter (initial state, inertia, the forces' parameters)."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from poinsot import RigidBody, simulate
+from poinsot.dynamics import RigidBodySystem
+from poinsot.forces import (
+    CentralGravity,
+    Gravity,
+    LinearDrag,
+    PointForce,
+    QuadraticDrag,
+    Spring,
+    Torque,
+)
+
+INERTIA = np.array([[2.0, 0.3, -0.1], [0.3, 3.0, 0.2], [-0.1, 0.2, 4.5]])
+COM = np.array([0.1, -0.2, 0.3])
+OMEGA0 = np.array([0.4, -1.1, 0.7])
+Q0 = Rotation.from_rotvec([0.3, -0.2, 0.5]).as_matrix()
+R0 = np.array([3.0, -1.0, 2.0])
+V0 = np.array([0.2, 0.5, -0.3])
+
+
+@dataclasses.dataclass
+class Case:
+    name: str
+    forces: tuple
+    pivot: object = None
+    wrt: tuple = ("omega0", "Q0", "R0", "V0", "inertia")
+    t_end: float = 1.0
+
+
+CASES = [
+    Case("gravity", (Gravity((0.1, -0.2, -9.8)),),
+         wrt=("omega0", "Q0", "R0", "V0", "inertia", "forces[0]")),
+    Case("heavy top", (Gravity((0.0, 0.0, -9.8)),), pivot=(0.0, 0.0, -0.4),
+         wrt=("omega0", "Q0", "inertia", "forces[0]")),
+    Case("central gravity", (CentralGravity(20.0, (0.5, 0.2, -0.1)),),
+         wrt=("omega0", "Q0", "R0", "V0", "inertia", "forces[0]")),
+    Case("damped spring", (Spring((0.2, 0.1, -0.3), (1.0, 0.5, 2.5), 7.0, 0.5, damping=0.3),),
+         wrt=("omega0", "Q0", "R0", "V0", "inertia", "forces[0]")),
+    Case("drags", (LinearDrag(0.2, 0.1), QuadraticDrag(0.3, 0.05)),
+         wrt=("omega0", "V0", "inertia", "forces[0]", "forces[1].rotational")),
+    Case("point force and torque",
+         (PointForce((0.3, 0.1, -0.2), (1.0, 2.0, -0.5), frame="body"),
+          Torque((0.2, -0.1, 0.3), frame="space")),
+         wrt=("omega0", "Q0", "inertia", "forces[0]", "forces[1]")),
+]  # fmt: skip
+
+
+def body(inertia=INERTIA):
+    return RigidBody(2.0, inertia, COM)
+
+
+def start(case):
+    kw = {"omega0": OMEGA0, "Q0": Q0}
+    if case.pivot is None:
+        kw |= {"R0": R0, "V0": V0}
+    return kw
+
+
+def final(case, method="rk4", *, inertia=INERTIA, forces=None, **moved):
+    """The body-frame state at the end of a plain run."""
+    kw = start(case) | moved
+    opts = {"dt": 1e-2} if method == "rk4" else {"rtol": 1e-13, "atol": 1e-15}
+    traj = simulate(body(inertia), (0, case.t_end), forces=forces or case.forces,
+                    pivot=case.pivot, method=method, **opts, **kw)  # fmt: skip
+    return traj.state[-1]
+
+
+def moves(case, name):
+    """Each column of ``name``: a function of a step ``h`` giving the moved run's arguments."""
+    system = RigidBodySystem(body(), case.forces, case.pivot)
+    if name in ("omega0", "R0", "V0"):
+        base = start(case)[name]
+        return [lambda h, k=k: {name: base + h * np.eye(3)[k]} for k in range(3)]
+    if name == "Q0":
+        return [lambda h, k=k: {"Q0": Rotation.from_rotvec(h * np.eye(3)[k]).as_matrix() @ Q0}
+                for k in range(3)]  # fmt: skip
+    if name == "inertia":
+        E = system.principal_axes
+        return [lambda h, k=k: {"inertia": INERTIA + h * np.outer(E[:, k], E[:, k])}
+                for k in range(3)]  # fmt: skip
+    i, which = int(name[7]), name.partition(".")[2]
+    force = case.forces[i]
+    out = []
+    for pname, _, size, _ in force.sensitive_parameters():
+        if which and pname != which:
+            continue
+        for c in range(size):
+
+            def moved(h, pname=pname, c=c, size=size):
+                value = np.array(getattr(force, pname), dtype=float)
+                value = value + h * (np.eye(size)[c] if size > 1 else 1.0)
+                f = _rebuilt(force, pname, value)
+                forces = tuple(f if j == i else g for j, g in enumerate(case.forces))
+                return {"forces": forces}
+
+            out.append(moved)
+    return out
+
+
+def _rebuilt(force, pname, value):
+    """The force with one parameter replaced."""
+    if isinstance(force, Gravity):
+        return Gravity(value)
+    if isinstance(force, CentralGravity):
+        kw = {"mu": force.mu, "center": force.center} | {pname: value}
+        return CentralGravity(kw["mu"], kw["center"], gradient=force.gradient)
+    if isinstance(force, Spring):
+        kw = {"point": force.point, "anchor": force.anchor, "stiffness": force.stiffness,
+              "rest_length": force.rest_length, "damping": force.damping}  # fmt: skip
+        kw[pname] = value
+        return Spring(kw["point"], kw["anchor"], kw["stiffness"], kw["rest_length"],
+                      damping=kw["damping"], tether=force.tether)  # fmt: skip
+    if isinstance(force, LinearDrag | QuadraticDrag):
+        kw = {"coefficient": force.coefficient, "rotational": force.rotational} | {pname: value}
+        return type(force)(kw["coefficient"], kw["rotational"])
+    if isinstance(force, PointForce):
+        kw = {"point": force.point, "force": force.force} | {pname: value}
+        return PointForce(kw["point"], kw["force"], frame=force.frame)
+    return Torque(value, frame=force.frame)
+
+
+def richardson(f, h):
+    """``f'(0)`` by central differences at ``h`` and ``h/2``, Richardson-extrapolated."""
+    d1 = (f(h) - f(-h)) / (2 * h)
+    d2 = (f(h / 2) - f(-h / 2)) / h
+    return (4 * d2 - d1) / 3
+
+
+def check_against_differences(case, method, tol):
+    opts = {"dt": 1e-2} if method == "rk4" else {"rtol": 1e-13, "atol": 1e-15}
+    traj = simulate(body(), (0, case.t_end), forces=case.forces, pivot=case.pivot,
+                    method=method, sensitivities=case.wrt, **opts, **start(case))  # fmt: skip
+    for name in case.wrt:
+        S = traj.sensitivity("state", name)[-1]
+        cols = moves(case, name)
+        assert S.shape == (18, len(cols)), name
+        for c, move in enumerate(cols):
+            fd = richardson(lambda h, move=move: final(case, method, **move(h)), 1e-3)
+            scale = max(np.abs(fd).max(), 1.0)
+            err = np.abs(S[:, c] - fd).max() / scale
+            assert err <= tol, f"{case.name}: d state/d {name}[{c}] off by {err:.2e}"
+
+
+@pytest.mark.parametrize("case", CASES, ids=lambda c: c.name)
+def test_rk4_sensitivities_are_the_derivatives_of_the_computed_motion(case):
+    # RK4 at a fixed step: the derivative of the discrete map, to round-off; the differences
+    # of plain runs (the same map) agree to their own error
+    check_against_differences(case, "rk4", 1e-9)
+
+
+@pytest.mark.parametrize("case", CASES, ids=lambda c: c.name)
+def test_dop853_sensitivities_agree_with_differences_of_tight_runs(case):
+    # the steps are chosen by the controller (weighing the sensitivities): differences of
+    # plain runs take other steps, and agree to the tolerance's order
+    check_against_differences(case, "dop853", 1e-9)
