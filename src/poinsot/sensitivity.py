@@ -153,8 +153,8 @@ def _columns(system, name, i, nf):
 
 class SensitiveSystem:
     """A rigid body's run with its sensitivities, as the run contract takes a system
-    (:mod:`poinsot.integrate.problem`): the augmented state ``[y, S_1, …, S_P]`` in the
-    body frame outside the core, in the principal frame inside."""
+    (:mod:`poinsot.integrate.problem`): the augmented state ``[y (18), S (18 × P,
+    row-major)]`` in the body frame outside the core, in the principal frame inside."""
 
     structure = "sensitivities"
     state_slices = layout.STATE_SLICES
@@ -185,10 +185,21 @@ class SensitiveSystem:
 
     def from_internal(self, z) -> np.ndarray:
         """Augmented states (n, 18 (1 + P)) from the principal frame to the body frame: the
-        state's map, linear, applied to each column."""
+        state's map, linear, applied to the state and to each direction's column."""
         z = np.asarray(z, dtype=float)
-        blocks = z.reshape(-1, layout.STATE_SIZE)
-        return self.system.from_internal(blocks).reshape(z.shape)
+        n, size, p = z.size // self.width, layout.STATE_SIZE, self.directions.size
+        rows = z.reshape(n, self.width)
+        S = rows[:, size:].reshape(n, size, p).transpose(0, 2, 1)  # (n, P, 18)
+        out = np.empty_like(rows)
+        out[:, :size] = self.system.from_internal(rows[:, :size])
+        columns = self.system.from_internal(S.reshape(-1, size)).reshape(n, p, size)
+        out[:, size:] = columns.transpose(0, 2, 1).reshape(n, size * p)
+        return out.reshape(z.shape)
+
+    @property
+    def width(self) -> int:
+        """The augmented state's length, ``18 (1 + P)``."""
+        return layout.STATE_SIZE * (1 + self.directions.size)
 
 
 @dataclass(frozen=True)
@@ -218,7 +229,7 @@ class Sensitivities:
 def split(y_aug, dirs: Directions) -> tuple[np.ndarray, Sensitivities]:
     """The body-frame states (n, 18) and :class:`Sensitivities` of augmented states."""
     n, size = len(y_aug), layout.STATE_SIZE
-    blocks = np.asarray(y_aug, dtype=float).reshape(n, 1 + dirs.size, size)
-    S = np.ascontiguousarray(blocks[:, 1:, :].transpose(0, 2, 1))
+    rows = np.asarray(y_aug, dtype=float).reshape(n, size * (1 + dirs.size))
+    S = rows[:, size:].reshape(n, size, dirs.size).copy()
     S.flags.writeable = False
-    return blocks[:, 0, :], Sensitivities(S, dirs)
+    return rows[:, :size], Sensitivities(S, dirs)

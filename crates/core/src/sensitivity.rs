@@ -18,8 +18,8 @@
 //! DOP853 the accepted steps are held (their dependence on `p` is not differentiated, as in
 //! CVODES) and the error control weighs `S` too unless [`Sensitive::control_all`] is off.
 //!
-//! The augmented state is `[y (18), S_1 (18), …, S_P (18)]`: the motion in the engine's
-//! principal frame and each direction's column after it.
+//! The augmented state is `[y (18), S (18 × P, row-major)]`: the motion in the engine's
+//! principal frame, then the derivatives of each of its components along the directions.
 
 use crate::dual::Dual;
 use crate::forces::{wrench_of, Force};
@@ -66,62 +66,103 @@ impl Start {
     }
 }
 
+/// The seeds of one block of directions: the body and the forces' parameter rows as dual
+/// numbers, built once.
+struct BlockSeeds {
+    body: Body<D>,
+    params: Vec<[D; FORCE_PARAMS]>,
+}
+
 /// The augmented system `(y, S)` of a body under built-in forces: [`VectorField`] of
-/// dimension `18 (1 + P)`.
+/// dimension `18 (1 + P)`, `S` stored component by component (`y[18 + P i + j] = ∂y_i/∂p_j`)
+/// so that a component's derivatives are one contiguous row.
 pub struct Sensitive<'a> {
     pub body: Body,
     pub forces: &'a [Force],
     /// The number of directions `P`.
     pub p: usize,
-    /// Per direction, the derivative seeds of the three principal moments (engine order).
-    pub moment_seeds: Vec<[f64; 3]>,
-    /// Per direction and force (`j · forces + i`), the seeds of the force's parameter row.
-    pub force_seeds: Vec<[f64; FORCE_PARAMS]>,
     /// Whether DOP853's error control weighs the sensitivities (CVODES' `errconS`).
     pub control_all: bool,
+    blocks: Vec<BlockSeeds>,
 }
 
-impl Sensitive<'_> {
+impl<'a> Sensitive<'a> {
+    /// The augmented system of `body` under `forces` with `P` directions: direction `j`
+    /// moves the principal moments (engine order) by `moment_seeds[j]` and force `i`'s
+    /// parameter row by `force_seeds[j · forces + i]`.
+    pub fn new(
+        body: Body,
+        forces: &'a [Force],
+        moment_seeds: &[[f64; 3]],
+        force_seeds: &[[f64; FORCE_PARAMS]],
+        control_all: bool,
+    ) -> Self {
+        let p = moment_seeds.len();
+        let nf = forces.len();
+        let blocks = (0..p.div_ceil(BLOCK).max(1))
+            .map(|b| {
+                let (lo, hi) = (b * BLOCK, ((b + 1) * BLOCK).min(p));
+                let seeded = |v: f64, seed: &dyn Fn(usize) -> f64| {
+                    let mut x = D::splat(v);
+                    for l in 0..hi.saturating_sub(lo) {
+                        x.d[l] = seed(lo + l);
+                    }
+                    x
+                };
+                let dm = [0, 1, 2].map(|k| seeded(0.0, &|j| moment_seeds[j][k]));
+                let params = (0..nf)
+                    .map(|i| {
+                        std::array::from_fn(|m| {
+                            seeded(forces[i].p[m], &|j| force_seeds[j * nf + i][m])
+                        })
+                    })
+                    .collect();
+                BlockSeeds {
+                    body: body.lift(dm),
+                    params,
+                }
+            })
+            .collect();
+        Sensitive {
+            body,
+            forces,
+            p,
+            control_all,
+            blocks,
+        }
+    }
+
     /// Directions `lo..hi` (at most [`BLOCK`]) of the augmented state `y` as dual numbers.
     #[inline(always)]
-    fn state_block(y: &[f64], lo: usize, hi: usize) -> [D; STATE_SIZE] {
+    fn state_block(&self, y: &[f64], lo: usize, hi: usize) -> [D; STATE_SIZE] {
         let mut yd = [D::default(); STATE_SIZE];
         for (i, x) in yd.iter_mut().enumerate() {
             x.v = y[i];
-            for l in 0..hi - lo {
-                x.d[l] = y[STATE_SIZE * (1 + lo + l) + i];
-            }
+            let row = STATE_SIZE + self.p * i;
+            x.d[..hi - lo].copy_from_slice(&y[row + lo..row + hi]);
         }
         yd
     }
 
     /// Write the dual state `r` back: its value (when `value`) and directions `lo..hi`.
     #[inline(always)]
-    fn write_block(r: &[D; STATE_SIZE], out: &mut [f64], lo: usize, hi: usize, value: bool) {
+    fn write_block(&self, r: &[D; STATE_SIZE], out: &mut [f64], lo: usize, hi: usize, value: bool) {
         for (i, x) in r.iter().enumerate() {
             if value {
                 out[i] = x.v;
             }
-            for l in 0..hi - lo {
-                out[STATE_SIZE * (1 + lo + l) + i] = x.d[l];
-            }
+            let row = STATE_SIZE + self.p * i;
+            out[row + lo..row + hi].copy_from_slice(&x.d[..hi - lo]);
         }
     }
 
-    /// The blocks of directions, `(lo, hi)`.
-    fn blocks(&self) -> impl Iterator<Item = (usize, usize)> {
+    /// The blocks of directions: `(lo, hi, seeds)`.
+    fn blocks(&self) -> impl Iterator<Item = (usize, usize, &BlockSeeds)> {
         let p = self.p;
-        (0..p.div_ceil(BLOCK).max(1)).map(move |b| (b * BLOCK, ((b + 1) * BLOCK).min(p)))
-    }
-
-    /// A seed of directions `lo..hi`: `v` with the derivatives `seed(j)`.
-    #[inline(always)]
-    fn seeded(v: f64, lo: usize, hi: usize, seed: impl Fn(usize) -> f64) -> D {
-        let mut x = D::splat(v);
-        for l in 0..hi - lo {
-            x.d[l] = seed(lo + l);
-        }
-        x
+        self.blocks
+            .iter()
+            .enumerate()
+            .map(move |(b, s)| (b * BLOCK, ((b + 1) * BLOCK).min(p), s))
     }
 }
 
@@ -133,37 +174,33 @@ impl VectorField for Sensitive<'_> {
 
     /// `ẏ = f(y, p)` and `Ṡ_j = ∂f/∂y S_j + ∂f/∂p_j`: the engine's rates (eqs (07)–(09) with
     /// the built-in forces about the reference point) on dual numbers.
+    #[inline(always)]
     fn rhs(&self, _t: f64, y: &[f64], out: &mut [f64]) {
-        let nf = self.forces.len();
-        for (lo, hi) in self.blocks() {
-            let yd = Self::state_block(y, lo, hi);
-            let dm = [0, 1, 2].map(|k| Self::seeded(0.0, lo, hi, |j| self.moment_seeds[j][k]));
-            let body = self.body.lift(dm);
+        for (lo, hi, seeds) in self.blocks() {
+            let yd = self.state_block(y, lo, hi);
+            let body = &seeds.body;
             let mut w = [D::splat(0.0); 6];
-            for (i, f) in self.forces.iter().enumerate() {
-                let p: [D; FORCE_PARAMS] = std::array::from_fn(|m| {
-                    Self::seeded(f.p[m], lo, hi, |j| self.force_seeds[j * nf + i][m])
-                });
-                let v = wrench_of(f.kind, &p, &body, &yd);
+            for (f, p) in self.forces.iter().zip(&seeds.params) {
+                let v = wrench_of(f.kind, p, body, &yd);
                 for k in 0..6 {
                     w[k] = w[k] + v[k];
                 }
             }
-            let r = rigid_rates(&body, &yd, shift_torque_to_pivot(&body, &yd, w));
-            Self::write_block(&r, out, lo, hi, lo == 0);
+            let r = rigid_rates(body, &yd, shift_torque_to_pivot(body, &yd, w));
+            self.write_block(&r, out, lo, hi, lo == 0);
         }
     }
 
     /// About a pivot, `R = P + Q c` and `V = Q (ω × c)` reset from the attitude
     /// ([`pivot_constrained`]), and their sensitivities with them.
+    #[inline(always)]
     fn project(&self, _t: f64, y: &mut [f64]) -> bool {
         if !self.body.has_pivot {
             return false;
         }
-        let body = self.body.lift([D::splat(0.0); 3]);
-        for (lo, hi) in self.blocks() {
-            let r = pivot_constrained(&body, Self::state_block(y, lo, hi));
-            Self::write_block(&r, y, lo, hi, lo == 0);
+        for (lo, hi, seeds) in self.blocks() {
+            let r = pivot_constrained(&seeds.body, self.state_block(y, lo, hi));
+            self.write_block(&r, y, lo, hi, lo == 0);
         }
         true
     }
@@ -178,7 +215,7 @@ impl VectorField for Sensitive<'_> {
     }
 }
 
-/// The augmented initial state `[z0, S_1(0), …, S_P(0)]` (`18 (1 + P)`) of the engine state
+/// The augmented initial state `[z0, S(0)]` (`18 (1 + P)`, `S` by components) of the engine state
 /// `z0` (principal frame; `axes` the principal axes as columns in body coordinates) and the
 /// directions' starts: the derivatives of the initial state the run builds from ω0 (body
 /// frame, or space frame when `omega_space`: `ω = Q0ᵀ ω0`), `Q0 → exp(δ̂) Q0`, `R0` and `V0`,
@@ -269,9 +306,8 @@ pub fn initial_tangents(
         }
         let y = pivot_constrained(&lifted, y);
         for (i, x) in y.iter().enumerate() {
-            for l in 0..hi - lo {
-                out[STATE_SIZE * (1 + lo + l) + i] = x.d[l];
-            }
+            let row = STATE_SIZE + p * i;
+            out[row + lo..row + hi].copy_from_slice(&x.d[..hi - lo]);
         }
     }
     out

@@ -87,14 +87,7 @@ fn system<'a>(body: Body, forces: &'a [Force]) -> Sensitive<'a> {
             force_seeds[j * nf + i][m] = 1.0;
         }
     }
-    Sensitive {
-        body,
-        forces,
-        p,
-        moment_seeds,
-        force_seeds,
-        control_all: true,
-    }
+    Sensitive::new(body, forces, &moment_seeds, &force_seeds, true)
 }
 
 fn rates(body: Body, forces: &[Force], y: &State) -> State {
@@ -116,7 +109,7 @@ fn the_dual_rates_are_the_rates_and_their_derivatives() {
         let mut aug = vec![0.0; sys.dim()];
         aug[..STATE_SIZE].copy_from_slice(&y);
         for i in 0..STATE_SIZE {
-            aug[STATE_SIZE * (1 + i) + i] = 1.0;
+            aug[STATE_SIZE + sys.p * i + i] = 1.0;
         }
         let mut out = vec![0.0; sys.dim()];
         sys.rhs(0.0, &aug, &mut out);
@@ -145,7 +138,7 @@ fn the_dual_rates_are_the_rates_and_their_derivatives() {
             let (up, down) = (moved(h), moved(-h));
             for i in 0..STATE_SIZE {
                 let fd = (up[i] - down[i]) / (2.0 * h);
-                let d = out[STATE_SIZE * (1 + j) + i];
+                let d = out[STATE_SIZE + sys.p * i + j];
                 assert!(
                     (d - fd).abs() < 1e-7 * (1.0 + fd.abs()),
                     "pivot {pivot} dir {j} comp {i}: {d} vs {fd}"
@@ -175,7 +168,9 @@ fn the_initial_columns_are_the_derivatives_of_the_initial_state() {
     let out = initial_tangents(&b, &axes, &z0, &starts, false);
     assert_eq!(&out[..STATE_SIZE], &z0);
     for (j, s) in starts.iter().enumerate() {
-        let col = &out[STATE_SIZE * (1 + j)..STATE_SIZE * (2 + j)];
+        let col: Vec<f64> = (0..STATE_SIZE)
+            .map(|i| out[STATE_SIZE + starts.len() * i + j])
+            .collect();
         let mut want = [0.0; STATE_SIZE];
         match *s {
             Start::Omega(k) => {

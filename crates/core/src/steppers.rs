@@ -77,21 +77,32 @@ pub fn erk_step<S: VectorField + ?Sized>(
     let s = tab.stages();
     let n = sys.dim();
     for i in 0..s {
+        // `out` holds the sums Σ_m a_im k_m until the end of the step
+        combine(&tab.a[i * s..i * s + i], k, n, &mut out[..n]);
         for idx in 0..n {
-            let mut acc = 0.0;
-            for m in 0..i {
-                acc += tab.a[i * s + m] * k[m * n + idx];
-            }
-            ytmp[idx] = y[idx] + h * acc;
+            ytmp[idx] = y[idx] + h * out[idx];
         }
         sys.rhs(t + tab.c[i] * h, ytmp, &mut k[i * n..(i + 1) * n]);
     }
+    combine(&tab.b[..s], k, n, &mut out[..n]);
     for idx in 0..n {
-        let mut acc = 0.0;
-        for i in 0..s {
-            acc += tab.b[i] * k[i * n + idx];
+        out[idx] = y[idx] + h * out[idx];
+    }
+}
+
+/// `acc = Σ_m w_m k_m` (each `k_m` of length `n`, stored one after another), summed in the
+/// order of `m` for each component, a stage at a time so that the component loop vectorises.
+/// A zero weight's term is left out: it adds nothing to a finite sum (`x + 0·k = x`, and the
+/// sum, starting at +0, is never −0).
+#[inline(always)]
+fn combine(w: &[f64], k: &[f64], n: usize, acc: &mut [f64]) {
+    acc.fill(0.0);
+    for (m, &wm) in w.iter().enumerate() {
+        if wm != 0.0 {
+            for (a, &km) in acc.iter_mut().zip(&k[m * n..(m + 1) * n]) {
+                *a += wm * km;
+            }
         }
-        out[idx] = y[idx] + h * acc;
     }
 }
 

@@ -110,16 +110,10 @@ fn integrate_sensitivities<'py>(
             force_rows.push(std::array::from_fn(|m| fs[[j, i * FORCE_PARAMS + m]]));
         }
     }
-    let sys = Sensitive {
-        body,
-        forces: &forces,
-        p,
-        moment_seeds: (0..p)
-            .map(|j| [ms[[j, 0]], ms[[j, 1]], ms[[j, 2]]])
-            .collect(),
-        force_seeds: force_rows,
-        control_all,
-    };
+    let moments: Vec<[f64; 3]> = (0..p)
+        .map(|j| [ms[[j, 0]], ms[[j, 1]], ms[[j, 2]]])
+        .collect();
+    let sys = Sensitive::new(body, &forces, &moments, &force_rows, control_all);
     let state = &mut *state;
     let mut run = state.run(&spec, STATE_SIZE * (1 + p), false)?;
     let status = in_chunks(py, &mut run, steps, |r, n| {
