@@ -491,6 +491,28 @@ class Trajectory(Displayable):
                              "simulate(..., sensitivities=(...))")  # fmt: skip
         return self.sensitivities.of(output, wrt)
 
+    def lyapunov_exponents(self, output="omega", wrt="omega0") -> np.ndarray:
+        """Finite-time Lyapunov exponents ``λ_k(t) = ln σ_k(∂output(t)/∂wrt)/(t − t0)``, the
+        singular values ``σ_k`` of the sensitivity descending, at every sample (NaN at
+        ``t0``): shape (samples, min(size of output, size of wrt)). A run that asked for the
+        sensitivities of ``wrt`` (:meth:`sensitivity`).
+
+        Examples
+        --------
+        >>> from poinsot import RigidBody, simulate
+        >>> traj = simulate(RigidBody.box(1.0, (1, 2, 3)), (0, 20), omega0=(0, 1, 0),
+        ...                 method="dop853", sensitivities="omega0")
+        >>> round(float(traj.lyapunov_exponents()[-1, 0]), 2)   # growth about the middle axis
+        0.48
+        """
+        S = self.sensitivity(output, wrt)
+        sigma = np.linalg.svd(S, compute_uv=False)
+        elapsed = (self.t - self.t[0])[:, None]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out = np.log(sigma) / elapsed
+        out[elapsed[:, 0] == 0] = np.nan
+        return out
+
     # ----------------------------------------------------------------- export
     def variables(self) -> dict:
         """Every exported field as ``name → (dims, values, attrs)``, coordinates included:

@@ -17,7 +17,7 @@ import numpy as np
 
 from .._bindings import torquefree as core_torquefree
 
-__all__ = ["FixedPointSet", "Stability", "StabilityMixin"]
+__all__ = ["FixedPointSet", "Floquet", "Stability", "StabilityMixin"]
 
 
 @dataclass(frozen=True)
@@ -47,6 +47,34 @@ class Stability:
     kind: str
     growth_rate: float = 0.0
     wobble_frequency: float = 0.0
+
+
+@dataclass(frozen=True)
+class Floquet:
+    """The Floquet picture of a periodic motion of Euler's equation: its monodromy matrix
+    ``M = ∂ω(T)/∂ω0`` (the linearised map over one period ``T``), the multipliers (the
+    eigenvalues of ``M``) and the exponents ``ln|μ|/T``.
+
+    A periodic torque-free motion has every multiplier 1: the energy and the momentum are
+    conserved and the flow is volume preserving, so ``det M = 1``, ``M`` fixes the velocity
+    ``ω̇(0)`` and ``(M − I)²`` vanishes (one Jordan block: a neighbour on another polhode has
+    another period and drifts linearly in phase). At a fixed point on the intermediate axis
+    every ``T`` is a period and the largest exponent is the growth rate
+    ``σ = |ω| √((I2 − I1)(I3 − I2)/(I1 I3))``.
+
+    Attributes
+    ----------
+    period : float
+    monodromy : ndarray (3, 3)
+    multipliers : ndarray (3,) complex
+    exponents : ndarray (3,)
+        ``ln|μ|/T``, descending.
+    """
+
+    period: float
+    monodromy: np.ndarray
+    multipliers: np.ndarray
+    exponents: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -171,3 +199,56 @@ class StabilityMixin:
         E[:, 0, 1], E[:, 1, 0] = -s, s
         E[:, 2, 2] = 1.0
         return Q0 @ P @ E @ P.T
+
+    def floquet(self, omega0, period=None, *, rtol=1e-13, atol=1e-15) -> Floquet:
+        """The :class:`Floquet` picture of the motion from ``omega0`` (body frame) over one
+        ``period`` (default: :meth:`period`; at a fixed point, where every time is a period,
+        one turn ``2π/|ω|``).
+
+        The monodromy matrix is the forward sensitivity ``∂ω(T)/∂ω0`` of a DOP853 run at
+        ``rtol``, ``atol`` (:mod:`poinsot.sensitivity`: the variational equations integrated
+        with the motion in the compiled core).
+
+        Examples
+        --------
+        The tennis-racket motion: a neighbour's phase drifts, nothing grows.
+
+        >>> from poinsot import FreeRigidBody
+        >>> body = FreeRigidBody((1.0, 2.0, 3.0))
+        >>> f = body.floquet((0.1, 1.0, 0.1))
+        >>> np.round(np.abs(f.multipliers), 6).tolist()
+        [1.0, 1.0, 1.0]
+
+        On the intermediate axis the deviations grow at ``σ``:
+
+        >>> f = body.floquet((0.0, 1.0, 0.0))
+        >>> round(float(f.exponents[0]), 9), round(body.stability((0, 1, 0)).growth_rate, 9)
+        (0.577350269, 0.577350269)
+        """
+        from ..bodies import RigidBody
+        from ..dynamics import RigidBodySystem
+        from ..integrate.driver import integrate
+        from ..sensitivity import SensitiveSystem, directions, split
+
+        w = self._spin(omega0, "omega0")
+        if period is None:
+            if self.is_fixed_point(w):
+                speed = float(np.linalg.norm(w))
+                if speed == 0:
+                    raise ValueError("`omega0` is zero: the body is at rest, nothing moves")
+                period = 2 * math.pi / speed
+            else:
+                period = self.period(w)
+        period = float(period)
+        if not (math.isfinite(period) and period > 0):
+            raise ValueError(f"`period` must be a positive finite time, found {period} (the "
+                             "separatrix has no period)")  # fmt: skip
+        system = RigidBodySystem(RigidBody(1.0, self.inertia, allow_unphysical=True))
+        dirs = directions(system, "omega0")
+        y0 = system.initial_state(omega0=w)
+        result = integrate(SensitiveSystem(system, dirs), "dop853", (0.0, period), y0,
+                           t_eval=[period], rtol=rtol, atol=atol)  # fmt: skip
+        M = split(result.y, dirs)[1].of("omega", "omega0")[-1]
+        mu = np.linalg.eigvals(M)
+        exponents = np.sort(np.log(np.abs(mu)) / period)[::-1]
+        return Floquet(period, M, mu, exponents)

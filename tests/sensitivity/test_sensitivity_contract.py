@@ -1,0 +1,133 @@
+"""The sensitivities through the run contract: how they are asked, refused, framed and
+exported."""
+
+import numpy as np
+import pytest
+from scipy.io import netcdf_file
+from scipy.spatial.transform import Rotation
+
+from poinsot import RigidBody, simulate
+from poinsot.forces import CustomForce, Gravity, Spring
+from poinsot.simulation import prepare
+
+BODY = RigidBody(2.0, [[2.0, 0.3, -0.1], [0.3, 3.0, 0.2], [-0.1, 0.2, 4.5]], (0.1, -0.2, 0.3))
+Q0 = Rotation.from_rotvec([0.3, -0.2, 0.5]).as_matrix()
+
+
+def run(**kw):
+    args = {"omega0": (0.4, -1.1, 0.7), "method": "rk4", "dt": 1e-2} | kw
+    return simulate(BODY, (0, 1), **args)
+
+
+def test_the_shapes_follow_the_outputs_and_the_parameters():
+    traj = run(forces=[Gravity(), Spring((0, 0, 0), (0, 0, 1), 3.0)],
+               sensitivities=("omega0", "inertia", "forces[1]", "forces[0].g"))  # fmt: skip
+    n = len(traj)
+    assert traj.sensitivity("omega", "omega0").shape == (n, 3, 3)
+    assert traj.sensitivity("omega", "inertia").shape == (n, 3, 3)
+    assert traj.sensitivity("Q", "forces[1]").shape == (n, 9, 9)  # point, anchor, k, ℓ0, c
+    assert traj.sensitivity("R", "forces[0].g").shape == (n, 3, 3)
+    assert traj.sensitivity("state").shape == (n, 18, 18)
+    labels = traj.sensitivities.directions.labels
+    assert labels[:3] == ("omega0[0]", "omega0[1]", "omega0[2]")
+    assert "forces[1].stiffness" in labels and "forces[1].anchor[2]" in labels
+    # at t0 the initial state's own derivatives
+    assert np.abs(traj.sensitivity("omega", "omega0")[0] - np.eye(3)).max() < 1e-15
+    assert not traj.sensitivity("omega", "inertia")[0].any()
+
+
+def test_the_motion_is_the_plain_runs():
+    # the augmented run's motion is the same equations by the same method (the generic
+    # tableau rather than the register path: equal to round-off)
+    plain, sens = run(), run(sensitivities="omega0")
+    assert np.abs(plain.state - sens.state).max() < 1e-13
+
+
+def test_omega0_and_Q0_in_the_space_frame():
+    # with omega_frame="space" the directions are those of the ω0 the run read
+    def final(w, q):
+        return run(omega0=w, Q0=q, omega_frame="space").state[-1]
+
+    w0 = np.array([0.4, -1.1, 0.7])
+    traj = run(omega0=w0, Q0=Q0, omega_frame="space", sensitivities=("omega0", "Q0"))
+    S = traj.sensitivity("state")[-1]
+    h = 1e-5
+    for k in range(3):
+        e = np.eye(3)[k]
+        fd_w = (final(w0 + h * e, Q0) - final(w0 - h * e, Q0)) / (2 * h)
+        turn = [Rotation.from_rotvec(s * h * e).as_matrix() @ Q0 for s in (1, -1)]
+        fd_q = (final(w0, turn[0]) - final(w0, turn[1])) / (2 * h)
+        assert np.abs(S[:, k] - fd_w).max() < 1e-8
+        assert np.abs(S[:, 3 + k] - fd_q).max() < 1e-8
+
+
+@pytest.mark.parametrize(
+    ("kw", "match"),
+    [
+        ({"method": "rkmk4"}, "'rk4', 'dop853'"),
+        ({"sensitivities": "mass"}, "unknown parameter 'mass'"),
+        ({"sensitivities": ("omega0", "omega0")}, "named twice"),
+        ({"sensitivities": "forces[3]"}, "names force 3"),
+        ({"sensitivities": "forces[0].k"}, "no parameter 'k'"),
+        ({"sensitivities": ()}, "at least one"),
+        ({"pivot": (0, 0, 0), "sensitivities": "R0"}, "no effect about a pivot"),
+        ({"events": lambda t, y: y[0]}, "events"),
+        ({"control_sensitivities": False, "sensitivities": None}, "no effect without"),
+    ],
+)
+def test_what_cannot_be_differentiated_is_refused_up_front(kw, match):
+    kw = {"sensitivities": "omega0", "forces": [Gravity()]} | kw
+    if kw["sensitivities"] is None:
+        del kw["sensitivities"]
+    with pytest.raises(ValueError, match=match):
+        run(**kw)
+
+
+def test_forces_evaluated_in_python_are_refused():
+    custom = CustomForce(lambda t, R, V, Q, w: (np.zeros(3), np.zeros(3)))
+    with pytest.raises(ValueError, match="evaluated in Python"):
+        run(forces=[custom], sensitivities="omega0")
+
+
+def test_asking_what_the_run_did_not_carry():
+    with pytest.raises(ValueError, match="no sensitivities"):
+        run().sensitivity("omega", "omega0")
+    traj = run(sensitivities="omega0")
+    with pytest.raises(ValueError, match="was not asked"):
+        traj.sensitivity("omega", "inertia")
+    with pytest.raises(ValueError, match="`output`"):
+        traj.sensitivity("L", "omega0")
+
+
+def test_a_prepared_run_keeps_its_directions_and_refuses_a_method_without_them():
+    p = prepare(BODY, (0, 1), method="rk4", dt=1e-2, sensitivities="inertia")
+    a = p.run(omega0=(0, 1, 0.1)).sensitivity("omega", "inertia")
+    b = p.with_method("dop853").run(omega0=(0, 1, 0.1)).sensitivity("omega", "inertia")
+    assert np.abs(a[-1] - b[-1]).max() < 1e-7
+    with pytest.raises(ValueError, match="'rk4', 'dop853'"):
+        p.with_method("splitting")
+
+
+def test_leaving_the_sensitivities_out_of_the_error_control():
+    kw = {"method": "dop853", "rtol": 1e-9, "atol": 1e-12, "sensitivities": "omega0"}
+    full = run(**kw)
+    out = run(**kw, control_sensitivities=False)
+    assert out.nsteps <= full.nsteps
+    plain = run(method="dop853", rtol=1e-9, atol=1e-12)
+    assert out.nsteps == plain.nsteps  # the steps of the motion alone
+    assert np.abs(out.sensitivity("omega")[-1] - full.sensitivity("omega")[-1]).max() < 1e-6
+
+
+def test_the_export_names_the_dimensions(tmp_path):
+    traj = run(sensitivities=("omega0", "inertia"))
+    path = tmp_path / "run.nc"
+    traj.to_netcdf(path)
+    with netcdf_file(path, mmap=False) as f:
+        v = f.variables["sensitivity"]
+        assert v.dimensions == ("time", "state_component", "parameter")
+        assert np.array_equal(v[:], traj.sensitivity("state"))
+        names = [b"".join(row).decode().strip() for row in f.variables["parameter"][:]]
+        assert names[3] == "inertia[0]"
+    traj.to_csv(tmp_path / "run.csv")  # a table: the sensitivities stay out of it
+    header = (tmp_path / "run.csv").read_text().splitlines()[0]
+    assert "sensitivity" not in header
