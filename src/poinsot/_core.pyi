@@ -128,6 +128,7 @@ __all__ = [
     "gyrostat_omega_dot",
     "gyrostat_omegas",
     "gyrostat_regressor",
+    "gyrostat_sensitivities",
     "hat",
     "heavy_top_motions",
     "initial_states",
@@ -712,6 +713,21 @@ def gyrostat_omegas(
     rotor_speed: ArrayLike,
     rotor_axis: ArrayLike,
 ) -> _F64: ...
+def gyrostat_sensitivities(
+    moments: ArrayLike,
+    moment_seeds: ArrayLike,
+    axes0: ArrayLike,
+    delta: ArrayLike,
+    delta_seeds: ArrayLike,
+    rotor_inertia: float,
+    inertia_seeds: ArrayLike,
+    omega0: ArrayLike,
+    omega_seeds: ArrayLike,
+    spec: RunSpec,
+    rotor_t: ArrayLike,
+    rotor_speed: ArrayLike,
+    rotor_axis: ArrayLike,
+) -> tuple[_F64, _F64]: ...
 
 # ------------------------------------------------------------------------------- tops.rs
 

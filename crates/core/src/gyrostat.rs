@@ -26,22 +26,24 @@
 //!   lever-arm model that finds the flight in a log.
 
 use crate::drivers::{Clock, Counters, Output, Status};
+use crate::dual::Dual;
 use crate::observers::NoObserver;
+use crate::real::Real;
 use crate::rigid::omega_dot_principal;
 use crate::run::Run;
-use crate::so3::{cross, Mat3, Vec3};
+use crate::so3::{cross, cross_t, exp_so3, Mat3, Vec3};
 use crate::spec::RunSpec;
 use crate::system::VectorField;
 
 /// `Eᵀ v`: the components along the columns of `axes` of a vector given in the body frame.
 #[inline(always)]
-pub fn to_principal(axes: &Mat3, v: Vec3) -> Vec3 {
+pub fn to_principal<T: Real>(axes: &[[T; 3]; 3], v: [T; 3]) -> [T; 3] {
     [0, 1, 2].map(|k| axes[0][k] * v[0] + axes[1][k] * v[1] + axes[2][k] * v[2])
 }
 
 /// `E v`: the body-frame vector of principal components `v`.
 #[inline(always)]
-pub fn from_principal(axes: &Mat3, v: Vec3) -> Vec3 {
+pub fn from_principal<T: Real>(axes: &[[T; 3]; 3], v: [T; 3]) -> [T; 3] {
     [0, 1, 2].map(|r| axes[r][0] * v[0] + axes[r][1] * v[1] + axes[r][2] * v[2])
 }
 
@@ -195,50 +197,75 @@ impl SampledRotor<'_> {
 }
 
 /// The gyrostat in its momentum form, `L̇ = L × ω`, `ω = I⁻¹(L − h(t))`, as a [`VectorField`]
-/// on the state `L` (3) in the principal frame of `I` (moments `moments`, axes `axes`).
-pub struct Gyrostat<'a> {
-    pub moments: Vec3,
-    inv_moments: Vec3,
-    pub axes: Mat3,
+/// on the state `L` (3) in the principal frame of `I` (moments `moments`, axes `axes`). Its
+/// numbers are `f64`, or dual numbers ([`GyrostatTangent`]) where a fit differentiates the
+/// motion with respect to the moments, the axes, the rotor's inertia and ω0.
+pub struct Gyrostat<'a, T = f64> {
+    pub moments: [T; 3],
+    inv_moments: [T; 3],
+    pub axes: [[T; 3]; 3],
     pub rotor: SampledRotor<'a>,
+    /// The rotor's axial inertia `J`.
+    rotor_inertia: T,
     /// The rotor axis in the principal frame.
-    axis_p: Vec3,
+    axis_p: [T; 3],
 }
 
 impl<'a> Gyrostat<'a> {
     pub fn new(moments: Vec3, axes: Mat3, rotor: SampledRotor<'a>) -> Self {
+        Gyrostat::with(moments, axes, rotor.inertia, rotor)
+    }
+}
+
+impl<'a, T: Real> Gyrostat<'a, T> {
+    /// The gyrostat of `moments` along `axes` whose rotor has the axial inertia
+    /// `rotor_inertia` (`rotor`'s own is not read), in numbers of type `T`.
+    pub fn with(
+        moments: [T; 3],
+        axes: [[T; 3]; 3],
+        rotor_inertia: T,
+        rotor: SampledRotor<'a>,
+    ) -> Self {
+        let zero = T::splat(0.0);
         Gyrostat {
             moments,
-            inv_moments: moments.map(|i| if i != 0.0 { 1.0 / i } else { 0.0 }),
+            inv_moments: moments.map(|i| T::select(i.unequal(zero), T::splat(1.0) / i, zero)),
+            axis_p: to_principal(&axes, rotor.axis.map(T::splat)),
             axes,
-            axis_p: to_principal(&axes, rotor.axis),
             rotor,
+            rotor_inertia,
         }
     }
 
     /// `h(t)` in the principal frame.
     #[inline(always)]
-    fn momentum_p(&self, t: f64) -> Vec3 {
-        let c = self.rotor.inertia * self.rotor.speed_at(t);
+    fn momentum_p(&self, t: f64) -> [T; 3] {
+        let c = self.rotor_inertia * T::splat(self.rotor.speed_at(t));
         self.axis_p.map(|x| c * x)
     }
 
     /// `ω = I⁻¹(L − h(t))`, principal frame, of the state `l` (principal frame).
     #[inline(always)]
-    pub fn omega_principal(&self, t: f64, l: &[f64]) -> Vec3 {
+    pub fn omega_principal(&self, t: f64, l: &[T]) -> [T; 3] {
         let h = self.momentum_p(t);
         [0, 1, 2].map(|k| self.inv_moments[k] * (l[k] - h[k]))
     }
 
+    /// `L̇ = L × ω` of the state `l`.
+    #[inline(always)]
+    pub fn rates(&self, t: f64, l: &[T]) -> [T; 3] {
+        cross_t([l[0], l[1], l[2]], self.omega_principal(t, l))
+    }
+
     /// The state `L = I ω + h(t)` (principal frame) of the body-frame `ω`.
-    pub fn state_of(&self, t: f64, w: Vec3) -> Vec3 {
+    pub fn state_of(&self, t: f64, w: [T; 3]) -> [T; 3] {
         let wp = to_principal(&self.axes, w);
         let h = self.momentum_p(t);
         [0, 1, 2].map(|k| self.moments[k] * wp[k] + h[k])
     }
 
     /// The body-frame `ω` of the state `l` at `t`.
-    pub fn omega_of(&self, t: f64, l: &[f64]) -> Vec3 {
+    pub fn omega_of(&self, t: f64, l: &[T]) -> [T; 3] {
         from_principal(&self.axes, self.omega_principal(t, l))
     }
 }
@@ -250,9 +277,7 @@ impl VectorField for Gyrostat<'_> {
     }
     #[inline(always)]
     fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]) {
-        let w = self.omega_principal(t, y);
-        let d = cross([y[0], y[1], y[2]], w);
-        out[..3].copy_from_slice(&d);
+        out[..3].copy_from_slice(&self.rates(t, y));
     }
 }
 
@@ -300,6 +325,124 @@ pub fn gyrostat_omegas(
             sys.omega_of(t[k], &out_y[3 * k..3 * k + 3])
         } else {
             [f64::NAN; 3]
+        };
+    }
+    status
+}
+
+/// The most directions a gyrostat fit differentiates along at once.
+pub const GYRO_DIRECTIONS: usize = 16;
+
+/// A number of a gyrostat fit's derivatives: its value and [`GYRO_DIRECTIONS`] derivatives.
+pub type GyroDual = Dual<GYRO_DIRECTIONS>;
+
+/// The gyrostat's momentum form with its forward sensitivities: the state `[L (3), S (3 × P,
+/// row-major)]`, `S = ∂L/∂p`, advanced by the [`Gyrostat`]'s own rates on dual numbers (the
+/// variational equations, no derivative written by hand; `crate::sensitivity`).
+pub struct GyrostatTangent<'a> {
+    pub gyrostat: Gyrostat<'a, GyroDual>,
+    /// The number of directions `P` (at most [`GYRO_DIRECTIONS`]).
+    pub p: usize,
+}
+
+impl GyrostatTangent<'_> {
+    /// The state as dual numbers.
+    #[inline(always)]
+    fn lift(&self, y: &[f64]) -> [GyroDual; 3] {
+        let p = self.p;
+        [0, 1, 2].map(|i| {
+            let mut x = GyroDual::splat(y[i]);
+            x.d[..p].copy_from_slice(&y[3 + p * i..3 + p * (i + 1)]);
+            x
+        })
+    }
+}
+
+impl VectorField for GyrostatTangent<'_> {
+    #[inline(always)]
+    fn dim(&self) -> usize {
+        3 * (1 + self.p)
+    }
+    #[inline(always)]
+    fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]) {
+        let p = self.p;
+        let r = self.gyrostat.rates(t, &self.lift(y));
+        for (i, x) in r.iter().enumerate() {
+            out[i] = x.v;
+            out[3 + p * i..3 + p * (i + 1)].copy_from_slice(&x.d[..p]);
+        }
+    }
+}
+
+/// The principal axes `E0 exp(δ̂)` of a fit's rotation vector `δ` (dual numbers: their
+/// derivatives with respect to `δ` exact, through [`exp_so3`]).
+pub fn turned_axes<T: Real>(e0: &Mat3, delta: [T; 3]) -> [[T; 3]; 3] {
+    let r = exp_so3(delta);
+    [0, 1, 2].map(|i| {
+        [0, 1, 2].map(|j| (0..3).fold(T::splat(0.0), |acc, m| acc + T::splat(e0[i][m]) * r[m][j]))
+    })
+}
+
+/// Body-frame `ω` and its derivatives at the sample times `spec.sampling.t_eval` (n) of the
+/// gyrostat whose moments, axes `E0 exp(δ̂)`, rotor inertia and initial `ω0` are dual numbers
+/// carrying `p` directions: [`gyrostat_omegas`] with the variational equations alongside
+/// (the same method and steps). `out` receives `ω` with its derivatives (samples not reached
+/// are NaN). Returns the driver's status.
+#[allow(clippy::too_many_arguments)]
+pub fn gyrostat_sensitivities(
+    moments: [GyroDual; 3],
+    e0: &Mat3,
+    delta: [GyroDual; 3],
+    rotor_inertia: GyroDual,
+    rotor: SampledRotor<'_>,
+    omega0: [GyroDual; 3],
+    p: usize,
+    spec: &RunSpec,
+    out: &mut [[GyroDual; 3]],
+) -> Status {
+    let t = spec.sampling.t_eval;
+    let n = t.len();
+    assert!(
+        p <= GYRO_DIRECTIONS && out.len() == n,
+        "gyrostat_sensitivities: sizes"
+    );
+    if n == 0 {
+        return Status::Finished;
+    }
+    let sys = GyrostatTangent {
+        gyrostat: Gyrostat::with(moments, turned_axes(e0, delta), rotor_inertia, rotor),
+        p,
+    };
+    let dim = sys.dim();
+    let l0 = sys.gyrostat.state_of(t[0], omega0);
+    let mut z = vec![0.0; dim];
+    for (i, x) in l0.iter().enumerate() {
+        z[i] = x.v;
+        z[3 + p * i..3 + p * (i + 1)].copy_from_slice(&x.d[..p]);
+    }
+    let mut f = vec![0.0; dim];
+    let mut out_t = vec![f64::NAN; n];
+    let mut out_y = vec![f64::NAN; dim * n];
+    let mut clock = Clock { t: t[0], h: 0.0 };
+    let mut counters = Counters::default();
+    let mut run = Run {
+        spec: *spec,
+        clock: &mut clock,
+        z: &mut z,
+        f: &mut f,
+        out: Output {
+            t: &mut out_t,
+            y: &mut out_y,
+        },
+        counters: &mut counters,
+    };
+    let status = run.chunk(&sys, &mut NoObserver, spec.max_steps);
+    for (k, o) in out.iter_mut().enumerate() {
+        *o = if k < counters.n_out {
+            let l = sys.lift(&out_y[dim * k..dim * (k + 1)]);
+            sys.gyrostat.omega_of(t[k], &l)
+        } else {
+            [GyroDual::splat(f64::NAN); 3]
         };
     }
     status
@@ -673,5 +816,69 @@ mod tests {
             assert!(d < 1e-9 * norm(w0), "{d}");
         }
         assert_ne!(rk4[t.len() - 1], dop[t.len() - 1]); // two routes, not one
+    }
+
+    #[test]
+    fn the_sensitivities_carry_the_plain_motion_and_its_derivative() {
+        // the value of the dual run is the plain run bit for bit; the derivative along ω0_y
+        // agrees with central differences of plain runs
+        let (moments, axes, _) = body();
+        let tr: Vec<f64> = (0..=400).map(|k| k as f64 * 1e-3).collect();
+        let speed: Vec<f64> = tr.iter().map(|&x| 200.0 + 2000.0 * x).collect();
+        let rotor = SampledRotor {
+            t: &tr,
+            speed: &speed,
+            axis: [0.0, 0.6, 0.8],
+            inertia: 1.7e-6,
+        };
+        let t: Vec<f64> = (0..=40).map(|k| k as f64 * 1e-2).collect();
+        let spec = onto(&t, 1e-4, Method::Rk4);
+        let w0 = [10.0, -20.0, 5.0];
+        let mut plain = vec![[0.0; 3]; t.len()];
+        gyrostat_omegas(moments, &axes, rotor, w0, &spec, &mut plain);
+        let lift = |v: Vec3| v.map(GyroDual::splat);
+        let mut w = lift(w0);
+        w[1].d[0] = 1.0;
+        let mut dual = vec![[GyroDual::splat(0.0); 3]; t.len()];
+        let status = gyrostat_sensitivities(
+            lift(moments),
+            &axes,
+            lift([0.0; 3]),
+            GyroDual::splat(rotor.inertia),
+            rotor,
+            w,
+            1,
+            &spec,
+            &mut dual,
+        );
+        assert_eq!(status, Status::Finished);
+        let h = 1e-4;
+        let (mut up, mut down) = (vec![[0.0; 3]; t.len()], vec![[0.0; 3]; t.len()]);
+        gyrostat_omegas(
+            moments,
+            &axes,
+            rotor,
+            [w0[0], w0[1] + h, w0[2]],
+            &spec,
+            &mut up,
+        );
+        gyrostat_omegas(
+            moments,
+            &axes,
+            rotor,
+            [w0[0], w0[1] - h, w0[2]],
+            &spec,
+            &mut down,
+        );
+        for k in 0..t.len() {
+            for i in 0..3 {
+                assert_eq!(dual[k][i].v.to_bits(), plain[k][i].to_bits(), "{k} {i}");
+                let fd = (up[k][i] - down[k][i]) / (2.0 * h);
+                assert!(
+                    (dual[k][i].d[0] - fd).abs() < 1e-6 * (1.0 + fd.abs()),
+                    "{k} {i}"
+                );
+            }
+        }
     }
 }

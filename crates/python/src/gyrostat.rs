@@ -9,8 +9,10 @@ use numpy::{IntoPyArray, PyArray2, PyArray3};
 use poinsot_core::drivers::Status;
 use poinsot_core::gyrostat::{
     gyrostat_omega_dot as omega_dot, gyrostat_omegas as omegas, gyrostat_regressor as regressor,
-    point_acceleration_matrix, SampledRotor,
+    gyrostat_sensitivities as sensitivities, point_acceleration_matrix, GyroDual, SampledRotor,
+    GYRO_DIRECTIONS,
 };
+use poinsot_core::real::Real;
 use poinsot_core::so3::{Mat3, Vec3};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
@@ -165,6 +167,99 @@ fn gyrostat_omegas<'py>(
     Ok(arr.into_pyarray(py))
 }
 
+/// One parameter of `gyrostat_sensitivities` as dual numbers: the values `value` (k,) with the
+/// seeds `seeds` (p, k) of the `p` directions.
+fn seeded<const K: usize>(
+    value: &[f64],
+    seeds: &Floats2<'_>,
+    p: usize,
+    name: &str,
+) -> PyResult<[GyroDual; K]> {
+    let s = seeds.as_array();
+    if value.len() != K || s.shape() != [p, K] {
+        return Err(value_error(format!(
+            "`{name}` must have shape ({K},) and its seeds ({p}, {K}), found ({},) and {:?}",
+            value.len(),
+            s.shape()
+        )));
+    }
+    Ok(std::array::from_fn(|k| {
+        let mut x = GyroDual::splat(value[k]);
+        for j in 0..p {
+            x.d[j] = s[[j, k]];
+        }
+        x
+    }))
+}
+
+/// ω (n, 3) and its derivatives (n, 3, p) at the sample times of `spec` of one gyrostat with
+/// moments `moments`, principal axes `E0 exp(δ̂)` (`axes0`, `delta`), rotor inertia
+/// `rotor_inertia` and `ω(t0) = omega0`, each given with the seeds (p, ·) of the `p`
+/// directions (at most 16): the variational equations integrated with the motion
+/// (`poinsot_core::gyrostat::gyrostat_sensitivities`).
+#[pyfunction]
+#[pyo3(signature = (moments, moment_seeds, axes0, delta, delta_seeds, rotor_inertia, inertia_seeds, omega0, omega_seeds, spec, rotor_t, rotor_speed, rotor_axis))]
+#[allow(clippy::too_many_arguments)]
+fn gyrostat_sensitivities<'py>(
+    py: Python<'py>,
+    moments: Floats1<'py>,
+    moment_seeds: Floats2<'py>,
+    axes0: Floats2<'py>,
+    delta: Floats1<'py>,
+    delta_seeds: Floats2<'py>,
+    rotor_inertia: f64,
+    inertia_seeds: Floats1<'py>,
+    omega0: Floats1<'py>,
+    omega_seeds: Floats2<'py>,
+    spec: PyRef<'py, RunSpec>,
+    rotor_t: Floats1<'py>,
+    rotor_speed: Floats1<'py>,
+    rotor_axis: Floats1<'py>,
+) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray3<f64>>)> {
+    let p = moment_seeds.as_array().nrows();
+    if p == 0 || p > GYRO_DIRECTIONS {
+        return Err(value_error(format!(
+            "the seeds must have 1 to {GYRO_DIRECTIONS} rows (directions), found {p}"
+        )));
+    }
+    let m = seeded::<3>(moments.as_slice()?, &moment_seeds, p, "moments")?;
+    let d = seeded::<3>(delta.as_slice()?, &delta_seeds, p, "delta")?;
+    let w = seeded::<3>(omega0.as_slice()?, &omega_seeds, p, "omega0")?;
+    let js = inertia_seeds.as_slice()?;
+    if js.len() != p {
+        return Err(value_error(format!(
+            "`inertia_seeds` must have shape ({p},), found ({},)",
+            js.len()
+        )));
+    }
+    let mut j = GyroDual::splat(rotor_inertia);
+    j.d[..p].copy_from_slice(js);
+    let e0 = mat3_from(&axes0, "axes0")?;
+    let run = spec.core();
+    run.check_for(false).map_err(value_error)?;
+    let ts = run.sampling.t_eval;
+    if ts.is_empty() {
+        return Err(value_error("`spec` must have sample times `t_eval`"));
+    }
+    increasing(ts, "t_eval")?;
+    let rotor = Rotor::new(&rotor_t, &rotor_speed, &rotor_axis)?;
+    let n = ts.len();
+    let out = detached(py, || {
+        let sampled = SampledRotor {
+            t: &rotor.t,
+            speed: &rotor.speed,
+            axis: rotor.axis,
+            inertia: rotor_inertia,
+        };
+        let mut out = vec![[GyroDual::splat(0.0); 3]; n];
+        sensitivities(m, &e0, d, j, sampled, w, p, &run, &mut out);
+        out
+    })?;
+    let omega = Array2::from_shape_fn((n, 3), |(k, i)| out[k][i].v);
+    let deriv = Array3::from_shape_fn((n, 3, p), |(k, i, j)| out[k][i].d[j]);
+    Ok((omega.into_pyarray(py), deriv.into_pyarray(py)))
+}
+
 /// A member of `gyrostat_omegas`: its principal moments and axes, its rotor's inertia, its ω
 /// at the first time.
 type Gyrostat = (Vec3, Mat3, f64, Vec3);
@@ -316,5 +411,6 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(gyrostat_omega_dot, m)?)?;
     m.add_function(wrap_pyfunction!(gyrostat_regressor, m)?)?;
     m.add_function(wrap_pyfunction!(gyrostat_omegas, m)?)?;
+    m.add_function(wrap_pyfunction!(gyrostat_sensitivities, m)?)?;
     Ok(())
 }

@@ -6,6 +6,7 @@ from .._core import (
     gyrostat_omega_dot,
     gyrostat_omegas,
     gyrostat_regressor,
+    gyrostat_sensitivities,
     point_acceleration_matrices,
 )
 
@@ -13,5 +14,6 @@ __all__ = [
     "gyrostat_omega_dot",
     "gyrostat_omegas",
     "gyrostat_regressor",
+    "gyrostat_sensitivities",
     "point_acceleration_matrices",
 ]

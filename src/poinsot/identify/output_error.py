@@ -4,8 +4,9 @@ the raw gyro readings by nonlinear least squares (``docs/theory.md`` §4).
 The model of the readings is ``ω_meas(t) = ω(t; ω0, I, J) + b + noise``: ``ω(t)`` the motion of
 the gyrostat ``I ω̇ + ω × (I ω + h) + ḣ = 0``, ``h = J ω_R(t) a``, from ``ω0`` at the start of
 each segment of the window, computed by the compiled core (``poinsot._core.gyrostat_omegas``:
-RK4 on the momentum form over the sampled rotor speed, one call for all the members of a
-finite-difference Jacobian), and ``b`` the gyro's bias. SciPy's
+RK4 on the momentum form over the sampled rotor speed; its Jacobian the exact derivatives of
+that motion, ``poinsot._core.gyrostat_sensitivities``: the variational equations integrated
+with it), and ``b`` the gyro's bias. SciPy's
 :func:`scipy.optimize.least_squares` (MINPACK's Levenberg–Marquardt, on the logarithms of the
 ratios so that they stay positive) minimises the residuals ``ω_meas − ω − b``, from the
 equation-error estimate. A robust loss (SciPy's ``soft_l1``, ``huber``, ``cauchy``,
@@ -56,8 +57,6 @@ MAX_TURN_PER_STEP = 0.02
 #: At most this many RK4 steps per sample interval (a log sampled too slowly for its spin,
 #: or read in the wrong units, would otherwise cost without bound).
 MAX_SUBSTEPS = 16
-#: Relative step of the central differences of the Jacobian.
-FD_STEP = 1e-6
 
 
 @dataclass(frozen=True)
@@ -215,42 +214,55 @@ class _Model:
         r = (self.omega - self.prediction(x)).ravel()
         return np.where(np.isfinite(r), r, 1e6)
 
-    def steps(self, x):
-        h = np.empty(self.p)
-        K = self.K
-        h[: 3 * K] = FD_STEP * np.maximum(np.abs(x[: 3 * K]), 1.0)
-        h[3 * K : 3 * K + 2] = FD_STEP * np.abs(x[3 * K : 3 * K + 2]).clip(min=1e-3)
-        h[3 * K + 2 : 3 * K + 5] = FD_STEP
-        if self.extra == "eta":
-            h[3 * K + 5] = FD_STEP
-        elif self.extra == "kappa":
-            h[3 * K + 5] = FD_STEP * max(abs(x[3 * K + 5]), 1e-4)
-        h[-3:] = FD_STEP
-        return h
+    def _seeds(self, x, k):
+        """The directions of segment ``k``'s derivatives (the shared parameters, then its ω0):
+        the seeds of the moments ``m = I3 (ρ1, ρ2, 1)``, of ``δ``, of ``J`` and of ``ω0``
+        along each column of ``x`` it depends on (the chain rule of the parametrisation)."""
+        _, rho, delta, extra, _ = self.unpack(x)
+        moments = self.physical(rho, delta, extra)[0]
+        cols = [*self.shared, 3 * k, 3 * k + 1, 3 * k + 2]
+        I3 = moments[2]
+        p = len(cols)
+        dm, dd, dj, dw = np.zeros((p, 3)), np.zeros((p, 3)), np.zeros(p), np.zeros((p, 3))
+        for i, j in enumerate(cols):
+            name = self.names[j]
+            if name in ("rho1", "rho2"):
+                dm[i, int(name[-1]) - 1] = I3
+            elif name.startswith("delta"):
+                dd[i, int(name[-1]) - 1] = 1.0
+            elif name == "eta":  # m = I3⁰ e^η (ρ1, ρ2, 1)
+                dm[i] = moments
+            elif name == "kappa":  # J = κ
+                dj[i] = 1.0
+            else:  # omega0[k].c
+                dw[i, "xyz".index(name[-1])] = 1.0
+        return cols, dm, dd, dj, dw
 
     def jacobian(self, x):
-        """∂r/∂x (3n, p): central differences of the model for ω0, ρ, δ and η/κ (one batched
-        call of the core per segment), exact −1 entries for the bias."""
+        """∂r/∂x (3n, p): the exact derivatives of the model's RK4 motion (forward
+        sensitivities integrated with it in the compiled core, one run per segment:
+        ``poinsot._core.gyrostat_sensitivities``), −1 entries for the bias."""
         n = len(self.t)
         Jm = np.zeros((n, 3, self.p))
-        _w0, _rho, _delta, _extra, _ = self.unpack(x)
-        h = self.steps(x)
+        w0, rho, delta, extra, _ = self.unpack(x)
+        moments, _, J = self.physical(rho, delta, extra)
+        if self.rotor is None:
+            rt, rs, ax = np.zeros(0), np.zeros(0), np.array([1.0, 0.0, 0.0])
+        else:
+            rt, rs, ax = self.rotor
+        c = np.ascontiguousarray
         for k, seg in enumerate(self.segments):
-            cols = [*self.shared, 3 * k, 3 * k + 1, 3 * k + 2]
-            members = []
-            for j in cols:
-                for sgn in (1.0, -1.0):
-                    xj = x.copy()
-                    xj[j] += sgn * h[j]
-                    w0j, rj, dj, ej, _ = self.unpack(xj)
-                    members.append((*self.physical(rj, dj, ej), w0j[k]))
-            out = self._simulate(k, members)
-            for i, j in enumerate(cols):
-                Jm[seg, :, j] = (out[2 * i] - out[2 * i + 1]) / (2.0 * h[j])
-        for c in range(3):
-            Jm[:, c, self.p - 3 + c] = 1.0
-        J = -Jm.reshape(3 * n, self.p)
-        return np.where(np.isfinite(J), J, 0.0)
+            cols, dm, dd, dj, dw = self._seeds(x, k)
+            _, d = core_identify.gyrostat_sensitivities(
+                c(moments, dtype=float), dm, c(self.E0, dtype=float), c(delta, dtype=float),
+                dd, float(J), dj, c(w0[k], dtype=float), dw, self.runs[k], rt, rs, ax,
+            )  # fmt: skip
+            self.nfev += 1
+            Jm[seg][:, :, cols] = d
+        for c_ in range(3):
+            Jm[:, c_, self.p - 3 + c_] = 1.0
+        Jr = -Jm.reshape(3 * n, self.p)
+        return np.where(np.isfinite(Jr), Jr, 0.0)
 
 
 def _segments(n: int, t, segment: float) -> list[slice]:
