@@ -212,17 +212,21 @@ class Sensitivities:
 
     def of(self, output, wrt=None) -> np.ndarray:
         """``∂output/∂wrt`` (samples, size of ``output``, size of ``wrt``); ``wrt`` None: every
-        column."""
+        column. ``wrt`` is a name the run asked for, or a part of one: a force's parameter
+        (``"forces[0].g"`` of ``"forces[0]"``) or one column (``"omega0[1]"``)."""
         if output not in OUTPUTS:
             raise ValueError(f"`output` must be one of {', '.join(map(repr, OUTPUTS))}, "
                              f"found {output!r}")  # fmt: skip
         cols = slice(None)
         if wrt is not None:
-            if wrt not in self.directions.columns:
+            cols = self.directions.columns.get(wrt)
+            if cols is None:  # a part of what was asked: "forces[0].g", "omega0[1]"
+                labels = self.directions.labels
+                cols = [j for j, x in enumerate(labels) if x == wrt or x.startswith(wrt + "[")]
+            if not cols:
                 asked = ", ".join(map(repr, self.directions.names))
                 raise ValueError(f"`wrt` {wrt!r} was not asked of this run; it has: {asked} "
                                  "(simulate(..., sensitivities=...))")  # fmt: skip
-            cols = self.directions.columns[wrt]
         return self.S[:, OUTPUTS[output], cols]
 
 

@@ -476,7 +476,8 @@ class Trajectory(Displayable):
             A block of the state (``"Q"`` row-major, 9; ``"state"`` all 18), in the frames of
             :attr:`R`, :attr:`V`, :attr:`Q` and :attr:`omega`.
         wrt : str, optional
-            One of the names the run asked for; None: all of them, in order.
+            One of the names the run asked for, or a part of one (``"forces[0].g"`` of
+            ``"forces[0]"``, ``"omega0[1]"``); None: all of them, in order.
 
         Examples
         --------

@@ -23,10 +23,11 @@ right-handed frame ``S`` (columns: the sorted axes in body coordinates).
 
 from .body import FreeRigidBody, energy_ellipsoid_semi_axes, momentum_ellipsoid_semi_axes
 from .polhodes import Polhode
-from .stability import FixedPointSet, Stability
+from .stability import FixedPointSet, Floquet, Stability
 
 __all__ = [
     "FixedPointSet",
+    "Floquet",
     "FreeRigidBody",
     "Polhode",
     "Stability",
