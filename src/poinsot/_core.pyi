@@ -135,6 +135,7 @@ __all__ = [
     "integrate_lagrange",
     "integrate_python",
     "integrate_relative",
+    "integrate_relative_sensitivities",
     "integrate_rigid",
     "integrate_sensitivities",
     "is_degenerate",
@@ -166,6 +167,7 @@ __all__ = [
     "quat_to_matrix",
     "quat_to_rotvec",
     "relative_rhs",
+    "relative_sensitivity_start",
     "rigid_body_parameters",
     "rigid_motion_from_particles",
     "rigid_rates",
@@ -310,6 +312,27 @@ def integrate_sensitivities(
     state: RunState,
     steps: int,
 ) -> int: ...
+def integrate_relative_sensitivities(
+    body: ArrayLike,
+    force_kind: ArrayLike,
+    force_params: ArrayLike,
+    carrier: object,
+    balance_transport: bool,
+    hold_com: bool,
+    moment_seeds: ArrayLike,
+    force_seeds: ArrayLike,
+    control_all: bool,
+    spec: RunSpec,
+    state: RunState,
+    steps: int,
+) -> int: ...
+def relative_sensitivity_start(
+    body: ArrayLike,
+    axes: ArrayLike,
+    z0: ArrayLike,
+    kinds: ArrayLike,
+    components: ArrayLike,
+) -> _F64: ...
 def sensitivity_start(
     body: ArrayLike,
     axes: ArrayLike,

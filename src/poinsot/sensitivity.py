@@ -14,6 +14,7 @@ only names the directions and moves the results between frames; it holds no phys
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from dataclasses import dataclass
 
@@ -30,6 +31,7 @@ __all__ = [
     "Directions",
     "SensitiveSystem",
     "Sensitivities",
+    "SensitivityMixin",
     "directions",
 ]
 
@@ -84,10 +86,13 @@ class Directions:
         return len(self.labels)
 
 
-def directions(system, wrt) -> Directions:
+def directions(system, wrt, starts=None) -> Directions:
     """The :class:`Directions` of ``wrt`` (a name or a sequence of names) for a
     :class:`~poinsot.dynamics.RigidBodySystem`, checked: each name known, once, and with an
-    effect on this system."""
+    effect on this system. ``starts`` names the initial state's parts (``{"omega0": 1,
+    "Q0": 2, "R0": 3, "V0": 4}`` by default; a relative motion's are ``omega_r0``, ``Q_r0``,
+    ``r0``, ``v_r0``)."""
+    starts = _START if starts is None else starts
     names = (wrt,) if isinstance(wrt, str) else tuple(wrt)
     if not names:
         raise ValueError("`sensitivities` must name at least one parameter")
@@ -99,7 +104,7 @@ def directions(system, wrt) -> Directions:
         if name in columns:
             raise ValueError(f"`sensitivities[{i}]`: {name!r} is named twice")
         start = len(labels)
-        for label, kind, comp, dm, df in _columns(system, name, i, nf):
+        for label, kind, comp, dm, df in _columns(system, name, i, nf, starts):
             labels.append(label)
             kinds.append(kind)
             comps.append(comp)
@@ -112,20 +117,20 @@ def directions(system, wrt) -> Directions:
                       seeds)  # fmt: skip
 
 
-def _columns(system, name, i, nf):
+def _columns(system, name, i, nf, starts):
     """The columns of one name: ``(label, start kind, component, moment seeds, force
     seeds)``."""
     zero_f = np.zeros((nf, layout.FORCE_PARAMS))
-    if name in _START:
-        if system.pivot is not None and name in ("R0", "V0"):
+    if name in starts:
+        if system.pivot is not None and starts[name] in (3, 4):
             raise ValueError(f"`sensitivities[{i}]`: {name!r} has no effect about a pivot (the "
                              "pivot sets the centre of mass and its velocity)")  # fmt: skip
-        return [(f"{name}[{k}]", _START[name], k, np.zeros(3), zero_f) for k in range(3)]
+        return [(f"{name}[{k}]", starts[name], k, np.zeros(3), zero_f) for k in range(3)]
     if name == "inertia":
         return [(f"inertia[{k}]", 0, 0, np.eye(3)[k], zero_f) for k in range(3)]
     m = _FORCE.match(name)
     if m is None:
-        known = ", ".join(repr(n) for n in WRT)
+        known = ", ".join(repr(n) for n in (*starts, "inertia"))
         raise ValueError(f"`sensitivities[{i}]`: unknown parameter {name!r}; known: {known}, "
                          "'forces[i]' and 'forces[i].<parameter>'")  # fmt: skip
     k, which = int(m.group(1)), m.group(2)
@@ -158,6 +163,8 @@ class SensitiveSystem:
 
     structure = "sensitivities"
     state_slices = layout.STATE_SLICES
+    #: The length of the system's own state.
+    size = layout.STATE_SIZE
 
     def __init__(self, system, dirs: Directions, *, control_all=True, omega_space=False):
         self.system, self.directions = system, dirs
@@ -187,7 +194,7 @@ class SensitiveSystem:
         """Augmented states (n, 18 (1 + P)) from the principal frame to the body frame: the
         state's map, linear, applied to the state and to each direction's column."""
         z = np.asarray(z, dtype=float)
-        n, size, p = z.size // self.width, layout.STATE_SIZE, self.directions.size
+        n, size, p = z.size // self.width, self.size, self.directions.size
         rows = z.reshape(n, self.width)
         S = rows[:, size:].reshape(n, size, p).transpose(0, 2, 1)  # (n, P, 18)
         out = np.empty_like(rows)
@@ -198,8 +205,8 @@ class SensitiveSystem:
 
     @property
     def width(self) -> int:
-        """The augmented state's length, ``18 (1 + P)``."""
-        return layout.STATE_SIZE * (1 + self.directions.size)
+        """The augmented state's length, ``18 (1 + P)`` (its own state's length for 18)."""
+        return self.size * (1 + self.directions.size)
 
 
 @dataclass(frozen=True)
@@ -209,13 +216,15 @@ class Sensitivities:
 
     S: np.ndarray
     directions: Directions
+    #: The outputs by name: blocks of the state.
+    outputs: dict = dataclasses.field(default_factory=lambda: OUTPUTS)
 
     def of(self, output, wrt=None) -> np.ndarray:
         """``∂output/∂wrt`` (samples, size of ``output``, size of ``wrt``); ``wrt`` None: every
         column. ``wrt`` is a name the run asked for, or a part of one: a force's parameter
         (``"forces[0].g"`` of ``"forces[0]"``) or one column (``"omega0[1]"``)."""
-        if output not in OUTPUTS:
-            raise ValueError(f"`output` must be one of {', '.join(map(repr, OUTPUTS))}, "
+        if output not in self.outputs:
+            raise ValueError(f"`output` must be one of {', '.join(map(repr, self.outputs))}, "
                              f"found {output!r}")  # fmt: skip
         cols = slice(None)
         if wrt is not None:
@@ -227,13 +236,73 @@ class Sensitivities:
                 asked = ", ".join(map(repr, self.directions.names))
                 raise ValueError(f"`wrt` {wrt!r} was not asked of this run; it has: {asked} "
                                  "(simulate(..., sensitivities=...))")  # fmt: skip
-        return self.S[:, OUTPUTS[output], cols]
+        return self.S[:, self.outputs[output], cols]
 
 
-def split(y_aug, dirs: Directions) -> tuple[np.ndarray, Sensitivities]:
-    """The body-frame states (n, 18) and :class:`Sensitivities` of augmented states."""
-    n, size = len(y_aug), layout.STATE_SIZE
+def split(y_aug, dirs: Directions, size=layout.STATE_SIZE,
+          outputs=None) -> tuple[np.ndarray, Sensitivities]:  # fmt: skip
+    """The states (n, ``size``) and :class:`Sensitivities` of augmented states."""
+    n = len(y_aug)
     rows = np.asarray(y_aug, dtype=float).reshape(n, size * (1 + dirs.size))
     S = rows[:, size:].reshape(n, size, dirs.size).copy()
     S.flags.writeable = False
-    return rows[:, :size], Sensitivities(S, dirs)
+    return rows[:, :size], Sensitivities(S, dirs, OUTPUTS if outputs is None else outputs)
+
+
+class SensitivityMixin:
+    """:meth:`sensitivity` and :meth:`lyapunov_exponents` of a result that may carry
+    sensitivities (``sensitivities``: :class:`Sensitivities` or None)."""
+
+    sensitivities = None
+    #: The default output and parameter of :meth:`lyapunov_exponents`.
+    _growth = ("omega", "omega0")
+
+    def sensitivity(self, output, wrt=None) -> np.ndarray:
+        """``∂output(tᵢ)/∂wrt`` at every sample, shape (samples, size of ``output``, size of
+        ``wrt``), of a run that asked for them (``sensitivities=(...)`` of its front-end).
+
+        Parameters
+        ----------
+        output : str
+            A block of the state: ``"R"``, ``"V"``, ``"Q"`` (row-major, 9), ``"omega"``,
+            ``"state"`` for a rigid body; ``"r"``, ``"v_r"``, ``"Q_r"``, ``"omega_r"``,
+            ``"state"`` relative to a carrier; in the frames of the result's own fields.
+        wrt : str, optional
+            One of the names the run asked for, or a part of one (``"forces[0].g"`` of
+            ``"forces[0]"``, ``"omega0[1]"``); None: all of them, in order.
+
+        Examples
+        --------
+        >>> from poinsot import RigidBody, simulate
+        >>> traj = simulate(RigidBody.box(1.0, (1, 2, 3)), (0, 1), omega0=(0, 1, 0),
+        ...                 method="rk4", dt=1e-2, sensitivities="omega0")
+        >>> traj.sensitivity("omega", "omega0").shape
+        (101, 3, 3)
+        """
+        if self.sensitivities is None:
+            raise ValueError("this run carries no sensitivities: ask for them with "
+                             "sensitivities=(...) when it is run")  # fmt: skip
+        return self.sensitivities.of(output, wrt)
+
+    def lyapunov_exponents(self, output=None, wrt=None) -> np.ndarray:
+        """Finite-time Lyapunov exponents ``λ_k(t) = ln σ_k(∂output(t)/∂wrt)/(t − t0)``, the
+        singular values ``σ_k`` of the sensitivity descending, at every sample (NaN at
+        ``t0``): shape (samples, min(size of output, size of wrt)). By default the angular
+        velocity against its initial value (``"omega"``, ``"omega0"``; relative to a carrier
+        ``"omega_r"``, ``"omega_r0"``).
+
+        Examples
+        --------
+        >>> from poinsot import RigidBody, simulate
+        >>> traj = simulate(RigidBody.box(1.0, (1, 2, 3)), (0, 20), omega0=(0, 1, 0),
+        ...                 method="dop853", sensitivities="omega0")
+        >>> round(float(traj.lyapunov_exponents()[-1, 0]), 2)   # growth about the middle axis
+        0.48
+        """
+        S = self.sensitivity(output or self._growth[0], wrt or self._growth[1])
+        sigma = np.linalg.svd(S, compute_uv=False)
+        elapsed = (self.t - self.t[0])[:, None]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out = np.log(sigma) / elapsed
+        out[elapsed[:, 0] == 0] = np.nan
+        return out

@@ -13,6 +13,7 @@ from ._bindings.rotations import matrix_to_quat
 from ._io import atomic_path, atomic_savez
 from .display import Displayable
 from .layout import STATE_SIZE, STATE_SLICES
+from .sensitivity import SensitivityMixin
 
 __all__ = ["Trajectory"]
 
@@ -57,7 +58,7 @@ _SCALAR_VARIABLES = (
 )  # fmt: skip
 
 
-class Trajectory(Displayable):
+class Trajectory(SensitivityMixin, Displayable):
     """Samples of a rigid-body motion and everything computed from them.
 
     Attributes
@@ -80,7 +81,6 @@ class Trajectory(Displayable):
 
     t_events: tuple = ()
     y_events: tuple = ()
-    sensitivities = None
 
     def __init__(
         self,
@@ -464,55 +464,6 @@ class Trajectory(Displayable):
             "principal_moments": self.body.principal_moments.tolist(),
             "diagnostics": self.diagnostics(),
         }
-
-    # ----------------------------------------------------------------- sensitivities
-    def sensitivity(self, output, wrt=None) -> np.ndarray:
-        """``∂output(tᵢ)/∂wrt`` at every sample, shape (samples, size of ``output``, size of
-        ``wrt``), of a run that asked for them (``simulate(..., sensitivities=...)``).
-
-        Parameters
-        ----------
-        output : {"R", "V", "Q", "omega", "state"}
-            A block of the state (``"Q"`` row-major, 9; ``"state"`` all 18), in the frames of
-            :attr:`R`, :attr:`V`, :attr:`Q` and :attr:`omega`.
-        wrt : str, optional
-            One of the names the run asked for, or a part of one (``"forces[0].g"`` of
-            ``"forces[0]"``, ``"omega0[1]"``); None: all of them, in order.
-
-        Examples
-        --------
-        >>> from poinsot import RigidBody, simulate
-        >>> traj = simulate(RigidBody.box(1.0, (1, 2, 3)), (0, 1), omega0=(0, 1, 0),
-        ...                 method="rk4", dt=1e-2, sensitivities="omega0")
-        >>> traj.sensitivity("omega", "omega0").shape
-        (101, 3, 3)
-        """
-        if self.sensitivities is None:
-            raise ValueError("this run carries no sensitivities: ask for them with "
-                             "simulate(..., sensitivities=(...))")  # fmt: skip
-        return self.sensitivities.of(output, wrt)
-
-    def lyapunov_exponents(self, output="omega", wrt="omega0") -> np.ndarray:
-        """Finite-time Lyapunov exponents ``λ_k(t) = ln σ_k(∂output(t)/∂wrt)/(t − t0)``, the
-        singular values ``σ_k`` of the sensitivity descending, at every sample (NaN at
-        ``t0``): shape (samples, min(size of output, size of wrt)). A run that asked for the
-        sensitivities of ``wrt`` (:meth:`sensitivity`).
-
-        Examples
-        --------
-        >>> from poinsot import RigidBody, simulate
-        >>> traj = simulate(RigidBody.box(1.0, (1, 2, 3)), (0, 20), omega0=(0, 1, 0),
-        ...                 method="dop853", sensitivities="omega0")
-        >>> round(float(traj.lyapunov_exponents()[-1, 0]), 2)   # growth about the middle axis
-        0.48
-        """
-        S = self.sensitivity(output, wrt)
-        sigma = np.linalg.svd(S, compute_uv=False)
-        elapsed = (self.t - self.t[0])[:, None]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            out = np.log(sigma) / elapsed
-        out[elapsed[:, 0] == 0] = np.nan
-        return out
 
     # ----------------------------------------------------------------- export
     def variables(self) -> dict:

@@ -5,6 +5,7 @@
 //! Nothing here validates input; the bindings and `poinsot.bodies` do. The symmetry class and
 //! degeneracy of a body are decided here, once, with one tolerance, for every caller.
 
+use crate::real::Real;
 use crate::so3::{cross, Mat3, Vec3};
 
 /// Two principal moments closer than this, relative to the largest, are equal: the body is
@@ -75,14 +76,14 @@ pub fn parallel_axis(inertia_com: &Mat3, mass: f64, d: Vec3) -> Mat3 {
 /// The planar inertia tensor `J' = Σ m ρ ρᵀ = ½ tr(J) 𝟙 − J` (paper eqs (3)–(4)): its diagonal
 /// holds the planar moments `Σ m x²`, … (in principal axes `A' = (B + C − A)/2`, …), its
 /// off-diagonal the products of inertia. Written once: bodies and relative motion call it.
-pub fn planar_inertia(inertia: &Mat3) -> Mat3 {
-    let half = 0.5 * (inertia[0][0] + inertia[1][1] + inertia[2][2]);
-    let mut out = [[0.0; 3]; 3];
+pub fn planar_inertia<T: Real>(inertia: &[[T; 3]; 3]) -> [[T; 3]; 3] {
+    let half = T::splat(0.5) * (inertia[0][0] + inertia[1][1] + inertia[2][2]);
+    let mut out = [[T::splat(0.0); 3]; 3];
     for j in 0..3 {
         for k in 0..3 {
             out[j][k] = -inertia[j][k];
         }
-        out[j][j] += half;
+        out[j][j] = out[j][j] + half;
     }
     out
 }

@@ -34,8 +34,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use crate::expressions::Function;
 use crate::inertia::planar_inertia;
 use crate::layout::{Body, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
-use crate::rigid::{attitude_rate, omega_dot_principal, State};
-use crate::so3::{cross, Mat3, Vec3};
+use crate::real::Real;
+use crate::rigid::{attitude_rate, omega_dot_principal};
+use crate::so3::{cross, cross_t, Mat3, Vec3};
 use crate::system::{RigidStructure, VectorField};
 use crate::systems::{Rigid, UserWrench};
 
@@ -53,7 +54,7 @@ pub const MOTION_SIZE: usize = 9;
 pub type Motion = [f64; MOTION_SIZE];
 
 #[inline(always)]
-fn mat_vec(a: &Mat3, x: Vec3) -> Vec3 {
+fn mat_vec<T: Real>(a: &[[T; 3]; 3], x: [T; 3]) -> [T; 3] {
     [
         a[0][0] * x[0] + a[0][1] * x[1] + a[0][2] * x[2],
         a[1][0] * x[0] + a[1][1] * x[1] + a[1][2] * x[2],
@@ -63,7 +64,7 @@ fn mat_vec(a: &Mat3, x: Vec3) -> Vec3 {
 
 /// `Q x` for `Q` stored row-major in `q[..9]`.
 #[inline(always)]
-fn rows_vec(q: &[f64], x: Vec3) -> Vec3 {
+fn rows_vec<T: Real>(q: &[T], x: [T; 3]) -> [T; 3] {
     [
         q[0] * x[0] + q[1] * x[1] + q[2] * x[2],
         q[3] * x[0] + q[4] * x[1] + q[5] * x[2],
@@ -73,7 +74,7 @@ fn rows_vec(q: &[f64], x: Vec3) -> Vec3 {
 
 /// `Qᵀ x` for `Q` stored row-major in `q[..9]`.
 #[inline(always)]
-fn rows_t_vec(q: &[f64], x: Vec3) -> Vec3 {
+fn rows_t_vec<T: Real>(q: &[T], x: [T; 3]) -> [T; 3] {
     [
         q[0] * x[0] + q[3] * x[1] + q[6] * x[2],
         q[1] * x[0] + q[4] * x[1] + q[7] * x[2],
@@ -82,7 +83,7 @@ fn rows_t_vec(q: &[f64], x: Vec3) -> Vec3 {
 }
 
 #[inline(always)]
-fn vec3(y: &[f64], at: usize) -> Vec3 {
+fn vec3<T: Real>(y: &[T], at: usize) -> [T; 3] {
     [y[at], y[at + 1], y[at + 2]]
 }
 
@@ -91,8 +92,8 @@ fn vec3(y: &[f64], at: usize) -> Vec3 {
 /// The transport inertia moment `M_e = −J ε_e + Jω_e × ω_e` (paper eq. (2)), `ω_e` and `ε_e`
 /// in body components.
 #[inline(always)]
-pub fn transport_moment(j: &Mat3, omega_e: Vec3, epsilon_e: Vec3) -> Vec3 {
-    let c = cross(mat_vec(j, omega_e), omega_e);
+pub fn transport_moment<T: Real>(j: &[[T; 3]; 3], omega_e: [T; 3], epsilon_e: [T; 3]) -> [T; 3] {
+    let c = cross_t(mat_vec(j, omega_e), omega_e);
     let k = mat_vec(j, epsilon_e);
     [c[0] - k[0], c[1] - k[1], c[2] - k[2]]
 }
@@ -100,9 +101,10 @@ pub fn transport_moment(j: &Mat3, omega_e: Vec3, epsilon_e: Vec3) -> Vec3 {
 /// The Coriolis inertia moment in its compact form `M_c = 2 ω_r × (J'ω_e)` (paper eq. (5)),
 /// `J' = ½ tr(J) 𝟙 − J` the planar inertia tensor (3)–(4).
 #[inline(always)]
-pub fn coriolis_moment(j: &Mat3, omega_r: Vec3, omega_e: Vec3) -> Vec3 {
-    let c = cross(omega_r, mat_vec(&planar_inertia(j), omega_e));
-    [2.0 * c[0], 2.0 * c[1], 2.0 * c[2]]
+pub fn coriolis_moment<T: Real>(j: &[[T; 3]; 3], omega_r: [T; 3], omega_e: [T; 3]) -> [T; 3] {
+    let c = cross_t(omega_r, mat_vec(&planar_inertia(j), omega_e));
+    let two = T::splat(2.0);
+    [two * c[0], two * c[1], two * c[2]]
 }
 
 /// The Coriolis inertia moment in its three-term form
@@ -260,17 +262,17 @@ impl CarrierMotion for Function {
 /// The absolute 18-state `[R, V, Q, ω]` of a relative state `y` (33) under the carrier's
 /// `motion`: `R = X_O + Q_c r`, `V = V_O + Q_c (v + ω_e × r)`, `Q = Q_c Q_r`,
 /// `ω = ω_r + Q_rᵀ ω_e` (eq. (15): ω_e projected on the body axes).
-pub fn absolute_state(y: &[f64], motion: &Motion) -> State {
+pub fn absolute_state<T: Real>(y: &[T], motion: &Motion) -> [T; STATE_SIZE] {
     let qc = &y[CARRIER_Q_AT..CARRIER_Q_AT + 9];
     let q = &y[Q_AT..Q_AT + 9];
-    let we = [motion[0], motion[1], motion[2]];
+    let we = [motion[0], motion[1], motion[2]].map(T::splat);
     let r = vec3(y, R_AT);
-    let x = cross(we, r);
+    let x = cross_t(we, r);
     let u = [y[V_AT] + x[0], y[V_AT + 1] + x[1], y[V_AT + 2] + x[2]];
     let pr = rows_vec(qc, r);
     let pu = rows_vec(qc, u);
     let wb = rows_t_vec(q, we);
-    let mut s = [0.0; STATE_SIZE];
+    let mut s = [T::splat(0.0); STATE_SIZE];
     for k in 0..3 {
         s[R_AT + k] = y[ORIGIN_AT + k] + pr[k];
         s[V_AT + k] = y[ORIGIN_V_AT + k] + pu[k];
@@ -304,34 +306,35 @@ pub struct RelativeOptions {
 ///   `M a_r = Q_cᵀ F − M (a_O + ε_e × r + ω_e × (ω_e × r) + 2 ω_e × v)`, or at rest in the
 ///   carrier (`hold_com`);
 /// * the carrier's origin: `Ẋ_O = V_O`, `V̇_O = Q_c a_O`.
-pub fn relative_rates(
-    body: &Body,
+pub fn relative_rates<T: Real>(
+    body: &Body<T>,
     options: RelativeOptions,
-    y: &[f64],
+    y: &[T],
     motion: &Motion,
-    wrench: [f64; 6],
-    out: &mut [f64],
+    wrench: [T; 6],
+    out: &mut [T],
 ) {
     let (moments, inv_mass) = (body.moments, body.inv_mass);
     let q = &y[Q_AT..Q_AT + 9];
     let qc = &y[CARRIER_Q_AT..CARRIER_Q_AT + 9];
-    let we = [motion[0], motion[1], motion[2]];
-    let ee = [motion[3], motion[4], motion[5]];
-    let ao = [motion[6], motion[7], motion[8]];
+    let we = [motion[0], motion[1], motion[2]].map(T::splat);
+    let ee = [motion[3], motion[4], motion[5]].map(T::splat);
+    let ao = [motion[6], motion[7], motion[8]].map(T::splat);
+    let zero = T::splat(0.0);
     // ω_e and ε_e on the body axes (eq. (15)): Q_rᵀ ω_e
     let wb = rows_t_vec(q, we);
     let eb = rows_t_vec(q, ee);
     let wr = vec3(y, OMEGA_AT);
     let j = [
-        [moments[0], 0.0, 0.0],
-        [0.0, moments[1], 0.0],
-        [0.0, 0.0, moments[2]],
+        [moments[0], zero, zero],
+        [zero, moments[1], zero],
+        [zero, zero, moments[2]],
     ];
     let mut m = coriolis_moment(&j, wr, wb);
     if !options.balance_transport {
         let t = transport_moment(&j, wb, eb);
         for k in 0..3 {
-            m[k] += t[k];
+            m[k] = m[k] + t[k];
         }
     }
     let tau = [wrench[3] + m[0], wrench[4] + m[1], wrench[5] + m[2]];
@@ -340,17 +343,18 @@ pub fn relative_rates(
     let ac = attitude_rate(qc, we);
     let g = rows_vec(qc, ao); // the carrier origin's acceleration, inertial: Q_c a_O
     let (rdot, vdot) = if options.hold_com {
-        ([0.0; 3], [0.0; 3])
+        ([zero; 3], [zero; 3])
     } else {
         let v = vec3(y, V_AT);
         let f = rows_t_vec(qc, [wrench[0], wrench[1], wrench[2]]); // Q_cᵀ F
         let r = vec3(y, R_AT);
-        let euler = cross(ee, r);
-        let centripetal = cross(we, cross(we, r));
-        let coriolis = cross(we, v);
-        let mut a = [0.0; 3];
+        let euler = cross_t(ee, r);
+        let centripetal = cross_t(we, cross_t(we, r));
+        let coriolis = cross_t(we, v);
+        let mut a = [zero; 3];
         for k in 0..3 {
-            a[k] = f[k] * inv_mass - ao[k] - euler[k] - centripetal[k] - 2.0 * coriolis[k];
+            a[k] =
+                f[k] * inv_mass - ao[k] - euler[k] - centripetal[k] - T::splat(2.0) * coriolis[k];
         }
         (v, a)
     };

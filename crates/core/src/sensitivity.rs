@@ -21,10 +21,16 @@
 //! The augmented state is `[y (18), S (18 × P, row-major)]`: the motion in the engine's
 //! principal frame, then the derivatives of each of its components along the directions.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use crate::dual::Dual;
 use crate::forces::{wrench_of, Force};
 use crate::layout::{Body, FORCE_PARAMS, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
 use crate::real::Real;
+use crate::relative::{
+    absolute_state, relative_rates, CarrierMotion, RelativeOptions, MOTION_SIZE,
+    RELATIVE_STATE_SIZE,
+};
 use crate::rigid::{pivot_constrained, rigid_rates, shift_torque_to_pivot, State};
 use crate::so3::{exp_so3, Mat3};
 use crate::system::VectorField;
@@ -73,6 +79,54 @@ struct BlockSeeds {
     params: Vec<[D; FORCE_PARAMS]>,
 }
 
+/// The seeds of every block of directions: direction `j` moves the principal moments by
+/// `moment_seeds[j]` and force `i`'s parameter row by `force_seeds[j · forces + i]`.
+fn block_seeds(
+    body: &Body,
+    forces: &[Force],
+    moment_seeds: &[[f64; 3]],
+    force_seeds: &[[f64; FORCE_PARAMS]],
+) -> Vec<BlockSeeds> {
+    let p = moment_seeds.len();
+    let nf = forces.len();
+    (0..p.div_ceil(BLOCK).max(1))
+        .map(|b| {
+            let (lo, hi) = (b * BLOCK, ((b + 1) * BLOCK).min(p));
+            let seeded = |v: f64, seed: &dyn Fn(usize) -> f64| {
+                let mut x = D::splat(v);
+                for l in 0..hi.saturating_sub(lo) {
+                    x.d[l] = seed(lo + l);
+                }
+                x
+            };
+            let dm = [0, 1, 2].map(|k| seeded(0.0, &|j| moment_seeds[j][k]));
+            let params = (0..nf)
+                .map(|i| {
+                    std::array::from_fn(|m| seeded(forces[i].p[m], &|j| force_seeds[j * nf + i][m]))
+                })
+                .collect();
+            BlockSeeds {
+                body: body.lift(dm),
+                params,
+            }
+        })
+        .collect()
+}
+
+/// The wrench of the built-in forces about the reference point, on dual numbers: what
+/// [`crate::systems::Rigid`]'s wrench computes, in the same order.
+#[inline(always)]
+fn wrench_block(forces: &[Force], seeds: &BlockSeeds, y: &[D; STATE_SIZE]) -> [D; 6] {
+    let mut w = [D::splat(0.0); 6];
+    for (f, p) in forces.iter().zip(&seeds.params) {
+        let v = wrench_of(f.kind, p, &seeds.body, y);
+        for k in 0..6 {
+            w[k] = w[k] + v[k];
+        }
+    }
+    shift_torque_to_pivot(&seeds.body, y, w)
+}
+
 /// The augmented system `(y, S)` of a body under built-in forces: [`VectorField`] of
 /// dimension `18 (1 + P)`, `S` stored component by component (`y[18 + P i + j] = ∂y_i/∂p_j`)
 /// so that a component's derivatives are one contiguous row.
@@ -97,32 +151,8 @@ impl<'a> Sensitive<'a> {
         force_seeds: &[[f64; FORCE_PARAMS]],
         control_all: bool,
     ) -> Self {
+        let blocks = block_seeds(&body, forces, moment_seeds, force_seeds);
         let p = moment_seeds.len();
-        let nf = forces.len();
-        let blocks = (0..p.div_ceil(BLOCK).max(1))
-            .map(|b| {
-                let (lo, hi) = (b * BLOCK, ((b + 1) * BLOCK).min(p));
-                let seeded = |v: f64, seed: &dyn Fn(usize) -> f64| {
-                    let mut x = D::splat(v);
-                    for l in 0..hi.saturating_sub(lo) {
-                        x.d[l] = seed(lo + l);
-                    }
-                    x
-                };
-                let dm = [0, 1, 2].map(|k| seeded(0.0, &|j| moment_seeds[j][k]));
-                let params = (0..nf)
-                    .map(|i| {
-                        std::array::from_fn(|m| {
-                            seeded(forces[i].p[m], &|j| force_seeds[j * nf + i][m])
-                        })
-                    })
-                    .collect();
-                BlockSeeds {
-                    body: body.lift(dm),
-                    params,
-                }
-            })
-            .collect();
         Sensitive {
             body,
             forces,
@@ -132,37 +162,62 @@ impl<'a> Sensitive<'a> {
         }
     }
 
-    /// Directions `lo..hi` (at most [`BLOCK`]) of the augmented state `y` as dual numbers.
+    /// Directions `lo..hi` of the augmented state `y` as dual numbers.
     #[inline(always)]
     fn state_block(&self, y: &[f64], lo: usize, hi: usize) -> [D; STATE_SIZE] {
-        let mut yd = [D::default(); STATE_SIZE];
-        for (i, x) in yd.iter_mut().enumerate() {
-            x.v = y[i];
-            let row = STATE_SIZE + self.p * i;
-            x.d[..hi - lo].copy_from_slice(&y[row + lo..row + hi]);
-        }
-        yd
+        lift_block(y, self.p, lo, hi)
     }
 
     /// Write the dual state `r` back: its value (when `value`) and directions `lo..hi`.
     #[inline(always)]
     fn write_block(&self, r: &[D; STATE_SIZE], out: &mut [f64], lo: usize, hi: usize, value: bool) {
-        for (i, x) in r.iter().enumerate() {
-            if value {
-                out[i] = x.v;
-            }
-            let row = STATE_SIZE + self.p * i;
-            out[row + lo..row + hi].copy_from_slice(&x.d[..hi - lo]);
-        }
+        store_block(r, out, self.p, lo, hi, value)
     }
 
     /// The blocks of directions: `(lo, hi, seeds)`.
     fn blocks(&self) -> impl Iterator<Item = (usize, usize, &BlockSeeds)> {
-        let p = self.p;
-        self.blocks
-            .iter()
-            .enumerate()
-            .map(move |(b, s)| (b * BLOCK, ((b + 1) * BLOCK).min(p), s))
+        blocks_of(&self.blocks, self.p)
+    }
+}
+
+/// The blocks of `p` directions with their seeds: `(lo, hi, seeds)`.
+fn blocks_of(seeds: &[BlockSeeds], p: usize) -> impl Iterator<Item = (usize, usize, &BlockSeeds)> {
+    seeds
+        .iter()
+        .enumerate()
+        .map(move |(b, s)| (b * BLOCK, ((b + 1) * BLOCK).min(p), s))
+}
+
+/// Directions `lo..hi` (at most [`BLOCK`]) of an augmented state `y = [x (N), S (N × p)]` as
+/// `N` dual numbers.
+#[inline(always)]
+fn lift_block<const N: usize>(y: &[f64], p: usize, lo: usize, hi: usize) -> [D; N] {
+    let mut yd = [D::default(); N];
+    for (i, x) in yd.iter_mut().enumerate() {
+        x.v = y[i];
+        let row = N + p * i;
+        x.d[..hi - lo].copy_from_slice(&y[row + lo..row + hi]);
+    }
+    yd
+}
+
+/// Write `N` dual numbers back into an augmented state: the value (when `value`) and
+/// directions `lo..hi`.
+#[inline(always)]
+fn store_block<const N: usize>(
+    r: &[D; N],
+    out: &mut [f64],
+    p: usize,
+    lo: usize,
+    hi: usize,
+    value: bool,
+) {
+    for (i, x) in r.iter().enumerate() {
+        if value {
+            out[i] = x.v;
+        }
+        let row = N + p * i;
+        out[row + lo..row + hi].copy_from_slice(&x.d[..hi - lo]);
     }
 }
 
@@ -178,15 +233,7 @@ impl VectorField for Sensitive<'_> {
     fn rhs(&self, _t: f64, y: &[f64], out: &mut [f64]) {
         for (lo, hi, seeds) in self.blocks() {
             let yd = self.state_block(y, lo, hi);
-            let body = &seeds.body;
-            let mut w = [D::splat(0.0); 6];
-            for (f, p) in self.forces.iter().zip(&seeds.params) {
-                let v = wrench_of(f.kind, p, body, &yd);
-                for k in 0..6 {
-                    w[k] = w[k] + v[k];
-                }
-            }
-            let r = rigid_rates(body, &yd, shift_torque_to_pivot(body, &yd, w));
+            let r = rigid_rates(&seeds.body, &yd, wrench_block(self.forces, seeds, &yd));
             self.write_block(&r, out, lo, hi, lo == 0);
         }
     }
@@ -231,6 +278,49 @@ pub fn initial_tangents(
     let p = starts.len();
     let mut out = vec![0.0; STATE_SIZE * (1 + p)];
     out[..STATE_SIZE].copy_from_slice(z0);
+    set_tangents(body, axes, z0, starts, omega_space, STATE_SIZE, &mut out);
+    out
+}
+
+/// The augmented initial state of a relative motion (`z0`, 33 numbers, principal frame; the
+/// body's part `[r, v, Q_r, ω_r]` laid out as a rigid body's): the directions move `ω_r0`
+/// (body frame), `Q_r0 → exp(δ̂) Q_r0` (carrier frame), `r0` and `v_r0` as
+/// [`initial_tangents`] moves a rigid body's; the carrier's part does not move.
+pub fn relative_initial_tangents(
+    body: &Body,
+    axes: &Mat3,
+    z0: &[f64; RELATIVE_STATE_SIZE],
+    starts: &[Start],
+) -> Vec<f64> {
+    let p = starts.len();
+    let mut out = vec![0.0; RELATIVE_STATE_SIZE * (1 + p)];
+    out[..RELATIVE_STATE_SIZE].copy_from_slice(z0);
+    let mut rigid = [0.0; STATE_SIZE];
+    rigid.copy_from_slice(&z0[..STATE_SIZE]);
+    set_tangents(
+        body,
+        axes,
+        &rigid,
+        starts,
+        false,
+        RELATIVE_STATE_SIZE,
+        &mut out,
+    );
+    out
+}
+
+/// The initial columns of [`initial_tangents`] into `out`, an augmented state of `size`
+/// numbers per column (the rigid body's 18 first).
+fn set_tangents(
+    body: &Body,
+    axes: &Mat3,
+    z0: &State,
+    starts: &[Start],
+    omega_space: bool,
+    size: usize,
+    out: &mut [f64],
+) {
+    let p = starts.len();
     let lifted = body.lift([D::splat(0.0); 3]);
     for lo in (0..p.max(1)).step_by(BLOCK) {
         let hi = (lo + BLOCK).min(p);
@@ -306,11 +396,85 @@ pub fn initial_tangents(
         }
         let y = pivot_constrained(&lifted, y);
         for (i, x) in y.iter().enumerate() {
-            let row = STATE_SIZE + p * i;
+            let row = size + p * i;
             out[row + lo..row + hi].copy_from_slice(&x.d[..hi - lo]);
         }
     }
-    out
+}
+
+/// A body moving relative to a carrier under built-in forces, with the forward sensitivities
+/// of `P` directions: the augmented state `[y (33), S (33 × P, row-major)]` advanced by the
+/// relative equations ([`relative_rates`], with the forces on the absolute state
+/// [`absolute_state`], as [`crate::relative::Relative`] evaluates them) on dual numbers.
+pub struct RelativeSensitive<'a, C: CarrierMotion + ?Sized> {
+    pub body: Body,
+    pub forces: &'a [Force],
+    pub carrier: &'a C,
+    pub options: RelativeOptions,
+    pub p: usize,
+    pub control_all: bool,
+    blocks: Vec<BlockSeeds>,
+    failed: AtomicBool,
+}
+
+impl<'a, C: CarrierMotion + ?Sized> RelativeSensitive<'a, C> {
+    /// The augmented relative system (the seeds as [`Sensitive::new`] takes them).
+    pub fn new(
+        body: Body,
+        forces: &'a [Force],
+        carrier: &'a C,
+        options: RelativeOptions,
+        moment_seeds: &[[f64; 3]],
+        force_seeds: &[[f64; FORCE_PARAMS]],
+        control_all: bool,
+    ) -> Self {
+        RelativeSensitive {
+            blocks: block_seeds(&body, forces, moment_seeds, force_seeds),
+            body,
+            forces,
+            carrier,
+            options,
+            p: moment_seeds.len(),
+            control_all,
+            failed: AtomicBool::new(false),
+        }
+    }
+}
+
+impl<C: CarrierMotion + ?Sized> VectorField for RelativeSensitive<'_, C> {
+    #[inline(always)]
+    fn dim(&self) -> usize {
+        RELATIVE_STATE_SIZE * (1 + self.p)
+    }
+
+    #[inline(always)]
+    fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]) {
+        let motion = self.carrier.motion(t).unwrap_or_else(|| {
+            self.failed.store(true, Ordering::Relaxed);
+            [f64::NAN; MOTION_SIZE]
+        });
+        for (lo, hi, seeds) in blocks_of(&self.blocks, self.p) {
+            let yd: [D; RELATIVE_STATE_SIZE] = lift_block(y, self.p, lo, hi);
+            let w = wrench_block(self.forces, seeds, &absolute_state(&yd, &motion));
+            let mut r = [D::default(); RELATIVE_STATE_SIZE];
+            relative_rates(&seeds.body, self.options, &yd, &motion, w, &mut r);
+            store_block(&r, out, self.p, lo, hi, lo == 0);
+        }
+    }
+
+    #[inline(always)]
+    fn error_dim(&self) -> usize {
+        if self.control_all {
+            self.dim()
+        } else {
+            RELATIVE_STATE_SIZE
+        }
+    }
+
+    #[inline(always)]
+    fn failed(&self) -> bool {
+        self.failed.load(Ordering::Relaxed)
+    }
 }
 
 #[cfg(test)]

@@ -196,3 +196,96 @@ fn the_initial_columns_are_the_derivatives_of_the_initial_state() {
         }
     }
 }
+
+/// A carrier turning and accelerating in time.
+struct Turning;
+
+impl CarrierMotion for Turning {
+    fn motion(&self, t: f64) -> Option<[f64; MOTION_SIZE]> {
+        Some([
+            0.1 + 0.05 * t,
+            0.2,
+            1.0 - 0.1 * t,
+            0.05,
+            0.0,
+            -0.1,
+            0.3,
+            -0.2 * t,
+            9.8,
+        ])
+    }
+}
+
+#[test]
+fn the_relative_dual_rates_are_the_relative_rates_and_their_derivatives() {
+    use crate::relative::Relative;
+    let (b, f) = (body(false), forces());
+    let nf = f.len();
+    let p = RELATIVE_STATE_SIZE + 3 + nf * FORCE_PARAMS;
+    let mut ms = vec![[0.0; 3]; p];
+    let mut fs = vec![[0.0; FORCE_PARAMS]; p * nf];
+    for k in 0..3 {
+        ms[RELATIVE_STATE_SIZE + k][k] = 1.0;
+    }
+    for i in 0..nf {
+        for m in 0..FORCE_PARAMS {
+            fs[(RELATIVE_STATE_SIZE + 3 + i * FORCE_PARAMS + m) * nf + i][m] = 1.0;
+        }
+    }
+    let options = RelativeOptions::default();
+    let sys = RelativeSensitive::new(b, &f, &Turning, options, &ms, &fs, true);
+    let mut y = vec![0.0; RELATIVE_STATE_SIZE];
+    y[..STATE_SIZE].copy_from_slice(&state());
+    let qc = exp_so3([-0.2, 0.4, 0.1]);
+    for i in 0..3 {
+        y[18 + 3 * i..21 + 3 * i].copy_from_slice(&qc[i]);
+    }
+    y[27..33].copy_from_slice(&[1.0, 2.0, -1.0, 0.3, 0.0, 0.1]);
+    let mut aug = vec![0.0; sys.dim()];
+    aug[..RELATIVE_STATE_SIZE].copy_from_slice(&y);
+    for i in 0..RELATIVE_STATE_SIZE {
+        aug[RELATIVE_STATE_SIZE + p * i + i] = 1.0;
+    }
+    let t = 0.7;
+    let mut out = vec![0.0; sys.dim()];
+    sys.rhs(t, &aug, &mut out);
+    let plain_rates = |b: Body, f: &[Force], y: &[f64]| {
+        let eye = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let rigid = Rigid::<crate::systems::NoUser>::new(b, f.to_vec(), eye, None);
+        let rel = Relative::new(rigid, Turning, options);
+        let mut o = vec![0.0; RELATIVE_STATE_SIZE];
+        rel.rhs(t, y, &mut o);
+        o
+    };
+    let plain = plain_rates(b, &f, &y);
+    for i in 0..RELATIVE_STATE_SIZE {
+        assert_eq!(out[i].to_bits(), plain[i].to_bits(), "value {i}");
+    }
+    let h = 1e-6;
+    for j in 0..p {
+        let moved = |s: f64| {
+            let (mut b2, mut f2, mut y2) = (b, f.clone(), y.clone());
+            if j < RELATIVE_STATE_SIZE {
+                y2[j] += s;
+            } else if j < RELATIVE_STATE_SIZE + 3 {
+                let k = j - RELATIVE_STATE_SIZE;
+                b2.moments[k] += s;
+                b2.inv_moments[k] = 1.0 / b2.moments[k];
+                b2.inertia_com[k][k] += s;
+            } else {
+                let r = j - RELATIVE_STATE_SIZE - 3;
+                f2[r / FORCE_PARAMS].p[r % FORCE_PARAMS] += s;
+            }
+            plain_rates(b2, &f2, &y2)
+        };
+        let (up, down) = (moved(h), moved(-h));
+        for i in 0..RELATIVE_STATE_SIZE {
+            let fd = (up[i] - down[i]) / (2.0 * h);
+            let d = out[RELATIVE_STATE_SIZE + p * i + j];
+            assert!(
+                (d - fd).abs() < 1e-7 * (1.0 + fd.abs()),
+                "dir {j} comp {i}: {d} vs {fd}"
+            );
+        }
+    }
+}

@@ -311,7 +311,7 @@ impl Expressions {
 
 /// A carrier given as a C function `int f(double t, double *out)` (`out`: the 9 numbers
 /// `(ω_e, ε_e, a_O)`; non-zero return: failure), called by address.
-struct CCarrier {
+pub(crate) struct CCarrier {
     f: extern "C" fn(f64, *mut f64) -> i32,
 }
 
@@ -324,7 +324,7 @@ impl CarrierMotion for CCarrier {
 
 /// A carrier given as a Python callable `motion(t) -> 9 numbers`: the slow path. The first
 /// error it raises is kept and re-raised when the run stops.
-struct PyCarrier<'py> {
+pub(crate) struct PyCarrier<'py> {
     func: Bound<'py, PyAny>,
     error: RefCell<Option<PyErr>>,
 }
@@ -358,7 +358,7 @@ impl CarrierMotion for PyCarrier<'_> {
 }
 
 /// The carrier as the engine evaluates it.
-enum CarrierArg<'py> {
+pub(crate) enum CarrierArg<'py> {
     PPoly(PPolyCarrier),
     Expressions(Arc<Function>),
     C(CCarrier),
@@ -368,7 +368,7 @@ enum CarrierArg<'py> {
 impl<'py> CarrierArg<'py> {
     /// `carrier`: a tuple `(w_breaks, w_coeffs, a_breaks, a_coeffs)`, an [`Expressions`] of
     /// one input and nine outputs, a C function's address (int), or a Python callable.
-    fn from(carrier: Bound<'py, PyAny>) -> PyResult<Self> {
+    pub(crate) fn from(carrier: Bound<'py, PyAny>) -> PyResult<Self> {
         if let Ok(e) = carrier.cast::<Expressions>() {
             return Ok(CarrierArg::Expressions(e.borrow().check(1, MOTION_SIZE)?));
         }
@@ -395,7 +395,7 @@ impl<'py> CarrierArg<'py> {
     }
 
     /// The carrier when it runs without Python.
-    fn native(&self) -> Option<&(dyn CarrierMotion + Sync)> {
+    pub(crate) fn native(&self) -> Option<&(dyn CarrierMotion + Sync)> {
         match self {
             CarrierArg::PPoly(c) => Some(c),
             CarrierArg::Expressions(f) => Some(&**f),
@@ -404,14 +404,14 @@ impl<'py> CarrierArg<'py> {
         }
     }
 
-    fn any(&self) -> &dyn CarrierMotion {
+    pub(crate) fn any(&self) -> &dyn CarrierMotion {
         match self {
             CarrierArg::Python(c) => c,
             _ => self.native().expect("native"),
         }
     }
 
-    fn take_error(&self) -> Option<PyErr> {
+    pub(crate) fn take_error(&self) -> Option<PyErr> {
         match self {
             CarrierArg::Python(c) => c.error.borrow_mut().take(),
             _ => None,

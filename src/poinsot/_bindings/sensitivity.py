@@ -2,6 +2,16 @@
 and the run of the augmented system (``crates/core/src/sensitivity.rs``, ``dual.rs``).
 """
 
-from .._core import integrate_sensitivities, sensitivity_start
+from .._core import (
+    integrate_relative_sensitivities,
+    integrate_sensitivities,
+    relative_sensitivity_start,
+    sensitivity_start,
+)
 
-__all__ = ["integrate_sensitivities", "sensitivity_start"]
+__all__ = [
+    "integrate_relative_sensitivities",
+    "integrate_sensitivities",
+    "relative_sensitivity_start",
+    "sensitivity_start",
+]

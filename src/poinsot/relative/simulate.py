@@ -14,6 +14,7 @@ from .._validation import as_rotation_matrix, as_vector3
 from ..display import Displayable
 from ..integrate.solve import check_run, solve
 from ..rotation import body_rates_from_euler, euler_from_matrix, euler_rates_from_body
+from ..sensitivity import SensitivityMixin
 from ..trajectory import Trajectory
 from .carrier import Carrier
 from .moments import coriolis_moment, transport_moment
@@ -57,6 +58,8 @@ def simulate_relative(
     progress=None,
     backend=None,
     max_steps=None,
+    sensitivities=None,
+    control_sensitivities=True,
 ) -> RelativeTrajectory:
     """Integrate a body's motion relative to a carrier frame: the compact relative Euler
     equation (11) in principal components (12),
@@ -99,6 +102,12 @@ def simulate_relative(
     method, dt, rtol, atol, t_eval, save_every, progress, backend, max_steps
         As for :func:`poinsot.simulate`; the methods that need the rigid-body structure
         (``"splitting"``, ``"rkmk4"``) are refused.
+    sensitivities, control_sensitivities
+        Forward sensitivities, as for :func:`poinsot.simulate`, with respect to
+        ``"omega_r0"``, ``"Q_r0"`` (a rotation vector, ``Q_r0 → exp(δ̂) Q_r0`` in the carrier
+        frame), ``"r0"``, ``"v_r0"``, ``"inertia"`` and the forces' parameters; then
+        ``sol.sensitivity(output, wrt)`` with ``output`` one of ``"r"``, ``"v_r"``, ``"Q_r"``,
+        ``"omega_r"`` or ``"state"`` (all 33: the carrier's part does not move).
 
     Returns
     -------
@@ -121,7 +130,8 @@ def simulate_relative(
                                 balance_transport=balance_transport, hold_com=hold_com,
                                 method=method, dt=dt, rtol=rtol, atol=atol, t_eval=t_eval,
                                 save_every=save_every, backend=backend,
-                                max_steps=max_steps)  # fmt: skip
+                                max_steps=max_steps, sensitivities=sensitivities,
+                                control_sensitivities=control_sensitivities)  # fmt: skip
     return prepared.run(omega_r0=omega_r0, Q_r0=Q_r0, euler_angles0=euler_angles0,
                         euler_rates0=euler_rates0, r0=r0, v_r0=v_r0, Q_carrier0=Q_carrier0,
                         origin0=origin0, origin_velocity0=origin_velocity0,
@@ -130,8 +140,9 @@ def simulate_relative(
 
 def prepare_relative(body, t_span, *, carrier, forces=(), balance_transport=False,
                      hold_com=False, method="dop853", dt=None, rtol=None, atol=None,
-                     t_eval=None, save_every=1, backend=None,
-                     max_steps=None) -> PreparedRelativeRun:  # fmt: skip
+                     t_eval=None, save_every=1, backend=None, max_steps=None,
+                     sensitivities=None,
+                     control_sensitivities=True) -> PreparedRelativeRun:  # fmt: skip
     """Check a relative run and lower its body, forces and carrier once: the
     :class:`PreparedRelativeRun` that :func:`simulate_relative` runs. The arguments are
     :func:`simulate_relative`'s less the initial state and ``progress``, checked here with
@@ -163,7 +174,42 @@ def prepare_relative(body, t_span, *, carrier, forces=(), balance_transport=Fals
     system = RelativeMotionSystem(body, carrier, forces, balance_transport=bool(balance_transport),
                                   hold_com=bool(hold_com))  # fmt: skip
     carrier.check(run.t0, run.t1)
-    return PreparedRelativeRun(system, run, backend)
+    dirs = None
+    if sensitivities is not None:
+        dirs = _check_sensitivities(system, solver, sensitivities, backend)
+    elif control_sensitivities is not True:
+        raise ValueError("`control_sensitivities` has no effect without `sensitivities`")
+    return PreparedRelativeRun(system, run, backend, dirs, bool(control_sensitivities))
+
+
+#: The initial state's parts a relative run differentiates with respect to.
+RELATIVE_STARTS = {"omega_r0": 1, "Q_r0": 2, "r0": 3, "v_r0": 4}
+
+
+def _check_sensitivities(system, solver, wrt, backend):
+    """The directions of a relative run's ``sensitivities``, refused where it cannot carry
+    them."""
+    from ..sensitivity import SENSITIVE_METHODS, directions
+
+    if solver.kind not in SENSITIVE_METHODS:
+        raise ValueError(f"`sensitivities` are computed with 'rk4', 'dop853' or an explicit "
+                         f"Runge–Kutta tableau; `method` {solver.name!r} has none")  # fmt: skip
+    slow = [f.name for f in system.forces if not f.compiled]
+    if slow:
+        raise ValueError(
+            "`sensitivities` need built-in forces; these are evaluated in Python: "
+            + ", ".join(slow)
+        )
+    if backend == "python":
+        raise ValueError("`sensitivities` are computed in the compiled core: omit "
+                         "`backend='python'`")  # fmt: skip
+    if system.rigid.degenerate:
+        raise ValueError("`sensitivities` need a body with three non-zero principal moments")
+    names = (wrt,) if isinstance(wrt, str) else tuple(wrt)
+    if system.hold_com and "v_r0" in names:
+        raise ValueError("`sensitivities`: 'v_r0' has no effect with `hold_com` (the centre of "
+                         "mass is held)")  # fmt: skip
+    return directions(system.rigid, wrt, RELATIVE_STARTS)
 
 
 @dataclass(frozen=True)
@@ -183,6 +229,8 @@ class PreparedRelativeRun:
     system: RelativeMotionSystem
     settings: object
     backend: str | None = None
+    sensitivities: object = None
+    control_sensitivities: bool = True
 
     def initial_state(self, *, omega_r0=None, Q_r0=None, euler_angles0=None,
                       euler_rates0=None, r0=None, v_r0=None, Q_carrier0=None, origin0=None,
@@ -235,9 +283,29 @@ class PreparedRelativeRun:
         elif initial:
             raise TypeError(f"give `y0` or the initial state's parts, not both: {sorted(initial)}")
         system = self.system
+        if self.sensitivities is not None:
+            return self._run_sensitive(y0, progress)
         return solve(system, y0, self.settings,
                      trajectory=lambda r: RelativeTrajectory(r, system), progress=progress,
                      backend=self.backend)  # fmt: skip
+
+    def _run_sensitive(self, y0, progress) -> RelativeTrajectory:
+        """The run with its sensitivities: the augmented system through the same driver."""
+        from dataclasses import replace
+
+        from ..sensitivity import split
+        from .system import RelativeSensitiveSystem
+
+        dirs = self.sensitivities
+        aug = RelativeSensitiveSystem(self.system, dirs, control_all=self.control_sensitivities)
+
+        def trajectory(result):
+            y, sens = split(result.y, dirs, RELATIVE_SIZE, RELATIVE_OUTPUTS)
+            sol = RelativeTrajectory(replace(result, y=y), self.system)
+            sol.sensitivities = sens
+            return sol
+
+        return solve(aug, y0, self.settings, trajectory=trajectory, progress=progress)
 
 
 def _check_start(system, t0, y0):
@@ -254,7 +322,14 @@ def _check_start(system, t0, y0):
             )
 
 
-class RelativeTrajectory(Displayable):
+#: The length of the relative state, and the outputs of its sensitivities.
+RELATIVE_SIZE = 33
+RELATIVE_OUTPUTS = {**{k: v for k, v in RELATIVE_SLICES.items()
+                       if k in ("r", "v_r", "Q_r", "omega_r")},
+                    "state": slice(0, RELATIVE_SIZE)}  # fmt: skip
+
+
+class RelativeTrajectory(SensitivityMixin, Displayable):
     """Samples of a motion relative to a carrier frame, and the absolute motion they map to.
 
     Attributes
@@ -272,6 +347,8 @@ class RelativeTrajectory(Displayable):
     origin, origin_velocity : ndarray (n, 3)
         The carrier origin's position and velocity (inertial).
     """
+
+    _growth = ("omega_r", "omega_r0")
 
     def __init__(self, result, system: RelativeMotionSystem):
         self.t = _readonly(np.asarray(result.t, dtype=float))

@@ -16,9 +16,11 @@ import numpy as np
 from .. import layout
 from .._bindings import relative as core_relative
 from .._bindings import rigid as core_rigid
+from .._bindings import sensitivity as core_sensitivity
 from ..dynamics import RigidBodySystem
+from ..sensitivity import SensitiveSystem
 
-__all__ = ["RELATIVE_SLICES", "RelativeMotionSystem"]
+__all__ = ["RELATIVE_SLICES", "RelativeMotionSystem", "RelativeSensitiveSystem"]
 
 #: Named blocks of the relative state (``poinsot_core::relative``).
 RELATIVE_SLICES = {
@@ -118,3 +120,35 @@ class RelativeMotionSystem:
         """``ẏ`` of a body-frame relative state (33,): eqs (11)–(12) and the kinematics."""
         z = np.ascontiguousarray(self.to_internal(y))
         return self.from_internal(core_relative.relative_rhs(*self._data(z), float(t), z))
+
+
+class RelativeSensitiveSystem(SensitiveSystem):
+    """A relative run with its sensitivities, as the run contract takes a system: the
+    augmented state ``[y (33), S (33 × P, row-major)]``, the relative state's frames outside
+    the core, the principal frame inside."""
+
+    state_slices = RELATIVE_SLICES
+    size = 33
+
+    def problem(self, y0):
+        from ..integrate.problem import NativeProblem
+        from ..sensitivity import SENSITIVE_METHODS
+
+        system, d = self.system, self.directions
+        body, kinds, params, _, _ = system.rigid.native(np.zeros(layout.STATE_SIZE))
+        data = (body, kinds, params, system.carrier.engine, system.balance_transport,
+                system.hold_com, np.ascontiguousarray(d.moment_seeds),
+                np.ascontiguousarray(d.force_seeds), self.control_all)  # fmt: skip
+        slow = () if system.carrier.compiled else (f"{system.carrier.name} (a Python callable)",)
+        return NativeProblem(core_sensitivity.integrate_relative_sensitivities, data,
+                             SENSITIVE_METHODS, slow)  # fmt: skip
+
+    def to_internal(self, y0) -> np.ndarray:
+        """The augmented initial state (principal frame) of a relative state ``y0`` (33,)."""
+        system, d = self.system, self.directions
+        y0 = np.asarray(y0, dtype=float)[: self.size]
+        body = system.rigid.native(np.zeros(layout.STATE_SIZE))[0]
+        return core_sensitivity.relative_sensitivity_start(
+            body, np.ascontiguousarray(system.principal_axes, dtype=float),
+            np.ascontiguousarray(system.to_internal(y0)), d.kinds, d.components,
+        )  # fmt: skip
