@@ -388,8 +388,10 @@ def _flags(oe, ratio: float, total_noise: float, has_rotor: bool, moments) -> li
             f"against {total_noise:.3g} rad/s RMS): the {model} model does not explain the "
             "motion"
             + ("" if has_rotor else " (a spinning rotor that was not given?)")
-            + "; check the window (was the body free?), the units and the sensor frame; the "
-            "numbers above are not to be trusted"
+            + "; check the window (was the body free?), the units and the sensor frame. The "
+            f"standard errors above are calibrated to the residuals ({ratio * total_noise:.3g} "
+            "rad/s, not the gyro's noise): they count the misfit as noise, and hold if it is "
+            "random; a systematic misfit biases the numbers beyond them"
         )
     if not oe.success:
         flags.append(f"the fit did not converge: {oe.message}")
