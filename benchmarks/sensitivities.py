@@ -7,7 +7,7 @@ Cases:
 
 * ``rigid``: a body under gravity (a full inertia tensor, its centre of mass off the origin),
   10 s, with the derivatives of the motion with respect to p = 6 parameters (ω0 and the three
-  principal moments), RK4 at dt = 1e-4 and DOP853 at rtol 1e-10: the run with its
+  principal moments), RK4 and RKMK4 at dt = 1e-4 and DOP853 at rtol 1e-10: the run with its
   sensitivities against the plain run, and against central differences (2p + 1 plain runs,
   the route the sensitivities replace); DOP853 also with the sensitivities left out of the
   error control.
@@ -45,7 +45,8 @@ def case_rigid(repeat):
     forces = (Gravity((0, 0, -9.8)),)
     w0 = np.array([0.4, -1.1, 0.7])
     tev = np.linspace(0, 10, 11)
-    for method, kw in (("rk4", {"dt": 1e-4}), ("dop853", {"rtol": 1e-10, "atol": 1e-12})):
+    for method, kw in (("rk4", {"dt": 1e-4}), ("rkmk4", {"dt": 1e-4}),
+                       ("dop853", {"rtol": 1e-10, "atol": 1e-12})):  # fmt: skip
         plain = prepare(body, (0, 10), forces=forces, method=method, t_eval=tev, **kw)
         sens = prepare(body, (0, 10), forces=forces, method=method, t_eval=tev,
                        sensitivities=("omega0", "inertia"), **kw)  # fmt: skip

@@ -47,8 +47,10 @@ WRT = {
 #: The outputs a sensitivity is taken of: blocks of the body-frame state.
 OUTPUTS = {**layout.STATE_SLICES, "state": slice(0, layout.STATE_SIZE)}
 #: The methods whose runs carry sensitivities: the core's kinds for any vector field
-#: (classical RK4, explicit tableaux, DOP853).
+#: (classical RK4, explicit tableaux, DOP853), and for a rigid body RKMK4 (the derivative of
+#: its discrete step on SO(3)).
 SENSITIVE_METHODS = frozenset({"rk4", "erk", "dop853"})
+RIGID_SENSITIVE_METHODS = SENSITIVE_METHODS | {"rkmk"}
 
 _START = {"omega0": 1, "Q0": 2, "R0": 3, "V0": 4}
 _FORCE = re.compile(r"forces\[(\d+)\](?:\.(\w+))?$")
@@ -161,7 +163,8 @@ class SensitiveSystem:
     (:mod:`poinsot.integrate.problem`): the augmented state ``[y (18), S (18 × P,
     row-major)]`` in the body frame outside the core, in the principal frame inside."""
 
-    structure = "sensitivities"
+    #: A rigid body's (RKMK4 steps it on SO(3); the problem lists the methods it offers).
+    structure = "rigid"
     state_slices = layout.STATE_SLICES
     #: The length of the system's own state.
     size = layout.STATE_SIZE
@@ -176,7 +179,8 @@ class SensitiveSystem:
         d = self.directions
         data = (body, kinds, params, np.ascontiguousarray(d.moment_seeds),
                 np.ascontiguousarray(d.force_seeds), self.control_all)  # fmt: skip
-        return NativeProblem(core_sensitivity.integrate_sensitivities, data, SENSITIVE_METHODS)
+        return NativeProblem(core_sensitivity.integrate_sensitivities, data,
+                             RIGID_SENSITIVE_METHODS)  # fmt: skip
 
     def to_internal(self, y0) -> np.ndarray:
         """The augmented initial state (principal frame) of a body-frame state ``y0`` (18,):

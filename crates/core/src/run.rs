@@ -7,11 +7,13 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use crate::drivers::is_rk4;
 use crate::drivers::{
     run_adaptive, run_fixed_native, Clock, Counters, FixedMethod, Output, Status, STEPS_PER_CALL,
 };
 use crate::observers::Observer;
-use crate::spec::{RunSpec, UseMethod};
+use crate::sensitivity::{Sensitive, SensitiveRkmk4};
+use crate::spec::{Method, RunSpec, UseMethod};
 use crate::steppers::Control;
 use crate::system::{RigidStructure, VectorField};
 
@@ -68,6 +70,29 @@ impl Run<'_> {
                 },
             )
             .unwrap_or(Status::CallbackFailed)
+    }
+
+    /// At most `steps` steps of a rigid body's run with its forward sensitivities (`sys`):
+    /// RKMK4 as the derivative of its discrete step ([`SensitiveRkmk4`]), the methods of any
+    /// vector field on the augmented system ([`Run::chunk`]); the other rigid-body methods
+    /// have none yet and fail the call.
+    pub fn chunk_sensitive<O: Observer>(
+        &mut self,
+        sys: &Sensitive<'_>,
+        obs: &mut O,
+        steps: u64,
+    ) -> Status {
+        match self.spec.method {
+            Method::Rkmk(tab) if is_rk4(&tab) => Chunk {
+                run: self,
+                sys,
+                obs,
+                steps,
+            }
+            .fixed(SensitiveRkmk4),
+            Method::Rk4 | Method::Erk(_) | Method::Dop853(_) => self.chunk(sys, obs, steps),
+            _ => Status::CallbackFailed,
+        }
     }
 
     /// Run to the end (or a terminal event, or a failure), a chunk of at most

@@ -23,6 +23,7 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use crate::drivers::FixedMethod;
 use crate::dual::Dual;
 use crate::forces::{wrench_of, Force};
 use crate::layout::{Body, FORCE_PARAMS, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
@@ -33,6 +34,7 @@ use crate::relative::{
 };
 use crate::rigid::{pivot_constrained, rigid_rates, shift_torque_to_pivot, State};
 use crate::so3::{exp_so3, Mat3};
+use crate::steppers::rkmk4_registers;
 use crate::system::VectorField;
 
 /// Directions per dual evaluation: eight derivatives, one AVX-512 register.
@@ -259,6 +261,28 @@ impl VectorField for Sensitive<'_> {
         } else {
             STATE_SIZE
         }
+    }
+}
+
+/// RKMK4 on the augmented system of a rigid body: the derivative of the discrete step itself
+/// (the register step [`rkmk4_registers`] run on dual numbers, then the pivot's constraint),
+/// so that `S` is the exact derivative of RKMK4's own map on SO(3), to round-off.
+pub struct SensitiveRkmk4;
+
+impl<'a> FixedMethod<Sensitive<'a>> for SensitiveRkmk4 {
+    fn evals_per_step(&self) -> u64 {
+        4
+    }
+    #[inline(always)]
+    fn step(&mut self, sys: &Sensitive<'a>, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
+        for (lo, hi, seeds) in sys.blocks() {
+            let yd = sys.state_block(z, lo, hi);
+            let rates = |_t: f64, y: &[D; STATE_SIZE]| {
+                rigid_rates(&seeds.body, y, wrench_block(sys.forces, seeds, y))
+            };
+            sys.write_block(&rkmk4_registers(rates, t, &yd, h), out, lo, hi, lo == 0);
+        }
+        sys.project(t + h, out);
     }
 }
 

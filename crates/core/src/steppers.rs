@@ -17,8 +17,9 @@
 //!   step-size controller ([`step_size_factor`], [`initial_step_size`]).
 
 use crate::layout::{Body, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
+use crate::real::Real;
 use crate::rigid::{free_rotor, pivot_constrained, ANY_ROTOR};
-use crate::so3::{dexpinv3, exp_so3, Mat3};
+use crate::so3::{dexpinv3, exp_so3};
 use crate::system::{RigidStructure, VectorField};
 use crate::tableaux::{
     DOP853_A, DOP853_C, DOP853_D, DOP853_E3, DOP853_E5, DOP853_INTERPOLATOR_POWER, DOP853_STAGES,
@@ -222,7 +223,7 @@ fn rk4_update<const N: usize>(y: &[f64; N], h: f64, k: [&[f64; N]; 4]) -> [f64; 
 
 /// `Q_out = Q_y E` on the attitude blocks of two states.
 #[inline(always)]
-fn rotate_attitude(y: &[f64], e: &Mat3, out: &mut [f64]) {
+fn rotate_attitude<T: Real>(y: &[T], e: &[[T; 3]; 3], out: &mut [T]) {
     for r in 0..3 {
         let q0 = y[Q_AT + 3 * r];
         let q1 = y[Q_AT + 3 * r + 1];
@@ -303,18 +304,23 @@ pub fn rkmk_step<S: VectorField + ?Sized>(
 /// [`rkmk4_point`], [`rkmk4_carry`]) one after the other across its lanes
 /// ([`crate::lanes::BlockRkmk4Stages`]).
 #[inline(always)]
-pub fn rkmk4_registers(f: impl Fn(f64, &State) -> State, t: f64, y: &State, h: f64) -> State {
+pub fn rkmk4_registers<T: Real>(
+    f: impl Fn(f64, &[T; STATE_SIZE]) -> [T; STATE_SIZE],
+    t: f64,
+    y: &[T; STATE_SIZE],
+    h: f64,
+) -> [T; STATE_SIZE] {
     let c = rkmk4_first(&f, t, y, h);
-    let c = rkmk4_stage::<1>(&f, t, y, h, &c);
-    let c = rkmk4_stage::<2>(&f, t, y, h, &c);
-    let c = rkmk4_stage::<3>(&f, t, y, h, &c);
+    let c = rkmk4_stage::<1, T>(&f, t, y, h, &c);
+    let c = rkmk4_stage::<2, T>(&f, t, y, h, &c);
+    let c = rkmk4_stage::<3, T>(&f, t, y, h, &c);
     rkmk4_last(y, h, &c)
 }
 
 /// Numbers an RKMK4 step carries from a stage to the next: the stage's rates `k` and `kθ`,
 /// and the running sums `0 + Σ b_j k_j` and `0 + Σ b_j kθ_j` (summed in the generic step's
 /// order).
-pub type Rkmk4Carry = [f64; RKMK4_CARRY];
+pub type Rkmk4Carry<T = f64> = [T; RKMK4_CARRY];
 pub const RKMK4_CARRY: usize = 2 * STATE_SIZE + 6;
 const CARRY_K: usize = 0;
 const CARRY_SUM: usize = STATE_SIZE;
@@ -323,14 +329,14 @@ const CARRY_SUM_T: usize = 2 * STATE_SIZE + 3;
 
 /// The carry of stage `I` (0-based) from its rates `k`, `kθ` and the previous carry.
 #[inline(always)]
-pub fn rkmk4_carry<const I: usize>(
-    k: &State,
-    kt: &[f64; 3],
-    prev: Option<&Rkmk4Carry>,
-) -> Rkmk4Carry {
-    let b = RK4_B[I];
-    let sum = |at: usize| prev.map_or(0.0, |p| p[at]);
-    let mut c = [0.0; RKMK4_CARRY];
+pub fn rkmk4_carry<const I: usize, T: Real>(
+    k: &[T; STATE_SIZE],
+    kt: &[T; 3],
+    prev: Option<&Rkmk4Carry<T>>,
+) -> Rkmk4Carry<T> {
+    let b = T::splat(RK4_B[I]);
+    let sum = |at: usize| prev.map_or(T::splat(0.0), |p| p[at]);
+    let mut c = [T::splat(0.0); RKMK4_CARRY];
     for i in 0..STATE_SIZE {
         c[CARRY_K + i] = k[i];
         c[CARRY_SUM + i] = sum(CARRY_SUM + i) + b * k[i];
@@ -345,43 +351,52 @@ pub fn rkmk4_carry<const I: usize>(
 /// RKMK4's first stage at `(t, y)`: `k_1 = f(t, y)`, `kθ_1 = dexp⁻¹_0(ω)` (as the generic step
 /// forms it).
 #[inline(always)]
-pub fn rkmk4_first(f: impl Fn(f64, &State) -> State, t: f64, y: &State, h: f64) -> Rkmk4Carry {
+pub fn rkmk4_first<T: Real>(
+    f: impl Fn(f64, &[T; STATE_SIZE]) -> [T; STATE_SIZE],
+    t: f64,
+    y: &[T; STATE_SIZE],
+    h: f64,
+) -> Rkmk4Carry<T> {
     rkmk4_first_carry(y, &f(t + RK4_C[0] * h, y))
 }
 
 /// [`rkmk4_first`]'s carry from the rates `k = f(t, y)` (formed elsewhere: across a block's
 /// lanes, [`crate::lanes::BlockRkmk4Stages`]).
 #[inline(always)]
-pub fn rkmk4_first_carry(y: &State, k: &State) -> Rkmk4Carry {
-    let kt = dexpinv3([-0.0; 3], omega(y));
-    rkmk4_carry::<0>(k, &kt, None)
+pub fn rkmk4_first_carry<T: Real>(y: &[T; STATE_SIZE], k: &[T; STATE_SIZE]) -> Rkmk4Carry<T> {
+    let kt = dexpinv3([T::splat(-0.0); 3], omega(y));
+    rkmk4_carry::<0, T>(k, &kt, None)
 }
 
 /// RKMK4's stage `I + 1` (`I` in 1..=3): the stage point `y + h (a k)` with the attitude
 /// `Q exp(θ̂)`, `θ = h (a kθ)` (`a = A[I][I−1]`, `k`, `kθ` the previous stage's); its rates and
 /// `kθ = dexp⁻¹_{−θ}(ω)`.
 #[inline(always)]
-pub fn rkmk4_stage<const I: usize>(
-    f: impl Fn(f64, &State) -> State,
+pub fn rkmk4_stage<const I: usize, T: Real>(
+    f: impl Fn(f64, &[T; STATE_SIZE]) -> [T; STATE_SIZE],
     t: f64,
-    y: &State,
+    y: &[T; STATE_SIZE],
     h: f64,
-    c: &Rkmk4Carry,
-) -> Rkmk4Carry {
-    let (ys, kt) = rkmk4_point::<I>(y, h, c);
-    rkmk4_carry::<I>(&f(t + RK4_C[I] * h, &ys), &kt, Some(c))
+    c: &Rkmk4Carry<T>,
+) -> Rkmk4Carry<T> {
+    let (ys, kt) = rkmk4_point::<I, T>(y, h, c);
+    rkmk4_carry::<I, T>(&f(t + RK4_C[I] * h, &ys), &kt, Some(c))
 }
 
 /// [`rkmk4_stage`]'s stage point `y + h (a k)` with the attitude `Q exp(θ̂)`, and its
 /// `kθ = dexp⁻¹_{−θ}(ω)`: everything of the stage but its rates.
 #[inline(always)]
-pub fn rkmk4_point<const I: usize>(y: &State, h: f64, c: &Rkmk4Carry) -> (State, [f64; 3]) {
-    let a = RK4_A[I][I - 1];
-    let mut ys = [0.0; STATE_SIZE];
+pub fn rkmk4_point<const I: usize, T: Real>(
+    y: &[T; STATE_SIZE],
+    h: f64,
+    c: &Rkmk4Carry<T>,
+) -> ([T; STATE_SIZE], [T; 3]) {
+    let (a, hh) = (T::splat(RK4_A[I][I - 1]), T::splat(h));
+    let mut ys = [T::splat(0.0); STATE_SIZE];
     for i in 0..STATE_SIZE {
-        ys[i] = y[i] + h * (a * c[CARRY_K + i]);
+        ys[i] = y[i] + hh * (a * c[CARRY_K + i]);
     }
-    let th = [0, 1, 2].map(|j| (a * c[CARRY_KT + j]) * h);
+    let th = [0, 1, 2].map(|j| (a * c[CARRY_KT + j]) * hh);
     rotate_attitude(y, &exp_so3(th), &mut ys);
     let kt = dexpinv3([-th[0], -th[1], -th[2]], omega(&ys));
     (ys, kt)
@@ -390,19 +405,20 @@ pub fn rkmk4_point<const I: usize>(y: &State, h: f64, c: &Rkmk4Carry) -> (State,
 /// RKMK4's new state from the last carry: `y + h Σ b_i k_i`, the attitude
 /// `Q exp(h Σ b_i kθ_i)`.
 #[inline(always)]
-pub fn rkmk4_last(y: &State, h: f64, c: &Rkmk4Carry) -> State {
-    let mut out = [0.0; STATE_SIZE];
+pub fn rkmk4_last<T: Real>(y: &[T; STATE_SIZE], h: f64, c: &Rkmk4Carry<T>) -> [T; STATE_SIZE] {
+    let hh = T::splat(h);
+    let mut out = [T::splat(0.0); STATE_SIZE];
     for i in 0..STATE_SIZE {
-        out[i] = y[i] + h * c[CARRY_SUM + i];
+        out[i] = y[i] + hh * c[CARRY_SUM + i];
     }
-    let th = [0, 1, 2].map(|j| h * c[CARRY_SUM_T + j]);
+    let th = [0, 1, 2].map(|j| hh * c[CARRY_SUM_T + j]);
     rotate_attitude(y, &exp_so3(th), &mut out);
     out
 }
 
 /// ω of a state.
 #[inline(always)]
-fn omega(y: &[f64]) -> [f64; 3] {
+fn omega<T: Real>(y: &[T]) -> [T; 3] {
     [y[OMEGA_AT], y[OMEGA_AT + 1], y[OMEGA_AT + 2]]
 }
 

@@ -5,12 +5,14 @@
 use crate::arrays::{Floats1, Floats2, Ints1};
 use crate::engine::in_chunks;
 use numpy::{IntoPyArray, PyArray1};
+use poinsot_core::drivers::is_rk4;
 use poinsot_core::layout::{load, FORCE_PARAMS, STATE_SIZE};
 use poinsot_core::observers::NoObserver;
 use poinsot_core::relative::{RelativeOptions, RELATIVE_STATE_SIZE};
 use poinsot_core::sensitivity::{
     initial_tangents, relative_initial_tangents, RelativeSensitive, Sensitive, Start,
 };
+use poinsot_core::spec::Method;
 use pyo3::prelude::*;
 
 use crate::args::{body_from, forces_from, mat3_from, value_error};
@@ -130,9 +132,20 @@ fn integrate_sensitivities<'py>(
     let p = moments.len();
     let sys = Sensitive::new(body, &forces, &moments, &force_rows, control_all);
     let state = &mut *state;
-    let mut run = state.run(&spec, STATE_SIZE * (1 + p), false)?;
+    let lie = match spec.core().method {
+        Method::Rk4 | Method::Erk(_) | Method::Dop853(_) => false,
+        Method::Rkmk(tab) if is_rk4(&tab) => true,
+        other => {
+            return Err(value_error(format!(
+                "method {:?} has no sensitivities: they are computed with rk4, rkmk4, an \
+                 explicit tableau or dop853",
+                other.name()
+            )))
+        }
+    };
+    let mut run = state.run(&spec, STATE_SIZE * (1 + p), lie)?;
     let status = in_chunks(py, &mut run, steps, |r, n| {
-        py.detach(|| r.chunk(&sys, &mut NoObserver, n))
+        py.detach(|| r.chunk_sensitive(&sys, &mut NoObserver, n))
     })?;
     state.status = status;
     Ok(status as i64)

@@ -129,6 +129,7 @@ class RelativeSensitiveSystem(SensitiveSystem):
 
     state_slices = RELATIVE_SLICES
     size = 33
+    structure = "vector field"
 
     def problem(self, y0):
         from ..integrate.problem import NativeProblem

@@ -175,14 +175,15 @@ impl<S: LaneRates, const SHARED: bool> FixedMethod<Block<'_, S, SHARED>> for Blo
                 ($i:literal) => {
                     for i in 0..W {
                         let (p, kti) =
-                            rkmk4_point::<$i>(&gather_of::<W>(&zs, i), h, &take::<W>(&c, i));
+                            rkmk4_point::<$i, f64>(&gather_of::<W>(&zs, i), h, &take::<W>(&c, i));
                         scatter_of::<W>(&p, i, &mut ys);
                         kt[i] = kti;
                     }
                     S::rates_in_lanes(sys, first, &[t + RK4_C[$i] * h; W], &ys, &mut k);
                     for i in 0..W {
                         let prev = take::<W>(&c, i);
-                        let carry = rkmk4_carry::<$i>(&gather_of::<W>(&k, i), &kt[i], Some(&prev));
+                        let carry =
+                            rkmk4_carry::<$i, f64>(&gather_of::<W>(&k, i), &kt[i], Some(&prev));
                         put::<W>(&carry, i, &mut c);
                     }
                 };
