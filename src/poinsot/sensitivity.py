@@ -47,10 +47,10 @@ WRT = {
 #: The outputs a sensitivity is taken of: blocks of the body-frame state.
 OUTPUTS = {**layout.STATE_SLICES, "state": slice(0, layout.STATE_SIZE)}
 #: The methods whose runs carry sensitivities: the core's kinds for any vector field
-#: (classical RK4, explicit tableaux, DOP853), and for a rigid body RKMK4 (the derivative of
-#: its discrete step on SO(3)).
+#: (classical RK4, explicit tableaux, DOP853), and for a rigid body RKMK4 and the splitting
+#: method (the derivatives of their discrete steps).
 SENSITIVE_METHODS = frozenset({"rk4", "erk", "dop853"})
-RIGID_SENSITIVE_METHODS = SENSITIVE_METHODS | {"rkmk"}
+RIGID_SENSITIVE_METHODS = SENSITIVE_METHODS | {"rkmk", "splitting"}
 
 _START = {"omega0": 1, "Q0": 2, "R0": 3, "V0": 4}
 _FORCE = re.compile(r"forces\[(\d+)\](?:\.(\w+))?$")

@@ -102,11 +102,14 @@ def _check_sensitivities(system, solver, wrt, events, backend):
     """The directions of a run's ``sensitivities``, refused where the run cannot carry them."""
     from .sensitivity import RIGID_SENSITIVE_METHODS, directions
 
-    if solver.kind not in RIGID_SENSITIVE_METHODS or (solver.kind == "rkmk"
-                                                      and solver.name != "rkmk4"):  # fmt: skip
-        raise ValueError(f"`sensitivities` are computed with 'rk4', 'rkmk4', 'dop853' or an "
-                         f"explicit Runge–Kutta tableau; `method` {solver.name!r} has none "
-                         "yet")  # fmt: skip
+    lie = {"rkmk": "rkmk4", "splitting": "splitting"}
+    if (
+        solver.kind not in RIGID_SENSITIVE_METHODS
+        or lie.get(solver.kind, solver.name) != solver.name
+    ):
+        raise ValueError(f"`sensitivities` are computed with 'rk4', 'rkmk4', 'splitting', "
+                         f"'dop853' or an explicit Runge–Kutta tableau; `method` "
+                         f"{solver.name!r} has none yet")  # fmt: skip
     slow = [f.name for f in system.forces if not f.compiled]
     if slow:
         raise ValueError(
@@ -313,8 +316,8 @@ def simulate(
         :mod:`poinsot.sensitivity`): ``"omega0"``, ``"Q0"`` (a rotation vector), ``"R0"``,
         ``"V0"``, ``"inertia"`` (the principal moments), ``"forces[i]"`` or
         ``"forces[i].name"``. The variational equations are integrated with the motion by the
-        same method and steps (``"rk4"``, ``"rkmk4"`` (the derivative of its step on SO(3)),
-        ``"dop853"``, explicit tableaux); then
+        same method and steps (``"rk4"``, ``"dop853"``, explicit tableaux; ``"rkmk4"`` and
+        ``"splitting"`` differentiate their discrete steps); then
         ``traj.sensitivity(output, wrt)`` gives ``∂output(tᵢ)/∂wrt``.
     control_sensitivities : bool
         With ``"dop853"``, whether the error control weighs the sensitivities too (default,

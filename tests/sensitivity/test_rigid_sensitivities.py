@@ -164,6 +164,13 @@ def test_rkmk4_sensitivities_are_the_derivatives_of_its_step_on_SO3(case):
     check_against_differences(case, "rkmk4", 1e-9)
 
 
+@pytest.mark.parametrize("case", [c for c in CASES if c.name not in ("damped spring", "drags")],
+                         ids=lambda c: c.name)  # fmt: skip
+def test_splitting_sensitivities_are_the_derivatives_of_its_step(case):
+    # kicks and the free rotor's sub-flows on dual numbers (position-only forces: kicks)
+    check_against_differences(case, "splitting", 1e-9)
+
+
 @pytest.mark.parametrize("case", CASES, ids=lambda c: c.name)
 def test_dop853_sensitivities_agree_with_differences_of_tight_runs(case):
     # the steps are chosen by the controller (weighing the sensitivities): differences of

@@ -274,7 +274,7 @@ pub fn state_from_principal(axes: &Mat3, z: &[f64], out: &mut [f64]) {
 /// The sub-flow of a rotation by `angle` about principal axis `axis`, in place on the momentum
 /// state `z` (the body momentum π in the ω slot): `π ← Rotᵀ π`, `Q ← Q Rot`.
 #[inline(always)]
-pub fn rotate_pair(axis: usize, angle: f64, z: &mut [f64]) {
+pub fn rotate_pair<T: Real>(axis: usize, angle: T, z: &mut [T]) {
     // polynomials, so that ensembles run the sub-flows in lanes
     let (s, c) = crate::real::sin_cos(angle);
     let i = (axis + 1) % 3;
@@ -305,7 +305,7 @@ pub fn rotate_pair(axis: usize, angle: f64, z: &mut [f64]) {
 ///   flows of `H_i = π_i²/(2 I_i)` (McLachlan 1993, Phys. Rev. Lett. 71): second order,
 ///   symplectic, and it keeps `|π|` and the spatial momentum `Q π` exactly.
 #[inline(always)]
-pub fn free_rotor_step(body: &Body, z: &mut [f64], h: f64) {
+pub fn free_rotor_step<T: Real>(body: &Body<T>, z: &mut [T], h: f64) {
     if body.rotor < 0 {
         free_rotor_triaxial(body, z, h);
     } else {
@@ -324,7 +324,7 @@ pub const SYMMETRIC: u8 = 2;
 /// all take it has no branch (with [`TRIAXIAL`] or [`SYMMETRIC`] the body must be of that
 /// kind).
 #[inline(always)]
-pub fn free_rotor<const ROTOR: u8>(body: &Body, z: &mut [f64], h: f64) {
+pub fn free_rotor<const ROTOR: u8, T: Real>(body: &Body<T>, z: &mut [T], h: f64) {
     match ROTOR {
         TRIAXIAL => free_rotor_triaxial(body, z, h),
         SYMMETRIC => free_rotor_symmetric(body, z, h),
@@ -336,10 +336,10 @@ pub fn free_rotor<const ROTOR: u8>(body: &Body, z: &mut [f64], h: f64) {
 /// an axis known at compile time, a zero moment turning by 0 (its 1/I is 0), so that the
 /// ensembles' lanes run the step without gathers or branches.
 #[inline(always)]
-pub fn free_rotor_triaxial(body: &Body, z: &mut [f64], h: f64) {
+pub fn free_rotor_triaxial<T: Real>(body: &Body<T>, z: &mut [T], h: f64) {
     let inv = body.inv_moments;
-    let sub = |axis: usize, frac: f64, z: &mut [f64]| {
-        rotate_pair(axis, frac * h * z[OMEGA_AT + axis] * inv[axis], z)
+    let sub = |axis: usize, frac: f64, z: &mut [T]| {
+        rotate_pair(axis, T::splat(frac * h) * z[OMEGA_AT + axis] * inv[axis], z)
     };
     sub(0, 0.5, z);
     sub(1, 0.5, z);
@@ -351,12 +351,12 @@ pub fn free_rotor_triaxial(body: &Body, z: &mut [f64], h: f64) {
 /// [`free_rotor_step`] of a symmetric body (`body.rotor` its symmetry axis): the turn about π
 /// and the spin about the axis (none for a rod, whose π_s is 0).
 #[inline(always)]
-pub fn free_rotor_symmetric(body: &Body, z: &mut [f64], h: f64) {
+pub fn free_rotor_symmetric<T: Real>(body: &Body<T>, z: &mut [T], h: f64) {
     let s = body.rotor as usize;
     let ie = body.moments[(s + 1) % 3];
-    let c = h / ie;
+    let c = T::splat(h) / ie;
     let e = exp_so3([c * z[OMEGA_AT], c * z[OMEGA_AT + 1], c * z[OMEGA_AT + 2]]);
-    let mut p = [[0.0; 3]; 3];
+    let mut p = [[T::splat(0.0); 3]; 3];
     for r in 0..3 {
         for k in 0..3 {
             p[r][k] = z[Q_AT + 3 * r] * e[0][k]
@@ -369,9 +369,9 @@ pub fn free_rotor_symmetric(body: &Body, z: &mut [f64], h: f64) {
             z[Q_AT + 3 * r + k] = p[r][k];
         }
     }
-    let spin = |s: usize, z: &mut [f64]| {
-        let rate = body.inv_moments[s] - 1.0 / ie;
-        rotate_pair(s, h * rate * z[OMEGA_AT + s], z)
+    let spin = |s: usize, z: &mut [T]| {
+        let rate = body.inv_moments[s] - T::splat(1.0) / ie;
+        rotate_pair(s, T::splat(h) * rate * z[OMEGA_AT + s], z)
     };
     match s {
         0 => spin(0, z),

@@ -12,7 +12,7 @@ use crate::drivers::{
     run_adaptive, run_fixed_native, Clock, Counters, FixedMethod, Output, Status, STEPS_PER_CALL,
 };
 use crate::observers::Observer;
-use crate::sensitivity::{Sensitive, SensitiveRkmk4};
+use crate::sensitivity::{Sensitive, SensitiveRkmk4, SensitiveSplitting};
 use crate::spec::{Method, RunSpec, UseMethod};
 use crate::steppers::Control;
 use crate::system::{RigidStructure, VectorField};
@@ -73,9 +73,10 @@ impl Run<'_> {
     }
 
     /// At most `steps` steps of a rigid body's run with its forward sensitivities (`sys`):
-    /// RKMK4 as the derivative of its discrete step ([`SensitiveRkmk4`]), the methods of any
-    /// vector field on the augmented system ([`Run::chunk`]); the other rigid-body methods
-    /// have none yet and fail the call.
+    /// RKMK4 and the splitting method as the derivatives of their discrete steps
+    /// ([`SensitiveRkmk4`], [`SensitiveSplitting`]: enter and leave with
+    /// [`Run::convert_sensitive`]), the methods of any vector field on the augmented system
+    /// ([`Run::chunk`]); the exact-flow splittings have none yet and fail the call.
     pub fn chunk_sensitive<O: Observer>(
         &mut self,
         sys: &Sensitive<'_>,
@@ -90,8 +91,29 @@ impl Run<'_> {
                 steps,
             }
             .fixed(SensitiveRkmk4),
+            Method::Splitting => Chunk {
+                run: self,
+                sys,
+                obs,
+                steps,
+            }
+            .fixed(SensitiveSplitting),
             Method::Rk4 | Method::Erk(_) | Method::Dop853(_) => self.chunk(sys, obs, steps),
             _ => Status::CallbackFailed,
+        }
+    }
+
+    /// The method's own state from the system's in `z` at the start of a call of a run with
+    /// sensitivities (`enter`), or back at its end: the splitting method's momenta and their
+    /// derivatives; nothing for the others.
+    pub fn convert_sensitive(&mut self, sys: &Sensitive<'_>, enter: bool) {
+        if let Method::Splitting = self.spec.method {
+            let from = self.z.to_vec();
+            if enter {
+                SensitiveSplitting.init(sys, &from, self.z);
+            } else {
+                SensitiveSplitting.output(sys, &from, self.z);
+            }
         }
     }
 

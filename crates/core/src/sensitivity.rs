@@ -32,9 +32,10 @@ use crate::relative::{
     absolute_state, relative_rates, CarrierMotion, RelativeOptions, MOTION_SIZE,
     RELATIVE_STATE_SIZE,
 };
+use crate::rigid::ANY_ROTOR;
 use crate::rigid::{pivot_constrained, rigid_rates, shift_torque_to_pivot, State};
 use crate::so3::{exp_so3, Mat3};
-use crate::steppers::rkmk4_registers;
+use crate::steppers::{drift, hold_pivot, kick_by, rkmk4_registers, velocity_of};
 use crate::system::VectorField;
 
 /// Directions per dual evaluation: eight derivatives, one AVX-512 register.
@@ -283,6 +284,53 @@ impl<'a> FixedMethod<Sensitive<'a>> for SensitiveRkmk4 {
             sys.write_block(&rkmk4_registers(rates, t, &yd, h), out, lo, hi, lo == 0);
         }
         sys.project(t + h, out);
+    }
+}
+
+/// The splitting method on the augmented system of a rigid body: the derivative of its
+/// discrete step (kick, the free rotor's sub-flows, kick, on dual numbers), on the momentum
+/// state `[R, V, Q, π = I ω]` and its derivatives (the moments' seeds move `π` too).
+pub struct SensitiveSplitting;
+
+impl<'a> FixedMethod<Sensitive<'a>> for SensitiveSplitting {
+    fn evals_per_step(&self) -> u64 {
+        2
+    }
+    #[inline(always)]
+    fn step(&mut self, sys: &Sensitive<'a>, _t: f64, z: &[f64], h: f64, out: &mut [f64]) {
+        for (lo, hi, seeds) in sys.blocks() {
+            let body = &seeds.body;
+            let mut zd = sys.state_block(z, lo, hi);
+            // the built-in forces do not depend on the time: each kick at its own time alike
+            let kick = |zd: &mut [D; STATE_SIZE]| {
+                let y = velocity_of(body, zd);
+                kick_by(body, &wrench_block(sys.forces, seeds, &y), zd, 0.5 * h);
+            };
+            kick(&mut zd);
+            drift::<ANY_ROTOR, D>(body, &mut zd, h);
+            kick(&mut zd);
+            hold_pivot(body, &mut zd);
+            sys.write_block(&zd, out, lo, hi, lo == 0);
+        }
+    }
+    /// `π = I ω`, and its derivatives.
+    fn init(&self, sys: &Sensitive<'a>, y: &[f64], z: &mut [f64]) {
+        z.copy_from_slice(y);
+        for (lo, hi, seeds) in sys.blocks() {
+            let mut zd = sys.state_block(y, lo, hi);
+            for k in 0..3 {
+                zd[OMEGA_AT + k] = seeds.body.moments[k] * zd[OMEGA_AT + k];
+            }
+            sys.write_block(&zd, z, lo, hi, lo == 0);
+        }
+    }
+    /// `ω = π/I`, and its derivatives.
+    fn output(&self, sys: &Sensitive<'a>, z: &[f64], y: &mut [f64]) {
+        y.copy_from_slice(z);
+        for (lo, hi, seeds) in sys.blocks() {
+            let yd = velocity_of(&seeds.body, &sys.state_block(z, lo, hi));
+            sys.write_block(&yd, y, lo, hi, lo == 0);
+        }
     }
 }
 

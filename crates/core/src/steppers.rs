@@ -430,8 +430,8 @@ pub fn momentum_to_velocity<S: RigidStructure + ?Sized>(sys: &S, z: &[f64]) -> S
 
 /// [`momentum_to_velocity`] of a body.
 #[inline(always)]
-pub fn velocity_of(body: &Body, z: &[f64]) -> State {
-    let mut y = [0.0; STATE_SIZE];
+pub fn velocity_of<T: Real>(body: &Body<T>, z: &[T]) -> [T; STATE_SIZE] {
+    let mut y = [T::splat(0.0); STATE_SIZE];
     y.copy_from_slice(&z[..STATE_SIZE]);
     for k in 0..3 {
         y[OMEGA_AT + k] = z[OMEGA_AT + k] * body.inv_moments[k];
@@ -459,16 +459,17 @@ pub fn kick<S: RigidStructure + ?Sized>(sys: &S, t: f64, z: &mut [f64], h: f64) 
 /// [`kick`] by the wrench `w = (F, τ)` (formed elsewhere: across a block's lanes,
 /// [`crate::lanes::BlockSplittingStages`]).
 #[inline(always)]
-pub fn kick_by(body: &Body, w: &[f64; 6], z: &mut [f64], h: f64) {
+pub fn kick_by<T: Real>(body: &Body<T>, w: &[T; 6], z: &mut [T], h: f64) {
+    let hh = T::splat(h);
     if !body.has_pivot {
-        let c = h * body.inv_mass;
-        z[V_AT] += c * w[0];
-        z[V_AT + 1] += c * w[1];
-        z[V_AT + 2] += c * w[2];
+        let c = hh * body.inv_mass;
+        z[V_AT] = z[V_AT] + c * w[0];
+        z[V_AT + 1] = z[V_AT + 1] + c * w[1];
+        z[V_AT + 2] = z[V_AT + 2] + c * w[2];
     }
-    z[OMEGA_AT] += h * w[3];
-    z[OMEGA_AT + 1] += h * w[4];
-    z[OMEGA_AT + 2] += h * w[5];
+    z[OMEGA_AT] = z[OMEGA_AT] + hh * w[3];
+    z[OMEGA_AT + 1] = z[OMEGA_AT + 1] + hh * w[4];
+    z[OMEGA_AT + 2] = z[OMEGA_AT + 2] + hh * w[5];
 }
 
 /// One kick–drift–kick step on the momentum state `z = [R, V, Q, π]` (principal frame):
@@ -499,7 +500,7 @@ pub fn splitting_step_with<S: RigidStructure + ?Sized, const ROTOR: u8>(
     out[..STATE_SIZE].copy_from_slice(&z[..STATE_SIZE]);
     let body = *sys.body();
     kick(sys, t, out, 0.5 * h);
-    drift::<ROTOR>(&body, out, h);
+    drift::<ROTOR, f64>(&body, out, h);
     kick(sys, t + h, out, 0.5 * h);
     hold_pivot(&body, out);
 }
@@ -507,11 +508,11 @@ pub fn splitting_step_with<S: RigidStructure + ?Sized, const ROTOR: u8>(
 /// The splitting step's drift over `h`, in place on the momentum state: the exact free rotor
 /// ([`free_rotor`], its branch `ROTOR`) and, for a free body, `R += h V`.
 #[inline(always)]
-pub fn drift<const ROTOR: u8>(body: &Body, z: &mut [f64], h: f64) {
-    free_rotor::<ROTOR>(body, z, h);
+pub fn drift<const ROTOR: u8, T: Real>(body: &Body<T>, z: &mut [T], h: f64) {
+    free_rotor::<ROTOR, T>(body, z, h);
     if !body.has_pivot {
         for k in 0..3 {
-            z[R_AT + k] += h * z[V_AT + k];
+            z[R_AT + k] = z[R_AT + k] + T::splat(h) * z[V_AT + k];
         }
     }
 }
@@ -519,7 +520,7 @@ pub fn drift<const ROTOR: u8>(body: &Body, z: &mut [f64], h: f64) {
 /// About a pivot, the splitting step's end: `R`, `V` of the momentum state reset from its
 /// attitude and `ω = π/I` ([`pivot_constrained`]); nothing for a free body.
 #[inline(always)]
-pub fn hold_pivot(body: &Body, z: &mut [f64]) {
+pub fn hold_pivot<T: Real>(body: &Body<T>, z: &mut [T]) {
     if body.has_pivot {
         let y = pivot_constrained(body, velocity_of(body, z));
         z[R_AT..R_AT + 3].copy_from_slice(&y[R_AT..R_AT + 3]);

@@ -128,7 +128,7 @@ impl TorqueFree {
     #[inline(always)]
     pub fn splitting_free<const ROTOR: u8>(&self, z: &State, h: f64) -> State {
         let mut out = *z;
-        free_rotor::<ROTOR>(&self.body, &mut out, h);
+        free_rotor::<ROTOR, f64>(&self.body, &mut out, h);
         for k in 0..3 {
             out[R_AT + k] += h * out[V_AT + k];
         }

@@ -135,18 +135,22 @@ fn integrate_sensitivities<'py>(
     let lie = match spec.core().method {
         Method::Rk4 | Method::Erk(_) | Method::Dop853(_) => false,
         Method::Rkmk(tab) if is_rk4(&tab) => true,
+        Method::Splitting => true,
         other => {
             return Err(value_error(format!(
-                "method {:?} has no sensitivities: they are computed with rk4, rkmk4, an \
-                 explicit tableau or dop853",
+                "method {:?} has no sensitivities: they are computed with rk4, rkmk4, \
+                 splitting, an explicit tableau or dop853",
                 other.name()
             )))
         }
     };
     let mut run = state.run(&spec, STATE_SIZE * (1 + p), lie)?;
+    run.convert_sensitive(&sys, true);
     let status = in_chunks(py, &mut run, steps, |r, n| {
         py.detach(|| r.chunk_sensitive(&sys, &mut NoObserver, n))
-    })?;
+    });
+    run.convert_sensitive(&sys, false);
+    let status = status?;
     state.status = status;
     Ok(status as i64)
 }

@@ -252,7 +252,7 @@ fn splitting_stages<S: LaneRates, const SHARED: bool, const ROTOR: u8>(
         kick_in_lanes::<S, SHARED>(sys, first, t, &mut zs, 0.5 * h);
         for i in 0..W {
             let mut x = gather_of::<W>(&zs, i);
-            drift::<ROTOR>(&lane_body(sys, first + i), &mut x, h);
+            drift::<ROTOR, f64>(&lane_body(sys, first + i), &mut x, h);
             scatter_of::<W>(&x, i, &mut zs);
         }
         kick_in_lanes::<S, SHARED>(sys, first, t + h, &mut zs, 0.5 * h);
