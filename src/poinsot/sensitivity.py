@@ -32,6 +32,7 @@ __all__ = [
     "SensitiveSystem",
     "Sensitivities",
     "SensitivityMixin",
+    "check_run",
     "directions",
 ]
 
@@ -86,6 +87,28 @@ class Directions:
     @property
     def size(self) -> int:
         return len(self.labels)
+
+
+def check_run(system, solver, backend, *, rigid=True) -> None:
+    """Refuse a run that cannot carry sensitivities, before it is lowered: a method without
+    them (``rigid``: a rigid body's, which adds RKMK4 and the splitting method), a force
+    evaluated in Python, the Python backend, a degenerate body (``system`` a
+    :class:`~poinsot.dynamics.RigidBodySystem`)."""
+    lie = {"rkmk": "rkmk4", "splitting": "splitting"} if rigid else {}
+    kinds = RIGID_SENSITIVE_METHODS if rigid else SENSITIVE_METHODS
+    if solver.kind not in kinds or lie.get(solver.kind, solver.name) != solver.name:
+        names = "'rk4', 'rkmk4', 'splitting', 'dop853'" if rigid else "'rk4', 'dop853'"
+        raise ValueError(f"`sensitivities` are computed with {names} or an explicit "
+                         f"Runge–Kutta tableau; `method` {solver.name!r} has none yet")  # fmt: skip
+    slow = [f.name for f in system.forces if not f.compiled]
+    if slow:
+        raise ValueError("`sensitivities` need built-in forces; these are evaluated in Python: "
+                         + ", ".join(slow))  # fmt: skip
+    if backend == "python":
+        raise ValueError("`sensitivities` are computed in the compiled core: omit "
+                         "`backend='python'`")  # fmt: skip
+    if system.degenerate:
+        raise ValueError("`sensitivities` need a body with three non-zero principal moments")
 
 
 def directions(system, wrt, starts=None) -> Directions:

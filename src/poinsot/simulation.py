@@ -100,29 +100,12 @@ def prepare(
 
 def _check_sensitivities(system, solver, wrt, events, backend):
     """The directions of a run's ``sensitivities``, refused where the run cannot carry them."""
-    from .sensitivity import RIGID_SENSITIVE_METHODS, directions
+    from .sensitivity import check_run as check_sensitive
+    from .sensitivity import directions
 
-    lie = {"rkmk": "rkmk4", "splitting": "splitting"}
-    if (
-        solver.kind not in RIGID_SENSITIVE_METHODS
-        or lie.get(solver.kind, solver.name) != solver.name
-    ):
-        raise ValueError(f"`sensitivities` are computed with 'rk4', 'rkmk4', 'splitting', "
-                         f"'dop853' or an explicit Runge–Kutta tableau; `method` "
-                         f"{solver.name!r} has none yet")  # fmt: skip
-    slow = [f.name for f in system.forces if not f.compiled]
-    if slow:
-        raise ValueError(
-            "`sensitivities` need built-in forces; these are evaluated in Python: "
-            + ", ".join(slow)
-        )
+    check_sensitive(system, solver, backend)
     if events is not None:
         raise ValueError("`sensitivities` and `events` cannot be combined yet")
-    if backend == "python":
-        raise ValueError("`sensitivities` are computed in the compiled core: omit "
-                         "`backend='python'`")  # fmt: skip
-    if system.degenerate:
-        raise ValueError("`sensitivities` need a body with three non-zero principal moments")
     return directions(system, wrt)
 
 

@@ -302,10 +302,26 @@ pub fn gyrostat_omegas(
         return Status::Finished;
     }
     let sys = Gyrostat::new(moments, *axes, rotor);
-    let mut z = sys.state_of(t[0], omega0).to_vec();
-    let mut f = vec![0.0; 3];
+    let (out_y, reached, status) = run_onto(&sys, sys.state_of(t[0], omega0).to_vec(), spec);
+    for (k, o) in out.iter_mut().enumerate() {
+        *o = if k < reached {
+            sys.omega_of(t[k], &out_y[3 * k..3 * k + 3])
+        } else {
+            [f64::NAN; 3]
+        };
+    }
+    status
+}
+
+/// The run of `sys` from the state `z` onto the sample times of `spec` (its method, step and
+/// budget; [`Run`]): the samples (`dim · n`, NaN where not reached), how many were reached,
+/// and the driver's status.
+fn run_onto<S: VectorField>(sys: &S, mut z: Vec<f64>, spec: &RunSpec) -> (Vec<f64>, usize, Status) {
+    let t = spec.sampling.t_eval;
+    let (n, dim) = (t.len(), sys.dim());
+    let mut f = vec![0.0; dim];
     let mut out_t = vec![f64::NAN; n];
-    let mut out_y = vec![f64::NAN; 3 * n];
+    let mut out_y = vec![f64::NAN; dim * n];
     let mut clock = Clock { t: t[0], h: 0.0 };
     let mut counters = Counters::default();
     let mut run = Run {
@@ -319,15 +335,8 @@ pub fn gyrostat_omegas(
         },
         counters: &mut counters,
     };
-    let status = run.chunk(&sys, &mut NoObserver, spec.max_steps);
-    for (k, o) in out.iter_mut().enumerate() {
-        *o = if k < counters.n_out {
-            sys.omega_of(t[k], &out_y[3 * k..3 * k + 3])
-        } else {
-            [f64::NAN; 3]
-        };
-    }
-    status
+    let status = run.chunk(sys, &mut NoObserver, spec.max_steps);
+    (out_y, counters.n_out, status)
 }
 
 /// The most directions a gyrostat fit differentiates along at once.
@@ -420,25 +429,9 @@ pub fn gyrostat_sensitivities(
         z[i] = x.v;
         z[3 + p * i..3 + p * (i + 1)].copy_from_slice(&x.d[..p]);
     }
-    let mut f = vec![0.0; dim];
-    let mut out_t = vec![f64::NAN; n];
-    let mut out_y = vec![f64::NAN; dim * n];
-    let mut clock = Clock { t: t[0], h: 0.0 };
-    let mut counters = Counters::default();
-    let mut run = Run {
-        spec: *spec,
-        clock: &mut clock,
-        z: &mut z,
-        f: &mut f,
-        out: Output {
-            t: &mut out_t,
-            y: &mut out_y,
-        },
-        counters: &mut counters,
-    };
-    let status = run.chunk(&sys, &mut NoObserver, spec.max_steps);
+    let (out_y, reached, status) = run_onto(&sys, z, spec);
     for (k, o) in out.iter_mut().enumerate() {
-        *o = if k < counters.n_out {
+        *o = if k < reached {
             let l = sys.lift(&out_y[dim * k..dim * (k + 1)]);
             sys.gyrostat.omega_of(t[k], &l)
         } else {

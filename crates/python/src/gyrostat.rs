@@ -152,13 +152,8 @@ fn gyrostat_omegas<'py>(
     rotor_axis: Floats1<'py>,
 ) -> PyResult<Bound<'py, PyArray3<f64>>> {
     let members = gyrostats(&moments, &axes, &rotor_inertia, &omega0)?;
-    let run = spec.core();
-    run.check_for(false).map_err(value_error)?;
+    let run = onto_samples(&spec)?;
     let ts = run.sampling.t_eval;
-    if ts.is_empty() {
-        return Err(value_error("`spec` must have sample times `t_eval`"));
-    }
-    increasing(ts, "t_eval")?;
     let rotor = Rotor::new(&rotor_t, &rotor_speed, &rotor_axis)?;
     let (m, n) = (members.len(), ts.len());
     let out = detached(py, || rotor.omegas(&members, &run))?;
@@ -235,13 +230,8 @@ fn gyrostat_sensitivities<'py>(
     let mut j = GyroDual::splat(rotor_inertia);
     j.d[..p].copy_from_slice(js);
     let e0 = mat3_from(&axes0, "axes0")?;
-    let run = spec.core();
-    run.check_for(false).map_err(value_error)?;
+    let run = onto_samples(&spec)?;
     let ts = run.sampling.t_eval;
-    if ts.is_empty() {
-        return Err(value_error("`spec` must have sample times `t_eval`"));
-    }
-    increasing(ts, "t_eval")?;
     let rotor = Rotor::new(&rotor_t, &rotor_speed, &rotor_axis)?;
     let n = ts.len();
     let out = detached(py, || {
@@ -301,6 +291,19 @@ fn gyrostats(
             (v3(&mo, i), e, j[i], v3(&w0, i))
         })
         .collect())
+}
+
+/// The core's run of `spec`, checked for a vector field and for its sample times (some,
+/// increasing, finite).
+fn onto_samples<'a>(spec: &'a RunSpec) -> PyResult<CoreSpec<'a>> {
+    let run = spec.core();
+    run.check_for(false).map_err(value_error)?;
+    let ts = run.sampling.t_eval;
+    if ts.is_empty() {
+        return Err(value_error("`spec` must have sample times `t_eval`"));
+    }
+    increasing(ts, "t_eval")?;
+    Ok(run)
 }
 
 /// The rotor every member of `gyrostat_omegas` shares: its speed `speed` sampled at the

@@ -6,7 +6,8 @@ use crate::arrays::{Floats1, Floats2, Ints1};
 use crate::engine::in_chunks;
 use numpy::{IntoPyArray, PyArray1};
 use poinsot_core::drivers::is_rk4;
-use poinsot_core::layout::{load, FORCE_PARAMS, STATE_SIZE};
+use poinsot_core::forces::Force;
+use poinsot_core::layout::{load, Body, FORCE_PARAMS, STATE_SIZE};
 use poinsot_core::observers::NoObserver;
 use poinsot_core::relative::{RelativeOptions, RELATIVE_STATE_SIZE};
 use poinsot_core::sensitivity::{
@@ -105,6 +106,22 @@ fn seeds_from(
     Ok((moments, rows))
 }
 
+/// The body, its built-in forces and the directions' seeds, checked.
+type Lowered = (Body, Vec<Force>, Vec<[f64; 3]>, Vec<[f64; FORCE_PARAMS]>);
+
+fn lowered(
+    body: &Floats1<'_>,
+    force_kind: &Ints1<'_>,
+    force_params: &Floats2<'_>,
+    moment_seeds: &Floats2<'_>,
+    force_seeds: &Floats2<'_>,
+) -> PyResult<Lowered> {
+    let body = body_from(body.as_slice()?)?;
+    let forces = forces_from(force_kind.as_slice()?, force_params)?;
+    let (moments, rows) = seeds_from(moment_seeds, force_seeds, forces.len())?;
+    Ok((body, forces, moments, rows))
+}
+
 /// Integrate a body under built-in forces with the forward sensitivities of `P` directions,
 /// for at most `steps` more steps of the run `spec` (RK4, an explicit tableau or DOP853), in
 /// `state` (its state the augmented `18 (1 + P)`, from `sensitivity_start`). Each direction
@@ -126,9 +143,13 @@ fn integrate_sensitivities<'py>(
     mut state: PyRefMut<'py, RunState>,
     steps: u64,
 ) -> PyResult<i64> {
-    let body = body_from(body.as_slice()?)?;
-    let forces = forces_from(force_kind.as_slice()?, &force_params)?;
-    let (moments, force_rows) = seeds_from(&moment_seeds, &force_seeds, forces.len())?;
+    let (body, forces, moments, force_rows) = lowered(
+        &body,
+        &force_kind,
+        &force_params,
+        &moment_seeds,
+        &force_seeds,
+    )?;
     let p = moments.len();
     let sys = Sensitive::new(body, &forces, &moments, &force_rows, control_all);
     let state = &mut *state;
@@ -201,9 +222,13 @@ fn integrate_relative_sensitivities<'py>(
     mut state: PyRefMut<'py, RunState>,
     steps: u64,
 ) -> PyResult<i64> {
-    let body = body_from(body.as_slice()?)?;
-    let forces = forces_from(force_kind.as_slice()?, &force_params)?;
-    let (moments, force_rows) = seeds_from(&moment_seeds, &force_seeds, forces.len())?;
+    let (body, forces, moments, force_rows) = lowered(
+        &body,
+        &force_kind,
+        &force_params,
+        &moment_seeds,
+        &force_seeds,
+    )?;
     let p = moments.len();
     let options = RelativeOptions {
         balance_transport,

@@ -189,22 +189,10 @@ RELATIVE_STARTS = {"omega_r0": 1, "Q_r0": 2, "r0": 3, "v_r0": 4}
 def _check_sensitivities(system, solver, wrt, backend):
     """The directions of a relative run's ``sensitivities``, refused where it cannot carry
     them."""
-    from ..sensitivity import SENSITIVE_METHODS, directions
+    from ..sensitivity import check_run as check_sensitive
+    from ..sensitivity import directions
 
-    if solver.kind not in SENSITIVE_METHODS:
-        raise ValueError(f"`sensitivities` are computed with 'rk4', 'dop853' or an explicit "
-                         f"Runge–Kutta tableau; `method` {solver.name!r} has none")  # fmt: skip
-    slow = [f.name for f in system.forces if not f.compiled]
-    if slow:
-        raise ValueError(
-            "`sensitivities` need built-in forces; these are evaluated in Python: "
-            + ", ".join(slow)
-        )
-    if backend == "python":
-        raise ValueError("`sensitivities` are computed in the compiled core: omit "
-                         "`backend='python'`")  # fmt: skip
-    if system.rigid.degenerate:
-        raise ValueError("`sensitivities` need a body with three non-zero principal moments")
+    check_sensitive(system.rigid, solver, backend, rigid=False)
     names = (wrt,) if isinstance(wrt, str) else tuple(wrt)
     if system.hold_com and "v_r0" in names:
         raise ValueError("`sensitivities`: 'v_r0' has no effect with `hold_com` (the centre of "
