@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,6 +33,7 @@ __all__ = [
     "SensitiveSystem",
     "Sensitivities",
     "SensitivityMixin",
+    "check_control",
     "check_run",
     "directions",
 ]
@@ -89,6 +91,13 @@ class Directions:
         return len(self.labels)
 
 
+def check_control(control) -> bool:
+    """``control_sensitivities`` checked: a bool (NumPy's included), else refused."""
+    if not isinstance(control, bool | np.bool_):
+        raise TypeError(f"`control_sensitivities` must be True or False, found {control!r}")
+    return bool(control)
+
+
 def check_run(system, solver, backend, *, rigid=True) -> None:
     """Refuse a run that cannot carry sensitivities, before it is lowered: a method without
     them (``rigid``: a rigid body's, which adds RKMK4 and the splitting method), a force
@@ -118,7 +127,12 @@ def directions(system, wrt, starts=None) -> Directions:
     "Q0": 2, "R0": 3, "V0": 4}`` by default; a relative motion's are ``omega_r0``, ``Q_r0``,
     ``r0``, ``v_r0``)."""
     starts = _START if starts is None else starts
-    names = (wrt,) if isinstance(wrt, str) else tuple(wrt)
+    if isinstance(wrt, str):
+        names = (wrt,)
+    elif isinstance(wrt, Iterable):
+        names = tuple(str(x) if isinstance(x, str) else x for x in wrt)
+    else:
+        raise TypeError(f"`sensitivities` must be a name or a sequence of names, found {wrt!r}")
     if not names:
         raise ValueError("`sensitivities` must name at least one parameter")
     nf = len(system.force_kind)

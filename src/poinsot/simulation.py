@@ -89,13 +89,16 @@ def prepare(
         normalize_events(events)  # refused here, naming the event, before any step
         events = tuple(events) if isinstance(events, list | tuple) else (events,)
     event_resolution = check_event_resolution(event_resolution, events is not None)
+    from .sensitivity import check_control
+
     dirs = None
+    control = check_control(control_sensitivities)
     if sensitivities is not None:
         dirs = _check_sensitivities(system, settings.solver, sensitivities, events, backend)
-    elif control_sensitivities is not True:
+    elif not control:
         raise ValueError("`control_sensitivities` has no effect without `sensitivities`")
     return PreparedRun(system, settings, backend, events, event_resolution, dirs,
-                       bool(control_sensitivities))  # fmt: skip
+                       control)  # fmt: skip
 
 
 def _check_sensitivities(system, solver, wrt, events, backend):

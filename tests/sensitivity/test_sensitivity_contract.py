@@ -89,6 +89,23 @@ def test_what_cannot_be_differentiated_is_refused_up_front(kw, match):
         run(**kw)
 
 
+def test_names_come_as_any_sequence_and_the_switch_is_a_bool():
+    traj = run(sensitivities=np.array(["omega0", "inertia"]))
+    assert traj.sensitivities.directions.names == ("omega0", "inertia")
+    assert all(type(n) is str for n in traj.sensitivities.directions.names)
+    with pytest.raises(TypeError, match="a name or a sequence of names"):
+        run(sensitivities=123)
+    with pytest.raises(TypeError, match="must be a name"):
+        run(sensitivities=("omega0", 5))
+    with pytest.raises(TypeError, match="True or False"):
+        run(sensitivities="omega0", control_sensitivities="yes")
+    kw = {"method": "dop853", "rtol": 1e-8, "sensitivities": "omega0"}
+    assert (
+        run(**kw, control_sensitivities=np.bool_(False)).nsteps
+        == run(method="dop853", rtol=1e-8).nsteps
+    )
+
+
 def test_forces_evaluated_in_python_are_refused():
     custom = CustomForce(lambda t, R, V, Q, w: (np.zeros(3), np.zeros(3)))
     with pytest.raises(ValueError, match="evaluated in Python"):

@@ -174,12 +174,15 @@ def prepare_relative(body, t_span, *, carrier, forces=(), balance_transport=Fals
     system = RelativeMotionSystem(body, carrier, forces, balance_transport=bool(balance_transport),
                                   hold_com=bool(hold_com))  # fmt: skip
     carrier.check(run.t0, run.t1)
+    from ..sensitivity import check_control
+
     dirs = None
+    control = check_control(control_sensitivities)
     if sensitivities is not None:
         dirs = _check_sensitivities(system, solver, sensitivities, backend)
-    elif control_sensitivities is not True:
+    elif not control:
         raise ValueError("`control_sensitivities` has no effect without `sensitivities`")
-    return PreparedRelativeRun(system, run, backend, dirs, bool(control_sensitivities))
+    return PreparedRelativeRun(system, run, backend, dirs, control)
 
 
 #: The initial state's parts a relative run differentiates with respect to.
@@ -193,11 +196,11 @@ def _check_sensitivities(system, solver, wrt, backend):
     from ..sensitivity import directions
 
     check_sensitive(system.rigid, solver, backend, rigid=False)
-    names = (wrt,) if isinstance(wrt, str) else tuple(wrt)
-    if system.hold_com and "v_r0" in names:
+    dirs = directions(system.rigid, wrt, RELATIVE_STARTS)
+    if system.hold_com and "v_r0" in dirs.names:
         raise ValueError("`sensitivities`: 'v_r0' has no effect with `hold_com` (the centre of "
                          "mass is held)")  # fmt: skip
-    return directions(system.rigid, wrt, RELATIVE_STARTS)
+    return dirs
 
 
 @dataclass(frozen=True)
