@@ -8,8 +8,9 @@ sensitivity>` returns them. The parameters ``p`` (the *directions*) are named by
 
 The variational equations ``Ṡ = ∂f/∂y S + ∂f/∂p`` are integrated in the compiled core
 alongside the motion, by the same method and steps, on dual numbers: no derivative is
-written by hand (``crates/core/src/sensitivity.rs``; ``docs/sensitivities.md``). This module
-only names the directions and moves the results between frames; it holds no physics.
+written by hand (``crates/core/src/sensitivity.rs``; ``docs/tutorials/sensitivities.md``).
+This module only names the directions and moves the results between frames; it holds no
+physics.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
-//! Forward sensitivities of a rigid body's run (`docs/sensitivities.md`): the derivatives
-//! `S_j(t) = ∂y(t)/∂p_j` of the state with respect to `P` parameters, integrated alongside the
-//! motion as the variational equations `Ṡ_j = ∂f/∂y S_j + ∂f/∂p_j`, by the same method and
-//! the same steps (Hairer, Nørsett & Wanner, *Solving ODEs I*, §I.14).
+//! Forward sensitivities of a rigid body's run (`docs/tutorials/sensitivities.md`): the
+//! derivatives `S_j(t) = ∂y(t)/∂p_j` of the state with respect to `P` parameters, integrated
+//! alongside the motion as the variational equations `Ṡ_j = ∂f/∂y S_j + ∂f/∂p_j`, by the same
+//! method and the same steps (Hairer, Nørsett & Wanner, *Solving ODEs I*, §I.14).
 //!
 //! **No derivative is written by hand.** The right-hand side is the engine's own, eqs
 //! (07)–(09) with the built-in forces ([`rigid_rates`], [`wrench_of`]), evaluated on dual
