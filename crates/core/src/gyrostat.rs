@@ -783,18 +783,30 @@ mod tests {
         assert_eq!(r.momentum_at(0.5), [0.0, 0.0, 30.0]);
     }
 
+    /// A rotor spun up from 200 to 1000 rad/s over 0.4 s, sampled every millisecond: its
+    /// times and speeds.
+    fn spin_up() -> (Vec<f64>, Vec<f64>) {
+        let tr: Vec<f64> = (0..=400).map(|k| k as f64 * 1e-3).collect();
+        let speed = tr.iter().map(|&x| 200.0 + 2000.0 * x).collect();
+        (tr, speed)
+    }
+
+    /// The rotor of [`spin_up`]'s samples, about a tilted axis.
+    fn spun_rotor<'a>(tr: &'a [f64], speed: &'a [f64]) -> SampledRotor<'a> {
+        SampledRotor {
+            t: tr,
+            speed,
+            axis: [0.0, 0.6, 0.8],
+            inertia: 1.7e-6,
+        }
+    }
+
     #[test]
     fn the_run_takes_its_method_from_the_spec() {
         // the same motion by DOP853 at tight tolerances and by RK4 at a fine step
         let (moments, axes, _) = body();
-        let tr: Vec<f64> = (0..=400).map(|k| k as f64 * 1e-3).collect();
-        let speed: Vec<f64> = tr.iter().map(|&x| 200.0 + 2000.0 * x).collect();
-        let rotor = SampledRotor {
-            t: &tr,
-            speed: &speed,
-            axis: [0.0, 0.6, 0.8],
-            inertia: 1.7e-6,
-        };
+        let (tr, speed) = spin_up();
+        let rotor = spun_rotor(&tr, &speed);
         let t: Vec<f64> = (0..=40).map(|k| k as f64 * 1e-2).collect();
         let w0 = [10.0, -20.0, 5.0];
         let mut rk4 = vec![[0.0; 3]; t.len()];
@@ -816,14 +828,8 @@ mod tests {
         // the value of the dual run is the plain run bit for bit; the derivative along ω0_y
         // agrees with central differences of plain runs
         let (moments, axes, _) = body();
-        let tr: Vec<f64> = (0..=400).map(|k| k as f64 * 1e-3).collect();
-        let speed: Vec<f64> = tr.iter().map(|&x| 200.0 + 2000.0 * x).collect();
-        let rotor = SampledRotor {
-            t: &tr,
-            speed: &speed,
-            axis: [0.0, 0.6, 0.8],
-            inertia: 1.7e-6,
-        };
+        let (tr, speed) = spin_up();
+        let rotor = spun_rotor(&tr, &speed);
         let t: Vec<f64> = (0..=40).map(|k| k as f64 * 1e-2).collect();
         let spec = onto(&t, 1e-4, Method::Rk4);
         let w0 = [10.0, -20.0, 5.0];
