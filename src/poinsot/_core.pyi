@@ -89,6 +89,7 @@ __all__ = [
     "V_AT",
     "Expressions",
     "LagrangianModel",
+    "LagrangianTangent",
     "RunSpec",
     "RunState",
     "RunStats",
@@ -133,6 +134,7 @@ __all__ = [
     "heavy_top_motions",
     "initial_states",
     "integrate_lagrange",
+    "integrate_lagrange_sensitivities",
     "integrate_python",
     "integrate_relative",
     "integrate_relative_sensitivities",
@@ -142,6 +144,7 @@ __all__ = [
     "jacobi_reduced",
     "jacobi_sn_cn_dn_am",
     "kinetic_energies",
+    "lagrange_sensitivity_start",
     "log_so3",
     "matrix_to_quat",
     "member_bodies",
@@ -629,6 +632,43 @@ def run_ensemble(
 # --------------------------------------------------------------------------- lagrange.rs
 
 @final
+class LagrangianTangent:
+    def __new__(
+        cls, codes: ArrayLike, values: ArrayLike, n: int, m: int, nh: int, np: int, nu: int
+    ) -> Self: ...
+    @property
+    def sizes(self) -> tuple[int, int, int, int, int]: ...
+    # `[M, f, G, b, γ, g, h, ∂[M, f, G, b, γ, g]/∂[q, q̇, p]]`
+    def evaluate(
+        self, t: float, q: ArrayLike, qd: ArrayLike, p: ArrayLike, u: ArrayLike
+    ) -> _F64: ...
+
+def lagrange_sensitivity_start(
+    tangent: LagrangianTangent,
+    t0: float,
+    y0: ArrayLike,
+    p: ArrayLike,
+    u: ArrayLike,
+    kinds: ArrayLike,
+    components: ArrayLike,
+    seeds: ArrayLike,
+    free_q: ArrayLike,
+    free_v: ArrayLike,
+) -> _F64: ...
+def integrate_lagrange_sensitivities(
+    tangent: LagrangianTangent,
+    p: ArrayLike,
+    u: ArrayLike,
+    alpha: float,
+    beta: float,
+    projection: bool,
+    seeds: ArrayLike,
+    control_all: bool,
+    spec: RunSpec,
+    state: RunState,
+    steps: int,
+) -> int: ...
+
 class LagrangianModel:
     def __new__(
         cls, codes: ArrayLike, values: ArrayLike, n: int, m: int, nh: int, np: int, nu: int

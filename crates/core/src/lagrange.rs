@@ -27,17 +27,20 @@
 //!
 //! The files: `model.rs` (a model's sizes and expressions, the KKT solve, the projection and
 //! the post-processing of samples), `system.rs` (the inputs and the constrained system as a
-//! vector field), `events.rs` (a run's event sources) and `members.rs` (one member's run in
+//! vector field), `sensitivity.rs` (the differentiated KKT system: a run's forward
+//! sensitivities), `events.rs` (a run's event sources) and `members.rs` (one member's run in
 //! phases, and members in parallel).
 
 mod events;
 mod members;
 mod model;
+mod sensitivity;
 mod system;
 
 pub use events::*;
 pub use members::*;
 pub use model::*;
+pub use sensitivity::{initial_tangents, LagrangeSensitive, Start as LagrangeStart};
 pub use system::*;
 
 #[cfg(test)]

@@ -14,12 +14,20 @@
 /// Returns false when a pivot is zero or not finite (a singular or non-finite system; `x` is
 /// then meaningless).
 pub fn solve_augmented(a: &mut [f64], n: usize, ld: usize) -> bool {
-    debug_assert!(ld > n && a.len() >= n * ld);
-    for k in 0..n {
-        let mut p = k;
-        let mut big = a[k * ld + k].abs();
-        for i in k + 1..n {
-            let v = a[i * ld + k].abs();
+    solve_augmented_many(a, n, ld, 1)
+}
+
+/// Solve `A[:n, :n] X = A[:n, n..n + k]` for `k` right-hand sides at once, in place, as
+/// [`solve_augmented`] does for one (the same operations on each column): `X` overwrites
+/// columns `n..n + k`. `a` is row-major with `ld ≥ n + k` numbers per row.
+pub fn solve_augmented_many(a: &mut [f64], n: usize, ld: usize, k: usize) -> bool {
+    debug_assert!(ld >= n + k && a.len() >= n * ld);
+    let end = n + k;
+    for c in 0..n {
+        let mut p = c;
+        let mut big = a[c * ld + c].abs();
+        for i in c + 1..n {
+            let v = a[i * ld + c].abs();
             if v > big {
                 big = v;
                 p = i;
@@ -28,27 +36,29 @@ pub fn solve_augmented(a: &mut [f64], n: usize, ld: usize) -> bool {
         if !(big > 0.0 && big < 1e308) {
             return false;
         }
-        if p != k {
-            for j in k..=n {
-                a.swap(k * ld + j, p * ld + j);
+        if p != c {
+            for j in c..end {
+                a.swap(c * ld + j, p * ld + j);
             }
         }
-        let inv = 1.0 / a[k * ld + k];
-        for i in k + 1..n {
-            let factor = a[i * ld + k] * inv;
+        let inv = 1.0 / a[c * ld + c];
+        for i in c + 1..n {
+            let factor = a[i * ld + c] * inv;
             if factor != 0.0 {
-                for j in k + 1..=n {
-                    a[i * ld + j] -= factor * a[k * ld + j];
+                for j in c + 1..end {
+                    a[i * ld + j] -= factor * a[c * ld + j];
                 }
             }
         }
     }
-    for k in (0..n).rev() {
-        let mut s = a[k * ld + n];
-        for j in k + 1..n {
-            s -= a[k * ld + j] * a[j * ld + n];
+    for col in n..end {
+        for r in (0..n).rev() {
+            let mut s = a[r * ld + col];
+            for j in r + 1..n {
+                s -= a[r * ld + j] * a[j * ld + col];
+            }
+            a[r * ld + col] = s / a[r * ld + r];
         }
-        a[k * ld + n] = s / a[k * ld + k];
     }
     true
 }
@@ -146,6 +156,39 @@ pub fn min_norm_solve(
             s += j[a * cols + k] * work[a * ld + rows];
         }
         x[k] = s;
+    }
+    true
+}
+
+/// The least-squares solution of least norm of `A x = r`, `A` (rows × cols, row-major, of
+/// full rank), as NumPy's `lstsq` gives it for such `A`: [`min_norm_solve`] when
+/// `rows ≤ cols`, else the normal equations `AᵀA x = Aᵀ r` (Cholesky). `work` holds at least
+/// `k (k + 1)` numbers, `k = max(rows, cols)`. Returns false when the system is singular.
+pub fn least_squares_solve(
+    a: &[f64],
+    rows: usize,
+    cols: usize,
+    r: &[f64],
+    x: &mut [f64],
+    work: &mut [f64],
+) -> bool {
+    if rows <= cols {
+        return min_norm_solve(a, rows, cols, r, x, work);
+    }
+    let ld = cols + 1;
+    for i in 0..cols {
+        for j in 0..=i {
+            let s: f64 = (0..rows).map(|k| a[k * cols + i] * a[k * cols + j]).sum();
+            work[i * ld + j] = s;
+            work[j * ld + i] = s;
+        }
+        work[i * ld + cols] = (0..rows).map(|k| a[k * cols + i] * r[k]).sum();
+    }
+    if !solve_spd_augmented(work, cols, ld) {
+        return false;
+    }
+    for i in 0..cols {
+        x[i] = work[i * ld + cols];
     }
     true
 }
@@ -258,6 +301,62 @@ mod tests {
             let z: Vec<f64> = (0..cols).map(|k| v[k] - p[k]).collect();
             let dot: f64 = (0..cols).map(|k| x[k] * z[k]).sum();
             assert!(dot.abs() < 1e-10, "{dot}");
+        }
+    }
+
+    #[test]
+    fn many_right_hand_sides_equal_one_at_a_time_bit_for_bit() {
+        let mut s = 3u64;
+        for n in 1..9 {
+            let k = 5;
+            let m: Vec<f64> = (0..n * n).map(|_| rng(&mut s)).collect();
+            let b: Vec<f64> = (0..n * k).map(|_| rng(&mut s)).collect();
+            let ld = n + k;
+            let mut a = vec![0.0; n * ld];
+            for i in 0..n {
+                a[i * ld..i * ld + n].copy_from_slice(&m[i * n..(i + 1) * n]);
+                a[i * ld + n..i * ld + n + k].copy_from_slice(&b[i * k..(i + 1) * k]);
+            }
+            assert!(solve_augmented_many(&mut a, n, ld, k));
+            for c in 0..k {
+                let mut one = vec![0.0; n * (n + 1)];
+                for i in 0..n {
+                    one[i * (n + 1)..i * (n + 1) + n].copy_from_slice(&m[i * n..(i + 1) * n]);
+                    one[i * (n + 1) + n] = b[i * k + c];
+                }
+                assert!(solve_augmented(&mut one, n, n + 1));
+                for i in 0..n {
+                    assert_eq!(one[i * (n + 1) + n].to_bits(), a[i * ld + n + c].to_bits());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn least_squares_satisfies_the_normal_equations_and_takes_the_least_norm() {
+        let mut s = 5u64;
+        for (rows, cols) in [(4, 2), (3, 3), (2, 5), (6, 1)] {
+            let a: Vec<f64> = (0..rows * cols).map(|_| rng(&mut s)).collect();
+            let r: Vec<f64> = (0..rows).map(|_| rng(&mut s)).collect();
+            let mut x = vec![0.0; cols];
+            let k = rows.max(cols);
+            let mut work = vec![0.0; k * (k + 1)];
+            assert!(least_squares_solve(&a, rows, cols, &r, &mut x, &mut work));
+            let res: Vec<f64> = (0..rows)
+                .map(|i| (0..cols).map(|j| a[i * cols + j] * x[j]).sum::<f64>() - r[i])
+                .collect();
+            if rows <= cols {
+                // consistent: A x = r, and x in the row space of A (least norm)
+                assert!(
+                    res.iter().all(|e| e.abs() < 1e-12),
+                    "{rows}×{cols}: {res:?}"
+                );
+            }
+            // Aᵀ (A x − r) = 0 in both cases
+            for j in 0..cols {
+                let g: f64 = (0..rows).map(|i| a[i * cols + j] * res[i]).sum();
+                assert!(g.abs() < 1e-12, "{rows}×{cols}: gradient {g}");
+            }
         }
     }
 }

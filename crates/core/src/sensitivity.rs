@@ -256,12 +256,8 @@ impl VectorField for Sensitive<'_> {
     }
 
     #[inline(always)]
-    fn error_dim(&self) -> usize {
-        if self.control_all {
-            self.dim()
-        } else {
-            STATE_SIZE
-        }
+    fn error_blocks(&self) -> (usize, usize) {
+        (STATE_SIZE, if self.control_all { self.p } else { 0 })
     }
 }
 
@@ -535,12 +531,11 @@ impl<C: CarrierMotion + ?Sized> VectorField for RelativeSensitive<'_, C> {
     }
 
     #[inline(always)]
-    fn error_dim(&self) -> usize {
-        if self.control_all {
-            self.dim()
-        } else {
-            RELATIVE_STATE_SIZE
-        }
+    fn error_blocks(&self) -> (usize, usize) {
+        (
+            RELATIVE_STATE_SIZE,
+            if self.control_all { self.p } else { 0 },
+        )
     }
 
     #[inline(always)]

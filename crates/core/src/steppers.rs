@@ -571,39 +571,50 @@ pub fn dop853_step<S: VectorField + ?Sized>(
 
 /// The scaled error of the last DOP853 step: Hairer's combination of the 5th- and 3rd-order
 /// estimators, `|h| Σe5² / √((Σe5² + 0.01 Σe3²) n)` with `e = (Σ_i E_i k_i)/sc`,
-/// `sc = atol + rtol max(|y|, |y_new|)`, over the first `n_err` of the `n` components
-/// ([`crate::system::VectorField::error_dim`]). A step is accepted below 1.
+/// `sc = atol + rtol max(|y|, |y_new|)`, over the blocks `(ns, p)` of the `n` components
+/// ([`crate::system::VectorField::error_blocks`]): the first `ns` components, and each of the
+/// `p` directions' `ns` sensitivities after them; the largest of these norms. A step is
+/// accepted below 1.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn dop853_error_norm(
     k: &[f64],
     n: usize,
-    n_err: usize,
+    blocks: (usize, usize),
     h: f64,
     y: &[f64],
     y_new: &[f64],
     rtol: f64,
     atol: f64,
 ) -> f64 {
-    let mut e5 = 0.0;
-    let mut e3 = 0.0;
-    for idx in 0..n_err {
-        let scale = atol + y[idx].abs().max(y_new[idx].abs()) * rtol;
-        let mut a5 = 0.0;
-        let mut a3 = 0.0;
-        for i in 0..=DOP853_STAGES {
-            a5 += DOP853_E5[i] * k[i * n + idx];
-            a3 += DOP853_E3[i] * k[i * n + idx];
+    let (ns, p) = blocks;
+    let block = |first: usize, stride: usize| {
+        let mut e5 = 0.0;
+        let mut e3 = 0.0;
+        for c in 0..ns {
+            let idx = first + c * stride;
+            let scale = atol + y[idx].abs().max(y_new[idx].abs()) * rtol;
+            let mut a5 = 0.0;
+            let mut a3 = 0.0;
+            for i in 0..=DOP853_STAGES {
+                a5 += DOP853_E5[i] * k[i * n + idx];
+                a3 += DOP853_E3[i] * k[i * n + idx];
+            }
+            a5 /= scale;
+            a3 /= scale;
+            e5 += a5 * a5;
+            e3 += a3 * a3;
         }
-        a5 /= scale;
-        a3 /= scale;
-        e5 += a5 * a5;
-        e3 += a3 * a3;
+        if e5 == 0.0 && e3 == 0.0 {
+            return 0.0;
+        }
+        h.abs() * e5 / ((e5 + 0.01 * e3) * ns as f64).sqrt()
+    };
+    let mut err = block(0, 1);
+    for j in 0..p {
+        err = err.max(block(ns + j, p));
     }
-    if e5 == 0.0 && e3 == 0.0 {
-        return 0.0;
-    }
-    h.abs() * e5 / ((e5 + 0.01 * e3) * n_err as f64).sqrt()
+    err
 }
 
 /// The coefficients `fd` (7 · n) of the 7th-order interpolant over the last step

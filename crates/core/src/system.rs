@@ -8,7 +8,8 @@
 //! 3. [`VectorField::project`]: put `y` back on the system's constraint manifold at `t`, in
 //!    place, and say whether the system is constrained (the drivers then recompute a cached
 //!    derivative). Unconstrained systems keep the default, a no-op returning `false`.
-//! 4. [`VectorField::error_dim`]: the leading components the adaptive error control weighs
+//! 4. [`VectorField::error_blocks`]: what the adaptive error control weighs (the state, and
+//!    the sensitivities one direction at a time)
 //!    (all by default).
 //! 5. [`VectorField::failed`]: a system that calls out (a Python callback) reports here that a
 //!    call failed; the drivers stop with [`crate::drivers::Status::CallbackFailed`].
@@ -33,12 +34,15 @@ pub trait VectorField {
     fn project(&self, _t: f64, _y: &mut [f64]) -> bool {
         false
     }
-    /// How many leading components of the state the adaptive method's error control weighs:
-    /// all of them, unless the system says otherwise (a run with forward sensitivities may
-    /// leave them out of the control, as CVODES lets it).
+    /// What the adaptive method's error control weighs, `(n, p)`: the first `n` components
+    /// (the system's own state; all of them unless the system says otherwise) and, when
+    /// `p > 0`, the forward sensitivities of `p` directions stored after them component by
+    /// component (`y[n + p i + j] = ∂y_i/∂p_j`). The error is then the largest of the state's
+    /// norm and each direction's, as CVODES' `errconS` takes it (Serban & Hindmarsh 2005, §3);
+    /// `p = 0` leaves the sensitivities out.
     #[inline(always)]
-    fn error_dim(&self) -> usize {
-        self.dim()
+    fn error_blocks(&self) -> (usize, usize) {
+        (self.dim(), 0)
     }
     /// True once a call out of the engine (a user callback) has failed.
     #[inline(always)]

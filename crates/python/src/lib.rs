@@ -15,6 +15,7 @@ mod geometry;
 mod gyrostat;
 mod lagrange;
 mod lagrange_run;
+mod lagrange_sensitivity;
 mod relative;
 mod rigid;
 mod sensitivity;
@@ -62,6 +63,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     exact::register(m)?;
     ensemble::register(m)?;
     lagrange::register(m)?;
+    lagrange_sensitivity::register(m)?;
     gyrostat::register(m)?;
     tops::register(m)?;
     Ok(())

@@ -5,11 +5,17 @@
 from .._core import (
     Expressions,
     LagrangianModel,
+    LagrangianTangent,
     integrate_lagrange,
+    integrate_lagrange_sensitivities,
+    lagrange_sensitivity_start,
 )
 
 __all__ = [
     "Expressions",
     "LagrangianModel",
+    "LagrangianTangent",
     "integrate_lagrange",
+    "integrate_lagrange_sensitivities",
+    "lagrange_sensitivity_start",
 ]

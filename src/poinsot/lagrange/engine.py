@@ -13,6 +13,11 @@ Nothing of the engine's mathematics is generated: the KKT system, Baumgarte's te
 projection, the multipliers and reactions are the core's (``crates/core/src/lagrange.rs``),
 the same for every model. Only how the model's numbers are computed is generated.
 
+A run with forward sensitivities needs the model's Jacobian too: :func:`compile_tangent`
+lowers the same expressions and their derivatives along ``[q, q̇, p]`` (SymPy's ``diff``) to
+one program sharing their subexpressions (``poinsot._core.LagrangianTangent``), once per model
+and only when a run asks for it.
+
 A model seen before is found by its hash: the program is kept on disk
 (``$POINSOT_CACHE_DIR/lagrange``, default ``~/.cache/poinsot/lagrange``) and in the process,
 so its equations are not derived again.
@@ -26,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["CompiledSystem", "cache_dir", "compile_system"]
+__all__ = ["CompiledSystem", "cache_dir", "compile_system", "compile_tangent"]
 
 _ATTR = "_poinsot_compiled"
 #: Models compiled in this process, by their hash.
@@ -89,8 +94,10 @@ def _floats(a) -> np.ndarray:
     return np.ascontiguousarray(a, dtype=float)
 
 
-def _program(system):
-    """The postfix program of ``[M, f, G, b, γ, g, h]`` in ``[q, q̇, t, p, u]``."""
+def _program(system, tangent=False):
+    """The postfix program of ``[M, f, G, b, γ, g, h]`` in ``[q, q̇, t, p, u]``; with
+    ``tangent``, followed by the Jacobian of ``[M, f, G, b, γ, g]`` along ``[q, q̇, p]``
+    (row-major: one row per output)."""
     import sympy as sp
 
     from ..expressions import lower
@@ -106,9 +113,12 @@ def _program(system):
         list(system.holonomic),
         [system.energy_function],
     ]
-    exprs = [names.of(e) for block in blocks for e in block]
+    exprs = [sp.sympify(names.of(e)) for block in blocks for e in block]
+    if tangent:
+        along = [*names.q, *names.v, *system.parameters]
+        exprs += [e.diff(x) for e in exprs[:-1] for x in along]
     inputs = [*names.q, *names.v, system.t, *system.parameters, *names.u]
-    codes, values = lower([sp.sympify(e) for e in exprs], inputs)
+    codes, values = lower(exprs, inputs)
     return codes, values
 
 
@@ -169,6 +179,40 @@ def _save(path: Path, codes, values, sizes) -> None:
         pass  # a read-only or full cache only costs the next process a derivation
 
 
+def _compiled(key, sizes, derive, make):
+    """The core's object of the program ``key``: from this process, from the disk, or derived
+    (``derive()``) and kept in both; ``make(codes, values)`` builds it."""
+    out = _MODELS.get(key)
+    if out is None:
+        path = cache_dir() / f"model_{key}.npz"
+        program = _load(path, sizes)
+        if program is None:
+            with _no_cyclic_gc():
+                program = derive()
+            _save(path, *program, sizes)
+        out = make(*program)
+        _MODELS[key] = out
+    return out
+
+
+def compile_tangent(system):
+    """The model of ``system`` with its Jacobian along ``[q, q̇, p]``, compiled
+    (``poinsot._core.LagrangianTangent``): derived once per model (this process, and the
+    program on disk in :func:`cache_dir`), when a run first asks for sensitivities."""
+    from .._bindings import lagrange as core_lagrange
+
+    sizes = _sizes(system)
+    return _compiled(_model_key(system) + "-tangent", sizes,
+                     lambda: _program(system, tangent=True),
+                     lambda codes, values: core_lagrange.LagrangianTangent(codes, values,
+                                                                           *sizes))  # fmt: skip
+
+
+def _sizes(system) -> tuple:
+    return (system.n_coordinates, system.n_constraints, system.n_holonomic,
+            len(system.parameters), len(system.inputs))  # fmt: skip
+
+
 def compile_system(system) -> CompiledSystem:
     """The :class:`CompiledSystem` of ``system``: compiled once per system object (kept on it)
     and per model (this process, and the program on disk in :func:`cache_dir`)."""
@@ -178,18 +222,10 @@ def compile_system(system) -> CompiledSystem:
     from .._bindings import lagrange as core_lagrange
 
     key = _model_key(system)
-    model = _MODELS.get(key)
-    if model is None:
-        sizes = (system.n_coordinates, system.n_constraints, system.n_holonomic,
-                 len(system.parameters), len(system.inputs))  # fmt: skip
-        path = cache_dir() / f"model_{key}.npz"
-        program = _load(path, sizes)
-        if program is None:
-            with _no_cyclic_gc():
-                program = _program(system)
-            _save(path, *program, sizes)
-        model = core_lagrange.LagrangianModel(*program, *sizes)
-        _MODELS[key] = model
+    sizes = _sizes(system)
+    model = _compiled(key, sizes, lambda: _program(system),
+                      lambda codes, values: core_lagrange.LagrangianModel(codes, values,
+                                                                          *sizes))  # fmt: skip
     out = CompiledSystem(model, system.parameters, system.inputs, key)
     system.__dict__[_ATTR] = out
     return out

@@ -192,6 +192,32 @@ class _NativeODE:
     from_internal = to_internal
 
 
+class _SensitiveODE:
+    """The system with its forward sensitivities, integrated by the core: the augmented state
+    ``[q, q̇, S (2n × P, row-major)]``, the model's compiled Jacobian, constant inputs, every
+    constraint in play (``crates/core/src/lagrange/sensitivity.rs``)."""
+
+    def __init__(self, num, stabilization, baumgarte, tangent, p, u, seeds, control_all):
+        n = num.system.n_coordinates
+        self.state_slices = {"q": slice(0, n), "qd": slice(n, 2 * n)}
+        gains = tuple(baumgarte) if stabilization == "baumgarte" else (0, 0)
+        projection = stabilization == "projection" and num.m > 0
+        self._data = (tangent, p, u, float(gains[0]), float(gains[1]), projection, seeds,
+                      bool(control_all))  # fmt: skip
+
+    def problem(self, y0):
+        from .._bindings import lagrange as core_lagrange
+        from ..integrate.problem import GENERAL_METHODS, NativeProblem
+
+        return NativeProblem(core_lagrange.integrate_lagrange_sensitivities, self._data,
+                             GENERAL_METHODS)  # fmt: skip
+
+    def to_internal(self, y):
+        return np.array(y, dtype=float)
+
+    from_internal = to_internal
+
+
 def check_engine(engine) -> None:
     """Refuse an ``engine`` other than ``"compiled"``; ``"numpy"`` with where it went."""
     if engine == "numpy":
@@ -241,6 +267,8 @@ def simulate(
     event_resolution=None,
     engine="compiled",
     max_steps=None,
+    sensitivities=None,
+    control_sensitivities=True,
 ) -> LagrangianSolution:
     """Integrate the equations of motion of ``system``.
 
@@ -293,19 +321,43 @@ def simulate(
         input is a Python function (the slow path). The former ``"numpy"`` engine (SymPy's
         ``lambdify`` and NumPy per step) is refused with a message: it is now the tests'
         reference oracle (``tests/lagrange/oracle.py``), which the compiled engine is held to.
+    sensitivities : str or sequence of str, optional
+        Parameters to differentiate the motion with respect to (forward sensitivities,
+        :mod:`poinsot.lagrange.sensitivity`): ``"q0"`` (the coordinates given in ``q0``;
+        those solved from the constraints follow), ``"qd0"`` (the velocities given, every
+        velocity of an unconstrained system), ``"params"`` (in the order of
+        ``system.parameters``), or one column of them (``"q0[theta]"``, ``"params[L]"``).
+        The model's Jacobian is derived by SymPy and compiled with it once; the
+        differentiated KKT system is integrated with the motion by the same method and steps
+        (``rk4``, ``dop853`` or an explicit tableau; constant inputs, no events; a one-sided
+        constraint must hold throughout: a run in which its multiplier turns negative at a
+        sample is refused). ``sol.sensitivity(output, wrt)`` gives ``∂output(tᵢ)/∂wrt``.
+    control_sensitivities : bool
+        With ``"dop853"``, whether the error control weighs the sensitivities too (default,
+        as CVODES' ``errconS``), or the motion alone.
+
+    Examples
+    --------
+    >>> from poinsot.models import pendulum_on_cart
+    >>> mdl = pendulum_on_cart()
+    >>> sol = mdl.simulate((0, 1), method="rk4", dt=1e-3, sensitivities=("q0", "params"))
+    >>> sol.sensitivity("q", "params").shape      # (samples, coordinates, parameters)
+    (201, 2, 4)
     """
     prepared = prepare(system, t_span, params=params, method=method, dt=dt, rtol=rtol,
                        atol=atol, t_eval=t_eval, stabilization=stabilization,
                        baumgarte=baumgarte, inputs=inputs, events=events,
                        event_resolution=event_resolution, engine=engine,
-                       max_steps=max_steps)  # fmt: skip
+                       max_steps=max_steps, sensitivities=sensitivities,
+                       control_sensitivities=control_sensitivities)  # fmt: skip
     return prepared.run(q0=q0, qd0=qd0, guess=guess)
 
 
 def prepare(system, t_span, *, params=None, method="dop853", dt=None, rtol=None, atol=None,
             t_eval=None, stabilization="baumgarte", baumgarte=None, inputs=None,
             events=None, event_resolution=None, engine="compiled",
-            max_steps=None) -> PreparedLagrangianRun:  # fmt: skip
+            max_steps=None, sensitivities=None,
+            control_sensitivities=True) -> PreparedLagrangianRun:  # fmt: skip
     """Check a Lagrangian system's run and lower it for the core, once: the compiled model,
     its parameters, inputs and events, the method, sampling and budget. The arguments are
     :func:`simulate`'s less the initial state, checked here with the same errors; the
@@ -335,7 +387,24 @@ def prepare(system, t_span, *, params=None, method="dop853", dt=None, rtol=None,
         num = num.bound(u_of)
     watched = _expression_events(events, system, params)
     settings = replace(settings, events=watched)
-    return PreparedLagrangianRun(system, num, compiled, u_of, settings, events)
+    wrt = _check_sensitivities(system, settings, sensitivities, control_sensitivities, events,
+                               u_of)  # fmt: skip
+    return PreparedLagrangianRun(system, num, compiled, u_of, settings, events, wrt,
+                                 bool(control_sensitivities))  # fmt: skip
+
+
+def _check_sensitivities(system, settings, wrt, control, events, u_of):
+    """The checked names of a run's ``sensitivities`` (None without), refused where the run
+    cannot carry them."""
+    from ..sensitivity import check_control
+    from .sensitivity import check_run, parse
+
+    if wrt is None:
+        if not check_control(control):
+            raise ValueError("`control_sensitivities` has no effect without `sensitivities`")
+        return None
+    check_run(settings.solver, events=events, inputs=u_of, control=control)
+    return parse(wrt, system)
 
 
 def check_settings(t_span, *, method, dt, rtol, atol, t_eval, stabilization, baumgarte,
@@ -401,6 +470,8 @@ class PreparedLagrangianRun:
     u_of : the inputs' function ``(t, q, q̇) → (k,)``, or None
     settings : the checked span, method, sampling, tolerances, stabilisation and budget
     given_events : the events as given (compiled again by :meth:`with_params`)
+    sensitivities : the checked names of the run's sensitivities, or None
+    control_sensitivities : whether DOP853's error control weighs them
     """
 
     system: object
@@ -409,6 +480,8 @@ class PreparedLagrangianRun:
     u_of: object
     settings: _Settings
     given_events: object = None
+    sensitivities: tuple | None = None
+    control_sensitivities: bool = True
 
     @property
     def params(self) -> dict:
@@ -435,6 +508,7 @@ class PreparedLagrangianRun:
         t0, t1 = st.t_span
         q_init = _keyed(q0, system, "q0", allow_missing=system.n_holonomic > 0)
         qd_init = _keyed(qd0, system, "qd0", allow_missing=True)
+        given = ~np.isnan(q_init), ~np.isnan(qd_init) | (system.n_constraints == 0)
         guess_arr = _keyed(guess, system, "guess", allow_missing=True) if guess else None
         q_init, qd_init = consistent_initial_state(system, num, t0, q_init, qd_init, guess_arr)
         solver = st.solver
@@ -448,7 +522,8 @@ class PreparedLagrangianRun:
                                 max_steps=st.budget, **tol)  # fmt: skip
             except IntegrationError as exc:
                 _blame_inputs(self.u_of, exc, len(system.coordinates))
-                raise SimulationError(_at_start(exc, ta, ya, len(system.coordinates)),
+                n = len(system.coordinates)
+                raise SimulationError(_at_start(exc, ta, np.asarray(ya)[: 2 * n], n),
                                       None) from exc  # fmt: skip
             run.nfev += out.nfev
             run.method = out.method
@@ -463,7 +538,9 @@ class PreparedLagrangianRun:
             return _NativeODE(anum, st.stabilization, st.gains, self.compiled, inputs, events)
 
         y_init = np.concatenate([q_init, qd_init])
-        if not st.events and not system.unilateral:  # one run, no event to watch
+        if self.sensitivities is not None:
+            solution = self._run_sensitive(run, y_init, *given)
+        elif not st.events and not system.unilateral:  # one run, no event to watch
             out_y = run(ode_of(num), t0, y_init, t1, st.t_eval)
             solution = LagrangianSolution(system, st.t_eval, out_y, num, method=run.method,
                                           nfev=run.nfev,
@@ -474,6 +551,43 @@ class PreparedLagrangianRun:
                                         st.stabilization)  # fmt: skip
         tol = (st.rtol, st.atol) if solver.adaptive else (None, None)
         warn_on_drift(solution, *tol, st.dt)
+        return solution
+
+    def _run_sensitive(self, run, y_init, given_q, given_v) -> LagrangianSolution:
+        """The run with its sensitivities: the augmented system (the model's compiled
+        Jacobian, :func:`~poinsot.lagrange.engine.compile_tangent`) through the same driver,
+        from the directions' initial columns; a one-sided constraint's multiplier must stay
+        non-negative at the samples (else the constraint would have let go)."""
+        from .._bindings import lagrange as core_lagrange
+        from .engine import compile_tangent
+        from .sensitivity import columns, sensitivities
+
+        system, st = self.system, self.settings
+        n, t0 = system.n_coordinates, st.t_span[0]
+        dirs = columns(self.sensitivities, system, given_q, given_v)
+        tangent = compile_tangent(system)
+        p = self.compiled.parameter_vector(self.num.params)
+        u = _core_inputs(self.u_of)
+        seeds = np.ascontiguousarray(dirs.seeds)
+        if seeds.shape[1] == 0:
+            seeds = np.zeros((dirs.size, 0))
+        y0 = core_lagrange.lagrange_sensitivity_start(tangent, t0, y_init, p, u, dirs.kinds,
+                                                      dirs.components, seeds, ~given_q,
+                                                      ~given_v)  # fmt: skip
+        ode = _SensitiveODE(self.num, st.stabilization, st.gains, tangent, p, u, seeds,
+                            self.control_sensitivities)  # fmt: skip
+        y, sens = sensitivities(run(ode, t0, y0, st.t_span[1], st.t_eval), dirs, n)
+        solution = LagrangianSolution(system, st.t_eval, y, self.num, method=run.method,
+                                      nfev=run.nfev, stabilization=st.stabilization)  # fmt: skip
+        for k in system.unilateral:
+            below = np.nonzero(solution.multipliers[:, k] < 0)[0]
+            if len(below):
+                raise ValueError(
+                    f"`sensitivities`: the one-sided constraint {system.holonomic[k]} ≥ 0 lets "
+                    f"go by t = {solution.t[below[0]]:.6g} (its multiplier turns negative); "
+                    "sensitivities across a release are not computed: end the run before it"
+                )
+        solution.sensitivities = sens
         return solution
 
 

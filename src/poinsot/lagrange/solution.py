@@ -7,12 +7,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..display import Displayable
+from ..sensitivity import SensitivityMixin
 from .arguments import input_values
 
 __all__ = ["LagrangianSolution"]
 
 
-class LagrangianSolution(Displayable):
+class LagrangianSolution(SensitivityMixin, Displayable):
     """Samples of a Lagrangian motion (with the notebook displays and figures of every
     result: ``_repr_html_``, ``.plot()``, ``.show()``).
 
@@ -32,8 +33,13 @@ class LagrangianSolution(Displayable):
     releases : list of (t, constraint, state)
         The one-sided constraints that let go, when, and the state ``[q, q̇]`` then (their
         multipliers are zero after).
+    sensitivities : poinsot.sensitivity.Sensitivities or None
+        With ``simulate(..., sensitivities=)``: ``∂[q, q̇](tᵢ)/∂p`` (:meth:`sensitivity`, outputs
+        ``"q"``, ``"qd"``, ``"state"``; :mod:`poinsot.lagrange.sensitivity`).
     """
 
+    #: The default output and parameter of :meth:`lyapunov_exponents`.
+    _growth = ("state", "q0")
     t_events: tuple = ()
     y_events: tuple = ()
     releases: tuple = ()

@@ -101,7 +101,7 @@ impl<S: VectorField + ?Sized> Adaptive<'_, S> {
             dop853_step(sys, t, z, f, h, kk, ytmp, z_new, f_new);
             c.n_fev += DOP853_STAGES as u64;
             let (rtol, atol) = (control.rtol, control.atol);
-            let err = dop853_error_norm(kk, sys.dim(), sys.error_dim(), h, z, z_new, rtol, atol);
+            let err = dop853_error_norm(kk, sys.dim(), sys.error_blocks(), h, z, z_new, rtol, atol);
             *h_abs *= step_size_factor(err, 7.0, rejected, control);
             if err < 1.0 || sys.failed() {
                 break (t_new, h);

@@ -30,22 +30,32 @@ impl Shape {
     pub fn n_outputs(&self) -> usize {
         self.n * self.n + self.n + self.m * self.n + 2 * self.m + self.nh + 1
     }
-    fn at_f(&self) -> usize {
+    /// The directions a model's Jacobian is taken along: `[q (n), q̇ (n), p (np)]`.
+    pub fn n_directions(&self) -> usize {
+        2 * self.n + self.np
+    }
+    /// The outputs of a model's [`Tangent`]: `[M, f, G, b, γ, g, h]`, then the Jacobian of
+    /// `[M, f, G, b, γ, g]` (all but `h`) along `[q, q̇, p]`, row-major (one row of
+    /// [`Shape::n_directions`] numbers per output).
+    pub fn n_tangent_outputs(&self) -> usize {
+        self.n_outputs() + (self.n_outputs() - 1) * self.n_directions()
+    }
+    pub(super) fn at_f(&self) -> usize {
         self.n * self.n
     }
-    fn at_g_jac(&self) -> usize {
+    pub(super) fn at_g_jac(&self) -> usize {
         self.at_f() + self.n
     }
-    fn at_b(&self) -> usize {
+    pub(super) fn at_b(&self) -> usize {
         self.at_g_jac() + self.m * self.n
     }
-    fn at_gamma(&self) -> usize {
+    pub(super) fn at_gamma(&self) -> usize {
         self.at_b() + self.m
     }
-    fn at_g(&self) -> usize {
+    pub(super) fn at_g(&self) -> usize {
         self.at_gamma() + self.m
     }
-    fn at_h(&self) -> usize {
+    pub(super) fn at_h(&self) -> usize {
         self.at_g() + self.nh
     }
 }
@@ -91,23 +101,50 @@ impl Model {
 
     /// Working memory for evaluating this model on one thread.
     pub fn evaluator(&self) -> Evaluator<'_> {
-        let s = self.shape;
-        let d = s.n + s.m;
-        Evaluator {
-            model: self,
-            scratch: self.parts.scratch(),
-            input: vec![0.0; s.n_inputs()],
-            parts: vec![0.0; s.n_outputs()],
-            kkt: vec![0.0; d * (d + 1)],
-            rows: Vec::with_capacity(s.m),
-            work: vec![0.0; s.m * (s.m + 1) + s.m * s.n + 2 * s.n],
+        Evaluator::of(self.shape, &self.parts)
+    }
+}
+
+/// A model's expressions with their Jacobian (\[L\] (6.60) differentiated,
+/// `docs/tutorials/sensitivities.md`): one compiled program of `[q, q̇, t, p, u]` whose outputs
+/// are `[M, f, G, b, γ, g, h]` then `∂[M, f, G, b, γ, g]/∂[q, q̇, p]`
+/// ([`Shape::n_tangent_outputs`]), derived by SymPy and sharing subexpressions with the
+/// model's own: what a run with forward sensitivities evaluates.
+pub struct Tangent {
+    pub shape: Shape,
+    function: Function,
+}
+
+impl Tangent {
+    /// The tangent of a model of sizes `shape` from `program`, compiled by `compiler`.
+    pub fn new(shape: Shape, program: Program, compiler: &dyn Compiler) -> Result<Self, String> {
+        if program.n_inputs != shape.n_inputs() || program.n_outputs != shape.n_tangent_outputs() {
+            return Err(format!(
+                "the tangent's program has {} inputs and {} outputs; a model of these sizes \
+                 needs {} and {}",
+                program.n_inputs,
+                program.n_outputs,
+                shape.n_inputs(),
+                shape.n_tangent_outputs()
+            ));
         }
+        Ok(Tangent {
+            shape,
+            function: Function::compile(program, compiler),
+        })
+    }
+
+    /// Working memory for evaluating the model and its Jacobian on one thread: its
+    /// [`Evaluator::parts`] hold the model's outputs, then the Jacobian ([`Evaluator::jacobian`]).
+    pub fn evaluator(&self) -> Evaluator<'_> {
+        Evaluator::of(self.shape, &self.function)
     }
 }
 
 /// The working memory of one evaluator of a [`Model`].
 pub struct Evaluator<'a> {
-    model: &'a Model,
+    shape: Shape,
+    function: &'a Function,
     scratch: Scratch,
     input: Vec<f64>,
     /// The outputs `[M, f, G, b, γ, g, h]` of the last evaluation.
@@ -119,39 +156,63 @@ pub struct Evaluator<'a> {
     work: Vec<f64>,
 }
 
-impl Evaluator<'_> {
+impl<'a> Evaluator<'a> {
+    /// The working memory of `function`, the expressions of a model of sizes `shape` (its
+    /// outputs start with `[M, f, G, b, γ, g, h]`).
+    fn of(shape: Shape, function: &'a Function) -> Self {
+        let s = shape;
+        let d = s.n + s.m;
+        Evaluator {
+            shape,
+            function,
+            scratch: function.scratch(),
+            input: vec![0.0; s.n_inputs()],
+            parts: vec![0.0; function.program().n_outputs],
+            kkt: vec![0.0; d * (d + 1)],
+            rows: Vec::with_capacity(s.m),
+            work: vec![0.0; s.m * (s.m + 1) + s.m * s.n + 2 * s.n],
+        }
+    }
+
     pub fn shape(&self) -> Shape {
-        self.model.shape
+        self.shape
+    }
+
+    /// `∂part_o/∂z_k` of the last evaluation of a [`Tangent`]'s evaluator: output `o` of
+    /// `[M, f, G, b, γ, g]`, direction `k` of `[q, q̇, p]`.
+    #[inline(always)]
+    pub fn jacobian(&self, o: usize, k: usize) -> f64 {
+        let s = self.shape;
+        self.parts[s.n_outputs() + o * s.n_directions() + k]
     }
 
     /// Evaluate the model's expressions at `(q, q̇, t)` with parameters `p` and inputs `u`.
     pub fn evaluate(&mut self, t: f64, q: &[f64], v: &[f64], p: &[f64], u: &[f64]) {
-        let s = self.model.shape;
+        let s = self.shape;
         let x = &mut self.input;
         x[..s.n].copy_from_slice(&q[..s.n]);
         x[s.n..2 * s.n].copy_from_slice(&v[..s.n]);
         x[2 * s.n] = t;
         x[2 * s.n + 1..2 * s.n + 1 + s.np].copy_from_slice(&p[..s.np]);
         x[2 * s.n + 1 + s.np..].copy_from_slice(&u[..s.nu]);
-        self.model
-            .parts
+        self.function
             .eval_in(&mut self.scratch, &self.input, &mut self.parts);
     }
 
     /// The Jacobi integral `h` of the last evaluation.
     pub fn energy(&self) -> f64 {
-        self.parts[self.model.shape.at_h()]
+        self.parts[self.shape.at_h()]
     }
 
     /// Row `c` of the constraint Jacobian G of the last evaluation.
     pub fn jacobian_row(&self, c: usize) -> &[f64] {
-        let s = self.model.shape;
+        let s = self.shape;
         &self.parts[s.at_g_jac() + c * s.n..s.at_g_jac() + (c + 1) * s.n]
     }
 
     /// `G q̇ + b` of constraint `c` (the velocity residual) at the last evaluation.
     pub fn velocity_residual(&self, c: usize, v: &[f64]) -> f64 {
-        let s = self.model.shape;
+        let s = self.shape;
         let mut vel = self.parts[s.at_b() + c];
         for (gj, vj) in self.jacobian_row(c).iter().zip(v) {
             vel += gj * vj;
@@ -161,7 +222,7 @@ impl Evaluator<'_> {
 
     /// The holonomic residual `g_c` of the last evaluation (`c < nh`).
     pub fn residual(&self, c: usize) -> f64 {
-        self.parts[self.model.shape.at_g() + c]
+        self.parts[self.shape.at_g() + c]
     }
 
     /// Solve the KKT system of the last evaluation (made at velocity `v`) for `(q̈, λ)` with
@@ -169,7 +230,7 @@ impl Evaluator<'_> {
     /// physical multipliers). `q̈` (n) and `λ` (one per constraint in play) are then
     /// [`Evaluator::solution`]. False when the system is singular or not finite.
     pub fn solve(&mut self, v: &[f64], active: Option<&[bool]>, alpha: f64, beta: f64) -> bool {
-        let s = self.model.shape;
+        let s = self.shape;
         self.rows.clear();
         for c in 0..s.m {
             if in_play(active, c) {
@@ -215,7 +276,7 @@ impl Evaluator<'_> {
 
     /// The solution of the last [`Evaluator::solve`]: `(q̈ (n), λ (constraints in play))`.
     pub fn solution(&self) -> (Vec<f64>, Vec<f64>) {
-        let n = self.model.shape.n;
+        let n = self.shape.n;
         let d = n + self.rows.len();
         let x: Vec<f64> = (0..d).map(|i| self.kkt[i * (d + 1) + d]).collect();
         (x[..n].to_vec(), x[n..].to_vec())
@@ -224,7 +285,15 @@ impl Evaluator<'_> {
     /// `q̈_i` of the last solve.
     #[inline]
     pub(super) fn qdd(&self, i: usize) -> f64 {
-        let d = self.model.shape.n + self.rows.len();
+        let d = self.shape.n + self.rows.len();
+        self.kkt[i * (d + 1) + d]
+    }
+
+    /// Unknown `i` of the last solve: `q̈_i` for `i < n`, then the multipliers of the
+    /// constraints in play.
+    #[inline]
+    pub(super) fn unknown(&self, i: usize) -> f64 {
+        let d = self.shape.n + self.rows.len();
         self.kkt[i * (d + 1) + d]
     }
 
@@ -249,7 +318,7 @@ impl Evaluator<'_> {
         tol: f64,
         max_iter: usize,
     ) -> bool {
-        let s = self.model.shape;
+        let s = self.shape;
         let on = |c: usize| in_play(active, c);
         let hol: Vec<usize> = (0..s.nh).filter(|&c| on(c)).collect();
         let all: Vec<usize> = (0..s.m).filter(|&c| on(c)).collect();
@@ -276,7 +345,7 @@ impl Evaluator<'_> {
         tol: f64,
         max_iter: usize,
     ) -> bool {
-        let s = self.model.shape;
+        let s = self.shape;
         let n = s.n;
         let (jw, rest) = work.split_at_mut(s.m * n);
         let (xw, rest) = rest.split_at_mut(n);
