@@ -190,6 +190,7 @@ __all__ = [
     "tableau",
     "third_kind_u",
     "torque_free_attitudes",
+    "torque_free_derivatives",
     "torque_free_families",
     "torque_free_omegas",
     "torque_free_regimes",
@@ -568,6 +569,9 @@ def torque_free_regimes(
 def torque_free_families(
     moments: ArrayLike, axes: ArrayLike, symmetry: int, w: ArrayLike
 ) -> _F64: ...
+def torque_free_derivatives(
+    moments: ArrayLike, w: ArrayLike, t: ArrayLike
+) -> tuple[_F64, _F64, _F64, _F64]: ...
 def torque_free_omegas(
     moments: ArrayLike, axes: ArrayLike, symmetry: int, w: ArrayLike, t: ArrayLike
 ) -> _F64: ...

@@ -149,6 +149,17 @@ impl<const P: usize> Real for Dual<P> {
         Self::splat(self.v.trunc())
     }
     #[inline(always)]
+    fn mul_add(self, a: Self, b: Self) -> Self {
+        let mut d = b.d;
+        for (j, x) in d.iter_mut().enumerate() {
+            *x += self.v * a.d[j] + a.v * self.d[j];
+        }
+        Dual {
+            v: self.v.mul_add(a.v, b.v),
+            d,
+        }
+    }
+    #[inline(always)]
     fn copysign(self, sign: Self) -> Self {
         if self.v.is_sign_negative() == sign.v.is_sign_negative() {
             self

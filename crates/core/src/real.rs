@@ -72,6 +72,8 @@ pub trait Real:
     fn trunc(self) -> Self;
     /// `|self|` with the sign of `sign`.
     fn copysign(self, sign: Self) -> Self;
+    /// `self · a + b` with one rounding (fused multiply–add).
+    fn mul_add(self, a: Self, b: Self) -> Self;
     fn lt(self, o: Self) -> Self::Mask;
     fn le(self, o: Self) -> Self::Mask;
     fn gt(self, o: Self) -> Self::Mask;
@@ -92,6 +94,33 @@ pub trait Real:
 pub trait Scalar: Real<Mask = bool> {}
 
 impl<T: Real<Mask = bool>> Scalar for T {}
+
+/// `a x² − b y²` to nearly full relative precision however close the two terms are (the
+/// products and squares carried as unevaluated sums of two numbers with fused multiply–adds,
+/// Ogita, Rump & Oishi 2005; the difference of the leading parts is exact where it cancels,
+/// Sterbenz), with the sum of the terms' magnitudes: the distance of a motion from the
+/// separatrix, `a² − 2k I2`, which sets the parameter's complement `1 − m` near it.
+/// `a = a_hi + a_lo`, `b = b_hi + b_lo`.
+#[inline(always)]
+pub fn squares_difference<T: Real>(a: (T, T), x: T, b: (T, T), y: T) -> (T, T) {
+    let term = |(c, c_lo): (T, T), z: T| {
+        let s = z * z;
+        let s_lo = z.mul_add(z, -s);
+        let p = c * s;
+        let p_lo = c.mul_add(s, -p) + c * s_lo + c_lo * s;
+        (p, p_lo)
+    };
+    let (p, p_lo) = term(a, x);
+    let (q, q_lo) = term(b, y);
+    ((p - q) + (p_lo - q_lo), p.abs() + q.abs())
+}
+
+/// `x · y` as an unevaluated sum `(hi, lo)`, `hi = fl(x y)` (a fused multiply–add).
+#[inline(always)]
+pub fn two_product<T: Real>(x: T, y: T) -> (T, T) {
+    let hi = x * y;
+    (hi, x.mul_add(y, -hi))
+}
 
 /// Whether `√(a² + b²)` may be taken as the square root of the sum `s = a² + b²`.
 #[inline(always)]
@@ -124,6 +153,10 @@ impl Real for f64 {
     #[inline(always)]
     fn copysign(self, sign: f64) -> f64 {
         f64::copysign(self, sign)
+    }
+    #[inline(always)]
+    fn mul_add(self, a: f64, b: f64) -> f64 {
+        f64::mul_add(self, a, b)
     }
     #[inline(always)]
     fn lt(self, o: f64) -> bool {
@@ -347,6 +380,14 @@ impl<const N: usize> Real for Wide<N> {
     #[inline(always)]
     fn copysign(self, sign: Wide<N>) -> Wide<N> {
         self.zip(sign, f64::copysign)
+    }
+    #[inline(always)]
+    fn mul_add(self, a: Wide<N>, b: Wide<N>) -> Wide<N> {
+        let mut out = [0.0; N];
+        for l in 0..N {
+            out[l] = self.0[l].mul_add(a.0[l], b.0[l]);
+        }
+        Wide(out)
     }
     #[inline(always)]
     fn lt(self, o: Wide<N>) -> WideMask<N> {

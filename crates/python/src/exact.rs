@@ -324,6 +324,53 @@ fn torque_free_omegas<'py>(
     Ok(a.into_pyarray(py))
 }
 
+/// The exact derivatives of one torque-free motion (`torque_free::ExactTangent`): from ω0
+/// `w` (3,) in the sorted principal frame of the sorted `moments` (three distinct), ω(t)
+/// (n, 3), `∂ω(t)/∂p` (n, 3, 6) for the directions `p = (I1, I2, I3, ω0_1, ω0_2, ω0_3)`, and
+/// the period and the flip interval with their derivatives (7,: the value, then the six).
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn torque_free_derivatives<'py>(
+    py: Python<'py>,
+    moments: Arr<'py>,
+    w: Arr<'py>,
+    t: Arr<'py>,
+) -> PyResult<(
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray3<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+)> {
+    let (i, w, ts) = (vec3(&moments, "moments")?, vec3(&w, "w")?, times(&t, "t")?);
+    let tangent =
+        torque_free::ExactTangent::new(i, w).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let n = ts.len();
+    let mut omega = Vec::with_capacity(3 * n);
+    let mut d = Vec::with_capacity(18 * n);
+    for &t in ts.iter() {
+        let (value, rows) = tangent.omega_at(t);
+        omega.extend_from_slice(&value);
+        for row in rows {
+            d.extend_from_slice(&row);
+        }
+    }
+    let with = |x: poinsot_core::dual::Dual<6>| {
+        let mut v = vec![x.v];
+        v.extend_from_slice(&x.d);
+        Array1::from(v).into_pyarray(py)
+    };
+    let omega = Array2::from_shape_vec((n, 3), omega)
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let d =
+        Array3::from_shape_vec((n, 3, 6), d).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok((
+        omega.into_pyarray(py),
+        d.into_pyarray(py),
+        with(tangent.period()),
+        with(tangent.flip_interval()),
+    ))
+}
+
 /// Q(t) (N, n, 3, 3) (body → space) of the motions from `w` (N, 3) and attitudes `q0`
 /// (N, 3, 3) or one shared (1, 3, 3), at the times `t` (n,): `torque_free::exact_attitudes`.
 #[pyfunction]
@@ -524,6 +571,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(torque_free_regimes, m)?)?;
     m.add_function(wrap_pyfunction!(torque_free_families, m)?)?;
     m.add_function(wrap_pyfunction!(torque_free_omegas, m)?)?;
+    m.add_function(wrap_pyfunction!(torque_free_derivatives, m)?)?;
     m.add_function(wrap_pyfunction!(torque_free_attitudes, m)?)?;
     m.add_function(wrap_pyfunction!(fixed_point_attitudes, m)?)?;
     m.add_function(wrap_pyfunction!(principal_invariants, m)?)?;

@@ -165,8 +165,9 @@ impl<const N: usize> LaneMotion<N> {
         ];
         // off the intermediate axis (`NEAR_UNSTABLE_AXIS`)
         plain = plain & py_max(x[0].abs(), x[2].abs()).gt(c(NEAR_UNSTABLE_AXIS) * x[1].abs());
-        let (q3, q1) = polhode_radii(radicals, x, &mut plain);
-        let f = JacobiForm::new(moments, radicals, x, q3, q1);
+        let radicals = radicals.splat::<Wide<N>>();
+        let (q3, q1) = polhode_radii(&radicals, x, &mut plain);
+        let f = JacobiForm::new(moments.map(c), &radicals, x, q3, q1);
         plain = plain & f.m1.ge(c(NEAR_ONE)) & f.m.gt(c(0.0));
         // benign values in the other lanes, where the loops below end at once
         let m1 = Wide::<N>::select(plain, f.m1, c(0.5));

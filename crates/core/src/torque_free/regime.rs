@@ -12,28 +12,59 @@ use super::{
 use crate::cmath::{frexp, ldexp};
 use crate::elliptic::{first_kind_from_sn_cn, first_kind_in_period, jacobi_reduced_with, Agm};
 use crate::invariants::principal_invariants;
-use crate::real::{py_max, py_min, Real};
+use crate::real::{py_max, py_min, squares_difference, two_product, Real};
 use crate::so3::Vec3;
+
+/// A motion whose distance from the separatrix, `|a² − 2k I2|`, is within this many times the
+/// sum of its two terms (four roundings of them) is taken as on the separatrix: a point made
+/// on it in floating point (`point_on_polhode`) lands that close, and is meant to be on it.
+pub const SEPARATRIX_ROUNDING: f64 = 4.0 * f64::EPSILON;
 
 /// The square roots of a body's moments that every motion's regime uses:
 /// `√(I1 (I3 − I1))`, `√(I2 (I3 − I2))`, `√(I2 (I2 − I1))`, `√(I3 (I3 − I1))`, and the rates
-/// `√((I3 − I2)/(I1 I2 I3))`, `√((I2 − I1)/(I1 I2 I3))` of `λ` (sorted moments).
+/// `√((I3 − I2)/(I1 I2 I3))`, `√((I2 − I1)/(I1 I2 I3))` of `λ` (sorted moments). Generic over
+/// [`Real`]: on `f64` for a body, splat into lanes ([`Radicals::splat`]), or on dual numbers
+/// for the derivatives with respect to the moments ([`super::ExactTangent`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Radicals {
-    pub r13: f64,
-    pub r23: f64,
-    pub r12: f64,
-    pub r33: f64,
-    pub rate3: f64,
-    pub rate1: f64,
+pub struct Radicals<T = f64> {
+    pub r13: T,
+    pub r23: T,
+    pub r12: T,
+    pub r33: T,
+    pub rate3: T,
+    pub rate1: T,
     /// `√(I1 (I3 − I1)) / √(I2 (I3 − I2))` and `√(I3 (I3 − I1)) / √(I2 (I2 − I1))`: the ratios
     /// `|cn u0 / sn u0| = cot3 |ω1/ω2|` (pole e3) and `cot1 |ω3/ω2|` (pole e1).
-    pub cot3: f64,
-    pub cot1: f64,
+    pub cot3: T,
+    pub cot1: T,
 }
 
 impl Radicals {
     pub fn new(moments: Vec3) -> Radicals {
+        Radicals::of(moments)
+    }
+
+    /// The same numbers in every lane of `T`.
+    #[inline(always)]
+    pub(super) fn splat<T: Real>(&self) -> Radicals<T> {
+        let c = T::splat;
+        Radicals {
+            r13: c(self.r13),
+            r23: c(self.r23),
+            r12: c(self.r12),
+            r33: c(self.r33),
+            rate3: c(self.rate3),
+            rate1: c(self.rate1),
+            cot3: c(self.cot3),
+            cot1: c(self.cot1),
+        }
+    }
+}
+
+impl<T: Real> Radicals<T> {
+    /// The radicals of the sorted `moments`.
+    #[inline(always)]
+    pub fn of(moments: [T; 3]) -> Radicals<T> {
         let [i1, i2, i3] = moments;
         Radicals {
             r13: (i1 * (i3 - i1)).sqrt(),
@@ -52,10 +83,9 @@ impl Radicals {
 /// `P3 = I1 (I3 − I1) x1² + I2 (I3 − I2) x2²`, `P1 = I2 (I2 − I1) x2² + I3 (I3 − I1) x3²`
 /// (scaled ω `x`; [`Real::norm2`], which clears `plain` in the lanes it leaves to `f64`).
 #[inline(always)]
-pub(super) fn polhode_radii<T: Real>(r: &Radicals, x: [T; 3], plain: &mut T::Mask) -> (T, T) {
-    let c = T::splat;
-    let q3 = T::norm2(c(r.r13) * x[0], c(r.r23) * x[1], plain);
-    let q1 = T::norm2(c(r.r12) * x[1], c(r.r33) * x[2], plain);
+pub(super) fn polhode_radii<T: Real>(r: &Radicals<T>, x: [T; 3], plain: &mut T::Mask) -> (T, T) {
+    let q3 = T::norm2(r.r13 * x[0], r.r23 * x[1], plain);
+    let q1 = T::norm2(r.r12 * x[1], r.r33 * x[2], plain);
     (q3, q1)
 }
 
@@ -83,23 +113,27 @@ pub(super) struct JacobiForm<T: Real> {
 
 impl<T: Real> JacobiForm<T> {
     #[inline(always)]
-    pub(super) fn new(moments: Vec3, r: &Radicals, x: [T; 3], q3: T, q1: T) -> JacobiForm<T> {
+    pub(super) fn new(moments: [T; 3], r: &Radicals<T>, x: [T; 3], q3: T, q1: T) -> JacobiForm<T> {
         let c = T::splat;
         let [i1, i2, i3] = moments;
         let [x0, x1, x2] = x;
-        let d2 = c(i3 * (i3 - i2)) * x2 * x2 - c(i1 * (i2 - i1)) * x0 * x0; // a² − 2k I2
-                                                                            // around e3 (d2 > 0), or the separatrix (d2 = 0); else around e1
+        // a² − 2k I2 = I3 (I3 − I2) x3² − I1 (I2 − I1) x1², the two terms nearly equal near
+        // the separatrix: formed without their rounding errors; within the rounding of the
+        // terms themselves (a point made on the separatrix in floating point), zero
+        let (d2, size) =
+            squares_difference(two_product(i3, i3 - i2), x2, two_product(i1, i2 - i1), x0);
+        let d2 = T::select(d2.abs().le(c(SEPARATRIX_ROUNDING) * size), c(0.0), d2);
+        // around e3 (d2 > 0), or the separatrix (d2 = 0); else around e1
         let e3 = d2.ge(c(0.0));
         // e3: (q3, q1), e1: (q1, q3)
         let (qa, qb) = (T::select(e3, q3, q1), T::select(e3, q1, q3));
-        let a0 = q3 / c(r.r13);
-        let a1 = qa / T::select(e3, c(r.r23), c(r.r12));
-        let a2 = q1 / c(r.r33);
-        let lam = qb * T::select(e3, c(r.rate3), c(r.rate1));
+        let a0 = q3 / r.r13;
+        let a1 = qa / T::select(e3, r.r23, r.r12);
+        let a2 = q1 / r.r33;
+        let lam = qb * T::select(e3, r.rate3, r.rate1);
         let ratio = qa / qb;
-        let m = T::select(e3, c((i2 - i1) / (i3 - i2)), c((i3 - i2) / (i2 - i1))) * ratio * ratio;
-        let m1 =
-            c(i3 - i1) * T::select(e3, d2, -d2) / (T::select(e3, c(i3 - i2), c(i2 - i1)) * qb * qb);
+        let m = T::select(e3, (i2 - i1) / (i3 - i2), (i3 - i2) / (i2 - i1)) * ratio * ratio;
+        let m1 = (i3 - i1) * T::select(e3, d2, -d2) / (T::select(e3, i3 - i2, i2 - i1) * qb * qb);
         let m = py_min(py_max(m, c(0.0)), c(1.0));
         let m1 = py_min(py_max(m1, c(0.0)), c(1.0));
         // subnormal: the separatrix is the orbit to within O(m1)
@@ -116,7 +150,7 @@ impl<T: Real> JacobiForm<T> {
         let sn0 = s1 * s3 * x1;
         let xc = T::select(e3, x0, x2);
         let cn0 = T::select(e3, s1, s3) * xc;
-        let cot0 = xc.abs() * T::select(e3, c(r.cot3), c(r.cot1)) / x1.abs();
+        let cot0 = xc.abs() * T::select(e3, r.cot3, r.cot1) / x1.abs();
         JacobiForm {
             alpha: [a0, a1, a2],
             lam,

@@ -1,0 +1,149 @@
+//! Exact derivatives of the torque-free closed form (`docs/tutorials/sensitivities.md`):
+//! `∂ω(t)/∂(I, ω0)`, and those of the period `4K(m)/λ` and the flip interval `2K(m)/λ`, for a
+//! body with three distinct moments off the fixed points and the separatrix.
+//!
+//! The regime's algebra — the scaling, the polhode radii, the Jacobi form's amplitudes `α`,
+//! rate `λ`, parameter `m` and the point `(sn u0, cn u0)` — is the engine's own
+//! ([`Radicals::of`], [`polhode_radii`], [`JacobiForm::new`]), run on dual numbers
+//! ([`Dual`]) seeded with the three sorted moments and the three components of ω0. The
+//! elliptic functions carry their known derivatives (DLMF 22.13.1–3 in `u`; in `m` through
+//! the amplitude, `∂am(u|m)/∂m = −dn · ∂F(φ|m)/∂m` at fixed `u`, with
+//! `∂F(φ|m)/∂m = (sin³φ/6) R_D(cos²φ, 1, 1 − m sin²φ)` on `|φ| ≤ π/2` (differentiating
+//! `F = sin φ R_F(cos²φ, 1 − m sin²φ, 1)`, DLMF 19.25.5 and `∂R_F/∂z = −R_D/6`), and
+//! `F(φ + nπ) = F(φ) + 2nK`, `∂K/∂m = R_D(0, 1, m1)/6`). Carlson's forms have no
+//! cancellation as `m → 0` or `m → 1`, so the derivatives stay accurate near the separatrix,
+//! where they grow as `1/m1`.
+
+use super::{polhode_radii, JacobiForm, Radicals, Regime, AROUND_E1, AROUND_E3};
+use crate::cmath::{frexp, ldexp};
+use crate::dual::Dual;
+use crate::elliptic::{carlson_rj, jacobi_reduced_with};
+use crate::real::Real;
+use crate::so3::Vec3;
+
+/// The directions: the three sorted moments, then the three components of ω0 (sorted frame).
+pub const DIRECTIONS: usize = 6;
+
+type D = Dual<DIRECTIONS>;
+
+/// A torque-free motion with the derivatives of its Jacobi form: what [`ExactTangent::omega_at`],
+/// [`ExactTangent::period`] and [`ExactTangent::flip_interval`] differentiate.
+#[derive(Clone, Copy, Debug)]
+pub struct ExactTangent {
+    regime: Regime,
+    /// `σ_i α_i`, `λ`, `m`, `u0` and `K(m)` with their derivatives.
+    sa: [D; 3],
+    lam: D,
+    m: D,
+    u0: D,
+    quarter: D,
+    /// `∂K/∂m`.
+    k_m: f64,
+}
+
+/// `∂F(am u | m)/∂m` at fixed amplitude, from `(sn, cn, dn)` of `u`, `n = round(u / 2K)` and
+/// `∂K/∂m`: `(−1)^n (sn³/6) R_D(cn², 1, dn²) + 2n ∂K/∂m`.
+fn first_kind_dm(sn: f64, cn: f64, dn: f64, n: f64, k_m: f64) -> f64 {
+    let sign = if n.rem_euclid(2.0) == 0.0 { 1.0 } else { -1.0 };
+    let (c2, d2) = (cn * cn, dn * dn);
+    sign * sn * sn * sn / 6.0 * carlson_rj(c2, 1.0, d2, d2) + 2.0 * n * k_m
+}
+
+impl ExactTangent {
+    /// The motion from `ω(0) = w` (sorted principal frame) of a body with the sorted moments
+    /// `moments`, three distinct: an error where the closed form has no derivatives here
+    /// (a fixed point, the separatrix itself, two equal moments).
+    pub fn new(moments: Vec3, w: Vec3) -> Result<ExactTangent, &'static str> {
+        if !(moments[0] < moments[1] && moments[1] < moments[2]) {
+            return Err("the derivatives of the closed form need three distinct moments");
+        }
+        let regime = Regime::new(moments, 0, w);
+        if !matches!(regime.case, AROUND_E1 | AROUND_E3) {
+            return Err(
+                "the motion is a fixed point or on the separatrix, where the closed \
+                        form's period is not differentiable",
+            );
+        }
+        let seed = |v: f64, j: usize| {
+            let mut d = [0.0; DIRECTIONS];
+            d[j] = 1.0;
+            Dual::new(v, d)
+        };
+        let im = [0, 1, 2].map(|i| seed(moments[i], i));
+        let big = w[0].abs().max(w[1].abs()).max(w[2].abs());
+        let e = frexp(big).1;
+        let sc = D::splat(ldexp(1.0, -e));
+        let x = [0, 1, 2].map(|i| seed(w[i], 3 + i) * sc);
+        let radicals = Radicals::of(im);
+        let (q3, q1) = polhode_radii(&radicals, x, &mut true);
+        let f = JacobiForm::new(im, &radicals, x, q3, q1);
+        let up = D::splat(ldexp(1.0, e));
+        let alpha = f.alpha.map(|a| a * up);
+        let lam = f.lam * up;
+        let m = f.m;
+        // K(m) and u0 = F(φ0 | m), φ0 = am u0 from (sn u0, cn u0) as the form gives them
+        let k_m = carlson_rj(0.0, 1.0, regime.m1, regime.m1) / 6.0;
+        let quarter = Dual::new(regime.quarter, m.d.map(|x| k_m * x));
+        let a_cn = if f.e3 { f.alpha[0] } else { f.alpha[2] };
+        let (sn0, cn0) = (f.sn0 / f.alpha[1], f.cn0 / a_cn);
+        let dn0 = (1.0 - regime.m * sn0.v * sn0.v).sqrt();
+        let n0 = (regime.u0 / (2.0 * regime.quarter)).round();
+        let f_m = first_kind_dm(sn0.v, cn0.v, dn0, n0, k_m);
+        let mut u0 = Dual::new(regime.u0, [0.0; DIRECTIONS]);
+        for j in 0..DIRECTIONS {
+            let dphi = cn0.v * sn0.d[j] - sn0.v * cn0.d[j];
+            u0.d[j] = dphi / dn0 + f_m * m.d[j];
+        }
+        let s2 = f.s1 * f.s3;
+        Ok(ExactTangent {
+            regime,
+            sa: [f.s1 * alpha[0], s2 * alpha[1], f.s3 * alpha[2]],
+            lam,
+            m,
+            u0,
+            quarter,
+            k_m,
+        })
+    }
+
+    /// `ω(t)` (sorted principal frame) and `∂ω_i(t)/∂p_j` (rows `i`, the directions `j`).
+    pub fn omega_at(&self, t: f64) -> (Vec3, [[f64; DIRECTIONS]; 3]) {
+        let reg = &self.regime;
+        let u = self.u0 + self.lam * D::splat(t);
+        let (sn, cn, dn, _, _) = jacobi_reduced_with(u.v, reg.m, reg.m1, reg.quarter, &reg.agm);
+        let n = (u.v / (2.0 * reg.quarter)).round();
+        let am_m = -dn * first_kind_dm(sn, cn, dn, n, self.k_m);
+        let m = reg.m;
+        let dual = |v: f64, du: f64, dm: f64| {
+            let mut out = Dual::new(v, [0.0; DIRECTIONS]);
+            for j in 0..DIRECTIONS {
+                out.d[j] = du * u.d[j] + dm * self.m.d[j];
+            }
+            out
+        };
+        let sn_d = dual(sn, cn * dn, cn * am_m);
+        let cn_d = dual(cn, -sn * dn, -sn * am_m);
+        let dn_d = dual(
+            dn,
+            -m * sn * cn,
+            -(sn * sn + 2.0 * m * sn * cn * am_m) / (2.0 * dn),
+        );
+        let (first, last) = if reg.pole == 2 {
+            (cn_d, dn_d)
+        } else {
+            (dn_d, cn_d)
+        };
+        let w = [self.sa[0] * first, self.sa[1] * sn_d, self.sa[2] * last];
+        (w.map(|x| x.v), w.map(|x| x.d))
+    }
+
+    /// The period of ω, `4K(m)/λ`, and its derivatives.
+    pub fn period(&self) -> Dual<DIRECTIONS> {
+        D::splat(4.0) * self.quarter / self.lam
+    }
+
+    /// The flip interval (between sign changes of ω2), `2K(m)/λ`, and its derivatives.
+    pub fn flip_interval(&self) -> Dual<DIRECTIONS> {
+        D::splat(2.0) * self.quarter / self.lam
+    }
+}
