@@ -672,7 +672,7 @@ def integrate_lagrange_sensitivities(
     state: RunState,
     steps: int,
 ) -> int: ...
-
+@final
 class LagrangianModel:
     def __new__(
         cls, codes: ArrayLike, values: ArrayLike, n: int, m: int, nh: int, np: int, nu: int

@@ -18,16 +18,26 @@ def euler_rate(moments, w):
     return np.cross(I * w, w) / I
 
 
-@pytest.mark.parametrize(
-    "omega0",
-    [(0.1, 1.0, 0.1), (1.0, 0.3, 0.2), (0.2, 0.3, 1.0), (1e-3, 1.0, 1e-3), (-0.7, 0.2, 0.9)],
-    ids=["tennis racket", "around e1", "around e3", "near the separatrix", "mixed signs"],
-)
+def near_separatrix(eps):
+    """ω0 whose a²/2k is I2 (1 + eps) for MOMENTS (around e3)."""
+    I1, I2, I3 = MOMENTS
+    w3 = 0.5
+    return (math.sqrt(I3 * (I3 - I2) / (I1 * (I2 - I1))) * w3 * (1 - eps), 1.0, w3)
+
+
+PERIODIC = [(0.1, 1.0, 0.1), (1.0, 0.3, 0.2), (0.2, 0.3, 1.0), (1e-3, 1.0, 1e-3),
+            (-0.7, 0.2, 0.9), near_separatrix(1e-6)]  # fmt: skip
+PERIODIC_IDS = ["tennis racket", "around e1", "around e3", "near the separatrix", "mixed signs",
+                "1e-6 from the separatrix"]  # fmt: skip
+
+
+@pytest.mark.parametrize("omega0", PERIODIC, ids=PERIODIC_IDS)
 def test_a_periodic_torque_free_motion_has_every_floquet_multiplier_one(omega0):
-    # (integrated: within ε of the separatrix the run passes the saddle and its error grows
-    # as 1/ε; 1e-3 keeps it below 1e-9 at rtol 1e-13)
+    # the closed form's exact monodromy: also 1e-6 from the separatrix (an integrated run
+    # passes the saddle there and its error grows as 1/ε)
     body = FreeRigidBody(MOMENTS)
     f = body.floquet(omega0)
+    assert f.method == "closed form"
     M, I = f.monodromy, np.eye(3)
     scale = max(np.abs(M).max(), 1.0)
     # the characteristic polynomial (λ − 1)³: trace 3, det 1, and one Jordan block
@@ -39,6 +49,42 @@ def test_a_periodic_torque_free_motion_has_every_floquet_multiplier_one(omega0):
     assert np.abs(M @ v - v).max() <= 1e-9 * scale * np.abs(v).max()
     # ... and the block is not trivial: a neighbour on another polhode drifts in phase
     assert np.abs(M - I).max() > 1e-3
+
+
+@pytest.mark.parametrize("omega0", PERIODIC, ids=PERIODIC_IDS)
+def test_the_jordan_block_is_the_periods_sensitivity(omega0):
+    # ω(T(ω0); ω0) = ω0 for every ω0, so M − I = −ω̇(0) ∇T(ω0)ᵀ: the monodromy (∂ω at
+    # t = T) against the period's gradient, two parts of the closed form's derivatives
+    body = FreeRigidBody(MOMENTS)
+    f = body.floquet(omega0)
+    grad = body.exact_derivatives(omega0, [0.0]).d_period_d_omega0
+    v = euler_rate(MOMENTS, np.asarray(omega0, float))
+    expected = -np.outer(v, grad)
+    err = np.abs(f.monodromy - np.eye(3) - expected).max() / np.abs(expected).max()
+    assert err <= 1e-9
+    assert f.drift == pytest.approx(np.linalg.norm(v) * np.linalg.norm(grad), rel=1e-9)
+
+
+@pytest.mark.parametrize("omega0", [*PERIODIC[:3], PERIODIC[4]], ids=[*PERIODIC_IDS[:3], "mixed"])
+def test_the_closed_forms_monodromy_equals_an_integrated_runs(omega0):
+    body = FreeRigidBody(MOMENTS)
+    exact = body.floquet(omega0)
+    run = body.floquet(omega0, period=exact.period)  # any given period: the DOP853 route
+    assert run.method == "dop853"
+    np.testing.assert_allclose(run.monodromy, exact.monodromy, atol=1e-9)
+
+
+def test_near_the_separatrix_the_drift_grows_as_one_over_the_distance():
+    drifts = [FreeRigidBody(MOMENTS).floquet(near_separatrix(eps)).drift
+              for eps in (1e-4, 1e-6, 1e-8)]  # fmt: skip
+    assert 50 < drifts[1] / drifts[0] < 200 and 50 < drifts[2] / drifts[1] < 200
+
+
+def test_describe_reports_the_floquet_drift():
+    body = FreeRigidBody(MOMENTS)
+    out = body.describe((0.1, 1.0, 0.1))
+    assert out["floquet_drift"] == pytest.approx(body.floquet((0.1, 1.0, 0.1)).drift)
+    assert "floquet_drift" not in body.describe((0.0, 1.0, 0.0))  # a fixed point
 
 
 @pytest.mark.parametrize("w2", [1.0, -2.5, 1e-3])

@@ -289,7 +289,9 @@ class SolutionMixin:
         flip interval (``"inf"`` on the separatrix; absent where undefined) and fixed points.
 
         With a flip interval, also whether the body really flips (:meth:`flips`):
-        ``e2_swing`` and ``flips``."""
+        ``e2_swing`` and ``flips``; and the periodic motion's stability, ``floquet_drift``:
+        every Floquet multiplier is 1 and a deviation moves by ``‖M − I‖`` per period, ``M``
+        the monodromy matrix (:meth:`floquet`, from the closed form's exact derivatives)."""
         k, a = self.invariants(omega0)
         out = {
             "family": self.classify(omega0),
@@ -305,6 +307,7 @@ class SolutionMixin:
             out[name] = value if math.isfinite(value) else "inf"
         if "flip_interval" in out and out["family"] in ("around e1", "around e3"):
             out.update(self.flips(omega0))
+            out["floquet_drift"] = self.floquet(omega0).drift
         return out
 
     def flips(self, omega0) -> dict:

@@ -62,6 +62,11 @@ class Floquet:
     every ``T`` is a period and the largest exponent is the growth rate
     ``σ = |ω| √((I2 − I1)(I3 − I2)/(I1 I3))``.
 
+    Differentiating ``ω(T(ω0); ω0) = ω0`` gives ``M − I = −ω̇(0) ∇T(ω0)ᵀ``: the Jordan
+    block's size is the period's sensitivity. Its norm, :attr:`drift`, is how far a deviation
+    moves per period (linearly, period after period); it grows as ``1/(1 − m)`` near the
+    separatrix, where the neighbouring periods part.
+
     Attributes
     ----------
     period : float
@@ -69,12 +74,20 @@ class Floquet:
     multipliers : ndarray (3,) complex
     exponents : ndarray (3,)
         ``ln|μ|/T``, descending.
+    drift : float
+        ``‖M − I‖₂``: the growth per period of a deviation (0 at a stable fixed point).
+    method : str
+        ``"closed form"`` (the exact derivatives of the torque-free solution,
+        :meth:`~poinsot.torquefree.FreeRigidBody.exact_derivatives`) or ``"dop853"`` (the
+        forward sensitivities of an integrated run).
     """
 
     period: float
     monodromy: np.ndarray
     multipliers: np.ndarray
     exponents: np.ndarray
+    drift: float = 0.0
+    method: str = "dop853"
 
 
 @dataclass(frozen=True)
@@ -205,9 +218,12 @@ class StabilityMixin:
         ``period`` (default: :meth:`period`; at a fixed point, where every time is a period,
         one turn ``2π/|ω|``).
 
-        The monodromy matrix is the forward sensitivity ``∂ω(T)/∂ω0`` of a DOP853 run at
-        ``rtol``, ``atol`` (:mod:`poinsot.sensitivity`: the variational equations integrated
-        with the motion in the compiled core).
+        Over the motion's own period of a body with three distinct moments, the monodromy
+        matrix ``∂ω(T)/∂ω0`` is the closed form's exact derivative
+        (:meth:`exact_derivatives`: accurate arbitrarily close to the separatrix); otherwise
+        (a fixed point, a symmetric body, another ``period``) the forward sensitivity of a
+        DOP853 run at ``rtol``, ``atol`` (:mod:`poinsot.sensitivity`: the variational
+        equations integrated with the motion in the compiled core).
 
         Examples
         --------
@@ -231,6 +247,7 @@ class StabilityMixin:
         from ..sensitivity import SensitiveSystem, directions, split
 
         w = self._spin(omega0, "omega0")
+        own = period is None
         if period is None:
             if self.is_fixed_point(w):
                 speed = float(np.linalg.norm(w))
@@ -243,12 +260,18 @@ class StabilityMixin:
         if not (math.isfinite(period) and period > 0):
             raise ValueError(f"`period` must be a positive finite time, found {period} (the "
                              "separatrix has no period)")  # fmt: skip
-        system = RigidBodySystem(RigidBody(1.0, self.inertia, allow_unphysical=True))
-        dirs = directions(system, "omega0")
-        y0 = system.initial_state(omega0=w)
-        result = integrate(SensitiveSystem(system, dirs), "dop853", (0.0, period), y0,
-                           t_eval=[period], rtol=rtol, atol=atol)  # fmt: skip
-        M = split(result.y, dirs)[1].of("omega", "omega0")[-1]
+        if own and self.symmetry == "asymmetric" and not self.is_fixed_point(w):
+            M = self.exact_derivatives(w, [period]).d_omega_d_omega0[-1]
+            method = "closed form"
+        else:
+            system = RigidBodySystem(RigidBody(1.0, self.inertia, allow_unphysical=True))
+            dirs = directions(system, "omega0")
+            y0 = system.initial_state(omega0=w)
+            result = integrate(SensitiveSystem(system, dirs), "dop853", (0.0, period), y0,
+                               t_eval=[period], rtol=rtol, atol=atol)  # fmt: skip
+            M = split(result.y, dirs)[1].of("omega", "omega0")[-1]
+            method = "dop853"
         mu = np.linalg.eigvals(M)
         exponents = np.sort(np.log(np.abs(mu)) / period)[::-1]
-        return Floquet(period, M, mu, exponents)
+        drift = float(np.linalg.norm(M - np.eye(3), 2))
+        return Floquet(period, M, mu, exponents, drift, method)

@@ -73,6 +73,8 @@ RIGID = (
     ("Torque-free motion", "the body flips (e₂ turns over against L; else it wobbles)",
      "torque_free.flips", ""),
     ("Torque-free motion", "max |e₂·L|/|L| over the motion", "torque_free.e2_swing", "1"),
+    ("Torque-free motion", "Floquet: a deviation's growth per period, ‖∂ω(T)/∂ω₀ − 1‖ "
+     "(multipliers all 1)", "torque_free.floquet_drift", "1"),
     ("Integration", "method", "integration.method", ""),
     ("Integration", "backend", "integration.backend", ""),
     ("Integration", "start", "integration.t_start", "s"),
@@ -143,6 +145,12 @@ POLHODES = (
         "",
     ),
     ("Torque-free motion", "max |e₂·L|/|L| over the motion", "e2_swing", "1"),
+    (
+        "Torque-free motion",
+        "Floquet: a deviation's growth per period, ‖∂ω(T)/∂ω₀ − 1‖ (multipliers all 1)",
+        "floquet_drift",
+        "1",
+    ),
 )
 
 
