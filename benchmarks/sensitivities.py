@@ -15,6 +15,8 @@ Cases:
   flywheel spinning (one segment, 10 columns): the exact derivatives (the gyrostat's
   sensitivities, one run) against central differences of the same model (2p members of the
   batched core call, the route it replaced), and their difference.
+* ``segments``: the Jacobian of an 8-segment log: its segments as one ensemble call on the
+  core's threads, against one call per segment.
 """
 
 from __future__ import annotations
@@ -123,12 +125,54 @@ def case_identify(repeat):
           "entry (the differences' own error)")  # fmt: skip
 
 
+def case_segments(repeat, k=8):
+    """A log of k throws' length as k segments: the Jacobian's segments as one ensemble call
+    on the core's threads, against one call per segment (the route before)."""
+    from poinsot._bindings import identify as core_identify
+    from poinsot.identify.output_error import (
+        _default_max_step,
+        _Model,
+        _parameter_vector,
+        _segments,
+        _start_frame,
+        _start_omegas,
+    )
+    from poinsot.identify.synthetic import synthetic_throw
+
+    th = synthetic_throw(seed=2025, duration=0.5 * k)
+    t, omega = th.t, th.omega
+    segments = _segments(len(t), t, 0.5)
+    m0, E0, I3_0 = _start_frame(th.inertia)
+    rotor = (t.copy(), th.rotor_speed, np.asarray(th.rotor_axis))
+    model = _Model(t, omega, segments, rotor, th.rotor_inertia, E0, I3_0,
+                   _default_max_step(t, omega))  # fmt: skip
+    x = _parameter_vector(model.extra, _start_omegas(t, omega, None, segments), m0, 0.0,
+                          (0.0, 0.0, 0.0))  # fmt: skip
+    x[3 * model.K : 3 * model.K + 2] = np.log(x[3 * model.K : 3 * model.K + 2])
+    w0, rho, delta, extra, _ = model.unpack(x)
+    moments, _, J = model.physical(rho, delta, extra)
+    _, dm, dd, dj, dw = model._seeds(x, 0)
+    c = np.ascontiguousarray
+
+    def one_by_one():
+        return [core_identify.gyrostat_sensitivities(
+            c(moments), dm, c(E0), c(delta), dd, float(J), dj, c(w0[i : i + 1]), dw,
+            [model.runs[i]], *rotor)[0] for i in range(model.K)]  # fmt: skip
+
+    t_ens, _ = timed(lambda: model.jacobian(x), repeat)
+    t_one, _ = timed(one_by_one, repeat)
+    print(f"identify Jacobian, {model.K} segments, {len(t)} samples: the segments as one "
+          f"ensemble call {t_ens * 1e3:.2f} ms; one call per segment {t_one * 1e3:.2f} ms "
+          f"({t_one / t_ens:.2f}x)")  # fmt: skip
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=5)
     args = ap.parse_args()
     case_rigid(args.repeat)
     case_identify(args.repeat)
+    case_segments(args.repeat)
 
 
 if __name__ == "__main__":

@@ -672,6 +672,7 @@ def integrate_lagrange_sensitivities(
     state: RunState,
     steps: int,
 ) -> int: ...
+
 @final
 class LagrangianModel:
     def __new__(
@@ -790,11 +791,11 @@ def gyrostat_sensitivities(
     inertia_seeds: ArrayLike,
     omega0: ArrayLike,
     omega_seeds: ArrayLike,
-    spec: RunSpec,
+    specs: Sequence[RunSpec],
     rotor_t: ArrayLike,
     rotor_speed: ArrayLike,
     rotor_axis: ArrayLike,
-) -> tuple[_F64, _F64]: ...
+) -> list[tuple[_F64, _F64]]: ...
 
 # ------------------------------------------------------------------------------- tops.rs
 

@@ -187,14 +187,15 @@ fn seeded<const K: usize>(
     }))
 }
 
-/// ω (n, 3) and its derivatives (n, 3, p) at the sample times of `spec` of one gyrostat with
-/// moments `moments`, principal axes `E0 exp(δ̂)` (`axes0`, `delta`), rotor inertia
-/// `rotor_inertia` and `ω(t0) = omega0`, each given with the seeds (p, ·) of the `p`
-/// directions (at most 16): the variational equations integrated with the motion
-/// (`poinsot_core::gyrostat::gyrostat_sensitivities`).
+/// The segments of a log as one ensemble: for each segment `k`, ω (n_k, 3) and its
+/// derivatives (n_k, 3, p) at the sample times of `specs[k]` of one gyrostat with moments
+/// `moments`, principal axes `E0 exp(δ̂)` (`axes0`, `delta`), rotor inertia `rotor_inertia`
+/// and `ω(t0) = omega0[k]` (K, 3), each given with the seeds (p, ·) of the `p` directions (at
+/// most 16; the same for every segment): the variational equations integrated with the
+/// motion (`poinsot_core::gyrostat::gyrostat_sensitivities`), the segments on rayon's threads.
 #[pyfunction]
-#[pyo3(signature = (moments, moment_seeds, axes0, delta, delta_seeds, rotor_inertia, inertia_seeds, omega0, omega_seeds, spec, rotor_t, rotor_speed, rotor_axis))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (moments, moment_seeds, axes0, delta, delta_seeds, rotor_inertia, inertia_seeds, omega0, omega_seeds, specs, rotor_t, rotor_speed, rotor_axis))]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn gyrostat_sensitivities<'py>(
     py: Python<'py>,
     moments: Floats1<'py>,
@@ -204,13 +205,13 @@ fn gyrostat_sensitivities<'py>(
     delta_seeds: Floats2<'py>,
     rotor_inertia: f64,
     inertia_seeds: Floats1<'py>,
-    omega0: Floats1<'py>,
+    omega0: Floats2<'py>,
     omega_seeds: Floats2<'py>,
-    spec: PyRef<'py, RunSpec>,
+    specs: Vec<PyRef<'py, RunSpec>>,
     rotor_t: Floats1<'py>,
     rotor_speed: Floats1<'py>,
     rotor_axis: Floats1<'py>,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray3<f64>>)> {
+) -> PyResult<Vec<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray3<f64>>)>> {
     let p = moment_seeds.as_array().nrows();
     if p == 0 || p > GYRO_DIRECTIONS {
         return Err(value_error(format!(
@@ -219,7 +220,17 @@ fn gyrostat_sensitivities<'py>(
     }
     let m = seeded::<3>(moments.as_slice()?, &moment_seeds, p, "moments")?;
     let d = seeded::<3>(delta.as_slice()?, &delta_seeds, p, "delta")?;
-    let w = seeded::<3>(omega0.as_slice()?, &omega_seeds, p, "omega0")?;
+    let w0 = rows(&omega0, 3, "omega0")?;
+    if w0.nrows() != specs.len() {
+        return Err(value_error(format!(
+            "`omega0` must have one row per segment ({}), found {}",
+            specs.len(),
+            w0.nrows()
+        )));
+    }
+    let ws = (0..w0.nrows())
+        .map(|k| seeded::<3>(&v3(&w0, k), &omega_seeds, p, "omega0"))
+        .collect::<PyResult<Vec<_>>>()?;
     let js = inertia_seeds.as_slice()?;
     if js.len() != p {
         return Err(value_error(format!(
@@ -230,24 +241,37 @@ fn gyrostat_sensitivities<'py>(
     let mut j = GyroDual::splat(rotor_inertia);
     j.d[..p].copy_from_slice(js);
     let e0 = mat3_from(&axes0, "axes0")?;
-    let run = onto_samples(&spec)?;
-    let ts = run.sampling.t_eval;
+    let runs = specs
+        .iter()
+        .map(|s| onto_samples(s))
+        .collect::<PyResult<Vec<_>>>()?;
     let rotor = Rotor::new(&rotor_t, &rotor_speed, &rotor_axis)?;
-    let n = ts.len();
-    let out = detached(py, || {
+    let outs = detached(py, || {
         let sampled = SampledRotor {
             t: &rotor.t,
             speed: &rotor.speed,
             axis: rotor.axis,
             inertia: rotor_inertia,
         };
-        let mut out = vec![[GyroDual::splat(0.0); 3]; n];
-        sensitivities(m, &e0, d, j, sampled, w, p, &run, &mut out);
-        out
+        runs.par_iter()
+            .zip(&ws)
+            .map(|(run, &w)| {
+                let n = run.sampling.t_eval.len();
+                let mut out = vec![[GyroDual::splat(0.0); 3]; n];
+                sensitivities(m, &e0, d, j, sampled, w, p, run, &mut out);
+                out
+            })
+            .collect::<Vec<_>>()
     })?;
-    let omega = Array2::from_shape_fn((n, 3), |(k, i)| out[k][i].v);
-    let deriv = Array3::from_shape_fn((n, 3, p), |(k, i, j)| out[k][i].d[j]);
-    Ok((omega.into_pyarray(py), deriv.into_pyarray(py)))
+    Ok(outs
+        .into_iter()
+        .map(|out| {
+            let n = out.len();
+            let omega = Array2::from_shape_fn((n, 3), |(k, i)| out[k][i].v);
+            let deriv = Array3::from_shape_fn((n, 3, p), |(k, i, j)| out[k][i].d[j]);
+            (omega.into_pyarray(py), deriv.into_pyarray(py))
+        })
+        .collect())
 }
 
 /// A member of `gyrostat_omegas`: its principal moments and axes, its rotor's inertia, its ω

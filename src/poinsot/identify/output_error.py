@@ -240,8 +240,9 @@ class _Model:
 
     def jacobian(self, x):
         """∂r/∂x (3n, p): the exact derivatives of the model's RK4 motion (forward
-        sensitivities integrated with it in the compiled core, one run per segment:
-        ``poinsot._core.gyrostat_sensitivities``), −1 entries for the bias."""
+        sensitivities integrated with it in the compiled core, the segments as one ensemble on
+        the core's threads: ``poinsot._core.gyrostat_sensitivities``), −1 entries for the
+        bias."""
         n = len(self.t)
         Jm = np.zeros((n, 3, self.p))
         w0, rho, delta, extra, _ = self.unpack(x)
@@ -251,14 +252,14 @@ class _Model:
         else:
             rt, rs, ax = self.rotor
         c = np.ascontiguousarray
-        for k, seg in enumerate(self.segments):
-            cols, dm, dd, dj, dw = self._seeds(x, k)
-            _, d = core_identify.gyrostat_sensitivities(
-                c(moments, dtype=float), dm, c(self.E0, dtype=float), c(delta, dtype=float),
-                dd, float(J), dj, c(w0[k], dtype=float), dw, self.runs[k], rt, rs, ax,
-            )  # fmt: skip
-            self.nfev += 1
-            Jm[seg][:, :, cols] = d
+        _, dm, dd, dj, dw = self._seeds(x, 0)  # the same seeds for every segment
+        outs = core_identify.gyrostat_sensitivities(
+            c(moments, dtype=float), dm, c(self.E0, dtype=float), c(delta, dtype=float), dd,
+            float(J), dj, c(w0, dtype=float), dw, self.runs, rt, rs, ax,
+        )  # fmt: skip
+        for k, (seg, (_, d)) in enumerate(zip(self.segments, outs, strict=True)):
+            Jm[seg][:, :, self._seeds(x, k)[0]] = d
+        self.nfev += len(outs)
         for c_ in range(3):
             Jm[:, c_, self.p - 3 + c_] = 1.0
         Jr = -Jm.reshape(3 * n, self.p)
