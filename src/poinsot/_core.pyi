@@ -646,6 +646,10 @@ class LagrangianTangent:
     def evaluate(
         self, t: float, q: ArrayLike, qd: ArrayLike, p: ArrayLike, u: ArrayLike
     ) -> _F64: ...
+    # `(∂ẏ/∂y (2n, 2n), ∂ẏ/∂p (2n, np))`
+    def rates_jacobian(
+        self, t: float, y: ArrayLike, p: ArrayLike, u: ArrayLike
+    ) -> tuple[_F64, _F64]: ...
 
 def lagrange_sensitivity_start(
     tangent: LagrangianTangent,

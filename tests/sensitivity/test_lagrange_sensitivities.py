@@ -207,3 +207,27 @@ def test_inputs_given_as_functions_are_refused():
     # x = x0 + v0 t + t²: ∂x/∂x0 = 1, ∂x/∂v0 = t
     np.testing.assert_allclose(sol.sensitivity("q")[:, 0], np.c_[np.ones(201), sol.t],
                                atol=1e-12)  # fmt: skip
+
+
+def test_the_linearisation_is_exact():
+    # the pendulum on a free cart about the hanging position: ω² = g (M + m)/(M l) (the cart
+    # recoils), and a zero pair (the cart's free drift); the exact Jacobian gives the
+    # frequency to round-off, where central differences gave ~1e-9
+    mdl = pendulum_on_cart()
+    s = mdl.symbols
+    lin = mdl.system.linearize({s["x"]: 0.0, s["theta"]: 0.0}, params=mdl.params)
+    P = {str(k): v for k, v in mdl.params.items()}
+    w = np.sqrt(P["g"] * (P["M"] + P["m"]) / (P["M"] * P["l"]))
+    assert np.abs(lin.eigenvalues.imag).max() == pytest.approx(w, rel=1e-14)
+    assert lin.frequencies == pytest.approx([w], rel=1e-10)  # (rounded to 10 decimals)
+    # against central differences of the compiled rates (the route before), to their error
+    tangent = compile_tangent(mdl.system)
+    model = compile_system(mdl.system)
+    p = model.parameter_vector(mdl.params)
+    y0 = np.array([0.0, 0.3, 0.2, -0.5])
+    J = tangent.rates_jacobian(0.0, y0, p, np.zeros(0))[0]
+    fd = np.column_stack([
+        richardson(lambda h, e=e: model.model.rhs(0.0, y0 + h * e, p, np.zeros(0)), 1e-3)
+        for e in np.eye(4)
+    ])  # fmt: skip
+    np.testing.assert_allclose(J, fd, rtol=1e-9, atol=1e-9)

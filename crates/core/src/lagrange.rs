@@ -40,7 +40,9 @@ mod system;
 pub use events::*;
 pub use members::*;
 pub use model::*;
-pub use sensitivity::{initial_tangents, LagrangeSensitive, Start as LagrangeStart};
+pub use sensitivity::{
+    initial_tangents, rates_jacobian, LagrangeSensitive, Start as LagrangeStart,
+};
 pub use system::*;
 
 #[cfg(test)]

@@ -7,10 +7,12 @@
 use std::sync::Arc;
 
 use crate::arrays::{Bools1, Floats1, Floats2, Ints1};
-use numpy::{IntoPyArray, PyArray1};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2};
 use poinsot_core::expressions::Program;
 use poinsot_core::lagrange::{
-    initial_tangents, LagrangeSensitive, LagrangeStart, Shape, Stabilization, Tangent,
+    initial_tangents, rates_jacobian, LagrangeSensitive, LagrangeStart, Shape, Stabilization,
+    Tangent,
 };
 use poinsot_core::observers::NoObserver;
 use poinsot_jit::Jit;
@@ -93,6 +95,34 @@ impl LagrangianTangent {
         let mut ev = self.tangent.evaluator();
         ev.evaluate(t, q, v, p, u);
         Ok(ev.parts.clone().into_pyarray(py))
+    }
+
+    /// The exact Jacobian of `ẏ = [q̇, q̈]` (physical multipliers, every constraint in play,
+    /// constant inputs `u`) at `(t, y)`: `(∂ẏ/∂y (2n, 2n), ∂ẏ/∂p (2n, np))`; ValueError where
+    /// the KKT system is singular or the rates are not finite.
+    fn rates_jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        t: f64,
+        y: Floats1<'py>,
+        p: Floats1<'py>,
+        u: Floats1<'py>,
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+        let s = self.tangent.shape;
+        let (y, p, u) = (y.as_slice()?, p.as_slice()?, u.as_slice()?);
+        slice_len(y, 2 * s.n, "y")?;
+        slice_len(p, s.np, "p")?;
+        slice_len(u, s.nu, "u")?;
+        let (jy, jp) = rates_jacobian(&self.tangent, t, y, p, u).ok_or_else(|| {
+            value_error(
+                "the equations of motion cannot be differentiated here: the KKT system is \
+                 singular or the rates are not finite",
+            )
+        })?;
+        let n2 = 2 * s.n;
+        let jy = Array2::from_shape_vec((n2, n2), jy).expect("2n × 2n");
+        let jp = Array2::from_shape_vec((n2, s.np), jp).expect("2n × np");
+        Ok((jy.into_pyarray(py), jp.into_pyarray(py)))
     }
 }
 

@@ -3,8 +3,10 @@
 Equilibria solve ``f(q, 0, t0) + Gᵀ λ = 0`` (all constraints, non-holonomic included) and
 ``g(q, t0) = 0`` (q̇ = 0) by Newton's method or least squares from many starting points; the
 linearisation is the Jacobian of the first-order equations of motion at an equilibrium or a
-steady motion by central differences, restricted to the tangent space of the constraint
-manifold (null space of the constraint Jacobian).
+steady motion, exact (the KKT system differentiated on the model's compiled Jacobian,
+``poinsot._core.LagrangianTangent.rates_jacobian``; the inputs' columns by central
+differences), restricted to the tangent space of the constraint manifold (null space of the
+constraint Jacobian).
 """
 
 from __future__ import annotations
@@ -278,11 +280,13 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
     -------
     Linearization
         ``A`` (:attr:`~Linearization.matrix`) and ``B`` (:attr:`~Linearization.input_matrix`)
-        of ``δẋ = A δx + B δu`` on the constraint manifold, by central differences of the
-        compiled equations, with eigenvalues, frequencies and the stability verdict.
+        of ``δẋ = A δx + B δu`` on the constraint manifold, with eigenvalues, frequencies and
+        the stability verdict: ``A`` exact (the KKT system differentiated on the model's
+        compiled Jacobian), ``B`` by central differences of the compiled equations.
     """
     from .._validation import as_scalar
     from .arguments import input_function
+    from .engine import compile_tangent
 
     t = as_scalar(t, "t")
     q0, v0 = operating_point(system, equilibrium, speeds)
@@ -314,15 +318,15 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
             f"`equilibrium`: the operating point is not {what}: accelerations "
             f"{np.round(f0[n:], 10).tolist()}"
         )
-    J = np.empty((2 * n, 2 * n))
+    # ∂ẏ/∂y exactly: the differentiated KKT system on the model's compiled Jacobian
+    tangent = compile_tangent(system)
+    try:
+        J = tangent.rates_jacobian(t, y0, num.engine.parameter_vector(num.params), u0)[0]
+    except ValueError:
+        raise unsolvable from None
     Bfull = np.empty((2 * n, k))
     with np.errstate(all="ignore"):  # judged below: the result must be finite
-        for j in range(2 * n):
-            h = 1e-6 * (1 + abs(y0[j]))
-            e = np.zeros(2 * n)
-            e[j] = h
-            J[:, j] = (rhs_at(y0 + e, u0) - rhs_at(y0 - e, u0)) / (2 * h)
-        for j in range(k):
+        for j in range(k):  # the inputs' columns by central differences
             h = 1e-6 * (1 + abs(u0[j]))
             e = np.zeros(k)
             e[j] = h

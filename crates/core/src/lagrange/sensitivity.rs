@@ -248,6 +248,53 @@ impl VectorField for LagrangeSensitive<'_> {
     }
 }
 
+/// The Jacobian of a constrained system's first-order equations `ẏ = [q̇, q̈]` (the physical
+/// multipliers: no stabilisation; every constraint in play; constant inputs `u`) at
+/// `(t, y)`: `∂ẏ/∂y` (2n × 2n) and `∂ẏ/∂p` (2n × np), row-major, exactly — the rates of the
+/// augmented system with `S = [I | 0]` and the parameters' unit seeds (the differentiated KKT
+/// system). `None` where the KKT system is singular or the rates are not finite.
+pub fn rates_jacobian(
+    tangent: &Tangent,
+    t: f64,
+    y: &[f64],
+    p: &[f64],
+    u: &[f64],
+) -> Option<(Vec<f64>, Vec<f64>)> {
+    let s = tangent.shape;
+    let (n2, np) = (2 * s.n, s.np);
+    if y.len() != n2 {
+        return None;
+    }
+    let dirs = n2 + np;
+    let mut seeds = vec![0.0; dirs * np];
+    for k in 0..np {
+        seeds[(n2 + k) * np + k] = 1.0;
+    }
+    let still = Stabilization {
+        alpha: 0.0,
+        beta: 0.0,
+        projection: false,
+    };
+    let sys = LagrangeSensitive::new(tangent, p, u, still, &seeds, dirs, true).ok()?;
+    let mut aug = vec![0.0; n2 * (1 + dirs)];
+    aug[..n2].copy_from_slice(y);
+    for i in 0..n2 {
+        aug[n2 + i * dirs + i] = 1.0;
+    }
+    let mut out = vec![0.0; aug.len()];
+    sys.rhs(t, &aug, &mut out);
+    if !out.iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    let (mut jy, mut jp) = (vec![0.0; n2 * n2], vec![0.0; n2 * np]);
+    for i in 0..n2 {
+        let row = &out[n2 + i * dirs..n2 + (i + 1) * dirs];
+        jy[i * n2..(i + 1) * n2].copy_from_slice(&row[..n2]);
+        jp[i * np..(i + 1) * np].copy_from_slice(&row[n2..]);
+    }
+    Some((jy, jp))
+}
+
 /// `d part_o = Σ_k ∂part_o/∂z_k dz_k` for the outputs `[M, f, G, b, γ, g]` of the last
 /// evaluation of a [`Tangent`]'s evaluator.
 fn directional(ev: &Evaluator, dz: &[f64], out: &mut [f64]) {
