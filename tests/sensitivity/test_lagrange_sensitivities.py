@@ -231,3 +231,29 @@ def test_the_linearisation_is_exact():
         for e in np.eye(4)
     ])  # fmt: skip
     np.testing.assert_allclose(J, fd, rtol=1e-9, atol=1e-9)
+
+
+def test_the_netcdf_export_carries_them_with_named_dimensions(tmp_path):
+    from scipy.io import netcdf_file
+
+    mdl = sliding_ladder()
+    sol = mdl.simulate((0, 0.3), method="rk4", dt=1e-3, t_eval=[0, 0.1, 0.3],
+                       sensitivities=("q0", "params"))  # fmt: skip
+    path = tmp_path / "ladder.nc"
+    sol.to_netcdf(path)
+    with netcdf_file(path, mmap=False) as f:
+        v = f.variables["sensitivity"]
+        assert v.dimensions == ("time", "state_component", "parameter")
+        np.testing.assert_array_equal(v[:], sol.sensitivities.S)
+        labels = [b"".join(r).decode().strip() for r in f.variables["parameter"][:]]
+        assert labels == list(sol.sensitivities.directions.labels)
+        comps = [b"".join(r).decode().strip() for r in f.variables["state_component"][:]]
+        assert comps[:3] == ["q[x_c]", "q[y_c]", "q[theta]"] and comps[3] == "qd[x_c]"
+        assert f.variables["q"].dimensions == ("time", "coordinate")
+        assert f.variables["multipliers"].dimensions == ("time", "constraint")
+        np.testing.assert_array_equal(f.variables["q"][:], sol.q)
+    # without constraints, the constraint dimensions are left out
+    cart = pendulum_on_cart().simulate((0, 0.1), method="rk4", dt=1e-3, t_eval=[0, 0.1])
+    cart.to_netcdf(tmp_path / "cart.nc")
+    with netcdf_file(tmp_path / "cart.nc", mmap=False) as f:
+        assert "multipliers" not in f.variables and "sensitivity" not in f.variables

@@ -134,6 +134,73 @@ class LagrangianSolution(SensitivityMixin, Displayable):
             out.append(Invariant(name, symbol, unit, values, True, reason, scale))
         return out
 
+    # ----------------------------------------------------------------- export
+    def variables(self) -> dict:
+        """Every exported field as ``name → (dims, values, attrs)``, coordinates included
+        (:meth:`to_netcdf`, :meth:`to_xarray`): ``q``, ``qd``, ``accelerations`` and
+        ``constraint_forces`` along ``coordinate`` (each coordinate's unit in
+        ``units_by_coordinate``), the multipliers and residuals along ``constraint`` /
+        ``holonomic_constraint``, the energy, and with sensitivities ``sensitivity (time,
+        state_component, parameter)``. A dimension of length zero (no constraint) is left
+        out with its fields."""
+        names = [str(q).replace("(t)", "") for q in self.coordinates]
+        units = ", ".join(f"{n}: {self.system.unit_of(q) or '1'}"
+                          for n, q in zip(names, self.coordinates, strict=True))  # fmt: skip
+        per = {"units_by_coordinate": units}
+        out = {
+            "time": (("time",), self.t, {"units": "s"}),
+            "coordinate": (("coordinate",), np.array(names), {}),
+            "q": (("time", "coordinate"), self.q, {**per, "long_name": "coordinates"}),
+            "qd": (("time", "coordinate"), self.qd,
+                   {**per, "long_name": "velocities (per second)"}),
+            "accelerations": (("time", "coordinate"), self.accelerations,
+                              {**per, "long_name": "accelerations (per second squared)"}),
+            "constraint_forces": (("time", "coordinate"), self.constraint_forces,
+                                  {"long_name": "generalized constraint forces G^T lambda"}),
+            "energy": (("time",), self.energy, {"long_name": "Jacobi integral h"}),
+        }  # fmt: skip
+        m, nh = self.multipliers.shape[1], self.constraint_residual.shape[1]
+        exprs = [str(g) for g in self.system.holonomic] + [
+            str(c) for c in getattr(self.system, "nonholonomic", ())]  # fmt: skip
+        if m:
+            out["constraint"] = (("constraint",), np.array((exprs + [""] * m)[:m]), {})
+            lam = {"long_name": "Lagrange multipliers, sign as in (6.60)"}
+            out["multipliers"] = (("time", "constraint"), self.multipliers, lam)
+            out["constraint_velocity_residual"] = (("time", "constraint"),
+                                                   self.constraint_velocity_residual,
+                                                   {"long_name": "G qd + b"})  # fmt: skip
+        if nh:
+            out["holonomic_constraint"] = (("holonomic_constraint",), np.array(exprs[:nh]), {})
+            g = {"long_name": "g(q, t)"}
+            out["constraint_residual"] = (("time", "holonomic_constraint"),
+                                          self.constraint_residual, g)  # fmt: skip
+        if self.sensitivities is not None:
+            labels = [f"q[{n}]" for n in names] + [f"qd[{n}]" for n in names]
+            sens = {"long_name": "forward sensitivity d state / d parameter"}
+            out["sensitivity"] = (("time", "state_component", "parameter"),
+                                  self.sensitivities.S, sens)  # fmt: skip
+            out["state_component"] = (("state_component",), np.array(labels), {})
+            out["parameter"] = (("parameter",),
+                                np.array(self.sensitivities.directions.labels), {})  # fmt: skip
+        return out
+
+    def _attrs(self) -> dict:
+        return {"method": self.method, "stabilization": str(self.stabilization),
+                "params": ", ".join(f"{k} = {v!r}" for k, v in self.params.items())}  # fmt: skip
+
+    def to_netcdf(self, path) -> None:
+        """Write :meth:`variables` to a NetCDF-3 file (atomically, with SciPy's writer: no
+        xarray needed)."""
+        from .._io import write_netcdf
+
+        write_netcdf(path, self.variables(), self._attrs())
+
+    def to_xarray(self):
+        """An ``xarray.Dataset`` of :meth:`variables` (needs the ``xarray`` extra)."""
+        from .._io import xarray_dataset
+
+        return xarray_dataset(self.variables(), self._attrs())
+
     def __getitem__(self, coordinate):
         """The samples (n_samples,) of one coordinate: ``sol[x]``."""
         return self.q[:, self.coordinates.index(coordinate)]
