@@ -24,19 +24,9 @@ import platform
 import statistics
 import subprocess
 import sys
-import time
 
 import numpy as np
-
-
-def timed(fn, repeat):
-    out = fn()
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), out
+from run import timed  # the benchmarks' one timer (benchmarks/run.py)
 
 
 def case_identify(repeat):

@@ -23,27 +23,17 @@ poinsot's sensitivities at the end (relative to their largest entry).
 from __future__ import annotations
 
 import argparse
-import statistics
 import time
 
 import numpy as np
 import sympy as sp
+from run import timed  # the benchmarks' one timer (benchmarks/run.py)
 from sympy import cos, sin
 from sympy.physics.mechanics import dynamicsymbols
 
 N_LINKS = 2
 RTOL, ATOL = 1e-8, 1e-10
 WRT_NAMES = ("m0", "m1", "m2", "l0", "l1")
-
-
-def timed(fn, repeat):
-    out = fn()
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), out
 
 
 def values(symbols):

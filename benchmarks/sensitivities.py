@@ -22,20 +22,9 @@ Cases:
 from __future__ import annotations
 
 import argparse
-import statistics
-import time
 
 import numpy as np
-
-
-def timed(fn, repeat):
-    out = fn()
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), out
+from run import timed  # the benchmarks' one timer (benchmarks/run.py)
 
 
 def case_rigid(repeat):
@@ -73,8 +62,9 @@ def case_rigid(repeat):
                   f"({t_out / t_plain:.2f}x the plain run); steps {tr.nsteps}")  # fmt: skip
 
 
-def case_identify(repeat):
-    from poinsot._bindings import identify as core_identify
+def identify_model(duration=0.5, segment=1.0):
+    """The output-error model of a synthetic throw of ``duration`` seconds cut into segments of
+    ``segment`` seconds, its start ``x`` (log-ratios), the throw and its rotor."""
     from poinsot.identify.output_error import (
         _default_max_step,
         _Model,
@@ -85,18 +75,25 @@ def case_identify(repeat):
     )
     from poinsot.identify.synthetic import synthetic_throw
 
-    th = synthetic_throw(seed=2025)
+    th = synthetic_throw(seed=2025, duration=duration)
     t, omega = th.t, th.omega
-    segments = _segments(len(t), t, 1.0)
+    segments = _segments(len(t), t, segment)
     m0, E0, I3_0 = _start_frame(th.inertia)
     rotor = (t.copy(), th.rotor_speed, np.asarray(th.rotor_axis))
     model = _Model(t, omega, segments, rotor, th.rotor_inertia, E0, I3_0,
                    _default_max_step(t, omega))  # fmt: skip
     x = _parameter_vector(model.extra, _start_omegas(t, omega, None, segments), m0, 0.0,
                           (0.0, 0.0, 0.0))  # fmt: skip
-    lr = slice(3, 5)
+    lr = slice(3 * model.K, 3 * model.K + 2)
     x[lr] = np.log(x[lr])
+    return model, x, th, rotor
 
+
+def case_identify(repeat):
+    from poinsot._bindings import identify as core_identify
+
+    model, x, th, rotor = identify_model()
+    t = th.t
     cols = [*model.shared, 0, 1, 2]
     steps = [1e-6 * max(abs(x[j]), 1.0) for j in cols]
 
@@ -129,26 +126,9 @@ def case_segments(repeat, k=8):
     """A log of k throws' length as k segments: the Jacobian's segments as one ensemble call
     on the core's threads, against one call per segment (the route before)."""
     from poinsot._bindings import identify as core_identify
-    from poinsot.identify.output_error import (
-        _default_max_step,
-        _Model,
-        _parameter_vector,
-        _segments,
-        _start_frame,
-        _start_omegas,
-    )
-    from poinsot.identify.synthetic import synthetic_throw
 
-    th = synthetic_throw(seed=2025, duration=0.5 * k)
-    t, omega = th.t, th.omega
-    segments = _segments(len(t), t, 0.5)
-    m0, E0, I3_0 = _start_frame(th.inertia)
-    rotor = (t.copy(), th.rotor_speed, np.asarray(th.rotor_axis))
-    model = _Model(t, omega, segments, rotor, th.rotor_inertia, E0, I3_0,
-                   _default_max_step(t, omega))  # fmt: skip
-    x = _parameter_vector(model.extra, _start_omegas(t, omega, None, segments), m0, 0.0,
-                          (0.0, 0.0, 0.0))  # fmt: skip
-    x[3 * model.K : 3 * model.K + 2] = np.log(x[3 * model.K : 3 * model.K + 2])
+    model, x, th, rotor = identify_model(duration=0.5 * k, segment=0.5)
+    t, E0 = th.t, model.E0
     w0, rho, delta, extra, _ = model.unpack(x)
     moments, _, J = model.physical(rho, delta, extra)
     _, dm, dd, dj, dw = model._seeds(x, 0)

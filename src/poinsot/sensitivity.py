@@ -34,6 +34,7 @@ __all__ = [
     "SensitiveSystem",
     "Sensitivities",
     "SensitivityMixin",
+    "asked_names",
     "check_control",
     "check_run",
     "directions",
@@ -121,13 +122,9 @@ def check_run(system, solver, backend, *, rigid=True) -> None:
         raise ValueError("`sensitivities` need a body with three non-zero principal moments")
 
 
-def directions(system, wrt, starts=None) -> Directions:
-    """The :class:`Directions` of ``wrt`` (a name or a sequence of names) for a
-    :class:`~poinsot.dynamics.RigidBodySystem`, checked: each name known, once, and with an
-    effect on this system. ``starts`` names the initial state's parts (``{"omega0": 1,
-    "Q0": 2, "R0": 3, "V0": 4}`` by default; a relative motion's are ``omega_r0``, ``Q_r0``,
-    ``r0``, ``v_r0``)."""
-    starts = _START if starts is None else starts
+def asked_names(wrt) -> tuple:
+    """The names of ``sensitivities`` (a name or a sequence of names; NumPy's strings as
+    ``str``), checked: at least one, each a string, none twice."""
     if isinstance(wrt, str):
         names = (wrt,)
     elif isinstance(wrt, Iterable):
@@ -136,13 +133,25 @@ def directions(system, wrt, starts=None) -> Directions:
         raise TypeError(f"`sensitivities` must be a name or a sequence of names, found {wrt!r}")
     if not names:
         raise ValueError("`sensitivities` must name at least one parameter")
-    nf = len(system.force_kind)
-    kinds, comps, moments, forces, labels, columns = [], [], [], [], [], {}
     for i, name in enumerate(names):
         if not isinstance(name, str):
             raise TypeError(f"`sensitivities[{i}]` must be a name, found {name!r}")
-        if name in columns:
+        if name in names[:i]:
             raise ValueError(f"`sensitivities[{i}]`: {name!r} is named twice")
+    return names
+
+
+def directions(system, wrt, starts=None) -> Directions:
+    """The :class:`Directions` of ``wrt`` (a name or a sequence of names) for a
+    :class:`~poinsot.dynamics.RigidBodySystem`, checked: each name known, once, and with an
+    effect on this system. ``starts`` names the initial state's parts (``{"omega0": 1,
+    "Q0": 2, "R0": 3, "V0": 4}`` by default; a relative motion's are ``omega_r0``, ``Q_r0``,
+    ``r0``, ``v_r0``)."""
+    starts = _START if starts is None else starts
+    names = asked_names(wrt)
+    nf = len(system.force_kind)
+    kinds, comps, moments, forces, labels, columns = [], [], [], [], [], {}
+    for i, name in enumerate(names):
         start = len(labels)
         for label, kind, comp, dm, df in _columns(system, name, i, nf, starts):
             labels.append(label)

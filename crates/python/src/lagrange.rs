@@ -39,6 +39,51 @@ pub(crate) fn slice_len(x: &[f64], k: usize, name: &str) -> PyResult<()> {
     Ok(())
 }
 
+/// A model's sizes and its program (`codes`, `values`) with `outputs` outputs of
+/// `[q, q̇, t, p, u]`, checked (`what`: the model or its tangent, for the message).
+pub(crate) fn checked_program(
+    shape: Shape,
+    codes: &Ints1<'_>,
+    values: &Floats1<'_>,
+    outputs: usize,
+    what: &str,
+) -> PyResult<Program> {
+    let Shape { n, m, nh, .. } = shape;
+    if nh > m || n == 0 {
+        return Err(value_error(format!(
+            "a model needs n ≥ 1 coordinates and nh ≤ m holonomic constraints among its \
+             constraints; found n = {n}, m = {m}, nh = {nh}"
+        )));
+    }
+    Program::new(
+        codes.as_slice()?,
+        values.as_slice()?,
+        shape.n_inputs(),
+        outputs,
+    )
+    .map_err(|e| value_error(format!("the {what}'s program is malformed: {e}")))
+}
+
+/// `q`, `q̇` (or the state `y`, `2n`, as `q` with `qd` empty), `p` and `u` checked against a
+/// model's sizes, each named.
+pub(crate) fn check_point(
+    shape: Shape,
+    q: &[f64],
+    v: Option<&[f64]>,
+    p: &[f64],
+    u: &[f64],
+) -> PyResult<()> {
+    match v {
+        Some(v) => {
+            slice_len(q, shape.n, "q")?;
+            slice_len(v, shape.n, "qd")?;
+        }
+        None => slice_len(q, 2 * shape.n, "y")?,
+    }
+    slice_len(p, shape.np, "p")?;
+    slice_len(u, shape.nu, "u")
+}
+
 pub(crate) fn mask(active: Option<Bools1<'_>>, m: usize) -> PyResult<Option<Vec<bool>>> {
     active
         .map(|a| {
@@ -60,11 +105,7 @@ impl LagrangianModel {
     }
 
     fn check_point(&self, q: &[f64], v: &[f64], p: &[f64], u: &[f64]) -> PyResult<()> {
-        let s = self.shape();
-        slice_len(q, s.n, "q")?;
-        slice_len(v, s.n, "qd")?;
-        slice_len(p, s.np, "p")?;
-        slice_len(u, s.nu, "u")
+        check_point(self.shape(), q, Some(v), p, u)
     }
 }
 
@@ -83,19 +124,7 @@ impl LagrangianModel {
         nu: usize,
     ) -> PyResult<Self> {
         let shape = Shape { n, m, nh, np, nu };
-        if nh > m || n == 0 {
-            return Err(value_error(format!(
-                "a model needs n ≥ 1 coordinates and nh ≤ m holonomic constraints among its \
-                 constraints; found n = {n}, m = {m}, nh = {nh}"
-            )));
-        }
-        let program = Program::new(
-            codes.as_slice()?,
-            values.as_slice()?,
-            shape.n_inputs(),
-            shape.n_outputs(),
-        )
-        .map_err(|e| value_error(format!("the model's program is malformed: {e}")))?;
+        let program = checked_program(shape, &codes, &values, shape.n_outputs(), "model")?;
         let model = py
             .detach(|| Model::new(shape, program, &Jit))
             .map_err(|e| value_error(format!("the model is malformed: {e}")))?;

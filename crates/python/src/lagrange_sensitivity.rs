@@ -9,7 +9,6 @@ use std::sync::Arc;
 use crate::arrays::{Bools1, Floats1, Floats2, Ints1};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
-use poinsot_core::expressions::Program;
 use poinsot_core::lagrange::{
     initial_tangents, rates_jacobian, LagrangeSensitive, LagrangeStart, Shape, Stabilization,
     Tangent,
@@ -20,7 +19,8 @@ use pyo3::prelude::*;
 
 use crate::args::value_error;
 use crate::engine::in_chunks;
-use crate::lagrange::slice_len;
+use crate::lagrange::{check_point, checked_program};
+use crate::sensitivity::coded_starts;
 use crate::spec::{RunSpec, RunState};
 
 /// A model's expressions and their Jacobian compiled once:
@@ -47,19 +47,8 @@ impl LagrangianTangent {
         nu: usize,
     ) -> PyResult<Self> {
         let shape = Shape { n, m, nh, np, nu };
-        if nh > m || n == 0 {
-            return Err(value_error(format!(
-                "a model needs n ≥ 1 coordinates and nh ≤ m holonomic constraints among its \
-                 constraints; found n = {n}, m = {m}, nh = {nh}"
-            )));
-        }
-        let program = Program::new(
-            codes.as_slice()?,
-            values.as_slice()?,
-            shape.n_inputs(),
-            shape.n_tangent_outputs(),
-        )
-        .map_err(|e| value_error(format!("the tangent's program is malformed: {e}")))?;
+        let outputs = shape.n_tangent_outputs();
+        let program = checked_program(shape, &codes, &values, outputs, "tangent")?;
         let tangent = py
             .detach(|| Tangent::new(shape, program, &Jit))
             .map_err(value_error)?;
@@ -88,10 +77,7 @@ impl LagrangianTangent {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let s = self.tangent.shape;
         let (q, v, p, u) = (q.as_slice()?, qd.as_slice()?, p.as_slice()?, u.as_slice()?);
-        slice_len(q, s.n, "q")?;
-        slice_len(v, s.n, "qd")?;
-        slice_len(p, s.np, "p")?;
-        slice_len(u, s.nu, "u")?;
+        check_point(s, q, Some(v), p, u)?;
         let mut ev = self.tangent.evaluator();
         ev.evaluate(t, q, v, p, u);
         Ok(ev.parts.clone().into_pyarray(py))
@@ -110,9 +96,7 @@ impl LagrangianTangent {
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
         let s = self.tangent.shape;
         let (y, p, u) = (y.as_slice()?, p.as_slice()?, u.as_slice()?);
-        slice_len(y, 2 * s.n, "y")?;
-        slice_len(p, s.np, "p")?;
-        slice_len(u, s.nu, "u")?;
+        check_point(s, y, None, p, u)?;
         let (jy, jp) = rates_jacobian(&self.tangent, t, y, p, u).ok_or_else(|| {
             value_error(
                 "the equations of motion cannot be differentiated here: the KKT system is \
@@ -129,31 +113,18 @@ impl LagrangianTangent {
 /// The directions' starts from their codes: `kinds[j]` 0 (a parameter), 1 (q0), 2 (q̇0), and
 /// the coordinate `components[j]`.
 fn starts_from(kinds: &[i64], components: &[i64], n: usize) -> PyResult<Vec<LagrangeStart>> {
-    if kinds.len() != components.len() {
-        return Err(value_error(format!(
-            "`components` must have one entry per direction ({}), found {}",
-            kinds.len(),
-            components.len()
-        )));
-    }
-    kinds
-        .iter()
-        .zip(components)
-        .enumerate()
-        .map(|(j, (&kind, &k))| {
-            let k = usize::try_from(k).ok().filter(|k| *k < n);
-            match (kind, k) {
-                (0, _) => Ok(LagrangeStart::Parameter),
-                (1, Some(k)) => Ok(LagrangeStart::Coordinate(k)),
-                (2, Some(k)) => Ok(LagrangeStart::Velocity(k)),
-                _ => Err(value_error(format!(
-                    "direction {j}: unknown start ({kind}, {}); kinds are 0 (a parameter), 1 (q0), \
-                     2 (qd0), components a coordinate's index below {n}",
-                    components[j]
-                ))),
-            }
-        })
-        .collect()
+    let known = format!(
+        "kinds are 0 (a parameter), 1 (q0), 2 (qd0), components a coordinate's index below {n}"
+    );
+    coded_starts(kinds, components, &known, |kind, k| {
+        let k = usize::try_from(k).ok().filter(|k| *k < n);
+        match (kind, k) {
+            (0, _) => Some(LagrangeStart::Parameter),
+            (1, Some(k)) => Some(LagrangeStart::Coordinate(k)),
+            (2, Some(k)) => Some(LagrangeStart::Velocity(k)),
+            _ => None,
+        }
+    })
 }
 
 /// The directions' parameter seeds `seeds` (P, np), checked, row-major.
@@ -191,9 +162,7 @@ fn lagrange_sensitivity_start<'py>(
     let tangent = &tangent.get().tangent;
     let s = tangent.shape;
     let (y0, p, u) = (y0.as_slice()?, p.as_slice()?, u.as_slice()?);
-    slice_len(y0, 2 * s.n, "y0")?;
-    slice_len(p, s.np, "p")?;
-    slice_len(u, s.nu, "u")?;
+    check_point(s, y0, None, p, u)?;
     let starts = starts_from(kinds.as_slice()?, components.as_slice()?, s.n)?;
     let (seeds, dirs) = seeds_from(&seeds, s.np)?;
     if dirs != starts.len() {

@@ -22,6 +22,19 @@ use crate::spec::{RunSpec, RunState};
 
 /// The directions' starts from their codes `kinds` (p,) and `components` (p,).
 fn starts_from(kinds: &[i64], components: &[i64]) -> PyResult<Vec<Start>> {
+    let known = "kinds are 0 (a parameter), 1 (omega0), 2 (Q0), 3 (R0), 4 (V0), components 0, \
+                 1 or 2";
+    coded_starts(kinds, components, known, Start::from_code)
+}
+
+/// Directions from their codes `(kinds[j], components[j])` by `decode`, checked: one
+/// component per kind, and an unknown pair refused with the direction's index and `known`.
+pub(crate) fn coded_starts<T>(
+    kinds: &[i64],
+    components: &[i64],
+    known: &str,
+    decode: impl Fn(i64, i64) -> Option<T>,
+) -> PyResult<Vec<T>> {
     if kinds.len() != components.len() {
         return Err(value_error(format!(
             "`components` must have one entry per direction ({}), found {}",
@@ -34,10 +47,9 @@ fn starts_from(kinds: &[i64], components: &[i64]) -> PyResult<Vec<Start>> {
         .zip(components)
         .enumerate()
         .map(|(j, (&kind, &k))| {
-            Start::from_code(kind, k).ok_or_else(|| {
+            decode(kind, k).ok_or_else(|| {
                 value_error(format!(
-                    "direction {j}: unknown start ({kind}, {k}); kinds are 0 (a parameter), \
-                     1 (omega0), 2 (Q0), 3 (R0), 4 (V0), components 0, 1 or 2"
+                    "direction {j}: unknown start ({kind}, {k}); {known}"
                 ))
             })
         })

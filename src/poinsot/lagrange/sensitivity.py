@@ -19,12 +19,11 @@ holds no physics.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..sensitivity import SENSITIVE_METHODS, Sensitivities
+from ..sensitivity import SENSITIVE_METHODS, Sensitivities, asked_names
 
 __all__ = ["WRT", "LagrangeDirections", "check_run", "columns", "outputs", "parse",
            "sensitivities"]  # fmt: skip
@@ -89,23 +88,10 @@ def check_run(solver, *, events, inputs, control) -> None:
 def parse(wrt, system) -> tuple:
     """The names of ``wrt`` (a name or a sequence of names), checked: each known, once, and
     naming a coordinate or parameter of ``system``."""
-    if isinstance(wrt, str):
-        names = (wrt,)
-    elif isinstance(wrt, Iterable):
-        names = tuple(str(x) if isinstance(x, str) else x for x in wrt)
-    else:
-        raise TypeError(f"`sensitivities` must be a name or a sequence of names, found {wrt!r}")
-    if not names:
-        raise ValueError("`sensitivities` must name at least one parameter")
+    names = asked_names(wrt)
     coords = [str(c.func) if hasattr(c, "func") else str(c) for c in system.coordinates]
     params = [str(p) for p in system.parameters]
-    seen = set()
     for i, name in enumerate(names):
-        if not isinstance(name, str):
-            raise TypeError(f"`sensitivities[{i}]` must be a name, found {name!r}")
-        if name in seen:
-            raise ValueError(f"`sensitivities[{i}]`: {name!r} is named twice")
-        seen.add(name)
         part = _PART.match(name)
         if name in WRT:
             if name == "params" and not params:
