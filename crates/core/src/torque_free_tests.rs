@@ -580,3 +580,50 @@ fn fixed_point_attitude_at_a_huge_angle_is_the_true_rotation() {
     let q = fixed_point_attitude(&eye, [0.0, 2.0, 0.0], 0.3);
     assert_eq!(q, crate::so3::exp_so3([0.0, 0.6, 0.0]));
 }
+
+/// `f'(0)` by central differences at `h` and `h/2`, Richardson-extrapolated.
+fn richardson(f: impl Fn(f64) -> f64, h: f64) -> f64 {
+    let d1 = (f(h) - f(-h)) / (2.0 * h);
+    let d2 = (f(h / 2.0) - f(-h / 2.0)) / h;
+    (4.0 * d2 - d1) / 3.0
+}
+
+#[test]
+fn the_closed_forms_derivatives_equal_differences_of_the_closed_form() {
+    // ∂ω(t), ∂T and ∂(flip interval) along the moments and ω0 against Richardson differences
+    // of the f64 regime itself (the same closed form, an independent route to its derivative)
+    for (moments, w, t) in [
+        ([1.0, 2.0, 3.0], [0.3, -0.4, 1.1], 2.7),
+        ([1.0, 2.0, 3.0], [1.2, 0.5, -0.2], 5.3),
+        ([0.7, 1.3, 1.9], [-0.5, -0.8, 0.6], 11.0),
+    ] {
+        let tangent = ExactTangent::new(moments, w).expect("an elliptic motion");
+        let (value, d) = tangent.omega_at(t);
+        let (period, flip) = (tangent.period(), tangent.flip_interval());
+        let moved = |j: usize, h: f64| {
+            let (mut m, mut x) = (moments, w);
+            if j < 3 {
+                m[j] += h;
+            } else {
+                x[j - 3] += h;
+            }
+            let reg = Regime::new(m, 0, x);
+            let o = reg.omega_at(m, x, t);
+            [o[0], o[1], o[2], reg.period(), reg.flip_interval()]
+        };
+        assert_eq!(value, Regime::new(moments, 0, w).omega_at(moments, w, t));
+        for j in 0..DIRECTIONS {
+            for (k, want) in [d[0][j], d[1][j], d[2][j], period.d[j], flip.d[j]]
+                .into_iter()
+                .enumerate()
+            {
+                let fd = richardson(|h| moved(j, h)[k], 1e-4);
+                let scale = fd.abs().max(1.0);
+                assert!(
+                    (want - fd).abs() <= 1e-8 * scale,
+                    "{moments:?} {w:?}: output {k}, direction {j}: {want} against {fd}"
+                );
+            }
+        }
+    }
+}
