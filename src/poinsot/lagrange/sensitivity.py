@@ -89,8 +89,7 @@ def parse(wrt, system) -> tuple:
     """The names of ``wrt`` (a name or a sequence of names), checked: each known, once, and
     naming a coordinate or parameter of ``system``."""
     names = asked_names(wrt)
-    coords = [str(c.func) if hasattr(c, "func") else str(c) for c in system.coordinates]
-    params = [str(p) for p in system.parameters]
+    coords, params = _names(system)
     for i, name in enumerate(names):
         part = _PART.match(name)
         if name in WRT:
@@ -115,8 +114,7 @@ def columns(names, system, given_q, given_v) -> LagrangeDirections:
     """The :class:`LagrangeDirections` of the checked ``names`` for a run whose initial state
     gives the coordinates ``given_q`` and velocities ``given_v`` (bool (n,)); a coordinate or
     velocity solved from the constraints is refused, named, as a direction."""
-    coords = [str(c.func) if hasattr(c, "func") else str(c) for c in system.coordinates]
-    params = [str(p) for p in system.parameters]
+    coords, params = _names(system)
     k = len(params)
     kinds, comps, seeds, labels, cols = [], [], [], [], {}
 
@@ -153,6 +151,12 @@ def columns(names, system, given_q, given_v) -> LagrangeDirections:
     return LagrangeDirections(tuple(names), cols, tuple(labels), np.array(kinds, np.int64),
                               np.array(comps, np.int64),
                               np.array(seeds, float).reshape(len(labels), k))  # fmt: skip
+
+
+def _names(system) -> tuple[list, list]:
+    """The names of the system's coordinates (``theta`` of ``theta(t)``) and parameters."""
+    coords = [str(c.func) if hasattr(c, "func") else str(c) for c in system.coordinates]
+    return coords, [str(p) for p in system.parameters]
 
 
 def outputs(n) -> dict:
