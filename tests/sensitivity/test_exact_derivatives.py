@@ -1,11 +1,13 @@
 """The exact derivatives of the torque-free closed form against an independent route: the
-closed form written again in mpmath at 30 digits (Landau & Lifshitz, *Mechanics*, §37), its
-derivatives by ``mp.diff``, to ≤ 1e-12 relative, including within 1e-6 of the separatrix;
-and, apart, against the forward sensitivities of an integrated run."""
+closed form written again in mpmath at 30 digits (Landau & Lifshitz, *Mechanics*, §37: ω(t),
+the period, the flip interval and the attitude's Euler angles), its derivatives by
+``mp.diff``, to ≤ 1e-12 relative, including within 1e-6 of the separatrix; and, apart,
+against the forward sensitivities of an integrated run."""
 
 import mpmath as mp
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 from poinsot import FreeRigidBody, simulate
 from poinsot.bodies import RigidBody
@@ -36,28 +38,94 @@ def closed_form(I, w0, t):
         sg = mp.sign(w0[0])
         sn0, cn0 = sg * w0[1] / al[1], w0[2] / al[2]
         signs, order = (sg, sg, 1), ("dn", "sn", "cn")
-    u = mp.ellipf(mp.atan2(sn0, cn0), m) + lam * t
+    u0 = mp.ellipf(mp.atan2(sn0, cn0), m)
+    u = u0 + lam * t
     w = [s * a * mp.ellipfun(f, u, m=m) for s, a, f in zip(signs, al, order, strict=True)]
     K = mp.ellipk(m)
-    return w, 4 * K / lam, 2 * K / lam
+    return w, 4 * K / lam, 2 * K / lam, (u0, u, m, lam, a2 > k2 * I2)
 
 
-def reference(I, w0, t):
-    """The derivatives by mp.diff: ∂ω/∂(I, ω0) (3, 6), ∂period, ∂flip (6,)."""
+B = mp.matrix([[0, 0, 1], [0, -1, 0], [1, 0, 0]])  # e1's right-handed relabelling (e3, −e2, e1)
+
+
+def euler_zxz(psi, theta, phi):
+    """Rz(ψ) Rx(θ) Rz(φ)."""
+
+    def rz(a):
+        return mp.matrix([[mp.cos(a), -mp.sin(a), 0], [mp.sin(a), mp.cos(a), 0], [0, 0, 1]])
+
+    rx = mp.matrix([[1, 0, 0], [0, mp.cos(theta), -mp.sin(theta)],
+                    [0, mp.sin(theta), mp.cos(theta)]])  # fmt: skip
+    return rz(psi) * rx * rz(phi)
+
+
+def third_kind(n, u, m):
+    """``∫₀^u du/(1 − n sn² u)`` = Π(n; am u | m), with ``am u = jπ + am v``, ``u = 2jK + v``."""
+    K = mp.ellipk(m)
+    j = mp.nint(u / (2 * K))
+    v = u - 2 * j * K
+    phi = mp.atan2(mp.ellipfun("sn", v, m=m), mp.ellipfun("cn", v, m=m))
+    return 2 * j * mp.ellippi(n, m) + mp.ellippi(n, phi, m)
+
+
+def body_angles(J, p):
+    """(θ, φ) of the relabelled body momentum ``p``: ``π = a (sin θ sin φ, sin θ cos φ, cos θ)``."""
+    return mp.atan2(mp.hypot(p[0], p[1]), p[2]), mp.atan2(p[0], p[1])
+
+
+def closed_attitude(I, w0, t, Q0, psi_by_quadrature=False):
+    """Q(t) (sorted principal frame → space) from ``Q(0) = Q0`` (Landau & Lifshitz §37): the
+    body frame relative to the invariable frame (z along L) by the z-x-z angles
+    ``cos θ = π3/a``, ``tan φ = π1/π2`` and ``ψ̇ = a (J1 ω1² + J2 ω2²)/(J1² ω1² + J2² ω2²)``,
+    in the frame relabelled about e1 where the polhode circles it. ψ is the closed form
+    ``a t/J3 + a (J3 − J1)/(J3 J1 λ) [Π(u) − Π(u0)]``, ``n = −J3 (J2 − J1)/(J1 (J3 − J2))``,
+    or, to check that form, the quadrature of ψ̇."""
+    w, _, _, (u0, u, m, lam, e3) = closed_form(I, w0, t)
+    relabel = (lambda x: list(x)) if e3 else (lambda x: [x[2], -x[1], x[0]])
+    J = list(I) if e3 else [I[2], I[1], I[0]]
+    Bm = mp.eye(3) if e3 else B
+    p0 = [j * x for j, x in zip(J, relabel(w0), strict=True)]
+    p = [j * x for j, x in zip(J, relabel(w), strict=True)]
+    a = mp.sqrt(sum(x * x for x in p0))
+    if psi_by_quadrature:
+
+        def rate(s):
+            x = relabel(closed_form(I, w0, s)[0])
+            return (
+                a
+                * (J[0] * x[0] ** 2 + J[1] * x[1] ** 2)
+                / (J[0] ** 2 * x[0] ** 2 + J[1] ** 2 * x[1] ** 2)
+            )
+
+        psi = mp.quad(rate, mp.linspace(0, t, 9))
+    else:
+        n = -J[2] * (J[1] - J[0]) / (J[0] * (J[2] - J[1]))
+        psi = a * t / J[2] + a * (J[2] - J[0]) / (J[2] * J[0] * lam) * (
+            third_kind(n, u, m) - third_kind(n, u0, m)
+        )
+    R0 = euler_zxz(0, *body_angles(J, p0))
+    R = euler_zxz(psi, *body_angles(J, p))
+    return Q0 * Bm * R0.T * R * Bm
+
+
+def reference(I, w0, t, Q0):
+    """The derivatives by mp.diff: ∂ω/∂(I, ω0) (3, 6), ∂period, ∂flip (6,), ∂Q (3, 3, 6)."""
     x0 = [mp.mpf(v) for v in (*I, *w0)]
+    Q0 = mp.matrix(Q0.tolist())
+    seen = {}
 
-    def part(j, pick):
-        def f(x):
+    def outputs(j, x):  # every output at once, each point once (mp.diff revisits them)
+        if (j, x) not in seen:
             y = list(x0)
             y[j] = x
-            return pick(closed_form(y[:3], y[3:], mp.mpf(t)))
+            w, period, flip, _ = closed_form(y[:3], y[3:], mp.mpf(t))
+            Q = closed_attitude(y[:3], y[3:], mp.mpf(t), Q0)
+            seen[j, x] = [*w, period, flip, *(Q[r, c] for r in range(3) for c in range(3))]
+        return seen[j, x]
 
-        return mp.diff(f, x0[j])
-
-    D = np.array([[float(part(j, lambda r, i=i: r[0][i])) for j in range(6)] for i in range(3)])
-    dP = np.array([float(part(j, lambda r: r[1])) for j in range(6)])
-    dF = np.array([float(part(j, lambda r: r[2])) for j in range(6)])
-    return D, dP, dF
+    d = np.array([[float(mp.diff(lambda x, j=j, k=k: outputs(j, x)[k], x0[j]))
+                   for j in range(6)] for k in range(14)])  # fmt: skip
+    return d[:3], d[3], d[4], d[5:].reshape(3, 3, 6)
 
 
 def near_separatrix(I, eps, side):
@@ -83,24 +151,51 @@ def relative(a, b):
     return np.abs(a - b).max() / np.abs(b).max()
 
 
+Q0 = Rotation.from_rotvec([0.3, -0.5, 0.2]).as_matrix()
+
+
 @pytest.mark.parametrize(("name", "I", "w0", "t"), CASES, ids=[c[0] for c in CASES])
 def test_derivatives_of_the_closed_form_equal_mpmaths(name, I, w0, t):
     body = FreeRigidBody(I)
-    d = body.exact_derivatives(w0, [0.0, t])
-    w_ref, period, flip = closed_form([mp.mpf(x) for x in I], [mp.mpf(x) for x in w0], t)
+    d = body.exact_derivatives(w0, [0.0, t], Q0=Q0)
+    Imp, w0mp = [mp.mpf(x) for x in I], [mp.mpf(x) for x in w0]
+    w_ref, period, flip, _ = closed_form(Imp, w0mp, t)
     # the forward map itself first: the same motion, period and flip interval (near the
-    # separatrix too: its distance a² − 2k I2 is formed without rounding errors)
+    # separatrix too: its distance a² − 2k I2 is formed without rounding errors), and the
+    # same attitude
     np.testing.assert_allclose(d.omega[-1], [float(x) for x in w_ref], rtol=1e-12, atol=1e-13)
     assert d.period == pytest.approx(float(period), rel=1e-14)
     assert d.flip_interval == pytest.approx(float(flip), rel=1e-14)
-    D, dP, dF = reference(I, w0, t)
+    Q_ref = closed_attitude(Imp, w0mp, mp.mpf(t), mp.matrix(Q0.tolist()))
+    np.testing.assert_allclose(d.attitude[-1], np.array(Q_ref.tolist(), float), atol=1e-13)
+    D, dP, dF, DQ = reference(I, w0, t, Q0)
     got = np.hstack([d.d_omega_d_moments[-1], d.d_omega_d_omega0[-1]])
     assert relative(got, D) <= 1e-12, name
     assert relative(np.r_[d.d_period_d_moments, d.d_period_d_omega0], dP) <= 1e-12
     assert relative(np.r_[d.d_flip_d_moments, d.d_flip_d_omega0], dF) <= 1e-12
-    # at t = 0: ω0 itself, ∂ω/∂ω0 = 1, ∂ω/∂I = 0
+    got = np.concatenate([d.d_attitude_d_moments[-1], d.d_attitude_d_omega0[-1]], axis=-1)
+    assert relative(got, DQ) <= 1e-12, name
+    # at t = 0: ω0 itself, ∂ω/∂ω0 = 1, ∂ω/∂I = 0, and Q0 whatever the parameters
     np.testing.assert_allclose(d.d_omega_d_omega0[0], np.eye(3), atol=1e-13)
     np.testing.assert_allclose(d.d_omega_d_moments[0], 0.0, atol=1e-13)
+    # (to the round-off of P0 R0, whose factors' derivatives cancel: ∂φ/∂ω0 ~ 1/|ω1| in
+    # the tennis racket)
+    np.testing.assert_allclose(d.attitude[0], Q0, atol=1e-15)
+    size = max(1.0, np.abs(got).max())
+    np.testing.assert_allclose(d.d_attitude_d_omega0[0], 0.0, atol=1e-14 * size)
+    np.testing.assert_allclose(d.d_attitude_d_moments[0], 0.0, atol=1e-14 * size)
+
+
+@pytest.mark.parametrize("case", [CASES[0], CASES[1]], ids=["around e3", "around e1"])
+def test_the_reference_attitudes_psi_is_the_quadrature_of_its_rate(case):
+    # the mpmath reference's ψ in closed form (a third-kind integral) against the quadrature
+    # of Landau & Lifshitz's ψ̇: the reference is checked by a route with no elliptic Π
+    _, I, w0, t = case
+    Imp, w0mp, Q = [mp.mpf(x) for x in I], [mp.mpf(x) for x in w0], mp.matrix(Q0.tolist())
+    with mp.workdps(20):
+        closed = closed_attitude(Imp, w0mp, mp.mpf(t), Q)
+        quad = closed_attitude(Imp, w0mp, mp.mpf(t), Q, psi_by_quadrature=True)
+        assert mp.mnorm(closed - quad, 1) < mp.mpf(10) ** -17
 
 
 def test_near_the_separatrix_the_derivatives_grow_as_the_period_does():
@@ -116,8 +211,6 @@ def test_near_the_separatrix_the_derivatives_grow_as_the_period_does():
 def test_a_rotated_body_maps_the_derivatives_to_its_frame():
     # a body given by a full inertia tensor: the derivatives in its own frame equal the
     # sorted principal frame's turned by the principal axes
-    from scipy.spatial.transform import Rotation
-
     R = Rotation.from_rotvec([0.3, -0.5, 0.2]).as_matrix()
     J = R @ np.diag([3.0, 1.0, 2.0]) @ R.T
     rotated = FreeRigidBody.from_body(RigidBody(1.0, J))

@@ -415,7 +415,7 @@ pub fn carlson_rj_above<T: Real>(x: T, y: T, z: T, p: T) -> T {
 /// Carlson's duplication for `R_J` (DLMF 19.36.1, Carlson 1995, algorithm 3), generic over
 /// [`Real`], with `R_C(1, 1 + e)` given: each lane duplicates until its own run stops.
 #[inline(always)]
-fn carlson_rj_by<T: Real>(x: T, y: T, z: T, p: T, rc1p: impl Fn(T) -> T) -> T {
+pub(crate) fn carlson_rj_by<T: Real>(x: T, y: T, z: T, p: T, rc1p: impl Fn(T) -> T) -> T {
     let c = T::splat;
     let (mut x, mut y, mut z, mut p) = (x, y, z, p);
     let a0 = (x + y + z + c(2.0) * p) / c(5.0);
@@ -591,6 +591,34 @@ pub fn third_kind_reduced<T: Real>(n: T, s: T, c: T, d: T, p: T, pi_complete: T)
     let g = s * carlson_rf(c2, d2, k(1.0))
         + n / k(3.0) * s * s * s * carlson_rj_above(c2, d2, k(1.0), k(1.0) - n * s * s);
     T::select(p.unequal(k(0.0)), g + k(2.0) * p * pi_complete, g)
+}
+
+/// [`third_kind_reduced`]'s `G = s R_F(c², d², 1) + (n/3) s³ R_J(c², d², 1, 1 − n s²)` (n ≤ 0,
+/// `c ≥ 0`) with the first duplication step taken on the square roots `c`, `d`, `1` and
+/// `√(1 − n s²)` themselves: `R_F(x, y, z) = R_F(x₁, y₁, z₁)` and
+/// `R_J(x, y, z, p) = R_J(x₁, y₁, z₁, p₁)/4 + 6 R_C(1, 1 + δ/d₀²)/d₀`, with `x₁ = (x + λ)/4`, …,
+/// `λ = √x√y + √y√z + √z√x`, `δ = (p − x)(p − y)(p − z)`, `d₀ = (√p + √x)(√p + √y)(√p + √z)`
+/// (DLMF 19.26.18; the first step of Carlson 1995, algorithm 3). Generic over [`Real`], with
+/// `R_C(1, 1 + e)` given. On dual numbers no argument is then zero where it is differentiated:
+/// `cn v = 0` at `v = ±K` carries its derivative in `c`, which `√(c²)` would lose (0/0).
+pub fn third_kind_from_roots<T: Real>(n: T, s: T, c: T, d: T, rc1p: impl Fn(T) -> T + Copy) -> T {
+    let k = T::splat;
+    let one = k(1.0);
+    let (c2, d2) = (c * c, d * d);
+    let p = one - n * s * s;
+    let sp = p.sqrt();
+    let lam = c * d + c + d;
+    let q = k(0.25);
+    let (x1, y1, z1, p1) = (
+        q * (c2 + lam),
+        q * (d2 + lam),
+        q * (one + lam),
+        q * (p + lam),
+    );
+    let d0 = (sp + c) * (sp + d) * (sp + one);
+    let delta = (p - c2) * (p - d2) * (p - one);
+    let rj = q * carlson_rj_by(x1, y1, z1, p1, rc1p) + k(6.0) * rc1p(delta / (d0 * d0)) / d0;
+    s * carlson_rf(x1, y1, z1) + n / k(3.0) * s * s * s * rj
 }
 
 /// `∫₀^u du' / (1 − n sn²u')  (= Π(n; am u | m))` for `n < 1`, accurate for every u;

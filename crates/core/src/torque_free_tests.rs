@@ -627,3 +627,53 @@ fn the_closed_forms_derivatives_equal_differences_of_the_closed_form() {
         }
     }
 }
+
+#[test]
+fn the_closed_forms_attitude_derivatives_equal_differences_of_the_attitude() {
+    // ∂Q(t) along the moments and ω0 against Richardson differences of the f64 attitude, for
+    // both poles, mixed signs, a start with cn u0 = 0 (ω1 = 0 about e3, ω3 = 0 about e1:
+    // the point where Carlson's first argument is zero) and several half periods of Π
+    let q0 = crate::so3::exp_so3([0.3, -0.5, 0.2]);
+    for (moments, w, t) in [
+        ([1.0, 2.0, 3.0], [0.3, -0.4, 1.1], 2.7),
+        ([1.0, 2.0, 3.0], [1.2, 0.5, -0.2], 5.3),
+        ([0.7, 1.3, 1.9], [-0.5, -0.8, 0.6], 11.0),
+        ([1.0, 2.0, 3.0], [0.0, 0.5, 1.1], 4.1),
+        ([1.0, 2.0, 3.0], [1.2, -0.5, 0.0], 3.2),
+    ] {
+        let tangent = ExactTangent::new(moments, w).expect("an elliptic motion");
+        let attitude = |m: Vec3, x: Vec3| {
+            let reg = Regime::new(m, 0, x);
+            let att = AttitudeSetup::new(m, &reg, x, &q0);
+            attitude_at(m, &reg, &att, x, &q0, t)
+        };
+        let (value, d) = tangent.attitude_at(&q0, t);
+        let plain = attitude(moments, w);
+        let (_, d0) = tangent.attitude_at(&q0, 0.0);
+        for r in 0..3 {
+            for c in 0..3 {
+                assert!((value[r][c] - plain[r][c]).abs() < 1e-14, "{w:?}: Q {r}{c}");
+                for j in 0..DIRECTIONS {
+                    assert!(d0[r][c][j].abs() < 1e-14, "{w:?}: ∂Q(0) {r}{c} {j}");
+                    let fd = richardson(
+                        |h| {
+                            let (mut m, mut x) = (moments, w);
+                            if j < 3 {
+                                m[j] += h;
+                            } else {
+                                x[j - 3] += h;
+                            }
+                            attitude(m, x)[r][c]
+                        },
+                        1e-4,
+                    );
+                    let want = d[r][c][j];
+                    assert!(
+                        (want - fd).abs() <= 1e-8 * fd.abs().max(1.0),
+                        "{moments:?} {w:?}: Q {r}{c}, direction {j}: {want} against {fd}"
+                    );
+                }
+            }
+        }
+    }
+}

@@ -325,33 +325,51 @@ fn torque_free_omegas<'py>(
 }
 
 /// The exact derivatives of one torque-free motion (`torque_free::ExactTangent`): from ω0
-/// `w` (3,) in the sorted principal frame of the sorted `moments` (three distinct), ω(t)
-/// (n, 3), `∂ω(t)/∂p` (n, 3, 6) for the directions `p = (I1, I2, I3, ω0_1, ω0_2, ω0_3)`, and
-/// the period and the flip interval with their derivatives (7,: the value, then the six).
+/// `w` (3,) in the sorted principal frame of the sorted `moments` (three distinct) and `Q(0) =
+/// q0` (3, 3) (sorted frame → space), ω(t) (n, 3) and `∂ω(t)/∂p` (n, 3, 6) for the directions
+/// `p = (I1, I2, I3, ω0_1, ω0_2, ω0_3)`, Q(t) (n, 3, 3) and `∂Q(t)/∂p` (n, 3, 3, 6), and the
+/// period and the flip interval with their derivatives (7,: the value, then the six).
 #[pyfunction]
 #[allow(clippy::type_complexity)]
 fn torque_free_derivatives<'py>(
     py: Python<'py>,
     moments: Arr<'py>,
     w: Arr<'py>,
+    q0: Arr<'py>,
     t: Arr<'py>,
 ) -> PyResult<(
     Bound<'py, PyArray2<f64>>,
     Bound<'py, PyArray3<f64>>,
+    Bound<'py, PyArray3<f64>>,
+    Bound<'py, PyArray4<f64>>,
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray1<f64>>,
 )> {
-    let (i, w, ts) = (vec3(&moments, "moments")?, vec3(&w, "w")?, times(&t, "t")?);
+    let (i, w, q0, ts) = (
+        vec3(&moments, "moments")?,
+        vec3(&w, "w")?,
+        mat3(&q0, "q0")?,
+        times(&t, "t")?,
+    );
     let tangent =
         torque_free::ExactTangent::new(i, w).map_err(|e| PyValueError::new_err(e.to_string()))?;
     let n = ts.len();
     let mut omega = Vec::with_capacity(3 * n);
     let mut d = Vec::with_capacity(18 * n);
+    let mut q = Vec::with_capacity(9 * n);
+    let mut dq = Vec::with_capacity(54 * n);
     for &t in ts.iter() {
         let (value, rows) = tangent.omega_at(t);
         omega.extend_from_slice(&value);
         for row in rows {
             d.extend_from_slice(&row);
+        }
+        let (value, parts) = tangent.attitude_at(&q0, t);
+        for (row, part) in value.iter().zip(&parts) {
+            q.extend_from_slice(row);
+            for entry in part {
+                dq.extend_from_slice(entry);
+            }
         }
     }
     let with = |x: poinsot_core::dual::Dual<6>| {
@@ -359,13 +377,16 @@ fn torque_free_derivatives<'py>(
         v.extend_from_slice(&x.d);
         Array1::from(v).into_pyarray(py)
     };
-    let omega = Array2::from_shape_vec((n, 3), omega)
-        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    let d =
-        Array3::from_shape_vec((n, 3, 6), d).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let shaped = |e: numpy::ndarray::ShapeError| PyRuntimeError::new_err(e.to_string());
+    let omega = Array2::from_shape_vec((n, 3), omega).map_err(shaped)?;
+    let d = Array3::from_shape_vec((n, 3, 6), d).map_err(shaped)?;
+    let q = Array3::from_shape_vec((n, 3, 3), q).map_err(shaped)?;
+    let dq = Array4::from_shape_vec((n, 3, 3, 6), dq).map_err(shaped)?;
     Ok((
         omega.into_pyarray(py),
         d.into_pyarray(py),
+        q.into_pyarray(py),
+        dq.into_pyarray(py),
         with(tangent.period()),
         with(tangent.flip_interval()),
     ))

@@ -49,6 +49,12 @@ class ExactDerivatives:
         ``∂ω_i(t)/∂ω0_j``.
     d_omega_d_moments : (n, 3, 3)
         ``∂ω_i(t)/∂I_k``.
+    attitude : (n, 3, 3)
+        Q(t) (body → space) from ``Q(0) = Q0``.
+    d_attitude_d_omega0 : (n, 3, 3, 3)
+        ``∂Q_rc(t)/∂ω0_j``.
+    d_attitude_d_moments : (n, 3, 3, 3)
+        ``∂Q_rc(t)/∂I_k``.
     period, flip_interval : float
         ``4K(m)/λ`` and ``2K(m)/λ``.
     d_period_d_omega0, d_period_d_moments, d_flip_d_omega0, d_flip_d_moments : (3,)
@@ -59,6 +65,9 @@ class ExactDerivatives:
     omega: np.ndarray
     d_omega_d_omega0: np.ndarray
     d_omega_d_moments: np.ndarray
+    attitude: np.ndarray
+    d_attitude_d_omega0: np.ndarray
+    d_attitude_d_moments: np.ndarray
     period: float
     d_period_d_omega0: np.ndarray
     d_period_d_moments: np.ndarray
@@ -218,17 +227,20 @@ class SolutionMixin:
         out = core_torquefree.torque_free_omegas(self._In, self._S, self._symmetry_code, W, t)
         return out[0] if single else out
 
-    def exact_derivatives(self, omega0, t) -> ExactDerivatives:
-        """The exact derivatives of ω(t), of the period and of the flip interval with respect
-        to ``omega0`` (body frame) and the principal moments, from the closed form itself
-        (:class:`ExactDerivatives`).
+    def exact_derivatives(self, omega0, t, Q0=None) -> ExactDerivatives:
+        """The exact derivatives of ω(t), of Q(t), of the period and of the flip interval
+        with respect to ``omega0`` (body frame) and the principal moments, from the closed
+        form itself (:class:`ExactDerivatives`); ``Q(0) = Q0`` (default identity) is held.
 
         The regime's algebra (amplitudes, rate, parameter m, the initial argument u0) runs in
         the core on dual numbers; the elliptic functions carry their known derivatives in u
         and, through the amplitude, in m (Carlson's ``R_D``: no cancellation as m → 1), so
         the derivatives stay accurate arbitrarily close to the separatrix, where they grow as
-        ``1/(1 − m)`` (``crates/core/src/torque_free/derivatives.rs``). A body with three
-        distinct moments, off the fixed points and the separatrix itself; one ``omega0``.
+        ``1/(1 − m)``. The attitude is the engine's own formula on the same dual numbers:
+        θ and φ from ``π = Iω``, and ψ's third-kind integral ``Π(u)`` differentiated through
+        Carlson's duplication (``crates/core/src/torque_free/derivatives.rs``). A body with
+        three distinct moments, off the fixed points and the separatrix itself; one
+        ``omega0``.
 
         Examples
         --------
@@ -239,6 +251,8 @@ class SolutionMixin:
         >>> d = body.exact_derivatives((0.01, 1.0, 0.01), [0.0, 1.0])
         >>> round(d.flip_interval, 4), d.d_flip_d_moments.round(3).tolist()
         (19.5529, [18.686, 4.331, -9.116])
+        >>> d.d_attitude_d_omega0.shape
+        (2, 3, 3, 3)
         """
         W, single = self._initial(omega0)
         if not single:
@@ -246,15 +260,21 @@ class SolutionMixin:
         if self.symmetry != "asymmetric":
             raise ValueError("exact_derivatives needs three distinct `moments`; this body is "
                              f"{self.symmetry}")  # fmt: skip
+        Q = np.eye(3) if Q0 is None else as_rotation_matrices(Q0, "Q0", 1)[0]
         t = self._times(t)
         self._resolved(W, t)
         S = self._S
         scale = self._In / self._I  # the core's moments are scaled by a power of two
-        w, D, period, flip = core_torquefree.torque_free_derivatives(self._In, S.T @ W[0], t)
+        w, D, Qs, DQ, period, flip = core_torquefree.torque_free_derivatives(
+            self._In, S.T @ W[0], Q @ S, t
+        )
         dw = np.einsum("ij,njk,lk->nil", S, D[:, :, 3:], S)
         dI = np.einsum("ij,njk->nik", S, D[:, :, :3]) * scale
+        # Q(t) = Q_sorted(t) Sᵀ, ω0_sorted = Sᵀ ω0
+        dQw = np.einsum("nrak,ca,lk->nrcl", DQ[..., 3:], S, S)
+        dQI = np.einsum("nrak,ca->nrck", DQ[..., :3], S) * scale
         return ExactDerivatives(
-            t, w @ S.T, dw, dI,
+            t, w @ S.T, dw, dI, Qs @ S.T, dQw, dQI,
             float(period[0]), S @ period[4:], period[1:4] * scale,
             float(flip[0]), S @ flip[4:], flip[1:4] * scale,
         )  # fmt: skip

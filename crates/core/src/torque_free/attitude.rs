@@ -23,21 +23,75 @@ pub(super) fn relabelled_angles(pole: u8, p: Vec3) -> (f64, f64) {
     (b0.hypot(b1).atan2(b2), b0.atan2(b1))
 }
 
-/// `Rzxz(0, θ, φ)` of the body momentum `π` (relabelled as [`relabelled_angles`]) from the
-/// ratios `sin θ = ρ/|π|`, `cos θ = π_p/|π|`, `(sin φ, cos φ) = (π_1', π_2')/ρ`,
-/// `ρ = |(π_1', π_2')|` (no angle formed; `φ = 0` where ρ = 0), as
-/// [`EllipticMotion::attitude`] forms the rotation at every time.
+/// `Rzxz(ψ, θ, φ)` of the body momentum `π` (relabelled as [`relabelled_angles`] where `e3`
+/// is clear) from `(sin ψ, cos ψ)` and the ratios `sin θ = ρ/|π|`, `cos θ = π_p/|π|`,
+/// `(sin φ, cos φ) = (π_1', π_2')/ρ`, `ρ = |(π_1', π_2')|` (no angle formed; `φ = 0` where
+/// ρ = 0): the rotation [`EllipticMotion::attitude`] forms at every time and
+/// [`invariable_frame`] at the start. Generic over [`Real`]; `plain` as [`Real::norm2`].
+#[inline(always)]
+pub(super) fn body_rotation<T: Real>(
+    e3: T::Mask,
+    pi: [T; 3],
+    psi: [T; 2],
+    plain: &mut T::Mask,
+) -> [[T; 3]; 3] {
+    let c = T::splat;
+    let b0 = T::select(e3, pi[0], pi[2]);
+    let b1 = T::select(e3, pi[1], -pi[1]);
+    let b2 = T::select(e3, pi[2], pi[0]);
+    let rho = T::norm2(b0, b1, plain);
+    let r = T::norm2(rho, b2, plain);
+    let flat = rho.equal(c(0.0)); // θ = 0 or π: φ = atan2(0, 0) = 0
+    let phi = [
+        T::select(flat, c(0.0), b0 / rho),
+        T::select(flat, c(1.0), b1 / rho),
+    ];
+    zxz_matrix_sc(psi, [rho / r, b2 / r], phi)
+}
+
+/// The invariable frame `P0 = Q0 Bᵀ R0ᵀ` of the motion whose body momentum at t = 0 is `pi0`
+/// (`R0` its [`body_rotation`] at ψ = 0, `B` the relabelling about e1), so that
+/// `Q(t) = P0 Rzxz(ψ, θ, φ) B` starts at `Q(0) = q0` with `ψ(0) = 0`. Generic over [`Real`]
+/// (the closed form's derivatives run it on dual numbers, [`super::ExactTangent`]).
 #[inline]
-fn start_rotation(pole: u8, p: Vec3) -> Mat3 {
-    let [b0, b1, b2] = if pole == 0 { [p[2], -p[1], p[0]] } else { p };
-    let rho = f64::norm2(b0, b1, &mut true);
-    let r = f64::norm2(rho, b2, &mut true);
-    let phi = if rho == 0.0 {
-        [0.0, 1.0]
+pub(super) fn invariable_frame<T: Real<Mask = bool>>(
+    e3: bool,
+    pi0: [T; 3],
+    q0: &Mat3,
+) -> [[T; 3]; 3] {
+    let c = T::splat;
+    let r0 = body_rotation(e3, pi0, [c(0.0), c(1.0)], &mut true);
+    let mut qb = [[0.0; 3]; 3];
+    for r in 0..3 {
+        qb[r] = if e3 {
+            q0[r]
+        } else {
+            // Bᵀ = B = [[0, 0, 1], [0, −1, 0], [1, 0, 0]]
+            [q0[r][2], -q0[r][1], q0[r][0]]
+        };
+    }
+    let mut p0 = [[c(0.0); 3]; 3];
+    for r in 0..3 {
+        for k in 0..3 {
+            p0[r][k] = c(qb[r][0]) * r0[k][0] + c(qb[r][1]) * r0[k][1] + c(qb[r][2]) * r0[k][2];
+        }
+    }
+    p0
+}
+
+/// ψ's terms of an elliptic motion about the pole e3 (`e3`) or e1 from the sorted `moments`,
+/// `a = |L|` and the rate `λ`: `(I_p, I_q, n, a (I_p − I_q)/(I_p I_q λ))`, the characteristic
+/// `n = −I3 (I2 − I1)/(I1 (I3 − I2))` (pole e3; `−I1 (I3 − I2)/(I3 (I2 − I1))` about e1) of
+/// `ψ = a t/I_p + a (I_p − I_q)/(I_p I_q λ) [Π(u) − Π(u0)]`. Generic over [`Real`].
+#[inline]
+pub(super) fn psi_terms<T: Real>(e3: bool, moments: [T; 3], a: T, lam: T) -> (T, T, T, T) {
+    let [i1, i2, i3] = moments;
+    let (ip, iq, n) = if e3 {
+        (i3, i1, -i3 * (i2 - i1) / (i1 * (i3 - i2)))
     } else {
-        [b0 / rho, b1 / rho]
+        (i1, i3, -i1 * (i3 - i2) / (i3 * (i2 - i1)))
     };
-    zxz_matrix_sc([0.0, 1.0], [rho / r, b2 / r], phi)
+    (ip, iq, n, a * (ip - iq) / (ip * iq * lam))
 }
 
 /// What the elliptic attitude needs beyond the regime: the invariable frame `p0`
@@ -92,38 +146,17 @@ impl AttitudeSetup {
     /// zero): the invariable frame `p0`, `n`, `I_p`, `I_q` and ψ's factor of an elliptic
     /// regime, the part every start of a motion needs ([`ThirdKindStart`] takes the rest).
     pub fn frame(moments: Vec3, reg: &Regime, w: Vec3, q0: &Mat3) -> AttitudeSetup {
-        let [i1, i2, i3] = moments;
-        let (ip, iq, n) = if reg.pole == 2 {
-            (i3, i1, -i3 * (i2 - i1) / (i1 * (i3 - i2)))
-        } else {
-            (i1, i3, -i1 * (i3 - i2) / (i3 * (i2 - i1)))
-        };
-        let r0 = start_rotation(reg.pole, [i1 * w[0], i2 * w[1], i3 * w[2]]);
-        // P0 = Q0 Bᵀ R0ᵀ: Q(0) = Q0 with ψ(0) = 0
-        let mut qb = [[0.0; 3]; 3];
-        for r in 0..3 {
-            qb[r] = if reg.pole == 2 {
-                q0[r]
-            } else {
-                // Bᵀ = B = [[0, 0, 1], [0, −1, 0], [1, 0, 0]]
-                [q0[r][2], -q0[r][1], q0[r][0]]
-            };
-        }
-        let mut p0 = [[0.0; 3]; 3];
-        for r in 0..3 {
-            for c in 0..3 {
-                p0[r][c] = qb[r][0] * r0[c][0] + qb[r][1] * r0[c][1] + qb[r][2] * r0[c][2];
-            }
-        }
-        let a = reg.momentum;
+        let e3 = reg.pole == 2;
+        let pi0 = [moments[0] * w[0], moments[1] * w[1], moments[2] * w[2]];
+        let (ip, iq, n, psi_pi) = psi_terms(e3, moments, reg.momentum, reg.lam);
         AttitudeSetup {
-            p0,
+            p0: invariable_frame(e3, pi0, q0),
             n,
             i_pole: ip,
             i_other: iq,
             pi_u0: 0.0,
             pi_complete: 0.0,
-            psi_pi: a * (ip - iq) / (ip * iq * reg.lam),
+            psi_pi,
         }
     }
 }
@@ -212,16 +245,16 @@ pub fn motion_from_start(
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct EllipticMotion<T: Real> {
     /// The signed amplitudes `σ_i α_i` and the pole (e3 where set).
-    sa: [T; 3],
-    e3: T::Mask,
+    pub(super) sa: [T; 3],
+    pub(super) e3: T::Mask,
     /// [`AttitudeSetup`]'s `n`, `Π(n|m)`, `Π(u0)`, ψ's factor; `a`, `I_p`; the invariable frame.
-    n: T,
-    pi_complete: T,
-    pi_u0: T,
-    psi_pi: T,
-    momentum: T,
-    i_pole: T,
-    p0: [[T; 3]; 3],
+    pub(super) n: T,
+    pub(super) pi_complete: T,
+    pub(super) pi_u0: T,
+    pub(super) psi_pi: T,
+    pub(super) momentum: T,
+    pub(super) i_pole: T,
+    pub(super) p0: [[T; 3]; 3],
 }
 
 impl EllipticMotion<f64> {
@@ -298,7 +331,7 @@ impl<T: Real> EllipticMotion<T> {
     ) -> [[T; 3]; 3] {
         let v = jacobi_omega(self.e3, self.sa, sn, cn, dn);
         let big_pi = self.third_kind(sn, cn, dn, p) - self.pi_u0;
-        self.attitude_with(moments, t, v, big_pi, plain)
+        self.attitude_with(moments.map(T::splat), t, v, big_pi, plain)
     }
 
     /// [`EllipticMotion::attitude`] from ω(t) `v` (the Jacobi form) and `Π(u) − Π(u0)`
@@ -306,7 +339,7 @@ impl<T: Real> EllipticMotion<T> {
     #[inline(always)]
     pub(super) fn attitude_with(
         &self,
-        moments: Vec3,
+        moments: [T; 3],
         t: T,
         v: [T; 3],
         big_pi: T,
@@ -314,23 +347,9 @@ impl<T: Real> EllipticMotion<T> {
     ) -> [[T; 3]; 3] {
         let c = T::splat;
         let psi = self.momentum * t / self.i_pole + self.psi_pi * big_pi;
-        let pi = [
-            c(moments[0]) * v[0],
-            c(moments[1]) * v[1],
-            c(moments[2]) * v[2],
-        ];
-        let b0 = T::select(self.e3, pi[0], pi[2]);
-        let b1 = T::select(self.e3, pi[1], -pi[1]);
-        let b2 = T::select(self.e3, pi[2], pi[0]);
-        let rho = T::norm2(b0, b1, plain);
-        let r = T::norm2(rho, b2, plain);
-        let flat = rho.equal(c(0.0)); // θ = 0 or π: φ = atan2(0, 0) = 0
-        let phi = [
-            T::select(flat, c(0.0), b0 / rho),
-            T::select(flat, c(1.0), b1 / rho),
-        ];
+        let pi = [moments[0] * v[0], moments[1] * v[1], moments[2] * v[2]];
         let (sps, cps) = sin_cos(psi);
-        let rot = zxz_matrix_sc([sps, cps], [rho / r, b2 / r], phi);
+        let rot = body_rotation(self.e3, pi, [sps, cps], plain);
         let mut x = [[c(0.0); 3]; 3];
         for (xr, pr) in x.iter_mut().zip(&self.p0) {
             for (k, xk) in xr.iter_mut().enumerate() {

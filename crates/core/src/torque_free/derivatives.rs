@@ -1,6 +1,6 @@
 //! Exact derivatives of the torque-free closed form (`docs/tutorials/sensitivities.md`):
-//! `∂ω(t)/∂(I, ω0)`, and those of the period `4K(m)/λ` and the flip interval `2K(m)/λ`, for a
-//! body with three distinct moments off the fixed points and the separatrix.
+//! `∂ω(t)/∂(I, ω0)`, `∂Q(t)/∂(I, ω0)`, and those of the period `4K(m)/λ` and the flip interval
+//! `2K(m)/λ`, for a body with three distinct moments off the fixed points and the separatrix.
 //!
 //! The regime's algebra — the scaling, the polhode radii, the Jacobi form's amplitudes `α`,
 //! rate `λ`, parameter `m` and the point `(sn u0, cn u0)` — is the engine's own
@@ -13,13 +13,24 @@
 //! `F(φ + nπ) = F(φ) + 2nK`, `∂K/∂m = R_D(0, 1, m1)/6`). Carlson's forms have no
 //! cancellation as `m → 0` or `m → 1`, so the derivatives stay accurate near the separatrix,
 //! where they grow as `1/m1`.
+//!
+//! The attitude `Q(t) = P0 Rzxz(ψ, θ, φ) B` is the engine's own formula
+//! ([`EllipticMotion::attitude_with`], [`invariable_frame`], [`psi_terms`]) on the same dual
+//! numbers: θ and φ from `π = Iω`, and `ψ = a t/I_p + a (I_p − I_q)/(I_p I_q λ) [Π(u) − Π(u0)]`
+//! with `Π(u) = 2pΠ(n|m) + G(v)` differentiated through Carlson's duplication itself
+//! ([`third_kind_from_roots`], whose first step takes `cn v` and `dn v` as they are, so that
+//! `cn v = 0` keeps its derivative; `R_C(1, 1 + e)` by its series where `e` is small, so
+//! that its derivative does not cancel).
 
-use super::{polhode_radii, JacobiForm, Radicals, Regime, AROUND_E1, AROUND_E3};
+use super::attitude::{invariable_frame, psi_terms, EllipticMotion};
+use super::{jacobi_omega, polhode_radii, JacobiForm, Radicals, Regime, AROUND_E1, AROUND_E3};
 use crate::cmath::{frexp, ldexp};
 use crate::dual::Dual;
-use crate::elliptic::{carlson_rj, jacobi_reduced_with};
+use crate::elliptic::{
+    carlson_rc1p, carlson_rj, jacobi_reduced_with, parity, third_kind_from_roots,
+};
 use crate::real::Real;
-use crate::so3::Vec3;
+use crate::so3::{Mat3, Vec3};
 
 /// The directions: the three sorted moments, then the three components of ω0 (sorted frame).
 pub const DIRECTIONS: usize = 6;
@@ -39,6 +50,29 @@ pub struct ExactTangent {
     quarter: D,
     /// `∂K/∂m`.
     k_m: f64,
+    /// The sorted moments and `π0 = I ω0`, seeded; the attitude's terms (`n`, `Π(n|m)`,
+    /// `Π(u0)`, ψ's factor, `a`, `I_p`), the invariable frame left to each `Q0`.
+    moments: [D; 3],
+    pi0: [D; 3],
+    motion: EllipticMotion<D>,
+}
+
+/// `R_C(1, 1 + e) = atan(√e)/√e` on dual numbers (e > −1, [`carlson_rc1p`]'s value) with its
+/// derivative `(1/(1 + e) − R_C)/(2e)`, or for |e| < 0.1 the series
+/// `Σ_{k≥1} (−1)^k k e^{k−1}/(2k + 1)`, where that difference cancels (the duplication's later
+/// `e` are tiny, `4^{−3j}` times the first).
+fn rc1p_dual(e: D) -> D {
+    let v = carlson_rc1p(e.v);
+    let slope = if e.v.abs() < 0.1 {
+        (1..=18).rev().fold(0.0, |acc, k| {
+            let k = k as f64;
+            let sign = if k % 2.0 == 0.0 { 1.0 } else { -1.0 };
+            acc * e.v + sign * k / (2.0 * k + 1.0)
+        })
+    } else {
+        (1.0 / (1.0 + e.v) - v) / (2.0 * e.v)
+    };
+    Dual::new(v, e.d.map(|x| x * slope))
 }
 
 /// `∂F(am u | m)/∂m` at fixed amplitude, from `(sn, cn, dn)` of `u`, `n = round(u / 2K)` and
@@ -95,22 +129,50 @@ impl ExactTangent {
             u0.d[j] = dphi / dn0 + f_m * m.d[j];
         }
         let s2 = f.s1 * f.s3;
-        Ok(ExactTangent {
+        let sa = [f.s1 * alpha[0], s2 * alpha[1], f.s3 * alpha[2]];
+        // the attitude's terms: a = |π0|, n, ψ's factor, Π(n|m) = G at v = K (s = 1, c = 0,
+        // d = √m1, m1 = 1 − m carrying −∂m)
+        let pi0 = [0, 1, 2].map(|i| im[i] * seed(w[i], 3 + i));
+        let a = D::norm2(D::norm2(pi0[0], pi0[1], &mut true), pi0[2], &mut true);
+        let e3 = regime.pole == 2;
+        let (ip, _, n, psi_pi) = psi_terms(e3, im, a, lam);
+        let m1 = Dual::new(regime.m1, m.d.map(|x| -x));
+        let pi_complete =
+            third_kind_from_roots(n, D::splat(1.0), D::splat(0.0), m1.sqrt(), rc1p_dual);
+        let motion = EllipticMotion {
+            sa,
+            e3,
+            n,
+            pi_complete,
+            pi_u0: D::splat(0.0),
+            psi_pi,
+            momentum: a,
+            i_pole: ip,
+            p0: [[D::splat(0.0); 3]; 3],
+        };
+        let mut tangent = ExactTangent {
             regime,
-            sa: [f.s1 * alpha[0], s2 * alpha[1], f.s3 * alpha[2]],
+            sa,
             lam,
             m,
             u0,
             quarter,
             k_m,
-        })
+            moments: im,
+            pi0,
+            motion,
+        };
+        // Π(u0) by the route of every later time, so that ψ(0) and its derivatives are 0
+        tangent.motion.pi_u0 = tangent.third_kind(tangent.jacobi_at(0.0));
+        Ok(tangent)
     }
 
-    /// `ω(t)` (sorted principal frame) and `∂ω_i(t)/∂p_j` (rows `i`, the directions `j`).
-    pub fn omega_at(&self, t: f64) -> (Vec3, [[f64; DIRECTIONS]; 3]) {
+    /// `(sn u, cn u, dn u)` of `u = u0 + λt` with their derivatives (through `u` and, at
+    /// fixed `u`, through `m`), and the reduction's `p` (`u = 2pK + v`, |v| ≤ K).
+    fn jacobi_at(&self, t: f64) -> (D, D, D, f64) {
         let reg = &self.regime;
         let u = self.u0 + self.lam * D::splat(t);
-        let (sn, cn, dn, _, _) = jacobi_reduced_with(u.v, reg.m, reg.m1, reg.quarter, &reg.agm);
+        let (sn, cn, dn, p, _) = jacobi_reduced_with(u.v, reg.m, reg.m1, reg.quarter, &reg.agm);
         let n = (u.v / (2.0 * reg.quarter)).round();
         let am_m = -dn * first_kind_dm(sn, cn, dn, n, self.k_m);
         let m = reg.m;
@@ -121,19 +183,48 @@ impl ExactTangent {
             }
             out
         };
-        let sn_d = dual(sn, cn * dn, cn * am_m);
-        let cn_d = dual(cn, -sn * dn, -sn * am_m);
-        let dn_d = dual(
-            dn,
-            -m * sn * cn,
-            -(sn * sn + 2.0 * m * sn * cn * am_m) / (2.0 * dn),
-        );
-        let (first, last) = if reg.pole == 2 {
-            (cn_d, dn_d)
+        (
+            dual(sn, cn * dn, cn * am_m),
+            dual(cn, -sn * dn, -sn * am_m),
+            dual(
+                dn,
+                -m * sn * cn,
+                -(sn * sn + 2.0 * m * sn * cn * am_m) / (2.0 * dn),
+            ),
+            p,
+        )
+    }
+
+    /// `Π(u) = 2pΠ(n|m) + G(v)` with its derivatives, from [`ExactTangent::jacobi_at`]:
+    /// `G` on `sn v = (−1)^p sn u`, `cn v = (−1)^p cn u ≥ 0`, `dn v = dn u`.
+    fn third_kind(&self, (sn, cn, dn, p): (D, D, D, f64)) -> D {
+        let par = D::splat(parity(p));
+        let g = third_kind_from_roots(self.motion.n, par * sn, par * cn, dn, rc1p_dual);
+        if p == 0.0 {
+            g
         } else {
-            (dn_d, cn_d)
-        };
-        let w = [self.sa[0] * first, self.sa[1] * sn_d, self.sa[2] * last];
+            g + D::splat(2.0 * p) * self.motion.pi_complete
+        }
+    }
+
+    /// `Q(t)` (sorted principal frame → space) of the motion from `Q(0) = q0`, and
+    /// `∂Q_rc(t)/∂p_j` (the directions last): the engine's attitude on dual numbers (see the
+    /// module docs).
+    pub fn attitude_at(&self, q0: &Mat3, t: f64) -> (Mat3, [[[f64; DIRECTIONS]; 3]; 3]) {
+        let jac = self.jacobi_at(t);
+        let (sn, cn, dn, _) = jac;
+        let mut motion = self.motion;
+        motion.p0 = invariable_frame(motion.e3, self.pi0, q0);
+        let v = jacobi_omega(motion.e3, motion.sa, sn, cn, dn);
+        let big_pi = self.third_kind(jac) - motion.pi_u0;
+        let x = motion.attitude_with(self.moments, D::splat(t), v, big_pi, &mut true);
+        (x.map(|r| r.map(|e| e.v)), x.map(|r| r.map(|e| e.d)))
+    }
+
+    /// `ω(t)` (sorted principal frame) and `∂ω_i(t)/∂p_j` (rows `i`, the directions `j`).
+    pub fn omega_at(&self, t: f64) -> (Vec3, [[f64; DIRECTIONS]; 3]) {
+        let (sn, cn, dn, _) = self.jacobi_at(t);
+        let w = jacobi_omega(self.regime.pole == 2, self.sa, sn, cn, dn);
         (w.map(|x| x.v), w.map(|x| x.d))
     }
 
