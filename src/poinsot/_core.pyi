@@ -131,6 +131,7 @@ __all__ = [
     "gyrostat_regressor",
     "gyrostat_sensitivities",
     "hat",
+    "heavy_top_derivatives",
     "heavy_top_motions",
     "initial_states",
     "integrate_lagrange",
@@ -813,3 +814,6 @@ def gyroscopic_precession_rate(c: float, mgl: float, spin: float) -> float: ...
 def heavy_top_motions(
     a: float, c: float, mgl: float, angles: ArrayLike, rates: ArrayLike, t: ArrayLike
 ) -> tuple[_F64, _F64]: ...
+def heavy_top_derivatives(
+    a: float, c: float, mgl: float, angles: _Vec3, rates: _Vec3, t: ArrayLike
+) -> tuple[_F64, _F64, _F64, _F64]: ...

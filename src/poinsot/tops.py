@@ -12,7 +12,9 @@ gyroscopic estimate ``M g l / (C ω₃)`` and the two exact steady precessions, 
 * :func:`top_motion` — the angles of a simulated top and the numbers above for its run;
 * :func:`exact_motion` — the same, from the closed form of Lagrange's top (θ by Jacobi
   functions, ψ and φ by elliptic integrals of the third kind; ``crates/core/src/heavy_top.rs``,
-  ``docs/theory.md`` §6): the exact reference a simulated top is graded against.
+  ``docs/theory.md`` §6): the exact reference a simulated top is graded against;
+* :func:`exact_derivatives` — that closed form's exact derivatives along ``A``, ``C``,
+  ``M g l`` and the initial state (:class:`TopDerivatives`).
 """
 
 from __future__ import annotations
@@ -28,7 +30,9 @@ from ._validation import as_scalar
 
 __all__ = [
     "HeavyTop",
+    "TopDerivatives",
     "TopMotion",
+    "exact_derivatives",
     "exact_motion",
     "gyroscopic_precession_rate",
     "heavy_top",
@@ -305,6 +309,20 @@ def _exact_or_none(top, traj):
     return replace(exact, t=traj.t)
 
 
+def _initial_angles(top: HeavyTop, w, Q):
+    """The z-x-z Euler angles (N, 3) of the top's axis frame in its space axes and their rates
+    (N, 3), from body ``w`` (N, 3) and ``Q`` (N, 3, 3) (body → space); refused with the axis on
+    the vertical."""
+    from .rotation import EULER_SINGULAR, euler_from_matrix, euler_rates_from_body
+
+    F, S = top.frame(), top.space()
+    angles = euler_from_matrix(np.einsum("ij,njk,kl->nil", S, Q, F), "ZXZ")
+    if np.any(np.abs(np.sin(angles[:, 1])) < EULER_SINGULAR):
+        raise ValueError("`Q0` puts the top's axis on the vertical, where ψ is undefined: "
+                         "tilt it (a sleeping top is the limit of a small tilt)")  # fmt: skip
+    return angles, euler_rates_from_body(angles, w @ F)
+
+
 def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
     """The motion of the heavy symmetric top ``top`` (:func:`heavy_top`) from the body angular
     velocity ``omega0`` (3,) (body components) and attitude ``Q0`` (3, 3) (body → space), at
@@ -331,24 +349,14 @@ def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
     (cusps), precessing at 1.153 rad/s on average, 6 % above the gyroscopic estimate.
     """
     from ._validation import as_array
-    from .rotation import (
-        EULER_SINGULAR,
-        body_rates_from_euler,
-        euler_from_matrix,
-        euler_rates_from_body,
-        matrix_from_euler,
-    )
+    from .rotation import EULER_SINGULAR, body_rates_from_euler, matrix_from_euler
 
     single = np.ndim(omega0) == 1
     w = as_array(omega0, "omega0", (3,) if single else (None, 3)).reshape(-1, 3)
     Q = as_array(Q0, "Q0", (3, 3) if single else (len(w), 3, 3)).reshape(-1, 3, 3)
     times = as_array(t, "t", (None,))
     F, S = top.frame(), top.space()
-    angles = euler_from_matrix(np.einsum("ij,njk,kl->nil", S, Q, F), "ZXZ")
-    if np.any(np.abs(np.sin(angles[:, 1])) < EULER_SINGULAR):
-        raise ValueError("`Q0` puts the top's axis on the vertical, where ψ is undefined: "
-                         "tilt it (a sleeping top is the limit of a small tilt)")  # fmt: skip
-    rates = euler_rates_from_body(angles, w @ F)
+    angles, rates = _initial_angles(top, w, Q)
     motion, summary = core_tops.heavy_top_motions(top.A, top.C, top.mgl, angles, rates, times)
     out = []
     for m, (u1, u2, _, period, rate, spin, _) in zip(motion, summary, strict=True):
@@ -368,3 +376,103 @@ def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
             phi=phi, Q=Q_t, omega=omega_t, nutation_period=float(period), space_axes=S,
         ))  # fmt: skip
     return out[0] if single else out
+
+
+#: The directions of :class:`TopDerivatives`: the top's constants, then its initial z-x-z
+#: angles and their rates.
+TOP_DIRECTIONS = ("A", "C", "mgl", "psi0", "theta0", "phi0", "psi_dot0", "theta_dot0",
+                  "phi_dot0")  # fmt: skip
+
+
+@dataclass(frozen=True)
+class TopDerivatives:
+    """The exact derivatives of a heavy top's closed form (:func:`exact_derivatives`).
+
+    Attributes
+    ----------
+    t : (n,)
+    angles, rates : (n, 3)
+        ``(ψ, θ, φ)`` and ``(ψ̇, θ̇, φ̇)`` [rad, rad/s], as :func:`exact_motion` has them.
+    d_angles, d_rates : (n, 3, 9)
+        Their derivatives along :data:`TOP_DIRECTIONS` (``directions``): ``A``, ``C``,
+        ``M g l``, then the initial angles ``(ψ₀, θ₀, φ₀)`` and rates ``(ψ̇₀, θ̇₀, φ̇₀)``.
+    cos_theta_band : (2,)
+        The turning points ``(u₁, u₂)`` of ``cos θ``; ``d_cos_theta_band`` (2, 9).
+    nutation_period, mean_precession_rate : float
+        ``2K(m)/λ`` and ψ's advance over it divided by it; ``d_nutation_period``,
+        ``d_mean_precession_rate`` (9,).
+    rates0_d_omega0 : (3, 3)
+        ``∂(ψ̇₀, θ̇₀, φ̇₀)/∂ω0`` at the initial attitude (the angles' rates are linear in the
+        body ω): with it the derivatives along the body's ω0 (:meth:`d_angles_d_omega0`).
+    """
+
+    t: np.ndarray
+    angles: np.ndarray
+    rates: np.ndarray
+    d_angles: np.ndarray
+    d_rates: np.ndarray
+    cos_theta_band: np.ndarray
+    d_cos_theta_band: np.ndarray
+    nutation_period: float
+    d_nutation_period: np.ndarray
+    mean_precession_rate: float
+    d_mean_precession_rate: np.ndarray
+    rates0_d_omega0: np.ndarray
+    directions: tuple = TOP_DIRECTIONS
+
+    @property
+    def d_angles_d_omega0(self) -> np.ndarray:
+        """``∂(ψ, θ, φ)(t)/∂ω0`` (n, 3, 3), the body's initial ω (body components) with its
+        attitude held."""
+        return self.d_angles[..., 6:] @ self.rates0_d_omega0
+
+    @property
+    def d_rates_d_omega0(self) -> np.ndarray:
+        """``∂(ψ̇, θ̇, φ̇)(t)/∂ω0`` (n, 3, 3)."""
+        return self.d_rates[..., 6:] @ self.rates0_d_omega0
+
+
+def exact_derivatives(top: HeavyTop, omega0, Q0, t) -> TopDerivatives:
+    """The exact derivatives of the heavy symmetric top's closed form (:func:`exact_motion`)
+    along its constants ``A``, ``C``, ``M g l`` and its initial state, from the body angular
+    velocity ``omega0`` (3,) and attitude ``Q0`` (3, 3) (body → space), at the times ``t``.
+
+    The core runs the closed form's own algebra on dual numbers: the cubic's roots by the
+    implicit function theorem, ``m``, ``λ``, the start ``τ₀`` (from ``u(τ₀) = u₀`` and
+    ``u̇(τ₀) = −θ̇₀ sin θ₀`` together, so a top released from rest has them too), the Jacobi
+    functions with their derivatives in ``τ`` and ``m``, and the third-kind integrals of ψ and
+    φ through Carlson's duplication (``crates/core/src/heavy_top.rs``, ``TopTangent``).
+    Refused, with the reason, where the closed form is not differentiable: a top that does not
+    nutate (steady precession, the sleeping top: the turning points merge) or whose axis
+    reaches the vertical.
+
+    Examples
+    --------
+    How the nutation period of a top released from rest depends on its spin rate φ̇₀
+    (seconds per rad/s):
+
+    >>> from poinsot import Gravity, RigidBody
+    >>> from poinsot.rotation import matrix_from_euler
+    >>> top = heavy_top(RigidBody.cylinder(1.0, 0.3, 0.2), (0, 0, -0.5), [Gravity()])
+    >>> d = exact_derivatives(top, (0.0, 0.0, 100.0), matrix_from_euler([0.0, 0.6, 0.0]), [1.0])
+    >>> round(d.nutation_period, 6), round(float(d.d_nutation_period[8]), 6)
+    (0.433236, -0.005407)
+    """
+    from ._validation import as_array, as_vector3
+
+    w = as_vector3(omega0, "omega0")
+    Q = as_array(Q0, "Q0", (3, 3))
+    times = as_array(t, "t", (None,))
+    angles, rates = _initial_angles(top, w[None], Q[None])
+    motion, d, summary, ds = core_tops.heavy_top_derivatives(
+        top.A, top.C, top.mgl, angles[0], rates[0], times
+    )
+    # the rates are linear in ω: their Jacobian is their value at the unit vectors
+    _, J = _initial_angles(top, np.eye(3), np.repeat(Q[None], 3, axis=0))
+    return TopDerivatives(
+        t=times, angles=motion[:, :3], rates=motion[:, 3:], d_angles=d[:, :3],
+        d_rates=d[:, 3:], cos_theta_band=summary[:2], d_cos_theta_band=ds[:2],
+        nutation_period=float(summary[2]), d_nutation_period=ds[2],
+        mean_precession_rate=float(summary[3]), d_mean_precession_rate=ds[3],
+        rates0_d_omega0=J.T,
+    )  # fmt: skip

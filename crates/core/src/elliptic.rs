@@ -17,6 +17,7 @@
 //! motion (`f64`) or many in SIMD lanes ([`crate::real::Wide`]), bit for bit alike.
 
 use crate::cmath;
+use crate::dual::Dual;
 use crate::real::{atan, py_max, sin_cos_small, Mask, Real};
 use std::f64::consts::PI;
 
@@ -593,7 +594,7 @@ pub fn third_kind_reduced<T: Real>(n: T, s: T, c: T, d: T, p: T, pi_complete: T)
     T::select(p.unequal(k(0.0)), g + k(2.0) * p * pi_complete, g)
 }
 
-/// [`third_kind_reduced`]'s `G = s R_F(c², d², 1) + (n/3) s³ R_J(c², d², 1, 1 − n s²)` (n ≤ 0,
+/// [`third_kind_reduced`]'s `G = s R_F(c², d², 1) + (n/3) s³ R_J(c², d², 1, 1 − n s²)` (n < 1,
 /// `c ≥ 0`) with the first duplication step taken on the square roots `c`, `d`, `1` and
 /// `√(1 − n s²)` themselves: `R_F(x, y, z) = R_F(x₁, y₁, z₁)` and
 /// `R_J(x, y, z, p) = R_J(x₁, y₁, z₁, p₁)/4 + 6 R_C(1, 1 + δ/d₀²)/d₀`, with `x₁ = (x + λ)/4`, …,
@@ -651,6 +652,74 @@ pub fn third_kind_u(n: f64, u: f64, m: f64, m1: f64, k: f64) -> f64 {
         g += 2.0 * p * ellippi_complete(n, m, m1);
     }
     g
+}
+
+// ------------------------------------------------------------------- on dual numbers
+
+/// `∂F(am u | m)/∂m` at fixed amplitude, from `(sn, cn, dn)` of `u`, `n = round(u / 2K)` and
+/// `∂K/∂m = R_D(0, 1, m1)/6`: `(−1)^n (sn³/6) R_D(cn², 1, dn²) + 2n ∂K/∂m` (differentiating
+/// `F = sin φ R_F(cos²φ, 1 − m sin²φ, 1)`, DLMF 19.25.5, with `∂R_F/∂z = −R_D/6`, on
+/// |φ| ≤ π/2, and `F(φ + nπ) = F(φ) + 2nK`): Carlson's form, with no cancellation as
+/// `m → 0` or `m → 1`.
+pub fn first_kind_dm(sn: f64, cn: f64, dn: f64, n: f64, k_m: f64) -> f64 {
+    let sign = if n.rem_euclid(2.0) == 0.0 { 1.0 } else { -1.0 };
+    let (c2, d2) = (cn * cn, dn * dn);
+    sign * sn * sn * sn / 6.0 * carlson_rj(c2, 1.0, d2, d2) + 2.0 * n * k_m
+}
+
+/// `(sn u, cn u, dn u)` of a dual `u` and parameter `m` (`m1 = 1 − m`, `k = K(m)`,
+/// `∂K/∂m = k_m`, `agm` the sequence of `m1`), with their derivatives: in `u` (DLMF
+/// 22.13.1–3) and, at fixed `u`, in `m` through the amplitude,
+/// `∂am/∂m = −dn ∂F(φ|m)/∂m` ([`first_kind_dm`]); and the reduction's `p`
+/// (`u = 2pK + v`, |v| ≤ K, [`jacobi_reduced_with`]).
+#[allow(clippy::type_complexity)]
+pub fn jacobi_dual<const P: usize>(
+    u: Dual<P>,
+    m: Dual<P>,
+    m1: f64,
+    k: f64,
+    k_m: f64,
+    agm: &Agm,
+) -> (Dual<P>, Dual<P>, Dual<P>, f64) {
+    let (sn, cn, dn, p, _) = jacobi_reduced_with(u.v, m.v, m1, k, agm);
+    let n = (u.v / (2.0 * k)).round();
+    let am_m = -dn * first_kind_dm(sn, cn, dn, n, k_m);
+    let dual = |v: f64, du: f64, dm: f64| {
+        let mut out = Dual::new(v, [0.0; P]);
+        for j in 0..P {
+            out.d[j] = du * u.d[j] + dm * m.d[j];
+        }
+        out
+    };
+    (
+        dual(sn, cn * dn, cn * am_m),
+        dual(cn, -sn * dn, -sn * am_m),
+        dual(
+            dn,
+            -m.v * sn * cn,
+            -(sn * sn + 2.0 * m.v * sn * cn * am_m) / (2.0 * dn),
+        ),
+        p,
+    )
+}
+
+/// `R_C(1, 1 + e)` on dual numbers (e > −1, [`carlson_rc1p`]'s value) with its derivative
+/// `(1/(1 + e) − R_C)/(2e)`, or for |e| < 0.1 the series
+/// `Σ_{k≥1} (−1)^k k e^{k−1}/(2k + 1)`, where that difference cancels (the later `e` of a
+/// duplication are tiny, `4^{−3j}` times the first): the `R_C` that
+/// [`third_kind_from_roots`] takes on dual numbers.
+pub fn rc1p_dual<const P: usize>(e: Dual<P>) -> Dual<P> {
+    let v = carlson_rc1p(e.v);
+    let slope = if e.v.abs() < 0.1 {
+        (1..=18).rev().fold(0.0, |acc, k| {
+            let k = k as f64;
+            let sign = if k % 2.0 == 0.0 { 1.0 } else { -1.0 };
+            acc * e.v + sign * k / (2.0 * k + 1.0)
+        })
+    } else {
+        (1.0 / (1.0 + e.v) - v) / (2.0 * e.v)
+    };
+    Dual::new(v, e.d.map(|x| x * slope))
 }
 
 #[cfg(test)]

@@ -33,9 +33,12 @@
 //! Without nutation (`u₁ = u₂`: steady precession, a sleeping top) θ is constant and ψ, φ
 //! turn uniformly.
 
+use crate::dual::Dual;
 use crate::elliptic::{
-    ellipk_m1, ellippi, ellippi_complete, first_kind_from_sn_cn, jacobi_reduced,
+    carlson_rj, ellipk_m1, ellippi, ellippi_complete, first_kind_from_sn_cn, jacobi_dual,
+    jacobi_reduced, parity, rc1p_dual, third_kind_from_roots, Agm,
 };
+use crate::real::Real;
 
 /// Everything the closed form needs of one motion, made once ([`TopMotion::new`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -186,6 +189,240 @@ impl TopMotion {
     }
 }
 
+/// The directions of [`TopTangent`]: `A`, `C`, `M g l`, the initial angles `(ψ₀, θ₀, φ₀)` and
+/// their rates `(ψ̇₀, θ̇₀, φ̇₀)`.
+pub const TOP_DIRECTIONS: usize = 9;
+
+type D9 = Dual<TOP_DIRECTIONS>;
+
+/// `(sin x, cos x)` of a dual `x`.
+fn sin_cos_dual(x: D9) -> (D9, D9) {
+    let (s, c) = x.v.sin_cos();
+    (
+        Dual::new(s, x.d.map(|d| c * d)),
+        Dual::new(c, x.d.map(|d| -s * d)),
+    )
+}
+
+/// A nutating heavy top with the derivatives of its closed form (T1)–(T3) along
+/// [`TOP_DIRECTIONS`]: the motion's algebra on dual numbers — the cubic's coefficients, its
+/// roots by the implicit function theorem (`∂x/∂p = −(∂g/∂p)/g'(x)` at each polished root),
+/// `m`, `λ`, the start `τ₀`, `n±` and the factors of (T3) — the Jacobi functions with their
+/// derivatives in `τ` and `m` ([`jacobi_dual`]) and the third-kind integrals through
+/// Carlson's duplication ([`third_kind_from_roots`]). `τ₀` is found from `u(τ₀) = u₀` and
+/// `u̇(τ₀) = −θ̇₀ sin θ₀` together (their derivatives, by least squares: the first degenerates
+/// at a turning point, the second at mid-swing), so a top released from rest has them too.
+#[derive(Clone, Copy, Debug)]
+pub struct TopTangent {
+    top: TopMotion,
+    agm: Agm,
+    /// `∂K/∂m`.
+    k_m: f64,
+    angles0: [D9; 3],
+    u0: D9,
+    bounds: [D9; 2],
+    x: [D9; 3],
+    a: D9,
+    w: D9,
+    spin: D9,
+    m: D9,
+    lam: D9,
+    quarter: D9,
+    tau0: D9,
+    n: [D9; 2],
+    factor: [D9; 2],
+    pi_complete: [D9; 2],
+    pi0: [D9; 2],
+}
+
+impl TopTangent {
+    /// The top `(A, C, M g l)` from the angles `(ψ₀, θ₀, φ₀)` and their rates (as
+    /// [`TopMotion::new`]); an error where the closed form has no derivatives: without
+    /// nutation (steady precession, a sleeping top: the turning points merge) or reaching the
+    /// vertical.
+    pub fn new(
+        a_moment: f64,
+        c_moment: f64,
+        mgl: f64,
+        angles: [f64; 3],
+        rates: [f64; 3],
+    ) -> Result<TopTangent, &'static str> {
+        let top = TopMotion::new(a_moment, c_moment, mgl, angles, rates);
+        if top.steady {
+            return Err(
+                "the top does not nutate (steady precession or a sleeping top): its \
+                        turning points merge, where the closed form is not differentiable",
+            );
+        }
+        if !(top.m1 > 0.0 && top.m1.is_finite()) {
+            return Err(
+                "the top's axis reaches the vertical, where the closed form's \
+                        nutation period is not differentiable",
+            );
+        }
+        let seed = |v: f64, j: usize| {
+            let mut d = [0.0; TOP_DIRECTIONS];
+            d[j] = 1.0;
+            Dual::new(v, d)
+        };
+        let (am, cm, mg) = (seed(a_moment, 0), seed(c_moment, 1), seed(mgl, 2));
+        let angles0 = [0, 1, 2].map(|k| seed(angles[k], 3 + k));
+        let [psid, thd, phid] = [0, 1, 2].map(|k| seed(rates[k], 6 + k));
+        let c = D9::splat;
+        // the algebra of TopMotion::new
+        let (s, u0) = sin_cos_dual(angles0[1]);
+        let s2 = s * s;
+        let spin = phid + psid * u0;
+        let a = cm * spin / am;
+        let beta = c(2.0) * mg / am;
+        let w = psid * s2;
+        let e = thd * thd + psid * psid * s2;
+        let q0 = (s * thd) * (s * thd);
+        let q1 = -beta * s2 - c(2.0) * u0 * e + c(2.0) * a * w;
+        let q2 = c(2.0) * beta * u0 - e - a * a;
+        let (sh, ch) = sin_cos_dual(c(0.5) * angles0[1]);
+        let bounds = [c(2.0) * sh * sh, c(2.0) * ch * ch]; // 1 − u₀, 1 + u₀
+                                                           // each polished root x: g(x) = 0, so ∂x/∂p = −(∂g/∂p)/g'(x)
+        let x = top.x.map(|xi| {
+            let xd = c(xi);
+            let g = ((beta * xd + q2) * xd + q1) * xd + q0;
+            let slope = (3.0 * beta.v * xi + 2.0 * q2.v) * xi + q1.v;
+            Dual::new(xi, g.d.map(|d| -d / slope))
+        });
+        let [x1, x2, x3] = x;
+        let width = x2 - x1;
+        let m = width / (x3 - x1);
+        let lam = c(0.5) * (beta * (x3 - x1)).sqrt();
+        let agm = Agm::new(top.m1);
+        let k_m = carlson_rj(0.0, 1.0, top.m1, top.m1) / 6.0;
+        let quarter = Dual::new(top.quarter, m.d.map(|d| k_m * d));
+        // τ₀: u₀ = u(τ₀) (P) and u̇₀ = u̇(τ₀) (V), differentiated; each `a dτ + r = 0`
+        let tau0 = {
+            let (sn, cn, dn, _) = jacobi_dual(c(top.tau0), m, top.m1, top.quarter, k_m, &agm);
+            let (l, wv) = (lam.v, width.v);
+            // (P) x₁ + (x₂ − x₁) sn² = 0, times λ to the units of (V)
+            let p = x1 + width * sn * sn;
+            let a_p = l * 2.0 * wv * sn.v * cn.v * dn.v;
+            // (V) 2 (x₂ − x₁) λ sn cn dn + θ̇₀ sin θ₀ = 0
+            let v = c(2.0) * width * lam * sn * cn * dn + thd * s;
+            let (snv, cnv, dnv) = (sn.v, cn.v, dn.v);
+            let g_tau = cnv * cnv * dnv * dnv - snv * snv * dnv * dnv - m.v * snv * snv * cnv * cnv;
+            let a_v = 2.0 * wv * l * g_tau;
+            // the residuals' derivatives at fixed τ: the duals' own, less the part through τ
+            // (here τ is a constant, so sn, cn, dn carry only their m parts)
+            let norm = a_p * a_p + a_v * a_v;
+            let mut d = [0.0; TOP_DIRECTIONS];
+            for (j, dj) in d.iter_mut().enumerate() {
+                *dj = -(a_p * l * p.d[j] + a_v * v.d[j]) / norm;
+            }
+            Dual::new(top.tau0, d)
+        };
+        let one_minus_u1 = bounds[0] - x1;
+        let one_plus_u1 = bounds[1] + x1;
+        let n = [width / one_minus_u1, -width / one_plus_u1];
+        let factor = [
+            (w - a * bounds[0]) / (c(2.0) * one_minus_u1 * lam),
+            (w + a * bounds[1]) / (c(2.0) * one_plus_u1 * lam),
+        ];
+        let m1 = Dual::new(top.m1, m.d.map(|d| -d));
+        let pi_complete =
+            n.map(|nk| third_kind_from_roots(nk, c(1.0), c(0.0), m1.sqrt(), rc1p_dual));
+        let mut tangent = TopTangent {
+            top,
+            agm,
+            k_m,
+            angles0,
+            u0,
+            bounds,
+            x,
+            a,
+            w,
+            spin,
+            m,
+            lam,
+            quarter,
+            tau0,
+            n,
+            factor,
+            pi_complete,
+            pi0: [c(0.0); 2],
+        };
+        let start = tangent.jacobi_at(0.0);
+        tangent.pi0 = [0, 1].map(|k| tangent.third_kind(k, start));
+        Ok(tangent)
+    }
+
+    /// `(sn τ, cn τ, dn τ)` of `τ = τ₀ + λt` with their derivatives, and the reduction's `p`.
+    fn jacobi_at(&self, t: f64) -> (D9, D9, D9, f64) {
+        let tau = self.tau0 + self.lam * D9::splat(t);
+        jacobi_dual(
+            tau,
+            self.m,
+            self.top.m1,
+            self.top.quarter,
+            self.k_m,
+            &self.agm,
+        )
+    }
+
+    /// `Π(n_k; am τ | m) = 2pΠ(n_k|m) + G(v)` with its derivatives.
+    fn third_kind(&self, k: usize, (sn, cn, dn, p): (D9, D9, D9, f64)) -> D9 {
+        let par = D9::splat(parity(p));
+        let g = third_kind_from_roots(self.n[k], par * sn, par * cn, dn, rc1p_dual);
+        if p == 0.0 {
+            g
+        } else {
+            g + D9::splat(2.0 * p) * self.pi_complete[k]
+        }
+    }
+
+    /// `[ψ, θ, φ, ψ̇, θ̇, φ̇]` at `t` ([`TopMotion::at`]) and their derivatives (rows) along
+    /// [`TOP_DIRECTIONS`].
+    pub fn at(&self, t: f64) -> ([f64; 6], [[f64; TOP_DIRECTIONS]; 6]) {
+        let c = D9::splat;
+        let jac = self.jacobi_at(t);
+        let (sn, cn, dn, _) = jac;
+        let [x1, x2, _] = self.x;
+        let width = x2 - x1;
+        let x = x1 + width * sn * sn;
+        let u = self.u0 + x;
+        let one_minus_u = self.bounds[0] - x;
+        let one_plus_u = self.bounds[1] + x;
+        let sin_th = (one_minus_u * one_plus_u).sqrt();
+        // θ = atan2(sin θ, u): dθ = (u d sinθ − sinθ du)/(u² + sin²θ)
+        let r2 = u.v * u.v + sin_th.v * sin_th.v;
+        let theta = Dual::new(
+            sin_th.v.atan2(u.v),
+            std::array::from_fn(|j| (u.v * sin_th.d[j] - sin_th.v * u.d[j]) / r2),
+        );
+        let d = [0, 1].map(|k| self.factor[k] * (self.third_kind(k, jac) - self.pi0[k]));
+        let psi = self.angles0[0] + d[0] + d[1];
+        let phi = self.angles0[2] + (self.spin - self.a) * c(t) - d[0] + d[1];
+        let udot = c(2.0) * width * self.lam * sn * cn * dn;
+        let psid = (self.w - self.a * x) / (one_minus_u * one_plus_u);
+        let thd = -udot / sin_th;
+        let phid = self.spin - psid * u;
+        let out = [psi, theta, phi, psid, thd, phid];
+        (out.map(|x| x.v), out.map(|x| x.d))
+    }
+
+    /// `[u₁, u₂, nutation period, mean precession rate]` ([`TopMotion::summary`]) with their
+    /// derivatives along [`TOP_DIRECTIONS`].
+    pub fn summary(&self) -> ([f64; 4], [[f64; TOP_DIRECTIONS]; 4]) {
+        let c = D9::splat;
+        let period = c(2.0) * self.quarter / self.lam;
+        let advance =
+            c(2.0) * (self.factor[0] * self.pi_complete[0] + self.factor[1] * self.pi_complete[1]);
+        let out = [
+            self.u0 + self.x[0],
+            self.u0 + self.x[1],
+            period,
+            advance / period,
+        ];
+        (out.map(|x| x.v), out.map(|x| x.d))
+    }
+}
+
 /// The roots `x₁ ≤ 0 ≤ x₂`, `x₃ ≥ 1 − u₀` of (T1) about `u₀` (`x = u − u₀`), from the
 /// cubic's Taylor coefficients `g(x) = q0 + q1 x + q2 x² + β x³` (see the module docs): `x₃`
 /// by bisection and Newton, then `x₁` and `x₂` from the deflated quadratic, polished by
@@ -289,5 +526,74 @@ mod tests {
         let y0 = top.at(0.0);
         assert!((y0[1] - 0.6).abs() < 1e-15 && (y0[0] - 0.3).abs() < 1e-15);
         assert!((y0[3] - 0.5).abs() < 1e-12 && (y0[4] - 0.2).abs() < 1e-12);
+    }
+
+    /// `f'(0)` by central differences at `h` and `h/2`, Richardson-extrapolated.
+    fn richardson(f: impl Fn(f64) -> f64, h: f64) -> f64 {
+        let d1 = (f(h) - f(-h)) / (2.0 * h);
+        let d2 = (f(h / 2.0) - f(-h / 2.0)) / h;
+        (4.0 * d2 - d1) / 3.0
+    }
+
+    /// The closed form's derivatives (angles, rates, turning points, nutation period, mean
+    /// precession rate) along the top's constants and its initial state against Richardson
+    /// differences of the f64 closed form: a nutating top, one released from rest (cusps:
+    /// θ̇₀ = ψ̇₀ = 0, a turning point at t = 0), one thrown up from its lower turning point
+    /// (θ̇₀ = 0, ψ̇₀ ≠ 0), a slow top and one whose start is mid-swing downwards.
+    #[test]
+    fn the_closed_forms_derivatives_equal_differences_of_the_closed_form() {
+        let (a, c, mgl) = (0.2758, 0.045, 4.905);
+        for (angles, rates, t) in [
+            ([0.3, 0.6, 0.1], [0.5, 0.2, 100.0], 1.7),
+            ([0.0, 0.6, 0.0], [0.0, 0.0, 100.0], 0.9),
+            ([0.2, 0.8, -0.4], [3.0, 0.0, 60.0], 2.3),
+            ([0.1, 1.1, 0.0], [0.7, -0.4, 12.0], 3.1),
+            ([0.0, 0.5, 0.2], [1.5, 1.3, 40.0], 0.45),
+        ] {
+            let tangent = TopTangent::new(a, c, mgl, angles, rates).expect("a nutating top");
+            let plain = TopMotion::new(a, c, mgl, angles, rates);
+            let (value, d) = tangent.at(t);
+            let (summary, ds) = tangent.summary();
+            let moved = |j: usize, h: f64| {
+                let mut p = [
+                    a, c, mgl, angles[0], angles[1], angles[2], rates[0], rates[1], rates[2],
+                ];
+                p[j] += h;
+                let top = TopMotion::new(p[0], p[1], p[2], [p[3], p[4], p[5]], [p[6], p[7], p[8]]);
+                let y = top.at(t);
+                let sm = top.summary();
+                [
+                    y[0], y[1], y[2], y[3], y[4], y[5], sm[0], sm[1], sm[3], sm[4],
+                ]
+            };
+            let got = plain.at(t);
+            let sm = plain.summary();
+            for k in 0..6 {
+                assert!(
+                    (value[k] - got[k]).abs() <= 1e-12 * got[k].abs().max(1.0),
+                    "{k}"
+                );
+            }
+            for (k, i) in [(0, 0), (1, 1), (2, 3), (3, 4)] {
+                assert!(
+                    (summary[k] - sm[i]).abs() <= 1e-12 * sm[i].abs().max(1.0),
+                    "s{k}"
+                );
+            }
+            for j in 0..TOP_DIRECTIONS {
+                let h = 1e-4 * [a, c, mgl, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0][j].max(1e-2);
+                let want = [
+                    d[0][j], d[1][j], d[2][j], d[3][j], d[4][j], d[5][j], ds[0][j], ds[1][j],
+                    ds[2][j], ds[3][j],
+                ];
+                for (k, w) in want.into_iter().enumerate() {
+                    let fd = richardson(|x| moved(j, x)[k], h);
+                    assert!(
+                        (w - fd).abs() <= 1e-7 * fd.abs().max(1.0),
+                        "{angles:?} {rates:?}: output {k}, direction {j}: {w} against {fd}"
+                    );
+                }
+            }
+        }
     }
 }

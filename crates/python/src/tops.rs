@@ -1,7 +1,7 @@
 //! Bindings of `poinsot_core::tops`: the heavy symmetric top's steady precessions (scalars).
 
-use numpy::ndarray::{Array2, Array3};
-use numpy::{IntoPyArray, PyArray2, PyArray3};
+use numpy::ndarray::{Array1, Array2, Array3};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
 use poinsot_core::heavy_top;
 use poinsot_core::tops;
 use pyo3::prelude::*;
@@ -53,13 +53,7 @@ fn heavy_top_motions<'py>(
     rates: Floats2<'py>,
     t: Floats1<'py>,
 ) -> PyResult<(Bound<'py, PyArray3<f64>>, Bound<'py, PyArray2<f64>>)> {
-    for (name, v) in [("A", a), ("C", c), ("mgl", mgl)] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(value_error(format!(
-                "`{name}` must be a positive number, found {v}"
-            )));
-        }
-    }
+    check_constants(a, c, mgl)?;
     let angles = rows(&angles, 3, "angles")?;
     let rates = rows(&rates, 3, "rates")?;
     let t = t.as_slice()?;
@@ -79,12 +73,7 @@ fn heavy_top_motions<'py>(
             return Err(value_error(format!("`{name}[{i}]` must be finite")));
         }
     }
-    if let Some(k) = t.iter().position(|v| !v.is_finite()) {
-        return Err(value_error(format!(
-            "`t[{k}]` must be finite, found {}",
-            t[k]
-        )));
-    }
+    check_times(t)?;
     let mut motion = Array3::<f64>::zeros((n, t.len(), 6));
     let mut summary = Array2::<f64>::zeros((n, heavy_top::SUMMARY_SIZE));
     py.detach(|| {
@@ -104,8 +93,84 @@ fn heavy_top_motions<'py>(
     Ok((motion.into_pyarray(py), summary.into_pyarray(py)))
 }
 
+/// `A`, `C` and `M g l`, each finite and positive.
+fn check_constants(a: f64, c: f64, mgl: f64) -> PyResult<()> {
+    for (name, v) in [("A", a), ("C", c), ("mgl", mgl)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(value_error(format!(
+                "`{name}` must be a positive number, found {v}"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Every time finite.
+fn check_times(t: &[f64]) -> PyResult<()> {
+    if let Some(k) = t.iter().position(|v| !v.is_finite()) {
+        return Err(value_error(format!(
+            "`t[{k}]` must be finite, found {}",
+            t[k]
+        )));
+    }
+    Ok(())
+}
+
+/// The exact derivatives of one heavy top's closed form (`poinsot_core::heavy_top::TopTangent`)
+/// along the directions `(A, C, M g l, ψ₀, θ₀, φ₀, ψ̇₀, θ̇₀, φ̇₀)`: from the initial `angles`
+/// (3,) and `rates` (3,), at the times `t` (n,), `(motion (n, 6), ∂motion (n, 6, 9), summary
+/// (4,): [u₁, u₂, nutation period, mean precession rate], ∂summary (4, 9))`. A ValueError
+/// where the closed form has no derivatives (no nutation, the axis reaching the vertical).
+#[pyfunction]
+#[allow(clippy::type_complexity)]
+fn heavy_top_derivatives<'py>(
+    py: Python<'py>,
+    a: f64,
+    c: f64,
+    mgl: f64,
+    angles: [f64; 3],
+    rates: [f64; 3],
+    t: Floats1<'py>,
+) -> PyResult<(
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray3<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray2<f64>>,
+)> {
+    check_constants(a, c, mgl)?;
+    for (name, x) in [("angles", angles), ("rates", rates)] {
+        if !x.iter().all(|v| v.is_finite()) {
+            return Err(value_error(format!("`{name}` must be finite")));
+        }
+    }
+    let t = t.as_slice()?;
+    check_times(t)?;
+    let tangent = heavy_top::TopTangent::new(a, c, mgl, angles, rates).map_err(value_error)?;
+    let dirs = heavy_top::TOP_DIRECTIONS;
+    let mut motion = Array2::<f64>::zeros((t.len(), 6));
+    let mut d = Array3::<f64>::zeros((t.len(), 6, dirs));
+    for (k, &tk) in t.iter().enumerate() {
+        let (value, rows) = tangent.at(tk);
+        for (i, (v, row)) in value.iter().zip(&rows).enumerate() {
+            motion[[k, i]] = *v;
+            for (j, x) in row.iter().enumerate() {
+                d[[k, i, j]] = *x;
+            }
+        }
+    }
+    let (summary, ds) = tangent.summary();
+    let ds = Array2::from_shape_fn((4, dirs), |(i, j)| ds[i][j]);
+    Ok((
+        motion.into_pyarray(py),
+        d.into_pyarray(py),
+        Array1::from(summary.to_vec()).into_pyarray(py),
+        ds.into_pyarray(py),
+    ))
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(heavy_top_motions, m)?)?;
+    m.add_function(wrap_pyfunction!(heavy_top_derivatives, m)?)?;
     m.add_function(wrap_pyfunction!(symmetric_top_axis, m)?)?;
     m.add_function(wrap_pyfunction!(steady_precession_rates, m)?)?;
     m.add_function(wrap_pyfunction!(gyroscopic_precession_rate, m)?)?;

@@ -4,12 +4,14 @@
 
 from .._core import (
     gyroscopic_precession_rate,
+    heavy_top_derivatives,
     heavy_top_motions,
     steady_precession_rates,
 )
 
 __all__ = [
     "gyroscopic_precession_rate",
+    "heavy_top_derivatives",
     "heavy_top_motions",
     "steady_precession_rates",
 ]

@@ -27,7 +27,7 @@ use super::{jacobi_omega, polhode_radii, JacobiForm, Radicals, Regime, AROUND_E1
 use crate::cmath::{frexp, ldexp};
 use crate::dual::Dual;
 use crate::elliptic::{
-    carlson_rc1p, carlson_rj, jacobi_reduced_with, parity, third_kind_from_roots,
+    carlson_rj, first_kind_dm, jacobi_dual, parity, rc1p_dual, third_kind_from_roots,
 };
 use crate::real::Real;
 use crate::so3::{Mat3, Vec3};
@@ -55,32 +55,6 @@ pub struct ExactTangent {
     moments: [D; 3],
     pi0: [D; 3],
     motion: EllipticMotion<D>,
-}
-
-/// `R_C(1, 1 + e) = atan(√e)/√e` on dual numbers (e > −1, [`carlson_rc1p`]'s value) with its
-/// derivative `(1/(1 + e) − R_C)/(2e)`, or for |e| < 0.1 the series
-/// `Σ_{k≥1} (−1)^k k e^{k−1}/(2k + 1)`, where that difference cancels (the duplication's later
-/// `e` are tiny, `4^{−3j}` times the first).
-fn rc1p_dual(e: D) -> D {
-    let v = carlson_rc1p(e.v);
-    let slope = if e.v.abs() < 0.1 {
-        (1..=18).rev().fold(0.0, |acc, k| {
-            let k = k as f64;
-            let sign = if k % 2.0 == 0.0 { 1.0 } else { -1.0 };
-            acc * e.v + sign * k / (2.0 * k + 1.0)
-        })
-    } else {
-        (1.0 / (1.0 + e.v) - v) / (2.0 * e.v)
-    };
-    Dual::new(v, e.d.map(|x| x * slope))
-}
-
-/// `∂F(am u | m)/∂m` at fixed amplitude, from `(sn, cn, dn)` of `u`, `n = round(u / 2K)` and
-/// `∂K/∂m`: `(−1)^n (sn³/6) R_D(cn², 1, dn²) + 2n ∂K/∂m`.
-fn first_kind_dm(sn: f64, cn: f64, dn: f64, n: f64, k_m: f64) -> f64 {
-    let sign = if n.rem_euclid(2.0) == 0.0 { 1.0 } else { -1.0 };
-    let (c2, d2) = (cn * cn, dn * dn);
-    sign * sn * sn * sn / 6.0 * carlson_rj(c2, 1.0, d2, d2) + 2.0 * n * k_m
 }
 
 impl ExactTangent {
@@ -167,32 +141,12 @@ impl ExactTangent {
         Ok(tangent)
     }
 
-    /// `(sn u, cn u, dn u)` of `u = u0 + λt` with their derivatives (through `u` and, at
-    /// fixed `u`, through `m`), and the reduction's `p` (`u = 2pK + v`, |v| ≤ K).
+    /// `(sn u, cn u, dn u)` of `u = u0 + λt` with their derivatives, and the reduction's `p`
+    /// ([`jacobi_dual`]).
     fn jacobi_at(&self, t: f64) -> (D, D, D, f64) {
         let reg = &self.regime;
         let u = self.u0 + self.lam * D::splat(t);
-        let (sn, cn, dn, p, _) = jacobi_reduced_with(u.v, reg.m, reg.m1, reg.quarter, &reg.agm);
-        let n = (u.v / (2.0 * reg.quarter)).round();
-        let am_m = -dn * first_kind_dm(sn, cn, dn, n, self.k_m);
-        let m = reg.m;
-        let dual = |v: f64, du: f64, dm: f64| {
-            let mut out = Dual::new(v, [0.0; DIRECTIONS]);
-            for j in 0..DIRECTIONS {
-                out.d[j] = du * u.d[j] + dm * self.m.d[j];
-            }
-            out
-        };
-        (
-            dual(sn, cn * dn, cn * am_m),
-            dual(cn, -sn * dn, -sn * am_m),
-            dual(
-                dn,
-                -m * sn * cn,
-                -(sn * sn + 2.0 * m * sn * cn * am_m) / (2.0 * dn),
-            ),
-            p,
-        )
+        jacobi_dual(u, self.m, reg.m1, reg.quarter, self.k_m, &reg.agm)
     }
 
     /// `Π(u) = 2pΠ(n|m) + G(v)` with its derivatives, from [`ExactTangent::jacobi_at`]:
