@@ -52,10 +52,10 @@ WRT = {
 #: The outputs a sensitivity is taken of: blocks of the body-frame state.
 OUTPUTS = {**layout.STATE_SLICES, "state": slice(0, layout.STATE_SIZE)}
 #: The methods whose runs carry sensitivities: the core's kinds for any vector field
-#: (classical RK4, explicit tableaux, DOP853), and for a rigid body RKMK4 and the splitting
-#: method (the derivatives of their discrete steps).
+#: (classical RK4, explicit tableaux, DOP853), and for a rigid body RKMK4, the splitting
+#: method and the exact-flow splittings (the derivatives of their discrete steps).
 SENSITIVE_METHODS = frozenset({"rk4", "erk", "dop853"})
-RIGID_SENSITIVE_METHODS = SENSITIVE_METHODS | {"rkmk", "splitting"}
+RIGID_SENSITIVE_METHODS = SENSITIVE_METHODS | {"rkmk", "splitting", "exact-splitting"}
 
 _START = {"omega0": 1, "Q0": 2, "R0": 3, "V0": 4}
 _FORCE = re.compile(r"forces\[(\d+)\](?:\.(\w+))?$")
@@ -102,15 +102,17 @@ def check_control(control) -> bool:
 
 def check_run(system, solver, backend, *, rigid=True) -> None:
     """Refuse a run that cannot carry sensitivities, before it is lowered: a method without
-    them (``rigid``: a rigid body's, which adds RKMK4 and the splitting method), a force
-    evaluated in Python, the Python backend, a degenerate body (``system`` a
+    them (``rigid``: a rigid body's, which adds RKMK4, the splitting method and the exact-flow
+    splittings), a force evaluated in Python, the Python backend, a degenerate body, and for
+    an exact-flow splitting a body with two equal moments (``system`` a
     :class:`~poinsot.dynamics.RigidBodySystem`)."""
     lie = {"rkmk": "rkmk4", "splitting": "splitting"} if rigid else {}
     kinds = RIGID_SENSITIVE_METHODS if rigid else SENSITIVE_METHODS
     if solver.kind not in kinds or lie.get(solver.kind, solver.name) != solver.name:
-        names = "'rk4', 'rkmk4', 'splitting', 'dop853'" if rigid else "'rk4', 'dop853'"
+        names = ("'rk4', 'rkmk4', 'splitting', 'exact-splitting*', 'dop853'" if rigid
+                 else "'rk4', 'dop853'")  # fmt: skip
         raise ValueError(f"`sensitivities` are computed with {names} or an explicit "
-                         f"Runge–Kutta tableau; `method` {solver.name!r} has none yet")  # fmt: skip
+                         f"Runge–Kutta tableau; `method` {solver.name!r} has none")  # fmt: skip
     slow = [f.name for f in system.forces if not f.compiled]
     if slow:
         raise ValueError("`sensitivities` need built-in forces; these are evaluated in Python: "
@@ -120,6 +122,13 @@ def check_run(system, solver, backend, *, rigid=True) -> None:
                          "`backend='python'`")  # fmt: skip
     if system.degenerate:
         raise ValueError("`sensitivities` need a body with three non-zero principal moments")
+    moments = np.asarray(system.principal_moments, dtype=float)
+    if solver.kind == "exact-splitting" and not (moments[0] < moments[1] < moments[2]):
+        raise ValueError(
+            f"`sensitivities` with {solver.name!r} differentiate the closed form of the free "
+            "flow, which needs three distinct principal moments; this body has "
+            f"{moments.tolist()}: use 'splitting' or 'rkmk4'"
+        )
 
 
 def asked_names(wrt) -> tuple:

@@ -19,14 +19,17 @@
 //! ([`crate::rigid::free_rotor_symmetric`], exact for it).
 
 use crate::drivers::FixedMethod;
+use crate::dual::Dual;
 use crate::inertia::{symmetry_code, SYMMETRY_RTOL};
 use crate::layout::{Body, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
+use crate::real::Real;
 use crate::rigid::free_rotor_symmetric;
 use crate::so3::{Mat3, Vec3};
 use crate::steppers::{hold_pivot, kick, momentum_to_velocity, velocity_to_momentum};
 use crate::system::RigidStructure;
 use crate::torque_free::{
-    motion_at, motion_from_start, AttitudeSetup, Radicals, Regime, ThirdKindStart,
+    motion_at, motion_from_start, AttitudeSetup, ExactTangent, Radicals, Regime, ThirdKindStart,
+    DIRECTIONS,
 };
 
 /// A composition of free flows and kicks, as fractions of the step: `kick_first` (the
@@ -234,8 +237,44 @@ impl<'a> ExactSplitting<'a> {
     }
 }
 
-/// One step of a composition from `(t, z)` into `out`: the sub-steps in order, each kick at
-/// the time its flows have reached.
+/// One sub-step of a composition ([`compose`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SubStep {
+    /// The kicks' `k`-th fraction of the step, at the time `covered` the flows have reached.
+    Kick { k: usize, covered: f64 },
+    /// A free flow over `d`, ending `within` into the step.
+    Flow { d: f64, within: f64 },
+}
+
+/// The sub-steps of one step of `c` of size `h`, in order (zero fractions skipped): what
+/// [`exact_splitting_step`] and its derivative
+/// ([`crate::sensitivity::SensitiveExactSplitting`]) both walk. The last flow covers what is
+/// left of the step, so that the flows of a step cover it exactly (a table's fractions sum to
+/// one only to round-off: FRB's to 1 − 2⁻⁵²).
+#[inline(always)]
+pub fn compose(c: &Composition, h: f64, mut sub: impl FnMut(SubStep)) {
+    let mut covered = 0.0; // the time the flows have covered
+    let offset = usize::from(c.kick_first);
+    if c.kick_first && c.kicks[0] != 0.0 {
+        sub(SubStep::Kick { k: 0, covered });
+    }
+    let last = c.flows.len() - 1;
+    for (j, &a) in c.flows.iter().enumerate() {
+        let d = if j == last { h - covered } else { a * h };
+        let within = if j == last { h } else { covered + d };
+        if d != 0.0 {
+            sub(SubStep::Flow { d, within });
+        }
+        covered = within;
+        let k = j + offset;
+        if k < c.kicks.len() && c.kicks[k] != 0.0 {
+            sub(SubStep::Kick { k, covered });
+        }
+    }
+}
+
+/// One step of a composition from `(t, z)` into `out`: the sub-steps in order ([`compose`]),
+/// each kick at the time its flows have reached.
 #[inline]
 pub fn exact_splitting_step<S: RigidStructure + ?Sized>(
     sys: &S,
@@ -248,31 +287,74 @@ pub fn exact_splitting_step<S: RigidStructure + ?Sized>(
 ) {
     out[..STATE_SIZE].copy_from_slice(&z[..STATE_SIZE]);
     let body = *sys.body();
-    let mut covered = 0.0; // the time the flows have covered
-    let do_kick = |k: usize, out: &mut [f64], covered: f64| {
-        if c.kicks[k] != 0.0 {
-            kick(sys, t + covered, out, c.kicks[k] * h);
-        }
-    };
-    let offset = usize::from(c.kick_first);
-    if c.kick_first {
-        do_kick(0, out, covered);
-    }
-    let last = c.flows.len() - 1;
-    for (j, &a) in c.flows.iter().enumerate() {
-        // the last flow covers what is left of the step, so that the flows of a step cover it
-        // exactly (a table's fractions sum to one only to round-off: FRB's to 1 − 2⁻⁵²)
-        let d = if j == last { h - covered } else { a * h };
-        let within = if j == last { h } else { covered + d };
-        if d != 0.0 {
-            flow.advance(&body, out, d, within, h);
-        }
-        covered = within;
-        if j + offset < c.kicks.len() {
-            do_kick(j + offset, out, covered);
-        }
-    }
+    compose(c, h, |sub| match sub {
+        SubStep::Kick { k, covered } => kick(sys, t + covered, out, c.kicks[k] * h),
+        SubStep::Flow { d, within } => flow.advance(&body, out, d, within, h),
+    });
     hold_pivot(&body, out);
+}
+
+/// The exact free flow over `d` of the momentum state `z = [R, V, Q, π]` on dual numbers, the
+/// principal moments of `body` carrying their own derivatives: the closed form's exact
+/// derivatives ([`ExactTangent`]: `∂ω(d)`, `∂Q(d)` along the moments and `ω0 = π/I`, `Q0`
+/// held) chained with the directions' own, and `Q(d) = Q0 U` (`U = Q0ᵀ Q(d)`, the free
+/// motion is left-invariant) for their turn of `Q0`; for a free body `R += d V`. False where
+/// the closed form has no derivatives (two equal moments, a fixed point, the separatrix).
+pub fn free_flow_tangent<const P: usize>(
+    body: &Body<Dual<P>>,
+    z: &mut [Dual<P>; STATE_SIZE],
+    d: f64,
+) -> bool {
+    let moments = body.moments.map(|x| x.v);
+    let w0 = [0, 1, 2].map(|k| z[OMEGA_AT + k].v / moments[k]);
+    let q0: Mat3 = [0, 1, 2].map(|r| [0, 1, 2].map(|c| z[Q_AT + 3 * r + c].v));
+    let Ok(tangent) = ExactTangent::new(moments, w0) else {
+        return false;
+    };
+    let (w, dw) = tangent.omega_at(d);
+    let (q, dq) = tangent.attitude_at(&q0, d);
+    let mut u = [[0.0; 3]; 3];
+    for (r, ur) in u.iter_mut().enumerate() {
+        for (c, x) in ur.iter_mut().enumerate() {
+            *x = (0..3).map(|m| q0[m][r] * q[m][c]).sum();
+        }
+    }
+    let mut out = *z;
+    for l in 0..P {
+        // the closed form's parameters' derivatives along direction l: the moments, ω0 = π/I
+        let di = body.moments.map(|x| x.d[l]);
+        let mut dp = [0.0; DIRECTIONS];
+        for k in 0..3 {
+            dp[k] = di[k];
+            dp[3 + k] = (z[OMEGA_AT + k].d[l] - w0[k] * di[k]) / moments[k];
+        }
+        let along =
+            |row: &[f64; DIRECTIONS]| -> f64 { row.iter().zip(&dp).map(|(a, b)| a * b).sum() };
+        for i in 0..3 {
+            out[OMEGA_AT + i].d[l] = di[i] * w[i] + moments[i] * along(&dw[i]);
+        }
+        for r in 0..3 {
+            for c in 0..3 {
+                let turned: f64 = (0..3).map(|m| z[Q_AT + 3 * r + m].d[l] * u[m][c]).sum();
+                out[Q_AT + 3 * r + c].d[l] = turned + along(&dq[r][c]);
+            }
+        }
+    }
+    for k in 0..3 {
+        out[OMEGA_AT + k].v = moments[k] * w[k];
+    }
+    for r in 0..3 {
+        for c in 0..3 {
+            out[Q_AT + 3 * r + c].v = q[r][c];
+        }
+    }
+    if !body.has_pivot {
+        for k in 0..3 {
+            out[R_AT + k] = out[R_AT + k] + Dual::splat(d) * out[V_AT + k];
+        }
+    }
+    *z = out;
+    true
 }
 
 impl<S: RigidStructure + ?Sized> FixedMethod<S> for ExactSplitting<'_> {

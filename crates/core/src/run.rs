@@ -12,7 +12,7 @@ use crate::drivers::{
     run_adaptive, run_fixed_native, Clock, Counters, FixedMethod, Output, Status, STEPS_PER_CALL,
 };
 use crate::observers::Observer;
-use crate::sensitivity::{Sensitive, SensitiveRkmk4, SensitiveSplitting};
+use crate::sensitivity::{Sensitive, SensitiveExactSplitting, SensitiveRkmk4, SensitiveSplitting};
 use crate::spec::{Method, RunSpec, UseMethod};
 use crate::steppers::Control;
 use crate::system::{RigidStructure, VectorField};
@@ -74,9 +74,9 @@ impl Run<'_> {
 
     /// At most `steps` steps of a rigid body's run with its forward sensitivities (`sys`):
     /// RKMK4 and the splitting method as the derivatives of their discrete steps
-    /// ([`SensitiveRkmk4`], [`SensitiveSplitting`]: enter and leave with
-    /// [`Run::convert_sensitive`]), the methods of any vector field on the augmented system
-    /// ([`Run::chunk`]); the exact-flow splittings have none yet and fail the call.
+    /// ([`SensitiveRkmk4`], [`SensitiveSplitting`], [`SensitiveExactSplitting`]: enter and
+    /// leave with [`Run::convert_sensitive`]), the methods of any vector field on the
+    /// augmented system ([`Run::chunk`]).
     pub fn chunk_sensitive<O: Observer>(
         &mut self,
         sys: &Sensitive<'_>,
@@ -98,6 +98,13 @@ impl Run<'_> {
                 steps,
             }
             .fixed(SensitiveSplitting),
+            Method::ExactSplitting(composition) => Chunk {
+                run: self,
+                sys,
+                obs,
+                steps,
+            }
+            .fixed(SensitiveExactSplitting { composition }),
             Method::Rk4 | Method::Erk(_) | Method::Dop853(_) => self.chunk(sys, obs, steps),
             _ => Status::CallbackFailed,
         }
@@ -105,9 +112,9 @@ impl Run<'_> {
 
     /// The method's own state from the system's in `z` at the start of a call of a run with
     /// sensitivities (`enter`), or back at its end: the splitting method's momenta and their
-    /// derivatives; nothing for the others.
+    /// derivatives (the exact-flow splittings' too); nothing for the others.
     pub fn convert_sensitive(&mut self, sys: &Sensitive<'_>, enter: bool) {
-        if let Method::Splitting = self.spec.method {
+        if let Method::Splitting | Method::ExactSplitting(_) = self.spec.method {
             let from = self.z.to_vec();
             if enter {
                 SensitiveSplitting.init(sys, &from, self.z);

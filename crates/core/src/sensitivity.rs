@@ -25,6 +25,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::drivers::FixedMethod;
 use crate::dual::Dual;
+use crate::exact_splitting::{compose, free_flow_tangent, Composition, SubStep};
 use crate::forces::{wrench_of, Force};
 use crate::layout::{Body, FORCE_PARAMS, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
 use crate::real::Real;
@@ -327,6 +328,61 @@ impl<'a> FixedMethod<Sensitive<'a>> for SensitiveSplitting {
             let yd = velocity_of(&seeds.body, &sys.state_block(z, lo, hi));
             sys.write_block(&yd, y, lo, hi, lo == 0);
         }
+    }
+}
+
+/// The exact-flow splittings on the augmented system of a rigid body: the derivative of their
+/// discrete step ([`compose`]'s sub-steps: kicks on dual numbers, as [`SensitiveSplitting`]'s,
+/// and the closed form's exact derivatives for each free flow, [`free_flow_tangent`]), on the
+/// momentum state and its derivatives. A flow where the closed form has no derivatives (two
+/// equal moments, a fixed point, the separatrix) leaves the derivatives NaN, and the run stops
+/// there as not finite.
+pub struct SensitiveExactSplitting<'c> {
+    pub composition: Composition<'c>,
+}
+
+impl<'a> FixedMethod<Sensitive<'a>> for SensitiveExactSplitting<'_> {
+    fn evals_per_step(&self) -> u64 {
+        self.composition.kicks_per_step()
+    }
+    #[inline]
+    fn step(&mut self, sys: &Sensitive<'a>, _t: f64, z: &[f64], h: f64, out: &mut [f64]) {
+        let c = &self.composition;
+        for (lo, hi, seeds) in sys.blocks() {
+            let body = &seeds.body;
+            let mut zd = sys.state_block(z, lo, hi);
+            let mut differentiable = true;
+            // the built-in forces do not depend on the time: each kick at its own time alike
+            compose(c, h, |sub| match sub {
+                SubStep::Kick { k, .. } => {
+                    let y = velocity_of(body, &zd);
+                    kick_by(
+                        body,
+                        &wrench_block(sys.forces, seeds, &y),
+                        &mut zd,
+                        c.kicks[k] * h,
+                    );
+                }
+                SubStep::Flow { d, .. } => {
+                    differentiable &= free_flow_tangent(body, &mut zd, d);
+                }
+            });
+            hold_pivot(body, &mut zd);
+            if !differentiable {
+                for x in zd.iter_mut() {
+                    x.d = [f64::NAN; BLOCK];
+                }
+            }
+            sys.write_block(&zd, out, lo, hi, lo == 0);
+        }
+    }
+    /// `π = I ω`, and its derivatives.
+    fn init(&self, sys: &Sensitive<'a>, y: &[f64], z: &mut [f64]) {
+        SensitiveSplitting.init(sys, y, z);
+    }
+    /// `ω = π/I`, and its derivatives.
+    fn output(&self, sys: &Sensitive<'a>, z: &[f64], y: &mut [f64]) {
+        SensitiveSplitting.output(sys, z, y);
     }
 }
 

@@ -168,11 +168,11 @@ fn integrate_sensitivities<'py>(
     let lie = match spec.core().method {
         Method::Rk4 | Method::Erk(_) | Method::Dop853(_) => false,
         Method::Rkmk(tab) if is_rk4(&tab) => true,
-        Method::Splitting => true,
+        Method::Splitting | Method::ExactSplitting(_) => true,
         other => {
             return Err(value_error(format!(
                 "method {:?} has no sensitivities: they are computed with rk4, rkmk4, \
-                 splitting, an explicit tableau or dop853",
+                 splitting, the exact-flow splittings, an explicit tableau or dop853",
                 other.name()
             )))
         }
