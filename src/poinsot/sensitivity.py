@@ -31,6 +31,7 @@ __all__ = [
     "SENSITIVE_METHODS",
     "WRT",
     "Directions",
+    "Floquet",
     "SensitiveSystem",
     "Sensitivities",
     "SensitivityMixin",
@@ -91,6 +92,50 @@ class Directions:
     @property
     def size(self) -> int:
         return len(self.labels)
+
+
+@dataclass(frozen=True)
+class Floquet:
+    """The Floquet picture of a periodic motion: its monodromy matrix ``M = ∂x(T)/∂x(0)`` (the
+    linearised map over one period ``T``, from the sensitivities of the motion), the
+    multipliers (the eigenvalues of ``M``) and the exponents ``ln|μ|/T``.
+
+    A multiplier outside the unit circle is a deviation that grows period after period (at the
+    rate of its exponent); a multiplier 1 in a Jordan block is one that drifts linearly (a
+    neighbour with another period, a phase). Of a steady motion or an equilibrium, whose
+    linearisation ``A`` is constant, the multipliers are ``exp(λ T)`` for the eigenvalues λ of
+    ``A``: the run checks the linearisation's verdict on the nonlinear motion itself.
+
+    Attributes
+    ----------
+    period : float
+    monodromy : ndarray (d, d)
+    multipliers : ndarray (d,) complex
+    exponents : ndarray (d,)
+        ``ln|μ|/T``, descending.
+    drift : float
+        ``‖M − I‖₂``: the growth per period of a deviation (0 at a stable fixed point).
+    method : str
+        ``"closed form"`` (the exact derivatives of the torque-free solution) or
+        ``"dop853"`` (the forward sensitivities of an integrated run).
+    """
+
+    period: float
+    monodromy: np.ndarray
+    multipliers: np.ndarray
+    exponents: np.ndarray
+    drift: float = 0.0
+    method: str = "dop853"
+
+    @classmethod
+    def of(cls, monodromy, period, method="dop853") -> Floquet:
+        """The picture of the monodromy matrix ``monodromy`` over ``period``."""
+        M = np.asarray(monodromy, dtype=float)
+        mu = np.linalg.eigvals(M)
+        with np.errstate(divide="ignore"):
+            exponents = np.sort(np.log(np.abs(mu)) / period)[::-1]
+        drift = float(np.linalg.norm(M - np.eye(len(M)), 2))
+        return cls(float(period), M, mu, exponents, drift, method)
 
 
 def check_control(control) -> bool:

@@ -118,3 +118,76 @@ def test_floquet_refuses_what_has_no_period():
         body.floquet((0, 0, 0))
     with pytest.raises(ValueError, match="period"):
         body.floquet((0.1, 1, 0.1), period=-1.0)
+
+
+# ------------------------------------------------------ Lagrangian steady motions (Floquet)
+
+
+def _matched(a, b, tol):
+    """Each of ``a`` within ``tol`` of some element of ``b`` and the reverse (multisets of
+    multipliers, in any order)."""
+    d = np.abs(np.asarray(a)[:, None] - np.asarray(b)[None, :])
+    return d.min(axis=1).max() <= tol and d.min(axis=0).max() <= tol
+
+
+def test_the_inverted_pendulums_floquet_exponent_is_its_growth_rate():
+    import math
+
+    from poinsot.models import pendulum_polar
+
+    mdl = pendulum_polar()
+    th = mdl.system.coordinates[0]
+    lin = mdl.system.linearize({th: math.pi}, params=mdl.params)
+    values = {str(k): float(v) for k, v in mdl.params.items()}
+    sigma = math.sqrt(values["g"] / values["l"])  # the inverted pendulum's growth rate
+    for T in (0.5, 1.0):
+        f = lin.floquet(period=T)
+        assert f.exponents[0] == pytest.approx(sigma, rel=1e-9)
+        assert f.exponents[1] == pytest.approx(-sigma, rel=1e-9)
+        assert _matched(f.multipliers, np.exp(lin.eigenvalues * T), 1e-9 * math.exp(sigma * T))
+
+
+@pytest.mark.parametrize("root", [0, 1], ids=["slow", "fast"])
+def test_a_steady_precessions_multipliers_are_its_linearisations(root):
+    # the heavy top's steady precession (Lagrange's equations in Euler angles): the monodromy
+    # of the nonlinear run over a turn of the spin has the multipliers exp(λT), all on the unit
+    # circle (spectrally stable), the ignorable angles' drift a Jordan block at 1
+    import math
+
+    from poinsot.models import heavy_symmetric_top
+    from poinsot.tops import steady_precession_rates
+
+    top = heavy_symmetric_top()
+    sym = {str(s): s for s in top.params}
+    coords = {str(c.func): c for c in top.system.coordinates}
+    A, C, M, g, l = (top.params[sym[k]] for k in ("A", "C", "M", "g", "l"))
+    theta0, spin = 0.6, 100.0
+    rate = steady_precession_rates(A, C, M * g * l, theta0, spin)[root]
+    point = {coords["psi"]: 0.0, coords["theta"]: theta0, coords["phi"]: 0.0}
+    speeds = {coords["psi"]: rate, coords["theta"]: 0.0,
+              coords["phi"]: spin - rate * math.cos(theta0)}  # fmt: skip
+    lin = top.system.linearize(point, params=top.params, speeds=speeds)
+    assert lin.reduced_verdict == "spectrally stable"
+    f = lin.floquet()
+    assert f.period == pytest.approx(2 * math.pi / abs(speeds[coords["phi"]]))
+    assert _matched(f.multipliers, np.exp(lin.eigenvalues * f.period), 1e-8)
+    np.testing.assert_allclose(np.abs(f.multipliers), 1.0, atol=1e-8)
+    assert f.drift > 0.1  # the precession angle and the spin drift with their rates
+
+
+def test_floquet_of_a_linearisation_says_what_it_needs():
+    import math
+
+    from poinsot.models import pendulum_cartesian, pendulum_polar
+
+    mdl = pendulum_polar()
+    th = mdl.system.coordinates[0]
+    lin = mdl.system.linearize({th: math.pi}, params=mdl.params)
+    with pytest.raises(ValueError, match="every time is a period"):
+        lin.floquet()
+    with pytest.raises(ValueError, match="positive finite"):
+        lin.floquet(period=-1.0)
+    cart = pendulum_cartesian()
+    eq = cart.system.equilibria(cart.params)[0]
+    with pytest.raises(ValueError, match="constraints"):
+        cart.system.linearize(eq, params=cart.params).floquet(period=1.0)

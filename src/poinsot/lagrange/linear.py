@@ -12,6 +12,7 @@ constraint Jacobian).
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -22,6 +23,9 @@ __all__ = ["Equilibrium", "Linearization", "equilibria", "linearize", "operating
 @dataclass(frozen=True)
 class Linearization:
     """A linearisation about an equilibrium or a steady motion.
+
+    The verdict is checked on the nonlinear motion by :meth:`floquet`: the monodromy matrix
+    of the run from the operating point over a period, from its sensitivities.
 
     Attributes
     ----------
@@ -63,6 +67,56 @@ class Linearization:
     verdict: str = ""
     ignorable: tuple = ()
     reduced_verdict: str = ""
+    # what floquet() runs: the system, its parameters, the inputs' values, the time, and
+    # whether it has constraints
+    _run: tuple = field(default=(), repr=False, compare=False)
+
+    def floquet(self, period=None, *, rtol=1e-12, atol=1e-14):
+        """The :class:`~poinsot.sensitivity.Floquet` picture of the motion from the operating
+        point over ``period`` (default: one turn of its fastest coordinate, ``2π/max|q̇|``; at
+        an equilibrium, where every time is a period, give one): the monodromy matrix
+        ``M = ∂(q, q̇)(T)/∂(q0, q̇0)`` from the forward sensitivities of a DOP853 run at
+        ``rtol``, ``atol`` (the KKT system differentiated on the model's compiled Jacobian).
+
+        ``A`` is constant at a steady motion, so its multipliers are ``exp(λ T)`` for the
+        eigenvalues λ of :attr:`matrix`: the nonlinear run checks the linearisation. An
+        unstable steady motion has a multiplier outside the unit circle, whose exponent is the
+        largest real part of λ; an ignorable coordinate's drift is a multiplier 1 in a Jordan
+        block. Systems with constraints are refused (the monodromy on the constraint manifold
+        is not formed).
+
+        Examples
+        --------
+        >>> from poinsot.models import pendulum_polar
+        >>> mdl = pendulum_polar()
+        >>> th = mdl.system.coordinates[0]
+        >>> lin = mdl.system.linearize({th: math.pi}, params=mdl.params)  # inverted
+        >>> f = lin.floquet(period=1.0)
+        >>> round(float(f.exponents[0]), 6), round(float(lin.eigenvalues.real.max()), 6)
+        (3.132092, 3.132092)
+        """
+        from .._validation import as_scalar
+        from ..sensitivity import Floquet
+
+        system, params, inputs, t, constrained = self._run
+        if constrained:
+            raise ValueError("`floquet`: the system has constraints; its monodromy on the "
+                             "constraint manifold is not formed")  # fmt: skip
+        v0 = np.array(list(self.speeds.values()), dtype=float)
+        if period is None:
+            fastest = float(np.abs(v0).max()) if v0.size else 0.0
+            if fastest == 0:
+                raise ValueError("`period`: at an equilibrium every time is a period; give one")
+            period = 2 * math.pi / fastest
+        period = as_scalar(period, "period")
+        if not (math.isfinite(period) and period > 0):
+            raise ValueError(f"`period` must be a positive finite time, found {period}")
+        sol = system.simulate(
+            (t, t + period), q0=self.equilibrium, qd0=self.speeds, params=params,
+            inputs=inputs, method="dop853", rtol=rtol, atol=atol, t_eval=[t, t + period],
+            sensitivities=("q0", "qd0"),
+        )  # fmt: skip
+        return Floquet.of(sol.sensitivity("state")[-1], period, "dop853")
 
 
 def _verdict(A, eig, scale):
@@ -362,6 +416,7 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
         verdict,
         tuple(system.coordinates[j] for j in ignorable),
         reduced,
+        (system, num.params, inputs, t, m > 0),
     )
 
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._bindings import torquefree as core_torquefree
+from ..sensitivity import Floquet
 
 __all__ = ["FixedPointSet", "Floquet", "Stability", "StabilityMixin"]
 
@@ -47,47 +48,6 @@ class Stability:
     kind: str
     growth_rate: float = 0.0
     wobble_frequency: float = 0.0
-
-
-@dataclass(frozen=True)
-class Floquet:
-    """The Floquet picture of a periodic motion of Euler's equation: its monodromy matrix
-    ``M = ∂ω(T)/∂ω0`` (the linearised map over one period ``T``), the multipliers (the
-    eigenvalues of ``M``) and the exponents ``ln|μ|/T``.
-
-    A periodic torque-free motion has every multiplier 1: the energy and the momentum are
-    conserved and the flow is volume preserving, so ``det M = 1``, ``M`` fixes the velocity
-    ``ω̇(0)`` and ``(M − I)²`` vanishes (one Jordan block: a neighbour on another polhode has
-    another period and drifts linearly in phase). At a fixed point on the intermediate axis
-    every ``T`` is a period and the largest exponent is the growth rate
-    ``σ = |ω| √((I2 − I1)(I3 − I2)/(I1 I3))``.
-
-    Differentiating ``ω(T(ω0); ω0) = ω0`` gives ``M − I = −ω̇(0) ∇T(ω0)ᵀ``: the Jordan
-    block's size is the period's sensitivity. Its norm, :attr:`drift`, is how far a deviation
-    moves per period (linearly, period after period); it grows as ``1/(1 − m)`` near the
-    separatrix, where the neighbouring periods part.
-
-    Attributes
-    ----------
-    period : float
-    monodromy : ndarray (3, 3)
-    multipliers : ndarray (3,) complex
-    exponents : ndarray (3,)
-        ``ln|μ|/T``, descending.
-    drift : float
-        ``‖M − I‖₂``: the growth per period of a deviation (0 at a stable fixed point).
-    method : str
-        ``"closed form"`` (the exact derivatives of the torque-free solution,
-        :meth:`~poinsot.torquefree.FreeRigidBody.exact_derivatives`) or ``"dop853"`` (the
-        forward sensitivities of an integrated run).
-    """
-
-    period: float
-    monodromy: np.ndarray
-    multipliers: np.ndarray
-    exponents: np.ndarray
-    drift: float = 0.0
-    method: str = "dop853"
 
 
 @dataclass(frozen=True)
@@ -214,9 +174,18 @@ class StabilityMixin:
         return Q0 @ P @ E @ P.T
 
     def floquet(self, omega0, period=None, *, rtol=1e-13, atol=1e-15) -> Floquet:
-        """The :class:`Floquet` picture of the motion from ``omega0`` (body frame) over one
-        ``period`` (default: :meth:`period`; at a fixed point, where every time is a period,
-        one turn ``2π/|ω|``).
+        """The :class:`~poinsot.sensitivity.Floquet` picture of the motion from ``omega0``
+        (body frame) over one ``period`` (default: :meth:`period`; at a fixed point, where every
+        time is a period, one turn ``2π/|ω|``): ``M = ∂ω(T)/∂ω0``.
+
+        A periodic torque-free motion has every multiplier 1: the energy and the momentum are
+        conserved and the flow is volume preserving, so ``det M = 1``, ``M`` fixes the velocity
+        ``ω̇(0)`` and ``(M − I)²`` vanishes (one Jordan block: a neighbour on another polhode
+        has another period and drifts linearly in phase). Differentiating
+        ``ω(T(ω0); ω0) = ω0`` gives ``M − I = −ω̇(0) ∇T(ω0)ᵀ``: the drift ``‖M − I‖`` is the
+        period's sensitivity, and grows as ``1/(1 − m)`` near the separatrix. At a fixed point
+        on the intermediate axis every ``T`` is a period and the largest exponent is the growth
+        rate ``σ = |ω| √((I2 − I1)(I3 − I2)/(I1 I3))``.
 
         Over the motion's own period of a body with three distinct moments, the monodromy
         matrix ``∂ω(T)/∂ω0`` is the closed form's exact derivative
@@ -271,7 +240,4 @@ class StabilityMixin:
                                t_eval=[period], rtol=rtol, atol=atol)  # fmt: skip
             M = split(result.y, dirs)[1].of("omega", "omega0")[-1]
             method = "dop853"
-        mu = np.linalg.eigvals(M)
-        exponents = np.sort(np.log(np.abs(mu)) / period)[::-1]
-        drift = float(np.linalg.norm(M - np.eye(3), 2))
-        return Floquet(period, M, mu, exponents, drift, method)
+        return Floquet.of(M, period, method)
