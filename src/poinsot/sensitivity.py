@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import layout
+from ._bindings import inertia as core_inertia
 from ._bindings import sensitivity as core_sensitivity
 from .integrate.problem import NativeProblem
 
@@ -37,6 +38,7 @@ __all__ = [
     "SensitivityMixin",
     "asked_names",
     "check_control",
+    "check_directions",
     "check_run",
     "directions",
 ]
@@ -148,9 +150,8 @@ def check_control(control) -> bool:
 def check_run(system, solver, backend, *, rigid=True) -> None:
     """Refuse a run that cannot carry sensitivities, before it is lowered: a method without
     them (``rigid``: a rigid body's, which adds RKMK4, the splitting method and the exact-flow
-    splittings), a force evaluated in Python, the Python backend, a degenerate body, and for
-    an exact-flow splitting a body with two equal moments (``system`` a
-    :class:`~poinsot.dynamics.RigidBodySystem`)."""
+    splittings), a force evaluated in Python, the Python backend, a degenerate body (``system``
+    a :class:`~poinsot.dynamics.RigidBodySystem`)."""
     lie = {"rkmk": "rkmk4", "splitting": "splitting"} if rigid else {}
     kinds = RIGID_SENSITIVE_METHODS if rigid else SENSITIVE_METHODS
     if solver.kind not in kinds or lie.get(solver.kind, solver.name) != solver.name:
@@ -167,12 +168,24 @@ def check_run(system, solver, backend, *, rigid=True) -> None:
                          "`backend='python'`")  # fmt: skip
     if system.degenerate:
         raise ValueError("`sensitivities` need a body with three non-zero principal moments")
+
+
+def check_directions(system, solver, dirs: Directions) -> None:
+    """Refuse directions a method cannot differentiate: with an exact-flow splitting, those
+    that move a symmetric body's equal principal moments apart (its free flow is the
+    symmetric closed form, which has no derivative along one of them alone)."""
+    if solver.kind != "exact-splitting":
+        return
     moments = np.asarray(system.principal_moments, dtype=float)
-    if solver.kind == "exact-splitting" and not (moments[0] < moments[1] < moments[2]):
+    code = core_inertia.symmetry_code(moments, core_inertia.SYMMETRY_RTOL)
+    equal = {1: [(1, 2)], 2: [(0, 1)], 3: [(0, 1), (0, 2)]}.get(code, [])
+    seeds = np.asarray(dirs.moment_seeds, dtype=float).reshape(-1, 3)
+    if any(np.any(seeds[:, a] != seeds[:, b]) for a, b in equal):
         raise ValueError(
-            f"`sensitivities` with {solver.name!r} differentiate the closed form of the free "
-            "flow, which needs three distinct principal moments; this body has "
-            f"{moments.tolist()}: use 'splitting' or 'rkmk4'"
+            f"`sensitivities` along the principal moments ('inertia') of a symmetric body "
+            f"({moments.tolist()}) with {solver.name!r}: its free flow is the symmetric closed "
+            "form, which has no derivative along one of its equal moments alone; leave "
+            "'inertia' out, or use 'splitting' or 'rkmk4'"
         )
 
 

@@ -103,13 +103,15 @@ def prepare(
 
 def _check_sensitivities(system, solver, wrt, events, backend):
     """The directions of a run's ``sensitivities``, refused where the run cannot carry them."""
+    from .sensitivity import check_directions, directions
     from .sensitivity import check_run as check_sensitive
-    from .sensitivity import directions
 
     check_sensitive(system, solver, backend)
     if events is not None:
         raise ValueError("`sensitivities` and `events` cannot be combined yet")
-    return directions(system, wrt)
+    dirs = directions(system, wrt)
+    check_directions(system, solver, dirs)
+    return dirs
 
 
 @dataclass(frozen=True)

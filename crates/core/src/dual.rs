@@ -216,6 +216,21 @@ impl<const P: usize> Real for Dual<P> {
         out.v = r;
         out
     }
+    /// `sin' = cos`, `cos' = −sin`.
+    #[inline(always)]
+    fn sin_cos_std(self) -> (Self, Self) {
+        let (s, c) = self.v.sin_cos();
+        (
+            Dual {
+                v: s,
+                d: self.d.map(|x| x * c),
+            },
+            Dual {
+                v: c,
+                d: self.d.map(|x| -x * s),
+            },
+        )
+    }
 }
 
 #[cfg(test)]

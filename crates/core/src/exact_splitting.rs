@@ -28,8 +28,8 @@ use crate::so3::{Mat3, Vec3};
 use crate::steppers::{hold_pivot, kick, momentum_to_velocity, velocity_to_momentum};
 use crate::system::RigidStructure;
 use crate::torque_free::{
-    motion_at, motion_from_start, AttitudeSetup, ExactTangent, Radicals, Regime, ThirdKindStart,
-    DIRECTIONS,
+    motion_at, motion_from_start, precession_attitude, precession_momentum, AttitudeSetup,
+    ExactTangent, Radicals, Regime, ThirdKindStart, DIRECTIONS,
 };
 
 /// A composition of free flows and kicks, as fractions of the step: `kick_first` (the
@@ -295,17 +295,47 @@ pub fn exact_splitting_step<S: RigidStructure + ?Sized>(
 }
 
 /// The exact free flow over `d` of the momentum state `z = [R, V, Q, π]` on dual numbers, the
-/// principal moments of `body` carrying their own derivatives: the closed form's exact
-/// derivatives ([`ExactTangent`]: `∂ω(d)`, `∂Q(d)` along the moments and `ω0 = π/I`, `Q0`
-/// held) chained with the directions' own, and `Q(d) = Q0 U` (`U = Q0ᵀ Q(d)`, the free
-/// motion is left-invariant) for their turn of `Q0`; for a free body `R += d V`. False where
-/// the closed form has no derivatives (two equal moments, a fixed point, the separatrix).
+/// principal moments of `body` carrying their own derivatives, by the branch the plain flow
+/// takes ([`FreeFlow`]): for three distinct moments the closed form's exact derivatives
+/// ([`ExactTangent`]: `∂ω(d)`, `∂Q(d)` along the moments and `ω0 = π/I`, `Q0` held) chained
+/// with the directions' own, and `Q(d) = Q0 U` (`U = Q0ᵀ Q(d)`, the free motion is
+/// left-invariant) for their turn of `Q0`; for a symmetric body its closed form itself
+/// ([`precession_momentum`], [`precession_attitude`]) on the dual numbers. For a free body
+/// `R += d V`. False where the derivatives are not formed: a fixed point or the separatrix
+/// of an asymmetric body, and a symmetric body's moments moved apart (the symmetric closed
+/// form has no derivative along one of its equal moments alone).
 pub fn free_flow_tangent<const P: usize>(
     body: &Body<Dual<P>>,
     z: &mut [Dual<P>; STATE_SIZE],
     d: f64,
 ) -> bool {
     let moments = body.moments.map(|x| x.v);
+    let symmetry = symmetry_code(moments, SYMMETRY_RTOL);
+    if symmetry != 0 {
+        // the plain flow's branch (Regime::with): oblate (and spherical) about e3 with I⊥ = I1,
+        // prolate about e1 with I⊥ = I3
+        let (s, pair, i_perp) = match symmetry {
+            1 => (0, (1, 2), body.moments[2]),
+            _ => (2, (0, 1), body.moments[0]),
+        };
+        let equal = |a: usize, b: usize| body.moments[a].d == body.moments[b].d;
+        if !(equal(pair.0, pair.1) && (symmetry != 3 || equal(0, 2))) {
+            return false;
+        }
+        let one = Dual::splat(1.0);
+        let pi = [0, 1, 2].map(|k| z[OMEGA_AT + k]);
+        let nu = (one / body.moments[s] - one / i_perp) * pi[s];
+        let q0 = [0, 1, 2].map(|r| [0, 1, 2].map(|c| z[Q_AT + 3 * r + c]));
+        let t = Dual::splat(d);
+        let pi_t = precession_momentum(s, nu, pi, t);
+        let q = precession_attitude(s, i_perp, nu, pi, &q0, t);
+        z[OMEGA_AT..OMEGA_AT + 3].copy_from_slice(&pi_t);
+        for (r, row) in q.iter().enumerate() {
+            z[Q_AT + 3 * r..Q_AT + 3 * r + 3].copy_from_slice(row);
+        }
+        drift(body, z, d);
+        return true;
+    }
     let w0 = [0, 1, 2].map(|k| z[OMEGA_AT + k].v / moments[k]);
     let q0: Mat3 = [0, 1, 2].map(|r| [0, 1, 2].map(|c| z[Q_AT + 3 * r + c].v));
     let Ok(tangent) = ExactTangent::new(moments, w0) else {
@@ -348,13 +378,19 @@ pub fn free_flow_tangent<const P: usize>(
             out[Q_AT + 3 * r + c].v = q[r][c];
         }
     }
-    if !body.has_pivot {
-        for k in 0..3 {
-            out[R_AT + k] = out[R_AT + k] + Dual::splat(d) * out[V_AT + k];
-        }
-    }
+    drift(body, &mut out, d);
     *z = out;
     true
+}
+
+/// A free body's `R += d V` (about a pivot, [`hold_pivot`] sets `R`).
+#[inline(always)]
+fn drift<const P: usize>(body: &Body<Dual<P>>, z: &mut [Dual<P>; STATE_SIZE], d: f64) {
+    if !body.has_pivot {
+        for k in 0..3 {
+            z[R_AT + k] = z[R_AT + k] + Dual::splat(d) * z[V_AT + k];
+        }
+    }
 }
 
 impl<S: RigidStructure + ?Sized> FixedMethod<S> for ExactSplitting<'_> {

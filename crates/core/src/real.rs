@@ -86,6 +86,9 @@ pub trait Real:
     /// nor underflow, else `hypot`; in lanes the square root of the sum, and `plain` cleared
     /// in the lanes where `f64` would take `hypot` (they are evaluated one at a time).
     fn norm2(a: Self, b: Self, plain: &mut Self::Mask) -> Self;
+    /// `(sin x, cos x)` by the standard library, lane by lane (on dual numbers with their
+    /// derivatives): the plain formulas that take them from it, generic.
+    fn sin_cos_std(self) -> (Self, Self);
 }
 
 /// A [`Real`] one number at a time (its comparisons are plain `bool`): `f64`, and the dual
@@ -198,6 +201,10 @@ impl Real for f64 {
         } else {
             a.hypot(b)
         }
+    }
+    #[inline(always)]
+    fn sin_cos_std(self) -> (f64, f64) {
+        self.sin_cos()
     }
 }
 
@@ -428,6 +435,10 @@ impl<const N: usize> Real for Wide<N> {
             plain.and_lane(l, sum_of_squares_is_safe(s.0[l]));
         }
         s.sqrt()
+    }
+    #[inline(always)]
+    fn sin_cos_std(self) -> (Wide<N>, Wide<N>) {
+        (self.map(f64::sin), self.map(f64::cos))
     }
 }
 

@@ -367,6 +367,41 @@ impl<T: Real> EllipticMotion<T> {
     }
 }
 
+/// `Q(t) = exp(t L̂/I⊥) Q0 exp(ν t ê_s)`, `L = Q0 π0` in space: the attitude of a symmetric
+/// body (symmetry axis `s`, transverse moment `i_perp`, `ν = (1/I_s − 1/I⊥) π_s`; eqs
+/// (22)–(23)) from `Q(0) = q0` and the body momentum `pi`. Generic over [`Real`] (the
+/// exact-flow splittings' derivatives run it on dual numbers).
+#[inline]
+pub fn precession_attitude<T: Real>(
+    s: usize,
+    i_perp: T,
+    nu: T,
+    pi: [T; 3],
+    q0: &[[T; 3]; 3],
+    t: T,
+) -> [[T; 3]; 3] {
+    let f = t / i_perp;
+    let l = q0.map(|row| f * (row[0] * pi[0] + row[1] * pi[1] + row[2] * pi[2]));
+    let r = exp_so3(l);
+    // R Q0, then the body turn about e_s: columns (s+1, s+2) rotated by ν t
+    let mut out = [[T::splat(0.0); 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            out[i][j] = r[i][0] * q0[0][j] + r[i][1] * q0[1][j] + r[i][2] * q0[2][j];
+        }
+    }
+    let (sn, cs) = (nu * t).sin_cos_std();
+    let a = (s + 1) % 3;
+    let b = (s + 2) % 3;
+    for row in out.iter_mut() {
+        let x = row[a];
+        let y = row[b];
+        row[a] = cs * x + sn * y;
+        row[b] = -sn * x + cs * y;
+    }
+    out
+}
+
 /// `Q(t) = Q0 exp(Ω t)`: the attitude at a fixed point of Euler's equation, where ω is constant
 /// (eqs (22)–(23)), by Rodrigues' formula ([`exp_so3`]). Beyond the angle where `exp_so3`'s
 /// fast reduction of its sine and cosine stops being exact (`2²⁰ π/2`: a slow spin at
@@ -419,26 +454,8 @@ pub fn attitude_at(
     match reg.case {
         SPHERICAL | FIXED => fixed_point_attitude(q0, w, t),
         PRECESSION => {
-            // Q(t) = exp(t L/I⊥) Q0 exp(ν t e_s), L = Q0 (I w) in space
-            let s = reg.axis as usize;
             let pi = [moments[0] * w[0], moments[1] * w[1], moments[2] * w[2]];
-            let f = t / reg.i_perp;
-            let l = q0.map(|row| f * (row[0] * pi[0] + row[1] * pi[1] + row[2] * pi[2]));
-            let r = exp_so3(l);
-            // R Q0, then the body turn about e_s: columns (s+1, s+2) rotated by ν t
-            let mut out = matmul(&r, q0);
-            let angle = reg.nu * t;
-            let cs = angle.cos();
-            let sn = angle.sin();
-            let a = (s + 1) % 3;
-            let b = (s + 2) % 3;
-            for row in out.iter_mut() {
-                let x = row[a];
-                let y = row[b];
-                row[a] = cs * x + sn * y;
-                row[b] = -sn * x + cs * y;
-            }
-            out
+            precession_attitude(reg.axis as usize, reg.i_perp, reg.nu, pi, q0, t)
         }
         _ if reduced_third_kind(reg) => {
             // the reduction of u that ω(t) makes ([`Regime::omega_at`]), shared with Π(u)

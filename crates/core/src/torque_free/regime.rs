@@ -373,10 +373,11 @@ impl Regime {
         match self.case {
             SPHERICAL | FIXED => w,
             PRECESSION => {
-                let p = turn_about_axis(
+                let p = precession_momentum(
                     self.axis as usize,
-                    -self.nu * t,
+                    self.nu,
                     [moments[0] * w[0], moments[1] * w[1], moments[2] * w[2]],
+                    t,
                 );
                 [p[0] / moments[0], p[1] / moments[1], p[2] / moments[2]]
             }
@@ -395,11 +396,18 @@ impl Regime {
     }
 }
 
+/// The body momentum `π(t)` of a symmetric body (symmetry axis `s`, eqs (22)–(23)): `π0`
+/// turned by `−ν t` about `e_s`, `ν = (1/I_s − 1/I⊥) π_s`. Generic over [`Real`] (the
+/// exact-flow splittings' derivatives run it on dual numbers).
+#[inline(always)]
+pub fn precession_momentum<T: Real>(s: usize, nu: T, pi: [T; 3], t: T) -> [T; 3] {
+    turn_about_axis(s, -nu * t, pi)
+}
+
 /// The vector `x` turned by `angle` about principal axis `s`.
 #[inline(always)]
-fn turn_about_axis(s: usize, angle: f64, x: Vec3) -> Vec3 {
-    let c = angle.cos();
-    let n = angle.sin();
+fn turn_about_axis<T: Real>(s: usize, angle: T, x: [T; 3]) -> [T; 3] {
+    let (n, c) = angle.sin_cos_std();
     let [x0, x1, x2] = x;
     match s {
         0 => [x0, c * x1 - n * x2, n * x1 + c * x2],
