@@ -504,6 +504,7 @@ fn polish(g: &impl Fn(f64) -> f64, dg: &impl Fn(f64) -> f64, mut x: f64, lo: f64
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::torque_free::tests::richardson;
 
     /// θ(t) of a top satisfies u̇² = f(u) and ψ̇, φ̇ their formulas; the angles' derivatives
     /// by central differences equal the rates the closed form gives.
@@ -526,13 +527,6 @@ mod tests {
         let y0 = top.at(0.0);
         assert!((y0[1] - 0.6).abs() < 1e-15 && (y0[0] - 0.3).abs() < 1e-15);
         assert!((y0[3] - 0.5).abs() < 1e-12 && (y0[4] - 0.2).abs() < 1e-12);
-    }
-
-    /// `f'(0)` by central differences at `h` and `h/2`, Richardson-extrapolated.
-    fn richardson(f: impl Fn(f64) -> f64, h: f64) -> f64 {
-        let d1 = (f(h) - f(-h)) / (2.0 * h);
-        let d2 = (f(h / 2.0) - f(-h / 2.0)) / h;
-        (4.0 * d2 - d1) / 3.0
     }
 
     /// The closed form's derivatives (angles, rates, turning points, nutation period, mean

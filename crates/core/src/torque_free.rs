@@ -112,4 +112,4 @@ pub use crate::so3::zxz_matrix;
 
 #[cfg(test)]
 #[path = "torque_free_tests.rs"]
-mod tests;
+pub(crate) mod tests;

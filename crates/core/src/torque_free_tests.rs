@@ -581,8 +581,9 @@ fn fixed_point_attitude_at_a_huge_angle_is_the_true_rotation() {
     assert_eq!(q, crate::so3::exp_so3([0.0, 0.6, 0.0]));
 }
 
-/// `f'(0)` by central differences at `h` and `h/2`, Richardson-extrapolated.
-fn richardson(f: impl Fn(f64) -> f64, h: f64) -> f64 {
+/// `f'(0)` by central differences at `h` and `h/2`, Richardson-extrapolated (the closed
+/// forms' derivative tests, here and in [`crate::heavy_top`]).
+pub(crate) fn richardson(f: impl Fn(f64) -> f64, h: f64) -> f64 {
     let d1 = (f(h) - f(-h)) / (2.0 * h);
     let d2 = (f(h / 2.0) - f(-h / 2.0)) / h;
     (4.0 * d2 - d1) / 3.0
