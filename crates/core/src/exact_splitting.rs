@@ -20,13 +20,16 @@
 
 use crate::drivers::FixedMethod;
 use crate::dual::Dual;
+use crate::freebody::euler_jacobian;
 use crate::inertia::{symmetry_code, SYMMETRY_RTOL};
 use crate::layout::{Body, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
+use crate::linalg::expm;
 use crate::real::Real;
 use crate::rigid::free_rotor_symmetric;
 use crate::so3::{Mat3, Vec3};
 use crate::steppers::{hold_pivot, kick, momentum_to_velocity, velocity_to_momentum};
 use crate::system::RigidStructure;
+use crate::torque_free::{fixed_point_attitude, FIXED};
 use crate::torque_free::{
     motion_at, motion_from_start, precession_attitude, precession_momentum, AttitudeSetup,
     ExactTangent, Radicals, Regime, ThirdKindStart, DIRECTIONS,
@@ -339,6 +342,10 @@ pub fn free_flow_tangent<const P: usize>(
     let w0 = [0, 1, 2].map(|k| z[OMEGA_AT + k].v / moments[k]);
     let q0: Mat3 = [0, 1, 2].map(|r| [0, 1, 2].map(|c| z[Q_AT + 3 * r + c].v));
     let Ok(tangent) = ExactTangent::new(moments, w0) else {
+        if Regime::new(moments, 0, w0).case == FIXED {
+            fixed_point_tangent(body, z, d, w0, &q0);
+            return true;
+        }
         return false;
     };
     let (w, dw) = tangent.omega_at(d);
@@ -381,6 +388,77 @@ pub fn free_flow_tangent<const P: usize>(
     drift(body, &mut out, d);
     *z = out;
     true
+}
+
+/// [`free_flow_tangent`] at a fixed point of an asymmetric body (ω0 on a principal axis, or
+/// within [`crate::torque_free::NEAR_UNSTABLE_AXIS`] of the intermediate one, where the plain
+/// flow is `ω = ω0`, `Q = Q0 exp(ω̂0 d)`): the motions about a steady spin, linearised
+/// exactly. With `Q = Q_n (I + ε̂)` about the nominal `Q_n(t)`, `δω̇ = J δω` (Euler's Jacobian
+/// at ω0, [`euler_jacobian`]) and `ε̇ = δω − ω0 × ε`, so `(δω, ε)(d) = exp(G d) (δω, ε)(0)`
+/// ([`expm`]); the moments do not move a steady spin (ω0 stays a fixed point for any moments,
+/// so `∂ω/∂I = 0` and `∂Q/∂I = 0`).
+fn fixed_point_tangent<const P: usize>(
+    body: &Body<Dual<P>>,
+    z: &mut [Dual<P>; STATE_SIZE],
+    d: f64,
+    w0: Vec3,
+    q0: &Mat3,
+) {
+    let moments = body.moments.map(|x| x.v);
+    let inertia = [0, 1, 2].map(|r| [0, 1, 2].map(|c| if r == c { moments[r] } else { 0.0 }));
+    let j = euler_jacobian(&inertia, w0).unwrap_or([[0.0; 3]; 3]);
+    let mut g = [[0.0; 6]; 6];
+    for r in 0..3 {
+        for c in 0..3 {
+            g[r][c] = j[r][c] * d;
+        }
+        g[3 + r][r] = d;
+    }
+    // −ω0 × ε
+    let wx = [
+        [0.0, w0[2], -w0[1]],
+        [-w0[2], 0.0, w0[0]],
+        [w0[1], -w0[0], 0.0],
+    ];
+    for r in 0..3 {
+        for c in 0..3 {
+            g[3 + r][3 + c] = wx[r][c] * d;
+        }
+    }
+    let phi = expm(g);
+    let q = fixed_point_attitude(q0, w0, d);
+    let mut out = *z;
+    for l in 0..P {
+        let di = body.moments.map(|x| x.d[l]);
+        let mut x = [0.0; 6];
+        for k in 0..3 {
+            x[k] = (z[OMEGA_AT + k].d[l] - w0[k] * di[k]) / moments[k];
+        }
+        // ε(0) = vee(Q0ᵀ δQ0)
+        let dq = |r: usize, c: usize| z[Q_AT + 3 * r + c].d[l];
+        let body_turn = |r: usize, c: usize| -> f64 { (0..3).map(|m| q0[m][r] * dq(m, c)).sum() };
+        x[3] = 0.5 * (body_turn(2, 1) - body_turn(1, 2));
+        x[4] = 0.5 * (body_turn(0, 2) - body_turn(2, 0));
+        x[5] = 0.5 * (body_turn(1, 0) - body_turn(0, 1));
+        let y: [f64; 6] = std::array::from_fn(|r| (0..6).map(|c| phi[r][c] * x[c]).sum());
+        for i in 0..3 {
+            out[OMEGA_AT + i].d[l] = di[i] * w0[i] + moments[i] * y[i];
+        }
+        // δQ = Q(d) ε̂(d)
+        let e = [[0.0, -y[5], y[4]], [y[5], 0.0, -y[3]], [-y[4], y[3], 0.0]];
+        for r in 0..3 {
+            for c in 0..3 {
+                out[Q_AT + 3 * r + c].d[l] = (0..3).map(|m| q[r][m] * e[m][c]).sum();
+            }
+        }
+    }
+    for r in 0..3 {
+        for c in 0..3 {
+            out[Q_AT + 3 * r + c].v = q[r][c];
+        }
+    }
+    drift(body, &mut out, d);
+    *z = out;
 }
 
 /// A free body's `R += d V` (about a pivot, [`hold_pivot`] sets `R`).

@@ -193,9 +193,84 @@ pub fn least_squares_solve(
     true
 }
 
+/// `exp(A)` of a small square matrix by scaling and squaring of its Taylor series: `A/2^s`
+/// with `‖A/2^s‖₁ ≤ 1/2`, the series summed until its terms fall below the unit round-off
+/// of the sum, then squared `s` times (Moler & Van Loan, *SIAM Review* 45 (2003), method 3):
+/// the linear flows of the exact-flow splittings' derivatives at a fixed point.
+pub fn expm<const N: usize>(a: [[f64; N]; N]) -> [[f64; N]; N] {
+    let norm = (0..N)
+        .map(|c| (0..N).map(|r| a[r][c].abs()).sum::<f64>())
+        .fold(0.0, f64::max);
+    let mut s = 0;
+    while norm / f64::powi(2.0, s) > 0.5 && s < 1100 {
+        s += 1;
+    }
+    let scale = f64::powi(2.0, -s);
+    let x = a.map(|row| row.map(|v| v * scale));
+    let mul = |p: &[[f64; N]; N], q: &[[f64; N]; N]| {
+        let mut out = [[0.0; N]; N];
+        for i in 0..N {
+            for k in 0..N {
+                for j in 0..N {
+                    out[i][j] += p[i][k] * q[k][j];
+                }
+            }
+        }
+        out
+    };
+    let mut sum = [[0.0; N]; N];
+    let mut term = [[0.0; N]; N];
+    for i in 0..N {
+        sum[i][i] = 1.0;
+        term[i][i] = 1.0;
+    }
+    for k in 1..=30 {
+        term = mul(&term, &x).map(|row| row.map(|v| v / k as f64));
+        let size: f64 = term.iter().flatten().map(|v| v.abs()).fold(0.0, f64::max);
+        for i in 0..N {
+            for j in 0..N {
+                sum[i][j] += term[i][j];
+            }
+        }
+        if size <= f64::EPSILON * 1e-2 {
+            break;
+        }
+    }
+    for _ in 0..s {
+        sum = mul(&sum, &sum);
+    }
+    sum
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `expm` against two closed forms: a rotation generator (Rodrigues, [`crate::so3::exp_so3`])
+    /// and a Jordan block with a hyperbolic pair, `exp([[a, 1], [0, a]]) = e^a [[1, 1], [0, 1]]`
+    /// and `exp([[0, σ], [σ, 0]]) = [[cosh σ, sinh σ], [sinh σ, cosh σ]]`, at sizes that take
+    /// several squarings.
+    #[test]
+    fn expm_equals_closed_forms() {
+        let w = [0.7, -2.1, 1.4];
+        let g = [[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]];
+        let (a, b) = (expm(g), crate::so3::exp_so3(w));
+        for r in 0..3 {
+            for c in 0..3 {
+                assert!((a[r][c] - b[r][c]).abs() < 1e-14, "{r}{c}");
+            }
+        }
+        for x in [0.3, 4.0, -7.5] {
+            let j = expm([[x, 1.0], [0.0, x]]);
+            let e = f64::exp(x);
+            for (got, want) in [(j[0][0], e), (j[0][1], e), (j[1][0], 0.0), (j[1][1], e)] {
+                assert!((got - want).abs() <= 1e-14 * e, "{x}: {got} against {want}");
+            }
+            let h = expm([[0.0, x], [x, 0.0]]);
+            let (ch, sh) = (x.cosh(), x.sinh());
+            assert!((h[0][0] - ch).abs() <= 1e-14 * ch && (h[0][1] - sh).abs() <= 1e-14 * ch);
+        }
+    }
 
     /// A pseudo-random number in [-1, 1) (a fixed linear congruential sequence).
     fn rng(state: &mut u64) -> f64 {
