@@ -404,6 +404,10 @@ class TopDerivatives:
     rates0_d_omega0 : (3, 3)
         ``∂(ψ̇₀, θ̇₀, φ̇₀)/∂ω0`` at the initial attitude (the angles' rates are linear in the
         body ω): with it the derivatives along the body's ω0 (:meth:`d_angles_d_omega0`).
+    Q, omega : (n, 3, 3), (n, 3)
+        The body's attitude (body → space) and angular velocity (body components), as
+        :func:`exact_motion` has them; ``d_Q`` (n, 3, 3, 9), ``d_omega`` (n, 3, 9) their
+        derivatives along ``directions`` (:meth:`d_Q_d_omega0`, :meth:`d_omega_d_omega0`).
     """
 
     t: np.ndarray
@@ -418,6 +422,10 @@ class TopDerivatives:
     mean_precession_rate: float
     d_mean_precession_rate: np.ndarray
     rates0_d_omega0: np.ndarray
+    Q: np.ndarray
+    d_Q: np.ndarray
+    omega: np.ndarray
+    d_omega: np.ndarray
     directions: tuple = TOP_DIRECTIONS
 
     @property
@@ -430,6 +438,16 @@ class TopDerivatives:
     def d_rates_d_omega0(self) -> np.ndarray:
         """``∂(ψ̇, θ̇, φ̇)(t)/∂ω0`` (n, 3, 3)."""
         return self.d_rates[..., 6:] @ self.rates0_d_omega0
+
+    @property
+    def d_Q_d_omega0(self) -> np.ndarray:
+        """``∂Q_rc(t)/∂ω0_j`` (n, 3, 3, 3)."""
+        return self.d_Q[..., 6:] @ self.rates0_d_omega0
+
+    @property
+    def d_omega_d_omega0(self) -> np.ndarray:
+        """``∂ω_i(t)/∂ω0_j`` (n, 3, 3), body components."""
+        return self.d_omega[..., 6:] @ self.rates0_d_omega0
 
 
 def exact_derivatives(top: HeavyTop, omega0, Q0, t) -> TopDerivatives:
@@ -464,9 +482,10 @@ def exact_derivatives(top: HeavyTop, omega0, Q0, t) -> TopDerivatives:
     Q = as_array(Q0, "Q0", (3, 3))
     times = as_array(t, "t", (None,))
     angles, rates = _initial_angles(top, w[None], Q[None])
-    motion, d, summary, ds = core_tops.heavy_top_derivatives(
+    motion, d, summary, ds, R, dR, w_axis, dw_axis = core_tops.heavy_top_derivatives(
         top.A, top.C, top.mgl, angles[0], rates[0], times
     )
+    F, S = top.frame(), top.space()  # body ← axis frame, and the space axes (rows)
     # the rates are linear in ω: their Jacobian is their value at the unit vectors
     _, J = _initial_angles(top, np.eye(3), np.repeat(Q[None], 3, axis=0))
     return TopDerivatives(
@@ -475,4 +494,6 @@ def exact_derivatives(top: HeavyTop, omega0, Q0, t) -> TopDerivatives:
         nutation_period=float(summary[2]), d_nutation_period=ds[2],
         mean_precession_rate=float(summary[3]), d_mean_precession_rate=ds[3],
         rates0_d_omega0=J.T,
+        Q=np.einsum("ji,njk,lk->nil", S, R, F), d_Q=np.einsum("ji,njkd,lk->nild", S, dR, F),
+        omega=w_axis @ F.T, d_omega=np.einsum("ik,nkd->nid", F, dw_axis),
     )  # fmt: skip

@@ -106,3 +106,26 @@ def test_a_top_without_nutation_has_no_derivatives_and_says_so():
     w0, Q0 = start((0.0, theta0, 0.0), (rate, 0.0, spin - rate * np.cos(theta0)))
     with pytest.raises(ValueError, match="does not nutate"):
         exact_derivatives(TOP, w0, Q0, [1.0])
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_the_bodys_omega_and_attitude_derivatives_equal_a_rigid_runs_sensitivities(case):
+    # a third route: the rigid body itself on its pivot under gravity (Euler's equations with
+    # the pivot, not Euler angles), DOP853 with the variational equations along ω0
+    from poinsot import simulate
+
+    angles, rates = CASES[case]
+    w0, Q0 = start(angles, rates)
+    T = 1.1
+    d = exact_derivatives(TOP, w0, Q0, [0.0, T])
+    m = exact_motion(TOP, w0, Q0, [0.0, T])
+    np.testing.assert_allclose(d.Q, m.Q, atol=1e-14)
+    np.testing.assert_allclose(d.omega, m.omega, atol=1e-12)
+    traj = simulate(RigidBody.cylinder(1.0, 0.3, 0.2), (0, T), omega0=w0, Q0=Q0,
+                    forces=[Gravity()], pivot=(0, 0, -0.5), method="dop853", rtol=1e-12,
+                    atol=1e-14, t_eval=[0, T], sensitivities="omega0")  # fmt: skip
+    for got, ref in (
+        (d.d_omega_d_omega0[-1], traj.sensitivity("omega", "omega0")[-1]),
+        (d.d_Q_d_omega0[-1], traj.sensitivity("Q", "omega0")[-1].reshape(3, 3, 3)),
+    ):
+        assert np.abs(got - ref).max() <= 1e-9 * np.abs(ref).max(), case

@@ -39,6 +39,7 @@ use crate::elliptic::{
     jacobi_reduced, parity, rc1p_dual, third_kind_from_roots, Agm,
 };
 use crate::real::Real;
+use crate::so3::{zxz_body_rates, zxz_matrix_sc};
 
 /// Everything the closed form needs of one motion, made once ([`TopMotion::new`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -404,6 +405,38 @@ impl TopTangent {
         let phid = self.spin - psid * u;
         let out = [psi, theta, phi, psid, thd, phid];
         (out.map(|x| x.v), out.map(|x| x.d))
+    }
+
+    /// The attitude of the axis frame (`Rzxz(ψ, θ, φ)`, axis frame → the space frame with z up)
+    /// and the angular velocity in the axis frame ([`zxz_body_rates`]) at `t`, with their
+    /// derivatives along [`TOP_DIRECTIONS`] (the last index): the same dual numbers as
+    /// [`TopTangent::at`].
+    #[allow(clippy::type_complexity)]
+    pub fn attitude_at(
+        &self,
+        t: f64,
+    ) -> (
+        [[f64; 3]; 3],
+        [[[f64; TOP_DIRECTIONS]; 3]; 3],
+        [f64; 3],
+        [[f64; TOP_DIRECTIONS]; 3],
+    ) {
+        let (v, d) = self.at(t);
+        let dual = |k: usize| Dual::new(v[k], d[k]);
+        let angles = [dual(0), dual(1), dual(2)];
+        let rates = [dual(3), dual(4), dual(5)];
+        let sc = angles.map(|a| {
+            let (s, c) = a.sin_cos_std();
+            [s, c]
+        });
+        let q = zxz_matrix_sc(sc[0], sc[1], sc[2]);
+        let w = zxz_body_rates(angles, rates);
+        (
+            q.map(|r| r.map(|x| x.v)),
+            q.map(|r| r.map(|x| x.d)),
+            w.map(|x| x.v),
+            w.map(|x| x.d),
+        )
     }
 
     /// `[u₁, u₂, nutation period, mean precession rate]` ([`TopMotion::summary`]) with their

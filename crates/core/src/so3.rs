@@ -332,12 +332,11 @@ pub fn zxz_matrix_sc<T: Real>(psi: [T; 2], theta: [T; 2], phi: [T; 2]) -> [[T; 3
 /// Body-frame angular velocity `(p, q, r)` from z-x-z Euler angles `(ψ, θ, φ)` and their
 /// rates (paper eq. (13); the same form gives the carrier's ω_e from its angles, eq. (14)):
 /// `p = ψ̇ sin θ sin φ + θ̇ cos φ`, `q = ψ̇ sin θ cos φ − θ̇ sin φ`, `r = φ̇ + ψ̇ cos θ`.
+/// Generic over [`Real`] (the heavy top's closed-form derivatives run it on dual numbers).
 #[inline(always)]
-pub fn zxz_body_rates(angles: Vec3, rates: Vec3) -> Vec3 {
-    let st = angles[1].sin();
-    let ct = angles[1].cos();
-    let sp = angles[2].sin();
-    let cp = angles[2].cos();
+pub fn zxz_body_rates<T: Real>(angles: [T; 3], rates: [T; 3]) -> [T; 3] {
+    let (st, ct) = angles[1].sin_cos_std();
+    let (sp, cp) = angles[2].sin_cos_std();
     [
         rates[0] * st * sp + rates[1] * cp,
         rates[0] * st * cp - rates[1] * sp,

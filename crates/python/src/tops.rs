@@ -1,7 +1,7 @@
 //! Bindings of `poinsot_core::tops`: the heavy symmetric top's steady precessions (scalars).
 
-use numpy::ndarray::{Array1, Array2, Array3};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
+use numpy::ndarray::{Array1, Array2, Array3, Array4};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4};
 use poinsot_core::heavy_top;
 use poinsot_core::tops;
 use pyo3::prelude::*;
@@ -119,8 +119,10 @@ fn check_times(t: &[f64]) -> PyResult<()> {
 /// The exact derivatives of one heavy top's closed form (`poinsot_core::heavy_top::TopTangent`)
 /// along the directions `(A, C, M g l, ψ₀, θ₀, φ₀, ψ̇₀, θ̇₀, φ̇₀)`: from the initial `angles`
 /// (3,) and `rates` (3,), at the times `t` (n,), `(motion (n, 6), ∂motion (n, 6, 9), summary
-/// (4,): [u₁, u₂, nutation period, mean precession rate], ∂summary (4, 9))`. A ValueError
-/// where the closed form has no derivatives (no nutation, the axis reaching the vertical).
+/// (4,): [u₁, u₂, nutation period, mean precession rate], ∂summary (4, 9), the axis frame's
+/// attitude (n, 3, 3) and its derivatives (n, 3, 3, 9), ω in the axis frame (n, 3) and its
+/// derivatives (n, 3, 9))`. A ValueError where the closed form has no derivatives (no
+/// nutation, the axis reaching the vertical).
 #[pyfunction]
 #[allow(clippy::type_complexity)]
 fn heavy_top_derivatives<'py>(
@@ -136,6 +138,10 @@ fn heavy_top_derivatives<'py>(
     Bound<'py, PyArray3<f64>>,
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray3<f64>>,
+    Bound<'py, PyArray4<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray3<f64>>,
 )> {
     check_constants(a, c, mgl)?;
     for (name, x) in [("angles", angles), ("rates", rates)] {
@@ -149,12 +155,29 @@ fn heavy_top_derivatives<'py>(
     let dirs = heavy_top::TOP_DIRECTIONS;
     let mut motion = Array2::<f64>::zeros((t.len(), 6));
     let mut d = Array3::<f64>::zeros((t.len(), 6, dirs));
+    let mut q = Array3::<f64>::zeros((t.len(), 3, 3));
+    let mut dq = Array4::<f64>::zeros((t.len(), 3, 3, dirs));
+    let mut w = Array2::<f64>::zeros((t.len(), 3));
+    let mut dw = Array3::<f64>::zeros((t.len(), 3, dirs));
     for (k, &tk) in t.iter().enumerate() {
         let (value, rows) = tangent.at(tk);
         for (i, (v, row)) in value.iter().zip(&rows).enumerate() {
             motion[[k, i]] = *v;
             for (j, x) in row.iter().enumerate() {
                 d[[k, i, j]] = *x;
+            }
+        }
+        let (qv, qd, wv, wd) = tangent.attitude_at(tk);
+        for r in 0..3 {
+            w[[k, r]] = wv[r];
+            for j in 0..dirs {
+                dw[[k, r, j]] = wd[r][j];
+            }
+            for c in 0..3 {
+                q[[k, r, c]] = qv[r][c];
+                for j in 0..dirs {
+                    dq[[k, r, c, j]] = qd[r][c][j];
+                }
             }
         }
     }
@@ -165,6 +188,10 @@ fn heavy_top_derivatives<'py>(
         d.into_pyarray(py),
         Array1::from(summary.to_vec()).into_pyarray(py),
         ds.into_pyarray(py),
+        q.into_pyarray(py),
+        dq.into_pyarray(py),
+        w.into_pyarray(py),
+        dw.into_pyarray(py),
     ))
 }
 
