@@ -565,8 +565,8 @@ mod tests {
     /// The closed form's derivatives (angles, rates, turning points, nutation period, mean
     /// precession rate) along the top's constants and its initial state against Richardson
     /// differences of the f64 closed form: a nutating top, one released from rest (cusps:
-    /// θ̇₀ = ψ̇₀ = 0, a turning point at t = 0), one thrown up from its lower turning point
-    /// (θ̇₀ = 0, ψ̇₀ ≠ 0), a slow top and one whose start is mid-swing downwards.
+    /// θ̇₀ = ψ̇₀ = 0, a turning point at t = 0), one started at a turning point with a
+    /// precession rate (θ̇₀ = 0, ψ̇₀ ≠ 0), a slow top and one started mid-swing.
     #[test]
     fn the_closed_forms_derivatives_equal_differences_of_the_closed_form() {
         let (a, c, mgl) = (0.2758, 0.045, 4.905);

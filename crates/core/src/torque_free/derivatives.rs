@@ -42,8 +42,8 @@ type D = Dual<DIRECTIONS>;
 #[derive(Clone, Copy, Debug)]
 pub struct ExactTangent {
     regime: Regime,
-    /// `σ_i α_i`, `λ`, `m`, `u0` and `K(m)` with their derivatives.
-    sa: [D; 3],
+    /// `λ`, `m`, `u0` and `K(m)` with their derivatives (the amplitudes `σ_i α_i` are the
+    /// attitude's, `motion.sa`).
     lam: D,
     m: D,
     u0: D,
@@ -126,7 +126,6 @@ impl ExactTangent {
         };
         let mut tangent = ExactTangent {
             regime,
-            sa,
             lam,
             m,
             u0,
@@ -178,7 +177,7 @@ impl ExactTangent {
     /// `ω(t)` (sorted principal frame) and `∂ω_i(t)/∂p_j` (rows `i`, the directions `j`).
     pub fn omega_at(&self, t: f64) -> (Vec3, [[f64; DIRECTIONS]; 3]) {
         let (sn, cn, dn, _) = self.jacobi_at(t);
-        let w = jacobi_omega(self.regime.pole == 2, self.sa, sn, cn, dn);
+        let w = jacobi_omega(self.motion.e3, self.motion.sa, sn, cn, dn);
         (w.map(|x| x.v), w.map(|x| x.d))
     }
 
