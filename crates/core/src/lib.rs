@@ -42,6 +42,7 @@ pub mod heavy_top;
 pub mod inertia;
 pub mod invariants;
 pub mod isa;
+pub mod kepler;
 pub mod lagrange;
 pub mod lanes;
 pub mod layout;
