@@ -20,14 +20,16 @@
 
 use crate::drivers::FixedMethod;
 use crate::dual::Dual;
+use crate::forces::{central_point_force, Force};
 use crate::freebody::euler_jacobian;
 use crate::inertia::{symmetry_code, SYMMETRY_RTOL};
-use crate::layout::{Body, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
+use crate::kepler::{kepler_flow, universal_anomaly};
+use crate::layout::{Body, FORCE_PARAMS, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
 use crate::linalg::expm;
-use crate::real::Real;
+use crate::real::{Real, Scalar};
 use crate::rigid::free_rotor_symmetric;
 use crate::so3::{Mat3, Vec3};
-use crate::steppers::{hold_pivot, kick, momentum_to_velocity, velocity_to_momentum};
+use crate::steppers::{hold_pivot, kick_by, momentum_to_velocity, velocity_to_momentum};
 use crate::system::RigidStructure;
 use crate::torque_free::{fixed_point_attitude, FIXED};
 use crate::torque_free::{
@@ -137,9 +139,18 @@ impl FreeFlow {
 
     /// `z` advanced in place by the torque-free motion over `d`, a flow that ends `within`
     /// into its step of `h` (`within == h`: the step's last flow): π and Q by the closed form
-    /// and, for a free body, `R += d V`.
+    /// and, for a free body, its centre of mass by [`translate`] (Kepler's flow about the
+    /// centre of `orbit`, or `R += d V`).
     #[inline]
-    pub fn advance(&mut self, body: &Body, z: &mut [f64], d: f64, within: f64, h: f64) {
+    pub fn advance(
+        &mut self,
+        body: &Body,
+        orbit: Option<&Force>,
+        z: &mut [f64],
+        d: f64,
+        within: f64,
+        h: f64,
+    ) {
         if self.line {
             free_rotor_symmetric(body, z, d);
         } else {
@@ -195,9 +206,39 @@ impl FreeFlow {
             }
             self.motion = Some(m);
         }
-        if !body.has_pivot {
+        translate(body, orbit.map(|f| &f.p), z, d, |x| x);
+    }
+}
+
+/// A free body's centre of mass moved over a flow of `d`: Kepler's flow about the centre of
+/// the central gravity `orbit` (its parameter row: `μ`, the centre), else `R += d V`; about a
+/// pivot nothing ([`hold_pivot`] sets `R`). On `f64` or on dual numbers ([`kepler_flow`]
+/// takes one Newton step on them from the values' universal anomaly).
+#[inline]
+pub fn translate<T: Scalar>(
+    body: &Body<T>,
+    orbit: Option<&[T; FORCE_PARAMS]>,
+    z: &mut [T],
+    d: f64,
+    value: impl Fn(T) -> f64,
+) {
+    if body.has_pivot {
+        return;
+    }
+    match orbit {
+        Some(p) => {
+            let r0: [T; 3] = std::array::from_fn(|k| z[R_AT + k] - p[1 + k]);
+            let v0: [T; 3] = std::array::from_fn(|k| z[V_AT + k]);
+            let chi = universal_anomaly(value(p[0]), &r0.map(&value), &v0.map(&value), d);
+            let (r, v) = kepler_flow(p[0], &r0, &v0, d, chi);
             for k in 0..3 {
-                z[R_AT + k] += d * z[V_AT + k];
+                z[R_AT + k] = p[1 + k] + r[k];
+                z[V_AT + k] = v[k];
+            }
+        }
+        None => {
+            for k in 0..3 {
+                z[R_AT + k] = z[R_AT + k] + T::splat(d) * z[V_AT + k];
             }
         }
     }
@@ -277,7 +318,9 @@ pub fn compose(c: &Composition, h: f64, mut sub: impl FnMut(SubStep)) {
 }
 
 /// One step of a composition from `(t, z)` into `out`: the sub-steps in order ([`compose`]),
-/// each kick at the time its flows have reached.
+/// each kick at the time its flows have reached. A free body under one central gravity
+/// ([`RigidStructure::orbit`]) drifts along Kepler's flow and is kicked by the rest of the
+/// forces: the gravity-gradient terms and any other force (Wisdom & Holman 1991).
 #[inline]
 pub fn exact_splitting_step<S: RigidStructure + ?Sized>(
     sys: &S,
@@ -290,11 +333,29 @@ pub fn exact_splitting_step<S: RigidStructure + ?Sized>(
 ) {
     out[..STATE_SIZE].copy_from_slice(&z[..STATE_SIZE]);
     let body = *sys.body();
+    let orbit = sys.orbit();
     compose(c, h, |sub| match sub {
-        SubStep::Kick { k, covered } => kick(sys, t + covered, out, c.kicks[k] * h),
-        SubStep::Flow { d, within } => flow.advance(&body, out, d, within, h),
+        SubStep::Kick { k, covered } => {
+            let y = momentum_to_velocity(sys, out);
+            let mut w = sys.wrench(t + covered, &y);
+            if let Some(f) = &orbit {
+                let point = central_point_force(&f.p, &body, &y);
+                off_orbit(&mut w, &point);
+            }
+            kick_by(&body, &w, out, c.kicks[k] * h);
+        }
+        SubStep::Flow { d, within } => flow.advance(&body, orbit.as_ref(), out, d, within, h),
     });
     hold_pivot(&body, out);
+}
+
+/// The wrench `w` less the point-mass gravity `point` that the drift's Kepler flow carries:
+/// what a kick gives when the drift solves the orbit ([`translate`]).
+#[inline(always)]
+pub fn off_orbit<T: Scalar>(w: &mut [T; 6], point: &[T; 3]) {
+    for k in 0..3 {
+        w[k] = w[k] - point[k];
+    }
 }
 
 /// The exact free flow over `d` of the momentum state `z = [R, V, Q, π]` on dual numbers, the
@@ -303,8 +364,8 @@ pub fn exact_splitting_step<S: RigidStructure + ?Sized>(
 /// ([`ExactTangent`]: `∂ω(d)`, `∂Q(d)` along the moments and `ω0 = π/I`, `Q0` held) chained
 /// with the directions' own, and `Q(d) = Q0 U` (`U = Q0ᵀ Q(d)`, the free motion is
 /// left-invariant) for their turn of `Q0`; for a symmetric body its closed form itself
-/// ([`precession_momentum`], [`precession_attitude`]) on the dual numbers. For a free body
-/// `R += d V`. False where the derivatives are not formed: a fixed point or the separatrix
+/// ([`precession_momentum`], [`precession_attitude`]) on the dual numbers. The centre of
+/// mass is the caller's ([`translate`]). False where the derivatives are not formed: a fixed point or the separatrix
 /// of an asymmetric body, and a symmetric body's moments moved apart (the symmetric closed
 /// form has no derivative along one of its equal moments alone).
 pub fn free_flow_tangent<const P: usize>(
@@ -336,7 +397,6 @@ pub fn free_flow_tangent<const P: usize>(
         for (r, row) in q.iter().enumerate() {
             z[Q_AT + 3 * r..Q_AT + 3 * r + 3].copy_from_slice(row);
         }
-        drift(body, z, d);
         return true;
     }
     let w0 = [0, 1, 2].map(|k| z[OMEGA_AT + k].v / moments[k]);
@@ -385,7 +445,6 @@ pub fn free_flow_tangent<const P: usize>(
             out[Q_AT + 3 * r + c].v = q[r][c];
         }
     }
-    drift(body, &mut out, d);
     *z = out;
     true
 }
@@ -457,18 +516,7 @@ fn fixed_point_tangent<const P: usize>(
             out[Q_AT + 3 * r + c].v = q[r][c];
         }
     }
-    drift(body, &mut out, d);
     *z = out;
-}
-
-/// A free body's `R += d V` (about a pivot, [`hold_pivot`] sets `R`).
-#[inline(always)]
-fn drift<const P: usize>(body: &Body<Dual<P>>, z: &mut [Dual<P>; STATE_SIZE], d: f64) {
-    if !body.has_pivot {
-        for k in 0..3 {
-            z[R_AT + k] = z[R_AT + k] + Dual::splat(d) * z[V_AT + k];
-        }
-    }
 }
 
 impl<S: RigidStructure + ?Sized> FixedMethod<S> for ExactSplitting<'_> {

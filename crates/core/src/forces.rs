@@ -100,6 +100,42 @@ fn gravity<T: Scalar>(p: &[T; FORCE_PARAMS], body: &Body<T>) -> [T; 6] {
     [m * p[0], m * p[1], m * p[2], z, z, z]
 }
 
+/// The point-mass part of a central gravity ([`central_gravity`]): `F = −μM r/|r|³`, `r` from
+/// the centre `(p[1], p[2], p[3])` to the centre of mass. The exact-flow splittings solve it
+/// exactly (Kepler's flow, [`crate::kepler`]) and kick with the rest.
+#[inline(always)]
+pub fn central_point_force<T: Scalar>(
+    p: &[T; FORCE_PARAMS],
+    body: &Body<T>,
+    y: &[T; STATE_SIZE],
+) -> [T; 3] {
+    let rx = y[R_AT] - p[1];
+    let ry = y[R_AT + 1] - p[2];
+    let rz = y[R_AT + 2] - p[3];
+    let r2 = rx * rx + ry * ry + rz * rz;
+    let r3 = r2 * r2.sqrt();
+    let k = -p[0] * body.mass / r3;
+    [k * rx, k * ry, k * rz]
+}
+
+/// The force whose point-mass part the exact-flow splittings' drift solves exactly
+/// (Kepler's flow, [`crate::kepler`]): the one central gravity of a free body (`μ > 0`, finite).
+/// `None` about a pivot, with no central gravity or with more than one (then the drift is
+/// `R += d V` and the kicks carry all the forces).
+pub fn kepler_part(body: &Body, forces: &[Force]) -> Option<usize> {
+    if body.has_pivot {
+        return None;
+    }
+    let mut central = forces
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| f.kind == ForceKind::CentralGravity);
+    match (central.next(), central.next()) {
+        (Some((i, f)), None) if f.p[0] > 0.0 && f.p[0].is_finite() => Some(i),
+        _ => None,
+    }
+}
+
 /// Gravity of a point mass `μ = G M_c` at a centre, with MacCullagh's gravity-gradient terms
 /// when switched on: `F = −μM r/|r|³ − 3μ/(2|r|⁵) tr(A) r − 3μ/|r|⁵ Q A b +
 /// 15μ/(2|r|⁷) (b·Ab) r` and `τ = 3μ/|r|⁵ b × A b`, `b = Qᵀ r` (Hughes, *Spacecraft Attitude
@@ -112,14 +148,13 @@ fn central_gravity<T: Scalar>(
 ) -> [T; 6] {
     let s = T::splat;
     let mu = p[0];
+    let point = central_point_force(p, body, y);
     let rx = y[R_AT] - p[1];
     let ry = y[R_AT + 1] - p[2];
     let rz = y[R_AT + 2] - p[3];
     let r2 = rx * rx + ry * ry + rz * rz;
     let r = r2.sqrt();
     let r3 = r2 * r;
-    let k = -mu * body.mass / r3;
-    let point = [k * rx, k * ry, k * rz];
     // the gradient terms are formed whether or not they are switched on and then selected,
     // so that a block of lanes has no branch
     let a = &body.inertia_com;

@@ -25,8 +25,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::drivers::FixedMethod;
 use crate::dual::Dual;
-use crate::exact_splitting::{compose, free_flow_tangent, Composition, SubStep};
-use crate::forces::{wrench_of, Force};
+use crate::exact_splitting::{
+    compose, free_flow_tangent, off_orbit, translate, Composition, SubStep,
+};
+use crate::forces::{central_point_force, kepler_part, wrench_of, Force};
 use crate::layout::{Body, FORCE_PARAMS, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
 use crate::real::Real;
 use crate::relative::{
@@ -333,7 +335,8 @@ impl<'a> FixedMethod<Sensitive<'a>> for SensitiveSplitting {
 
 /// The exact-flow splittings on the augmented system of a rigid body: the derivative of their
 /// discrete step ([`compose`]'s sub-steps: kicks on dual numbers, as [`SensitiveSplitting`]'s,
-/// and the closed form's exact derivatives for each free flow, [`free_flow_tangent`]), on the
+/// and the closed form's exact derivatives for each free flow, [`free_flow_tangent`], with the
+/// centre of mass's own flow, Kepler's under one central gravity, [`translate`]), on the
 /// momentum state and its derivatives. A flow where the closed form has no derivatives (two
 /// equal moments, a fixed point, the separatrix) leaves the derivatives NaN, and the run stops
 /// there as not finite.
@@ -348,23 +351,25 @@ impl<'a> FixedMethod<Sensitive<'a>> for SensitiveExactSplitting<'_> {
     #[inline]
     fn step(&mut self, sys: &Sensitive<'a>, _t: f64, z: &[f64], h: f64, out: &mut [f64]) {
         let c = &self.composition;
+        let orbit = kepler_part(&sys.body, sys.forces);
         for (lo, hi, seeds) in sys.blocks() {
             let body = &seeds.body;
+            let orbit = orbit.map(|i| &seeds.params[i]);
             let mut zd = sys.state_block(z, lo, hi);
             let mut differentiable = true;
             // the built-in forces do not depend on the time: each kick at its own time alike
             compose(c, h, |sub| match sub {
                 SubStep::Kick { k, .. } => {
                     let y = velocity_of(body, &zd);
-                    kick_by(
-                        body,
-                        &wrench_block(sys.forces, seeds, &y),
-                        &mut zd,
-                        c.kicks[k] * h,
-                    );
+                    let mut w = wrench_block(sys.forces, seeds, &y);
+                    if let Some(p) = orbit {
+                        off_orbit(&mut w, &central_point_force(p, body, &y));
+                    }
+                    kick_by(body, &w, &mut zd, c.kicks[k] * h);
                 }
                 SubStep::Flow { d, .. } => {
                     differentiable &= free_flow_tangent(body, &mut zd, d);
+                    translate(body, orbit, &mut zd, d, |x| x.v);
                 }
             });
             hold_pivot(body, &mut zd);

@@ -21,6 +21,7 @@
 //! system has cheaper ones. This module names no stepper: the steppers depend on it, not it
 //! on them.
 
+use crate::forces::Force;
 use crate::layout::{Body, STATE_SIZE};
 
 /// An ordinary differential equation `ẏ = f(t, y)` on a flat state.
@@ -73,4 +74,9 @@ pub trait RigidStructure: VectorField {
     fn rkmk4(&self, t: f64, y: &[f64; STATE_SIZE], h: f64) -> [f64; STATE_SIZE];
     /// One step of the splitting method on the momentum state in registers, the same way.
     fn splitting(&self, t: f64, z: &[f64; STATE_SIZE], h: f64) -> [f64; STATE_SIZE];
+    /// The central gravity whose point-mass part the exact-flow splittings' drift solves
+    /// exactly ([`crate::forces::kepler_part`]): none unless the system has one.
+    fn orbit(&self) -> Option<Force> {
+        None
+    }
 }

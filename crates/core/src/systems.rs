@@ -9,7 +9,9 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use crate::forces::{one_force_wrench, total_potential, total_wrench, Force, ForceKind};
+use crate::forces::{
+    kepler_part, one_force_wrench, total_potential, total_wrench, Force, ForceKind,
+};
 use crate::layout::{load, Body, FORCE_PARAMS, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
 use crate::rigid::{
     attitude_rate, attitude_row_acc, euler_free_coefficients, free_rotor, omega_dot_free,
@@ -315,6 +317,9 @@ impl<U: UserWrench> RigidStructure for Rigid<U> {
     fn constrain(&self, _: f64, y: State) -> State {
         pivot_constrained(&self.body, y)
     }
+    fn orbit(&self) -> Option<Force> {
+        kepler_part(&self.body, &self.forces).map(|i| self.forces[i])
+    }
 }
 
 /// A body under at most one built-in force, of kind `K` (its [`ForceKind`] code; 0: none),
@@ -413,6 +418,13 @@ impl<const K: i64, const PIVOT: bool> RigidStructure for OneForce<K, PIVOT> {
     fn splitting(&self, t: f64, z: &State, h: f64) -> State {
         self.splitting_rotor::<ANY_ROTOR>(t, z, h)
     }
+    fn orbit(&self) -> Option<Force> {
+        let force = Force {
+            kind: ForceKind::from_code(K)?,
+            p: self.params,
+        };
+        kepler_part(&self.fixed().body, &[force]).map(|_| force)
+    }
 }
 
 impl<const K: i64, const PIVOT: bool> OneForce<K, PIVOT> {
@@ -496,6 +508,9 @@ impl<const PIVOT: bool> RigidStructure for SameForces<PIVOT> {
     #[inline(always)]
     fn constrain(&self, _: f64, y: State) -> State {
         pivot_constrained(&self.body, y)
+    }
+    fn orbit(&self) -> Option<Force> {
+        kepler_part(&self.body, self.forces()).map(|i| self.forces[i])
     }
 }
 
