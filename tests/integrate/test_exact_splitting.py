@@ -182,8 +182,8 @@ def test_a_point_mass_orbit_is_keplers_exact_flow_at_any_step():
     """A body under a central gravity without the gradient terms: the kicks carry nothing, so
     each step is the exact free flow and Kepler's exact flow. An eccentric orbit (e ≈ 0.44)
     at 3 steps an orbit, over 20 orbits, against its classical elements (Kepler's equation
-    in the eccentric anomaly): the centre of mass to round-off (the error grows with the
-    number of flows), and the rotation the closed form's."""
+    in the eccentric anomaly): the centre of mass to round-off, and the rotation the closed
+    form's."""
     from poinsot.torquefree import FreeRigidBody
 
     body = RigidBody.box(1.0, (0.3, 0.2, 0.1))
@@ -208,7 +208,10 @@ def test_a_point_mass_orbit_is_keplers_exact_flow_at_any_step():
         :, None
     ] * Qv
     assert 0.4 < e < 0.5
-    assert np.abs(traj.R - R_exact).max() < 1e-12 * np.abs(R_exact).max()
+    # each flow restarts Kepler's flow from the state it is handed: round-off grows with the
+    # number of flows (15 a step, 900 here; measured 3e-15 of |R| a flow)
+    flows = 15 * 60
+    assert np.abs(traj.R - R_exact).max() < 4e-15 * flows * np.abs(R_exact).max()
     free = FreeRigidBody.from_body(body)
     np.testing.assert_allclose(traj.omega, free.exact_omega(omega0, traj.t), rtol=0, atol=1e-12)
 

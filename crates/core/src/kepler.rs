@@ -117,16 +117,26 @@ impl<T: Scalar> Start<T> {
 }
 
 /// The universal anomaly `χ` of a flow of `t` from `(r₀, v₀)` under `μ` (K1), by Laguerre's
-/// iteration (Conway 1986) from `√μ t/r₀`, until its step is a few units in the last place
-/// of `χ` or stops shrinking (the residual's round-off), at most 60 iterations: NaN where it
-/// does not converge (the run then stops as not finite).
+/// iteration (Conway 1986). It starts from the inverted series of (K1),
+/// `χ ≈ u/r₀ − σ₀u²/(2r₀³) + (σ₀²/(2r₀⁵) − (1 − αr₀)/(6r₀⁴)) u³` with `u = √μ t`, where the
+/// flow is short (`|α| (u/r₀)² < 0.1`), else from `u/r₀`. It stops once a step is below
+/// `1e-7 |χ|` (the iteration converges cubically, so what is left is far below round-off, and
+/// [`kepler_flow`]'s Newton step polishes it), after at most 60 iterations: NaN where it does not converge (the run then stops as not finite).
 pub fn universal_anomaly(mu: f64, r0: &Vec3, v0: &Vec3, t: f64) -> f64 {
     if t == 0.0 {
         return 0.0;
     }
     let start = Start::new(mu, r0, v0);
-    let mut chi = start.sqrt_mu * t / start.r0;
-    let mut last = f64::INFINITY;
+    let r = start.r0;
+    let u = start.sqrt_mu * t;
+    let mut chi = u / r;
+    if (start.alpha * chi * chi).abs() < 0.1 {
+        let b = 1.0 - start.alpha * r;
+        let s = start.sigma0;
+        chi += u
+            * u
+            * (-s / (2.0 * r * r * r) + u * (s * s / (2.0 * r.powi(5)) - b / (6.0 * r.powi(4))));
+    }
     for _ in 0..60 {
         let (k, k1, k2) = start.residual(chi, t);
         let root = (16.0 * k1 * k1 - 20.0 * k * k2).abs().sqrt();
@@ -136,10 +146,9 @@ pub fn universal_anomaly(mu: f64, r0: &Vec3, v0: &Vec3, t: f64) -> f64 {
         }
         chi -= step;
         let size = step.abs();
-        if size <= 8.0 * f64::EPSILON * chi.abs() || (size >= last && size <= 1e-8 * chi.abs()) {
+        if size <= 1e-7 * chi.abs() {
             return chi;
         }
-        last = size;
     }
     f64::NAN
 }
