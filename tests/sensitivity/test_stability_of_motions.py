@@ -178,7 +178,7 @@ def test_a_steady_precessions_multipliers_are_its_linearisations(root):
 def test_floquet_of_a_linearisation_says_what_it_needs():
     import math
 
-    from poinsot.models import pendulum_cartesian, pendulum_polar
+    from poinsot.models import pendulum_polar
 
     mdl = pendulum_polar()
     th = mdl.system.coordinates[0]
@@ -187,7 +187,42 @@ def test_floquet_of_a_linearisation_says_what_it_needs():
         lin.floquet()
     with pytest.raises(ValueError, match="positive finite"):
         lin.floquet(period=-1.0)
-    cart = pendulum_cartesian()
-    eq = cart.system.equilibria(cart.params)[0]
-    with pytest.raises(ValueError, match="constraints"):
-        cart.system.linearize(eq, params=cart.params).floquet(period=1.0)
+
+
+@pytest.mark.parametrize("angle", [0.0, math.pi], ids=["hanging", "inverted"])
+def test_a_constrained_pendulums_multipliers_are_the_unconstrained_ones(angle):
+    # the same pendulum twice: in its angle (no constraint) and as a bob at (x, y) held by
+    # the rod's holonomic constraint, its monodromy formed on the constraint manifold in the
+    # chart of one independent coordinate and velocity: the same two multipliers
+    from poinsot.models import pendulum_cartesian, pendulum_polar
+
+    polar, cart = pendulum_polar(), pendulum_cartesian()
+    th = polar.system.coordinates[0]
+    x, y = cart.system.coordinates
+    f = polar.system.linearize({th: angle}, params=polar.params).floquet(period=0.7)
+    lin = cart.system.linearize({x: 0.0, y: -math.cos(angle)}, params=cart.params)
+    g = lin.floquet(period=0.7)
+    assert g.multipliers.shape == (2,) and lin.matrix.shape == (2, 2)
+    scale = np.abs(f.multipliers).max()
+    assert _matched(g.multipliers, f.multipliers, 1e-9 * scale)
+    assert _matched(g.multipliers, np.exp(lin.eigenvalues * 0.7), 1e-9 * scale)
+
+
+def test_a_rolling_disks_steady_motion_has_every_multiplier_one():
+    # non-holonomic: the vertical disk rolling straight on (a steady motion: the velocities
+    # constant); the chart keeps the four coordinates and two of the velocities. Every one
+    # of the six multipliers is 1, and the rolling angle's and the position's drift is a
+    # Jordan block (a neighbour rolls at another rate)
+    from poinsot.models import rolling_disk
+
+    disk = rolling_disk()
+    x, y, ph, th = disk.system.coordinates
+    radius = {str(k): float(v) for k, v in disk.params.items()}["R"]
+    point = {x: 0.0, y: 0.0, ph: 0.3, th: 0.0}
+    speeds = {th: 4.0, x: radius * 4.0 * math.cos(0.3), y: radius * 4.0 * math.sin(0.3)}
+    lin = disk.system.linearize(point, params=disk.params, speeds=speeds)
+    f = lin.floquet()
+    assert f.period == pytest.approx(2 * math.pi / 4.0)
+    assert f.multipliers.shape == (6,) == lin.eigenvalues.shape
+    np.testing.assert_allclose(f.multipliers, 1.0, atol=1e-9)
+    assert f.drift > 0.1

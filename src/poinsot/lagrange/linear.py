@@ -82,8 +82,16 @@ class Linearization:
         eigenvalues λ of :attr:`matrix`: the nonlinear run checks the linearisation. An
         unstable steady motion has a multiplier outside the unit circle, whose exponent is the
         largest real part of λ; an ignorable coordinate's drift is a multiplier 1 in a Jordan
-        block. Systems with constraints are refused (the monodromy on the constraint manifold
-        is not formed).
+        block.
+
+        With constraints the monodromy is formed on the constraint manifold, in a chart of
+        independent coordinates and velocities at the operating point: the columns of the
+        constraint Jacobian ``G`` left after QR with column pivoting picks the best-conditioned
+        dependent ones (the holonomic rows for the coordinates, all rows for the velocities).
+        The run gives only the independent ones (the others are solved from the constraints),
+        so its sensitivities are those of the motion on the manifold, and ``M`` is their rows
+        for the same coordinates and velocities: ``d = 2n − m_holonomic − m`` multipliers, as
+        :attr:`matrix` has eigenvalues. A multiplier does not depend on the chart.
 
         Examples
         --------
@@ -99,9 +107,7 @@ class Linearization:
         from ..sensitivity import Floquet
 
         system, params, inputs, t, constrained = self._run
-        if constrained:
-            raise ValueError("`floquet`: the system has constraints; its monodromy on the "
-                             "constraint manifold is not formed")  # fmt: skip
+        q0 = np.array(list(self.equilibrium.values()), dtype=float)
         v0 = np.array(list(self.speeds.values()), dtype=float)
         if period is None:
             fastest = float(np.abs(v0).max()) if v0.size else 0.0
@@ -111,12 +117,43 @@ class Linearization:
         period = as_scalar(period, "period")
         if not (math.isfinite(period) and period > 0):
             raise ValueError(f"`period` must be a positive finite time, found {period}")
+        n = len(q0)
+        free_q, free_v = np.ones(n, bool), np.ones(n, bool)
+        if constrained:
+            free_q, free_v = _chart(system, params, q0, v0, t)
+        coords = system.coordinates
         sol = system.simulate(
-            (t, t + period), q0=self.equilibrium, qd0=self.speeds, params=params,
-            inputs=inputs, method="dop853", rtol=rtol, atol=atol, t_eval=[t, t + period],
-            sensitivities=("q0", "qd0"),
+            (t, t + period), params=params, inputs=inputs, method="dop853", rtol=rtol,
+            atol=atol, t_eval=[t, t + period], sensitivities=("q0", "qd0"),
+            q0={c: x for c, x, f in zip(coords, q0, free_q, strict=True) if f},
+            qd0={c: x for c, x, f in zip(coords, v0, free_v, strict=True) if f},
+            guess=self.equilibrium if constrained else None,
         )  # fmt: skip
-        return Floquet.of(sol.sensitivity("state")[-1], period, "dop853")
+        rows = np.concatenate([np.flatnonzero(free_q), n + np.flatnonzero(free_v)])
+        return Floquet.of(sol.sensitivity("state")[-1][rows], period, "dop853")
+
+
+def _chart(system, params, q0, v0, t):
+    """The independent coordinates and velocities (bool (n,) each) of a chart of the
+    constraint manifold at ``(q0, v0)``: the columns QR with column pivoting does not pick
+    as dependent, from the holonomic rows of the constraint Jacobian for the coordinates and
+    from all its rows for the velocities."""
+    from scipy.linalg import qr
+
+    num = _numeric(system, params)
+    n, m, nh = system.n_coordinates, num.m, num.n_hol
+    G = num.mat(num.G, q0, v0, t, (m, n))
+
+    def independent(rows):
+        free = np.ones(n, bool)
+        if rows.shape[0]:
+            _, r, piv = qr(rows, pivoting=True)
+            d = np.abs(np.diag(r))
+            rank = int(np.sum(d > 1e-10 * max(1.0, d.max())))
+            free[piv[:rank]] = False
+        return free
+
+    return independent(G[:nh]), independent(G)
 
 
 def _verdict(A, eig, scale):
