@@ -198,13 +198,27 @@ fn blocks_of(seeds: &[BlockSeeds], p: usize) -> impl Iterator<Item = (usize, usi
 /// `N` dual numbers.
 #[inline(always)]
 fn lift_block<const N: usize>(y: &[f64], p: usize, lo: usize, hi: usize) -> [D; N] {
-    let mut yd = [D::default(); N];
-    for (i, x) in yd.iter_mut().enumerate() {
-        x.v = y[i];
-        let row = N + p * i;
-        x.d[..hi - lo].copy_from_slice(&y[row + lo..row + hi]);
+    // one copy for each width: a copy whose length is known only at run time is a call to
+    // memcpy, 2N of them a dual evaluation
+    macro_rules! widths {
+        ($($w:literal)*) => {
+            match hi - lo {
+                $($w => lift_rows::<N, $w>(y, p, lo),)*
+                _ => unreachable!("a block holds 1 to {BLOCK} directions"),
+            }
+        };
     }
-    yd
+    widths!(1 2 3 4 5 6 7 8)
+}
+
+#[inline(always)]
+fn lift_rows<const N: usize, const W: usize>(y: &[f64], p: usize, lo: usize) -> [D; N] {
+    std::array::from_fn(|i| {
+        let mut d = [0.0; BLOCK];
+        let row = N + p * i + lo;
+        d[..W].copy_from_slice(&y[row..row + W]);
+        D::new(y[i], d)
+    })
 }
 
 /// Write `N` dual numbers back into an augmented state: the value (when `value`) and
@@ -218,12 +232,31 @@ fn store_block<const N: usize>(
     hi: usize,
     value: bool,
 ) {
+    macro_rules! widths {
+        ($($w:literal)*) => {
+            match hi - lo {
+                $($w => store_rows::<N, $w>(r, out, p, lo, value),)*
+                _ => unreachable!("a block holds 1 to {BLOCK} directions"),
+            }
+        };
+    }
+    widths!(1 2 3 4 5 6 7 8)
+}
+
+#[inline(always)]
+fn store_rows<const N: usize, const W: usize>(
+    r: &[D; N],
+    out: &mut [f64],
+    p: usize,
+    lo: usize,
+    value: bool,
+) {
     for (i, x) in r.iter().enumerate() {
         if value {
             out[i] = x.v;
         }
-        let row = N + p * i;
-        out[row + lo..row + hi].copy_from_slice(&x.d[..hi - lo]);
+        let row = N + p * i + lo;
+        out[row..row + W].copy_from_slice(&x.d[..W]);
     }
 }
 
