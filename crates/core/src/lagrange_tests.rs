@@ -1,7 +1,7 @@
 //! Tests of the constrained systems ([`super`]) on pendulums: the multiplier as the rod's
 //! tension, two coordinate choices moving alike, the projection, members against single runs
-//! and the small oscillations' period, refused models, a singular system, and a string that
-//! goes slack where the energy says.
+//! and the small oscillations' period, refused models, a singular system, a string that
+//! goes slack where the energy says, and the differentiated KKT system of the sensitivities.
 
 use std::sync::atomic::AtomicBool;
 
@@ -29,13 +29,22 @@ fn cartesian_pendulum() -> Model {
 /// (l² − x² − y²)/2 ≥ 0, whose multiplier λ = T/l is positive while it pulls and falls
 /// through zero where it goes slack.
 fn signed_pendulum(sign: f64) -> Model {
-    let shape = Shape {
-        n: 2,
-        m: 1,
-        nh: 1,
-        np: 3,
-        nu: 0,
-    };
+    let shape = PENDULUM_SHAPE;
+    Model::new(shape, program(&pendulum_items(sign), shape), &Interpreter).unwrap()
+}
+
+/// The sizes of the Cartesian pendulum: two coordinates, one holonomic constraint, three
+/// parameters.
+const PENDULUM_SHAPE: Shape = Shape {
+    n: 2,
+    m: 1,
+    nh: 1,
+    np: 3,
+    nu: 0,
+};
+
+/// The Cartesian pendulum's model outputs `[M, f, G, b, γ, g, h]` as a program's items.
+fn pendulum_items(sign: f64) -> Vec<(i64, f64)> {
     // inputs: x0 = x, x1 = y, x2 = ẋ, x3 = ẏ, x4 = t, x5 = m, x6 = l, x7 = g
     let i = |k: usize| (INPUT, k as f64);
     let sq = |k: usize| [i(k), i(k), (MUL, 0.0)];
@@ -90,7 +99,7 @@ fn signed_pendulum(sign: f64) -> Model {
         (ADD, 0.0),
         (OUTPUT, 0.0),
     ]);
-    Model::new(shape, program(&p, shape), &Interpreter).unwrap()
+    p
 }
 
 /// The pendulum in its angle θ (from the downward vertical): m l² θ̈ = −m g l sin θ, as a
@@ -623,4 +632,105 @@ fn a_slack_string_lets_the_bob_fall_freely() {
     rod_run(1.5, &t_eval, &mut samples);
     let last = &samples[samples.len() - 4..];
     assert!(((last[0] * last[0] + last[1] * last[1]).sqrt() - l).abs() < 1e-9);
+}
+
+/// The Cartesian pendulum's tangent: its model outputs, then the Jacobian of
+/// `[M, f, G, b, γ, g]` along `[x, y, ẋ, ẏ, m, l, g]`, written by hand (11 rows of 7).
+fn pendulum_tangent(sign: f64) -> Tangent {
+    let shape = PENDULUM_SHAPE;
+    let mut items = pendulum_items(sign);
+    let i = |k: usize| (INPUT, k as f64);
+    // the nonzero entries: (output row, direction) → items computing it
+    let entry = |row: usize, dir: usize| -> Vec<(i64, f64)> {
+        match (row, dir) {
+            (0, 4) | (3, 4) => vec![(CONST, 1.0)],                 // ∂M/∂m
+            (5, 4) => vec![(CONST, -1.0), i(7), (MUL, 0.0)],       // ∂(−m g)/∂m
+            (5, 6) => vec![(CONST, -1.0), i(5), (MUL, 0.0)],       // ∂(−m g)/∂g
+            (6, 0) | (7, 1) => vec![(CONST, sign)],                // ∂G/∂q
+            (9, 2) => vec![(CONST, 2.0 * sign), i(2), (MUL, 0.0)], // ∂γ/∂ẋ
+            (9, 3) => vec![(CONST, 2.0 * sign), i(3), (MUL, 0.0)], // ∂γ/∂ẏ
+            (10, 0) => vec![(CONST, sign), i(0), (MUL, 0.0)],      // ∂g/∂x
+            (10, 1) => vec![(CONST, sign), i(1), (MUL, 0.0)],      // ∂g/∂y
+            (10, 5) => vec![(CONST, -sign), i(6), (MUL, 0.0)],     // ∂g/∂l
+            _ => vec![(CONST, 0.0)],
+        }
+    };
+    for row in 0..shape.n_outputs() - 1 {
+        for dir in 0..shape.n_directions() {
+            items.extend(entry(row, dir));
+            items.push((OUTPUT, 0.0));
+        }
+    }
+    let (c, v): (Vec<i64>, Vec<f64>) = items.iter().copied().unzip();
+    let program = Program::new(&c, &v, shape.n_inputs(), shape.n_tangent_outputs()).unwrap();
+    Tangent::new(shape, program, &Interpreter).unwrap()
+}
+
+/// The differentiated KKT system ([`LagrangeSensitive`]): each column's rate against central
+/// differences of the plain system's rates along the same direction (its state part and its
+/// parameters' seed), Richardson-extrapolated, for the rod and for the string (the
+/// constraint's sign flipped), with and without Baumgarte's terms; the state's own rates bit
+/// for bit the plain system's.
+#[test]
+fn the_sensitive_rates_are_the_derivatives_of_the_rates() {
+    for (sign, alpha, beta) in [(1.0, 0.0, 0.0), (-1.0, 0.0, 0.0), (1.0, 3.0, 4.0)] {
+        let model = signed_pendulum(sign);
+        let tangent = pendulum_tangent(sign);
+        let st = Stabilization {
+            alpha,
+            beta,
+            projection: false,
+        };
+        // seven directions: four of the state (mixed columns), then m, l, g one at a time
+        let dirs = 7;
+        let mut seeds = vec![0.0; dirs * 3];
+        for k in 0..3 {
+            seeds[(4 + k) * 3 + k] = 1.0;
+        }
+        let sens = LagrangeSensitive::new(&tangent, &P, &[], st, &seeds, dirs, true).unwrap();
+        // off the constraint on purpose (Baumgarte's terms see it), moving
+        let y = [0.9, -1.1, 0.7, 0.4];
+        let mut aug = vec![0.0; 4 * (1 + dirs)];
+        aug[..4].copy_from_slice(&y);
+        for k in 0..4 {
+            for j in 0..dirs {
+                aug[4 + k * dirs + j] = if j < 4 {
+                    (0.3 + k as f64 - 0.7 * j as f64).sin()
+                } else {
+                    0.0
+                };
+            }
+        }
+        let mut out = vec![0.0; aug.len()];
+        sens.rhs(0.2, &aug, &mut out);
+        let rates = |y: &[f64], p: &[f64; 3]| {
+            let sys = Lagrangian::new(&model, p, Constant(&[]), st, None).unwrap();
+            let mut r = [0.0; 4];
+            sys.rhs(0.2, y, &mut r);
+            r
+        };
+        let plain = rates(&y, &P);
+        for k in 0..4 {
+            assert_eq!(out[k].to_bits(), plain[k].to_bits(), "rate {k}");
+        }
+        for j in 0..dirs {
+            let moved = |h: f64| {
+                let yj: Vec<f64> = (0..4).map(|k| y[k] + h * aug[4 + k * dirs + j]).collect();
+                let pj: [f64; 3] = std::array::from_fn(|k| P[k] + h * seeds[j * 3 + k]);
+                rates(&yj, &pj)
+            };
+            let h = 1e-4;
+            let (p1, m1, p2, m2) = (moved(h), moved(-h), moved(h / 2.0), moved(-h / 2.0));
+            for k in 0..4 {
+                let d1 = (p1[k] - m1[k]) / (2.0 * h);
+                let d2 = (p2[k] - m2[k]) / h;
+                let fd = (4.0 * d2 - d1) / 3.0;
+                let exact = out[4 + k * dirs + j];
+                assert!(
+                    (exact - fd).abs() <= 1e-8 * (1.0 + fd.abs()),
+                    "sign {sign}, α {alpha}: ∂rate {k}/∂direction {j}: {exact} against {fd}"
+                );
+            }
+        }
+    }
 }
