@@ -582,7 +582,8 @@ fn fixed_point_attitude_at_a_huge_angle_is_the_true_rotation() {
 }
 
 /// `f'(0)` by central differences at `h` and `h/2`, Richardson-extrapolated (the closed
-/// forms' derivative tests, here and in [`crate::heavy_top`]).
+/// forms' derivative tests, here, in [`crate::heavy_top`], [`crate::kepler`] and the constrained
+/// sensitivities).
 pub(crate) fn richardson(f: impl Fn(f64) -> f64, h: f64) -> f64 {
     let d1 = (f(h) - f(-h)) / (2.0 * h);
     let d2 = (f(h / 2.0) - f(-h / 2.0)) / h;
