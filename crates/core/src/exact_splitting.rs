@@ -11,6 +11,11 @@
 //! 2008, *SIAM J. Sci. Comput.* 30(4), §5). Torque-free, every composition is the exact flow
 //! (its flows compose to one), to round-off at any step.
 //!
+//! A free body under one central gravity drifts its centre of mass along Kepler's exact flow
+//! ([`crate::kepler`]) and is kicked by the rest of the forces (the gravity-gradient terms and
+//! any other), the splitting of Wisdom & Holman (1991): the error is then set by the gradient
+//! terms alone (`docs/theory.md`, (S5)).
+//!
 //! The free flow is the closed form itself ([`crate::torque_free::Regime`] for ω,
 //! [`crate::torque_free::attitude_at`] for Q, [`crate::torque_free::motion_at`]: one evaluation per sub-step from the sub-step's
 //! own ω and Q): every branch of the exact solution (symmetric bodies, nearly symmetric ones,
@@ -365,9 +370,9 @@ pub fn off_orbit<T: Scalar>(w: &mut [T; 6], point: &[T; 3]) {
 /// with the directions' own, and `Q(d) = Q0 U` (`U = Q0ᵀ Q(d)`, the free motion is
 /// left-invariant) for their turn of `Q0`; for a symmetric body its closed form itself
 /// ([`precession_momentum`], [`precession_attitude`]) on the dual numbers. The centre of
-/// mass is the caller's ([`translate`]). False where the derivatives are not formed: a fixed point or the separatrix
-/// of an asymmetric body, and a symmetric body's moments moved apart (the symmetric closed
-/// form has no derivative along one of its equal moments alone).
+/// mass is the caller's ([`translate`]). False where the derivatives are not formed: a fixed
+/// point or the separatrix of an asymmetric body, and a symmetric body's moments moved apart
+/// (the symmetric closed form has no derivative along one of its equal moments alone).
 pub fn free_flow_tangent<const P: usize>(
     body: &Body<Dual<P>>,
     z: &mut [Dual<P>; STATE_SIZE],
