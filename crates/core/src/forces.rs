@@ -100,9 +100,9 @@ fn gravity<T: Scalar>(p: &[T; FORCE_PARAMS], body: &Body<T>) -> [T; 6] {
     [m * p[0], m * p[1], m * p[2], z, z, z]
 }
 
-/// The point-mass part of a central gravity ([`central_gravity`]): `F = −μM r/|r|³`, `r` from
-/// the centre `(p[1], p[2], p[3])` to the centre of mass. The exact-flow splittings solve it
-/// exactly (Kepler's flow, [`crate::kepler`]) and kick with the rest.
+/// The point-mass part of a central gravity ([`ForceKind::CentralGravity`]): `F = −μM r/|r|³`,
+/// `r` from the centre `(p[1], p[2], p[3])` to the centre of mass. The exact-flow splittings
+/// solve it exactly (Kepler's flow, [`crate::kepler`]) and kick with the rest.
 #[inline(always)]
 pub fn central_point_force<T: Scalar>(
     p: &[T; FORCE_PARAMS],
