@@ -86,7 +86,7 @@ pub const REGISTRY: &[Entry] = &[
         tableau: "strang",
         conserves: &["orthogonality", "angular_momentum", "symplectic"],
         kicks: true,
-        summary: "Strang splitting of the exact torque-free flow (Jacobi elliptic functions) and kicks: exact without torques, O(ε h²) under a torque of size ε (Celledoni, Fassò, Säfström & Zanna 2008).",
+        summary: "Strang splitting of the exact torque-free flow (Jacobi elliptic functions) and kicks: exact without torques, O(ε h²) under a torque of size ε (Celledoni, Fassò, Säfström & Zanna 2008); under one central gravity the orbit drifts by Kepler's exact flow (Wisdom & Holman 1991).",
     },
     Entry {
         name: "exact-splitting4",
