@@ -406,11 +406,34 @@ pub fn carlson_rj(x: f64, y: f64, z: f64, p: f64) -> f64 {
 /// 19.36.1, Carlson 1995, algorithm 3).
 #[inline(always)]
 pub fn carlson_rj_above<T: Real>(x: T, y: T, z: T, p: T) -> T {
-    carlson_rj_by(x, y, z, p, |e: T| {
-        // R_C(1, 1 + e) = atan(√e)/√e, 1 at e = 0
-        let r = e.sqrt();
-        T::select(e.gt(T::splat(0.0)), atan(r) / r, T::splat(1.0))
-    })
+    carlson_rj_by(x, y, z, p, rc1p_above)
+}
+
+/// Below this `e`, [`rc1p_above`] sums the series of `atan(√e)/√e`.
+const RC_SERIES: f64 = 1e-3;
+
+/// `R_C(1, 1 + e) = atan(√e)/√e` for `e ≥ 0` (DLMF 19.2.19), 1 at `e = 0`. Below
+/// [`RC_SERIES`], as the duplication's terms soon are (`e` falls by about 64 a step), its
+/// series `Σ (−e)^j/(2j + 1)` to `e⁶`: the first term left out, `e⁷/15 < 7e-23`, is far below
+/// round-off, and no square root, division or arctangent is taken. Lanes with some `e` above
+/// take both forms and select.
+#[inline(always)]
+fn rc1p_above<T: Real>(e: T) -> T {
+    let c = T::splat;
+    let small = e.lt(c(RC_SERIES));
+    let series = || {
+        let mut s = c(1.0 / 13.0);
+        for j in (0..6).rev() {
+            s = c(1.0 / (2 * j + 1) as f64) - e * s;
+        }
+        s
+    };
+    if small.all() {
+        return series();
+    }
+    let r = e.sqrt();
+    let full = T::select(e.gt(c(0.0)), atan(r) / r, c(1.0));
+    T::select(small, series(), full)
 }
 
 /// Carlson's duplication for `R_J` (DLMF 19.36.1, Carlson 1995, algorithm 3), generic over
@@ -580,18 +603,27 @@ pub fn third_kind_separatrix(n: f64, u: f64) -> f64 {
 }
 
 /// [`third_kind_u`] for `n ≤ 0` from the quarter-period reduction `u = 2pK + v` of its
-/// argument ([`reduce_quarter`]): `s = sn v`, `c = cn v ≥ 0`, `d = dn v` and `p`, with
-/// `Π(n|m)` given: `2p Π(n|m) + s R_F(c², d², 1) + (n/3) s³ R_J(c², d², 1, 1 − n s²)`
-/// (DLMF 19.25.14). Generic over [`Real`] (the attitude of free bodies in lanes); the
-/// reduction is the one ω(t) already made.
+/// argument ([`reduce_quarter`]): `s = sn v`, `c = cn v ≥ 0`, `d = dn v`, `v` and `p`, with
+/// `Π(n|m)` given: `2p Π(n|m) + v + (n/3) s³ R_J(c², d², 1, 1 − n s²)` (DLMF 19.25.14, whose
+/// first-kind part `s R_F(c², d², 1) = F(am v)` is `v` itself for |v| ≤ K: no `R_F` is taken,
+/// and the integral keeps the very phase `v` of the Jacobi functions). Generic over [`Real`]
+/// (the attitude of free bodies in lanes); the reduction is the one ω(t) already made.
 #[inline(always)]
-pub fn third_kind_reduced<T: Real>(n: T, s: T, c: T, d: T, p: T, pi_complete: T) -> T {
+pub fn third_kind_reduced<T: Real>(n: T, s: T, c: T, d: T, v: T, p: T, pi_complete: T) -> T {
     let k = T::splat;
-    let c2 = c * c;
-    let d2 = d * d;
-    let g = s * carlson_rf(c2, d2, k(1.0))
-        + n / k(3.0) * s * s * s * carlson_rj_above(c2, d2, k(1.0), k(1.0) - n * s * s);
+    let g = v + third_kind_excess(n, s, c, d);
     T::select(p.unequal(k(0.0)), g + k(2.0) * p * pi_complete, g)
+}
+
+/// `X(v) = (n/3) s³ R_J(c², d², 1, 1 − n s²)` from `s = sn v`, `c = cn v ≥ 0`, `d = dn v`
+/// (|v| ≤ K, `n ≤ 0`): what the reduced integral of the third kind `G(v)`
+/// ([`third_kind_reduced`]) adds to its first-kind part `s R_F(c², d², 1) = F(am v) = v`
+/// (DLMF 19.25.14 and 19.25.5), so that `Π(u) − Π(u0) = (u − u0) + X(v) − X(v0)` within a half
+/// period. Generic over [`Real`].
+#[inline(always)]
+pub fn third_kind_excess<T: Real>(n: T, s: T, c: T, d: T) -> T {
+    let k = T::splat;
+    n / k(3.0) * s * s * s * carlson_rj_above(c * c, d * d, k(1.0), k(1.0) - n * s * s)
 }
 
 /// [`third_kind_reduced`]'s `G = s R_F(c², d², 1) + (n/3) s³ R_J(c², d², 1, 1 − n s²)` (n < 1,

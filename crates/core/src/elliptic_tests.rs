@@ -49,9 +49,9 @@ fn third_kind_from_the_reduction_equals_third_kind_u() {
             let pi = ellippi_complete(n, m, m1);
             for i in -40..=40 {
                 let u = 0.173 * k * i as f64;
-                let (sn, cn, dn, p, _) = jacobi_reduced_with(u, m, m1, k, &agm);
+                let (sn, cn, dn, p, v) = jacobi_reduced_with(u, m, m1, k, &agm);
                 let par = parity(p);
-                let a = third_kind_reduced(n, par * sn, par * cn, dn, p, pi);
+                let a = third_kind_reduced(n, par * sn, par * cn, dn, v, p, pi);
                 let b = third_kind_u(n, u, m, m1, k);
                 assert!(
                     (a - b).abs() <= 4e-15 * (1.0 + b.abs()),

@@ -10,7 +10,8 @@
 
 use super::{jacobi_omega, Regime, FIXED, PRECESSION, SPHERICAL};
 use crate::elliptic::{
-    ellippi_complete, jacobi_reduced_with, parity, third_kind_reduced, third_kind_u, TINY_M1,
+    ellippi_complete, jacobi_reduced_with, parity, third_kind_excess, third_kind_reduced,
+    third_kind_u, TINY_M1,
 };
 use crate::real::{sin_cos, Mask, Real, Wide, WideMask};
 use crate::so3::{exp_so3, matmul, zxz_matrix, zxz_matrix_sc, Mat3, Vec3};
@@ -133,9 +134,8 @@ impl AttitudeSetup {
         att.pi_u0 = if reduced_third_kind(reg) {
             att.pi_complete = ellippi_complete(att.n, reg.m, reg.m1);
             // Π at t = 0 by the very route of every later time, so that ψ(0) = 0 exactly
-            let (sn, cn, dn, p, _) =
-                jacobi_reduced_with(reg.u0, reg.m, reg.m1, reg.quarter, &reg.agm);
-            EllipticMotion::of(reg, &att).third_kind(sn, cn, dn, p)
+            let red = jacobi_reduced_with(reg.u0, reg.m, reg.m1, reg.quarter, &reg.agm);
+            EllipticMotion::of(reg, &att).third_kind(red)
         } else {
             third_kind_u(att.n, reg.u0, reg.m, reg.m1, reg.quarter)
         };
@@ -161,17 +161,22 @@ impl AttitudeSetup {
     }
 }
 
-/// `Π(u) − Π(u0)` of an elliptic motion taken as a difference of reductions (the exact-flow
+/// `Π(u) − Π(u0)` of an elliptic motion from the reductions of `u` and `u0` (the exact-flow
 /// splitting's free flow, [`crate::exact_splitting::FreeFlow`]; `docs/theory.md` §5): with
-/// `u = 2pK + v`, `u0 = 2p0 K + v0` (|v|, |v0| ≤ K),
-/// `Π(u) − Π(u0) = G(v) − G(v0) + 2(p − p0) Π(n|m)`, `G` of DLMF 19.25.14
-/// ([`third_kind_reduced`] at p = 0). `G(v0)` comes from the start's own Jacobi functions,
-/// `(sn, cn, dn)(u0) = ω_i/(σ_i α_i)` (no reduction of `u0`), and the complete `Π(n|m)`
-/// only once `p ≠ p0` (a short flow stays in its half period and never needs it).
+/// `u = 2pK + v`, `u0 = 2p0 K + v0` (|v|, |v0| ≤ K), `Π = 2pΠ(n|m) + G(v)` and
+/// `G(v) = v + X(v)` (DLMF 19.25.14: the first-kind part of `G`, `s R_F(c², d², 1)`, is `v`
+/// itself; [`third_kind_excess`]), so
+/// `Π(u) − Π(u0) = (v − v0) + X(v) − X(v0) + 2(p − p0) Π(n|m)`.
+/// The first-kind parts are never evaluated: they are the reduced arguments, `v` the very one
+/// ω(t) is made from, so that ψ keeps ω's phase over many periods. `X(v0)` comes from the
+/// start's own Jacobi functions, `(sn, cn, dn)(u0) = ω_i/(σ_i α_i)` (no reduction of `u0`),
+/// and the complete `Π(n|m)` only once `p ≠ p0` (a short flow stays in its half period and
+/// never needs it).
 #[derive(Clone, Copy, Debug)]
 pub struct ThirdKindStart {
-    /// `G(v0)` and `p0`.
-    g0: f64,
+    /// `v0`, `X(v0)` and `p0`.
+    v0: f64,
+    x0: f64,
     p0: f64,
     /// `Π(n|m)`, once needed.
     pi_complete: Option<f64>,
@@ -192,21 +197,34 @@ impl ThirdKindStart {
         } else {
             (f(1), f(2), f(0))
         };
-        let p0 = (reg.u0 / (2.0 * reg.quarter)).round_ties_even();
+        // `u0 = 2 p0 K + v0` as `reduce_quarter` splits an argument
+        let two_k = 2.0 * reg.quarter;
+        let p0 = (reg.u0 / two_k).round_ties_even();
         let par = parity(p0);
         Some(ThirdKindStart {
-            g0: third_kind_reduced(att.n, par * sn, par * cn, dn, 0.0, 0.0),
+            v0: reg.u0 - two_k * p0,
+            x0: third_kind_excess(att.n, par * sn, par * cn, dn),
             p0,
             pi_complete: None,
         })
     }
 
-    /// `Π(u) − Π(u0)` from the reduction `(sn u, cn u, dn u, p)` of `u`
+    /// `Π(u) − Π(u0)` from the reduction `(sn u, cn u, dn u, p, v)` of `u`
     /// ([`jacobi_reduced_with`]).
     #[inline]
-    fn difference(&mut self, reg: &Regime, n: f64, sn: f64, cn: f64, dn: f64, p: f64) -> f64 {
+    #[allow(clippy::too_many_arguments)]
+    fn difference(
+        &mut self,
+        reg: &Regime,
+        n: f64,
+        sn: f64,
+        cn: f64,
+        dn: f64,
+        p: f64,
+        v: f64,
+    ) -> f64 {
         let par = parity(p);
-        let g = third_kind_reduced(n, par * sn, par * cn, dn, 0.0, 0.0) - self.g0;
+        let g = (v - self.v0) + (third_kind_excess(n, par * sn, par * cn, dn) - self.x0);
         if p == self.p0 {
             return g;
         }
@@ -228,10 +246,10 @@ pub fn motion_from_start(
     t: f64,
 ) -> (Vec3, Mat3) {
     let u = reg.u0 + reg.lam * t;
-    let (sn, cn, dn, p, _) = jacobi_reduced_with(u, reg.m, reg.m1, reg.quarter, &reg.agm);
+    let (sn, cn, dn, p, v) = jacobi_reduced_with(u, reg.m, reg.m1, reg.quarter, &reg.agm);
     let motion = EllipticMotion::of(reg, att);
     let omega = jacobi_omega(reg.pole == 2, motion.sa, sn, cn, dn);
-    let big_pi = start.difference(reg, att.n, sn, cn, dn, p);
+    let big_pi = start.difference(reg, att.n, sn, cn, dn, p, v);
     (
         omega,
         motion.attitude_with(moments, t, omega, big_pi, &mut true),
@@ -303,35 +321,32 @@ impl<const N: usize> EllipticMotion<Wide<N>> {
 }
 
 impl<T: Real> EllipticMotion<T> {
-    /// `Π(u) = ∫₀^u du/(1 − n sn² u)` from the reduction `(sn u, cn u, dn u, p)`
-    /// ([`third_kind_reduced`] on `sn v = (−1)^p sn u`, `cn v = (−1)^p cn u`).
+    /// `Π(u) = ∫₀^u du/(1 − n sn² u)` from the reduction `(sn u, cn u, dn u, p, v)` of
+    /// `u = 2pK + v` ([`third_kind_reduced`] on `sn v = (−1)^p sn u`, `cn v = (−1)^p cn u`).
     #[inline(always)]
-    fn third_kind(&self, sn: T, cn: T, dn: T, p: T) -> T {
+    fn third_kind(&self, (sn, cn, dn, p, v): (T, T, T, T, T)) -> T {
         let par = parity(p);
-        third_kind_reduced(self.n, par * sn, par * cn, dn, p, self.pi_complete)
+        third_kind_reduced(self.n, par * sn, par * cn, dn, v, p, self.pi_complete)
     }
 
-    /// `Q(t)` (sorted principal frame → space) from the reduction `(sn, cn, dn, p)` of
+    /// `Q(t)` (sorted principal frame → space) from the reduction `(sn, cn, dn, p, v)` of
     /// `u = u0 + λt`: ω(t) in the Jacobi form, the angles θ, φ of the body momentum `π = Iω`
     /// (relabelled `(π3, −π2, π1)` about e1) as ratios, `cos θ = π_p/a`,
     /// `tan φ = π_1'/π_2'`, and `ψ = a t/I_p + a (I_p − I_q)/(I_p I_q λ) [Π(u) − Π(u0)]`:
     /// `Q = P0 Rzxz(ψ, θ, φ)` (columns relabelled back about e1). `plain` is cleared in the
     /// lanes whose sums of squares `f64` would take by `hypot` ([`Real::norm2`]).
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn attitude(
         &self,
         moments: Vec3,
         t: T,
-        sn: T,
-        cn: T,
-        dn: T,
-        p: T,
+        red: (T, T, T, T, T),
         plain: &mut T::Mask,
     ) -> [[T; 3]; 3] {
-        let v = jacobi_omega(self.e3, self.sa, sn, cn, dn);
-        let big_pi = self.third_kind(sn, cn, dn, p) - self.pi_u0;
-        self.attitude_with(moments.map(T::splat), t, v, big_pi, plain)
+        let (sn, cn, dn, _, _) = red;
+        let w = jacobi_omega(self.e3, self.sa, sn, cn, dn);
+        let big_pi = self.third_kind(red) - self.pi_u0;
+        self.attitude_with(moments.map(T::splat), t, w, big_pi, plain)
     }
 
     /// [`EllipticMotion::attitude`] from ω(t) `v` (the Jacobi form) and `Π(u) − Π(u0)`
@@ -460,8 +475,8 @@ pub fn attitude_at(
         _ if reduced_third_kind(reg) => {
             // the reduction of u that ω(t) makes ([`Regime::omega_at`]), shared with Π(u)
             let u = reg.u0 + reg.lam * t;
-            let (sn, cn, dn, p, _) = jacobi_reduced_with(u, reg.m, reg.m1, reg.quarter, &reg.agm);
-            EllipticMotion::of(reg, att).attitude(moments, t, sn, cn, dn, p, &mut true)
+            let red = jacobi_reduced_with(u, reg.m, reg.m1, reg.quarter, &reg.agm);
+            EllipticMotion::of(reg, att).attitude(moments, t, red, &mut true)
         }
         _ => {
             let v = reg.omega_at(moments, w, t);
@@ -498,10 +513,11 @@ pub fn motion_at(
 ) -> (Vec3, Mat3) {
     if reg.is_elliptic() && reduced_third_kind(reg) {
         let u = reg.u0 + reg.lam * t;
-        let (sn, cn, dn, p, _) = jacobi_reduced_with(u, reg.m, reg.m1, reg.quarter, &reg.agm);
+        let red = jacobi_reduced_with(u, reg.m, reg.m1, reg.quarter, &reg.agm);
+        let (sn, cn, dn, _, _) = red;
         let motion = EllipticMotion::of(reg, att);
         let omega = jacobi_omega(reg.pole == 2, motion.sa, sn, cn, dn);
-        (omega, motion.attitude(moments, t, sn, cn, dn, p, &mut true))
+        (omega, motion.attitude(moments, t, red, &mut true))
     } else {
         (
             reg.omega_at(moments, w, t),

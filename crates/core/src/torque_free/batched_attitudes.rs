@@ -170,8 +170,8 @@ impl<const N: usize> LaneReduction<N> {
         plain: &mut WideMask<N>,
     ) -> [[Wide<N>; 3]; 3] {
         let u = self.u0 + self.lam * t;
-        let (sn, cn, dn, p, _) = reduce_quarter(u, self.rm1, self.quarter, &self.agm);
-        sorted_to_body(&motion.attitude(moments, t, sn, cn, dn, p, plain), s)
+        let red = reduce_quarter(u, self.rm1, self.quarter, &self.agm);
+        sorted_to_body(&motion.attitude(moments, t, red, plain), s)
     }
 }
 
