@@ -37,6 +37,21 @@ fn carlson_rj_above_equals_carlson_rj() {
     }
 }
 
+/// `R_C(1, 1 + e)` by its series below `RC_SERIES` equals `atan(√e)/√e` (libm's, in
+/// [`carlson_rc1p`]) to round-off on both sides of the switch, and is 1 at 0.
+#[test]
+fn rc1p_series_equals_the_arctangent() {
+    assert_eq!(rc1p_above(0.0), 1.0);
+    let mut e = 1e-30;
+    while e < 1e-1 {
+        for x in [e, RC_SERIES * (1.0 - 1e-9), RC_SERIES] {
+            let (a, b) = (rc1p_above(x), carlson_rc1p(x));
+            assert!((a - b).abs() <= 2.5e-16 * b, "{x}: {a} {b}");
+        }
+        e *= 1.7;
+    }
+}
+
 /// `Π(u)` from the reduction ω(t) makes equals `third_kind_u` to round-off, across
 /// periods and toward the separatrix.
 #[test]
