@@ -15,7 +15,8 @@
 * ``dop853_lanes``: DOP853 members (each its own step sizes) in lanes against the same members
   run one at a time (chunks of 15, too few for lanes), the tolerances of a grading run.
 * ``forced_lanes``: bodies under forces in lanes (a heavy top: uniform gravity about a
-  pivot; a satellite: central gravity with its gradient torque; every method; a body on a
+  pivot; a satellite: central gravity with its gradient torque; every method, the exact-flow
+  splittings at dt = 0.05 (their free flows in SIMD lanes); a body on a
   tether under four forces, RK4, RKMK4 and DOP853; on an undamped tether under three,
   splitting), against the same members run one at a time
   (chunks of 15), bit for bit.
@@ -376,7 +377,8 @@ def case_forced_lanes(repeat):
 
     body, W0 = _inputs(4000)
     rows = []
-    every = ("rk4", "rkmk4", "splitting", "dop853")
+    # the exact-flow splittings at their own step (fifteen flows a step for the sixth order)
+    every = ("rk4", "rkmk4", "splitting", "dop853", "exact-splitting", "exact-splitting6")
     cases = (
         (
             "heavy top (gravity about a pivot)",
@@ -414,7 +416,11 @@ def case_forced_lanes(repeat):
             ("splitting",),
         ),
     )
-    kws = {"dop853": {"rtol": 1e-10, "atol": 1e-12}}
+    kws = {
+        "dop853": {"rtol": 1e-10, "atol": 1e-12},
+        "exact-splitting": {"dt": 0.05},
+        "exact-splitting6": {"dt": 0.05},
+    }
     for label, setup, methods in cases:
         for method in methods:
             kw = kws.get(method, {"dt": DT})

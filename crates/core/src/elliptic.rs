@@ -396,7 +396,45 @@ pub fn carlson_rf<T: Real>(x: T, y: T, z: T) -> T {
 /// most one zero) and `p > 0` (DLMF 19.16.2), by duplication (Carlson 1995, algorithm 3;
 /// DLMF 19.36.1), with `R_C(1, 1 + e)` in its cancellation-free form ([`carlson_rc1p`]).
 pub fn carlson_rj(x: f64, y: f64, z: f64, p: f64) -> f64 {
-    carlson_rj_by(x, y, z, p, carlson_rc1p)
+    carlson_rj_by::<f64, Libm>(x, y, z, p)
+}
+
+/// `R_C(1, 1 + e)` in the form Carlson's duplication for `R_J` takes ([`carlson_rj_by`],
+/// [`third_kind_from_roots`]): a type rather than a closure, so that the form is inlined into
+/// each instruction set's copy of the lanes' code (a closure the compiler leaves out of line
+/// is compiled for the baseline alone).
+pub trait RcOnePlus<T> {
+    fn rc1p(e: T) -> T;
+}
+
+/// [`carlson_rc1p`]: libm's `atan` and `atanh`, any `e > −1`.
+pub struct Libm;
+
+impl RcOnePlus<f64> for Libm {
+    #[inline(always)]
+    fn rc1p(e: f64) -> f64 {
+        carlson_rc1p(e)
+    }
+}
+
+/// [`rc1p_above`]: `e ≥ 0`, generic over [`Real`].
+pub struct Above;
+
+impl<T: Real> RcOnePlus<T> for Above {
+    #[inline(always)]
+    fn rc1p(e: T) -> T {
+        rc1p_above(e)
+    }
+}
+
+/// [`rc1p_dual`]: on dual numbers.
+pub struct OnDuals;
+
+impl<const P: usize> RcOnePlus<Dual<P>> for OnDuals {
+    #[inline(always)]
+    fn rc1p(e: Dual<P>) -> Dual<P> {
+        rc1p_dual(e)
+    }
 }
 
 /// [`carlson_rj`] where `p ≥ max(x, y, z)` (so that every `R_C(1, 1 + e)` of the duplication
@@ -406,7 +444,7 @@ pub fn carlson_rj(x: f64, y: f64, z: f64, p: f64) -> f64 {
 /// 19.36.1, Carlson 1995, algorithm 3).
 #[inline(always)]
 pub fn carlson_rj_above<T: Real>(x: T, y: T, z: T, p: T) -> T {
-    carlson_rj_by(x, y, z, p, rc1p_above)
+    carlson_rj_by::<T, Above>(x, y, z, p)
 }
 
 /// Below this `e`, [`rc1p_above`] sums the series of `atan(√e)/√e`.
@@ -437,9 +475,9 @@ fn rc1p_above<T: Real>(e: T) -> T {
 }
 
 /// Carlson's duplication for `R_J` (DLMF 19.36.1, Carlson 1995, algorithm 3), generic over
-/// [`Real`], with `R_C(1, 1 + e)` given: each lane duplicates until its own run stops.
+/// [`Real`], with `R_C(1, 1 + e)` by `R` ([`RcOnePlus`]): each lane duplicates until its own run stops.
 #[inline(always)]
-pub(crate) fn carlson_rj_by<T: Real>(x: T, y: T, z: T, p: T, rc1p: impl Fn(T) -> T) -> T {
+pub(crate) fn carlson_rj_by<T: Real, R: RcOnePlus<T>>(x: T, y: T, z: T, p: T) -> T {
     let c = T::splat;
     let (mut x, mut y, mut z, mut p) = (x, y, z, p);
     let a0 = (x + y + z + c(2.0) * p) / c(5.0);
@@ -468,7 +506,7 @@ pub(crate) fn carlson_rj_by<T: Real>(x: T, y: T, z: T, p: T, rc1p: impl Fn(T) ->
         let lam = sx * sy + sx * sz + sy * sz;
         let d = (sp + sx) * (sp + sy) * (sp + sz);
         let e = scale * scale * scale * delta / (d * d);
-        total = T::select(going, total + scale * rc1p(e) / d, total);
+        total = T::select(going, total + scale * R::rc1p(e) / d, total);
         a = T::select(going, quarter * (a + lam), a);
         x = T::select(going, quarter * (x + lam), x);
         y = T::select(going, quarter * (y + lam), y);
@@ -632,9 +670,9 @@ pub fn third_kind_excess<T: Real>(n: T, s: T, c: T, d: T) -> T {
 /// `R_J(x, y, z, p) = R_J(x₁, y₁, z₁, p₁)/4 + 6 R_C(1, 1 + δ/d₀²)/d₀`, with `x₁ = (x + λ)/4`, …,
 /// `λ = √x√y + √y√z + √z√x`, `δ = (p − x)(p − y)(p − z)`, `d₀ = (√p + √x)(√p + √y)(√p + √z)`
 /// (DLMF 19.26.18; the first step of Carlson 1995, algorithm 3). Generic over [`Real`], with
-/// `R_C(1, 1 + e)` given. On dual numbers no argument is then zero where it is differentiated:
+/// `R_C(1, 1 + e)` by `R` ([`RcOnePlus`]). On dual numbers no argument is then zero where it is differentiated:
 /// `cn v = 0` at `v = ±K` carries its derivative in `c`, which `√(c²)` would lose (0/0).
-pub fn third_kind_from_roots<T: Real>(n: T, s: T, c: T, d: T, rc1p: impl Fn(T) -> T + Copy) -> T {
+pub fn third_kind_from_roots<T: Real, R: RcOnePlus<T>>(n: T, s: T, c: T, d: T) -> T {
     let k = T::splat;
     let one = k(1.0);
     let (c2, d2) = (c * c, d * d);
@@ -650,7 +688,7 @@ pub fn third_kind_from_roots<T: Real>(n: T, s: T, c: T, d: T, rc1p: impl Fn(T) -
     );
     let d0 = (sp + c) * (sp + d) * (sp + one);
     let delta = (p - c2) * (p - d2) * (p - one);
-    let rj = q * carlson_rj_by(x1, y1, z1, p1, rc1p) + k(6.0) * rc1p(delta / (d0 * d0)) / d0;
+    let rj = q * carlson_rj_by::<T, R>(x1, y1, z1, p1) + k(6.0) * R::rc1p(delta / (d0 * d0)) / d0;
     s * carlson_rf(x1, y1, z1) + n / k(3.0) * s * s * s * rj
 }
 

@@ -138,6 +138,28 @@ fn members_in_lanes_are_their_single_runs() {
     }
 }
 
+/// The exact-flow splittings in lanes ([`crate::lanes::BlockExactSplitting`]: the free flows
+/// in SIMD lanes where every lane's body is the same, the kicks lane by lane) are their single
+/// runs bit for bit, in every case above: torque-free members (every flow after the first goes
+/// on along its motion), a body per member (the flows one by one), a member that cannot run,
+/// under each force, free (Kepler's drift under central gravity) and about a pivot; with a
+/// composition that starts with a kick (Strang's, Blanes & Moan's SRKN₆ᵇ) and one that starts
+/// with a flow (SRKN₁₄ᵃ: the last flow of a step goes on along its motion into the next).
+#[test]
+fn exact_splittings_in_lanes_are_their_single_runs() {
+    use crate::exact_splitting::Composition;
+    use crate::tableaux::{BM4_FLOWS, BM4_KICKS, BM6_FLOWS, BM6_KICKS, STRANG_FLOWS, STRANG_KICKS};
+    let t_eval: Vec<f64> = (0..=8).map(|k| 0.125 * k as f64).collect();
+    for (kick_first, flows, kicks) in [
+        (true, &STRANG_FLOWS[..], &STRANG_KICKS[..]),
+        (true, &BM4_FLOWS[..], &BM4_KICKS[..]),
+        (false, &BM6_FLOWS[..], &BM6_KICKS[..]),
+    ] {
+        let c = Composition::new(kick_first, flows, kicks).unwrap();
+        lanes_are_single_runs(Method::ExactSplitting(c), &t_eval);
+    }
+}
+
 /// A built-in force of `kind` with its first parameters `p`.
 fn force(kind: ForceKind, p: &[f64]) -> Force {
     let mut params = [0.0; FORCE_PARAMS];

@@ -116,13 +116,13 @@ pub struct FreeFlow {
 
 /// A torque-free motion under way: its start (ω, Q, and the time into its first step at
 /// which it began), the whole steps covered since (`steps + carry`, Neumaier's compensated
-/// sum, with a step that has ended still `pending`) and the `(Q, π)` it left last.
+/// sum, with a step that has ended still `pending`) and the `(Q, π)` it left last. What the
+/// closed form needs of the start (the regime, the frame, the start of `Π(u) − Π(u0)`) is made
+/// when first needed: a flow made in lanes ([`FreeFlow::advance_in_lanes`]) records the start
+/// alone, and the flow that goes on along it makes the same setup from the same start.
 #[derive(Clone, Copy, Debug)]
 struct Motion {
-    reg: Regime,
-    att: AttitudeSetup,
-    /// `Π(u) − Π(u0)` as a difference of reductions (elliptic motions off the separatrix).
-    start: Option<ThirdKindStart>,
+    setup: Option<Setup>,
     w0: Vec3,
     q0: Mat3,
     began: f64,
@@ -130,6 +130,15 @@ struct Motion {
     carry: f64,
     pending: f64,
     left: [f64; 12],
+}
+
+/// The closed form's setup of a motion ([`start_motion`]).
+#[derive(Clone, Copy, Debug)]
+struct Setup {
+    reg: Regime,
+    att: AttitudeSetup,
+    /// `Π(u) − Π(u0)` from the reductions (elliptic motions off the separatrix).
+    start: Option<ThirdKindStart>,
 }
 
 impl FreeFlow {
@@ -140,6 +149,24 @@ impl FreeFlow {
             line: body.moments[0] == 0.0,
             motion: None,
         }
+    }
+
+    /// Whether the flows of this body may run in lanes ([`FreeFlow::advance_in_lanes`]):
+    /// three distinct moments.
+    pub fn takes_lanes(&self) -> bool {
+        !self.line && self.symmetry == 0
+    }
+
+    /// The body's [`Radicals`].
+    pub fn radicals(&self) -> &Radicals {
+        &self.radicals
+    }
+
+    /// Whether a flow from `z` goes on along the motion the last flow left (no kick moved
+    /// `(Q, π)` since).
+    #[inline]
+    pub fn continues(&self, z: &[f64]) -> bool {
+        matches!(&self.motion, Some(m) if m.left[..] == z[Q_AT..STATE_SIZE])
     }
 
     /// `z` advanced in place by the torque-free motion over `d`, a flow that ends `within`
@@ -160,9 +187,8 @@ impl FreeFlow {
             free_rotor_symmetric(body, z, d);
         } else {
             let moments = body.moments;
-            let rotation = &z[Q_AT..STATE_SIZE];
             let mut m = match self.motion {
-                Some(mut m) if m.left[..] == *rotation => {
+                Some(mut m) if m.left[..] == z[Q_AT..STATE_SIZE] => {
                     let (s, x) = (m.steps, m.pending);
                     let sum = s + x;
                     m.carry += if s.abs() >= x.abs() {
@@ -175,44 +201,119 @@ impl FreeFlow {
                     m
                 }
                 _ => {
-                    let w0 = [0, 1, 2].map(|k| z[OMEGA_AT + k] * body.inv_moments[k]);
-                    let q0: Mat3 = [0, 1, 2].map(|r| [0, 1, 2].map(|c| z[Q_AT + 3 * r + c]));
-                    let reg = Regime::with(moments, &self.radicals, self.symmetry, w0);
-                    let (att, start) = start_motion(moments, &reg, w0, &q0);
-                    Motion {
-                        att,
-                        start,
-                        reg,
-                        w0,
-                        q0,
-                        began: within - d,
-                        steps: 0.0,
-                        carry: 0.0,
-                        pending: 0.0,
-                        left: [0.0; 12],
-                    }
+                    let (w0, q0) = flow_start(body, z);
+                    Motion::at(w0, q0, within - d)
                 }
             };
-            let t = m.steps + ((within - m.began) + m.carry);
-            let (w, q) = match m.start.as_mut() {
-                Some(start) => motion_from_start(moments, &m.reg, &m.att, start, t),
-                None => motion_at(moments, &m.reg, &m.att, m.w0, &m.q0, t),
+            let t = m.time(within);
+            let setup = match m.setup {
+                Some(setup) => setup,
+                None => Setup::new(moments, &self.radicals, self.symmetry, m.w0, &m.q0),
             };
-            for k in 0..3 {
-                z[OMEGA_AT + k] = moments[k] * w[k];
-            }
-            for r in 0..3 {
-                z[Q_AT + 3 * r..Q_AT + 3 * r + 3].copy_from_slice(&q[r]);
-            }
-            m.left.copy_from_slice(&z[Q_AT..STATE_SIZE]);
-            if within == h {
-                // the step has ended: the next flow is in the next step
-                m.pending = h;
-            }
-            self.motion = Some(m);
+            let mut setup = setup;
+            let (w, q) = match setup.start.as_mut() {
+                Some(start) => motion_from_start(moments, &setup.reg, &setup.att, start, t),
+                None => motion_at(moments, &setup.reg, &setup.att, m.w0, &m.q0, t),
+            };
+            m.setup = Some(setup);
+            self.finish(body, m, z, w, &q, within, h);
         }
         translate(body, orbit.map(|f| &f.p), z, d, |x| x);
     }
+
+    /// The flow of a motion started in lanes ([`torque_free::free_flows_in_lanes`]) from
+    /// `z` over `d`, ending `within` into its step of `h`, whose lane gave `(w, q)` (sorted
+    /// frame: the engine's principal one): `z` written and the motion recorded as
+    /// [`FreeFlow::advance`] records it, then the centre of mass moved by [`translate`]. The
+    /// caller checked that the flow starts a motion ([`FreeFlow::continues`] false).
+    #[allow(clippy::too_many_arguments)]
+    pub fn advance_in_lanes(
+        &mut self,
+        body: &Body,
+        orbit: Option<&Force>,
+        z: &mut [f64],
+        d: f64,
+        within: f64,
+        h: f64,
+        (w, q): (Vec3, &Mat3),
+    ) {
+        let (w0, q0) = flow_start(body, z);
+        self.finish(body, Motion::at(w0, q0, within - d), z, w, q, within, h);
+        translate(body, orbit.map(|f| &f.p), z, d, |x| x);
+    }
+
+    /// The motion's ω and Q at the end of the flow written into `z` (π = Iω), and the motion
+    /// kept for the next flow.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn finish(
+        &mut self,
+        body: &Body,
+        mut m: Motion,
+        z: &mut [f64],
+        w: Vec3,
+        q: &Mat3,
+        within: f64,
+        h: f64,
+    ) {
+        for k in 0..3 {
+            z[OMEGA_AT + k] = body.moments[k] * w[k];
+        }
+        for r in 0..3 {
+            z[Q_AT + 3 * r..Q_AT + 3 * r + 3].copy_from_slice(&q[r]);
+        }
+        m.left.copy_from_slice(&z[Q_AT..STATE_SIZE]);
+        if within == h {
+            // the step has ended: the next flow is in the next step
+            m.pending = h;
+        }
+        self.motion = Some(m);
+    }
+}
+
+/// The start of a flow from the momentum state `z`: `ω = π/I` and `Q`.
+#[inline]
+pub fn flow_start(body: &Body, z: &[f64]) -> (Vec3, Mat3) {
+    let w0 = [0, 1, 2].map(|k| z[OMEGA_AT + k] * body.inv_moments[k]);
+    let q0: Mat3 = [0, 1, 2].map(|r| [0, 1, 2].map(|c| z[Q_AT + 3 * r + c]));
+    (w0, q0)
+}
+
+impl Motion {
+    fn at(w0: Vec3, q0: Mat3, began: f64) -> Motion {
+        Motion {
+            setup: None,
+            w0,
+            q0,
+            began,
+            steps: 0.0,
+            carry: 0.0,
+            pending: 0.0,
+            left: [0.0; 12],
+        }
+    }
+
+    /// The time into the motion at which a flow ending `within` into its step is evaluated:
+    /// `steps + ((within − began) + carry)`.
+    #[inline]
+    fn time(&self, within: f64) -> f64 {
+        self.steps + ((within - self.began) + self.carry)
+    }
+}
+
+impl Setup {
+    fn new(moments: Vec3, radicals: &Radicals, symmetry: u8, w0: Vec3, q0: &Mat3) -> Setup {
+        let reg = Regime::with(moments, radicals, symmetry, w0);
+        let (att, start) = start_motion(moments, &reg, w0, q0);
+        Setup { reg, att, start }
+    }
+}
+
+/// The time into a new motion at which its first flow (over `d`, ending `within` into its
+/// step) ends: what [`FreeFlow::advance`] evaluates, and the lanes with it.
+#[inline]
+pub fn first_flow_time(d: f64, within: f64) -> f64 {
+    Motion::at([0.0; 3], [[0.0; 3]; 3], within - d).time(within)
 }
 
 /// A free body's centre of mass moved over a flow of `d`: Kepler's flow about the centre of
@@ -341,17 +442,31 @@ pub fn exact_splitting_step<S: RigidStructure + ?Sized>(
     let orbit = sys.orbit();
     compose(c, h, |sub| match sub {
         SubStep::Kick { k, covered } => {
-            let y = momentum_to_velocity(sys, out);
-            let mut w = sys.wrench(t + covered, &y);
-            if let Some(f) = &orbit {
-                let point = central_point_force(&f.p, &body, &y);
-                off_orbit(&mut w, &point);
-            }
-            kick_by(&body, &w, out, c.kicks[k] * h);
+            exact_kick(sys, orbit.as_ref(), t + covered, out, c.kicks[k] * h)
         }
         SubStep::Flow { d, within } => flow.advance(&body, orbit.as_ref(), out, d, within, h),
     });
     hold_pivot(&body, out);
+}
+
+/// A kick of the momentum state `z` over `dt` at time `t`: the wrench of the forces, less
+/// the point-mass gravity of `orbit` when the drift solves the orbit ([`off_orbit`]).
+#[inline]
+pub fn exact_kick<S: RigidStructure + ?Sized>(
+    sys: &S,
+    orbit: Option<&Force>,
+    t: f64,
+    z: &mut [f64],
+    dt: f64,
+) {
+    let body = sys.body();
+    let y = momentum_to_velocity(sys, z);
+    let mut w = sys.wrench(t, &y);
+    if let Some(f) = orbit {
+        let point = central_point_force(&f.p, body, &y);
+        off_orbit(&mut w, &point);
+    }
+    kick_by(body, &w, z, dt);
 }
 
 /// The wrench `w` less the point-mass gravity `point` that the drift's Kepler flow carries:

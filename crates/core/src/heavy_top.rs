@@ -36,7 +36,7 @@
 use crate::dual::Dual;
 use crate::elliptic::{
     carlson_rj, ellipk_m1, ellippi, ellippi_complete, first_kind_from_sn_cn, jacobi_dual,
-    jacobi_reduced, parity, rc1p_dual, third_kind_from_roots, Agm,
+    jacobi_reduced, parity, third_kind_from_roots, Agm, OnDuals,
 };
 use crate::real::Real;
 use crate::so3::{zxz_body_rates, zxz_matrix_sc};
@@ -327,7 +327,7 @@ impl TopTangent {
         ];
         let m1 = Dual::new(top.m1, m.d.map(|d| -d));
         let pi_complete =
-            n.map(|nk| third_kind_from_roots(nk, c(1.0), c(0.0), m1.sqrt(), rc1p_dual));
+            n.map(|nk| third_kind_from_roots::<_, OnDuals>(nk, c(1.0), c(0.0), m1.sqrt()));
         let mut tangent = TopTangent {
             top,
             agm,
@@ -369,7 +369,7 @@ impl TopTangent {
     /// `Π(n_k; am τ | m) = 2pΠ(n_k|m) + G(v)` with its derivatives.
     fn third_kind(&self, k: usize, (sn, cn, dn, p): (D9, D9, D9, f64)) -> D9 {
         let par = D9::splat(parity(p));
-        let g = third_kind_from_roots(self.n[k], par * sn, par * cn, dn, rc1p_dual);
+        let g = third_kind_from_roots::<_, OnDuals>(self.n[k], par * sn, par * cn, dn);
         if p == 0.0 {
             g
         } else {

@@ -2,6 +2,7 @@
 //! eq. (12) for the energy, eq. (03) for the momentum, eqs (30)–(31) in principal axes).
 //! Everything else in the crate that needs them calls these.
 
+use crate::real::Real;
 use crate::so3::{Mat3, Vec3};
 
 /// `A ω`: the angular momentum about the reference point, body frame (eq. (03), first term).
@@ -32,16 +33,18 @@ pub fn kinetic_energy(inertia: &Mat3, mass: f64, w: Vec3, v: Vec3) -> f64 {
 }
 
 /// `(k, a)` in principal axes: `2k = Σ I_i ω_i²` (30) and `a = |L|`, `a² = Σ I_i² ω_i²` (31).
+/// Generic over [`Real`] (the exact-flow splittings' free flows in lanes, each lane its
+/// single run's numbers).
 #[inline(always)]
-pub fn principal_invariants(moments: Vec3, w: Vec3) -> (f64, f64) {
-    let mut e = 0.0;
-    let mut m = 0.0;
+pub fn principal_invariants<T: Real>(moments: [T; 3], w: [T; 3]) -> (T, T) {
+    let mut e = T::splat(0.0);
+    let mut m = T::splat(0.0);
     for j in 0..3 {
         let p = moments[j] * w[j];
-        e += p * w[j];
-        m += p * p;
+        e = e + p * w[j];
+        m = m + p * p;
     }
-    (0.5 * e, m.sqrt())
+    (T::splat(0.5) * e, m.sqrt())
 }
 
 #[cfg(test)]

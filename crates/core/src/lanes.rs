@@ -15,7 +15,8 @@
 //!
 //! The files: here a block, its state and its rates across lanes ([`LaneRates`]);
 //! `steppers.rs` the fixed-step methods on a block ([`BlockRk4`], [`BlockRk4Stages`],
-//! [`BlockRkmk4`], [`BlockRkmk4Stages`], [`BlockSplitting`], [`BlockSplittingStages`]);
+//! [`BlockRkmk4`], [`BlockRkmk4Stages`], [`BlockSplitting`], [`BlockSplittingStages`],
+//! [`BlockExactSplitting`]);
 //! `drivers.rs` a block's time loops ([`run_block`], [`run_block_dop853`]) and its flips.
 
 use crate::forces::one_force_wrench;

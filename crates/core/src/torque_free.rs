@@ -46,17 +46,20 @@
 //!
 //! The files: `regime.rs` (the regime and ω(t) of one motion), `attitude.rs` (its `Q(t)`),
 //! `derivatives.rs` (the exact derivatives of ω(t), the period and the flip interval),
-//! `batched_omegas.rs` (ω(t), families, periods and flip intervals of many motions, in lanes)
-//! and `batched_attitudes.rs` (`Q(t)` of many motions, in lanes).
+//! `batched_omegas.rs` (ω(t), families, periods and flip intervals of many motions, in lanes),
+//! `batched_attitudes.rs` (`Q(t)` of many motions, in lanes) and `batched_flows.rs` (the
+//! exact-flow splittings' free flows of many bodies, in lanes).
 
 mod attitude;
 mod batched_attitudes;
+mod batched_flows;
 mod batched_omegas;
 mod derivatives;
 mod regime;
 
 pub use attitude::*;
 pub use batched_attitudes::*;
+pub use batched_flows::*;
 pub use batched_omegas::*;
 pub use derivatives::*;
 pub use regime::*;

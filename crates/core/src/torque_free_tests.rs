@@ -7,7 +7,7 @@ use crate::elliptic::third_kind_u;
 use crate::freebody::{euler_omega_dot, symmetry_code, SYMMETRY_RTOL};
 use crate::invariants::principal_invariants;
 use crate::isa::Isa;
-use crate::real::{Wide, WIDTH};
+use crate::real::{Real, Wide, WIDTH};
 use crate::so3::{matmul, Mat3, Vec3};
 
 const EYE: Mat3 = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
@@ -677,5 +677,57 @@ fn the_closed_forms_attitude_derivatives_equal_differences_of_the_attitude() {
                 }
             }
         }
+    }
+}
+
+/// The free flows in lanes ([`free_flows_in_lanes`]) are, in every plain lane, bit for bit
+/// what one flow's scalar route computes ([`Regime::with`], [`AttitudeSetup::frame`],
+/// [`ThirdKindStart::new`], [`motion_from_start`]): in every regime and scale of
+/// `sample_omegas` (the others cleared from `plain`), over flows within a half period and
+/// across many (the complete `Π(n|m)` lane by lane); and the lanes carry the ordinary members.
+/// (The ensembles' blocks run them on every instruction set the CPU offers:
+/// `ensemble_tests.rs`, `exact_splittings_in_lanes_are_their_single_runs`.)
+#[test]
+fn free_flows_in_lanes_equal_the_single_flow_bit_for_bit() {
+    let ws = sample_omegas();
+    for moments in [
+        [1.0, 2.0, 3.0],
+        [0.2, 1.5, 10.0],
+        [1.0, 1.0126869887825154, 3.3062374224730378],
+    ] {
+        let radicals = Radicals::new(moments);
+        let mut plain_lanes = 0;
+        for (g, chunk) in ws.chunks(WIDTH).enumerate() {
+            let t = [0.0, 0.37, 5.0, -2.0, 60.0][g % 5];
+            let q0s: Vec<Mat3> = (0..chunk.len())
+                .map(|i| zxz_matrix(0.1 * i as f64, 0.3 + 0.01 * i as f64, -0.2 * i as f64))
+                .collect();
+            let lane = |f: &dyn Fn(usize) -> f64| {
+                Wide::<WIDTH>(std::array::from_fn(|l| f(l.min(chunk.len() - 1))))
+            };
+            let w = [0, 1, 2].map(|k| lane(&|l| chunk[l][k]));
+            let q = [0, 1, 2].map(|r| [0, 1, 2].map(|c| lane(&|l| q0s[l][r][c])));
+            let (wt, qt, plain) = free_flows_in_lanes(moments, &radicals, w, &q, Wide::splat(t));
+            for (l, w0) in chunk.iter().enumerate() {
+                if !plain.get(l) {
+                    continue;
+                }
+                plain_lanes += 1;
+                let reg = Regime::with(moments, &radicals, 0, *w0);
+                let att = AttitudeSetup::frame(moments, &reg, *w0, &q0s[l]);
+                let mut start = ThirdKindStart::new(&reg, &att, *w0).expect("an elliptic lane");
+                let (we, qe) = motion_from_start(moments, &reg, &att, &mut start, t);
+                for k in 0..3 {
+                    assert!(same(wt[k].0[l], we[k]), "{moments:?} {w0:?} t {t}: ω{k}");
+                    for c in 0..3 {
+                        assert!(same(qt[k][c].0[l], qe[k][c]), "{moments:?} {w0:?} t {t}: Q");
+                    }
+                }
+            }
+        }
+        assert!(
+            plain_lanes > ws.len() / 2,
+            "{moments:?}: {plain_lanes} plain lanes"
+        );
     }
 }

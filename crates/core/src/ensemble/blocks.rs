@@ -10,10 +10,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::{finish_member, principal, run_member, Member, MemberSummary, Method, Schedule};
 use crate::drivers::{is_rk4, Counters, FixedMethod, Status};
+use crate::exact_splitting::Composition;
 use crate::lanes::{
-    block_state, lane_samples, run_block, run_block_dop853, Block, BlockAdaptiveRun, BlockFlips,
-    BlockRk4, BlockRk4Stages, BlockRkmk4, BlockRkmk4Stages, BlockRun, BlockSplitting,
-    BlockSplittingStages, LaneRates, LANES,
+    block_state, lane_samples, run_block, run_block_dop853, Block, BlockAdaptiveRun,
+    BlockExactSplitting, BlockFlips, BlockRk4, BlockRk4Stages, BlockRkmk4, BlockRkmk4Stages,
+    BlockRun, BlockSplitting, BlockSplittingStages, LaneRates, LANES,
 };
 use crate::layout::STATE_SIZE;
 use crate::rigid::State;
@@ -22,11 +23,12 @@ use crate::system::{RigidStructure, VectorField};
 use crate::systems::{OneForce, Rigid, SameForces, TorqueFree, MAX_SAME_FORCES};
 
 /// The methods whose blocks of members run in lanes: RK4 and DOP853 (each lane its own
-/// steps), RKMK with RK4's tableau and the splitting method. A block runs in lanes when its
+/// steps), RKMK with RK4's tableau, the splitting method and the exact-flow splittings (their
+/// free flows in SIMD lanes, [`BlockExactSplitting`]: every system has them). A block runs in lanes when its
 /// members' systems have the method there ([`lane_systems`]); else member by member.
 pub(super) fn in_lanes(method: &Method) -> bool {
     match method {
-        Method::Rk4 | Method::Splitting | Method::Dop853(_) => true,
+        Method::Rk4 | Method::Splitting | Method::Dop853(_) | Method::ExactSplitting(_) => true,
         Method::Rkmk(tab) => is_rk4(tab),
         _ => false,
     }
@@ -115,6 +117,7 @@ where
         Method::Dop853(control) => adaptive_block(block, &control, s, z, samples, stop),
         Method::Rkmk(_) => fixed_block(block, BlockRkmk4, s, z, samples, stop),
         Method::Splitting => fixed_block(block, BlockSplitting, s, z, samples, stop),
+        Method::ExactSplitting(c) => exact_block(block, c, s, z, samples, stop),
         _ => fixed_block(block, BlockRk4, s, z, samples, stop),
     }
 }
@@ -136,6 +139,19 @@ where
     LanesRun::Fixed(run_block(
         block, method, t0, t1, dt, t_eval, flips, z, samples, stop,
     ))
+}
+
+/// A block run with an exact-flow splitting's composition `c` ([`BlockExactSplitting`]).
+fn exact_block<S: RigidStructure + Sync, const SHARED: bool>(
+    block: &Block<'_, S, SHARED>,
+    c: Composition,
+    s: &Schedule,
+    z: &mut [f64],
+    samples: &mut [f64],
+    stop: &AtomicBool,
+) -> LanesRun {
+    let method = BlockExactSplitting::new(block, c);
+    fixed_block(block, method, s, z, samples, stop)
 }
 
 /// A block run with DOP853 ([`run_block_dop853`]) on the schedule's times.
@@ -229,6 +245,7 @@ fn run_rigid_block(
     match s.method {
         Method::Dop853(control) => Some(adaptive_block(&block, &control, s, z, samples, stop)),
         Method::Rk4 => Some(fixed_block(&block, BlockRk4, s, z, samples, stop)),
+        Method::ExactSplitting(c) => Some(exact_block(&block, c, s, z, samples, stop)),
         _ => None,
     }
 }
@@ -291,6 +308,7 @@ fn forces_in_lanes<const PIVOT: bool, const SHARED: bool>(
             samples,
             stop,
         )),
+        Method::ExactSplitting(c) => Some(exact_block(block, c, s, z, samples, stop)),
         _ => None,
     }
 }

@@ -1,7 +1,8 @@
 //! The fixed-step methods on a block of [`LANES`] members (`docs/ensembles.md`): classical
 //! RK4 ([`BlockRk4`], [`BlockRk4Stages`]), Runge–Kutta–Munthe-Kaas with RK4's tableau
-//! ([`BlockRkmk4`], [`BlockRkmk4Stages`]) and the splitting method ([`BlockSplitting`],
-//! [`BlockSplittingStages`]), each lane the *same* scalar step as a single run of its member
+//! ([`BlockRkmk4`], [`BlockRkmk4Stages`]), the splitting method ([`BlockSplitting`],
+//! [`BlockSplittingStages`]) and the exact-flow splittings ([`BlockExactSplitting`], their
+//! free flows in SIMD lanes), each lane the *same* scalar step as a single run of its member
 //! ([`crate::steppers`]), so bit for bit that run: lane by lane, or with the stages (kicks)
 //! formed across [`STAGE_LANES`] lanes at a time where the rates vectorise across lanes.
 
@@ -10,7 +11,13 @@ use super::{
     Block, BlockState, LaneRates, LANES,
 };
 use crate::drivers::FixedMethod;
+use crate::exact_splitting::{
+    compose, exact_kick, first_flow_time, flow_start, Composition, FreeFlow, SubStep,
+};
+use crate::forces::Force;
 use crate::layout::STATE_SIZE;
+use crate::real::{Real, Wide, WIDTH};
+use crate::rigid::State;
 use crate::steppers::{
     drift, hold_pivot, kick_by, momentum_to_velocity, rk4_rigid_step, rkmk4_carry,
     rkmk4_first_carry, rkmk4_last, rkmk4_point, velocity_of, velocity_to_momentum, Rkmk4Carry,
@@ -19,6 +26,7 @@ use crate::steppers::{
 use crate::system::RigidStructure;
 use crate::systems::{OneForce, TorqueFree, ANY_ROTOR, SYMMETRIC, TRIAXIAL};
 use crate::tableaux::RK4_C;
+use crate::torque_free::free_flows_in_lanes;
 
 /// Classical RK4 on every lane, each a single run's [`rk4_rigid_step`] constrained after the
 /// step (as [`crate::drivers::Rk4Rigid`]). Each method writes its lane loop out: folded into
@@ -464,5 +472,133 @@ fn to_velocity<S: RigidStructure, const SHARED: bool>(
     let (z, y) = (block(z), block_mut(y));
     for l in 0..LANES {
         scatter(&momentum_to_velocity(sys.lane(l), &gather(z, l)), l, y);
+    }
+}
+
+/// The exact-flow splittings ([`crate::exact_splitting`]) on every lane, each lane its single
+/// run's [`exact_splitting_step`](crate::exact_splitting::exact_splitting_step) bit for bit:
+/// the sub-steps of the composition in order, each kick lane by lane
+/// ([`exact_kick`]), each free flow for the whole block at once where every lane's body is the
+/// same with three distinct moments — [`WIDTH`] lanes at a time in SIMD lanes
+/// ([`free_flows_in_lanes`]) for the lanes that start a motion there, one by one
+/// ([`FreeFlow::advance`]) for the lanes that go on along their last motion, and for those off
+/// the plain elliptic case — and lane by lane otherwise.
+#[derive(Clone, Copy)]
+pub struct BlockExactSplitting<'c> {
+    composition: Composition<'c>,
+    flows: [FreeFlow; LANES],
+    /// Every lane's body the same, with three distinct moments: the flows in lanes.
+    in_lanes: bool,
+}
+
+impl<'c> BlockExactSplitting<'c> {
+    pub fn new<S: RigidStructure, const SHARED: bool>(
+        sys: &Block<'_, S, SHARED>,
+        composition: Composition<'c>,
+    ) -> Self {
+        let flows: [FreeFlow; LANES] = std::array::from_fn(|l| FreeFlow::new(sys.lane(l).body()));
+        let moments = sys.lane(0).body().moments;
+        let in_lanes =
+            flows[0].takes_lanes() && (0..LANES).all(|l| sys.lane(l).body().moments == moments);
+        BlockExactSplitting {
+            composition,
+            flows,
+            in_lanes,
+        }
+    }
+
+    /// Every lane's free flow over `d`, ending `within` into its step of `h`.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn flows<S: RigidStructure, const SHARED: bool>(
+        &mut self,
+        sys: &Block<'_, S, SHARED>,
+        orbits: &[Option<Force>; LANES],
+        states: &mut [State; LANES],
+        d: f64,
+        within: f64,
+        h: f64,
+    ) {
+        if !self.in_lanes {
+            for (l, z) in states.iter_mut().enumerate() {
+                self.flows[l].advance(sys.lane(l).body(), orbits[l].as_ref(), z, d, within, h);
+            }
+            return;
+        }
+        let moments = sys.lane(0).body().moments;
+        let t = Wide::<WIDTH>::splat(first_flow_time(d, within));
+        for g in (0..LANES).step_by(WIDTH) {
+            let mut starts = [false; WIDTH];
+            let mut w = [Wide::<WIDTH>::splat(0.0); 3];
+            let mut q = [[Wide::<WIDTH>::splat(0.0); 3]; 3];
+            for (j, start) in starts.iter_mut().enumerate() {
+                let l = g + j;
+                *start = !self.flows[l].continues(&states[l]);
+                let (w0, q0) = flow_start(sys.lane(l).body(), &states[l]);
+                for k in 0..3 {
+                    w[k].0[j] = w0[k];
+                    for c in 0..3 {
+                        q[k][c].0[j] = q0[k][c];
+                    }
+                }
+            }
+            let lanes = starts
+                .iter()
+                .any(|&s| s)
+                .then(|| free_flows_in_lanes(moments, self.flows[g].radicals(), w, &q, t));
+            for (j, &start) in starts.iter().enumerate() {
+                let l = g + j;
+                let (body, orbit) = (sys.lane(l).body(), orbits[l].as_ref());
+                match &lanes {
+                    Some((wt, qt, plain)) if start && plain.get(j) => {
+                        let wl = wt.map(|x| x.0[j]);
+                        let ql = qt.map(|row| row.map(|x| x.0[j]));
+                        let z = &mut states[l];
+                        self.flows[l].advance_in_lanes(body, orbit, z, d, within, h, (wl, &ql));
+                    }
+                    _ => self.flows[l].advance(body, orbit, &mut states[l], d, within, h),
+                }
+            }
+        }
+    }
+}
+
+impl<S: RigidStructure, const SHARED: bool> FixedMethod<Block<'_, S, SHARED>>
+    for BlockExactSplitting<'_>
+{
+    fn evals_per_step(&self) -> u64 {
+        self.composition.kicks_per_step()
+    }
+    #[inline(always)]
+    fn step(&mut self, sys: &Block<'_, S, SHARED>, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
+        let z = block(z);
+        let mut states: [State; LANES] = std::array::from_fn(|l| gather(z, l));
+        let orbits: [Option<Force>; LANES] = std::array::from_fn(|l| sys.lane(l).orbit());
+        let c = self.composition;
+        compose(&c, h, |sub| match sub {
+            SubStep::Kick { k, covered } => {
+                for (l, z) in states.iter_mut().enumerate() {
+                    exact_kick(
+                        sys.lane(l),
+                        orbits[l].as_ref(),
+                        t + covered,
+                        z,
+                        c.kicks[k] * h,
+                    );
+                }
+            }
+            SubStep::Flow { d, within } => self.flows(sys, &orbits, &mut states, d, within, h),
+        });
+        let out = block_mut(out);
+        for (l, z) in states.iter_mut().enumerate() {
+            hold_pivot(sys.lane(l).body(), z);
+            scatter(z, l, out);
+        }
+    }
+    fn init(&self, sys: &Block<'_, S, SHARED>, y: &[f64], z: &mut [f64]) {
+        to_momentum(sys, y, z);
+    }
+    fn output(&self, sys: &Block<'_, S, SHARED>, z: &[f64], y: &mut [f64]) {
+        to_velocity(sys, z, y);
     }
 }

@@ -60,21 +60,30 @@ pub(super) fn invariable_frame<T: Real<Mask = bool>>(
     pi0: [T; 3],
     q0: &Mat3,
 ) -> [[T; 3]; 3] {
+    invariable_frame_with(e3, pi0, |r, k| T::splat(q0[r][k]), &mut true)
+}
+
+/// [`invariable_frame`] with `Q(0)`'s entries `q0(row, column)` and the pole `e3` per lane:
+/// the form the free flows in lanes take, `plain` as [`body_rotation`]'s.
+#[inline(always)]
+pub(super) fn invariable_frame_with<T: Real>(
+    e3: T::Mask,
+    pi0: [T; 3],
+    q0: impl Fn(usize, usize) -> T,
+    plain: &mut T::Mask,
+) -> [[T; 3]; 3] {
     let c = T::splat;
-    let r0 = body_rotation(e3, pi0, [c(0.0), c(1.0)], &mut true);
-    let mut qb = [[0.0; 3]; 3];
-    for r in 0..3 {
-        qb[r] = if e3 {
-            q0[r]
-        } else {
-            // Bᵀ = B = [[0, 0, 1], [0, −1, 0], [1, 0, 0]]
-            [q0[r][2], -q0[r][1], q0[r][0]]
-        };
-    }
+    let r0 = body_rotation(e3, pi0, [c(0.0), c(1.0)], plain);
     let mut p0 = [[c(0.0); 3]; 3];
-    for r in 0..3 {
-        for k in 0..3 {
-            p0[r][k] = c(qb[r][0]) * r0[k][0] + c(qb[r][1]) * r0[k][1] + c(qb[r][2]) * r0[k][2];
+    for (r, row) in p0.iter_mut().enumerate() {
+        // about e1, Q0 Bᵀ: Bᵀ = B = [[0, 0, 1], [0, −1, 0], [1, 0, 0]]
+        let qb = [
+            T::select(e3, q0(r, 0), q0(r, 2)),
+            T::select(e3, q0(r, 1), -q0(r, 1)),
+            T::select(e3, q0(r, 2), q0(r, 0)),
+        ];
+        for (k, x) in row.iter_mut().enumerate() {
+            *x = qb[0] * r0[k][0] + qb[1] * r0[k][1] + qb[2] * r0[k][2];
         }
     }
     p0
@@ -84,7 +93,7 @@ pub(super) fn invariable_frame<T: Real<Mask = bool>>(
 /// `a = |L|` and the rate `λ`: `(I_p, I_q, n, a (I_p − I_q)/(I_p I_q λ))`, the characteristic
 /// `n = −I3 (I2 − I1)/(I1 (I3 − I2))` (pole e3; `−I1 (I3 − I2)/(I3 (I2 − I1))` about e1) of
 /// `ψ = a t/I_p + a (I_p − I_q)/(I_p I_q λ) [Π(u) − Π(u0)]`. Generic over [`Real`].
-#[inline]
+#[inline(always)]
 pub(super) fn psi_terms<T: Real>(e3: bool, moments: [T; 3], a: T, lam: T) -> (T, T, T, T) {
     let [i1, i2, i3] = moments;
     let (ip, iq, n) = if e3 {

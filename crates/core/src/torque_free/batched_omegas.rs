@@ -117,18 +117,22 @@ pub(super) fn omegas_one_by_one(
 /// What ω(t) needs of [`WIDTH`] motions in lanes (a body with three distinct moments): the
 /// [`Regime`]'s elliptic fields, with `rm1 = √m1` and `sa = σ α`.
 pub(super) struct LaneMotion<const N: usize> {
-    u0: Wide<N>,
-    lam: Wide<N>,
-    rm1: Wide<N>,
-    quarter: Wide<N>,
-    sa: [Wide<N>; 3],
-    e3: WideMask<N>,
-    agm: Agm<Wide<N>>,
+    pub(super) u0: Wide<N>,
+    pub(super) lam: Wide<N>,
+    pub(super) rm1: Wide<N>,
+    pub(super) quarter: Wide<N>,
+    pub(super) sa: [Wide<N>; 3],
+    pub(super) e3: WideMask<N>,
+    pub(super) agm: Agm<Wide<N>>,
+    /// The parameter and its complement, and the exponent `e` of ω's scale (`ω = 2^e x`).
+    pub(super) m: Wide<N>,
+    pub(super) m1: Wide<N>,
+    pub(super) e: Wide<N>,
 }
 
 /// `x` times `2^e` for integer `e` in [−1022, 1023] (a power of two made from its bits).
 #[inline(always)]
-fn times_pow2<const N: usize>(x: Wide<N>, e: Wide<N>) -> Wide<N> {
+pub(super) fn times_pow2<const N: usize>(x: Wide<N>, e: Wide<N>) -> Wide<N> {
     let mut p = [0.0; N];
     for l in 0..N {
         p[l] = f64::from_bits(((e.0[l] as i64 + 1023) as u64) << 52);
@@ -196,6 +200,9 @@ impl<const N: usize> LaneMotion<N> {
             sa: [f.s1 * alpha[0], s2 * alpha[1], f.s3 * alpha[2]],
             e3: f.e3,
             agm,
+            m: f.m,
+            m1,
+            e,
         };
         (motion, plain)
     }

@@ -27,7 +27,7 @@ use super::{jacobi_omega, polhode_radii, JacobiForm, Radicals, Regime, AROUND_E1
 use crate::cmath::{frexp, ldexp};
 use crate::dual::Dual;
 use crate::elliptic::{
-    carlson_rj, first_kind_dm, jacobi_dual, parity, rc1p_dual, third_kind_from_roots,
+    carlson_rj, first_kind_dm, jacobi_dual, parity, third_kind_from_roots, OnDuals,
 };
 use crate::real::Real;
 use crate::so3::{Mat3, Vec3};
@@ -112,7 +112,7 @@ impl ExactTangent {
         let (ip, _, n, psi_pi) = psi_terms(e3, im, a, lam);
         let m1 = Dual::new(regime.m1, m.d.map(|x| -x));
         let pi_complete =
-            third_kind_from_roots(n, D::splat(1.0), D::splat(0.0), m1.sqrt(), rc1p_dual);
+            third_kind_from_roots::<_, OnDuals>(n, D::splat(1.0), D::splat(0.0), m1.sqrt());
         let motion = EllipticMotion {
             sa,
             e3,
@@ -152,7 +152,7 @@ impl ExactTangent {
     /// `G` on `sn v = (−1)^p sn u`, `cn v = (−1)^p cn u ≥ 0`, `dn v = dn u`.
     fn third_kind(&self, (sn, cn, dn, p): (D, D, D, f64)) -> D {
         let par = D::splat(parity(p));
-        let g = third_kind_from_roots(self.motion.n, par * sn, par * cn, dn, rc1p_dual);
+        let g = third_kind_from_roots::<_, OnDuals>(self.motion.n, par * sn, par * cn, dn);
         if p == 0.0 {
             g
         } else {
