@@ -206,16 +206,14 @@ impl FreeFlow {
                 }
             };
             let t = m.time(within);
-            let setup = match m.setup {
-                Some(setup) => setup,
-                None => Setup::new(moments, &self.radicals, self.symmetry, m.w0, &m.q0),
-            };
-            let mut setup = setup;
+            let (w0, q0) = (m.w0, m.q0);
+            let setup = m
+                .setup
+                .get_or_insert_with(|| Setup::new(moments, &self.radicals, self.symmetry, w0, &q0));
             let (w, q) = match setup.start.as_mut() {
                 Some(start) => motion_from_start(moments, &setup.reg, &setup.att, start, t),
-                None => motion_at(moments, &setup.reg, &setup.att, m.w0, &m.q0, t),
+                None => motion_at(moments, &setup.reg, &setup.att, w0, &q0, t),
             };
-            m.setup = Some(setup);
             self.finish(body, m, z, w, &q, within, h);
         }
         translate(body, orbit.map(|f| &f.p), z, d, |x| x);
