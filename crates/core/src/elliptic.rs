@@ -399,7 +399,7 @@ pub fn carlson_rj(x: f64, y: f64, z: f64, p: f64) -> f64 {
     carlson_rj_by::<f64, Libm>(x, y, z, p)
 }
 
-/// `R_C(1, 1 + e)` in the form Carlson's duplication for `R_J` takes ([`carlson_rj_by`],
+/// `R_C(1, 1 + e)` in the form Carlson's duplication for `R_J` takes (`carlson_rj_by`,
 /// [`third_kind_from_roots`]): a type rather than a closure, so that the form is inlined into
 /// each instruction set's copy of the lanes' code (a closure the compiler leaves out of line
 /// is compiled for the baseline alone).
@@ -417,7 +417,7 @@ impl RcOnePlus<f64> for Libm {
     }
 }
 
-/// [`rc1p_above`]: `e ≥ 0`, generic over [`Real`].
+/// `rc1p_above`: `e ≥ 0`, generic over [`Real`].
 pub struct Above;
 
 impl<T: Real> RcOnePlus<T> for Above {

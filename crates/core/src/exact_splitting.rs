@@ -219,7 +219,7 @@ impl FreeFlow {
         translate(body, orbit.map(|f| &f.p), z, d, |x| x);
     }
 
-    /// The flow of a motion started in lanes ([`torque_free::free_flows_in_lanes`]) from
+    /// The flow of a motion started in lanes ([`crate::torque_free::free_flows_in_lanes`]) from
     /// `z` over `d`, ending `within` into its step of `h`, whose lane gave `(w, q)` (sorted
     /// frame: the engine's principal one): `z` written and the motion recorded as
     /// [`FreeFlow::advance`] records it, then the centre of mass moved by [`translate`]. The

@@ -18,9 +18,10 @@ crate::multiversion! {
     /// The free flows of `N` motions of a body with three distinct sorted `moments` (its
     /// [`Radicals`]) from the sorted-frame ω `w` and attitude `q0` (rows, sorted frame → space)
     /// over the time `t` each: `(ω(t), Q(t), plain)`. A lane is `plain` where its motion is the
-    /// plain elliptic case [`LaneMotion::new`] takes (off the fixed points, the separatrix and
-    /// its neighbourhood, extreme scales) and its sums of squares need no `hypot`; the other
-    /// lanes' values are meaningless, and their flows are the caller's to take one at a time.
+    /// plain elliptic case the lanes of [`exact_omegas`](super::exact_omegas) take (off the
+    /// fixed points, the separatrix and its neighbourhood, extreme scales) and its sums of
+    /// squares need no `hypot`; the other lanes' values are meaningless, and their flows are
+    /// the caller's to take one at a time.
     /// The instruction set is chosen at run time (AVX-512, AVX2, the baseline), as in
     /// [`crate::lanes`].
     pub fn free_flows_in_lanes, free_flows_in_lanes_with [const N: usize] (
