@@ -118,8 +118,9 @@ pub struct FreeFlow {
 /// which it began), the whole steps covered since (`steps + carry`, Neumaier's compensated
 /// sum, with a step that has ended still `pending`) and the `(Q, π)` it left last. What the
 /// closed form needs of the start (the regime, the frame, the start of `Π(u) − Π(u0)`) is made
-/// when first needed: a flow made in lanes ([`FreeFlow::advance_in_lanes`]) records the start
-/// alone, and the flow that goes on along it makes the same setup from the same start.
+/// when first needed ([`FreeFlow::evaluate`]): a flow made in lanes
+/// ([`crate::torque_free::free_flows_in_lanes`]) needs none, and a flow one by one that goes on
+/// along the motion makes it from the same start.
 #[derive(Clone, Copy, Debug)]
 struct Motion {
     setup: Option<Setup>,
@@ -151,8 +152,8 @@ impl FreeFlow {
         }
     }
 
-    /// Whether the flows of this body may run in lanes ([`FreeFlow::advance_in_lanes`]):
-    /// three distinct moments.
+    /// Whether the flows of this body may run in lanes
+    /// ([`crate::lanes::BlockExactSplitting`]): three distinct moments.
     pub fn takes_lanes(&self) -> bool {
         !self.line && self.symmetry == 0
     }
@@ -160,13 +161,6 @@ impl FreeFlow {
     /// The body's [`Radicals`].
     pub fn radicals(&self) -> &Radicals {
         &self.radicals
-    }
-
-    /// Whether a flow from `z` goes on along the motion the last flow left (no kick moved
-    /// `(Q, π)` since).
-    #[inline]
-    pub fn continues(&self, z: &[f64]) -> bool {
-        matches!(&self.motion, Some(m) if m.left[..] == z[Q_AT..STATE_SIZE])
     }
 
     /// `z` advanced in place by the torque-free motion over `d`, a flow that ends `within`
@@ -186,86 +180,82 @@ impl FreeFlow {
         if self.line {
             free_rotor_symmetric(body, z, d);
         } else {
-            let moments = body.moments;
-            let mut m = match self.motion {
-                Some(mut m) if m.left[..] == z[Q_AT..STATE_SIZE] => {
-                    let (s, x) = (m.steps, m.pending);
-                    let sum = s + x;
-                    m.carry += if s.abs() >= x.abs() {
-                        (s - sum) + x
-                    } else {
-                        (x - sum) + s
-                    };
-                    m.steps = sum;
-                    m.pending = 0.0;
-                    m
-                }
-                _ => {
-                    let (w0, q0) = flow_start(body, z);
-                    Motion::at(w0, q0, within - d)
-                }
-            };
-            let t = m.time(within);
-            let (w0, q0) = (m.w0, m.q0);
-            let setup = m
-                .setup
-                .get_or_insert_with(|| Setup::new(moments, &self.radicals, self.symmetry, w0, &q0));
-            let (w, q) = match setup.start.as_mut() {
-                Some(start) => motion_from_start(moments, &setup.reg, &setup.att, start, t),
-                None => motion_at(moments, &setup.reg, &setup.att, w0, &q0, t),
-            };
-            self.finish(body, m, z, w, &q, within, h);
+            let t = self.plan(body, z, d, within);
+            let (w, q) = self.evaluate(body.moments, t);
+            self.finish(body, z, w, &q, within, h);
         }
         translate(body, orbit.map(|f| &f.p), z, d, |x| x);
     }
 
-    /// The flow of a motion started in lanes ([`crate::torque_free::free_flows_in_lanes`]) from
-    /// `z` over `d`, ending `within` into its step of `h`, whose lane gave `(w, q)` (sorted
-    /// frame: the engine's principal one): `z` written and the motion recorded as
-    /// [`FreeFlow::advance`] records it, then the centre of mass moved by [`translate`]. The
-    /// caller checked that the flow starts a motion ([`FreeFlow::continues`] false).
-    #[allow(clippy::too_many_arguments)]
-    pub fn advance_in_lanes(
-        &mut self,
-        body: &Body,
-        orbit: Option<&Force>,
-        z: &mut [f64],
-        d: f64,
-        within: f64,
-        h: f64,
-        (w, q): (Vec3, &Mat3),
-    ) {
-        let (w0, q0) = flow_start(body, z);
-        self.finish(body, Motion::at(w0, q0, within - d), z, w, q, within, h);
-        translate(body, orbit.map(|f| &f.p), z, d, |x| x);
+    /// The motion a flow from `z` over `d`, ending `within` into its step, follows, and the
+    /// time into it at which the flow ends: a new motion from `z`'s own ω = π/I and Q, or,
+    /// when `z` is the `(Q, π)` the last flow left (no kick moved it), that flow's motion with
+    /// the steps it has covered summed (compensated). Its start is [`FreeFlow::start`].
+    #[inline]
+    pub fn plan(&mut self, body: &Body, z: &[f64], d: f64, within: f64) -> f64 {
+        let m = match self.motion {
+            Some(mut m) if m.left[..] == z[Q_AT..STATE_SIZE] => {
+                let (s, x) = (m.steps, m.pending);
+                let sum = s + x;
+                m.carry += if s.abs() >= x.abs() {
+                    (s - sum) + x
+                } else {
+                    (x - sum) + s
+                };
+                m.steps = sum;
+                m.pending = 0.0;
+                m
+            }
+            _ => {
+                let (w0, q0) = flow_start(body, z);
+                Motion::at(w0, q0, within - d)
+            }
+        };
+        self.motion = Some(m);
+        m.time(within)
     }
 
-    /// The motion's ω and Q at the end of the flow written into `z` (π = Iω), and the motion
-    /// kept for the next flow.
+    /// The start (ω, Q) of the motion [`FreeFlow::plan`] chose.
+    #[inline]
+    pub fn start(&self) -> (Vec3, Mat3) {
+        let m = self.motion.as_ref().expect("a flow planned");
+        (m.w0, m.q0)
+    }
+
+    /// `(ω(t), Q(t))` of the planned motion by the closed form, its setup made when first
+    /// needed (a motion planned for the lanes has none until a flow runs it here).
+    #[inline]
+    pub fn evaluate(&mut self, moments: Vec3, t: f64) -> (Vec3, Mat3) {
+        let (radicals, symmetry) = (&self.radicals, self.symmetry);
+        let m = self.motion.as_mut().expect("a flow planned");
+        let (w0, q0) = (m.w0, m.q0);
+        let setup = m
+            .setup
+            .get_or_insert_with(|| Setup::new(moments, radicals, symmetry, w0, &q0));
+        match setup.start.as_mut() {
+            Some(start) => motion_from_start(moments, &setup.reg, &setup.att, start, t),
+            None => motion_at(moments, &setup.reg, &setup.att, w0, &q0, t),
+        }
+    }
+
+    /// The planned motion's ω and Q at the end of its flow, `(w, q)` (here, or from the lanes:
+    /// [`crate::torque_free::free_flows_in_lanes`]), written into `z` (π = Iω) and kept as
+    /// what the motion left, the step's end noted for the next flow.
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    fn finish(
-        &mut self,
-        body: &Body,
-        mut m: Motion,
-        z: &mut [f64],
-        w: Vec3,
-        q: &Mat3,
-        within: f64,
-        h: f64,
-    ) {
+    pub fn finish(&mut self, body: &Body, z: &mut [f64], w: Vec3, q: &Mat3, within: f64, h: f64) {
         for k in 0..3 {
             z[OMEGA_AT + k] = body.moments[k] * w[k];
         }
         for r in 0..3 {
             z[Q_AT + 3 * r..Q_AT + 3 * r + 3].copy_from_slice(&q[r]);
         }
+        let m = self.motion.as_mut().expect("a flow planned");
         m.left.copy_from_slice(&z[Q_AT..STATE_SIZE]);
         if within == h {
             // the step has ended: the next flow is in the next step
             m.pending = h;
         }
-        self.motion = Some(m);
     }
 }
 
@@ -305,13 +295,6 @@ impl Setup {
         let (att, start) = start_motion(moments, &reg, w0, q0);
         Setup { reg, att, start }
     }
-}
-
-/// The time into a new motion at which its first flow (over `d`, ending `within` into its
-/// step) ends: what [`FreeFlow::advance`] evaluates, and the lanes with it.
-#[inline]
-pub fn first_flow_time(d: f64, within: f64) -> f64 {
-    Motion::at([0.0; 3], [[0.0; 3]; 3], within - d).time(within)
 }
 
 /// A free body's centre of mass moved over a flow of `d`: Kepler's flow about the centre of

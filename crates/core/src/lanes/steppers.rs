@@ -11,9 +11,7 @@ use super::{
     Block, BlockState, LaneRates, LANES,
 };
 use crate::drivers::FixedMethod;
-use crate::exact_splitting::{
-    compose, exact_kick, first_flow_time, flow_start, Composition, FreeFlow, SubStep,
-};
+use crate::exact_splitting::{compose, exact_kick, translate, Composition, FreeFlow, SubStep};
 use crate::forces::Force;
 use crate::layout::STATE_SIZE;
 use crate::real::{Real, Wide, WIDTH};
@@ -480,9 +478,10 @@ fn to_velocity<S: RigidStructure, const SHARED: bool>(
 /// the sub-steps of the composition in order, each kick lane by lane
 /// ([`exact_kick`]), each free flow for the whole block at once where every lane's body is the
 /// same with three distinct moments — [`WIDTH`] lanes at a time in SIMD lanes
-/// ([`free_flows_in_lanes`]) for the lanes that start a motion there, one by one
-/// ([`FreeFlow::advance`]) for the lanes that go on along their last motion, and for those off
-/// the plain elliptic case — and lane by lane otherwise.
+/// ([`free_flows_in_lanes`]), each lane along the motion its single run follows
+/// ([`FreeFlow::plan`]: a new one, or its last one gone on from its start), one by one
+/// ([`FreeFlow::evaluate`]) for the lanes off the plain elliptic case — and lane by lane
+/// otherwise.
 #[derive(Clone, Copy)]
 pub struct BlockExactSplitting<'c> {
     composition: Composition<'c>,
@@ -526,15 +525,15 @@ impl<'c> BlockExactSplitting<'c> {
             return;
         }
         let moments = sys.lane(0).body().moments;
-        let t = Wide::<WIDTH>::splat(first_flow_time(d, within));
         for g in (0..LANES).step_by(WIDTH) {
-            let mut starts = [false; WIDTH];
+            // each lane's motion (a new one, or its last one gone on) and the time into it
+            let mut t = Wide::<WIDTH>::splat(0.0);
             let mut w = [Wide::<WIDTH>::splat(0.0); 3];
             let mut q = [[Wide::<WIDTH>::splat(0.0); 3]; 3];
-            for (j, start) in starts.iter_mut().enumerate() {
+            for j in 0..WIDTH {
                 let l = g + j;
-                *start = !self.flows[l].continues(&states[l]);
-                let (w0, q0) = flow_start(sys.lane(l).body(), &states[l]);
+                t.0[j] = self.flows[l].plan(sys.lane(l).body(), &states[l], d, within);
+                let (w0, q0) = self.flows[l].start();
                 for k in 0..3 {
                     w[k].0[j] = w0[k];
                     for c in 0..3 {
@@ -542,22 +541,23 @@ impl<'c> BlockExactSplitting<'c> {
                     }
                 }
             }
-            let lanes = starts
-                .iter()
-                .any(|&s| s)
-                .then(|| free_flows_in_lanes(moments, self.flows[g].radicals(), w, &q, t));
-            for (j, &start) in starts.iter().enumerate() {
+            let (wt, qt, plain) = free_flows_in_lanes(moments, self.flows[g].radicals(), w, &q, t);
+            for j in 0..WIDTH {
                 let l = g + j;
-                let (body, orbit) = (sys.lane(l).body(), orbits[l].as_ref());
-                match &lanes {
-                    Some((wt, qt, plain)) if start && plain.get(j) => {
-                        let wl = wt.map(|x| x.0[j]);
-                        let ql = qt.map(|row| row.map(|x| x.0[j]));
-                        let z = &mut states[l];
-                        self.flows[l].advance_in_lanes(body, orbit, z, d, within, h, (wl, &ql));
-                    }
-                    _ => self.flows[l].advance(body, orbit, &mut states[l], d, within, h),
-                }
+                let (body, flow) = (sys.lane(l).body(), &mut self.flows[l]);
+                let (wl, ql) = if plain.get(j) {
+                    (wt.map(|x| x.0[j]), qt.map(|row| row.map(|x| x.0[j])))
+                } else {
+                    flow.evaluate(moments, t.0[j])
+                };
+                flow.finish(body, &mut states[l], wl, &ql, within, h);
+                translate(
+                    body,
+                    orbits[l].as_ref().map(|f| &f.p),
+                    &mut states[l],
+                    d,
+                    |x| x,
+                );
             }
         }
     }
