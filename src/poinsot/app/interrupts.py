@@ -79,6 +79,7 @@ class Guard:
         self.stage = "starting"
         self.progress = ""
         self._raised = False
+        self._in_hook = False  # inside `_unraisable`, which delivers the signal again
         self._finished = False
         self._previous: dict = {}
         self._hook = None
@@ -113,6 +114,11 @@ class Guard:
             os._exit(_exit_code(signum))
         if self.signum is None:
             self.signum = signum
+        if self._in_hook:
+            # the delivery again landed before the hook that made it returned (a loaded
+            # machine): raised here, Python would only print it; deliver it once more
+            self._deliver_again()
+            return
         if self._raised:  # the clean-up is under way: it is not cut short
             return
         self._raised = True
@@ -126,13 +132,21 @@ class Guard:
         """An interrupt raised where Python can only print it (a weak-reference callback, a
         destructor): say nothing and deliver the signal again."""
         if self.signum is not None and isinstance(unraisable.exc_value, KeyboardInterrupt):
-            import _thread
-
-            self._raised = False
-            # from another thread, a moment later: raised here, it would be swallowed again
-            threading.Timer(0.002, _thread.interrupt_main, (self.signum,)).start()
+            self._in_hook = True
+            try:
+                self._raised = False
+                self._deliver_again()
+            finally:
+                self._in_hook = False
             return
         (self._hook or sys.__unraisablehook__)(unraisable)
+
+    def _deliver_again(self):
+        """The signal delivered again from another thread, a moment later (raised in the
+        hook, it would be swallowed again)."""
+        import _thread
+
+        threading.Timer(0.002, _thread.interrupt_main, (self.signum,)).start()
 
     def install(self) -> Guard:
         """Install the handlers (main thread only; elsewhere nothing is installed)."""
