@@ -643,14 +643,14 @@ class LagrangianTangent:
     ) -> Self: ...
     @property
     def sizes(self) -> tuple[int, int, int, int, int]: ...
-    # `[M, f, G, b, γ, g, h, ∂[M, f, G, b, γ, g]/∂[q, q̇, p]]`
+    # `[M, f, G, b, γ, g, h, ∂[M, f, G, b, γ, g]/∂[q, q̇, p, u]]`
     def evaluate(
         self, t: float, q: ArrayLike, qd: ArrayLike, p: ArrayLike, u: ArrayLike
     ) -> _F64: ...
-    # `(∂ẏ/∂y (2n, 2n), ∂ẏ/∂p (2n, np))`
+    # `(∂ẏ/∂y (2n, 2n), ∂ẏ/∂p (2n, np), ∂ẏ/∂u (2n, nu))`
     def rates_jacobian(
         self, t: float, y: ArrayLike, p: ArrayLike, u: ArrayLike
-    ) -> tuple[_F64, _F64]: ...
+    ) -> tuple[_F64, _F64, _F64]: ...
 
 def lagrange_sensitivity_start(
     tangent: LagrangianTangent,

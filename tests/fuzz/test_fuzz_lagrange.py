@@ -175,7 +175,7 @@ def _linearize(case):
         else:
             rate = math.sqrt(params["k"] / params["m"])
             want = np.array([-1j * rate, 1j * rate])
-            np.testing.assert_allclose(lin.input_matrix[:, 0], [0, 1 / params["m"]], rtol=1e-6)
+            np.testing.assert_allclose(lin.input_matrix[:, 0], [0, 1 / params["m"]], rtol=1e-12)
         # central differences of step 1e-6: an absolute accuracy for rates below 1 rad/s
         np.testing.assert_allclose(eig, np.sort_complex(want), rtol=1e-6,
                                    atol=1e-6 * max(rate, 1.0))  # fmt: skip

@@ -70,8 +70,68 @@ def test_linearize_gives_the_input_matrix(cart):
     system, x, F = cart
     lin = system.linearize({x: 0.0}, params={"m": 2, "k": 8}, inputs={F: 0.0})
     np.testing.assert_allclose(lin.matrix, [[0, 1], [-4, 0]], atol=1e-6)
-    np.testing.assert_allclose(lin.input_matrix, [[0], [0.5]], atol=1e-8)  # 1/m
+    np.testing.assert_allclose(lin.input_matrix, [[0], [0.5]], atol=1e-15)  # 1/m
     assert lin.verdict == "spectrally stable" and lin.frequencies[0] == pytest.approx(2.0)
+
+
+def _cart_pole_with_inputs():
+    """The pendulum on a cart pushed by ``F`` on the cart, ``P`` horizontally on the bob and
+    turned by ``τ`` at the pivot: generalized forces ``Q_x = F + P``, ``Q_θ = τ + P l cos θ``."""
+    x, th, F, P, tau = dynamicsymbols("x theta F P tau")
+    M, m, l, g = sp.symbols("M m l g", positive=True)
+    kinetic = ((M + m) * x.diff() ** 2 / 2 + m * l * x.diff() * th.diff() * sp.cos(th)
+               + m * l**2 * th.diff() ** 2 / 2)  # fmt: skip
+    system = LagrangianSystem([x, th], kinetic=kinetic, potential=-m * g * l * sp.cos(th),
+                              forces=[{x: F + P, th: tau + P * l * sp.cos(th)}])  # fmt: skip
+    return system, (x, th), (F, P, tau)
+
+
+def test_the_input_matrix_is_exact():
+    """B = ∂ẏ/∂u from the compiled Jacobian along the inputs: against its closed form
+    ``[0; M(q)⁻¹ ∂Q/∂u]`` held at a tilted equilibrium (τ0 = m g l sin θ0), to round-off, and
+    against central differences of the compiled rates (the route before) at a moving state."""
+    from poinsot.lagrange.engine import compile_system, compile_tangent
+
+    system, (x, th), (F, P, tau) = _cart_pole_with_inputs()
+    par = {"M": 2.0, "m": 0.7, "l": 1.3, "g": 9.81}
+    th0 = 0.4
+    tau0 = par["m"] * par["g"] * par["l"] * np.sin(th0)
+    lin = system.linearize({x: 0.0, th: th0}, params=par, inputs={F: 0.0, P: 0.0, tau: tau0})
+    Mq = np.array([[par["M"] + par["m"], par["m"] * par["l"] * np.cos(th0)],
+                   [par["m"] * par["l"] * np.cos(th0), par["m"] * par["l"] ** 2]])  # fmt: skip
+    dQ = np.array([[1.0, 1.0, 0.0], [0.0, par["l"] * np.cos(th0), 1.0]])
+    want = np.vstack([np.zeros((2, 3)), np.linalg.solve(Mq, dQ)])
+    assert lin.input_matrix.shape == (4, 3)
+    np.testing.assert_allclose(lin.input_matrix, want, rtol=1e-14, atol=1e-15)
+    # at a moving state with other inputs: the third block of rates_jacobian
+    tangent, model = compile_tangent(system), compile_system(system)
+    p = model.parameter_vector({k: par[str(k)] for k in system.parameters})
+    y, u = np.array([0.2, 1.1, -0.4, 0.9]), np.array([0.3, -1.2, 0.5])
+    ju = tangent.rates_jacobian(0.0, y, p, u)[2]
+
+    def richardson(f, h):
+        d1 = (f(h) - f(-h)) / (2 * h)
+        d2 = (f(h / 2) - f(-h / 2)) / h
+        return (4 * d2 - d1) / 3
+
+    fd = np.column_stack([richardson(lambda h, e=e: model.model.rhs(0.0, y, p, u + h * e), 1e-3)
+                          for e in np.eye(3)])  # fmt: skip
+    np.testing.assert_allclose(ju, fd, rtol=1e-10, atol=1e-10)
+
+
+def test_the_input_matrix_on_the_constraint_manifold():
+    """The Cartesian pendulum pushed horizontally by ``F`` on the bob, hanging: in the chart of
+    the constraint's tangent space (δx, δẋ), ``B = (0, ±1/m)`` (the polar pendulum's
+    ``1/(m l)`` per radian, with ``δx = l δθ``)."""
+    mdl = models.pendulum_cartesian()
+    s = mdl.symbols
+    F = dynamicsymbols("F")
+    system = LagrangianSystem([s["x"], s["y"]], lagrangian=mdl.system.lagrangian,
+                              holonomic=mdl.system.holonomic, forces=[{s["x"]: F}])  # fmt: skip
+    par = {"m": 0.8, "g": 9.81, "l": 1.5}
+    lin = system.linearize({s["x"]: 0.0, s["y"]: -1.5}, params=par, inputs={F: 0.0})
+    assert lin.input_matrix.shape == (2, 1)
+    np.testing.assert_allclose(np.abs(lin.input_matrix[:, 0]), [0.0, 1 / 0.8], atol=1e-15)
 
 
 def test_free_cart_has_secular_growth_not_stability():

@@ -25,7 +25,7 @@ use crate::spec::{RunSpec, RunState};
 
 /// A model's expressions and their Jacobian compiled once:
 /// `LagrangianTangent(codes, values, n, m, nh, np, nu)`, the postfix program of
-/// `[M, f, G, b, γ, g, h]` then `∂[M, f, G, b, γ, g]/∂[q, q̇, p]` (row-major) in
+/// `[M, f, G, b, γ, g, h]` then `∂[M, f, G, b, γ, g]/∂[q, q̇, p, u]` (row-major) in
 /// `[q, q̇, t, p, u]` (`poinsot_core::lagrange::Tangent`).
 #[pyclass(frozen, module = "poinsot._core")]
 pub(crate) struct LagrangianTangent {
@@ -64,7 +64,7 @@ impl LagrangianTangent {
         (s.n, s.m, s.nh, s.np, s.nu)
     }
 
-    /// The outputs `[M, f, G, b, γ, g, h, ∂[M, f, G, b, γ, g]/∂[q, q̇, p]]` at `(t, q, q̇)`
+    /// The outputs `[M, f, G, b, γ, g, h, ∂[M, f, G, b, γ, g]/∂[q, q̇, p, u]]` at `(t, q, q̇)`
     /// with parameters `p` and inputs `u` (for tests: the Jacobian against SymPy's).
     fn evaluate<'py>(
         &self,
@@ -84,8 +84,8 @@ impl LagrangianTangent {
     }
 
     /// The exact Jacobian of `ẏ = [q̇, q̈]` (physical multipliers, every constraint in play,
-    /// constant inputs `u`) at `(t, y)`: `(∂ẏ/∂y (2n, 2n), ∂ẏ/∂p (2n, np))`; ValueError where
-    /// the KKT system is singular or the rates are not finite.
+    /// constant inputs `u`) at `(t, y)`: `(∂ẏ/∂y (2n, 2n), ∂ẏ/∂p (2n, np), ∂ẏ/∂u (2n, nu))`;
+    /// ValueError where the KKT system is singular or the rates are not finite.
     fn rates_jacobian<'py>(
         &self,
         py: Python<'py>,
@@ -93,11 +93,15 @@ impl LagrangianTangent {
         y: Floats1<'py>,
         p: Floats1<'py>,
         u: Floats1<'py>,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+    ) -> PyResult<(
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+    )> {
         let s = self.tangent.shape;
         let (y, p, u) = (y.as_slice()?, p.as_slice()?, u.as_slice()?);
         check_point(s, y, None, p, u)?;
-        let (jy, jp) = rates_jacobian(&self.tangent, t, y, p, u).ok_or_else(|| {
+        let (jy, jp, ju) = rates_jacobian(&self.tangent, t, y, p, u).ok_or_else(|| {
             value_error(
                 "the equations of motion cannot be differentiated here: the KKT system is \
                  singular or the rates are not finite",
@@ -106,7 +110,12 @@ impl LagrangianTangent {
         let n2 = 2 * s.n;
         let jy = Array2::from_shape_vec((n2, n2), jy).expect("2n × 2n");
         let jp = Array2::from_shape_vec((n2, s.np), jp).expect("2n × np");
-        Ok((jy.into_pyarray(py), jp.into_pyarray(py)))
+        let ju = Array2::from_shape_vec((n2, s.nu), ju).expect("2n × nu");
+        Ok((
+            jy.into_pyarray(py),
+            jp.into_pyarray(py),
+            ju.into_pyarray(py),
+        ))
     }
 }
 

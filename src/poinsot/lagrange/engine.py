@@ -14,7 +14,7 @@ projection, the multipliers and reactions are the core's (``crates/core/src/lagr
 the same for every model. Only how the model's numbers are computed is generated.
 
 A run with forward sensitivities needs the model's Jacobian too: :func:`compile_tangent`
-lowers the same expressions and their derivatives along ``[q, q̇, p]`` (SymPy's ``diff``) to
+lowers the same expressions and their derivatives along ``[q, q̇, p, u]`` (SymPy's ``diff``) to
 one program sharing their subexpressions (``poinsot._core.LagrangianTangent``), once per model
 and only when a run asks for it.
 
@@ -96,7 +96,7 @@ def _floats(a) -> np.ndarray:
 
 def _program(system, tangent=False):
     """The postfix program of ``[M, f, G, b, γ, g, h]`` in ``[q, q̇, t, p, u]``; with
-    ``tangent``, followed by the Jacobian of ``[M, f, G, b, γ, g]`` along ``[q, q̇, p]``
+    ``tangent``, followed by the Jacobian of ``[M, f, G, b, γ, g]`` along ``[q, q̇, p, u]``
     (row-major: one row per output)."""
     import sympy as sp
 
@@ -115,7 +115,7 @@ def _program(system, tangent=False):
     ]
     exprs = [sp.sympify(names.of(e)) for block in blocks for e in block]
     if tangent:
-        along = [*names.q, *names.v, *system.parameters]
+        along = [*names.q, *names.v, *system.parameters, *names.u]
         exprs += [e.diff(x) for e in exprs[:-1] for x in along]
     inputs = [*names.q, *names.v, system.t, *system.parameters, *names.u]
     codes, values = lower(exprs, inputs)
@@ -196,7 +196,7 @@ def _compiled(key, sizes, derive, make):
 
 
 def compile_tangent(system):
-    """The model of ``system`` with its Jacobian along ``[q, q̇, p]``, compiled
+    """The model of ``system`` with its Jacobian along ``[q, q̇, p, u]``, compiled
     (``poinsot._core.LagrangianTangent``): derived once per model (this process, and the
     program on disk in :func:`cache_dir`), when a run first asks for sensitivities."""
     from .._bindings import lagrange as core_lagrange

@@ -3,10 +3,10 @@
 Equilibria solve ``f(q, 0, t0) + Gᵀ λ = 0`` (all constraints, non-holonomic included) and
 ``g(q, t0) = 0`` (q̇ = 0) by Newton's method or least squares from many starting points; the
 linearisation is the Jacobian of the first-order equations of motion at an equilibrium or a
-steady motion, exact (the KKT system differentiated on the model's compiled Jacobian,
-``poinsot._core.LagrangianTangent.rates_jacobian``; the inputs' columns by central
-differences), restricted to the tangent space of the constraint manifold (null space of the
-constraint Jacobian).
+steady motion, exact (the KKT system differentiated on the model's compiled Jacobian along
+the state, the parameters and the inputs, ``poinsot._core.LagrangianTangent.rates_jacobian``),
+restricted to the tangent space of the constraint manifold (null space of the constraint
+Jacobian).
 """
 
 from __future__ import annotations
@@ -372,8 +372,8 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
     Linearization
         ``A`` (:attr:`~Linearization.matrix`) and ``B`` (:attr:`~Linearization.input_matrix`)
         of ``δẋ = A δx + B δu`` on the constraint manifold, with eigenvalues, frequencies and
-        the stability verdict: ``A`` exact (the KKT system differentiated on the model's
-        compiled Jacobian), ``B`` by central differences of the compiled equations.
+        the stability verdict: both exact (the KKT system differentiated on the model's
+        compiled Jacobian along the state and the inputs).
     """
     from .._validation import as_scalar
     from .arguments import input_function
@@ -386,11 +386,8 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
     k = len(system.inputs)
     u_of = input_function(inputs, system)
     u0 = u_of(t, q0, v0) if u_of is not None else np.zeros(0)
-
-    def rhs_at(y, u):
-        bound = num.bound((lambda tt, qq, vv: u) if k else None)
-        return np.concatenate([y[n:], bound.accelerations(t, y[:n], y[n:])[0]])
-
+    # the inputs held at their values at the operating point (B is their matrix)
+    num = num.bound((lambda tt, qq, vv: u0) if k else None)
     y0 = np.concatenate([q0, v0])
     unsolvable = ValueError(
         "`equilibrium`, `params`: the equations of motion cannot be solved at the operating "
@@ -398,7 +395,7 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
     )
     try:
         with np.errstate(all="ignore"):
-            f0 = rhs_at(y0, u0)
+            f0 = np.concatenate([v0, num.accelerations(t, q0, v0)[0]])
     except np.linalg.LinAlgError:
         raise unsolvable from None
     if not np.isfinite(f0).all():
@@ -409,19 +406,12 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
             f"`equilibrium`: the operating point is not {what}: accelerations "
             f"{np.round(f0[n:], 10).tolist()}"
         )
-    # ∂ẏ/∂y exactly: the differentiated KKT system on the model's compiled Jacobian
+    # ∂ẏ/∂y and ∂ẏ/∂u exactly: the differentiated KKT system on the model's compiled Jacobian
     tangent = compile_tangent(system)
     try:
-        J = tangent.rates_jacobian(t, y0, num.engine.parameter_vector(num.params), u0)[0]
+        J, _, Bfull = tangent.rates_jacobian(t, y0, num.engine.parameter_vector(num.params), u0)
     except ValueError:
         raise unsolvable from None
-    Bfull = np.empty((2 * n, k))
-    with np.errstate(all="ignore"):  # judged below: the result must be finite
-        for j in range(k):  # the inputs' columns by central differences
-            h = 1e-6 * (1 + abs(u0[j]))
-            e = np.zeros(k)
-            e[j] = h
-            Bfull[:, j] = (rhs_at(y0, u0 + e) - rhs_at(y0, u0 - e)) / (2 * h)
     if not (np.isfinite(J).all() and np.isfinite(Bfull).all()):
         raise ValueError(
             "`equilibrium`, `params`: the linearisation is not finite at the operating point "

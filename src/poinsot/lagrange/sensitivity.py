@@ -9,7 +9,7 @@ A run asks for them through its spec, ``system.simulate(..., sensitivities=("q0"
 * ``"params"``: one per parameter, in the order of ``system.parameters``;
 * a single column of one of them: ``"q0[theta]"``, ``"qd0[x]"``, ``"params[L]"``.
 
-The model's Jacobian ``∂[M, f, G, b, γ, g]/∂[q, q̇, p]`` is derived by SymPy and compiled with
+The model's Jacobian ``∂[M, f, G, b, γ, g]/∂[q, q̇, p, u]`` is derived by SymPy and compiled with
 the model (:func:`~poinsot.lagrange.engine.compile_tangent`); the core integrates the
 differentiated KKT system with the motion, by the same method and steps
 (``crates/core/src/lagrange/sensitivity.rs``). This module only names the directions; it

@@ -30,12 +30,16 @@ impl Shape {
     pub fn n_outputs(&self) -> usize {
         self.n * self.n + self.n + self.m * self.n + 2 * self.m + self.nh + 1
     }
-    /// The directions a model's Jacobian is taken along: `[q (n), q̇ (n), p (np)]`.
+    /// The directions a model's Jacobian is taken along: `[q (n), q̇ (n), p (np), u (nu)]`.
     pub fn n_directions(&self) -> usize {
-        2 * self.n + self.np
+        2 * self.n + self.np + self.nu
+    }
+    /// The model's numbers a direction moves besides the state: `[p (np), u (nu)]`.
+    pub fn n_numbers(&self) -> usize {
+        self.np + self.nu
     }
     /// The outputs of a model's [`Tangent`]: `[M, f, G, b, γ, g, h]`, then the Jacobian of
-    /// `[M, f, G, b, γ, g]` (all but `h`) along `[q, q̇, p]`, row-major (one row of
+    /// `[M, f, G, b, γ, g]` (all but `h`) along `[q, q̇, p, u]`, row-major (one row of
     /// [`Shape::n_directions`] numbers per output).
     pub fn n_tangent_outputs(&self) -> usize {
         self.n_outputs() + (self.n_outputs() - 1) * self.n_directions()
@@ -107,7 +111,7 @@ impl Model {
 
 /// A model's expressions with their Jacobian (\[L\] (6.60) differentiated,
 /// `docs/tutorials/sensitivities.md`): one compiled program of `[q, q̇, t, p, u]` whose outputs
-/// are `[M, f, G, b, γ, g, h]` then `∂[M, f, G, b, γ, g]/∂[q, q̇, p]`
+/// are `[M, f, G, b, γ, g, h]` then `∂[M, f, G, b, γ, g]/∂[q, q̇, p, u]`
 /// ([`Shape::n_tangent_outputs`]), derived by SymPy and sharing subexpressions with the
 /// model's own: what a run with forward sensitivities evaluates.
 pub struct Tangent {
@@ -179,7 +183,7 @@ impl<'a> Evaluator<'a> {
     }
 
     /// `∂part_o/∂z_k` of the last evaluation of a [`Tangent`]'s evaluator: output `o` of
-    /// `[M, f, G, b, γ, g]`, direction `k` of `[q, q̇, p]`.
+    /// `[M, f, G, b, γ, g]`, direction `k` of `[q, q̇, p, u]`.
     #[inline(always)]
     pub fn jacobian(&self, o: usize, k: usize) -> f64 {
         let s = self.shape;

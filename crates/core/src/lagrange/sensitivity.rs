@@ -2,11 +2,11 @@
 //! `S_j(t) = ∂y(t)/∂p_j` of the state `y = [q, q̇]` along `P` directions, integrated with the
 //! motion as the variational equations, by the same method and steps.
 //!
-//! The model's Jacobian `∂[M, f, G, b, γ, g]/∂[q, q̇, p]` is derived by SymPy and compiled with
+//! The model's Jacobian `∂[M, f, G, b, γ, g]/∂[q, q̇, p, u]` is derived by SymPy and compiled with
 //! its expressions ([`Tangent`]); what is written here is the differentiated KKT system
 //! (\[L\] (6.60)). With `K = [[M, −Gᵀ], [G, 0]]`, `x = [q̈; λ]` and
-//! `K x = [f; −γ − s]`, `s = 2α (G q̇ + b) + β² g` (Baumgarte), a direction `dz = [dq, dq̇, dp]`
-//! moves the solution by `dx`, solving
+//! `K x = [f; −γ − s]`, `s = 2α (G q̇ + b) + β² g` (Baumgarte), a direction
+//! `dz = [dq, dq̇, dp, du]` moves the solution by `dx`, solving
 //!
 //! ```text
 //! K dx = [ df − dM q̈ + dGᵀ λ ;  −dγ − 2α (dG q̇ + G dq̇ + db) − β² dg − dG q̈ ]
@@ -49,7 +49,9 @@ pub struct LagrangeSensitive<'a> {
     pub stabilization: Stabilization,
     /// The number of directions `P`.
     pub dirs: usize,
-    /// Each direction's move of the parameters (P × np, row-major).
+    /// Each direction's move of the model's numbers `[p, u]` (P × (np + nu), row-major): the
+    /// inputs' part is zero in a run (inputs are constants there), and a unit seed only in
+    /// [`rates_jacobian`]'s own directions.
     seeds: Vec<f64>,
     /// Whether DOP853's error control weighs the sensitivities (CVODES' `errconS`).
     pub control_all: bool,
@@ -61,7 +63,7 @@ struct Work<'a> {
     ev: Evaluator<'a>,
     /// The solution `[q̈ (n), λ (m)]` of the last KKT solve.
     x: Vec<f64>,
-    /// One direction `[dq, dq̇, dp]`.
+    /// One direction `[dq, dq̇, dp, du]`.
     dz: Vec<f64>,
     /// The derivatives of `[M, f, G, b, γ, g]` along it.
     dparts: Vec<f64>,
@@ -84,6 +86,32 @@ impl<'a> LagrangeSensitive<'a> {
         control_all: bool,
     ) -> Result<Self, String> {
         let s = tangent.shape;
+        if dirs == 0 || seeds.len() != dirs * s.np {
+            return Err(format!(
+                "the seeds must hold P × {} numbers for P ≥ 1 directions, found {} for P = {dirs}",
+                s.np,
+                seeds.len()
+            ));
+        }
+        let (np, nk) = (s.np, s.n_numbers());
+        let mut numbers = vec![0.0; dirs * nk];
+        for j in 0..dirs {
+            numbers[j * nk..j * nk + np].copy_from_slice(&seeds[j * np..(j + 1) * np]);
+        }
+        Self::moving_numbers(tangent, p, u, stabilization, numbers, dirs, control_all)
+    }
+
+    /// The same, with `numbers` (P × (np + nu)) each direction's move of `[p, u]`.
+    fn moving_numbers(
+        tangent: &'a Tangent,
+        p: &'a [f64],
+        u: &'a [f64],
+        stabilization: Stabilization,
+        numbers: Vec<f64>,
+        dirs: usize,
+        control_all: bool,
+    ) -> Result<Self, String> {
+        let s = tangent.shape;
         if p.len() != s.np || u.len() != s.nu {
             return Err(format!(
                 "{} parameters and {} inputs given, the model has {} and {}",
@@ -93,13 +121,6 @@ impl<'a> LagrangeSensitive<'a> {
                 s.nu
             ));
         }
-        if dirs == 0 || seeds.len() != dirs * s.np {
-            return Err(format!(
-                "the seeds must hold P × {} numbers for P ≥ 1 directions, found {} for P = {dirs}",
-                s.np,
-                seeds.len()
-            ));
-        }
         let d = s.n + s.m;
         Ok(LagrangeSensitive {
             tangent,
@@ -107,7 +128,7 @@ impl<'a> LagrangeSensitive<'a> {
             u,
             stabilization,
             dirs,
-            seeds: seeds.to_vec(),
+            seeds: numbers,
             control_all,
             work: RefCell::new(Work {
                 ev: tangent.evaluator(),
@@ -135,6 +156,7 @@ impl VectorField for LagrangeSensitive<'_> {
     /// where it is singular).
     fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]) {
         let s = self.tangent.shape;
+        let nk = s.n_numbers();
         let (n, m, pp) = (s.n, s.m, self.dirs);
         let st = self.stabilization;
         let w = &mut *self.work.borrow_mut();
@@ -171,7 +193,7 @@ impl VectorField for LagrangeSensitive<'_> {
             for k in 0..2 * n {
                 w.dz[k] = sens[k * pp + j];
             }
-            w.dz[2 * n..].copy_from_slice(&self.seeds[j * s.np..(j + 1) * s.np]);
+            w.dz[2 * n..].copy_from_slice(&self.seeds[j * nk..(j + 1) * nk]);
             directional(&w.ev, &w.dz, &mut w.dparts);
             let dp = &w.dparts;
             let (qdd, lam) = w.x.split_at(n);
@@ -219,6 +241,7 @@ impl VectorField for LagrangeSensitive<'_> {
     /// velocity free).
     fn project(&self, t: f64, y: &mut [f64]) -> bool {
         let s = self.tangent.shape;
+        let nk = s.n_numbers();
         if !self.stabilization.projection || s.m == 0 {
             return false;
         }
@@ -236,7 +259,7 @@ impl VectorField for LagrangeSensitive<'_> {
             for k in 0..2 * n {
                 w.dz[k] = sens[k * pp + j];
             }
-            w.dz[2 * n..].copy_from_slice(&self.seeds[j * s.np..(j + 1) * s.np]);
+            w.dz[2 * n..].copy_from_slice(&self.seeds[j * nk..(j + 1) * nk]);
             if !w.fix.correct(&w.ev, v, &mut w.dz, &all, &all) {
                 w.dz[..2 * n].fill(f64::NAN);
             }
@@ -250,32 +273,34 @@ impl VectorField for LagrangeSensitive<'_> {
 
 /// The Jacobian of a constrained system's first-order equations `ẏ = [q̇, q̈]` (the physical
 /// multipliers: no stabilisation; every constraint in play; constant inputs `u`) at
-/// `(t, y)`: `∂ẏ/∂y` (2n × 2n) and `∂ẏ/∂p` (2n × np), row-major, exactly — the rates of the
-/// augmented system with `S = [I | 0]` and the parameters' unit seeds (the differentiated KKT
-/// system). `None` where the KKT system is singular or the rates are not finite.
+/// `(t, y)`: `∂ẏ/∂y` (2n × 2n), `∂ẏ/∂p` (2n × np) and `∂ẏ/∂u` (2n × nu, the input matrix of a
+/// linearisation), row-major, exactly — the rates of the augmented system with `S = [I | 0]`
+/// and the parameters' and inputs' unit seeds (the differentiated KKT system). `None` where
+/// the KKT system is singular or the rates are not finite.
 pub fn rates_jacobian(
     tangent: &Tangent,
     t: f64,
     y: &[f64],
     p: &[f64],
     u: &[f64],
-) -> Option<(Vec<f64>, Vec<f64>)> {
+) -> Option<(Vec<f64>, Vec<f64>, Vec<f64>)> {
     let s = tangent.shape;
     let (n2, np) = (2 * s.n, s.np);
     if y.len() != n2 {
         return None;
     }
-    let dirs = n2 + np;
-    let mut seeds = vec![0.0; dirs * np];
-    for k in 0..np {
-        seeds[(n2 + k) * np + k] = 1.0;
+    let nk = s.n_numbers();
+    let dirs = n2 + nk;
+    let mut numbers = vec![0.0; dirs * nk];
+    for k in 0..nk {
+        numbers[(n2 + k) * nk + k] = 1.0;
     }
     let still = Stabilization {
         alpha: 0.0,
         beta: 0.0,
         projection: false,
     };
-    let sys = LagrangeSensitive::new(tangent, p, u, still, &seeds, dirs, true).ok()?;
+    let sys = LagrangeSensitive::moving_numbers(tangent, p, u, still, numbers, dirs, true).ok()?;
     let mut aug = vec![0.0; n2 * (1 + dirs)];
     aug[..n2].copy_from_slice(y);
     for i in 0..n2 {
@@ -286,13 +311,15 @@ pub fn rates_jacobian(
     if !out.iter().all(|x| x.is_finite()) {
         return None;
     }
-    let (mut jy, mut jp) = (vec![0.0; n2 * n2], vec![0.0; n2 * np]);
+    let nu = s.nu;
+    let (mut jy, mut jp, mut ju) = (vec![0.0; n2 * n2], vec![0.0; n2 * np], vec![0.0; n2 * nu]);
     for i in 0..n2 {
         let row = &out[n2 + i * dirs..n2 + (i + 1) * dirs];
         jy[i * n2..(i + 1) * n2].copy_from_slice(&row[..n2]);
-        jp[i * np..(i + 1) * np].copy_from_slice(&row[n2..]);
+        jp[i * np..(i + 1) * np].copy_from_slice(&row[n2..n2 + np]);
+        ju[i * nu..(i + 1) * nu].copy_from_slice(&row[n2 + np..]);
     }
-    Some((jy, jp))
+    Some((jy, jp, ju))
 }
 
 /// `d part_o = Σ_k ∂part_o/∂z_k dz_k` for the outputs `[M, f, G, b, γ, g]` of the last
@@ -332,7 +359,7 @@ impl Fix {
         }
     }
 
-    /// Correct a direction `dz = [dq, dq̇, dp]` at a consistent state (velocity `v`, the
+    /// Correct a direction `dz = [dq, dq̇, dp, du]` at a consistent state (velocity `v`, the
     /// evaluator's last evaluation) to first order onto the constraints: the free coordinates
     /// (`free_q`) take the least-squares correction of least norm that holds the holonomic
     /// residuals, `∂g/∂z dz = 0`; then the free velocities (`free_v`) hold the velocity
@@ -436,7 +463,7 @@ pub fn initial_tangents(
             Start::Velocity(k) if k < n => dz[n + k] = 1.0,
             other => return Err(format!("direction {j}: {other:?} is not a coordinate")),
         }
-        dz[2 * n..].copy_from_slice(&seeds[j * s.np..(j + 1) * s.np]);
+        dz[2 * n..2 * n + s.np].copy_from_slice(&seeds[j * s.np..(j + 1) * s.np]);
         if !fix.correct(&ev, v, &mut dz, free_q, free_v) {
             return Err(format!(
                 "direction {j}: the constraints' Jacobian is singular at the initial state"
