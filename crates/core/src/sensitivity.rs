@@ -213,12 +213,14 @@ fn lift_block<const N: usize>(y: &[f64], p: usize, lo: usize, hi: usize) -> [D; 
 
 #[inline(always)]
 fn lift_rows<const N: usize, const W: usize>(y: &[f64], p: usize, lo: usize) -> [D; N] {
-    std::array::from_fn(|i| {
-        let mut d = [0.0; BLOCK];
+    // a loop, not `array::from_fn`: its closure was left out of line (a call per lift)
+    let mut out = [D::default(); N];
+    for (i, x) in out.iter_mut().enumerate() {
         let row = N + p * i + lo;
-        d[..W].copy_from_slice(&y[row..row + W]);
-        D::new(y[i], d)
-    })
+        x.v = y[i];
+        x.d[..W].copy_from_slice(&y[row..row + W]);
+    }
+    out
 }
 
 /// Write `N` dual numbers back into an augmented state: the value (when `value`) and
