@@ -240,7 +240,7 @@ pub fn jacobi_bulirsch(u: f64, m1: f64) -> (f64, f64, f64) {
 
 /// `(sn, cn, dn)` on |u| ≤ K/2: [`jacobi_near_one`] below [`NEAR_ONE`], the circular
 /// functions at `m = 0`, else [`Agm::sncndn`] on the sequence `agm` of `m1`.
-#[inline]
+#[inline(always)]
 fn base(u: f64, m: f64, m1: f64, agm: &Agm) -> (f64, f64, f64) {
     if m1 < NEAR_ONE {
         return jacobi_near_one(u, m, m1);
@@ -281,8 +281,9 @@ pub fn jacobi_reduced(u: f64, m: f64, m1: f64, k: f64) -> (f64, f64, f64, f64, f
 }
 
 /// [`jacobi_reduced`] with the AGM sequence of `m1` made once ([`Agm::new`]; unused below
-/// [`NEAR_ONE`] and at `m = 0`): the form for many arguments of one parameter.
-#[inline]
+/// [`NEAR_ONE`] and at `m = 0`): the form for many arguments of one parameter. Always
+/// inlined, so that a caller's instruction set is its own (the exact splittings' AVX2 flow).
+#[inline(always)]
 pub fn jacobi_reduced_with(
     u: f64,
     m: f64,

@@ -223,19 +223,14 @@ impl FreeFlow {
     }
 
     /// `(ω(t), Q(t))` of the planned motion by the closed form, its setup made when first
-    /// needed (a motion planned for the lanes has none until a flow runs it here).
+    /// needed (a motion planned for the lanes has none until a flow runs it here). It runs in
+    /// a copy compiled for AVX2 + FMA where the CPU has them ([`evaluate_native`]), as the
+    /// drivers do: the elliptic functions' roundings and fused multiply-adds are then
+    /// instructions, not library calls, with the same numbers.
     #[inline]
     pub fn evaluate(&mut self, moments: Vec3, t: f64) -> (Vec3, Mat3) {
-        let (radicals, symmetry) = (&self.radicals, self.symmetry);
         let m = self.motion.as_mut().expect("a flow planned");
-        let (w0, q0) = (m.w0, m.q0);
-        let setup = m
-            .setup
-            .get_or_insert_with(|| Setup::new(moments, radicals, symmetry, w0, &q0));
-        match setup.start.as_mut() {
-            Some(start) => motion_from_start(moments, &setup.reg, &setup.att, start, t),
-            None => motion_at(moments, &setup.reg, &setup.att, w0, &q0, t),
-        }
+        evaluate_native(moments, &self.radicals, self.symmetry, m, t)
     }
 
     /// The planned motion's ω and Q at the end of its flow, `(w, q)` (here, or from the lanes:
@@ -289,7 +284,41 @@ impl Motion {
     }
 }
 
+crate::multiversion! {
+    /// [`evaluate`] in the copy for the widest instruction set up to AVX2 the CPU runs.
+    fn evaluate_native, evaluate_with [] (
+        moments: Vec3,
+        radicals: &Radicals,
+        symmetry: u8,
+        m: &mut Motion,
+        t: f64,
+    ) -> (Vec3, Mat3) where [] => evaluate, up to Avx2;
+}
+
+/// `(ω(t), Q(t))` of the motion `m` ([`FreeFlow::evaluate`]), its setup made when first needed.
+#[inline(always)]
+fn evaluate(
+    moments: Vec3,
+    radicals: &Radicals,
+    symmetry: u8,
+    m: &mut Motion,
+    t: f64,
+) -> (Vec3, Mat3) {
+    let (w0, q0) = (m.w0, m.q0);
+    // not `get_or_insert_with`: its closure would be a function of its own, compiled for the
+    // baseline
+    if m.setup.is_none() {
+        m.setup = Some(Setup::new(moments, radicals, symmetry, w0, &q0));
+    }
+    let setup = m.setup.as_mut().expect("made above");
+    match setup.start.as_mut() {
+        Some(start) => motion_from_start(moments, &setup.reg, &setup.att, start, t),
+        None => motion_at(moments, &setup.reg, &setup.att, w0, &q0, t),
+    }
+}
+
 impl Setup {
+    #[inline(always)]
     fn new(moments: Vec3, radicals: &Radicals, symmetry: u8, w0: Vec3, q0: &Mat3) -> Setup {
         let reg = Regime::with(moments, radicals, symmetry, w0);
         let (att, start) = start_motion(moments, &reg, w0, q0);
@@ -336,6 +365,7 @@ pub fn translate<T: Scalar>(
 /// ([`AttitudeSetup::frame`]) and the start of `Π(u) − Π(u0)` ([`ThirdKindStart`]: no
 /// `Π(u0)` reduction, `Π(n|m)` only if the flow leaves its half period); otherwise the whole
 /// [`AttitudeSetup`] (eqs (20)–(33); `docs/theory.md` §5).
+#[inline(always)]
 fn start_motion(
     moments: Vec3,
     reg: &Regime,

@@ -93,13 +93,25 @@ impl Isa {
         self.compiled_under(cap) && self.supported()
     }
 
-    /// The widest instruction set available here to a loop capped at `cap`.
+    /// The widest instruction set available here to a loop capped at `cap`: found once per
+    /// cap and process (the build and the CPU do not change), then one load (a free flow of
+    /// the exact splittings asks at every flow).
     pub fn widest_up_to(cap: Isa) -> Isa {
-        Isa::ALL
+        use std::sync::atomic::{AtomicU8, Ordering};
+        const UNKNOWN: u8 = u8::MAX;
+        static WIDEST: [AtomicU8; 3] = [const { AtomicU8::new(UNKNOWN) }; 3];
+        let slot = &WIDEST[cap as usize];
+        let known = slot.load(Ordering::Relaxed);
+        if known != UNKNOWN {
+            return Isa::ALL[known as usize];
+        }
+        let isa = Isa::ALL
             .into_iter()
             .rev()
             .find(|&isa| isa as u8 <= cap as u8 && isa.available_under(cap))
-            .unwrap_or(Isa::Baseline)
+            .unwrap_or(Isa::Baseline);
+        slot.store(isa as u8, Ordering::Relaxed);
+        isa
     }
 }
 

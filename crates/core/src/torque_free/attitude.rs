@@ -54,7 +54,7 @@ pub(super) fn body_rotation<T: Real>(
 /// (`R0` its [`body_rotation`] at ψ = 0, `B` the relabelling about e1), so that
 /// `Q(t) = P0 Rzxz(ψ, θ, φ) B` starts at `Q(0) = q0` with `ψ(0) = 0`. Generic over [`Real`]
 /// (the closed form's derivatives run it on dual numbers, [`super::ExactTangent`]).
-#[inline]
+#[inline(always)]
 pub(super) fn invariable_frame<T: Real<Mask = bool>>(
     e3: bool,
     pi0: [T; 3],
@@ -154,6 +154,7 @@ impl AttitudeSetup {
     /// [`AttitudeSetup::new`] without its third-kind integrals (`Π(u0)` and `Π(n|m)` left
     /// zero): the invariable frame `p0`, `n`, `I_p`, `I_q` and ψ's factor of an elliptic
     /// regime, the part every start of a motion needs ([`ThirdKindStart`] takes the rest).
+    #[inline(always)]
     pub fn frame(moments: Vec3, reg: &Regime, w: Vec3, q0: &Mat3) -> AttitudeSetup {
         let e3 = reg.pole == 2;
         let pi0 = [moments[0] * w[0], moments[1] * w[1], moments[2] * w[2]];
@@ -195,6 +196,7 @@ impl ThirdKindStart {
     /// The start of the motion from `w` with regime `reg` and frame `att`
     /// ([`AttitudeSetup::frame`]); `None` where the attitude does not take `Π(u)` from the
     /// reduction (outside the elliptic cases, on the separatrix, `m1 <` [`TINY_M1`]).
+    #[inline(always)]
     pub fn new(reg: &Regime, att: &AttitudeSetup, w: Vec3) -> Option<ThirdKindStart> {
         if !(reg.is_elliptic() && reduced_third_kind(reg)) {
             return None;
@@ -220,7 +222,7 @@ impl ThirdKindStart {
 
     /// `Π(u) − Π(u0)` from the reduction `(sn u, cn u, dn u, p, v)` of `u`
     /// ([`jacobi_reduced_with`]).
-    #[inline]
+    #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn difference(
         &mut self,
@@ -247,6 +249,7 @@ impl ThirdKindStart {
 /// `(ω(t), Q(t))` of the elliptic motion from `ω(0) = w` ([`motion_at`]'s values to
 /// round-off) with `Π(u) − Π(u0)` by [`ThirdKindStart`]: one reduction of `u = u0 + λt`
 /// for ω and Π, and no `Π(u0)` or `Π(n|m)` made up front (eqs (20)–(33)).
+#[inline(always)]
 pub fn motion_from_start(
     moments: Vec3,
     reg: &Regime,

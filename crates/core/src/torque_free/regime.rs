@@ -220,6 +220,9 @@ impl Regime {
     }
 
     /// [`Regime::new`] with the body's [`Radicals`] made once (for many motions of one body).
+    /// Always inlined: the exact-flow splittings' free flow runs it in its AVX2 copy
+    /// ([`crate::exact_splitting::FreeFlow::evaluate`]).
+    #[inline(always)]
     pub fn with(moments: Vec3, radicals: &Radicals, symmetry: u8, w: Vec3) -> Regime {
         let mut reg = Regime::default();
         let [w0, w1, w2] = w;
@@ -282,6 +285,7 @@ impl Regime {
     /// within [`NEAR_UNSTABLE_AXIS`] of the intermediate one), else the Jacobi form (eqs
     /// (20)–(33)) with its quarter period `K(m)` and its argument `u0` at t = 0, around e3,
     /// around e1 or on the separatrix (`m1 = 0`).
+    #[inline(always)]
     fn set_elliptic(&mut self, moments: Vec3, radicals: &Radicals, x: Vec3, e: i32) {
         let [x0, x1, x2] = x;
         if py_max(x0.abs(), x2.abs()) <= NEAR_UNSTABLE_AXIS * x1.abs() {
