@@ -257,8 +257,15 @@ impl FreeFlow {
 /// The start of a flow from the momentum state `z`: `ω = π/I` and `Q`.
 #[inline]
 pub fn flow_start(body: &Body, z: &[f64]) -> (Vec3, Mat3) {
-    let w0 = [0, 1, 2].map(|k| z[OMEGA_AT + k] * body.inv_moments[k]);
-    let q0: Mat3 = [0, 1, 2].map(|r| [0, 1, 2].map(|c| z[Q_AT + 3 * r + c]));
+    // written out: `array::map`'s closures were calls of their own, at every flow
+    let inv = body.inv_moments;
+    let w0 = [
+        z[OMEGA_AT] * inv[0],
+        z[OMEGA_AT + 1] * inv[1],
+        z[OMEGA_AT + 2] * inv[2],
+    ];
+    let q = &z[Q_AT..Q_AT + 9];
+    let q0: Mat3 = [[q[0], q[1], q[2]], [q[3], q[4], q[5]], [q[6], q[7], q[8]]];
     (w0, q0)
 }
 
@@ -343,8 +350,8 @@ pub fn translate<T: Scalar>(
     }
     match orbit {
         Some(p) => {
-            let r0: [T; 3] = std::array::from_fn(|k| z[R_AT + k] - p[1 + k]);
-            let v0: [T; 3] = std::array::from_fn(|k| z[V_AT + k]);
+            let r0 = [z[R_AT] - p[1], z[R_AT + 1] - p[2], z[R_AT + 2] - p[3]];
+            let v0 = [z[V_AT], z[V_AT + 1], z[V_AT + 2]];
             let chi = universal_anomaly(value(p[0]), &r0.map(&value), &v0.map(&value), d);
             let (r, v) = kepler_flow(p[0], &r0, &v0, d, chi);
             for k in 0..3 {

@@ -60,8 +60,25 @@ impl Isa {
         }
     }
 
-    /// Whether this CPU runs it.
+    /// Whether this CPU runs it: asked of the CPU once per process, then one load (the
+    /// copies' own check, at every call of a function [`multiversion!`](crate::multiversion)
+    /// wrote).
     pub fn supported(self) -> bool {
+        use std::sync::atomic::{AtomicU8, Ordering};
+        const UNKNOWN: u8 = u8::MAX;
+        static SUPPORTED: [AtomicU8; 3] = [const { AtomicU8::new(UNKNOWN) }; 3];
+        let slot = &SUPPORTED[self as usize];
+        let known = slot.load(Ordering::Relaxed);
+        if known != UNKNOWN {
+            return known == 1;
+        }
+        let yes = self.detected();
+        slot.store(u8::from(yes), Ordering::Relaxed);
+        yes
+    }
+
+    /// Whether this CPU runs it, asked of the CPU.
+    fn detected(self) -> bool {
         match self {
             Isa::Baseline => true,
             #[cfg(target_arch = "x86_64")]
