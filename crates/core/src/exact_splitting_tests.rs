@@ -251,7 +251,7 @@ fn the_orders_are_2_4_6_on_a_heavy_top() {
 
 /// The free flow's copies for each instruction set ([`evaluate_with`]: the AVX2 copy a single
 /// run takes on this CPU, and the baseline's) give the same ω and Q bit for bit, over motions
-/// about either pole, near the separatrix, beyond a half period (`Π(n|m)` needed) and from a
+/// about either pole, near the middle axis, beyond a half period (`Π(n|m)` needed) and from a
 /// turned attitude; each copy against the closed form's own route as well.
 #[test]
 fn the_free_flow_is_the_same_in_every_instruction_set() {

@@ -16,6 +16,8 @@
 //! the vectorisation of the RK4 lanes). Fused multiply-adds round once in every copy (in
 //! software without FMA), so every copy gives the same numbers.
 
+use std::sync::atomic::{AtomicU8, Ordering};
+
 /// An instruction set the crate carries a copy of each vectorised loop for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Isa {
@@ -64,17 +66,8 @@ impl Isa {
     /// copies' own check, at every call of a function [`multiversion!`](crate::multiversion)
     /// wrote).
     pub fn supported(self) -> bool {
-        use std::sync::atomic::{AtomicU8, Ordering};
-        const UNKNOWN: u8 = u8::MAX;
         static SUPPORTED: [AtomicU8; 3] = [const { AtomicU8::new(UNKNOWN) }; 3];
-        let slot = &SUPPORTED[self as usize];
-        let known = slot.load(Ordering::Relaxed);
-        if known != UNKNOWN {
-            return known == 1;
-        }
-        let yes = self.detected();
-        slot.store(u8::from(yes), Ordering::Relaxed);
-        yes
+        once_per_process(&SUPPORTED[self as usize], || u8::from(self.detected())) == 1
     }
 
     /// Whether this CPU runs it, asked of the CPU.
@@ -114,22 +107,32 @@ impl Isa {
     /// cap and process (the build and the CPU do not change), then one load (a free flow of
     /// the exact splittings asks at every flow).
     pub fn widest_up_to(cap: Isa) -> Isa {
-        use std::sync::atomic::{AtomicU8, Ordering};
-        const UNKNOWN: u8 = u8::MAX;
         static WIDEST: [AtomicU8; 3] = [const { AtomicU8::new(UNKNOWN) }; 3];
-        let slot = &WIDEST[cap as usize];
-        let known = slot.load(Ordering::Relaxed);
-        if known != UNKNOWN {
-            return Isa::ALL[known as usize];
-        }
-        let isa = Isa::ALL
-            .into_iter()
-            .rev()
-            .find(|&isa| isa as u8 <= cap as u8 && isa.available_under(cap))
-            .unwrap_or(Isa::Baseline);
-        slot.store(isa as u8, Ordering::Relaxed);
-        isa
+        let widest = once_per_process(&WIDEST[cap as usize], || {
+            Isa::ALL
+                .into_iter()
+                .rev()
+                .find(|&isa| isa as u8 <= cap as u8 && isa.available_under(cap))
+                .unwrap_or(Isa::Baseline) as u8
+        });
+        Isa::ALL[widest as usize]
     }
+}
+
+/// A slot not yet filled ([`once_per_process`]).
+const UNKNOWN: u8 = u8::MAX;
+
+/// The value in `slot`, found by `find` the first time (what the build and the CPU decide does
+/// not change while the process runs; two threads finding it at once find the same).
+#[inline]
+fn once_per_process(slot: &AtomicU8, find: impl FnOnce() -> u8) -> u8 {
+    let known = slot.load(Ordering::Relaxed);
+    if known != UNKNOWN {
+        return known;
+    }
+    let found = find();
+    slot.store(found, Ordering::Relaxed);
+    found
 }
 
 /// One cache line of doubles.
