@@ -34,7 +34,7 @@ pub fn asinh(x: f64) -> f64 {
 
 /// `(f, e)` with `x = f·2^e`, `0.5 ≤ |f| < 1` (`(0, 0)` for zero), as Python's `math.frexp`:
 /// read off the bits for a normal `x`, the C library otherwise.
-#[inline]
+#[inline(always)]
 pub fn frexp(x: f64) -> (f64, i32) {
     let bits = x.to_bits();
     let biased = ((bits >> 52) & 0x7ff) as i32;
@@ -52,7 +52,7 @@ pub fn frexp(x: f64) -> (f64, i32) {
 /// `x·2^e`, exactly (rounded once where the result is subnormal), as Python's `math.ldexp`:
 /// a product by the power of two where both it and the result are normal (then exact), the C
 /// library otherwise.
-#[inline]
+#[inline(always)]
 pub fn ldexp(x: f64, e: i32) -> f64 {
     if (-1022..=1023).contains(&e) {
         let y = x * f64::from_bits(((e + 1023) as u64) << 52);

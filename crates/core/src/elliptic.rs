@@ -131,6 +131,17 @@ impl<T: Real> Agm<T> {
     #[inline(always)]
     pub fn new(m1: T) -> Agm<T> {
         let mut g = Agm::<T>::default();
+        g.fill(m1);
+        g
+    }
+
+    /// [`Agm::new`] written over `self` in place (the exact-flow splittings' free flow makes
+    /// one at every flow, into the regime it keeps: a sequence made elsewhere and moved there
+    /// was a call to `memcpy`). The levels above the last one used keep what they held: no
+    /// reader goes past `top`.
+    #[inline(always)]
+    pub fn fill(&mut self, m1: T) {
+        let g = self;
         let mut a = T::splat(1.0);
         let mut emc = m1;
         let mut c = T::splat(1.0);
@@ -150,7 +161,6 @@ impl<T: Real> Agm<T> {
             a = T::select(going, c, a);
         }
         g.mean = c;
-        g
     }
 
     /// `K(m) = π / (2 AGM(1, √m1))`.

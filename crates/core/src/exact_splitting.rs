@@ -123,7 +123,9 @@ pub struct FreeFlow {
 /// along the motion makes it from the same start.
 #[derive(Clone, Copy, Debug)]
 struct Motion {
-    setup: Option<Setup>,
+    /// What the closed form needs of the start, once `ready`.
+    setup: Setup,
+    ready: bool,
     w0: Vec3,
     q0: Mat3,
     began: f64,
@@ -134,7 +136,7 @@ struct Motion {
 }
 
 /// The closed form's setup of a motion ([`start_motion`]).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct Setup {
     reg: Regime,
     att: AttitudeSetup,
@@ -193,8 +195,9 @@ impl FreeFlow {
     /// the steps it has covered summed (compensated). Its start is [`FreeFlow::start`].
     #[inline]
     pub fn plan(&mut self, body: &Body, z: &[f64], d: f64, within: f64) -> f64 {
-        let m = match self.motion {
-            Some(mut m) if m.left[..] == z[Q_AT..STATE_SIZE] => {
+        // in place: a motion is some hundred bytes, and a copy of it a call to `memcpy`
+        match self.motion.as_mut() {
+            Some(m) if m.left[..] == z[Q_AT..STATE_SIZE] => {
                 let (s, x) = (m.steps, m.pending);
                 let sum = s + x;
                 m.carry += if s.abs() >= x.abs() {
@@ -204,15 +207,19 @@ impl FreeFlow {
                 };
                 m.steps = sum;
                 m.pending = 0.0;
-                m
+                m.time(within)
             }
-            _ => {
+            Some(m) => {
                 let (w0, q0) = flow_start(body, z);
-                Motion::at(w0, q0, within - d)
+                m.restart(w0, q0, within - d);
+                m.time(within)
             }
-        };
-        self.motion = Some(m);
-        m.time(within)
+            None => {
+                let (w0, q0) = flow_start(body, z);
+                let m = self.motion.insert(Motion::at(w0, q0, within - d));
+                m.time(within)
+            }
+        }
     }
 
     /// The start (ω, Q) of the motion [`FreeFlow::plan`] chose.
@@ -272,7 +279,8 @@ pub fn flow_start(body: &Body, z: &[f64]) -> (Vec3, Mat3) {
 impl Motion {
     fn at(w0: Vec3, q0: Mat3, began: f64) -> Motion {
         Motion {
-            setup: None,
+            setup: Setup::default(),
+            ready: false,
             w0,
             q0,
             began,
@@ -281,6 +289,19 @@ impl Motion {
             pending: 0.0,
             left: [0.0; 12],
         }
+    }
+
+    /// [`Motion::at`] over `self`, in place: its setup to be made again, what it left kept
+    /// ([`FreeFlow::finish`] writes it).
+    #[inline(always)]
+    fn restart(&mut self, w0: Vec3, q0: Mat3, began: f64) {
+        self.ready = false;
+        self.w0 = w0;
+        self.q0 = q0;
+        self.began = began;
+        self.steps = 0.0;
+        self.carry = 0.0;
+        self.pending = 0.0;
     }
 
     /// The time into the motion at which a flow ending `within` into its step is evaluated:
@@ -314,10 +335,11 @@ fn evaluate(
     let (w0, q0) = (m.w0, m.q0);
     // not `get_or_insert_with`: its closure would be a function of its own, compiled for the
     // baseline
-    if m.setup.is_none() {
-        m.setup = Some(Setup::new(moments, radicals, symmetry, w0, &q0));
+    if !m.ready {
+        m.setup.fill(moments, radicals, symmetry, w0, &q0);
+        m.ready = true;
     }
-    let setup = m.setup.as_mut().expect("made above");
+    let setup = &mut m.setup;
     match setup.start.as_mut() {
         Some(start) => motion_from_start(moments, &setup.reg, &setup.att, start, t),
         None => motion_at(moments, &setup.reg, &setup.att, w0, &q0, t),
@@ -325,11 +347,14 @@ fn evaluate(
 }
 
 impl Setup {
+    /// The setup of the motion from `w0`, `q0`, written over `self` in place (a copy of it
+    /// was a call to `memcpy` at every flow).
     #[inline(always)]
-    fn new(moments: Vec3, radicals: &Radicals, symmetry: u8, w0: Vec3, q0: &Mat3) -> Setup {
-        let reg = Regime::with(moments, radicals, symmetry, w0);
-        let (att, start) = start_motion(moments, &reg, w0, q0);
-        Setup { reg, att, start }
+    fn fill(&mut self, moments: Vec3, radicals: &Radicals, symmetry: u8, w0: Vec3, q0: &Mat3) {
+        self.reg.fill(moments, radicals, symmetry, w0);
+        let (att, start) = start_motion(moments, &self.reg, w0, q0);
+        self.att = att;
+        self.start = start;
     }
 }
 

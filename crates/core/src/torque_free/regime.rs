@@ -225,32 +225,66 @@ impl Regime {
     #[inline(always)]
     pub fn with(moments: Vec3, radicals: &Radicals, symmetry: u8, w: Vec3) -> Regime {
         let mut reg = Regime::default();
+        reg.fill(moments, radicals, symmetry, w);
+        reg
+    }
+
+    /// [`Regime::with`] written in place over `self`: the exact-flow splittings' free flow
+    /// keeps the regime of its motion, and a regime made elsewhere and moved there was a copy
+    /// of its own (two calls to `memcpy`) at every flow. Every field is set again but `agm`,
+    /// which only the motions that use it (elliptic, off the separatrix) fill; in the others
+    /// it keeps what it held, and nothing reads it.
+    #[inline(always)]
+    pub fn fill(&mut self, moments: Vec3, radicals: &Radicals, symmetry: u8, w: Vec3) {
+        // field by field (`*self = Regime::default()` was built on the stack and copied); the
+        // pattern names every field, so that a new one cannot be left out
+        let Regime {
+            case,
+            energy,
+            momentum,
+            alpha,
+            lam,
+            m,
+            m1,
+            signs,
+            u0,
+            pole,
+            quarter,
+            nu,
+            axis,
+            i_perp,
+            agm: _,
+        } = self;
+        (*case, *pole, *axis) = (0, 0, 0);
+        (
+            *energy, *momentum, *lam, *m, *m1, *u0, *quarter, *nu, *i_perp,
+        ) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        (*alpha, *signs) = ([0.0; 3], [0.0; 3]);
         let [w0, w1, w2] = w;
         let big = py_max(py_max(w0.abs(), w1.abs()), w2.abs());
         if symmetry == 3 {
-            reg.case = SPHERICAL;
+            self.case = SPHERICAL;
         } else if big == 0.0 {
-            reg.case = FIXED;
+            self.case = FIXED;
         }
         if big == 0.0 {
-            return reg;
+            return;
         }
         // scale ω by a power of two (exactly) so that squares neither underflow nor overflow
         let e = frexp(big).1;
         let sc = ldexp(1.0, -e);
         let x = [w0 * sc, w1 * sc, w2 * sc];
         let (k, a) = principal_invariants(moments, x);
-        reg.energy = ldexp(k, 2 * e);
-        reg.momentum = ldexp(a, e);
+        self.energy = ldexp(k, 2 * e);
+        self.momentum = ldexp(a, e);
         if symmetry == 3 {
-            return reg;
+            return;
         }
         if symmetry != 0 {
-            reg.set_precession(moments, symmetry, w);
+            self.set_precession(moments, symmetry, w);
         } else {
-            reg.set_elliptic(moments, radicals, x, e);
+            self.set_elliptic(moments, radicals, x, e);
         }
-        reg
     }
 
     /// A symmetric body's motion (`symmetry` 1, prolate: axis e1, `I⊥ = I3`; 2, oblate: axis
@@ -312,11 +346,16 @@ impl Regime {
             let a_cn = if f.e3 { f.alpha[0] } else { f.alpha[2] };
             self.u0 = first_kind_from_sn_cn(f.sn0 / f.alpha[1], f.cn0 / a_cn, m, m1);
         } else {
-            self.agm = Agm::new(m1);
+            self.agm.fill(m1); // in place
             self.quarter = self.agm.quarter(); // = ellipk_m1(m1), the same sequence
             self.u0 = first_kind_in_period(f.cot0, f.sn0, f.cn0, &self.agm, self.quarter);
         }
-        self.alpha = f.alpha.map(|a| ldexp(a, e));
+        // written out: `array::map`'s closure was a call of its own, at every flow
+        self.alpha = [
+            ldexp(f.alpha[0], e),
+            ldexp(f.alpha[1], e),
+            ldexp(f.alpha[2], e),
+        ];
         self.lam = ldexp(f.lam, e);
         self.m = m;
         self.m1 = m1;
