@@ -546,7 +546,14 @@ impl<'c> BlockExactSplitting<'c> {
                 let l = g + j;
                 let (body, flow) = (sys.lane(l).body(), &mut self.flows[l]);
                 let (wl, ql) = if plain.get(j) {
-                    (wt.map(|x| x.0[j]), qt.map(|row| row.map(|x| x.0[j])))
+                    // written out: `array::map` took `wt` and `qt` (3 kB) by value, a call and
+                    // a copy for every lane
+                    let wl = [wt[0].0[j], wt[1].0[j], wt[2].0[j]];
+                    let mut ql = [[0.0; 3]; 3];
+                    for (row, from) in ql.iter_mut().zip(&qt) {
+                        *row = [from[0].0[j], from[1].0[j], from[2].0[j]];
+                    }
+                    (wl, ql)
                 } else {
                     flow.evaluate(moments, t.0[j])
                 };

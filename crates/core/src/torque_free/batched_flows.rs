@@ -45,7 +45,9 @@ fn free_flows_any<const N: usize>(
     let c = Wide::<N>::splat;
     let im = moments.map(c);
     // the regime: the Jacobi form, K, u0 ([`Regime::with`]) and |L| of the scaled ω
-    let (lm, mut plain) = LaneMotion::new(moments, radicals, w);
+    // filled in place (`LaneMotion::new` moved its 12 kB of AGM sequences three times)
+    let mut lm = LaneMotion::default();
+    let mut plain = lm.fill(moments, radicals, w);
     let x = w.map(|wk| times_pow2(wk, -lm.e));
     let momentum = times_pow2(principal_invariants(im, x).1, lm.e);
     for l in 0..N {

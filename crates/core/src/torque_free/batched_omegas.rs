@@ -116,6 +116,7 @@ pub(super) fn omegas_one_by_one(
 
 /// What ω(t) needs of [`WIDTH`] motions in lanes (a body with three distinct moments): the
 /// [`Regime`]'s elliptic fields, with `rm1 = √m1` and `sa = σ α`.
+#[derive(Default)]
 pub(super) struct LaneMotion<const N: usize> {
     pub(super) u0: Wide<N>,
     pub(super) lam: Wide<N>,
@@ -151,6 +152,22 @@ impl<const N: usize> LaneMotion<N> {
         radicals: &Radicals,
         w: [Wide<N>; 3],
     ) -> (LaneMotion<N>, WideMask<N>) {
+        let mut motion = LaneMotion::default();
+        let plain = motion.fill(moments, radicals, w);
+        (motion, plain)
+    }
+
+    /// [`LaneMotion::new`] written over `self` in place, its plain lanes returned: the AGM
+    /// sequences of `N` lanes are some 12 kB, and a motion made elsewhere and moved (from
+    /// [`Agm::new`], into the motion, out of `new`) was three copies of them at every flow
+    /// in lanes.
+    #[inline(always)]
+    pub(super) fn fill(
+        &mut self,
+        moments: Vec3,
+        radicals: &Radicals,
+        w: [Wide<N>; 3],
+    ) -> WideMask<N> {
         let c = Wide::<N>::splat;
         let big = py_max(py_max(w[0].abs(), w[1].abs()), w[2].abs());
         // frexp's exponent of a normal `big` (ω scaled by 2^-e exactly, as `Regime::with`)
@@ -175,9 +192,10 @@ impl<const N: usize> LaneMotion<N> {
         plain = plain & f.m1.ge(c(NEAR_ONE)) & f.m.gt(c(0.0));
         // benign values in the other lanes, where the loops below end at once
         let m1 = Wide::<N>::select(plain, f.m1, c(0.5));
-        let agm = Agm::new(m1);
+        self.agm.fill(m1);
+        let agm = &self.agm;
         let quarter = agm.quarter();
-        let u0 = first_kind_in_period(f.cot0, f.sn0, f.cn0, &agm, quarter);
+        let u0 = first_kind_in_period(f.cot0, f.sn0, f.cn0, agm, quarter);
         let alpha = [
             times_pow2(f.alpha[0], e),
             times_pow2(f.alpha[1], e),
@@ -192,19 +210,16 @@ impl<const N: usize> LaneMotion<N> {
             plain.and_lane(l, normal);
         }
         let s2 = f.s1 * f.s3;
-        let motion = LaneMotion {
-            u0,
-            lam,
-            rm1: m1.sqrt(),
-            quarter,
-            sa: [f.s1 * alpha[0], s2 * alpha[1], f.s3 * alpha[2]],
-            e3: f.e3,
-            agm,
-            m: f.m,
-            m1,
-            e,
-        };
-        (motion, plain)
+        self.u0 = u0;
+        self.lam = lam;
+        self.rm1 = m1.sqrt();
+        self.quarter = quarter;
+        self.sa = [f.s1 * alpha[0], s2 * alpha[1], f.s3 * alpha[2]];
+        self.e3 = f.e3;
+        self.m = f.m;
+        self.m1 = m1;
+        self.e = e;
+        plain
     }
 
     /// ω(t) (sorted principal frame) in every lane: as [`Regime::omega_at`].
