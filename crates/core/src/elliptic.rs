@@ -470,19 +470,24 @@ const RC_SERIES: f64 = 1e-3;
 fn rc1p_above<T: Real>(e: T) -> T {
     let c = T::splat;
     let small = e.lt(c(RC_SERIES));
-    let series = || {
-        let mut s = c(1.0 / 13.0);
-        for j in (0..6).rev() {
-            s = c(1.0 / (2 * j + 1) as f64) - e * s;
-        }
-        s
-    };
     if small.all() {
-        return series();
+        return rc1p_series(e);
     }
     let r = e.sqrt();
     let full = T::select(e.gt(c(0.0)), atan(r) / r, c(1.0));
-    T::select(small, series(), full)
+    T::select(small, rc1p_series(e), full)
+}
+
+/// [`rc1p_above`]'s series in `e` (a function, not a closure: the compiler left the closure
+/// out of line, compiled for the baseline, where the lanes ran it in SSE2).
+#[inline(always)]
+fn rc1p_series<T: Real>(e: T) -> T {
+    let c = T::splat;
+    let mut s = c(1.0 / 13.0);
+    for j in (0..6).rev() {
+        s = c(1.0 / (2 * j + 1) as f64) - e * s;
+    }
+    s
 }
 
 /// Carlson's duplication for `R_J` (DLMF 19.36.1, Carlson 1995, algorithm 3), generic over

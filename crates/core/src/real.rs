@@ -106,16 +106,21 @@ impl<T: Real<Mask = bool>> Scalar for T {}
 /// `a = a_hi + a_lo`, `b = b_hi + b_lo`.
 #[inline(always)]
 pub fn squares_difference<T: Real>(a: (T, T), x: T, b: (T, T), y: T) -> (T, T) {
-    let term = |(c, c_lo): (T, T), z: T| {
-        let s = z * z;
-        let s_lo = z.mul_add(z, -s);
-        let p = c * s;
-        let p_lo = c.mul_add(s, -p) + c * s_lo + c_lo * s;
-        (p, p_lo)
-    };
-    let (p, p_lo) = term(a, x);
-    let (q, q_lo) = term(b, y);
+    let (p, p_lo) = scaled_square(a, x);
+    let (q, q_lo) = scaled_square(b, y);
     ((p - q) + (p_lo - q_lo), p.abs() + q.abs())
+}
+
+/// `c z²` as `(hi, lo)` for `c = c_hi + c_lo` ([`squares_difference`]'s terms; a function,
+/// not a closure: the compiler left the closure out of line, compiled for the baseline, where
+/// the lanes ran it in SSE2 with `fma` a library call).
+#[inline(always)]
+fn scaled_square<T: Real>((c, c_lo): (T, T), z: T) -> (T, T) {
+    let s = z * z;
+    let s_lo = z.mul_add(z, -s);
+    let p = c * s;
+    let p_lo = c.mul_add(s, -p) + c * s_lo + c_lo * s;
+    (p, p_lo)
 }
 
 /// `x · y` as an unevaluated sum `(hi, lo)`, `hi = fl(x y)` (a fused multiply–add).
