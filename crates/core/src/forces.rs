@@ -395,8 +395,10 @@ pub fn one_force_wrench<const K: i64>(
     }
 }
 
-/// Total wrench of `forces` about the centre of mass.
-#[inline]
+/// Total wrench of `forces` about the centre of mass. Always inlined, into the drivers' copy
+/// for each instruction set: out of line, it was compiled for the baseline alone, a call at
+/// every evaluation.
+#[inline(always)]
 pub fn total_wrench(forces: &[Force], body: &Body, t: f64, y: &State) -> [f64; 6] {
     let mut w = [0.0; 6];
     for f in forces {
