@@ -50,13 +50,13 @@ def test_the_shapes_follow_the_outputs_and_the_parameters():
 
 
 def test_the_motion_is_the_plain_runs():
-    # the augmented run's motion is the same equations by the same method (the generic
-    # tableau rather than the register path: equal to round-off)
+    # the augmented run's motion is the same equations by the same method (torque-free, the
+    # plain run takes the free body's own stage-point RK4: equal to round-off)
     plain, sens = run(), run(sensitivities="omega0")
     assert np.abs(plain.state - sens.state).max() < 1e-13
-    # RKMK4's register step and the splitting step on dual numbers: their values are the
-    # plain steps', bit for bit
-    for method in ("rkmk4", "splitting"):
+    # RK4's and RKMK4's register steps and the splitting step on dual numbers: under forces
+    # their values are the plain steps', bit for bit
+    for method in ("rk4", "rkmk4", "splitting"):
         kw = {"method": method, "forces": [Gravity()], "pivot": (0.0, 0.0, -0.5)}
         plain, sens = run(**kw), run(**kw, sensitivities=("omega0", "inertia"))
         assert np.array_equal(plain.state, sens.state), method

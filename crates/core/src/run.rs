@@ -12,7 +12,9 @@ use crate::drivers::{
     run_adaptive, run_fixed_native, Clock, Counters, FixedMethod, Output, Status, STEPS_PER_CALL,
 };
 use crate::observers::Observer;
-use crate::sensitivity::{Sensitive, SensitiveExactSplitting, SensitiveRkmk4, SensitiveSplitting};
+use crate::sensitivity::{
+    Sensitive, SensitiveExactSplitting, SensitiveRk4, SensitiveRkmk4, SensitiveSplitting,
+};
 use crate::spec::{Method, RunSpec, UseMethod};
 use crate::steppers::Control;
 use crate::system::{RigidStructure, VectorField};
@@ -73,8 +75,8 @@ impl Run<'_> {
     }
 
     /// At most `steps` steps of a rigid body's run with its forward sensitivities (`sys`):
-    /// RKMK4 and the splitting method as the derivatives of their discrete steps
-    /// ([`SensitiveRkmk4`], [`SensitiveSplitting`], [`SensitiveExactSplitting`]: enter and
+    /// RK4, RKMK4 and the splitting method as the derivatives of their discrete steps
+    /// ([`SensitiveRk4`], [`SensitiveRkmk4`], [`SensitiveSplitting`], [`SensitiveExactSplitting`]: enter and
     /// leave with [`Run::convert_sensitive`]), the methods of any vector field on the
     /// augmented system ([`Run::chunk`]).
     pub fn chunk_sensitive<O: Observer>(
@@ -91,6 +93,13 @@ impl Run<'_> {
                 steps,
             }
             .fixed(SensitiveRkmk4),
+            Method::Rk4 => Chunk {
+                run: self,
+                sys,
+                obs,
+                steps,
+            }
+            .fixed(SensitiveRk4),
             Method::Splitting => Chunk {
                 run: self,
                 sys,
@@ -105,7 +114,7 @@ impl Run<'_> {
                 steps,
             }
             .fixed(SensitiveExactSplitting { composition }),
-            Method::Rk4 | Method::Erk(_) | Method::Dop853(_) => self.chunk(sys, obs, steps),
+            Method::Erk(_) | Method::Dop853(_) => self.chunk(sys, obs, steps),
             _ => Status::CallbackFailed,
         }
     }

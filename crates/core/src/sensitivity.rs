@@ -38,7 +38,7 @@ use crate::relative::{
 use crate::rigid::ANY_ROTOR;
 use crate::rigid::{pivot_constrained, rigid_rates, shift_torque_to_pivot, State};
 use crate::so3::{exp_so3, Mat3};
-use crate::steppers::{drift, hold_pivot, kick_by, rkmk4_registers, velocity_of};
+use crate::steppers::{drift, hold_pivot, kick_by, rk4_registers, rkmk4_registers, velocity_of};
 use crate::system::VectorField;
 
 /// Directions per dual evaluation: eight derivatives, one AVX-512 register.
@@ -296,6 +296,30 @@ impl VectorField for Sensitive<'_> {
     #[inline(always)]
     fn error_blocks(&self) -> (usize, usize) {
         (STATE_SIZE, if self.control_all { self.p } else { 0 })
+    }
+}
+
+/// RK4 on the augmented system of a rigid body: the plain run's register step
+/// ([`rk4_registers`], the same operations in the same order) on dual numbers, then the
+/// pivot's constraint, so that `y` is the plain RK4 run's bit for bit and `S` the exact
+/// derivative of its map. One lift of the state and one store a step: the generic tableau on
+/// the augmented vector ([`crate::steppers::erk_step`]) went through memory at every stage.
+pub struct SensitiveRk4;
+
+impl<'a> FixedMethod<Sensitive<'a>> for SensitiveRk4 {
+    fn evals_per_step(&self) -> u64 {
+        4
+    }
+    #[inline(always)]
+    fn step(&mut self, sys: &Sensitive<'a>, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
+        for (lo, hi, seeds) in sys.blocks() {
+            let yd = sys.state_block(z, lo, hi);
+            let rates = |_t: f64, y: &[D; STATE_SIZE]| {
+                rigid_rates(&seeds.body, y, wrench_block(sys.forces, seeds, y))
+            };
+            sys.write_block(&rk4_registers(rates, t, &yd, h), out, lo, hi, lo == 0);
+        }
+        sys.project(t + h, out);
     }
 }
 

@@ -120,13 +120,15 @@ pub fn rk4_rigid_step<S: RigidStructure + ?Sized>(sys: &S, t: f64, y: &State, h:
 /// `k1 = f(t, y)`, `k2 = f(t + h/2, y + h/2 k1)`, `k3 = f(t + h/2, y + h/2 k2)`,
 /// `k4 = f(t + h, y + h k3)`, `y + h/6 (k1 + 2 k2 + 2 k3 + k4)` — the RK4 tableau's step, in
 /// the same order of operations as [`erk_step`] up to the grouping of the update.
+/// Generic over [`Real`]: on dual numbers it is the derivative of this very step
+/// ([`crate::sensitivity::SensitiveRk4`]), its values the `f64` step's bit for bit.
 #[inline(always)]
-pub fn rk4_registers<const N: usize>(
-    f: impl Fn(f64, &[f64; N]) -> [f64; N],
+pub fn rk4_registers<T: Real, const N: usize>(
+    f: impl Fn(f64, &[T; N]) -> [T; N],
     t: f64,
-    y: &[f64; N],
+    y: &[T; N],
     h: f64,
-) -> [f64; N] {
+) -> [T; N] {
     let half = 0.5 * h;
     let k1 = f(t, y);
     let k2 = f(t + half, &axpy(y, half, &k1));
@@ -202,8 +204,9 @@ fn rk4_points_mean<const N: usize>(
 
 /// `y + a k`.
 #[inline(always)]
-fn axpy<const N: usize>(y: &[f64; N], a: f64, k: &[f64; N]) -> [f64; N] {
-    let mut o = [0.0; N];
+fn axpy<T: Real, const N: usize>(y: &[T; N], a: f64, k: &[T; N]) -> [T; N] {
+    let a = T::splat(a);
+    let mut o = [T::splat(0.0); N];
     for i in 0..N {
         o[i] = y[i] + a * k[i];
     }
@@ -212,11 +215,11 @@ fn axpy<const N: usize>(y: &[f64; N], a: f64, k: &[f64; N]) -> [f64; N] {
 
 /// RK4's update `y + h/6 (k1 + 2 k2 + 2 k3 + k4)`.
 #[inline(always)]
-fn rk4_update<const N: usize>(y: &[f64; N], h: f64, k: [&[f64; N]; 4]) -> [f64; N] {
-    let c = h / 6.0;
-    let mut o = [0.0; N];
+fn rk4_update<T: Real, const N: usize>(y: &[T; N], h: f64, k: [&[T; N]; 4]) -> [T; N] {
+    let (c, two) = (T::splat(h / 6.0), T::splat(2.0));
+    let mut o = [T::splat(0.0); N];
     for i in 0..N {
-        o[i] = y[i] + c * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
+        o[i] = y[i] + c * (k[0][i] + two * k[1][i] + two * k[2][i] + k[3][i]);
     }
     o
 }
