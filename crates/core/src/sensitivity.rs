@@ -312,14 +312,7 @@ impl<'a> FixedMethod<Sensitive<'a>> for SensitiveRk4 {
     }
     #[inline(always)]
     fn step(&mut self, sys: &Sensitive<'a>, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
-        for (lo, hi, seeds) in sys.blocks() {
-            let yd = sys.state_block(z, lo, hi);
-            let rates = |_t: f64, y: &[D; STATE_SIZE]| {
-                rigid_rates(&seeds.body, y, wrench_block(sys.forces, seeds, y))
-            };
-            sys.write_block(&rk4_registers(rates, t, &yd, h), out, lo, hi, lo == 0);
-        }
-        sys.project(t + h, out);
+        register_steps::<Self>(sys, t, z, h, out);
     }
 }
 
@@ -334,15 +327,63 @@ impl<'a> FixedMethod<Sensitive<'a>> for SensitiveRkmk4 {
     }
     #[inline(always)]
     fn step(&mut self, sys: &Sensitive<'a>, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
-        for (lo, hi, seeds) in sys.blocks() {
-            let yd = sys.state_block(z, lo, hi);
-            let rates = |_t: f64, y: &[D; STATE_SIZE]| {
-                rigid_rates(&seeds.body, y, wrench_block(sys.forces, seeds, y))
-            };
-            sys.write_block(&rkmk4_registers(rates, t, &yd, h), out, lo, hi, lo == 0);
-        }
-        sys.project(t + h, out);
+        register_steps::<Self>(sys, t, z, h, out);
     }
+}
+
+/// A step in registers of a rigid state on dual numbers: RK4's or RKMK4's.
+trait RegisterStep {
+    fn apply<F: Fn(f64, &[D; STATE_SIZE]) -> [D; STATE_SIZE]>(
+        f: F,
+        t: f64,
+        y: &[D; STATE_SIZE],
+        h: f64,
+    ) -> [D; STATE_SIZE];
+}
+
+impl RegisterStep for SensitiveRk4 {
+    #[inline(always)]
+    fn apply<F: Fn(f64, &[D; STATE_SIZE]) -> [D; STATE_SIZE]>(
+        f: F,
+        t: f64,
+        y: &[D; STATE_SIZE],
+        h: f64,
+    ) -> [D; STATE_SIZE] {
+        rk4_registers(f, t, y, h)
+    }
+}
+
+impl RegisterStep for SensitiveRkmk4 {
+    #[inline(always)]
+    fn apply<F: Fn(f64, &[D; STATE_SIZE]) -> [D; STATE_SIZE]>(
+        f: F,
+        t: f64,
+        y: &[D; STATE_SIZE],
+        h: f64,
+    ) -> [D; STATE_SIZE] {
+        rkmk4_registers(f, t, y, h)
+    }
+}
+
+/// The register step `M` on dual numbers ([`SensitiveRk4`], [`SensitiveRkmk4`]): for each
+/// block of directions, the step of its lifted state with its rates (eqs (07)–(09) and the
+/// built-in forces on dual numbers), written back; then the pivot's constraint at `t + h`.
+#[inline(always)]
+fn register_steps<M: RegisterStep>(
+    sys: &Sensitive<'_>,
+    t: f64,
+    z: &[f64],
+    h: f64,
+    out: &mut [f64],
+) {
+    for (lo, hi, seeds) in sys.blocks() {
+        let yd = sys.state_block(z, lo, hi);
+        let rates = |_t: f64, y: &[D; STATE_SIZE]| {
+            rigid_rates(&seeds.body, y, wrench_block(sys.forces, seeds, y))
+        };
+        sys.write_block(&M::apply(rates, t, &yd, h), out, lo, hi, lo == 0);
+    }
+    sys.project(t + h, out);
 }
 
 /// The splitting method on the augmented system of a rigid body: the derivative of its
