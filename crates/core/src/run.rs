@@ -13,7 +13,7 @@ use crate::drivers::{
 };
 use crate::observers::Observer;
 use crate::sensitivity::{
-    Sensitive, SensitiveExactSplitting, SensitiveRk4, SensitiveRkmk4, SensitiveSplitting,
+    Sensitive, SensitiveExactSplitting, SensitiveRegisters, SensitiveSplitting,
 };
 use crate::spec::{Method, RunSpec, UseMethod};
 use crate::steppers::Control;
@@ -76,7 +76,7 @@ impl Run<'_> {
 
     /// At most `steps` steps of a rigid body's run with its forward sensitivities (`sys`):
     /// RK4, RKMK4 and the splitting method as the derivatives of their discrete steps
-    /// ([`SensitiveRk4`], [`SensitiveRkmk4`], [`SensitiveSplitting`], [`SensitiveExactSplitting`]: enter and
+    /// ([`SensitiveRegisters`], [`SensitiveSplitting`], [`SensitiveExactSplitting`]: enter and
     /// leave with [`Run::convert_sensitive`]), the methods of any vector field on the
     /// augmented system ([`Run::chunk`]).
     pub fn chunk_sensitive<O: Observer>(
@@ -92,14 +92,14 @@ impl Run<'_> {
                 obs,
                 steps,
             }
-            .fixed(SensitiveRkmk4),
+            .fixed(SensitiveRegisters::<true>), // RKMK4
             Method::Rk4 => Chunk {
                 run: self,
                 sys,
                 obs,
                 steps,
             }
-            .fixed(SensitiveRk4),
+            .fixed(SensitiveRegisters::<false>), // RK4
             Method::Splitting => Chunk {
                 run: self,
                 sys,

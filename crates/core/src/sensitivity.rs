@@ -299,91 +299,35 @@ impl VectorField for Sensitive<'_> {
     }
 }
 
-/// RK4 on the augmented system of a rigid body: the plain run's register step
-/// ([`rk4_registers`], the same operations in the same order) on dual numbers, then the
-/// pivot's constraint, so that `y` is the plain RK4 run's bit for bit and `S` the exact
-/// derivative of its map. One lift of the state and one store a step: the generic tableau on
-/// the augmented vector ([`crate::steppers::erk_step`]) went through memory at every stage.
-pub struct SensitiveRk4;
+/// RK4 (`LIE = false`) or RKMK4 (`true`) on the augmented system of a rigid body: the plain
+/// run's register step ([`rk4_registers`], [`rkmk4_registers`]: the same operations in the
+/// same order) on dual numbers for each block of directions, then the pivot's constraint. So
+/// under forces `y` is the plain run's bit for bit, and `S` the exact derivative of the
+/// method's own map (on SO(3) for RKMK4), to round-off. One lift of the state and one store a
+/// step (RK4 on the generic tableau, [`crate::steppers::erk_step`], had gone through memory
+/// at every stage).
+pub struct SensitiveRegisters<const LIE: bool>;
 
-impl<'a> FixedMethod<Sensitive<'a>> for SensitiveRk4 {
+impl<'a, const LIE: bool> FixedMethod<Sensitive<'a>> for SensitiveRegisters<LIE> {
     fn evals_per_step(&self) -> u64 {
         4
     }
     #[inline(always)]
     fn step(&mut self, sys: &Sensitive<'a>, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
-        register_steps::<Self>(sys, t, z, h, out);
+        for (lo, hi, seeds) in sys.blocks() {
+            let yd = sys.state_block(z, lo, hi);
+            let rates = |_t: f64, y: &[D; STATE_SIZE]| {
+                rigid_rates(&seeds.body, y, wrench_block(sys.forces, seeds, y))
+            };
+            let stepped = if LIE {
+                rkmk4_registers(rates, t, &yd, h)
+            } else {
+                rk4_registers(rates, t, &yd, h)
+            };
+            sys.write_block(&stepped, out, lo, hi, lo == 0);
+        }
+        sys.project(t + h, out);
     }
-}
-
-/// RKMK4 on the augmented system of a rigid body: the derivative of the discrete step itself
-/// (the register step [`rkmk4_registers`] run on dual numbers, then the pivot's constraint),
-/// so that `S` is the exact derivative of RKMK4's own map on SO(3), to round-off.
-pub struct SensitiveRkmk4;
-
-impl<'a> FixedMethod<Sensitive<'a>> for SensitiveRkmk4 {
-    fn evals_per_step(&self) -> u64 {
-        4
-    }
-    #[inline(always)]
-    fn step(&mut self, sys: &Sensitive<'a>, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
-        register_steps::<Self>(sys, t, z, h, out);
-    }
-}
-
-/// A step in registers of a rigid state on dual numbers: RK4's or RKMK4's.
-trait RegisterStep {
-    fn apply<F: Fn(f64, &[D; STATE_SIZE]) -> [D; STATE_SIZE]>(
-        f: F,
-        t: f64,
-        y: &[D; STATE_SIZE],
-        h: f64,
-    ) -> [D; STATE_SIZE];
-}
-
-impl RegisterStep for SensitiveRk4 {
-    #[inline(always)]
-    fn apply<F: Fn(f64, &[D; STATE_SIZE]) -> [D; STATE_SIZE]>(
-        f: F,
-        t: f64,
-        y: &[D; STATE_SIZE],
-        h: f64,
-    ) -> [D; STATE_SIZE] {
-        rk4_registers(f, t, y, h)
-    }
-}
-
-impl RegisterStep for SensitiveRkmk4 {
-    #[inline(always)]
-    fn apply<F: Fn(f64, &[D; STATE_SIZE]) -> [D; STATE_SIZE]>(
-        f: F,
-        t: f64,
-        y: &[D; STATE_SIZE],
-        h: f64,
-    ) -> [D; STATE_SIZE] {
-        rkmk4_registers(f, t, y, h)
-    }
-}
-
-/// The register step `M` on dual numbers ([`SensitiveRk4`], [`SensitiveRkmk4`]): for each
-/// block of directions, the step of its lifted state with its rates (eqs (07)–(09) and the
-/// built-in forces on dual numbers), written back; then the pivot's constraint at `t + h`.
-#[inline(always)]
-fn register_steps<M: RegisterStep>(
-    sys: &Sensitive<'_>,
-    t: f64,
-    z: &[f64],
-    h: f64,
-    out: &mut [f64],
-) {
-    for (lo, hi, seeds) in sys.blocks() {
-        let yd = sys.state_block(z, lo, hi);
-        let rates = |_t: f64, y: &[D; STATE_SIZE]| {
-            rigid_rates(&seeds.body, y, wrench_block(sys.forces, seeds, y))
-        };
-        sys.write_block(&M::apply(rates, t, &yd, h), out, lo, hi, lo == 0);
-    }
-    sys.project(t + h, out);
 }
 
 /// The splitting method on the augmented system of a rigid body: the derivative of its

@@ -121,7 +121,7 @@ pub fn rk4_rigid_step<S: RigidStructure + ?Sized>(sys: &S, t: f64, y: &State, h:
 /// `k4 = f(t + h, y + h k3)`, `y + h/6 (k1 + 2 k2 + 2 k3 + k4)` — the RK4 tableau's step, in
 /// the same order of operations as [`erk_step`] up to the grouping of the update.
 /// Generic over [`Real`]: on dual numbers it is the derivative of this very step
-/// ([`crate::sensitivity::SensitiveRk4`]), its values the `f64` step's bit for bit.
+/// ([`crate::sensitivity::SensitiveRegisters`]), its values the `f64` step's bit for bit.
 #[inline(always)]
 pub fn rk4_registers<T: Real, const N: usize>(
     f: impl Fn(f64, &[T; N]) -> [T; N],
