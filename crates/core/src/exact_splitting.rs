@@ -28,6 +28,7 @@ use crate::dual::Dual;
 use crate::forces::{central_point_force, Force};
 use crate::freebody::euler_jacobian;
 use crate::inertia::{symmetry_code, SYMMETRY_RTOL};
+use crate::isa::Isa;
 use crate::kepler::{kepler_flow, universal_anomaly};
 use crate::layout::{Body, FORCE_PARAMS, OMEGA_AT, Q_AT, R_AT, STATE_SIZE, V_AT};
 use crate::linalg::expm;
@@ -107,6 +108,8 @@ impl<'a> Composition<'a> {
 /// of the same function.
 #[derive(Clone, Copy, Debug)]
 pub struct FreeFlow {
+    /// The instruction set of the flow's copy ([`evaluate_with`]), chosen once.
+    isa: Isa,
     radicals: Radicals,
     symmetry: u8,
     /// All mass on a line (a zero moment): the symmetric rotor's flow.
@@ -147,6 +150,7 @@ struct Setup {
 impl FreeFlow {
     pub fn new(body: &Body) -> FreeFlow {
         FreeFlow {
+            isa: Isa::widest_up_to(Isa::Avx2),
             radicals: Radicals::new(body.moments),
             symmetry: symmetry_code(body.moments, SYMMETRY_RTOL),
             line: body.moments[0] == 0.0,
@@ -231,13 +235,14 @@ impl FreeFlow {
 
     /// `(ω(t), Q(t))` of the planned motion by the closed form, its setup made when first
     /// needed (a motion planned for the lanes has none until a flow runs it here). It runs in
-    /// a copy compiled for AVX2 + FMA where the CPU has them ([`evaluate_native`]), as the
-    /// drivers do: the elliptic functions' roundings and fused multiply-adds are then
-    /// instructions, not library calls, with the same numbers.
+    /// a copy compiled for AVX2 + FMA where the CPU has them ([`evaluate_with`], the set
+    /// chosen when the flow was made), as the drivers do: the elliptic functions' roundings
+    /// and fused multiply-adds are then instructions, not library calls, with the same
+    /// numbers.
     #[inline]
     pub fn evaluate(&mut self, moments: Vec3, t: f64) -> (Vec3, Mat3) {
         let m = self.motion.as_mut().expect("a flow planned");
-        evaluate_native(moments, &self.radicals, self.symmetry, m, t)
+        evaluate_with(self.isa, moments, &self.radicals, self.symmetry, m, t)
     }
 
     /// The planned motion's ω and Q at the end of its flow, `(w, q)` (here, or from the lanes:
@@ -313,7 +318,10 @@ impl Motion {
 }
 
 crate::multiversion! {
-    /// [`evaluate`] in the copy for the widest instruction set up to AVX2 the CPU runs.
+    /// [`evaluate`] in the copy for the widest instruction set up to AVX2 the CPU runs. The
+    /// flows call `evaluate_with` with the set their [`FreeFlow`] chose once: asking again at
+    /// every flow was three calls of its own.
+    #[allow(dead_code)]
     fn evaluate_native, evaluate_with [] (
         moments: Vec3,
         radicals: &Radicals,
