@@ -8,23 +8,27 @@
 //!
 //! The value is computed by the very `f64` operations of the plain formula, in the same order,
 //! so it is bit for bit the plain result. The `P` derivatives are a fixed-size array: with
-//! `P = 8` each of their operations is one AVX-512 instruction (the directions of a block run
-//! in lanes).
+//! `P = 8` each of their operations is one AVX-512 instruction, or two AVX2 ones (the
+//! directions of a block run in lanes); with `FUSED` a product's are fused multiply-adds.
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use crate::real::{sum_of_squares_is_safe, Real};
 
-/// `v + Σ_j d_j ε_j` with `ε_i ε_j = 0`.
+/// `v + Σ_j d_j ε_j` with `ε_i ε_j = 0`. With `FUSED`, the derivatives of a product are a
+/// product and a fused multiply-add per direction (of `mul_add`, two fused multiply-adds):
+/// for the formulas compiled inside an instruction set's copy with FMA (a run's rates,
+/// `crate::sensitivity`), not for those that run out of line, compiled for the baseline,
+/// where each would be a call into software.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Dual<const P: usize> {
+pub struct Dual<const P: usize, const FUSED: bool = false> {
     /// The value.
     pub v: f64,
     /// The derivatives along the `P` directions.
     pub d: [f64; P],
 }
 
-impl<const P: usize> Default for Dual<P> {
+impl<const P: usize, const F: bool> Default for Dual<P, F> {
     #[inline(always)]
     fn default() -> Self {
         Dual {
@@ -35,23 +39,26 @@ impl<const P: usize> Default for Dual<P> {
 }
 
 impl<const P: usize> Dual<P> {
-    /// The value `v` with the derivatives `d`.
+    /// The value `v` with the derivatives `d` (not fused: `Dual { v, d }` for a fused one).
     #[inline(always)]
     pub fn new(v: f64, d: [f64; P]) -> Self {
         Dual { v, d }
     }
+}
 
+impl<const P: usize, const F: bool> Dual<P, F> {
     /// `self` times the constant `c` (value and derivatives).
     #[inline(always)]
     fn scaled(self, c: f64) -> Self {
-        Dual {
-            v: self.v * c,
-            d: self.d.map(|x| x * c),
+        let mut d = self.d;
+        for x in d.iter_mut() {
+            *x *= c;
         }
+        Dual { v: self.v * c, d }
     }
 }
 
-impl<const P: usize> Add for Dual<P> {
+impl<const P: usize, const F: bool> Add for Dual<P, F> {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
@@ -63,7 +70,7 @@ impl<const P: usize> Add for Dual<P> {
     }
 }
 
-impl<const P: usize> Sub for Dual<P> {
+impl<const P: usize, const F: bool> Sub for Dual<P, F> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, o: Self) -> Self {
@@ -75,34 +82,40 @@ impl<const P: usize> Sub for Dual<P> {
     }
 }
 
-impl<const P: usize> Mul for Dual<P> {
+impl<const P: usize, const F: bool> Mul for Dual<P, F> {
     type Output = Self;
     /// `(uv)' = u'v + uv'`.
     #[inline(always)]
     fn mul(self, o: Self) -> Self {
         let mut d = self.d;
         for (a, b) in d.iter_mut().zip(o.d) {
-            *a = *a * o.v + self.v * b;
+            *a = if F {
+                a.mul_add(o.v, self.v * b)
+            } else {
+                *a * o.v + self.v * b
+            };
         }
         Dual { v: self.v * o.v, d }
     }
 }
 
-impl<const P: usize> Div for Dual<P> {
+impl<const P: usize, const F: bool> Div for Dual<P, F> {
     type Output = Self;
-    /// `(u/v)' = (u' − (u/v) v')/v`.
+    /// `(u/v)' = (u' − (u/v) v')/v` (the derivatives times `1/v`: one division, not one per
+    /// direction).
     #[inline(always)]
     fn div(self, o: Self) -> Self {
         let q = self.v / o.v;
+        let r = 1.0 / o.v;
         let mut d = self.d;
         for (a, b) in d.iter_mut().zip(o.d) {
-            *a = (*a - q * b) / o.v;
+            *a = if F { (-q).mul_add(b, *a) } else { *a - q * b } * r;
         }
         Dual { v: q, d }
     }
 }
 
-impl<const P: usize> Neg for Dual<P> {
+impl<const P: usize, const F: bool> Neg for Dual<P, F> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
@@ -113,11 +126,17 @@ impl<const P: usize> Neg for Dual<P> {
     }
 }
 
-impl<const P: usize> Real for Dual<P> {
+impl<const P: usize, const F: bool> Real for Dual<P, F> {
     type Mask = bool;
     #[inline(always)]
     fn splat(x: f64) -> Self {
         Dual { v: x, d: [0.0; P] }
+    }
+    /// `(c u)' = c u'`: the product by `splat(c)` without its zero derivatives' terms (the
+    /// same numbers, up to the sign of a zero).
+    #[inline(always)]
+    fn scale(self, c: f64) -> Self {
+        self.scaled(c)
     }
     /// `(√u)' = u'/(2√u)` (infinite at 0, as the derivative is).
     #[inline(always)]
@@ -152,7 +171,11 @@ impl<const P: usize> Real for Dual<P> {
     fn mul_add(self, a: Self, b: Self) -> Self {
         let mut d = b.d;
         for (j, x) in d.iter_mut().enumerate() {
-            *x += self.v * a.d[j] + a.v * self.d[j];
+            *x = if F {
+                self.v.mul_add(a.d[j], a.v.mul_add(self.d[j], *x))
+            } else {
+                *x + (self.v * a.d[j] + a.v * self.d[j])
+            };
         }
         Dual {
             v: self.v.mul_add(a.v, b.v),
@@ -260,6 +283,41 @@ mod tests {
             let h = 1e-6;
             let cx = (f(x + h, y) - f(x - h, y)) / (2.0 * h);
             assert!((dx.d[0] - cx).abs() < 1e-8 * (1.0 + cx.abs()));
+        }
+    }
+
+    /// Fused products give the same value bit for bit and the same derivatives to round-off
+    /// (each checked against the hand-written derivative of the same formula).
+    #[test]
+    fn fused_products_give_the_same_derivatives() {
+        fn f<T: Real>(x: T, y: T) -> T {
+            (x * y).mul_add(x, y) / (x - y * y) + x * x * y
+        }
+        for (x, y) in [(0.3, 1.7), (-1.2, -0.4), (2.5, 0.01), (-0.7, 3.1)] {
+            let plain = f(Dual::new(x, [1.0, 0.0]), Dual::new(y, [0.0, 1.0]));
+            let fused = f(
+                Dual::<2, true> {
+                    v: x,
+                    d: [1.0, 0.0],
+                },
+                Dual::<2, true> {
+                    v: y,
+                    d: [0.0, 1.0],
+                },
+            );
+            assert_eq!(fused.v.to_bits(), plain.v.to_bits());
+            assert_eq!(fused.v.to_bits(), f(x, y).to_bits());
+            let (n, m) = (x * x * y + y, x - y * y);
+            let fx = (2.0 * x * y * m - n) / (m * m) + 2.0 * x * y;
+            let fy = ((x * x + 1.0) * m + 2.0 * y * n) / (m * m) + x * x;
+            for (j, exact) in [fx, fy].into_iter().enumerate() {
+                for d in [plain.d[j], fused.d[j]] {
+                    assert!(
+                        (d - exact).abs() < 1e-13 * (1.0 + exact.abs()),
+                        "{x} {y} {j}"
+                    );
+                }
+            }
         }
     }
 

@@ -74,6 +74,12 @@ pub trait Real:
     fn copysign(self, sign: Self) -> Self;
     /// `self · a + b` with one rounding (fused multiply–add).
     fn mul_add(self, a: Self, b: Self) -> Self;
+    /// `self · c` for a constant `c`: `self * Self::splat(c)`, the same numbers (dual numbers
+    /// skip the products of the constant's zero derivatives).
+    #[inline(always)]
+    fn scale(self, c: f64) -> Self {
+        self * Self::splat(c)
+    }
     fn lt(self, o: Self) -> Self::Mask;
     fn le(self, o: Self) -> Self::Mask;
     fn gt(self, o: Self) -> Self::Mask;

@@ -45,6 +45,10 @@ use crate::system::VectorField;
 pub const BLOCK: usize = 8;
 
 type D = Dual<BLOCK>;
+/// The dual numbers of the rates inlined into the drivers' copies with FMA (RK4, RKMK4 and
+/// the vector field's rates): a product's derivatives fused ([`Dual`]). The splittings' kicks
+/// and closed forms run partly out of line, in the baseline, and keep [`D`].
+type DF = Dual<BLOCK, true>;
 
 /// What a direction's initial column moves: nothing (a parameter of the body or a force),
 /// or one component of the initial state.
@@ -80,26 +84,26 @@ impl Start {
 
 /// The seeds of one block of directions: the body and the forces' parameter rows as dual
 /// numbers, built once.
-struct BlockSeeds {
-    body: Body<D>,
-    params: Vec<[D; FORCE_PARAMS]>,
+struct BlockSeeds<T = D> {
+    body: Body<T>,
+    params: Vec<[T; FORCE_PARAMS]>,
 }
 
 /// The seeds of every block of directions: direction `j` moves the principal moments by
 /// `moment_seeds[j]` and force `i`'s parameter row by `force_seeds[j · forces + i]`.
-fn block_seeds(
+fn block_seeds<const F: bool>(
     body: &Body,
     forces: &[Force],
     moment_seeds: &[[f64; 3]],
     force_seeds: &[[f64; FORCE_PARAMS]],
-) -> Vec<BlockSeeds> {
+) -> Vec<BlockSeeds<Dual<BLOCK, F>>> {
     let p = moment_seeds.len();
     let nf = forces.len();
     (0..p.div_ceil(BLOCK).max(1))
         .map(|b| {
             let (lo, hi) = (b * BLOCK, ((b + 1) * BLOCK).min(p));
             let seeded = |v: f64, seed: &dyn Fn(usize) -> f64| {
-                let mut x = D::splat(v);
+                let mut x = Dual::<BLOCK, F>::splat(v);
                 for l in 0..hi.saturating_sub(lo) {
                     x.d[l] = seed(lo + l);
                 }
@@ -122,8 +126,12 @@ fn block_seeds(
 /// The wrench of the built-in forces about the reference point, on dual numbers: what
 /// [`crate::systems::Rigid`]'s wrench computes, in the same order.
 #[inline(always)]
-fn wrench_block(forces: &[Force], seeds: &BlockSeeds, y: &[D; STATE_SIZE]) -> [D; 6] {
-    let mut w = [D::splat(0.0); 6];
+fn wrench_block<const F: bool>(
+    forces: &[Force],
+    seeds: &BlockSeeds<Dual<BLOCK, F>>,
+    y: &[Dual<BLOCK, F>; STATE_SIZE],
+) -> [Dual<BLOCK, F>; 6] {
+    let mut w = [Dual::splat(0.0); 6];
     for (f, p) in forces.iter().zip(&seeds.params) {
         let v = wrench_of(f.kind, p, &seeds.body, y);
         for k in 0..6 {
@@ -144,6 +152,7 @@ pub struct Sensitive<'a> {
     /// Whether DOP853's error control weighs the sensitivities (CVODES' `errconS`).
     pub control_all: bool,
     blocks: Vec<BlockSeeds>,
+    fused: Vec<BlockSeeds<DF>>,
 }
 
 impl<'a> Sensitive<'a> {
@@ -158,6 +167,7 @@ impl<'a> Sensitive<'a> {
         control_all: bool,
     ) -> Self {
         let blocks = block_seeds(&body, forces, moment_seeds, force_seeds);
+        let fused = block_seeds(&body, forces, moment_seeds, force_seeds);
         let p = moment_seeds.len();
         Sensitive {
             body,
@@ -165,18 +175,31 @@ impl<'a> Sensitive<'a> {
             p,
             control_all,
             blocks,
+            fused,
         }
     }
 
     /// Directions `lo..hi` of the augmented state `y` as dual numbers.
     #[inline(always)]
-    fn state_block(&self, y: &[f64], lo: usize, hi: usize) -> [D; STATE_SIZE] {
+    fn state_block<const F: bool>(
+        &self,
+        y: &[f64],
+        lo: usize,
+        hi: usize,
+    ) -> [Dual<BLOCK, F>; STATE_SIZE] {
         lift_block(y, self.p, lo, hi)
     }
 
     /// Write the dual state `r` back: its value (when `value`) and directions `lo..hi`.
     #[inline(always)]
-    fn write_block(&self, r: &[D; STATE_SIZE], out: &mut [f64], lo: usize, hi: usize, value: bool) {
+    fn write_block<const F: bool>(
+        &self,
+        r: &[Dual<BLOCK, F>; STATE_SIZE],
+        out: &mut [f64],
+        lo: usize,
+        hi: usize,
+        value: bool,
+    ) {
         store_block(r, out, self.p, lo, hi, value)
     }
 
@@ -184,10 +207,18 @@ impl<'a> Sensitive<'a> {
     fn blocks(&self) -> impl Iterator<Item = (usize, usize, &BlockSeeds)> {
         blocks_of(&self.blocks, self.p)
     }
+
+    /// The blocks of directions with their fused seeds ([`DF`]).
+    fn fused_blocks(&self) -> impl Iterator<Item = (usize, usize, &BlockSeeds<DF>)> {
+        blocks_of(&self.fused, self.p)
+    }
 }
 
 /// The blocks of `p` directions with their seeds: `(lo, hi, seeds)`.
-fn blocks_of(seeds: &[BlockSeeds], p: usize) -> impl Iterator<Item = (usize, usize, &BlockSeeds)> {
+fn blocks_of<T>(
+    seeds: &[BlockSeeds<T>],
+    p: usize,
+) -> impl Iterator<Item = (usize, usize, &BlockSeeds<T>)> {
     seeds
         .iter()
         .enumerate()
@@ -197,13 +228,18 @@ fn blocks_of(seeds: &[BlockSeeds], p: usize) -> impl Iterator<Item = (usize, usi
 /// Directions `lo..hi` (at most [`BLOCK`]) of an augmented state `y = [x (N), S (N × p)]` as
 /// `N` dual numbers.
 #[inline(always)]
-fn lift_block<const N: usize>(y: &[f64], p: usize, lo: usize, hi: usize) -> [D; N] {
+fn lift_block<const N: usize, const F: bool>(
+    y: &[f64],
+    p: usize,
+    lo: usize,
+    hi: usize,
+) -> [Dual<BLOCK, F>; N] {
     // one copy for each width: a copy whose length is known only at run time is a call to
     // memcpy, 2N of them a dual evaluation
     macro_rules! widths {
         ($($w:literal)*) => {
             match hi - lo {
-                $($w => lift_rows::<N, $w>(y, p, lo),)*
+                $($w => lift_rows::<N, $w, F>(y, p, lo),)*
                 _ => unreachable!("a block holds 1 to {BLOCK} directions"),
             }
         };
@@ -212,9 +248,13 @@ fn lift_block<const N: usize>(y: &[f64], p: usize, lo: usize, hi: usize) -> [D; 
 }
 
 #[inline(always)]
-fn lift_rows<const N: usize, const W: usize>(y: &[f64], p: usize, lo: usize) -> [D; N] {
+fn lift_rows<const N: usize, const W: usize, const F: bool>(
+    y: &[f64],
+    p: usize,
+    lo: usize,
+) -> [Dual<BLOCK, F>; N] {
     // a loop, not `array::from_fn`: its closure was left out of line (a call per lift)
-    let mut out = [D::default(); N];
+    let mut out = [Dual::default(); N];
     for (i, x) in out.iter_mut().enumerate() {
         let row = N + p * i + lo;
         x.v = y[i];
@@ -226,8 +266,8 @@ fn lift_rows<const N: usize, const W: usize>(y: &[f64], p: usize, lo: usize) -> 
 /// Write `N` dual numbers back into an augmented state: the value (when `value`) and
 /// directions `lo..hi`.
 #[inline(always)]
-fn store_block<const N: usize>(
-    r: &[D; N],
+fn store_block<const N: usize, const F: bool>(
+    r: &[Dual<BLOCK, F>; N],
     out: &mut [f64],
     p: usize,
     lo: usize,
@@ -237,7 +277,7 @@ fn store_block<const N: usize>(
     macro_rules! widths {
         ($($w:literal)*) => {
             match hi - lo {
-                $($w => store_rows::<N, $w>(r, out, p, lo, value),)*
+                $($w => store_rows::<N, $w, F>(r, out, p, lo, value),)*
                 _ => unreachable!("a block holds 1 to {BLOCK} directions"),
             }
         };
@@ -246,8 +286,8 @@ fn store_block<const N: usize>(
 }
 
 #[inline(always)]
-fn store_rows<const N: usize, const W: usize>(
-    r: &[D; N],
+fn store_rows<const N: usize, const W: usize, const F: bool>(
+    r: &[Dual<BLOCK, F>; N],
     out: &mut [f64],
     p: usize,
     lo: usize,
@@ -269,14 +309,11 @@ impl VectorField for Sensitive<'_> {
     }
 
     /// `ẏ = f(y, p)` and `Ṡ_j = ∂f/∂y S_j + ∂f/∂p_j`: the engine's rates (eqs (07)–(09) with
-    /// the built-in forces about the reference point) on dual numbers.
+    /// the built-in forces about the reference point) on dual numbers, in their copy for the
+    /// widest instruction set up to AVX2 ([`sensitive_rates`]).
     #[inline(always)]
     fn rhs(&self, _t: f64, y: &[f64], out: &mut [f64]) {
-        for (lo, hi, seeds) in self.blocks() {
-            let yd = self.state_block(y, lo, hi);
-            let r = rigid_rates(&seeds.body, &yd, wrench_block(self.forces, seeds, &yd));
-            self.write_block(&r, out, lo, hi, lo == 0);
-        }
+        sensitive_rates(self, y, out)
     }
 
     /// About a pivot, `R = P + Q c` and `V = Q (ω × c)` reset from the attitude
@@ -299,6 +336,29 @@ impl VectorField for Sensitive<'_> {
     }
 }
 
+/// [`Sensitive`]'s rates.
+#[inline(always)]
+fn sensitive_rates_any(sys: &Sensitive<'_>, y: &[f64], out: &mut [f64]) {
+    for (lo, hi, seeds) in sys.fused_blocks() {
+        let yd: [DF; STATE_SIZE] = sys.state_block(y, lo, hi);
+        let r = rigid_rates(&seeds.body, &yd, wrench_block(sys.forces, seeds, &yd));
+        sys.write_block(&r, out, lo, hi, lo == 0);
+    }
+}
+
+crate::multiversion! {
+    /// [`Sensitive`]'s rates in a copy compiled for AVX2 + FMA where the CPU has them (else
+    /// the baseline): the dual numbers' fused multiply-adds in hardware, their directions two
+    /// vectors of four. The adaptive driver that calls them is one copy, compiled for the
+    /// baseline (a copy of it for each instruction set, the rates inlined into each, would
+    /// cost build time for a call's worth of gain). Every copy gives the same numbers.
+    fn sensitive_rates, sensitive_rates_with [] (
+        sys: &Sensitive<'_>,
+        y: &[f64],
+        out: &mut [f64],
+    ) -> () where [] => sensitive_rates_any, up to Avx2;
+}
+
 /// RK4 (`LIE = false`) or RKMK4 (`true`) on the augmented system of a rigid body: the plain
 /// run's register step ([`rk4_registers`], [`rkmk4_registers`]: the same operations in the
 /// same order) on dual numbers for each block of directions, then the pivot's constraint. So
@@ -314,15 +374,22 @@ impl<'a, const LIE: bool> FixedMethod<Sensitive<'a>> for SensitiveRegisters<LIE>
     }
     #[inline(always)]
     fn step(&mut self, sys: &Sensitive<'a>, t: f64, z: &[f64], h: f64, out: &mut [f64]) {
-        for (lo, hi, seeds) in sys.blocks() {
-            let yd = sys.state_block(z, lo, hi);
-            let rates = |_t: f64, y: &[D; STATE_SIZE]| {
-                rigid_rates(&seeds.body, y, wrench_block(sys.forces, seeds, y))
-            };
+        for (lo, hi, seeds) in sys.fused_blocks() {
+            let yd: [DF; STATE_SIZE] = sys.state_block(z, lo, hi);
+            // the rates inlined into the step, compiled in the driver's instruction set: a
+            // closure left out of line is compiled for the baseline (SSE2, `fma` in software)
+            macro_rules! rates {
+                () => {
+                    #[inline(always)]
+                    |_t: f64, y: &[DF; STATE_SIZE]| {
+                        rigid_rates(&seeds.body, y, wrench_block(sys.forces, seeds, y))
+                    }
+                };
+            }
             let stepped = if LIE {
-                rkmk4_registers(rates, t, &yd, h)
+                rkmk4_registers(rates!(), t, &yd, h)
             } else {
-                rk4_registers(rates, t, &yd, h)
+                rk4_registers(rates!(), t, &yd, h)
             };
             sys.write_block(&stepped, out, lo, hi, lo == 0);
         }
@@ -586,7 +653,7 @@ pub struct RelativeSensitive<'a, C: CarrierMotion + ?Sized> {
     pub options: RelativeOptions,
     pub p: usize,
     pub control_all: bool,
-    blocks: Vec<BlockSeeds>,
+    blocks: Vec<BlockSeeds<DF>>,
     failed: AtomicBool,
 }
 
@@ -620,19 +687,15 @@ impl<C: CarrierMotion + ?Sized> VectorField for RelativeSensitive<'_, C> {
         RELATIVE_STATE_SIZE * (1 + self.p)
     }
 
+    /// The relative equations on dual numbers, in their copy for the widest instruction set
+    /// up to AVX2 ([`relative_sensitive_rates`]).
     #[inline(always)]
     fn rhs(&self, t: f64, y: &[f64], out: &mut [f64]) {
         let motion = self.carrier.motion(t).unwrap_or_else(|| {
             self.failed.store(true, Ordering::Relaxed);
             [f64::NAN; MOTION_SIZE]
         });
-        for (lo, hi, seeds) in blocks_of(&self.blocks, self.p) {
-            let yd: [D; RELATIVE_STATE_SIZE] = lift_block(y, self.p, lo, hi);
-            let w = wrench_block(self.forces, seeds, &absolute_state(&yd, &motion));
-            let mut r = [D::default(); RELATIVE_STATE_SIZE];
-            relative_rates(&seeds.body, self.options, &yd, &motion, w, &mut r);
-            store_block(&r, out, self.p, lo, hi, lo == 0);
-        }
+        relative_sensitive_rates(self, &motion, y, out)
     }
 
     #[inline(always)]
@@ -647,6 +710,33 @@ impl<C: CarrierMotion + ?Sized> VectorField for RelativeSensitive<'_, C> {
     fn failed(&self) -> bool {
         self.failed.load(Ordering::Relaxed)
     }
+}
+
+/// [`RelativeSensitive`]'s rates with the carrier's `motion` at their time.
+#[inline(always)]
+fn relative_sensitive_rates_any<C: CarrierMotion + ?Sized>(
+    sys: &RelativeSensitive<'_, C>,
+    motion: &[f64; MOTION_SIZE],
+    y: &[f64],
+    out: &mut [f64],
+) {
+    for (lo, hi, seeds) in blocks_of(&sys.blocks, sys.p) {
+        let yd: [DF; RELATIVE_STATE_SIZE] = lift_block(y, sys.p, lo, hi);
+        let w = wrench_block(sys.forces, seeds, &absolute_state(&yd, motion));
+        let mut r = [DF::default(); RELATIVE_STATE_SIZE];
+        relative_rates(&seeds.body, sys.options, &yd, motion, w, &mut r);
+        store_block(&r, out, sys.p, lo, hi, lo == 0);
+    }
+}
+
+crate::multiversion! {
+    /// [`RelativeSensitive`]'s rates in their copies, as [`sensitive_rates`].
+    fn relative_sensitive_rates, relative_sensitive_rates_with [C: CarrierMotion + ?Sized] (
+        sys: &RelativeSensitive<'_, C>,
+        motion: &[f64; MOTION_SIZE],
+        y: &[f64],
+        out: &mut [f64],
+    ) -> () where [] => relative_sensitive_rates_any, up to Avx2;
 }
 
 #[cfg(test)]
