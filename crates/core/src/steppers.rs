@@ -321,22 +321,23 @@ pub fn rkmk4_registers<T: Real>(
     y: &[T; STATE_SIZE],
     h: f64,
 ) -> [T; STATE_SIZE] {
-    // the stages in a loop with one call of the rates, as in `rk4_registers`
+    // the stages in a loop with one call of the rates, as in `rk4_registers`; the carry
+    // updated in place (on dual numbers a new carry per stage was a 4 kB `memcpy`)
     let mut c = [T::splat(0.0); RKMK4_CARRY];
     for i in 0..4 {
         let (ys, kt) = match i {
-            0 => (*y, [T::splat(0.0); 3]), // the first carry's kθ is ω's own
+            0 => (*y, first_kt(y)),
             1 => rkmk4_point::<1, T>(y, h, &c),
             2 => rkmk4_point::<2, T>(y, h, &c),
             _ => rkmk4_point::<3, T>(y, h, &c),
         };
         let k = f(t + RK4_C[i] * h, &ys);
-        c = match i {
-            0 => rkmk4_first_carry(y, &k),
-            1 => rkmk4_carry::<1, T>(&k, &kt, Some(&c)),
-            2 => rkmk4_carry::<2, T>(&k, &kt, Some(&c)),
-            _ => rkmk4_carry::<3, T>(&k, &kt, Some(&c)),
-        };
+        match i {
+            0 => rkmk4_carry_into::<0, T>(&k, &kt, &mut c),
+            1 => rkmk4_carry_into::<1, T>(&k, &kt, &mut c),
+            2 => rkmk4_carry_into::<2, T>(&k, &kt, &mut c),
+            _ => rkmk4_carry_into::<3, T>(&k, &kt, &mut c),
+        }
     }
     rkmk4_last(y, h, &c)
 }
@@ -358,26 +359,41 @@ pub fn rkmk4_carry<const I: usize, T: Real>(
     kt: &[T; 3],
     prev: Option<&Rkmk4Carry<T>>,
 ) -> Rkmk4Carry<T> {
+    let mut c = prev.copied().unwrap_or([T::splat(0.0); RKMK4_CARRY]);
+    rkmk4_carry_into::<I, T>(k, kt, &mut c);
+    c
+}
+
+/// [`rkmk4_carry`] in place: `c`, the previous carry (zeros before the first stage), becomes
+/// stage `I`'s.
+#[inline(always)]
+fn rkmk4_carry_into<const I: usize, T: Real>(
+    k: &[T; STATE_SIZE],
+    kt: &[T; 3],
+    c: &mut Rkmk4Carry<T>,
+) {
     let b = RK4_B[I];
-    let sum = |at: usize| prev.map_or(T::splat(0.0), |p| p[at]);
-    let mut c = [T::splat(0.0); RKMK4_CARRY];
     for i in 0..STATE_SIZE {
         c[CARRY_K + i] = k[i];
-        c[CARRY_SUM + i] = sum(CARRY_SUM + i) + k[i].scale(b);
+        c[CARRY_SUM + i] = c[CARRY_SUM + i] + k[i].scale(b);
     }
     for j in 0..3 {
         c[CARRY_KT + j] = kt[j];
-        c[CARRY_SUM_T + j] = sum(CARRY_SUM_T + j) + kt[j].scale(b);
+        c[CARRY_SUM_T + j] = c[CARRY_SUM_T + j] + kt[j].scale(b);
     }
-    c
 }
 
 /// RKMK4's first carry from the rates `k_1 = f(t, y)`, with `kθ_1 = dexp⁻¹_0(ω)` (as the
 /// generic step forms it); across a block's lanes too ([`crate::lanes::BlockRkmk4Stages`]).
 #[inline(always)]
 pub fn rkmk4_first_carry<T: Real>(y: &[T; STATE_SIZE], k: &[T; STATE_SIZE]) -> Rkmk4Carry<T> {
-    let kt = dexpinv3([T::splat(-0.0); 3], omega(y));
-    rkmk4_carry::<0, T>(k, &kt, None)
+    rkmk4_carry::<0, T>(k, &first_kt(y), None)
+}
+
+/// The first stage's `kθ_1 = dexp⁻¹_0(ω)`.
+#[inline(always)]
+fn first_kt<T: Real>(y: &[T; STATE_SIZE]) -> [T; 3] {
+    dexpinv3([T::splat(-0.0); 3], omega(y))
 }
 
 /// RKMK4's stage `I + 1` (`I` in 1..=3) but its rates: the stage point `y + h (a k)` with
