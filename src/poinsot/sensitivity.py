@@ -171,10 +171,11 @@ def check_run(system, solver, backend, *, rigid=True) -> None:
 
 
 def check_directions(system, solver, dirs: Directions) -> None:
-    """Refuse directions a method cannot differentiate: with an exact-flow splitting, those
-    that move a symmetric body's equal principal moments apart (its free flow is the
-    symmetric closed form, which has no derivative along one of them alone)."""
-    if solver.kind != "exact-splitting":
+    """Refuse directions a method cannot differentiate: with the splitting method or an
+    exact-flow splitting, those that move a symmetric body's equal principal moments apart
+    (its free flow is then the symmetric closed form, which has no derivative along one of
+    them alone; a body with three distinct moments takes another flow)."""
+    if solver.kind not in ("splitting", "exact-splitting"):
         return
     moments = np.asarray(system.principal_moments, dtype=float)
     code = core_inertia.symmetry_code(moments, core_inertia.SYMMETRY_RTOL)
@@ -185,7 +186,7 @@ def check_directions(system, solver, dirs: Directions) -> None:
             f"`sensitivities` along the principal moments ('inertia') of a symmetric body "
             f"({moments.tolist()}) with {solver.name!r}: its free flow is the symmetric closed "
             "form, which has no derivative along one of its equal moments alone; leave "
-            "'inertia' out, or use 'splitting' or 'rkmk4'"
+            "'inertia' out, or use 'rkmk4', 'rk4' or 'dop853'"
         )
 
 

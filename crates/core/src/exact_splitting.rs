@@ -368,8 +368,9 @@ impl Setup {
 
 /// A free body's centre of mass moved over a flow of `d`: Kepler's flow about the centre of
 /// the central gravity `orbit` (its parameter row: `μ`, the centre), else `R += d V`; about a
-/// pivot nothing ([`hold_pivot`] sets `R`). On `f64` or on dual numbers ([`kepler_flow`]
-/// takes one Newton step on them from the values' universal anomaly).
+/// pivot `R` and `V` follow the attitude the flow reached ([`hold_pivot`]), where the next
+/// kick's forces act. On `f64` or on dual numbers ([`kepler_flow`] takes one Newton step on
+/// them from the values' universal anomaly).
 #[inline]
 pub fn translate<T: Scalar>(
     body: &Body<T>,
@@ -379,6 +380,7 @@ pub fn translate<T: Scalar>(
     value: impl Fn(T) -> f64,
 ) {
     if body.has_pivot {
+        hold_pivot(body, z);
         return;
     }
     match orbit {

@@ -528,11 +528,16 @@ pub fn splitting_step_with<S: RigidStructure + ?Sized, const ROTOR: u8>(
 }
 
 /// The splitting step's drift over `h`, in place on the momentum state: the exact free rotor
-/// ([`free_rotor`], its branch `ROTOR`) and, for a free body, `R += h V`.
+/// ([`free_rotor`], its branch `ROTOR`) and, for a free body, `R += h V`; about a pivot `R`
+/// and `V` follow the new attitude ([`hold_pivot`]), so that the next kick's forces act where
+/// the centre of mass now is (with the drift's `R`, a force that depends on the position
+/// about a pivot off the centre of mass made the step first order).
 #[inline(always)]
 pub fn drift<const ROTOR: u8, T: Real>(body: &Body<T>, z: &mut [T], h: f64) {
     free_rotor::<ROTOR, T>(body, z, h);
-    if !body.has_pivot {
+    if body.has_pivot {
+        hold_pivot(body, z);
+    } else {
         for k in 0..3 {
             z[R_AT + k] = z[R_AT + k] + T::splat(h) * z[V_AT + k];
         }
