@@ -70,6 +70,52 @@ def test_period_and_precession_rate_are_the_quadratures_of_the_cubic(name):
     np.testing.assert_allclose(s[:3], [float(u1), float(u2), float(u3)], rtol=0, atol=1e-14)
 
 
+@pytest.mark.parametrize("spin", [1e4, 3e5])
+def test_a_fast_top_released_from_rest_precesses(spin):
+    """A fast top released from rest nutates in a band of 1e-8 rad whose turning points lie
+    far below its third root (x₃ ≈ a²/β ≈ 1e8): its band, nutation period and mean precession
+    rate are the cubic's (mpmath: its roots and quadratures at 40 digits), and the precession
+    is about the gyroscopic M g l/(C ω₃), not zero (the band had been taken for none)."""
+    import mpmath as mp
+
+    mp.mp.dps = 40
+    Q0 = matrix_from_euler([0.0, 0.6, 0.0])
+    m = exact_motion(TOP, (0.0, 0.0, spin), Q0, [0.0])
+    A, C, mgl = mp.mpf(TOP.A), mp.mpf(TOP.C), mp.mpf(TOP.mgl)
+    u0 = mp.cos(mp.mpf(0.6))
+    a, beta = C * spin / A, 2 * mgl / A
+    b, alpha = a * u0, beta * u0
+    cubic = [beta, -(alpha + a * a), 2 * a * b - beta, alpha - b * b]
+    u1, u2, u3 = sorted(mp.re(r) for r in mp.polyroots(cubic, maxsteps=400, extraprec=400))
+    u = lambda chi: u1 + (u2 - u1) * mp.sin(chi) ** 2  # noqa: E731
+    weight = lambda chi: 2 / mp.sqrt(beta * (u3 - u(chi)))  # noqa: E731
+    period = 2 * mp.quad(weight, [0, mp.pi / 2])
+    advance = 2 * mp.quad(lambda c: (b - a * u(c)) / (1 - u(c) ** 2) * weight(c), [0, mp.pi / 2])
+    assert m.nutation_period == pytest.approx(float(period), rel=1e-10)
+    assert m.mean_precession_rate == pytest.approx(float(advance / period), rel=1e-8)
+    assert m.mean_precession_rate == pytest.approx(m.gyroscopic_rate, rel=1e-3)
+    assert m.theta_band[1] - m.theta_band[0] == pytest.approx(
+        float(mp.acos(u1) - mp.acos(u2)), rel=1e-6)  # fmt: skip
+
+
+def test_a_top_with_almost_no_spin_keeps_its_digits_at_the_bottom():
+    """Released at θ = 0.6 rad with a spin of 1e-6 rad/s, the top falls past the hanging
+    vertical within ~1e-7 rad of it, where ψ turns by nearly π: its gap 1 + u₁ from the
+    cubic's value at u = −1 keeps the motion within 1e-6 of DOP853 (rtol 1e-12) and its energy
+    to 1e-13 (`1 + u₀ + x₁` had lost every digit: 0.9 in Q)."""
+    Q0 = matrix_from_euler([0.0, 0.6, 0.0])
+    w0, t = (0.0, 0.0, 1e-6), np.linspace(0, 2, 201)
+    exact = exact_motion(TOP, w0, Q0, t)
+    ref = simulate(BODY, (0, 2), omega0=w0, Q0=Q0, pivot=PIVOT, forces=[Gravity()],
+                   method="dop853", rtol=1e-12, atol=1e-14, t_eval=t)  # fmt: skip
+    assert np.abs(exact.Q - ref.Q).max() < 1e-6
+    assert np.abs(exact.omega - ref.omega).max() < 1e-5
+    I = BODY.inertia_about(PIVOT)
+    com = np.einsum("nij,j->ni", exact.Q, np.asarray(BODY.center_of_mass) - PIVOT)
+    energy = 0.5 * np.einsum("ni,ij,nj->n", exact.omega, I, exact.omega) + 9.81 * com[:, 2]
+    assert np.ptp(energy) < 1e-13 * TOP.mgl
+
+
 def test_exact_motion_is_top_motion_field_by_field():
     """A fast top simulated by DOP853 (rtol 1e-13) and by exact-splitting6, and its closed
     form: θ, ψ, φ, Q, ω agree sample by sample; the band and rate agree with the samples'."""

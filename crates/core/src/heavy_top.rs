@@ -64,6 +64,10 @@ pub struct TopMotion {
     pub factor: [f64; 2],
     /// `Π(n; am τ₀ | m)` for `n₊`, `n₋`.
     pub pi0: [f64; 2],
+    /// `1 + u₁` and `1 − u₂`, the band's gaps to the vertical ([`gaps`]), and which of them
+    /// come from the cubic's values at `∓1` (`gap_by_product`).
+    pub gaps: [f64; 2],
+    pub gap_by_product: [bool; 2],
     /// No nutation: θ constant, ψ̇ and φ̇ constant (`rates`).
     pub steady: bool,
     pub rates: [f64; 2],
@@ -103,7 +107,13 @@ impl TopMotion {
             ..TopMotion::default()
         };
         let width = x2 - x1;
-        if !width.is_finite() || width <= 1e-15 * (x3 - x1) {
+        // no nutation when the turning points are apart by no more than the roots' rounding:
+        // q₁'s terms' size over g's curvature (g'' ≈ β (x₃ − x₁)). Relative to x₃ − x₁, a
+        // fast top's nutation (x₃ ~ a²/β) was taken for none, and its precession for zero
+        let rounding =
+            64.0 * f64::EPSILON * (beta * s2 + 2.0 * (u0 * e).abs() + 2.0 * (a * w).abs())
+                / (beta * (x3 - x1));
+        if !width.is_finite() || width <= rounding {
             top.steady = true;
             top.rates = [psid, phid];
             top.lam = 0.5 * (beta * (x3 - x1)).sqrt();
@@ -117,8 +127,17 @@ impl TopMotion {
         let sn0 = (-x1 / width).sqrt().copysign(-thd * s);
         let cn0 = (x2 / width).sqrt();
         top.tau0 = first_kind_from_sn_cn(sn0, cn0, top.m, top.m1);
+        top.gap_by_product = gap_by_product((one_minus_u0, one_plus_u0), top.x);
+        top.gaps = gaps(
+            top.gap_by_product,
+            [one_minus_u0, one_plus_u0],
+            top.x,
+            w,
+            a,
+            beta,
+        );
         let one_minus_u1 = one_minus_u0 - x1;
-        let one_plus_u1 = one_plus_u0 + x1;
+        let one_plus_u1 = top.gaps[0];
         top.n = [width / one_minus_u1, -width / one_plus_u1];
         // b ∓ a = w ∓ a (1 ∓ u₀), without the cancellation of b − a near the vertical
         top.factor = [
@@ -151,9 +170,10 @@ impl TopMotion {
         let width = x2 - x1;
         let x = x1 + width * sn * sn; // u − u₀
         let u = self.u0 + x;
-        // sin²θ = (1 − u)(1 + u), each formed from the half angles of θ₀
-        let one_minus_u = 2.0 * (0.5 * th0).sin().powi(2) - x;
-        let one_plus_u = 2.0 * (0.5 * th0).cos().powi(2) + x;
+        // sin²θ = (1 − u)(1 + u), each a sum of two positive numbers (the band's gap to the
+        // vertical and a part of its width): no cancellation near either vertical
+        let one_minus_u = self.gaps[1] + width * cn * cn;
+        let one_plus_u = self.gaps[0] + width * sn * sn;
         let sin_th = (one_minus_u * one_plus_u).sqrt();
         let theta = sin_th.atan2(u);
         let d = [0, 1].map(|k| self.factor[k] * (self.third_kind(k, tau) - self.pi0[k]));
@@ -221,7 +241,8 @@ pub struct TopTangent {
     k_m: f64,
     angles0: [D9; 3],
     u0: D9,
-    bounds: [D9; 2],
+    /// `1 + u₁`, `1 − u₂` ([`gaps`]).
+    gaps: [D9; 2],
     x: [D9; 3],
     a: D9,
     w: D9,
@@ -318,8 +339,9 @@ impl TopTangent {
             }
             Dual::new(top.tau0, d)
         };
+        let gaps = gaps(top.gap_by_product, bounds, x, w, a, beta);
         let one_minus_u1 = bounds[0] - x1;
-        let one_plus_u1 = bounds[1] + x1;
+        let one_plus_u1 = gaps[0];
         let n = [width / one_minus_u1, -width / one_plus_u1];
         let factor = [
             (w - a * bounds[0]) / (c(2.0) * one_minus_u1 * lam),
@@ -334,7 +356,7 @@ impl TopTangent {
             k_m,
             angles0,
             u0,
-            bounds,
+            gaps,
             x,
             a,
             w,
@@ -387,8 +409,8 @@ impl TopTangent {
         let width = x2 - x1;
         let x = x1 + width * sn * sn;
         let u = self.u0 + x;
-        let one_minus_u = self.bounds[0] - x;
-        let one_plus_u = self.bounds[1] + x;
+        let one_minus_u = self.gaps[1] + width * cn * cn;
+        let one_plus_u = self.gaps[0] + width * sn * sn;
         let sin_th = (one_minus_u * one_plus_u).sqrt();
         // θ = atan2(sin θ, u): dθ = (u d sinθ − sinθ du)/(u² + sin²θ)
         let r2 = u.v * u.v + sin_th.v * sin_th.v;
@@ -456,6 +478,40 @@ impl TopTangent {
     }
 }
 
+/// Whether the band's gaps to the vertical, `1 + u₁` and `1 − u₂`, are better found from the
+/// cubic's values at `∓1` ([`gaps`]) than as `(1 + u₀) + x₁` and `(1 − u₀) − x₂`: when that
+/// sum cancels (the band reaches near a vertical), and, for `1 − u₂`, `u₃ − 1` does not.
+fn gap_by_product((one_minus_u0, one_plus_u0): (f64, f64), [x1, x2, x3]: [f64; 3]) -> [bool; 2] {
+    [
+        one_plus_u0 + x1 < 0.5 * one_plus_u0,
+        one_minus_u0 - x2 < 0.5 * one_minus_u0 && x3 - one_minus_u0 > one_minus_u0,
+    ]
+}
+
+/// `1 + u₁` and `1 − u₂`, the gaps of the nutation band to the two verticals. Where
+/// [`gap_by_product`] says so, from `f(−1) = −(b + a)² = −β (1 + u₁)(1 + u₂)(1 + u₃)` and
+/// `f(1) = −(b − a)² = −β (1 − u₁)(1 − u₂)(u₃ − 1)` ((T1) factored), whose other factors are
+/// sums of positive numbers: a top with little spin passes close to the hanging vertical, and
+/// `(1 + u₀) + x₁` kept none of the gap's digits (its ψ then jumps there by nearly π). On `f64`
+/// or on dual numbers; `b ∓ a = w ∓ a (1 ∓ u₀)`.
+fn gaps<T: Real>(by_product: [bool; 2], bounds: [T; 2], x: [T; 3], w: T, a: T, beta: T) -> [T; 2] {
+    let [one_minus_u0, one_plus_u0] = bounds;
+    let [x1, x2, x3] = x;
+    let bottom = if by_product[0] {
+        let b_plus_a = w + a * one_plus_u0;
+        b_plus_a * b_plus_a / (beta * (one_plus_u0 + x2) * (one_plus_u0 + x3))
+    } else {
+        one_plus_u0 + x1
+    };
+    let top = if by_product[1] {
+        let b_minus_a = w - a * one_minus_u0;
+        b_minus_a * b_minus_a / (beta * (one_minus_u0 - x1) * (x3 - one_minus_u0))
+    } else {
+        one_minus_u0 - x2
+    };
+    [bottom, top]
+}
+
 /// The roots `x₁ ≤ 0 ≤ x₂`, `x₃ ≥ 1 − u₀` of (T1) about `u₀` (`x = u − u₀`), from the
 /// cubic's Taylor coefficients `g(x) = q0 + q1 x + q2 x² + β x³` (see the module docs): `x₃`
 /// by bisection and Newton, then `x₁` and `x₂` from the deflated quadratic, polished by
@@ -472,9 +528,15 @@ fn cubic_roots(beta: f64, [q0, q1, q2]: [f64; 3], bounds: (f64, f64)) -> [f64; 3
         hi *= 2.0;
     }
     let x3 = polish(&g, &dg, bisect(&g, lo, hi), lo, hi);
-    // the deflated quadratic x² + p1 x + p0 = g(x) / (β (x − x₃)): p0 = x₁ x₂ ≤ 0
-    let p1 = q2 / beta + x3;
+    // the deflated quadratic x² + p1 x + p0 = g(x) / (β (x − x₃)): p0 = x₁ x₂ ≤ 0 and
+    // p1 = −(x₁ + x₂) = q₂/β + x₃, or, where that sum cancels (a fast top: x₃ ≈ a²/β far above
+    // the band), (p0 − q₁/β)/x₃ from x₁x₂ + x₃(x₁ + x₂) = q₁/β
     let p0 = -q0 / (beta * x3);
+    let p1 = if (q2 / beta + x3).abs() < 0.5 * x3 {
+        (p0 - q1 / beta) / x3
+    } else {
+        q2 / beta + x3
+    };
     let disc = (p1 * p1 - 4.0 * p0).max(0.0);
     let r = -0.5 * (p1 + disc.sqrt().copysign(p1));
     let (mut x1, mut x2) = if r == 0.0 {
