@@ -150,3 +150,129 @@ def test_turntable_says_what_happens(tmp_path, capsys):
     csv = np.genfromtxt(tmp_path / "o" / "relative.csv", delimiter=",", names=True)
     assert np.abs(csv["omega_abs_z_rads"]).max() < 1e-12  # the brick never moves
     assert np.abs(csv["omega_r_z_rads"]).max() > 1.0  # the table turns under it
+
+
+def _heavy_top(tmp_path, name, omega=None, euler=None, span=None, output=""):
+    """The bundled heavy-top example, written to ``tmp_path/name.toml`` with its initial ω,
+    its tilt (z-x-z Euler angles), its span or an ``[output]`` table changed."""
+    from poinsot.app.scenario import example_text
+
+    text = example_text("heavy-top")
+    for old, new in (("omega = [0.0, 1.5, 100.0]", omega), ("euler = [0.0, 0.6, 0.0]", euler),
+                     ("span = [0.0, 6.0]", span)):  # fmt: skip
+        if new is not None:
+            assert old in text
+            text = text.replace(old, new)
+    path = tmp_path / f"{name}.toml"
+    path.write_text(text + (f"\n[output]\n{output}\n" if output else ""), encoding="utf-8")
+    return path
+
+
+# A heavy top in each regime where the library returns a rate that is none or infinite:
+# (initial ω, tilt, the summary's key and value there, what the terminal says of it)
+_TOP_REGIMES = {
+    "too-slow": ("omega = [0, 1.5, 5]", None, "steady_precession_rate_slow", None,
+                 "steady at the mean θ: none (the top spins too slowly"),
+    "no-spin": ("omega = [0, 0, 0]", None, "gyroscopic_precession_rate", "inf",
+                "gyroscopic estimate M g l/(C ω₃) ∞ rad/s"),
+    "sleeping": ("omega = [0, 0, 100]", "euler = [0.0, 0.0, 0.0]", "mean_precession_rate", None,
+                 "mean precession none (ψ is undefined with the axis on the vertical)"),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("regime", list(_TOP_REGIMES))
+def test_heavy_tops_in_every_regime_print_what_the_library_returned(regime, tmp_path, capsys):
+    omega, euler, key, value, said = _TOP_REGIMES[regime]
+    path = _heavy_top(tmp_path, regime, omega=omega, euler=euler, span="span = [0.0, 2.0]",
+                      output="figures = false\nreport = false")  # fmt: skip
+    out = tmp_path / "o"
+    assert main(["run", str(path), "--out", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert "Traceback" not in captured.err and "error" not in captured.err, captured.err
+    summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    assert summary["top"][key] == value  # the library's value, as summary.json holds it
+    lines = captured.out.splitlines()
+    top = [ln for ln in lines if "heavy top:" in ln or "predicted precession:" in ln]
+    assert len(top) == 2 and said in captured.out, captured.out
+    for line in lines:
+        assert not re.search(r"\b(None|nan|inf)\b", line), line
+    assert lines[-1] == f"  wrote {out}/ (summary.json, trajectory.npz/.csv/.nc)"
+    assert not re.search(r"\bnan\b", summary["lead"]), summary["lead"]
+    assert main(["run", str(path), "--out", str(out), "--force", "--quiet"]) == 0
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err == ""
+
+
+@pytest.mark.parametrize(
+    ("output", "listed"),
+    [
+        ("figures = false\nreport = false", "summary.json, trajectory.npz/.csv/.nc"),
+        ("data = false\nreport = false", "summary.json, 6 PNG figures"),
+        ("data = false\nfigures = false", "summary.json, report.html"),
+    ],
+)
+def test_run_lists_only_the_files_it_wrote(output, listed, tmp_path, capsys):
+    path = _heavy_top(tmp_path, "top", span="span = [0.0, 1.0]", output=output)
+    out = tmp_path / "o"
+    assert main(["run", str(path), "--out", str(out)]) == 0
+    wrote = capsys.readouterr().out.splitlines()[-1]
+    assert wrote == f"  wrote {out}/ ({listed})", wrote
+    files = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
+    if "figures" in output:  # no figure is written, and none is named
+        assert not any(f.endswith(".png") for f in files) and ".png" not in wrote
+    if "data" in output:
+        assert not any(f.startswith("trajectory") for f in files)
+    if "report" in output:
+        assert "report.html" not in files
+
+
+def _every_float(obj, value):
+    """``obj`` (a summary) with every float replaced by ``value``."""
+    if isinstance(obj, dict):
+        return {k: _every_float(v, value) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_every_float(v, value) for v in obj]
+    return value if isinstance(obj, float) else obj
+
+
+@pytest.mark.parametrize("name", ["heavy-top", "notebook", "atwood", "turntable-spin-up",
+                                  "tennis-racket-ensemble"])  # fmt: skip
+def test_terminal_lines_show_any_value_the_library_returns(name, tmp_path):
+    """Every kind of run prints a summary whose numbers are all None, ±inf (as JSON holds
+    them, or as floats) or NaN: without failing, and without Python's words for them."""
+    from poinsot.app.job import run_scenario
+    from poinsot.app.runs import run_for
+    from poinsot.app.scenario import load_example
+
+    scenario = load_example(name)
+    scenario.outputs.update(figures=False, report=False)
+    if getattr(scenario, "ensemble", None):
+        scenario.ensemble["members"] = 40
+    out = tmp_path / "o"
+    summary = run_scenario(scenario, out)
+    for value in (None, "inf", "-inf", float("inf"), float("nan")):
+        lines = run_for(scenario).terminal_lines(_every_float(summary, value), out)
+        assert lines and lines[-1].startswith(f"  wrote {out}/ (summary.json"), lines
+        for line in lines:
+            assert not re.search(r"\b(None|nan|inf)\b", line), (value, line)
+    if name == "heavy-top":
+        assert "∞ rad/s" in "\n".join(run_for(scenario).terminal_lines(
+            _every_float(summary, "inf"), out))  # fmt: skip
+
+
+@pytest.mark.parametrize("error", [TypeError, ValueError])
+def test_a_failure_after_the_output_is_written_says_it_is_there(error, tmp_path, capsys,
+                                                                 monkeypatch):  # fmt: skip
+    from poinsot.app.runs.rigid import RigidRun
+
+    def fail(self, summary, out):
+        raise error("a bug in printing")
+
+    monkeypatch.setattr(RigidRun, "terminal_lines", fail)
+    path = _heavy_top(tmp_path, "top", span="span = [0.0, 1.0]", output="figures = false")
+    out = tmp_path / "o"
+    assert main(["run", str(path), "--out", str(out)]) == 70  # a bug, not bad input
+    err = capsys.readouterr().err
+    assert f"internal error: {error.__name__}: a bug in printing" in err
+    assert "no partial output" not in err and f"{out}/ had been written in full" in err
+    assert (out / "summary.json").exists() and (out / "report.html").exists()

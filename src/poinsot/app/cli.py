@@ -375,11 +375,21 @@ def _dispatch(args) -> int:
     except BaseException as exc:
         if g.signum is not None:  # a library turned the interrupt into an error of its own
             raise KeyboardInterrupt from exc
-        return _failure(exc)
+        return _failure(exc, getattr(args, "written", None))
 
 
-def _failure(exc) -> int:
-    """The exit code and message of a command that failed with ``exc``."""
+def _left(written) -> str:
+    """What a failed command left on disk: its output folder ``written`` when it had been
+    written in full before the failure (a command sets ``args.written`` once it is), else
+    nothing (an unfinished output folder is always removed)."""
+    if written is not None:
+        return f"the output folder {written}/ had been written in full before it"
+    return "no partial output was left"
+
+
+def _failure(exc, written=None) -> int:
+    """The exit code and message of a command that failed with ``exc``; ``written``: the
+    output folder it had completed before (then said to be there), or None."""
     from .._io import OutputError, is_disk_full
     from ..simulation import SimulationError
     from .scenario import ScenarioError
@@ -393,6 +403,8 @@ def _failure(exc) -> int:
         print(f"poinsot: numerical failure: {exc}", file=sys.stderr)
         return EXIT_NUMERICAL
     except ValueError as exc:  # the library refusing a run before it starts (e.g. max_steps)
+        if written is not None:  # not a refusal: the run was over, its output written
+            return _internal(exc, written)
         print(f"poinsot: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except BrokenPipeError:  # `poinsot ... --json | head`: the reader left; say nothing more
@@ -407,22 +419,26 @@ def _failure(exc) -> int:
     except OSError as exc:
         where = f"{exc.filename}: " if exc.filename else ""
         if is_disk_full(exc):
-            print(f"poinsot: error: {where}the disk is full; no partial output was left",
+            print(f"poinsot: error: {where}the disk is full; {_left(written)}",
                   file=sys.stderr)  # fmt: skip
             return EXIT_NUMERICAL
         print(f"poinsot: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except Exception as exc:  # a bug: one line, never a traceback unless asked for
-        import os
+        return _internal(exc, written)
 
-        if os.environ.get("POINSOT_TRACEBACK"):
-            import traceback
 
-            traceback.print_exception(exc, file=sys.stderr)
-        print(f"poinsot: internal error: {type(exc).__name__}: {exc} (a bug in poinsot, "
-              "please report it; POINSOT_TRACEBACK=1 prints where it happened); no partial "
-              "output was left", file=sys.stderr)  # fmt: skip
-        return EXIT_INTERNAL
+def _internal(exc, written=None) -> int:
+    """An internal error (a bug): one line naming it and what was left on disk, never a
+    traceback unless ``POINSOT_TRACEBACK`` asks for one."""
+    if os.environ.get("POINSOT_TRACEBACK"):
+        import traceback
+
+        traceback.print_exception(exc, file=sys.stderr)
+    print(f"poinsot: internal error: {type(exc).__name__}: {exc} (a bug in poinsot, please "
+          f"report it; POINSOT_TRACEBACK=1 prints where it happened); {_left(written)}",
+          file=sys.stderr)  # fmt: skip
+    return EXIT_INTERNAL
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -94,6 +94,7 @@ def cmd_run(args):
                                plotlyjs=plotlyjs, on_stage=guard.at)  # fmt: skip
     finally:
         progress.close()
+    args.written = out  # complete from here on: a later failure must not say otherwise
     guard.at("printing the summary")
     if args.json:
         import json
@@ -283,6 +284,7 @@ def cmd_polhodes(args):
     folder = OutputFolder(out, force=args.force, command="polhodes", needs_bytes=12_000_000)
     with folder.writing() as work:
         written = _write_polhodes(work, args, free, energy, result, plotlyjs)
+    args.written = out
     if args.json:
         print(json.dumps(result, indent=2))
     else:
@@ -429,6 +431,7 @@ def cmd_identify(args):
     data["log"] = {"path": str(path), "columns": log.columns, "notes": list(log.notes)}
     if args.out:
         _write_identify(Path(args.out), args, res, data)
+        args.written = Path(args.out)
     if args.json:
         print(json.dumps(data, indent=2))
         return EXIT_OK

@@ -186,6 +186,7 @@ def run_grade(args) -> int:
     rows = [(path, _grade_one(path, args, kind, ref)[1]) for path in args.logs]
     if args.out:
         _write(Path(args.out), args, rows[0][0], rows[0][1], kind)
+        args.written = Path(args.out)
     if args.json:
         print(json.dumps({str(p): g.summary() for p, g in rows}, indent=2))
         return EXIT_OK

@@ -86,8 +86,125 @@ class Run:
         """Complete ``summary`` once its timings are in (default: nothing to add)."""
 
     def terminal_lines(self, summary: dict, out) -> list[str]:
-        """What the command line prints about the finished run written to ``out``."""
+        """What the command line prints about the finished run written to ``out``: the
+        summary's values as :func:`shown` formats them (never failing on a value the library
+        returned as None, ±inf or a string), ending with :func:`wrote_line`."""
         raise NotImplementedError
+
+
+def shown(value, spec: str = "g", *, unit: str = "", none: str = "none") -> str:
+    """A summary's value as the terminal prints it, whatever the library returned: a number
+    formatted with ``spec`` (followed by `` unit``), ±inf (a float, or the ``"inf"`` /
+    ``"-inf"`` that :func:`jsonable` writes) as ``∞`` / ``−∞``, None or NaN (a quantity the
+    library found undefined for this run) as ``none`` (a phrase saying why, where the caller
+    knows), and any other string as it is (with its unit). It formats; it computes nothing,
+    and never fails.
+
+    >>> shown(1.0900000000000005, ".4g", unit="rad/s"), shown("inf", ".4g", unit="rad/s")
+    ('1.09 rad/s', '∞ rad/s')
+    >>> shown(None, ".4g", none="none (spin too slow)"), shown("rk4", ".2e")
+    ('none (spin too slow)', 'rk4')
+    """
+    tail = f" {unit}" if unit else ""
+    if value is None:
+        return none
+    if isinstance(value, str):
+        infinite = {"inf": "∞", "+inf": "∞", "infinity": "∞", "-inf": "−∞", "-infinity": "−∞"}
+        word = value.strip().lower()
+        if word in infinite:
+            return infinite[word] + tail
+        return none if word == "nan" else value + tail
+    if isinstance(value, bool | np.bool_):
+        return str(bool(value))
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float):
+        if np.isnan(value):
+            return none
+        if np.isinf(value):
+            return ("∞" if value > 0 else "−∞") + tail
+    try:
+        return format(value, spec) + tail
+    except (TypeError, ValueError):  # not a number after all: shown as it is
+        return str(value) + tail
+
+
+def defined(value) -> bool:
+    """Whether the library returned a value at all: not None, NaN or ``"nan"`` (what a summary
+    holds where a quantity is undefined for the run); ±inf is a value."""
+    if value is None:
+        return False
+    if isinstance(value, str):
+        return value.strip().lower() != "nan"
+    try:
+        return not np.isnan(value)
+    except (TypeError, ValueError):
+        return True
+
+
+def change_shown(described: dict) -> str:
+    """The largest change of a conserved quantity, as :func:`poinsot.conservation.change_text`
+    words it (``"E 1.20e-09 (relative)"``, or ``"h 6.40e-10 J (absolute; h(0) = 0)"`` where
+    there is no relative change), from a summary's entry, whose numbers may be None or
+    ``"inf"`` (:func:`jsonable`): formatted by :func:`shown`, never failing."""
+    sym = described.get("symbol", "?")
+    rel = described.get("max_relative_change")
+    if rel is not None:
+        return f"{sym} {shown(rel, '.2e')} (relative)"
+    change = shown(described.get("max_change"), ".2e", unit=described.get("unit") or "")
+    return f"{sym} {change} (absolute; {sym}(0) = 0)"
+
+
+#: The order in which :func:`wrote_line` joins the suffixes of files of one name.
+_SUFFIX_ORDER = (".npz", ".csv", ".nc")
+
+
+def written_files(out) -> list[str] | None:
+    """The files the finished run wrote into ``out``: the list its manifest records
+    (:data:`poinsot._io.MANIFEST`), else the folder's visible files; None if neither can be
+    read."""
+    import json
+
+    from ..._io import MANIFEST
+
+    folder = Path(out)
+    try:
+        files = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))["files"]
+        return [str(f) for f in files if str(f) != MANIFEST]
+    except (OSError, ValueError, KeyError, TypeError):
+        pass
+    try:
+        return sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))
+    except OSError:
+        return None
+
+
+def wrote_line(out, files: list[str] | None = None) -> str:
+    """``"  wrote OUT/ (summary.json, trajectory.npz/.csv/.nc, 6 PNG figures, report.html)"``:
+    what the run wrote, as :func:`written_files` finds it in ``out`` (or ``files``), so that
+    ``[output] data``, ``figures`` or ``report = false`` leave their files out of the list."""
+    files = written_files(out) if files is None else files
+    if files is None:
+        return f"  wrote {out}/"
+    figures = [f for f in files if f.lower().endswith(".png")]
+    stems: dict[str, list[str]] = {}
+    for f in files:
+        if f in ("summary.json", "report.html") or f in figures:
+            continue
+        stem, dot, suffix = f.rpartition(".")
+        stem, suffix = (stem, dot + suffix) if dot and stem else (f, "")
+        stems.setdefault(stem, []).append(suffix)
+    parts = ["summary.json"] if "summary.json" in files else []
+    for stem, suffixes in stems.items():
+        suffixes.sort(key=lambda x: (_SUFFIX_ORDER.index(x) if x in _SUFFIX_ORDER else 99, x))
+        parts.append(stem + "/".join(suffixes))
+    if len(figures) > 3:
+        parts.append(f"{len(figures)} PNG figures")
+    else:
+        parts += figures
+    if "report.html" in files:
+        parts.append("report.html")
+    return f"  wrote {out}/ ({', '.join(parts)})" if parts else f"  wrote {out}/ (nothing)"
 
 
 def jsonable(obj):

@@ -8,7 +8,7 @@ import numpy as np
 
 from ...simulation import SimulationError
 from ...torquefree.scope import flip_reference
-from .base import Run, jsonable, png_images, pyplot, scenario_header
+from .base import Run, jsonable, png_images, pyplot, scenario_header, shown, wrote_line
 
 __all__ = ["EnsembleRun", "summarize_ensemble"]
 
@@ -74,21 +74,24 @@ class EnsembleRun(Run):
         e = summary["ensemble"]
         lines = [
             f"  {e['members']} members ({summary['distribution']['description']}), "
-            f"{e['method']}: {e['succeeded']} finished, integrated in {e['wall_time_s']:.3g} s "
-            "(compiled core; nothing is compiled at run time)"
+            f"{e['method']}: {e['succeeded']} finished, integrated in "
+            f"{shown(e['wall_time_s'], '.3g', unit='s')} (compiled core; nothing is compiled "
+            "at run time)"
         ]
         stats = e["statistics"]
         if stats.get("first_flip", {}).get("count"):
             f = stats["first_flip"]
-            spread = f"5–95 %: {f['p05']:.4g}–{f['p95']:.4g} s"
-            flipped = f["members_with_a_flip"]
-            lines.append(f"  first flip: median {f['median']:.4g} s ({spread}), {flipped} flipped")
+            spread = f"5–95 %: {shown(f.get('p05'), '.4g')}–{shown(f.get('p95'), '.4g', unit='s')}"
+            flipped = f.get("members_with_a_flip")
+            lines.append(f"  first flip: median {shown(f.get('median'), '.4g', unit='s')} "
+                         f"({spread}), {flipped} flipped")  # fmt: skip
         if "flips_against_exact" in summary:
             r = summary["flips_against_exact"]["relative_error"]
             if r.get("count"):
-                rel = f"median relative error {r['median']:.2e}, max {r['max']:.2e}"
+                rel = (f"median relative error {shown(r.get('median'), '.2e')}, max "
+                       f"{shown(r.get('max'), '.2e')}")  # fmt: skip
                 lines.append(f"  flip interval against the exact 2K(m)/λ: {rel}")
-        lines.append(f"  wrote {out}/ (summary.json, ensemble.nc, histograms, report.html)")
+        lines.append(wrote_line(out))
         return lines
 
 

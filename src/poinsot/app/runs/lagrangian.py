@@ -7,8 +7,17 @@ import json
 import numpy as np
 
 from ..._io import atomic_path, atomic_savez
-from ...conservation import change_text
-from .base import Run, add_units, jsonable, png_images, pyplot, scenario_header
+from .base import (
+    Run,
+    add_units,
+    change_shown,
+    jsonable,
+    png_images,
+    pyplot,
+    scenario_header,
+    shown,
+    wrote_line,
+)
 
 __all__ = ["LagrangianRun", "summarize_lagrangian"]
 
@@ -105,25 +114,27 @@ class LagrangianRun(Run):
     def terminal_lines(self, summary, out):
         scenario = self.scenario
         i = summary["integration"]
+        t0, t1 = (shown(t, "g") for t in scenario.t_span)
         lines = [
             f"  coordinates {', '.join(summary['system']['coordinates'])}; "
             f"{len(summary['system']['holonomic_constraints'])} holonomic and "
             f"{len(summary['system']['nonholonomic_constraints'])} non-holonomic "
             "constraints",
-            f"  integrated t ∈ [{scenario.t_span[0]:g}, {scenario.t_span[1]:g}] s with "
-            f"{i['method']} (stabilization {i['stabilization']}): max |g| "
-            f"{i['max_constraint_residual']:.2e}, max |G q̇ + b| {i['max_velocity_residual']:.2e}",
+            f"  integrated t ∈ [{t0}, {t1}] s with {i['method']} (stabilization "
+            f"{i['stabilization']}): max |g| {shown(i['max_constraint_residual'], '.2e')}, "
+            f"max |G q̇ + b| {shown(i['max_velocity_residual'], '.2e')}",
         ]
         kept = list(summary["conserved"].values())
         if kept:
-            changes = ", ".join(change_text(v) for v in kept)
+            changes = ", ".join(change_shown(v) for v in kept)
             lines.append(f"  conserved by this system, largest change: {changes}")
         for name, v in summary["reactions"].items():
-            lines.append(f"  {name}: {v['min']:.6g} … {v['max']:.6g} {v['unit']}")
+            lines.append(f"  {name}: {shown(v['min'], '.6g')} … "
+                         f"{shown(v['max'], '.6g', unit=v.get('unit') or '')}")  # fmt: skip
         for r in summary.get("releases", []):
-            lines.append(f"  released at t = {r['t']:.10g} s: {r['constraint']} ≥ 0 let go")
-        lines.append(f"  wrote {out}/ (summary.json, solution.npz/.csv, solution.png, "
-                     "mechanism.png, report.html)")  # fmt: skip
+            lines.append(f"  released at t = {shown(r['t'], '.10g')} s: {r['constraint']} ≥ 0 "
+                         "let go")  # fmt: skip
+        lines.append(wrote_line(out))
         return lines
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._io import atomic_path
-from .base import Run, jsonable, png_images, pyplot, scenario_header
+from .base import Run, jsonable, png_images, pyplot, scenario_header, shown, wrote_line
 
 __all__ = ["RelativeRun", "carrier_only_note", "summarize_relative"]
 
@@ -57,10 +57,18 @@ class RelativeRun(Run):
     def terminal_lines(self, summary, out):
         lines = [f"  carrier: {summary['carrier']['description']}"]
         for name, (value, unit, _) in summary["table"].items():
-            shown = f"{value:.6g}" if isinstance(value, float) else str(value)
-            lines.append(f"  {name}: {shown} {unit}".rstrip())
-        lines.append(f"  wrote {out}/ (summary.json, relative.csv, figures, report.html)")
+            text = shown(value, ".6g", unit=unit or "", none=_NONE.get(name, "none"))
+            lines.append(f"  {name}: {text}".rstrip())
+        lines.append(wrote_line(out))
         return lines
+
+
+#: What the terminal says of a table's value that the library returned as none (NaN, None):
+#: the drift relative to T_r(0) = 0, the ratio over no samples (:func:`summarize_relative`).
+_NONE = {
+    "relative energy drift": "none (relative to T_r(0) = 0)",
+    "max|ω_r| / min|ω_r|": "none (no samples)",
+}
 
 
 def carrier_only_note(sol) -> str:

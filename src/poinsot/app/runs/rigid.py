@@ -8,9 +8,20 @@ import warnings
 import numpy as np
 
 from ..._io import PoinsotWarning
-from ...conservation import change_text
 from ...torquefree.scope import check_motion_energy, exact_solution_applies, free_rotation
-from .base import Run, add_units, jsonable, png_images, pyplot, scenario_header
+from .base import (
+    Run,
+    add_units,
+    change_shown,
+    defined,
+    jsonable,
+    png_images,
+    pyplot,
+    scenario_header,
+    shown,
+    written_files,
+    wrote_line,
+)
 
 __all__ = [
     "COMPARED_METHODS",
@@ -95,47 +106,36 @@ class RigidRun(Run):
         scenario = self.scenario
         i = summary["integration"]
         d = i["diagnostics"]
+        body = summary["body"]
+        files = written_files(out)  # None: unreadable
         lines = [
-            f"  body: mass {summary['body']['mass']:.6g} kg, principal moments "
-            + ", ".join(f"{x:.6g}" for x in summary["body"]["principal_moments"])
+            f"  body: mass {shown(body['mass'], '.6g', unit='kg')}, principal moments "
+            + ", ".join(shown(x, ".6g") for x in body["principal_moments"])
             + " kg·m²"
         ]
-        step = f"dt = {scenario.dt:g} s, " if scenario.dt is not None else ""
+        step = f"dt = {shown(scenario.dt, 'g')} s, " if scenario.dt is not None else ""
+        t0, t1 = (shown(t, "g") for t in scenario.t_span)
         lines.append(
-            f"  integrated t ∈ [{scenario.t_span[0]:g}, {scenario.t_span[1]:g}] s with "
-            f"{i['method']} ({step}{i['nsteps']} steps); max |QᵀQ − I| "
-            f"{d['orthogonality_error']:.2e}"
+            f"  integrated t ∈ [{t0}, {t1}] s with {i['method']} ({step}{i['nsteps']} steps); "
+            f"max |QᵀQ − I| {shown(d['orthogonality_error'], '.2e')}"
         )
-        kept = [v for v in d["invariants"].values() if v["expected_conserved"]]
+        kept = [v for v in d["invariants"].values() if v.get("expected_conserved")]
         if kept:
-            changes = ", ".join(change_text(v) for v in kept)
+            changes = ", ".join(change_shown(v) for v in kept)
             lines.append(f"  conserved by this problem, largest change: {changes}")
         else:
             lines.append("  nothing is conserved by this problem (its forces do work)")
         if "top" in summary:
-            tp = summary["top"]
-            lines.append(
-                f"  heavy top: θ between {tp['theta_min']:.4g} and {tp['theta_max']:.4g} rad, "
-                f"mean precession {tp['mean_precession_rate']:.4g} rad/s (gyroscopic estimate "
-                f"{tp['gyroscopic_precession_rate']:.4g}, steady "
-                f"{tp['steady_precession_rate_slow']:.4g} rad/s; attitude.png)"
-            )
-            if "exact" in tp:
-                ex = tp["exact"]
-                lines.append(
-                    f"  closed form (Lagrange's top): θ between {ex['theta_min']:.6g} and "
-                    f"{ex['theta_max']:.6g} rad, nutation period {ex['nutation_period']:.6g} s, "
-                    f"mean precession {ex['mean_precession_rate']:.6g} rad/s; the run's largest "
-                    f"differences θ {ex['max_theta_error']:.2e}, ψ {ex['max_psi_error']:.2e} rad"
-                )
+            lines += _top_lines(summary["top"], files or ())
         if "torque_free" in summary:
             tf = summary["torque_free"]
             lines.append(f"  torque-free motion: polhode family {tf['family']!r}")
             if "exact_solution_error" in tf:
                 e = tf["exact_solution_error"]
                 lines.append(
-                    f"  against the exact solution: max |ω − ω_exact| {e['omega']:.2e} "
-                    f"rad/s, max |Q − Q_exact| {e['attitude']:.2e}"
+                    f"  against the exact solution: max |ω − ω_exact| "
+                    f"{shown(e['omega'], '.2e', unit='rad/s')}, max |Q − Q_exact| "
+                    f"{shown(e['attitude'], '.2e')}"
                 )
         if "method_comparison" in summary:
             other = {
@@ -145,12 +145,53 @@ class RigidRun(Run):
             }
             for m, v in other.items():
                 lines.append(
-                    f"  {m} at the same step: max |QᵀQ − I| {v['orthogonality']:.2e}, "
-                    f"max |Q − Q_exact| {v['attitude']:.2e} (methods.png)"
+                    f"  {m} at the same step: max |QᵀQ − I| {shown(v['orthogonality'], '.2e')}, "
+                    f"max |Q − Q_exact| {shown(v['attitude'], '.2e')}"
+                    + (" (methods.png)" if "methods.png" in (files or ()) else "")
                 )
-        lines.append(f"  wrote {out}/ (summary.json, trajectory.npz/.csv/.nc, figures, "
-                     "report.html)")  # fmt: skip
+        lines.append(wrote_line(out, files))
         return lines
+
+
+#: What a heavy top's rate is where the library returns none (NaN, None in the summary):
+#: the mean precession where ψ is undefined at (almost) every sample (an axis on the vertical,
+#: a sleeping top), the steady precessions where the top spins too slowly to precess steadily
+#: at its mean θ (:func:`poinsot.tops.steady_precession_rates`).
+_NO_MEAN_PRECESSION = "none (ψ is undefined with the axis on the vertical)"
+_NO_STEADY_PRECESSION = "none (the top spins too slowly to precess steadily at its mean θ)"
+
+
+def _top_lines(tp: dict, files=()) -> list[str]:
+    """The terminal's lines about a heavy top (the summary's ``top``): the values as the
+    library returned them, formatted by :func:`shown` (None, ±inf and strings included);
+    ``files``: what the run wrote (its figure is named where it was written)."""
+    rads = "rad/s"
+    slow, fast = tp.get("steady_precession_rate_slow"), tp.get("steady_precession_rate_fast")
+    if not defined(slow) and not defined(fast):
+        steady = _NO_STEADY_PRECESSION
+    else:
+        steady = (f"{shown(slow, '.4g', unit=rads, none='none')} (slow), "
+                  f"{shown(fast, '.4g', unit=rads, none='none')} (fast)")  # fmt: skip
+    lines = [
+        f"  heavy top: θ between {shown(tp.get('theta_min'), '.4g')} and "
+        f"{shown(tp.get('theta_max'), '.4g', unit='rad')}, mean precession "
+        f"{shown(tp.get('mean_precession_rate'), '.4g', unit=rads, none=_NO_MEAN_PRECESSION)}"
+        + (" (attitude.png)" if "attitude.png" in files else ""),
+        f"  predicted precession: gyroscopic estimate M g l/(C ω₃) "
+        f"{shown(tp.get('gyroscopic_precession_rate'), '.4g', unit=rads)}; steady at the mean θ: "
+        f"{steady}",
+    ]
+    if "exact" in tp:
+        ex = tp["exact"]
+        lines.append(
+            f"  closed form (Lagrange's top): θ between {shown(ex.get('theta_min'), '.6g')} and "
+            f"{shown(ex.get('theta_max'), '.6g', unit='rad')}, nutation period "
+            f"{shown(ex.get('nutation_period'), '.6g', unit='s')}, mean precession "
+            f"{shown(ex.get('mean_precession_rate'), '.6g', unit=rads)}; the run's largest "
+            f"differences θ {shown(ex.get('max_theta_error'), '.2e')}, ψ "
+            f"{shown(ex.get('max_psi_error'), '.2e', unit='rad')}"
+        )
+    return lines
 
 
 def summarize(scenario, traj, free=None) -> dict:
@@ -194,16 +235,28 @@ def summarize(scenario, traj, free=None) -> dict:
 
 def top_lead(motion) -> str:
     """One sentence stating what a heavy top's run shows: its nutation band and its mean
-    precession against the gyroscopic estimate and the steady precession."""
+    precession against the gyroscopic estimate and the steady precession (the values as the
+    library returned them: a rate it found undefined is said to be, an infinite one is ∞)."""
     m = motion
     slow, fast = m.steady_rates
+    rate = shown(m.mean_precession_rate, ".4g", unit="rad/s")
+    precesses = (f"precesses at a mean {rate} (slope of ψ(t))" if defined(m.mean_precession_rate)
+                 else "has no mean precession rate (ψ is undefined with the axis on the "
+                 "vertical)")  # fmt: skip
+    theta = shown(m.theta_mean, ".4g", unit="rad")
+    if not defined(slow) and not defined(fast):
+        steady = (f"no steady precession exists at the mean θ = {theta} (the top spins too "
+                  "slowly to precess steadily there)")  # fmt: skip
+    else:
+        steady = (f"the exact steady precessions at the mean θ = {theta} are "
+                  f"{shown(slow, '.4g', unit='rad/s')} (slow) and "
+                  f"{shown(fast, '.4g', unit='rad/s')} (fast)")  # fmt: skip
     return (
-        f"A heavy top spinning at ω₃ = {m.spin:.4g} rad/s: its axis nutates between "
-        f"θ = {m.theta_band[0]:.4g} and {m.theta_band[1]:.4g} rad from the upward vertical and "
-        f"precesses at a mean {m.mean_precession_rate:.4g} rad/s (slope of ψ(t)); the "
-        f"gyroscopic estimate M g l/(C ω₃) gives {m.gyroscopic_rate:.4g} rad/s, and the exact "
-        f"steady precessions at the mean θ = {m.theta_mean:.4g} rad are {slow:.4g} rad/s "
-        f"(slow) and {fast:.4g} rad/s (fast)."
+        f"A heavy top spinning at ω₃ = {shown(m.spin, '.4g', unit='rad/s')}: its axis nutates "
+        f"between θ = {shown(m.theta_band[0], '.4g')} and "
+        f"{shown(m.theta_band[1], '.4g', unit='rad')} from the upward vertical and {precesses}; "
+        f"the gyroscopic estimate M g l/(C ω₃) gives "
+        f"{shown(m.gyroscopic_rate, '.4g', unit='rad/s')}, and {steady}."
     )
 
 
