@@ -201,3 +201,31 @@ def test_exact_grading_of_a_top_ensemble():
     assert errors["exact-splitting6"]["omega"].max() < 1e-10
     assert errors["exact-splitting6"]["attitude"].max() < 1e-10
     assert errors["rkmk4"]["omega"].max() > 1e-6  # a real error, measured
+
+
+def test_the_tops_functions_refuse_what_is_not_a_top_or_a_rotation():
+    """`top` must be what heavy_top returns (None for any other body); `Q0` a rotation, as
+    `simulate` requires (a sheared matrix had been taken as it was), named with its member."""
+    from poinsot.tops import exact_derivatives
+
+    Q0 = matrix_from_euler([0.0, 0.6, 0.0])
+    w0 = (0.0, 0.0, 100.0)
+    sheared = Q0.copy()
+    sheared[0, 1] += 0.3
+    for call in (lambda Q: exact_motion(TOP, w0, Q, [0.0]),
+                 lambda Q: exact_derivatives(TOP, w0, Q, [0.0])):  # fmt: skip
+        with pytest.raises(ValueError, match="`Q0` is not a rotation"):
+            call(sheared)
+    with pytest.raises(ValueError, match=r"`Q0\[1\]` is not a rotation"):
+        exact_motion(TOP, np.array([w0, w0]), np.array([Q0, sheared]), [0.0])
+    not_a_top = heavy_top(RigidBody.box(1.0, (1, 2, 3)), PIVOT, [Gravity()])
+    assert not_a_top is None
+    for call in (lambda: exact_motion(not_a_top, w0, Q0, [0.0]),
+                 lambda: exact_derivatives(not_a_top, w0, Q0, [0.0])):  # fmt: skip
+        with pytest.raises(TypeError, match="`top` must be the HeavyTop"):
+            call()
+    traj = simulate(BODY, (0, 1), omega0=w0, Q0=Q0, pivot=PIVOT, forces=[Gravity()], t_eval=[])
+    with pytest.raises(ValueError, match="`traj` has no samples"):
+        top_motion(traj, TOP)
+    with pytest.raises(TypeError, match="`top` must be the HeavyTop"):
+        top_motion(traj, None)

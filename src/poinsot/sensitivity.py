@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping, Set
 from dataclasses import dataclass
 
 import numpy as np
@@ -140,10 +140,18 @@ class Floquet:
         return cls(float(period), M, mu, exponents, drift, method)
 
 
-def check_control(control) -> bool:
-    """``control_sensitivities`` checked: a bool (NumPy's included), else refused."""
+def check_control(control, solver, asked: bool) -> bool:
+    """``control_sensitivities`` checked: a bool (NumPy's included), else refused; ``False``
+    refused where it has no effect: without ``sensitivities`` (``asked``) or with a
+    fixed-step ``solver``, which controls no error."""
     if not isinstance(control, bool | np.bool_):
         raise TypeError(f"`control_sensitivities` must be True or False, found {control!r}")
+    if not control and not asked:
+        raise ValueError("`control_sensitivities` has no effect without `sensitivities`")
+    if not control and not solver.adaptive:
+        raise ValueError(f"`control_sensitivities=False` has no effect with the fixed-step "
+                         f"method {solver.name!r}: it leaves the sensitivities out of an "
+                         "adaptive method's error control ('dop853')")  # fmt: skip
     return bool(control)
 
 
@@ -195,6 +203,10 @@ def asked_names(wrt) -> tuple:
     ``str``), checked: at least one, each a string, none twice."""
     if isinstance(wrt, str):
         names = (wrt,)
+    elif isinstance(wrt, Set | Mapping):
+        raise TypeError(f"`sensitivities` must be a name or an ordered sequence of names (a "
+                        f"tuple or a list: the columns follow its order), found a "
+                        f"{type(wrt).__name__}")  # fmt: skip
     elif isinstance(wrt, Iterable):
         names = tuple(str(x) if isinstance(x, str) else x for x in wrt)
     else:
@@ -207,6 +219,20 @@ def asked_names(wrt) -> tuple:
         if name in names[:i]:
             raise ValueError(f"`sensitivities[{i}]`: {name!r} is named twice")
     return names
+
+
+def refuse_repeated_columns(names, columns: dict, labels) -> None:
+    """Refuse names that ask for one column twice under two names (``"forces[0]"`` and
+    ``"forces[0].g"``, ``"q0"`` and ``"q0[x]"``): ``columns`` maps each name to its slice of
+    the (canonical) ``labels``."""
+    first = {}
+    for i, name in enumerate(names):
+        for label in labels[columns[name]]:
+            if label in first:
+                j = first[label]
+                raise ValueError(f"`sensitivities[{i}]`: {name!r} asks again for the column "
+                                 f"{label!r} of `sensitivities[{j}]` {names[j]!r}")  # fmt: skip
+            first[label] = i
 
 
 def directions(system, wrt, starts=None) -> Directions:
@@ -228,6 +254,7 @@ def directions(system, wrt, starts=None) -> Directions:
             moments.append(dm)
             forces.append(df)
         columns[name] = slice(start, len(labels))
+    refuse_repeated_columns(names, columns, labels)
     seeds = np.array(forces, dtype=float).reshape(len(labels), nf * layout.FORCE_PARAMS)
     return Directions(names, columns, tuple(labels), np.array(kinds, dtype=np.int64),
                       np.array(comps, dtype=np.int64), np.array(moments, dtype=float),
@@ -337,14 +364,20 @@ class Sensitivities:
     directions: Directions
     #: The outputs by name: blocks of the state.
     outputs: dict = dataclasses.field(default_factory=lambda: OUTPUTS)
+    #: The time of the initial state the derivatives are taken at (the run's start, which
+    #: need not be a sample); None: the first sample.
+    t0: float | None = None
 
     def of(self, output, wrt=None) -> np.ndarray:
         """``∂output/∂wrt`` (samples, size of ``output``, size of ``wrt``); ``wrt`` None: every
         column. ``wrt`` is a name the run asked for, or a part of one: a force's parameter
         (``"forces[0].g"`` of ``"forces[0]"``) or one column (``"omega0[1]"``)."""
-        if output not in self.outputs:
+        if not isinstance(output, str) or output not in self.outputs:
             raise ValueError(f"`output` must be one of {', '.join(map(repr, self.outputs))}, "
                              f"found {output!r}")  # fmt: skip
+        if wrt is not None and not isinstance(wrt, str):
+            raise TypeError(f"`wrt` must be one name (a string) the run asked for, or None for "
+                            f"all of them; found {wrt!r}")  # fmt: skip
         cols = slice(None)
         if wrt is not None:
             cols = self.directions.columns.get(wrt)
@@ -359,13 +392,15 @@ class Sensitivities:
 
 
 def split(y_aug, dirs: Directions, size=layout.STATE_SIZE,
-          outputs=None) -> tuple[np.ndarray, Sensitivities]:  # fmt: skip
-    """The states (n, ``size``) and :class:`Sensitivities` of augmented states."""
+          outputs=None, t0=None) -> tuple[np.ndarray, Sensitivities]:  # fmt: skip
+    """The states (n, ``size``) and :class:`Sensitivities` of augmented states, taken at the
+    initial state of time ``t0``."""
     n = len(y_aug)
     rows = np.asarray(y_aug, dtype=float).reshape(n, size * (1 + dirs.size))
     S = rows[:, size:].reshape(n, size, dirs.size).copy()
     S.flags.writeable = False
-    return rows[:, :size], Sensitivities(S, dirs, OUTPUTS if outputs is None else outputs)
+    return rows[:, :size], Sensitivities(S, dirs, OUTPUTS if outputs is None else outputs,
+                                         None if t0 is None else float(t0))  # fmt: skip
 
 
 class SensitivityMixin:
@@ -406,9 +441,9 @@ class SensitivityMixin:
     def lyapunov_exponents(self, output=None, wrt=None) -> np.ndarray:
         """Finite-time Lyapunov exponents ``λ_k(t) = ln σ_k(∂output(t)/∂wrt)/(t − t0)``, the
         singular values ``σ_k`` of the sensitivity descending, at every sample (NaN at
-        ``t0``): shape (samples, min(size of output, size of wrt)). By default the angular
-        velocity against its initial value (``"omega"``, ``"omega0"``; relative to a carrier
-        ``"omega_r"``, ``"omega_r0"``).
+        ``t0``, the run's start, whether or not it is a sample): shape (samples, min(size of
+        output, size of wrt)). By default the angular velocity against its initial value
+        (``"omega"``, ``"omega0"``; relative to a carrier ``"omega_r"``, ``"omega_r0"``).
 
         Examples
         --------
@@ -420,7 +455,8 @@ class SensitivityMixin:
         """
         S = self.sensitivity(output or self._growth[0], wrt or self._growth[1])
         sigma = np.linalg.svd(S, compute_uv=False)
-        elapsed = (self.t - self.t[0])[:, None]
+        t0 = self.sensitivities.t0
+        elapsed = (self.t - (self.t[0] if t0 is None else t0))[:, None]
         with np.errstate(divide="ignore", invalid="ignore"):
             out = np.log(sigma) / elapsed
         out[elapsed[:, 0] == 0] = np.nan

@@ -92,11 +92,9 @@ def prepare(
     from .sensitivity import check_control
 
     dirs = None
-    control = check_control(control_sensitivities)
+    control = check_control(control_sensitivities, settings.solver, sensitivities is not None)
     if sensitivities is not None:
         dirs = _check_sensitivities(system, settings.solver, sensitivities, events, backend)
-    elif not control:
-        raise ValueError("`control_sensitivities` has no effect without `sensitivities`")
     return PreparedRun(system, settings, backend, events, event_resolution, dirs,
                        control)  # fmt: skip
 
@@ -154,6 +152,9 @@ class PreparedRun:
         s = self.settings
         budget = check_budget(solver, s.t0, s.t1, s.dt, s.max_steps)
         check_solver_fits(solver, self.system)
+        from .sensitivity import check_control
+
+        check_control(self.control_sensitivities, solver, self.sensitivities is not None)
         if self.sensitivities is not None:
             _check_sensitivities(self.system, solver, self.sensitivities.names, None, self.backend)
         return dataclasses.replace(
@@ -207,7 +208,7 @@ class PreparedRun:
                               control_all=self.control_sensitivities)  # fmt: skip
 
         def trajectory(result):
-            y, sens = split(result.y, self.sensitivities)
+            y, sens = split(result.y, self.sensitivities, t0=self.settings.t0)
             traj = _trajectory(dataclasses.replace(result, y=y), self.system)
             traj.sensitivities = sens
             return traj

@@ -270,6 +270,10 @@ def top_motion(traj, top: HeavyTop) -> TopMotion:
     the mean θ (:func:`steady_precession_rates`)."""
     from .rotation import euler_series
 
+    top = _check_top(top)
+    if len(traj.t) == 0:
+        raise ValueError("`traj` has no samples: run it with sample times (`t_eval`) to see its "
+                         "precession and nutation")  # fmt: skip
     F = top.frame()
     S = top.space()
     series = euler_series(np.einsum("ij,njk,kl->nil", S, traj.Q, F), traj.omega @ F, traj.t)
@@ -307,6 +311,17 @@ def _exact_or_none(top, traj):
     except ValueError:
         return None
     return replace(exact, t=traj.t)
+
+
+def _check_top(top) -> HeavyTop:
+    """``top`` checked: what :func:`heavy_top` returns for a symmetric top (it returns None for
+    any other body, pivot or forces)."""
+    if not isinstance(top, HeavyTop):
+        raise TypeError(f"`top` must be the HeavyTop that heavy_top(body, pivot, forces) "
+                        f"returns, found {top!r} (heavy_top gives None unless the body is "
+                        "symmetric about a pivot on its axis, under uniform gravity "
+                        "alone)")  # fmt: skip
+    return top
 
 
 def _initial_angles(top: HeavyTop, w, Q):
@@ -348,12 +363,16 @@ def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
     Released from rest at θ = 0.6 rad, the axis falls to 0.69 rad and back every 0.43 s
     (cusps), precessing at 1.153 rad/s on average, 6 % above the gyroscopic estimate.
     """
-    from ._validation import as_array
+    from ._validation import as_array, as_rotation_matrices, as_rotation_matrix
     from .rotation import EULER_SINGULAR, body_rates_from_euler, matrix_from_euler
 
+    top = _check_top(top)
     single = np.ndim(omega0) == 1
     w = as_array(omega0, "omega0", (3,) if single else (None, 3)).reshape(-1, 3)
-    Q = as_array(Q0, "Q0", (3, 3) if single else (len(w), 3, 3)).reshape(-1, 3, 3)
+    if single:
+        Q = as_rotation_matrix(as_array(Q0, "Q0", (3, 3)), "Q0")[None]
+    else:
+        Q = as_rotation_matrices(as_array(Q0, "Q0", (len(w), 3, 3)), "Q0", len(w))
     times = as_array(t, "t", (None,))
     F, S = top.frame(), top.space()
     angles, rates = _initial_angles(top, w, Q)
@@ -476,10 +495,11 @@ def exact_derivatives(top: HeavyTop, omega0, Q0, t) -> TopDerivatives:
     >>> round(d.nutation_period, 6), round(float(d.d_nutation_period[8]), 6)
     (0.433236, -0.005407)
     """
-    from ._validation import as_array, as_vector3
+    from ._validation import as_array, as_rotation_matrix, as_vector3
 
+    top = _check_top(top)
     w = as_vector3(omega0, "omega0")
-    Q = as_array(Q0, "Q0", (3, 3))
+    Q = as_rotation_matrix(as_array(Q0, "Q0", (3, 3)), "Q0")
     times = as_array(t, "t", (None,))
     angles, rates = _initial_angles(top, w[None], Q[None])
     motion, d, summary, ds, R, dR, w_axis, dw_axis = core_tops.heavy_top_derivatives(

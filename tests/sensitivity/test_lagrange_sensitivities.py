@@ -177,6 +177,10 @@ def test_control_of_the_sensitivities_is_a_choice():
         ({"control_sensitivities": False}, "no effect without `sensitivities`"),
         ({"sensitivities": "q0", "control_sensitivities": "yes"}, "True or False"),
         ({"sensitivities": "q0", "events": lambda t, y: y[2] - 0.2}, "`events` cannot"),
+        ({"sensitivities": "q0", "control_sensitivities": False}, "fixed-step method 'rk4'"),
+        ({"sensitivities": ("q0", "q0[theta]")}, r"asks again for columns of `sensitivities\[0\]`"),
+        ({"sensitivities": ("params[g]", "params")}, "asks again"),
+        ({"sensitivities": {"q0", "params"}}, "ordered sequence"),
     ],
 )
 def test_what_a_run_cannot_differentiate_is_refused_and_named(kwargs, message):

@@ -92,6 +92,10 @@ def test_omega0_and_Q0_in_the_space_frame():
         ({"pivot": (0, 0, 0), "sensitivities": "R0"}, "no effect about a pivot"),
         ({"events": lambda t, y: y[0]}, "events"),
         ({"control_sensitivities": False, "sensitivities": None}, "no effect without"),
+        ({"control_sensitivities": False}, "no effect with the fixed-step method 'rk4'"),
+        ({"control_sensitivities": False, "method": "splitting"}, "fixed-step method"),
+        ({"sensitivities": ("forces[0]", "forces[0].g")}, r"'forces\[0\]\.g\[0\]' of `sens"),
+        ({"sensitivities": ("forces[0].g", "forces[00]")}, "asks again"),
     ],
 )
 def test_what_cannot_be_differentiated_is_refused_up_front(kw, match):
@@ -112,6 +116,10 @@ def test_names_come_as_any_sequence_and_the_switch_is_a_bool():
         run(sensitivities=("omega0", 5))
     with pytest.raises(TypeError, match="True or False"):
         run(sensitivities="omega0", control_sensitivities="yes")
+    # an unordered collection would order the columns by Python's string hashes
+    for unordered in ({"omega0", "inertia"}, {"omega0": 1}, frozenset({"omega0"})):
+        with pytest.raises(TypeError, match="ordered sequence"):
+            run(sensitivities=unordered)
     kw = {"method": "dop853", "rtol": 1e-8, "sensitivities": "omega0"}
     assert (
         run(**kw, control_sensitivities=np.bool_(False)).nsteps
@@ -133,6 +141,11 @@ def test_asking_what_the_run_did_not_carry():
         traj.sensitivity("omega", "inertia")
     with pytest.raises(ValueError, match="`output`"):
         traj.sensitivity("L", "omega0")
+    with pytest.raises(ValueError, match="`output`"):
+        traj.sensitivity(["omega"], "omega0")
+    for wrt in (("omega0",), ["omega0"], 0):
+        with pytest.raises(TypeError, match="`wrt` must be one name"):
+            traj.sensitivity("omega", wrt)
 
 
 def test_a_prepared_run_keeps_its_directions_and_refuses_a_method_without_them():
@@ -152,6 +165,19 @@ def test_leaving_the_sensitivities_out_of_the_error_control():
     plain = run(method="dop853", rtol=1e-9, atol=1e-12)
     assert out.nsteps == plain.nsteps  # the steps of the motion alone
     assert np.abs(out.sensitivity("omega")[-1] - full.sensitivity("omega")[-1]).max() < 1e-6
+
+
+def test_lyapunov_exponents_count_time_from_the_runs_start():
+    # the derivatives are with respect to the state at t0 = 5, whether or not it is sampled
+    kw = {"method": "dop853", "rtol": 1e-10, "atol": 1e-12, "sensitivities": "omega0"}
+    box = RigidBody.box(1.0, (1, 2, 3))
+    with_start = simulate(box, (5, 15), omega0=(0.01, 1, 0), t_eval=[5, 10, 15], **kw)
+    without = simulate(box, (5, 15), omega0=(0.01, 1, 0), t_eval=[10, 15], **kw)
+    np.testing.assert_allclose(without.lyapunov_exponents(), with_start.lyapunov_exponents()[1:],
+                               rtol=1e-9)  # fmt: skip
+    assert np.isnan(with_start.lyapunov_exponents()[0]).all()
+    sigma = np.linalg.svd(without.sensitivity("omega", "omega0")[-1], compute_uv=False)
+    np.testing.assert_allclose(without.lyapunov_exponents()[-1], np.log(sigma) / 10, rtol=1e-12)
 
 
 def test_the_export_names_the_dimensions(tmp_path):

@@ -399,11 +399,10 @@ def _check_sensitivities(system, settings, wrt, control, events, u_of):
     from ..sensitivity import check_control
     from .sensitivity import check_run, parse
 
+    check_control(control, settings.solver, wrt is not None)
     if wrt is None:
-        if not check_control(control):
-            raise ValueError("`control_sensitivities` has no effect without `sensitivities`")
         return None
-    check_run(settings.solver, events=events, inputs=u_of, control=control)
+    check_run(settings.solver, events=events, inputs=u_of)
     return parse(wrt, system)
 
 
@@ -576,7 +575,7 @@ class PreparedLagrangianRun:
                                                       ~given_v)  # fmt: skip
         ode = _SensitiveODE(self.num, st.stabilization, st.gains, tangent, p, u, seeds,
                             self.control_sensitivities)  # fmt: skip
-        y, sens = sensitivities(run(ode, t0, y0, st.t_span[1], st.t_eval), dirs, n)
+        y, sens = sensitivities(run(ode, t0, y0, st.t_span[1], st.t_eval), dirs, n, t0)
         solution = LagrangianSolution(system, st.t_eval, y, self.num, method=run.method,
                                       nfev=run.nfev, stabilization=st.stabilization)  # fmt: skip
         for k in system.unilateral:

@@ -69,12 +69,10 @@ class LagrangeDirections:
         return len(self.labels)
 
 
-def check_run(solver, *, events, inputs, control) -> None:
+def check_run(solver, *, events, inputs) -> None:
     """Refuse a run that cannot carry sensitivities, before it is lowered: a method without
-    them, events, inputs other than constants, ``control_sensitivities`` not a bool."""
-    from ..sensitivity import check_control
-
-    check_control(control)
+    them, events, inputs other than constants (``control_sensitivities`` is checked by the
+    caller, :func:`~poinsot.sensitivity.check_control`)."""
     if solver.kind not in SENSITIVE_METHODS:
         raise ValueError("`sensitivities` are computed with 'rk4', 'dop853' or an explicit "
                          f"Runge–Kutta tableau; `method` {solver.name!r} has none")  # fmt: skip
@@ -90,8 +88,17 @@ def parse(wrt, system) -> tuple:
     naming a coordinate or parameter of ``system``."""
     names = asked_names(wrt)
     coords, params = _names(system)
+    asked = {}  # (which, item or None) → the entry that asked for it
     for i, name in enumerate(names):
         part = _PART.match(name)
+        which, item = (name, None) if part is None else part.groups()
+        clash = [j for (w, it), j in asked.items()
+                 if w == which and (item is None or it in (None, item))]  # fmt: skip
+        if clash:
+            j = clash[0]
+            raise ValueError(f"`sensitivities[{i}]`: {name!r} asks again for columns of "
+                             f"`sensitivities[{j}]` {names[j]!r}")  # fmt: skip
+        asked[(which, item)] = i
         if name in WRT:
             if name == "params" and not params:
                 raise ValueError(f"`sensitivities[{i}]`: the system has no parameters")
@@ -164,9 +171,9 @@ def outputs(n) -> dict:
     return {"q": slice(0, n), "qd": slice(n, 2 * n), "state": slice(0, 2 * n)}
 
 
-def sensitivities(y_aug, dirs, n) -> tuple[np.ndarray, Sensitivities]:
+def sensitivities(y_aug, dirs, n, t0) -> tuple[np.ndarray, Sensitivities]:
     """The states (S, 2n) and :class:`~poinsot.sensitivity.Sensitivities` of augmented states
-    ``[y, S (2n × P, row-major)]``."""
+    ``[y, S (2n × P, row-major)]``, derivatives with respect to the state at ``t0``."""
     from ..sensitivity import split
 
-    return split(y_aug, dirs, size=2 * n, outputs=outputs(n))
+    return split(y_aug, dirs, size=2 * n, outputs=outputs(n), t0=t0)

@@ -177,11 +177,9 @@ def prepare_relative(body, t_span, *, carrier, forces=(), balance_transport=Fals
     from ..sensitivity import check_control
 
     dirs = None
-    control = check_control(control_sensitivities)
+    control = check_control(control_sensitivities, solver, sensitivities is not None)
     if sensitivities is not None:
         dirs = _check_sensitivities(system, solver, sensitivities, backend)
-    elif not control:
-        raise ValueError("`control_sensitivities` has no effect without `sensitivities`")
     return PreparedRelativeRun(system, run, backend, dirs, control)
 
 
@@ -291,7 +289,7 @@ class PreparedRelativeRun:
         aug = RelativeSensitiveSystem(self.system, dirs, control_all=self.control_sensitivities)
 
         def trajectory(result):
-            y, sens = split(result.y, dirs, RELATIVE_SIZE, RELATIVE_OUTPUTS)
+            y, sens = split(result.y, dirs, RELATIVE_SIZE, RELATIVE_OUTPUTS, t0=self.settings.t0)
             sol = RelativeTrajectory(replace(result, y=y), self.system)
             sol.sensitivities = sens
             return sol
