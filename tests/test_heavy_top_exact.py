@@ -229,3 +229,15 @@ def test_the_tops_functions_refuse_what_is_not_a_top_or_a_rotation():
         top_motion(traj, TOP)
     with pytest.raises(TypeError, match="`top` must be the HeavyTop"):
         top_motion(traj, None)
+
+
+def test_no_times_give_empty_results_and_unresolved_times_are_refused():
+    """No sample times: empty fields, the constants of the motion still there (as every closed
+    form, docs/reliability.md); times where the phase exceeds 2⁵² rad: refused by name."""
+    Q0 = matrix_from_euler([0.0, 0.6, 0.0])
+    empty = exact_motion(TOP, (0.0, 0.0, 100.0), Q0, [])
+    assert empty.theta.shape == (0,) and empty.Q.shape == (0, 3, 3)
+    assert empty.omega.shape == (0, 3) and np.isnan(empty.theta_mean)
+    assert empty.nutation_period == pytest.approx(0.433236, rel=1e-6)
+    with pytest.raises(ValueError, match="`t` reaches 1e\\+16 s"):
+        exact_motion(TOP, (0.0, 0.0, 100.0), Q0, [0.0, 1e16])

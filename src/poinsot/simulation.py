@@ -269,7 +269,9 @@ def simulate(
         torque-free flow and kicks: for bodies under small, position-only torques), or any
         registered name or :class:`~poinsot.integrate.Solver` subclass.
     dt : float, optional
-        Step of fixed-step methods (required for them); first step of adaptive ones.
+        Step of fixed-step methods (required for them); first step of adaptive ones. A fixed
+        step is shortened to land exactly on each sample time and on the end, so the samples
+        (``t_eval``) take part in a fixed-step run's accuracy.
     rtol, atol : float, optional
         Tolerances of adaptive methods (default 1e-10, 1e-12).
     t_eval : array_like (n,), optional

@@ -324,6 +324,27 @@ def _check_top(top) -> HeavyTop:
     return top
 
 
+def _refuse_unresolved_phases(times, w, summary) -> None:
+    """Refuse times at which double precision no longer resolves the motion's phases (the
+    nutation's ``2π t/T``, the spin's and the precession's, bounded by ``(|ω₀| + |Ω|) |t|``):
+    beyond :data:`~poinsot.torquefree.solution.MAX_PHASE` radians, as the torque-free closed
+    form refuses them (``docs/reliability.md``)."""
+    from .torquefree.solution import MAX_PHASE
+
+    if not len(times):
+        return
+    span = float(np.abs(times).max())
+    for k, (row, wk) in enumerate(zip(summary, w, strict=True)):
+        period, rate = row[3], row[4]
+        frequency = max(2 * np.pi / period if np.isfinite(period) else 0.0,
+                        float(np.linalg.norm(wk)) + abs(rate))  # fmt: skip
+        if frequency * span > MAX_PHASE:
+            member = "" if len(w) == 1 else f" of member {k}"
+            raise ValueError(f"`t` reaches {span:g} s, where the motion{member} has turned by "
+                             f"{frequency * span:.3g} rad: beyond 2⁵² rad double precision no "
+                             "longer resolves its phase")  # fmt: skip
+
+
 def _initial_angles(top: HeavyTop, w, Q):
     """The z-x-z Euler angles (N, 3) of the top's axis frame in its space axes and their rates
     (N, 3), from body ``w`` (N, 3) and ``Q`` (N, 3, 3) (body → space); refused with the axis on
@@ -377,13 +398,15 @@ def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
     F, S = top.frame(), top.space()
     angles, rates = _initial_angles(top, w, Q)
     motion, summary = core_tops.heavy_top_motions(top.A, top.C, top.mgl, angles, rates, times)
+    _refuse_unresolved_phases(times, w, summary)
     out = []
     for m, (u1, u2, _, period, rate, spin, _) in zip(motion, summary, strict=True):
         psi, theta, phi = m[:, 0], m[:, 1], m[:, 2]
         angles_t = m[:, :3]
         Q_t = np.einsum("ji,njk,lk->nil", S, matrix_from_euler(angles_t, "ZXZ"), F)
         omega_t = body_rates_from_euler(angles_t, m[:, 3:]) @ F.T
-        theta_mean = float(theta.mean())
+        # no samples, no mean θ: empty results (docs/reliability.md)
+        theta_mean = float(theta.mean()) if len(theta) else float("nan")
         out.append(TopMotion(
             t=times, theta=theta, psi=psi,
             singular=np.abs(np.sin(theta)) < EULER_SINGULAR, spin=float(spin),
@@ -391,7 +414,8 @@ def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
                         float(np.arctan2(np.sqrt((1 - u1) * (1 + u1)), u1))),
             theta_mean=theta_mean, mean_precession_rate=float(rate),
             gyroscopic_rate=gyroscopic_precession_rate(top.C, top.mgl, spin) if spin else np.inf,
-            steady_rates=steady_precession_rates(top.A, top.C, top.mgl, theta_mean, spin),
+            steady_rates=(steady_precession_rates(top.A, top.C, top.mgl, theta_mean, spin)
+                          if len(theta) else (float("nan"), float("nan"))),
             phi=phi, Q=Q_t, omega=omega_t, nutation_period=float(period), space_axes=S,
         ))  # fmt: skip
     return out[0] if single else out

@@ -274,3 +274,23 @@ def test_a_signal_during_the_final_moves_is_held_until_they_are_done(tmp_path, m
             (work / "a.png").write_text("a")
             raise KeyboardInterrupt
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_a_stop_after_the_output_was_complete_says_the_output_is_there():
+    # a signal that lands once the command has written its output folder in full (it sets
+    # `args.written`) must not say that nothing was left
+    import signal
+    from types import SimpleNamespace
+
+    from poinsot.app.interrupts import Guard
+
+    g = Guard(process=False)
+    g.signum = signal.SIGINT
+    assert g.message() == "poinsot: interrupted; no partial output was left"
+    g.args = SimpleNamespace(written="out")
+    assert (
+        g.message()
+        == "poinsot: interrupted; the output folder out/ had been written in full before it"
+    )
+    g.signum = signal.SIGTERM
+    assert "terminated; the output folder out/ had been written in full" in g.message()

@@ -30,7 +30,9 @@ from .commands import (
     EXIT_NUMERICAL,
     BadInput,
 )
-from .interrupts import flush_streams, guard  # light: the handlers come before any heavy import
+
+# light: the handlers come before any heavy import
+from .interrupts import flush_streams, guard, left_on_disk
 
 __all__ = ["main"]
 
@@ -353,6 +355,7 @@ def _run(argv, g) -> int:
         if getattr(args, "time_limit", None) is not None:
             g.limit(args.time_limit)
         args.guard = g
+        g.args = args
         with warnings.catch_warnings():
             if getattr(args, "quiet", False):
                 warnings.simplefilter("ignore")
@@ -376,15 +379,6 @@ def _dispatch(args) -> int:
         if g.signum is not None:  # a library turned the interrupt into an error of its own
             raise KeyboardInterrupt from exc
         return _failure(exc, getattr(args, "written", None))
-
-
-def _left(written) -> str:
-    """What a failed command left on disk: its output folder ``written`` when it had been
-    written in full before the failure (a command sets ``args.written`` once it is), else
-    nothing (an unfinished output folder is always removed)."""
-    if written is not None:
-        return f"the output folder {written}/ had been written in full before it"
-    return "no partial output was left"
 
 
 def _failure(exc, written=None) -> int:
@@ -419,7 +413,7 @@ def _failure(exc, written=None) -> int:
     except OSError as exc:
         where = f"{exc.filename}: " if exc.filename else ""
         if is_disk_full(exc):
-            print(f"poinsot: error: {where}the disk is full; {_left(written)}",
+            print(f"poinsot: error: {where}the disk is full; {left_on_disk(written)}",
                   file=sys.stderr)  # fmt: skip
             return EXIT_NUMERICAL
         print(f"poinsot: error: {where}{exc.strerror or exc}", file=sys.stderr)
@@ -436,7 +430,7 @@ def _internal(exc, written=None) -> int:
 
         traceback.print_exception(exc, file=sys.stderr)
     print(f"poinsot: internal error: {type(exc).__name__}: {exc} (a bug in poinsot, please "
-          f"report it; POINSOT_TRACEBACK=1 prints where it happened); {_left(written)}",
+          f"report it; POINSOT_TRACEBACK=1 prints where it happened); {left_on_disk(written)}",
           file=sys.stderr)  # fmt: skip
     return EXIT_INTERNAL
 

@@ -51,6 +51,15 @@ class TimeLimitReached(KeyboardInterrupt):
     """The wall-clock budget of ``--time-limit`` is spent."""
 
 
+def left_on_disk(written) -> str:
+    """What a command that stopped early left on disk: its output folder ``written`` when it
+    had been written in full before (a command sets ``args.written`` once it is), else
+    nothing (an unfinished output folder is always removed)."""
+    if written is not None:
+        return f"the output folder {written}/ had been written in full before it"
+    return "no partial output was left"
+
+
 def _exit_code(signum: int) -> int:
     if signum == signal.SIGINT:
         return 130
@@ -75,6 +84,8 @@ class Guard:
     def __init__(self, *, process: bool, time_limit: float | None = None):
         self.process = process
         self.time_limit = time_limit
+        #: the command's arguments, whose ``written`` names its output folder once complete
+        self.args = None
         self.signum: int | None = None
         self.stage = "starting"
         self.progress = ""
@@ -93,15 +104,13 @@ class Guard:
 
     def message(self) -> str:
         """What the command says when a signal or the time limit ends it."""
+        left = left_on_disk(getattr(self.args, "written", None))
         if self.signum == signal.SIGTERM:
-            return "poinsot: terminated; no partial output was left"
+            return f"poinsot: terminated; {left}"
         if self.signum == signal.SIGINT or self.signum is None:
-            return "poinsot: interrupted; no partial output was left"
+            return f"poinsot: interrupted; {left}"
         where = self.stage + (f": {self.progress}" if self.progress else "")
-        return (
-            f"poinsot: time limit of {self.time_limit:g} s reached while {where}; no partial "
-            "output was left"
-        )
+        return f"poinsot: time limit of {self.time_limit:g} s reached while {where}; {left}"
 
     @property
     def exit_code(self) -> int:
