@@ -29,6 +29,9 @@ __all__ = [
 #: Tolerance for accepting a user-given rotation matrix or quaternion (typed-in values such as
 #: 0.7071 are common); accepted input is then projected exactly onto SO(3).
 ROTATION_TOLERANCE = 1e-6
+#: The largest phase (rad) at which a closed form is evaluated: 2⁵², where the spacing of
+#: doubles reaches 1 (:data:`poinsot.torquefree.solution.MAX_PHASE`, ``docs/reliability.md``).
+MAX_PHASE = 2.0**52
 
 
 def _fmt_index(idx: tuple[int, ...]) -> str:

@@ -329,7 +329,7 @@ def _refuse_unresolved_phases(times, w, summary) -> None:
     nutation's ``2π t/T``, the spin's and the precession's, bounded by ``(|ω₀| + |Ω|) |t|``):
     beyond :data:`~poinsot.torquefree.solution.MAX_PHASE` radians, as the torque-free closed
     form refuses them (``docs/reliability.md``)."""
-    from .torquefree.solution import MAX_PHASE
+    from ._validation import MAX_PHASE
 
     if not len(times):
         return

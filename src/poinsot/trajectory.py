@@ -495,20 +495,25 @@ class Trajectory(SensitivityMixin, Displayable):
         return {name: (dims, getattr(self, attr), dict(attrs)) for name, attr, dims, attrs in table}
 
     def _fields(self, table=False):
-        """The exported fields without the coordinate labels, ``t`` first (for a ``table``,
-        without the sensitivities)."""
+        """The exported fields, ``t`` first, without the labels of the time, axis and
+        component dimensions (implied by the field names); with the sensitivities' labels,
+        ``state_component`` and ``parameter`` (which row and column is which), as the NetCDF
+        export has them. A ``table`` has no sensitivities, nor their labels."""
         fields = {"t": ((), self.t, {"units": "s"})}
         for name, value in self.variables().items():
-            if name in ("time", "axis", "component", *_SENSITIVITY_COORDS):
+            if name in ("time", "axis", "component"):
                 continue
-            if not (table and "parameter" in value[0]):
+            if not (table and any(d in _SENSITIVITY_COORDS for d in value[0])):
                 fields[name] = value
         return fields
 
     def to_npz(self, path) -> None:
         """Write every field of :meth:`variables` to a compressed ``.npz`` file (atomically),
         with ``attributes`` (JSON: each field's units, frame and reference point) and
-        ``summary`` (JSON)."""
+        ``summary`` (JSON). With sensitivities, ``sensitivity (time, state_component,
+        parameter)`` comes with its labels ``state_component`` and ``parameter`` (NumPy
+        unicode arrays, as the NetCDF coordinates: ``numpy.load`` reads them without
+        pickle)."""
         fields = self._fields()
         atomic_savez(
             path,

@@ -193,3 +193,23 @@ def test_the_export_names_the_dimensions(tmp_path):
     traj.to_csv(tmp_path / "run.csv")  # a table: the sensitivities stay out of it
     header = (tmp_path / "run.csv").read_text().splitlines()[0]
     assert "sensitivity" not in header
+
+
+def test_the_npz_export_labels_the_sensitivitys_rows_and_columns(tmp_path):
+    """The .npz wrote the sensitivity array without saying which row is which state
+    component nor which column which parameter, labels the NetCDF export carries."""
+    traj = run(sensitivities=("omega0", "inertia"))
+    traj.to_npz(tmp_path / "run.npz")
+    traj.to_netcdf(tmp_path / "run.nc")
+    with np.load(tmp_path / "run.npz", allow_pickle=False) as npz:
+        assert np.array_equal(npz["sensitivity"], traj.sensitivity("state"))
+        rows, cols = npz["state_component"], npz["parameter"]
+    assert rows.dtype.kind == cols.dtype.kind == "U"  # no pickle needed
+    with netcdf_file(tmp_path / "run.nc", mmap=False) as f:
+        for name, labels in (("state_component", rows), ("parameter", cols)):
+            nc = [b"".join(row).decode().strip() for row in f.variables[name][:]]
+            assert labels.tolist() == nc
+    assert cols.tolist() == list(traj.sensitivities.directions.labels)
+    assert cols[0] == "omega0[0]" and cols[3] == "inertia[0]"
+    assert rows.shape == (traj.sensitivity("state").shape[1],)
+    assert rows[0] == "R_x" and rows[-1] == "omega_z"

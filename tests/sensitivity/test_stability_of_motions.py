@@ -120,6 +120,41 @@ def test_floquet_refuses_what_has_no_period():
         body.floquet((0.1, 1, 0.1), period=-1.0)
 
 
+@pytest.mark.parametrize("omega0", [(0.1, 1, 0.1), (0.0, 1.0, 0.0)], ids=["closed form", "run"])
+@pytest.mark.parametrize(
+    ("kw", "error", "message"),
+    [
+        ({"rtol": -1, "atol": "x"}, ValueError, "`rtol` must be a positive number"),
+        ({"rtol": 2.0}, ValueError, "`rtol` must be below 1"),
+        ({"atol": "x"}, TypeError, "`atol` must be a real number"),
+        ({"atol": 0.0}, ValueError, "`atol` must be a positive number"),
+        ({"period": "1"}, TypeError, "`period` must be a real number"),
+        ({"period": np.array([2.0])}, ValueError, r"`period` must be a scalar, found shape \(1,\)"),
+        ({"period": math.nan}, ValueError, "`period` must be finite"),
+        ({"period": 0.0}, ValueError, "`period` must be a positive finite time"),
+    ],
+)
+def test_floquet_checks_every_argument_on_either_path(omega0, kw, error, message):
+    """The closed form's path took ``rtol=-1, atol="x"`` and ``period="1"`` without a word
+    (the run's refused them), and ``period=np.array([2.])`` raised NumPy's message."""
+    with pytest.raises(error, match=message):
+        FreeRigidBody(MOMENTS).floquet(omega0, **kw)
+
+
+@pytest.mark.parametrize("name", ["rtol", "atol"])
+def test_a_tolerance_given_to_the_closed_form_is_refused(name):
+    """The closed form integrates nothing: a tolerance would have no effect there."""
+    body = FreeRigidBody(MOMENTS)
+    with pytest.raises(ValueError, match=rf"`{name}` has no effect here: .*closed form"):
+        body.floquet((0.1, 1.0, 0.1), **{name: 1e-10})
+    # where a DOP853 run gives the monodromy, it takes them
+    assert body.floquet((0.1, 1.0, 0.1), period=2.0, **{name: 1e-10}).method == "dop853"
+    assert body.floquet((0.0, 1.0, 0.0), **{name: 1e-10}).method == "dop853"
+    loose = body.floquet((0.0, 1.0, 0.0), period=5.0, rtol=1e-4, atol=1e-6)
+    tight = body.floquet((0.0, 1.0, 0.0), period=5.0)
+    assert 0 < np.abs(loose.monodromy - tight.monodromy).max() < 1e-2  # an effect
+
+
 # ------------------------------------------------------ Lagrangian steady motions (Floquet)
 
 

@@ -19,14 +19,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _validation
 from .._bindings import torquefree as core_torquefree
 from .._validation import _real_array, as_rotation_matrices, as_times, as_vector3, as_vectors
 
 __all__ = ["MAX_PHASE", "ExactDerivatives", "SolutionMixin"]
 
 #: The largest angle ``|ω| |t|`` (rad) at which the closed forms are evaluated: 2⁵², where the
-#: spacing of doubles reaches 1 (the phase of the motion is then lost to rounding).
-MAX_PHASE = 2.0**52
+#: spacing of doubles reaches 1 (the phase of the motion is then lost to rounding); the heavy
+#: top's closed form (:mod:`poinsot.tops`) keeps the same limit.
+MAX_PHASE = _validation.MAX_PHASE
 #: Offsets of the regime row (``poinsot._core.torque_free_regimes``): ``"case"``, ``"u0"``,
 #: ``"lam"``, … and ``"size"``.
 REGIME = core_torquefree.REGIME_OFFSETS

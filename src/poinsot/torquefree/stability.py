@@ -20,6 +20,9 @@ from ..sensitivity import Floquet
 
 __all__ = ["FixedPointSet", "Floquet", "Stability", "StabilityMixin"]
 
+#: The tolerances of :meth:`StabilityMixin.floquet`'s DOP853 run unless it is given others.
+_FLOQUET_RTOL, _FLOQUET_ATOL = 1e-13, 1e-15
+
 
 @dataclass(frozen=True)
 class Stability:
@@ -173,7 +176,7 @@ class StabilityMixin:
         E[:, 2, 2] = 1.0
         return Q0 @ P @ E @ P.T
 
-    def floquet(self, omega0, period=None, *, rtol=1e-13, atol=1e-15) -> Floquet:
+    def floquet(self, omega0, period=None, *, rtol=None, atol=None) -> Floquet:
         """The :class:`~poinsot.sensitivity.Floquet` picture of the motion from ``omega0``
         (body frame) over one ``period`` (default: :meth:`period`; at a fixed point, where every
         time is a period, one turn ``2π/|ω|``): ``M = ∂ω(T)/∂ω0``.
@@ -191,8 +194,10 @@ class StabilityMixin:
         matrix ``∂ω(T)/∂ω0`` is the closed form's exact derivative
         (:meth:`exact_derivatives`: accurate arbitrarily close to the separatrix); otherwise
         (a fixed point, a symmetric body, another ``period``) the forward sensitivity of a
-        DOP853 run at ``rtol``, ``atol`` (:mod:`poinsot.sensitivity`: the variational
-        equations integrated with the motion in the compiled core).
+        DOP853 run at ``rtol``, ``atol`` (default ``1e-13``, ``1e-15``;
+        :mod:`poinsot.sensitivity`: the variational equations integrated with the motion in
+        the compiled core). The closed form integrates nothing, so a tolerance given there
+        would have no effect and is refused; every argument is checked first, on either path.
 
         Examples
         --------
@@ -210,13 +215,29 @@ class StabilityMixin:
         >>> round(float(f.exponents[0]), 9), round(body.stability((0, 1, 0)).growth_rate, 9)
         (0.577350269, 0.577350269)
         """
+        from .._validation import as_scalar
         from ..bodies import RigidBody
         from ..dynamics import RigidBodySystem
         from ..integrate.driver import integrate
+        from ..integrate.solve import check_tolerances
         from ..sensitivity import SensitiveSystem, directions, split
 
+        # every argument checked here, whichever path follows
         w = self._spin(omega0, "omega0")
+        rtol_given, atol_given = check_tolerances(rtol, atol)
         own = period is None
+        if period is not None:
+            period = as_scalar(period, "period")
+            if not period > 0:
+                raise ValueError(f"`period` must be a positive finite time, found {period}")
+        closed_form = own and self.symmetry == "asymmetric" and not self.is_fixed_point(w)
+        if closed_form:
+            for name, value in (("rtol", rtol), ("atol", atol)):
+                if value is not None:
+                    raise ValueError(f"`{name}` has no effect here: over the motion's own "
+                                     "period the monodromy is the closed form's exact "
+                                     f"derivative, nothing is integrated; drop `{name}`, or "
+                                     "give `period` for a DOP853 run")  # fmt: skip
         if period is None:
             if self.is_fixed_point(w):
                 speed = float(np.linalg.norm(w))
@@ -224,15 +245,16 @@ class StabilityMixin:
                     raise ValueError("`omega0` is zero: the body is at rest, nothing moves")
                 period = 2 * math.pi / speed
             else:
-                period = self.period(w)
-        period = float(period)
-        if not (math.isfinite(period) and period > 0):
-            raise ValueError(f"`period` must be a positive finite time, found {period} (the "
-                             "separatrix has no period)")  # fmt: skip
-        if own and self.symmetry == "asymmetric" and not self.is_fixed_point(w):
+                period = float(self.period(w))
+            if not (math.isfinite(period) and period > 0):
+                raise ValueError(f"`omega0` has no period, found {period} (the separatrix "
+                                 "has none): give `period`")  # fmt: skip
+        if closed_form:
             M = self.exact_derivatives(w, [period]).d_omega_d_omega0[-1]
             method = "closed form"
         else:
+            rtol = _FLOQUET_RTOL if rtol_given is None else rtol_given
+            atol = _FLOQUET_ATOL if atol_given is None else atol_given
             system = RigidBodySystem(RigidBody(1.0, self.inertia, allow_unphysical=True))
             dirs = directions(system, "omega0")
             y0 = system.initial_state(omega0=w)
