@@ -241,3 +241,16 @@ def test_no_times_give_empty_results_and_unresolved_times_are_refused():
     assert empty.nutation_period == pytest.approx(0.433236, rel=1e-6)
     with pytest.raises(ValueError, match="`t` reaches 1e\\+16 s"):
         exact_motion(TOP, (0.0, 0.0, 100.0), Q0, [0.0, 1e16])
+
+
+def test_a_top_built_by_hand_is_checked():
+    from poinsot.tops import HeavyTop
+
+    top = HeavyTop(TOP.A, TOP.C, TOP.mgl, TOP.axis, TOP.up, TOP.length)
+    assert top.mgl == TOP.mgl
+    with pytest.raises(ValueError, match=r"`HeavyTop\.axis` must be a unit vector"):
+        HeavyTop(TOP.A, TOP.C, TOP.mgl, 2 * TOP.axis, TOP.up, TOP.length)
+    with pytest.raises(ValueError, match=r"`HeavyTop\.mgl` must be positive"):
+        HeavyTop(TOP.A, TOP.C, -1.0, TOP.axis, TOP.up, TOP.length)
+    with pytest.raises(ValueError, match=r"`HeavyTop\.up` must be 3 finite numbers"):
+        HeavyTop(TOP.A, TOP.C, TOP.mgl, TOP.axis, (0.0, np.nan, 1.0), TOP.length)

@@ -106,6 +106,23 @@ class HeavyTop:
     up: np.ndarray
     length: float
 
+    def __post_init__(self):
+        """Checked once, for a top built by hand too: positive ``A``, ``C``, ``mgl``; ``axis``
+        and ``up`` unit vectors (a longer axis would scale the Euler angles' frame)."""
+        for name in ("A", "C", "mgl"):
+            value = as_scalar(getattr(self, name), f"HeavyTop.{name}")
+            if not value > 0:
+                raise ValueError(f"`HeavyTop.{name}` must be positive, found {value}")
+            object.__setattr__(self, name, value)
+        for name in ("axis", "up"):
+            v = np.asarray(getattr(self, name), dtype=float)
+            if v.shape != (3,) or not np.isfinite(v).all():
+                raise ValueError(f"`HeavyTop.{name}` must be 3 finite numbers, found {v!r}")
+            if abs(np.linalg.norm(v) - 1.0) > 1e-9:
+                raise ValueError(f"`HeavyTop.{name}` must be a unit vector, found one of "
+                                 f"length {np.linalg.norm(v):.6g}")  # fmt: skip
+            object.__setattr__(self, name, v)
+
     def frame(self) -> np.ndarray:
         """Body axes (columns, body components) whose third is :attr:`axis`: the axes whose
         z-x-z Euler angles are the top's precession ψ, nutation θ and spin φ."""
