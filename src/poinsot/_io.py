@@ -319,6 +319,10 @@ def _write_cdf2(path, sizes, prepared, attrs) -> None:
             return b"\0" * 8  # ABSENT
         out = [struct.pack(">ii", 12, len(items))]  # NC_ATTRIBUTE
         for key, value in items.items():
+            if isinstance(value, str) and "\0" in value:
+                # NetCDF-3 pads text with NULs and readers strip them: refused, not altered
+                raise ValueError(f"the NetCDF attribute {key!r} is text holding a NUL character "
+                                 f"({value!r}), which NetCDF-3 cannot keep")  # fmt: skip
             value = _attribute(value)
             if isinstance(value, bytes):
                 kind, raw, count = 2, value, len(value)
