@@ -98,22 +98,50 @@ def test_a_fast_top_released_from_rest_precesses(spin):
         float(mp.acos(u1) - mp.acos(u2)), rel=1e-6)  # fmt: skip
 
 
-def test_a_top_with_almost_no_spin_keeps_its_digits_at_the_bottom():
-    """Released at θ = 0.6 rad with a spin of 1e-6 rad/s, the top falls past the hanging
-    vertical within ~1e-7 rad of it, where ψ turns by nearly π: its gap 1 + u₁ from the
-    cubic's value at u = −1 keeps the motion within 1e-6 of DOP853 (rtol 1e-12) and its energy
-    to 1e-13 (`1 + u₀ + x₁` had lost every digit: 0.9 in Q)."""
+@pytest.mark.parametrize("spin", [0.0, 1e-12, 1e-9, 1e-6, 1e-4])
+def test_a_top_with_almost_no_spin_keeps_its_digits_at_the_bottom(spin):
+    """Released at θ = 0.6 rad with little or no spin, the top falls past the hanging vertical
+    (through it, without spin), where ψ turns by nearly π (steps by π): its motion agrees with
+    DOP853 (rtol 1e-13, itself within 1.3e-12 of rtol 1e-12) to 2e-12 and keeps its energy to
+    1e-13. `F₋ Π(n₋)` with `n₋ = −(u₂ − u₁)/(1 + u₁)` → −∞ had cancelled (0.33 in Q at spin
+    1e-12, 2.6e-7 at 1e-6, NaN without spin): DLMF 19.7.9's form keeps it."""
     Q0 = matrix_from_euler([0.0, 0.6, 0.0])
-    w0, t = (0.0, 0.0, 1e-6), np.linspace(0, 2, 201)
+    w0, t = (0.0, 0.0, spin), np.linspace(0, 2, 201)
     exact = exact_motion(TOP, w0, Q0, t)
     ref = simulate(BODY, (0, 2), omega0=w0, Q0=Q0, pivot=PIVOT, forces=[Gravity()],
-                   method="dop853", rtol=1e-12, atol=1e-14, t_eval=t)  # fmt: skip
-    assert np.abs(exact.Q - ref.Q).max() < 1e-6
-    assert np.abs(exact.omega - ref.omega).max() < 1e-5
+                   method="dop853", rtol=1e-13, atol=1e-15, t_eval=t)  # fmt: skip
+    assert np.abs(exact.Q - ref.Q).max() < 2e-12
+    assert np.abs(exact.omega - ref.omega).max() < 2e-12
+    assert exact.theta_band[1] == pytest.approx(np.pi, abs=1e-5)
     I = BODY.inertia_about(PIVOT)
     com = np.einsum("nij,j->ni", exact.Q, np.asarray(BODY.center_of_mass) - PIVOT)
     energy = 0.5 * np.einsum("ni,ij,nj->n", exact.omega, I, exact.omega) + 9.81 * com[:, 2]
     assert np.ptp(energy) < 1e-13 * TOP.mgl
+
+
+@pytest.mark.parametrize("spin", [5.0, 30.0])
+@pytest.mark.parametrize("offset", [0.0, 1e-12, 1e-8, -1e-8])
+def test_a_top_passing_by_the_upward_vertical_keeps_its_digits(spin, offset):
+    """Thrown up from θ = 0.3 rad with `L_z` within `offset` (relative) of `L₃` (`b = a`), the
+    axis passes through or by the upward vertical, where `n₊ = (u₂ − u₁)/(1 − u₁)` → 1: `R_J`'s
+    `1 − n₊ sn²` is formed as `(1 − u)/(1 − u₁)`. Within 2e-12 of DOP853 (rtol 1e-13)."""
+    from poinsot.rotation import body_rates_from_euler
+
+    th0 = 0.3
+    u0, s2 = np.cos(th0), np.sin(th0) ** 2
+    a, beta = TOP.C * spin / TOP.A, 2 * TOP.mgl / TOP.A
+    psid = a * (1 - u0) / s2 * (1 + offset)
+    angles = np.array([0.0, th0, 0.0])
+    rates = np.array([psid, -2 * np.sqrt(beta * (1 - u0) + 1.0), spin - psid * u0])
+    w0 = (body_rates_from_euler(angles[None], rates[None]) @ TOP.frame().T)[0]
+    Q0, t = matrix_from_euler(angles), np.linspace(0, 3, 151)
+    exact = exact_motion(TOP, w0, Q0, t)
+    ref = simulate(BODY, (0, 3), omega0=w0, Q0=Q0, pivot=PIVOT, forces=[Gravity()],
+                   method="dop853", rtol=1e-13, atol=1e-15, t_eval=t)  # fmt: skip
+    assert exact.spin == pytest.approx(spin, rel=1e-14)
+    assert np.abs(exact.Q - ref.Q).max() < 2e-12
+    assert np.abs(exact.omega - ref.omega).max() < 2e-12 * spin
+    assert exact.theta_band[0] < 1e-3
 
 
 def test_exact_motion_is_top_motion_field_by_field():

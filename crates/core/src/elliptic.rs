@@ -593,23 +593,33 @@ pub fn ellipf(phi: f64, _m: f64, m1: f64) -> f64 {
 }
 
 /// The complete integral of the third kind
-/// `Π(n | m) = R_F(0, m1, 1) + (n/3) R_J(0, m1, 1, 1 − n)` for `n < 1` (DLMF 19.25.2).
-pub fn ellippi_complete(n: f64, _m: f64, m1: f64) -> f64 {
+/// `Π(n | m) = R_F(0, m1, 1) + (n/3) R_J(0, m1, 1, 1 − n)` for `n < 1` (DLMF 19.25.2); below
+/// `n = −1`, where that form cancels, [`third_kind_negative`].
+pub fn ellippi_complete(n: f64, m: f64, m1: f64) -> f64 {
+    if n < -1.0 {
+        let [x, y] = third_kind_negative::<f64, Libm>(-n, 1.0, 1.0, 0.0, m1.sqrt(), m);
+        return x + y;
+    }
     carlson_rf(0.0, m1, 1.0) + n / 3.0 * carlson_rj(0.0, m1, 1.0, 1.0 - n)
 }
 
 /// The incomplete integral of the third kind
 /// `Π(n; φ | m) = ∫₀^φ dθ / ((1 − n sin²θ) √(1 − m sin²θ))` for `n < 1` and any real φ:
 /// `s R_F(c², Δ², 1) + (n/3) s³ R_J(c², Δ², 1, 1 − n s²)` on |φ| ≤ π/2 (DLMF 19.25.14),
-/// extended by `Π(n; φ + jπ) = Π(n; φ) + 2jΠ(n)`.
+/// extended by `Π(n; φ + jπ) = Π(n; φ) + 2jΠ(n)`; below `n = −1`, where that form cancels,
+/// [`third_kind_negative`].
 pub fn ellippi(n: f64, phi: f64, m: f64, m1: f64) -> f64 {
     let (j, r) = reduce_angle(phi);
     let s = r.sin();
     let c = r.cos();
     let c2 = c * c;
     let d2 = c2 + m1 * s * s;
-    let mut value = s * carlson_rf(c2, d2, 1.0)
-        + n / 3.0 * s * s * s * carlson_rj(c2, d2, 1.0, 1.0 - n * s * s);
+    let mut value = if n < -1.0 {
+        let [x, y] = third_kind_negative::<f64, Libm>(-n, 1.0, s, c, d2.sqrt(), m);
+        x + y
+    } else {
+        s * carlson_rf(c2, d2, 1.0) + n / 3.0 * s * s * s * carlson_rj(c2, d2, 1.0, 1.0 - n * s * s)
+    };
     if j != 0.0 {
         value += 2.0 * j * ellippi_complete(n, m, m1);
     }
@@ -680,19 +690,19 @@ pub fn third_kind_excess<T: Real>(n: T, s: T, c: T, d: T) -> T {
     n / k(3.0) * s * s * s * carlson_rj_above(c * c, d * d, k(1.0), k(1.0) - n * s * s)
 }
 
-/// [`third_kind_reduced`]'s `G = s R_F(c², d², 1) + (n/3) s³ R_J(c², d², 1, 1 − n s²)` (n < 1,
-/// `c ≥ 0`) with the first duplication step taken on the square roots `c`, `d`, `1` and
-/// `√(1 − n s²)` themselves: `R_F(x, y, z) = R_F(x₁, y₁, z₁)` and
-/// `R_J(x, y, z, p) = R_J(x₁, y₁, z₁, p₁)/4 + 6 R_C(1, 1 + δ/d₀²)/d₀`, with `x₁ = (x + λ)/4`, …,
-/// `λ = √x√y + √y√z + √z√x`, `δ = (p − x)(p − y)(p − z)`, `d₀ = (√p + √x)(√p + √y)(√p + √z)`
-/// (DLMF 19.26.18; the first step of Carlson 1995, algorithm 3). Generic over [`Real`], with
-/// `R_C(1, 1 + e)` by `R` ([`RcOnePlus`]). On dual numbers no argument is then zero where it is differentiated:
-/// `cn v = 0` at `v = ±K` carries its derivative in `c`, which `√(c²)` would lose (0/0).
-pub fn third_kind_from_roots<T: Real, R: RcOnePlus<T>>(n: T, s: T, c: T, d: T) -> T {
+/// `R_F(c², d², 1)` and `R_J(c², d², 1, p)` (`c, d ≥ 0`, `p > 0`) with the first duplication
+/// step taken on the square roots `c`, `d`, `1` and `√p` themselves: `R_F(x, y, z) =
+/// R_F(x₁, y₁, z₁)` and `R_J(x, y, z, p) = R_J(x₁, y₁, z₁, p₁)/4 + 6 R_C(1, 1 + δ/d₀²)/d₀`, with
+/// `x₁ = (x + λ)/4`, …, `λ = √x√y + √y√z + √z√x`, `δ = (p − x)(p − y)(p − z)`,
+/// `d₀ = (√p + √x)(√p + √y)(√p + √z)` (DLMF 19.26.18; the first step of Carlson 1995,
+/// algorithm 3). Generic over [`Real`], with `R_C(1, 1 + e)` by `R` ([`RcOnePlus`]). On dual
+/// numbers no argument is then zero where it is differentiated: `cn v = 0` at `v = ±K` carries
+/// its derivative in `c`, which `√(c²)` would lose (0/0).
+#[inline(always)]
+pub fn carlson_rf_rj_from_roots<T: Real, R: RcOnePlus<T>>(c: T, d: T, p: T) -> (T, T) {
     let k = T::splat;
     let one = k(1.0);
     let (c2, d2) = (c * c, d * d);
-    let p = one - n * s * s;
     let sp = p.sqrt();
     let lam = c * d + c + d;
     let q = k(0.25);
@@ -705,7 +715,52 @@ pub fn third_kind_from_roots<T: Real, R: RcOnePlus<T>>(n: T, s: T, c: T, d: T) -
     let d0 = (sp + c) * (sp + d) * (sp + one);
     let delta = (p - c2) * (p - d2) * (p - one);
     let rj = q * carlson_rj_by::<T, R>(x1, y1, z1, p1) + k(6.0) * R::rc1p(delta / (d0 * d0)) / d0;
-    s * carlson_rf(x1, y1, z1) + n / k(3.0) * s * s * s * rj
+    (carlson_rf(x1, y1, z1), rj)
+}
+
+/// [`third_kind_reduced`]'s `G = s R_F(c², d², 1) + (n/3) s³ R_J(c², d², 1, 1 − n s²)` (n < 1,
+/// `c ≥ 0`) by [`carlson_rf_rj_from_roots`].
+pub fn third_kind_from_roots<T: Real, R: RcOnePlus<T>>(n: T, s: T, c: T, d: T) -> T {
+    third_kind_with_p::<T, R>(n, s, c, d, T::splat(1.0) - n * s * s)
+}
+
+/// [`third_kind_from_roots`] with `p = 1 − n s²` given: where `n → 1` and `s → ±1` it is small,
+/// and a caller that knows it as a sum of positive numbers (the heavy top's `(1 − u)/(1 − u₁)`)
+/// keeps the digits `1 − n s²` would lose.
+#[inline(always)]
+pub fn third_kind_with_p<T: Real, R: RcOnePlus<T>>(n: T, s: T, c: T, d: T, p: T) -> T {
+    let (rf, rj) = carlson_rf_rj_from_roots::<T, R>(c, d, p);
+    s * rf + n / T::splat(3.0) * s * s * s * rj
+}
+
+/// `Π(n; φ | m)` for a negative `n = −p/q` (`p > 0`, `q ≥ 0`) as `q X + √q Y`, from
+/// `s = sin φ`, `c = cos φ ≥ 0` and `d = √(1 − m s²)` (|φ| ≤ π/2):
+///
+/// ```text
+///     X = (m / 3p) s³ R_J(c², d², 1, 1 + (m q/p) s²),
+///     Y = atan2(s h, c d √q) / h,      h² = p + (1 + m) q + m q²/p.
+/// ```
+///
+/// This is DLMF 19.7.9, `Π(φ, n) + Π(φ, m/n) = F(φ) + √c₀ R_C((c₀ − 1)(c₀ − m), (c₀ − n)(c₀ − m/n))`
+/// (`c₀ = csc²φ`), with `F(φ) − Π(φ, m/n) = −(m/3n) s³ R_J(…)` (DLMF 19.25.14) and `R_C(x, y) =
+/// atan(√((y − x)/x))/√(y − x)` (DLMF 19.2.18), where `y − x = s⁻² h²/q` exactly. Both parts are
+/// positive for `s > 0`: where `n ≪ −1` the direct form `s R_F + (n/3) s³ R_J` cancels to
+/// `O(|n|^−½)` and loses `√|n|` of its relative accuracy (1e-9 at `n = −1e13`), and `q → 0`
+/// (`n → −∞`) is a step `±π/(2h)` in `√q Y` (the heavy top passing through the hanging
+/// vertical, `q = 1 + u₁`). The complete integral is `s = 1`, `c = 0`, `d = √m1`:
+/// `X = (m/3p) R_J(0, m1, 1, 1 + m q/p)`, `Y = π/(2h)`. Generic over [`Real`] (the heavy top's
+/// derivatives); `atan2(y, x) = 2 atan(y/(r + x))` for `x ≥ 0`, `r = √(x² + y²)`, 0 at `r = 0`.
+#[inline(always)]
+pub fn third_kind_negative<T: Real, R: RcOnePlus<T>>(p: T, q: T, s: T, c: T, d: T, m: T) -> [T; 2] {
+    let k = T::splat;
+    let mq_p = m * q / p;
+    let (_, rj) = carlson_rf_rj_from_roots::<T, R>(c, d, k(1.0) + mq_p * s * s);
+    let x = m / (k(3.0) * p) * s * s * s * rj;
+    let h = (p + (k(1.0) + m) * q + mq_p * q).sqrt();
+    let (yy, xx) = (s * h, c * d * q.sqrt());
+    let r = (xx * xx + yy * yy).sqrt();
+    let angle = k(2.0) * atan(yy / (r + xx));
+    [x, T::select(r.gt(k(0.0)), angle, k(0.0)) / h]
 }
 
 /// `∫₀^u du' / (1 − n sn²u')  (= Π(n; am u | m))` for `n < 1`, accurate for every u;

@@ -35,8 +35,8 @@
 
 use crate::dual::Dual;
 use crate::elliptic::{
-    carlson_rj, ellipk_m1, ellippi, ellippi_complete, first_kind_from_sn_cn, jacobi_dual,
-    jacobi_reduced, parity, third_kind_from_roots, Agm, OnDuals,
+    carlson_rj, ellipk_m1, first_kind_from_sn_cn, jacobi_dual, jacobi_reduced, parity,
+    third_kind_negative, third_kind_with_p, Agm, Libm, OnDuals, RcOnePlus,
 };
 use crate::real::Real;
 use crate::so3::{zxz_body_rates, zxz_matrix_sc};
@@ -59,10 +59,8 @@ pub struct TopMotion {
     pub lam: f64,
     pub quarter: f64,
     pub tau0: f64,
-    /// `n₊`, `n₋` and the factors of `ΔΠ(n₊)`, `ΔΠ(n₋)` in (T3).
-    pub n: [f64; 2],
-    pub factor: [f64; 2],
-    /// `Π(n; am τ₀ | m)` for `n₊`, `n₋`.
+    /// The third-kind terms of (T3) ([`Terms`]), and their values at `τ₀`.
+    pub terms: Terms<f64>,
     pub pi0: [f64; 2],
     /// `1 + u₁` and `1 − u₂`, the band's gaps to the vertical ([`gaps`]), and which of them
     /// come from the cubic's values at `∓1` (`gap_by_product`).
@@ -136,25 +134,21 @@ impl TopMotion {
             a,
             beta,
         );
-        let one_minus_u1 = one_minus_u0 - x1;
-        let one_plus_u1 = top.gaps[0];
-        top.n = [width / one_minus_u1, -width / one_plus_u1];
-        // b ∓ a = w ∓ a (1 ∓ u₀), without the cancellation of b − a near the vertical
-        top.factor = [
-            (w - a * one_minus_u0) / (2.0 * one_minus_u1 * top.lam),
-            (w + a * one_plus_u0) / (2.0 * one_plus_u1 * top.lam),
-        ];
-        top.pi0 = [0, 1].map(|k| top.third_kind(k, top.tau0));
+        top.terms = Terms::new::<Libm>(TermsOf {
+            x: top.x,
+            bounds: [one_minus_u0, one_plus_u0],
+            gaps: top.gaps,
+            bottom_by_product: top.gap_by_product[0],
+            w,
+            a,
+            beta,
+            lam: top.lam,
+            m: top.m,
+            m1: top.m1,
+        });
+        let (sn, cn, dn, p, _) = jacobi_reduced(top.tau0, top.m, top.m1, top.quarter);
+        top.pi0 = top.terms.at::<Libm>(sn, cn, dn, p);
         top
-    }
-
-    /// `Π(n_k; am τ | m)` ([`ellippi`] at the amplitude `pπ + atan2(sn v, cn v)` of
-    /// `τ = 2pK + v`, `|v| ≤ K`).
-    fn third_kind(&self, k: usize, tau: f64) -> f64 {
-        let (sn, cn, _, p, _) = jacobi_reduced(tau, self.m, self.m1, self.quarter);
-        let par = if (p * 0.5).fract() == 0.0 { 1.0 } else { -1.0 };
-        let am = p * std::f64::consts::PI + (par * sn).atan2(par * cn);
-        ellippi(self.n[k], am, self.m, self.m1)
     }
 
     /// `[ψ, θ, φ, ψ̇, θ̇, φ̇]` at `t`.
@@ -166,7 +160,7 @@ impl TopMotion {
         }
         let [x1, x2, _] = self.x;
         let tau = self.tau0 + self.lam * t;
-        let (sn, cn, dn, _, _) = jacobi_reduced(tau, self.m, self.m1, self.quarter);
+        let (sn, cn, dn, p, _) = jacobi_reduced(tau, self.m, self.m1, self.quarter);
         let width = x2 - x1;
         let x = x1 + width * sn * sn; // u − u₀
         let u = self.u0 + x;
@@ -176,7 +170,8 @@ impl TopMotion {
         let one_plus_u = self.gaps[0] + width * sn * sn;
         let sin_th = (one_minus_u * one_plus_u).sqrt();
         let theta = sin_th.atan2(u);
-        let d = [0, 1].map(|k| self.factor[k] * (self.third_kind(k, tau) - self.pi0[k]));
+        let terms = self.terms.at::<Libm>(sn, cn, dn, p);
+        let d = [0, 1].map(|k| terms[k] - self.pi0[k]);
         let psi = psi0 + d[0] + d[1];
         let phi = phi0 + (self.spin - self.a) * t - d[0] + d[1];
         let udot = 2.0 * width * self.lam * sn * cn * dn;
@@ -193,9 +188,7 @@ impl TopMotion {
             (f64::INFINITY, self.rates[0])
         } else {
             let period = 2.0 * self.quarter / self.lam;
-            let advance = 2.0
-                * (self.factor[0] * ellippi_complete(self.n[0], self.m, self.m1)
-                    + self.factor[1] * ellippi_complete(self.n[1], self.m, self.m1));
+            let advance = 2.0 * (self.terms.complete[0] + self.terms.complete[1]);
             (period, advance / period)
         };
         [
@@ -251,9 +244,7 @@ pub struct TopTangent {
     lam: D9,
     quarter: D9,
     tau0: D9,
-    n: [D9; 2],
-    factor: [D9; 2],
-    pi_complete: [D9; 2],
+    terms: Terms<D9>,
     pi0: [D9; 2],
 }
 
@@ -340,16 +331,19 @@ impl TopTangent {
             Dual::new(top.tau0, d)
         };
         let gaps = gaps(top.gap_by_product, bounds, x, w, a, beta);
-        let one_minus_u1 = bounds[0] - x1;
-        let one_plus_u1 = gaps[0];
-        let n = [width / one_minus_u1, -width / one_plus_u1];
-        let factor = [
-            (w - a * bounds[0]) / (c(2.0) * one_minus_u1 * lam),
-            (w + a * bounds[1]) / (c(2.0) * one_plus_u1 * lam),
-        ];
         let m1 = Dual::new(top.m1, m.d.map(|d| -d));
-        let pi_complete =
-            n.map(|nk| third_kind_from_roots::<_, OnDuals>(nk, c(1.0), c(0.0), m1.sqrt()));
+        let terms = Terms::new::<OnDuals>(TermsOf {
+            x,
+            bounds,
+            gaps,
+            bottom_by_product: top.gap_by_product[0],
+            w,
+            a,
+            beta,
+            lam,
+            m,
+            m1,
+        });
         let mut tangent = TopTangent {
             top,
             agm,
@@ -365,13 +359,11 @@ impl TopTangent {
             lam,
             quarter,
             tau0,
-            n,
-            factor,
-            pi_complete,
+            terms,
             pi0: [c(0.0); 2],
         };
-        let start = tangent.jacobi_at(0.0);
-        tangent.pi0 = [0, 1].map(|k| tangent.third_kind(k, start));
+        let (sn, cn, dn, p) = tangent.jacobi_at(0.0);
+        tangent.pi0 = tangent.terms.at::<OnDuals>(sn, cn, dn, p);
         Ok(tangent)
     }
 
@@ -386,17 +378,6 @@ impl TopTangent {
             self.k_m,
             &self.agm,
         )
-    }
-
-    /// `Π(n_k; am τ | m) = 2pΠ(n_k|m) + G(v)` with its derivatives.
-    fn third_kind(&self, k: usize, (sn, cn, dn, p): (D9, D9, D9, f64)) -> D9 {
-        let par = D9::splat(parity(p));
-        let g = third_kind_from_roots::<_, OnDuals>(self.n[k], par * sn, par * cn, dn);
-        if p == 0.0 {
-            g
-        } else {
-            g + D9::splat(2.0 * p) * self.pi_complete[k]
-        }
     }
 
     /// `[ψ, θ, φ, ψ̇, θ̇, φ̇]` at `t` ([`TopMotion::at`]) and their derivatives (rows) along
@@ -418,7 +399,8 @@ impl TopTangent {
             sin_th.v.atan2(u.v),
             std::array::from_fn(|j| (u.v * sin_th.d[j] - sin_th.v * u.d[j]) / r2),
         );
-        let d = [0, 1].map(|k| self.factor[k] * (self.third_kind(k, jac) - self.pi0[k]));
+        let terms = self.terms.at::<OnDuals>(sn, cn, dn, jac.3);
+        let d = [0, 1].map(|k| terms[k] - self.pi0[k]);
         let psi = self.angles0[0] + d[0] + d[1];
         let phi = self.angles0[2] + (self.spin - self.a) * c(t) - d[0] + d[1];
         let udot = c(2.0) * width * self.lam * sn * cn * dn;
@@ -466,8 +448,7 @@ impl TopTangent {
     pub fn summary(&self) -> ([f64; 4], [[f64; TOP_DIRECTIONS]; 4]) {
         let c = D9::splat;
         let period = c(2.0) * self.quarter / self.lam;
-        let advance =
-            c(2.0) * (self.factor[0] * self.pi_complete[0] + self.factor[1] * self.pi_complete[1]);
+        let advance = c(2.0) * (self.terms.complete[0] + self.terms.complete[1]);
         let out = [
             self.u0 + self.x[0],
             self.u0 + self.x[1],
@@ -475,6 +456,122 @@ impl TopTangent {
             advance / period,
         ];
         (out.map(|x| x.v), out.map(|x| x.d))
+    }
+}
+
+/// What [`Terms::new`] takes of a motion: the roots `x` about `u₀`, `(1 − u₀, 1 + u₀)`, the
+/// gaps `(1 + u₁, 1 − u₂)` ([`gaps`]) and whether the first came from the cubic's value at
+/// `−1`, `w = b − a u₀`, `a`, `β`, `λ`, `m` and `m1`.
+struct TermsOf<T> {
+    x: [T; 3],
+    bounds: [T; 2],
+    gaps: [T; 2],
+    bottom_by_product: bool,
+    w: T,
+    a: T,
+    beta: T,
+    lam: T,
+    m: T,
+    m1: T,
+}
+
+/// The two third-kind terms of (T3), `F₊ Π(n₊; am τ | m)` and `F₋ Π(n₋; am τ | m)` with
+/// `F± = (b ∓ a)/(2 (1 ∓ u₁) λ)`, in forms that keep their digits where the band reaches near
+/// either vertical, on `f64` or on dual numbers ([`TopTangent`]):
+///
+/// - `n₊ = (u₂ − u₁)/(1 − u₁)` tends to 1 as the band reaches the upward vertical (`1 − u₂ →
+///   0`): `R_J`'s `1 − n₊ sn²` is `(1 − u)/(1 − u₁) = (1 − u₂ + (u₂ − u₁) cn²)/(1 − u₁)`, a sum
+///   of positive numbers ([`third_kind_with_p`]).
+/// - `n₋ = −(u₂ − u₁)/(1 + u₁)` tends to −∞ as it reaches the hanging vertical (a top with
+///   little spin), where `F₋ → ∞` as `1/√(1 + u₁)` and `s R_F + (n/3) s³ R_J` cancels:
+///   [`third_kind_negative`] with `p = u₂ − u₁`, `q = 1 + u₁`, so `F₋ Π = (b + a)/(2λ) X +
+///   (b + a)/(2λ √q) Y`, and `(b + a)/√q = ±√(β (1 + u₂)(1 + u₃))` where `q` came from
+///   `f(−1) = −(b + a)² = −β q (1 + u₂)(1 + u₃)` ([`gaps`]): finite even at `q = 0` (no spin,
+///   the axis through the vertical, where ψ steps by π).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Terms<T> {
+    /// `n₊`, `F₊`.
+    n_plus: T,
+    f_plus: T,
+    /// `1 − u₂`, `u₂ − u₁`, `1 − u₁`, `1 + u₁`, `m`.
+    gap_top: T,
+    width: T,
+    one_minus_u1: T,
+    gap_bottom: T,
+    m: T,
+    /// Whether `n₋ < −1`, where the transformed form is taken (above, `s R_F + (n₋/3) s³ R_J`
+    /// does not cancel, and `R_J`'s `1 − n₋ sn² = (1 + u)/(1 + u₁)`), and `F₋`.
+    transformed: bool,
+    f_minus: T,
+    /// `(b + a)/(2λ)` and `(b + a)/(2λ √(1 + u₁))`: the factors of `X` and `Y`.
+    x_factor: T,
+    y_factor: T,
+    /// `F± Π(n±|m)`, the complete integrals' terms.
+    pub complete: [T; 2],
+}
+
+impl<T: Real<Mask = bool>> Terms<T> {
+    fn new<R: RcOnePlus<T>>(t: TermsOf<T>) -> Terms<T> {
+        let c = T::splat;
+        let [one_minus_u0, one_plus_u0] = t.bounds;
+        let [x1, x2, x3] = t.x;
+        let [gap_bottom, gap_top] = t.gaps;
+        let width = x2 - x1;
+        let one_minus_u1 = one_minus_u0 - x1;
+        // b ∓ a = w ∓ a (1 ∓ u₀), without the cancellation of b − a near the vertical
+        let b_plus_a = t.w + t.a * one_plus_u0;
+        let root = if t.bottom_by_product {
+            (t.beta * (one_plus_u0 + x2) * (one_plus_u0 + x3))
+                .sqrt()
+                .copysign(b_plus_a)
+        } else {
+            b_plus_a / gap_bottom.sqrt()
+        };
+        let two_lam = c(2.0) * t.lam;
+        let mut terms = Terms {
+            n_plus: width / one_minus_u1,
+            f_plus: (t.w - t.a * one_minus_u0) / (two_lam * one_minus_u1),
+            gap_top,
+            width,
+            one_minus_u1,
+            gap_bottom,
+            m: t.m,
+            transformed: width.gt(gap_bottom),
+            f_minus: b_plus_a / (two_lam * gap_bottom),
+            x_factor: b_plus_a / two_lam,
+            y_factor: root / two_lam,
+            complete: [c(0.0); 2],
+        };
+        terms.complete = terms.reduced::<R>(c(1.0), c(0.0), t.m1.sqrt());
+        terms
+    }
+
+    /// The terms at `τ = 2pK + v` from `(sn τ, cn τ, dn τ)` and `p` ([`jacobi_reduced`]):
+    /// `2p F±Π(n±|m)` and the terms at `v`.
+    #[inline(always)]
+    fn at<R: RcOnePlus<T>>(&self, sn: T, cn: T, dn: T, p: f64) -> [T; 2] {
+        let par = T::splat(parity(p));
+        let g = self.reduced::<R>(par * sn, par * cn, dn);
+        if p == 0.0 {
+            return g;
+        }
+        let p2 = T::splat(2.0 * p);
+        [g[0] + p2 * self.complete[0], g[1] + p2 * self.complete[1]]
+    }
+
+    /// The terms at `|v| ≤ K` from `s = sn v`, `c = cn v ≥ 0`, `d = dn v`.
+    #[inline(always)]
+    fn reduced<R: RcOnePlus<T>>(&self, s: T, c: T, d: T) -> [T; 2] {
+        let p_plus = (self.gap_top + self.width * c * c) / self.one_minus_u1;
+        let plus = self.f_plus * third_kind_with_p::<T, R>(self.n_plus, s, c, d, p_plus);
+        if !self.transformed {
+            let n_minus = -self.width / self.gap_bottom;
+            let p_minus = (self.gap_bottom + self.width * s * s) / self.gap_bottom;
+            let minus = third_kind_with_p::<T, R>(n_minus, s, c, d, p_minus);
+            return [plus, self.f_minus * minus];
+        }
+        let [x, y] = third_kind_negative::<T, R>(self.width, self.gap_bottom, s, c, d, self.m);
+        [plus, self.x_factor * x + self.y_factor * y]
     }
 }
 
