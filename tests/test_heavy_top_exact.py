@@ -144,6 +144,33 @@ def test_a_top_passing_by_the_upward_vertical_keeps_its_digits(spin, offset):
     assert exact.theta_band[0] < 1e-3
 
 
+@pytest.mark.parametrize("offset", [1e-4, 1e-6])
+def test_the_band_keeps_its_digits_by_the_upward_vertical(offset):
+    """The band's upper edge θ_min (1.2e-6 and 1.2e-8 rad from the vertical here) within 1e-9
+    (relative) of mpmath's `acos u₂` (roots at 50 digits from the same double inputs): it is
+    taken from the gap `1 − u₂` itself (the cubic's value at 1), where `arccos` of `u₂` had
+    kept few digits (7e-5 relative at 1.2e-6 rad)."""
+    import mpmath as mp
+
+    th0, spin = 0.3, 5.0
+    A, C, mgl = TOP.A, TOP.C, TOP.mgl
+    u0, s2 = np.cos(th0), np.sin(th0) ** 2
+    psid = C * spin / A * (1 - u0) / s2 * (1 + offset)
+    thd = -2 * np.sqrt(2 * mgl / A * (1 - u0) + 1.0)
+    angles, rates = [0.0, th0, 0.0], [psid, thd, spin - psid * u0]
+    _, summary = _core.heavy_top_motions(A, C, mgl, [angles], [rates], [0.0])
+    with mp.workdps(50):
+        th, pd, td, fd = (mp.mpf(v) for v in (th0, *rates))
+        u0m, s2m = mp.cos(th), mp.sin(th) ** 2
+        a, beta = mp.mpf(C) * (fd + pd * u0m) / A, 2 * mp.mpf(mgl) / A
+        b, alpha = pd * s2m + a * u0m, beta * u0m + td**2 + pd**2 * s2m
+        cubic = [beta, -(alpha + a * a), 2 * a * b - beta, alpha - b * b]
+        u1, u2, _ = sorted(mp.re(r) for r in mp.polyroots(cubic, maxsteps=400, extraprec=400))
+        theta_min, theta_max = float(mp.acos(u2)), float(mp.acos(u1))
+    assert summary[0, 7] == pytest.approx(theta_min, rel=1e-9)
+    assert summary[0, 8] == pytest.approx(theta_max, rel=1e-13)
+
+
 def test_exact_motion_is_top_motion_field_by_field():
     """A fast top simulated by DOP853 (rtol 1e-13) and by exact-splitting6, and its closed
     form: θ, ψ, φ, Q, ω agree sample by sample; the band and rate agree with the samples'."""

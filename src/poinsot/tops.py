@@ -417,7 +417,8 @@ def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
     motion, summary = core_tops.heavy_top_motions(top.A, top.C, top.mgl, angles, rates, times)
     _refuse_unresolved_phases(times, w, summary)
     out = []
-    for m, (u1, u2, _, period, rate, spin, _) in zip(motion, summary, strict=True):
+    for m, (_, _, _, period, rate, spin, _, theta_min, theta_max) in zip(motion, summary,
+                                                                         strict=True):
         psi, theta, phi = m[:, 0], m[:, 1], m[:, 2]
         angles_t = m[:, :3]
         Q_t = np.einsum("ji,njk,lk->nil", S, matrix_from_euler(angles_t, "ZXZ"), F)
@@ -427,8 +428,7 @@ def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
         out.append(TopMotion(
             t=times, theta=theta, psi=psi,
             singular=np.abs(np.sin(theta)) < EULER_SINGULAR, spin=float(spin),
-            theta_band=(float(np.arctan2(np.sqrt((1 - u2) * (1 + u2)), u2)),
-                        float(np.arctan2(np.sqrt((1 - u1) * (1 + u1)), u1))),
+            theta_band=(float(theta_min), float(theta_max)),
             theta_mean=theta_mean, mean_precession_rate=float(rate),
             gyroscopic_rate=gyroscopic_precession_rate(top.C, top.mgl, spin) if spin else np.inf,
             steady_rates=(steady_precession_rates(top.A, top.C, top.mgl, theta_mean, spin)

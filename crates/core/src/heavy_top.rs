@@ -72,8 +72,8 @@ pub struct TopMotion {
 }
 
 /// The constants and turning points of a motion, as `TopMotion::summary` gives them:
-/// `[u₁, u₂, u₃, nutation period, mean precession rate, ω₃, m]`.
-pub const SUMMARY_SIZE: usize = 7;
+/// `[u₁, u₂, u₃, nutation period, mean precession rate, ω₃, m, θ_min, θ_max]`.
+pub const SUMMARY_SIZE: usize = 9;
 
 impl TopMotion {
     /// The motion of the top `(A, C, M g l)` from the angles `(ψ₀, θ₀, φ₀)` and their rates
@@ -180,8 +180,12 @@ impl TopMotion {
         [psi, theta, phi, psid, thd, self.spin - psid * u]
     }
 
-    /// `[u₁, u₂, u₃, nutation period, mean precession rate, ω₃, m]`: the turning points of
-    /// `cos θ`, the period of θ (infinite without nutation) and ψ's mean rate over it.
+    /// `[u₁, u₂, u₃, nutation period, mean precession rate, ω₃, m, θ_min, θ_max]`: the
+    /// turning points of `cos θ`, the period of θ (infinite without nutation) and ψ's mean rate
+    /// over it, and the band of θ. `θ = atan2(√((1 − u)(1 + u)), u)` at `u₂` and `u₁` from the
+    /// band's gaps to the verticals ([`gaps`]): near a vertical `1 ∓ u` formed from `u` would
+    /// keep few of its digits (a band reaching within 2e-6 rad of the upward vertical had lost
+    /// five).
     pub fn summary(&self) -> [f64; SUMMARY_SIZE] {
         let [x1, x2, x3] = self.x;
         let (period, rate) = if self.steady {
@@ -191,6 +195,19 @@ impl TopMotion {
             let advance = 2.0 * (self.terms.complete[0] + self.terms.complete[1]);
             (period, advance / period)
         };
+        let band = if self.steady {
+            [self.angles0[1]; 2]
+        } else {
+            let [gap_bottom, gap_top] = self.gaps;
+            let width = x2 - x1;
+            let theta = |one_minus_u: f64, one_plus_u: f64, u: f64| {
+                (one_minus_u * one_plus_u).sqrt().atan2(u)
+            };
+            [
+                theta(gap_top, gap_bottom + width, self.u0 + x2),
+                theta(gap_top + width, gap_bottom, self.u0 + x1),
+            ]
+        };
         [
             self.u0 + x1,
             self.u0 + x2,
@@ -199,6 +216,8 @@ impl TopMotion {
             rate,
             self.spin,
             self.m,
+            band[0],
+            band[1],
         ]
     }
 }

@@ -39,8 +39,8 @@ fn symmetric_top_axis(
 /// The heavy symmetric top in closed form (`poinsot_core::heavy_top`), for `N` motions of
 /// one top `(A, C, M g l)`: `angles` (N, 3) the initial z-x-z Euler angles `(ψ₀, θ₀, φ₀)` of
 /// the axis frame relative to the space frame with z up, `rates` (N, 3) their rates, `t`
-/// (n,). Returns `(motion (N, n, 6): [ψ, θ, φ, ψ̇, θ̇, φ̇], summary (N, 7): [u₁, u₂, u₃,
-/// nutation period, mean precession rate, ω₃, m])`. The error names the argument whose
+/// (n,). Returns `(motion (N, n, 6): [ψ, θ, φ, ψ̇, θ̇, φ̇], summary (N, 9): [u₁, u₂, u₃,
+/// nutation period, mean precession rate, ω₃, m, θ_min, θ_max])`. The error names the argument whose
 /// values are not finite or not positive.
 #[pyfunction]
 #[allow(clippy::type_complexity)]
