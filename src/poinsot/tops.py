@@ -417,8 +417,9 @@ def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
     motion, summary = core_tops.heavy_top_motions(top.A, top.C, top.mgl, angles, rates, times)
     _refuse_unresolved_phases(times, w, summary)
     out = []
-    for m, (_, _, _, period, rate, spin, _, theta_min, theta_max) in zip(motion, summary,
-                                                                         strict=True):
+    for m, (_, _, _, period, rate, spin, _, theta_min, theta_max) in zip(
+        motion, summary, strict=True
+    ):
         psi, theta, phi = m[:, 0], m[:, 1], m[:, 2]
         angles_t = m[:, :3]
         Q_t = np.einsum("ji,njk,lk->nil", S, matrix_from_euler(angles_t, "ZXZ"), F)
