@@ -144,6 +144,30 @@ def test_a_top_passing_by_the_upward_vertical_keeps_its_digits(spin, offset):
     assert exact.theta_band[0] < 1e-3
 
 
+@pytest.mark.parametrize(
+    "theta0, thetadot, spin",
+    [(2.583, -26.04530642, 0.0), (0.6219, -91.15, 0.0), (1.0, 30.0, 1e-9), (0.002, 0.0, 0.0),
+     (1.0, 3.0, 0.0)],
+)  # fmt: skip
+def test_a_swing_in_a_vertical_plane(theta0, thetadot, spin):
+    """Without precession or spin the axis swings in a vertical plane: over the top and through
+    both verticals (the first three: the band is all of [−1, 1], ψ steps by π at each), or
+    through the hanging one. Within 5e-12 of DOP853 (rtol 1e-13). The first had been taken for
+    no nutation (the rounding of `f(1) = −(b − a)² = 0` gave `u₃ = 1`), the looping ones had NaN
+    precession rates and angles (`F₊ Π(n₊)` at `n₊ = 1`)."""
+    from poinsot.rotation import body_rates_from_euler
+
+    angles, rates = np.array([0.3, theta0, -0.2]), np.array([0.0, thetadot, spin])
+    w0 = (body_rates_from_euler(angles[None], rates[None]) @ TOP.frame().T)[0]
+    Q0, t = matrix_from_euler(angles), np.linspace(0, 2, 81)
+    exact = exact_motion(TOP, w0, Q0, t)
+    ref = simulate(BODY, (0, 2), omega0=w0, Q0=Q0, pivot=PIVOT, forces=[Gravity()],
+                   method="dop853", rtol=1e-13, atol=1e-15, t_eval=t)  # fmt: skip
+    assert np.isfinite(exact.mean_precession_rate) and np.isfinite(exact.nutation_period)
+    assert np.abs(exact.Q - ref.Q).max() < 5e-12
+    assert np.abs(exact.omega - ref.omega).max() < 5e-12 * max(1.0, abs(thetadot))
+
+
 @pytest.mark.parametrize("offset", [1e-4, 1e-6])
 def test_the_band_keeps_its_digits_by_the_upward_vertical(offset):
     """The band's upper edge θ_min (1.2e-6 and 1.2e-8 rad from the vertical here) within 1e-9

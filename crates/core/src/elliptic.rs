@@ -757,10 +757,16 @@ pub fn third_kind_negative<T: Real, R: RcOnePlus<T>>(p: T, q: T, s: T, c: T, d: 
     let (_, rj) = carlson_rf_rj_from_roots::<T, R>(c, d, k(1.0) + mq_p * s * s);
     let x = m / (k(3.0) * p) * s * s * s * rj;
     let h = (p + (k(1.0) + m) * q + mq_p * q).sqrt();
-    let (yy, xx) = (s * h, c * d * q.sqrt());
-    let r = (xx * xx + yy * yy).sqrt();
-    let angle = k(2.0) * atan(yy / (r + xx));
-    [x, T::select(r.gt(k(0.0)), angle, k(0.0)) / h]
+    [x, atan2_right(s * h, c * d * q.sqrt()) / h]
+}
+
+/// `atan2(y, x)` for `x ≥ 0`, generic over [`Real`]: `2 atan(y/(r + x))`, `r = √(x² + y²)`
+/// (no division by a vanishing `x`), and 0 at `r = 0`.
+#[inline(always)]
+pub fn atan2_right<T: Real>(y: T, x: T) -> T {
+    let k = T::splat;
+    let r = (x * x + y * y).sqrt();
+    T::select(r.gt(k(0.0)), k(2.0) * atan(y / (r + x)), k(0.0))
 }
 
 /// `∫₀^u du' / (1 − n sn²u')  (= Π(n; am u | m))` for `n < 1`, accurate for every u;

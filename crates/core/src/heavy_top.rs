@@ -35,8 +35,9 @@
 
 use crate::dual::Dual;
 use crate::elliptic::{
-    carlson_rj, ellipk_m1, first_kind_from_sn_cn, jacobi_dual, jacobi_reduced, parity,
-    third_kind_negative, third_kind_with_p, Agm, Libm, OnDuals, RcOnePlus,
+    atan2_right, carlson_rf_rj_from_roots, carlson_rj, ellipk_m1, first_kind_from_sn_cn,
+    jacobi_dual, jacobi_reduced, parity, third_kind_negative, third_kind_with_p, Agm, Libm,
+    OnDuals, RcOnePlus,
 };
 use crate::real::Real;
 use crate::so3::{zxz_body_rates, zxz_matrix_sc};
@@ -138,7 +139,7 @@ impl TopMotion {
             x: top.x,
             bounds: [one_minus_u0, one_plus_u0],
             gaps: top.gaps,
-            bottom_by_product: top.gap_by_product[0],
+            by_product: top.gap_by_product,
             w,
             a,
             beta,
@@ -355,7 +356,7 @@ impl TopTangent {
             x,
             bounds,
             gaps,
-            bottom_by_product: top.gap_by_product[0],
+            by_product: top.gap_by_product,
             w,
             a,
             beta,
@@ -479,13 +480,13 @@ impl TopTangent {
 }
 
 /// What [`Terms::new`] takes of a motion: the roots `x` about `u₀`, `(1 − u₀, 1 + u₀)`, the
-/// gaps `(1 + u₁, 1 − u₂)` ([`gaps`]) and whether the first came from the cubic's value at
-/// `−1`, `w = b − a u₀`, `a`, `β`, `λ`, `m` and `m1`.
+/// gaps `(1 + u₁, 1 − u₂)` ([`gaps`]) and whether they came from the cubic's values at `∓1`,
+/// `w = b − a u₀`, `a`, `β`, `λ`, `m` and `m1`.
 struct TermsOf<T> {
     x: [T; 3],
     bounds: [T; 2],
     gaps: [T; 2],
-    bottom_by_product: bool,
+    by_product: [bool; 2],
     w: T,
     a: T,
     beta: T,
@@ -499,8 +500,15 @@ struct TermsOf<T> {
 /// either vertical, on `f64` or on dual numbers ([`TopTangent`]):
 ///
 /// - `n₊ = (u₂ − u₁)/(1 − u₁)` tends to 1 as the band reaches the upward vertical (`1 − u₂ →
-///   0`): `R_J`'s `1 − n₊ sn²` is `(1 − u)/(1 − u₁) = (1 − u₂ + (u₂ − u₁) cn²)/(1 − u₁)`, a sum
-///   of positive numbers ([`third_kind_with_p`]).
+///   0`), where `Π(n₊) ~ (1 − n₊)^−½` and `F₊ → 0` as `(1 − u₂)^½`, `b − a` formed with the
+///   rounding of `w` and `a (1 − u₀)`. Below `n₊ = ½` or where `1 − u₂ ≥ u₃ − 1`, `R_J`'s
+///   `1 − n₊ sn²` is `(1 − u)/(1 − u₁) = (1 − u₂ + (u₂ − u₁) cn²)/(1 − u₁)`, a sum of positive
+///   numbers ([`third_kind_with_p`]). Above, DLMF 19.7.9 pairs `Π(n₊)` with `Π(ν)`, `ν = m/n₊ =
+///   (1 − u₁)/(u₃ − u₁)`: `Π(n₊; φ) = −(ν/3) s³ R_J(c², d², 1, 1 − ν s²) + atan2(s g, c d)/g`,
+///   `g² = (1 − n₊)(n₊ − m)/n₊ = (1 − u₂)(u₃ − 1)/((1 − u₁)(u₃ − u₁))`, with
+///   `1 − ν s² = (u₃ − 1 + (1 − u₁) cn²)/(u₃ − u₁)`; and `F₊/g = ±√(β (u₃ − u₁))/(2λ) = ±1`
+///   where `1 − u₂` came from `f(1) = −(b − a)² = −β (1 − u₁)(1 − u₂)(u₃ − 1)`: finite at
+///   `1 − u₂ = 0` (a swing through the upward vertical, where ψ steps by π).
 /// - `n₋ = −(u₂ − u₁)/(1 + u₁)` tends to −∞ as it reaches the hanging vertical (a top with
 ///   little spin), where `F₋ → ∞` as `1/√(1 + u₁)` and `s R_F + (n/3) s³ R_J` cancels:
 ///   [`third_kind_negative`] with `p = u₂ − u₁`, `q = 1 + u₁`, so `F₋ Π = (b + a)/(2λ) X +
@@ -518,6 +526,14 @@ pub struct Terms<T> {
     one_minus_u1: T,
     gap_bottom: T,
     m: T,
+    /// Whether `n₊ > ½`, where its transformed form is taken: `ν s³ R_J`'s factor
+    /// `−F₊ ν/3 = −(b − a)/(6λ (u₃ − u₁))`, `u₃ − 1`, `u₃ − u₁`, `g` and `F₊/g`.
+    top_transformed: bool,
+    xp_factor: T,
+    u3_minus_1: T,
+    u3_minus_u1: T,
+    g_plus: T,
+    yp_factor: T,
     /// Whether `n₋ < −1`, where the transformed form is taken (above, `s R_F + (n₋/3) s³ R_J`
     /// does not cancel, and `R_J`'s `1 − n₋ sn² = (1 + u)/(1 + u₁)`), and `F₋`.
     transformed: bool,
@@ -539,17 +555,34 @@ impl<T: Real<Mask = bool>> Terms<T> {
         let one_minus_u1 = one_minus_u0 - x1;
         // b ∓ a = w ∓ a (1 ∓ u₀), without the cancellation of b − a near the vertical
         let b_plus_a = t.w + t.a * one_plus_u0;
-        let root = if t.bottom_by_product {
+        let b_minus_a = t.w - t.a * one_minus_u0;
+        let two_lam = c(2.0) * t.lam;
+        let f_plus = b_minus_a / (two_lam * one_minus_u1);
+        let u3_minus_1 = x3 - one_minus_u0;
+        let u3_minus_u1 = x3 - x1;
+        let g_plus = (gap_top * u3_minus_1 / (one_minus_u1 * u3_minus_u1)).sqrt();
+        let yp_factor = if t.by_product[1] {
+            (t.beta * u3_minus_u1).sqrt().copysign(b_minus_a) / two_lam
+        } else {
+            T::select(b_minus_a.equal(c(0.0)), c(0.0), f_plus / g_plus)
+        };
+        let root = if t.by_product[0] {
             (t.beta * (one_plus_u0 + x2) * (one_plus_u0 + x3))
                 .sqrt()
                 .copysign(b_plus_a)
         } else {
             b_plus_a / gap_bottom.sqrt()
         };
-        let two_lam = c(2.0) * t.lam;
         let mut terms = Terms {
             n_plus: width / one_minus_u1,
-            f_plus: (t.w - t.a * one_minus_u0) / (two_lam * one_minus_u1),
+            f_plus,
+            // (not where u₃ → 1 too: there ν → 1, and F₊ = 0 at b = a exactly)
+            top_transformed: gap_top.lt(width) && gap_top.lt(u3_minus_1),
+            xp_factor: -b_minus_a / (c(3.0) * two_lam * u3_minus_u1),
+            u3_minus_1,
+            u3_minus_u1,
+            g_plus,
+            yp_factor,
             gap_top,
             width,
             one_minus_u1,
@@ -561,7 +594,10 @@ impl<T: Real<Mask = bool>> Terms<T> {
             y_factor: root / two_lam,
             complete: [c(0.0); 2],
         };
-        terms.complete = terms.reduced::<R>(c(1.0), c(0.0), t.m1.sqrt());
+        // at v = K: s = 1, c = 0; the upward term's angle is π/2 (its limit as g → 0, where
+        // atan2(g, 0) would be 0 at g = 0: the step of ψ at the upward vertical)
+        let half_pi = c(std::f64::consts::FRAC_PI_2);
+        terms.complete = terms.with_angle::<R>(c(1.0), c(0.0), t.m1.sqrt(), half_pi);
         terms
     }
 
@@ -581,8 +617,20 @@ impl<T: Real<Mask = bool>> Terms<T> {
     /// The terms at `|v| ≤ K` from `s = sn v`, `c = cn v ≥ 0`, `d = dn v`.
     #[inline(always)]
     fn reduced<R: RcOnePlus<T>>(&self, s: T, c: T, d: T) -> [T; 2] {
-        let p_plus = (self.gap_top + self.width * c * c) / self.one_minus_u1;
-        let plus = self.f_plus * third_kind_with_p::<T, R>(self.n_plus, s, c, d, p_plus);
+        self.with_angle::<R>(s, c, d, atan2_right(s * self.g_plus, c * d))
+    }
+
+    /// [`Terms::reduced`] with the upward term's `atan2(s g, c d)` given.
+    #[inline(always)]
+    fn with_angle<R: RcOnePlus<T>>(&self, s: T, c: T, d: T, angle: T) -> [T; 2] {
+        let plus = if self.top_transformed {
+            let p_nu = (self.u3_minus_1 + self.one_minus_u1 * c * c) / self.u3_minus_u1;
+            let (_, rj) = carlson_rf_rj_from_roots::<T, R>(c, d, p_nu);
+            self.xp_factor * s * s * s * rj + self.yp_factor * angle
+        } else {
+            let p_plus = (self.gap_top + self.width * c * c) / self.one_minus_u1;
+            self.f_plus * third_kind_with_p::<T, R>(self.n_plus, s, c, d, p_plus)
+        };
         if !self.transformed {
             let n_minus = -self.width / self.gap_bottom;
             let p_minus = (self.gap_bottom + self.width * s * s) / self.gap_bottom;
@@ -639,7 +687,9 @@ fn cubic_roots(beta: f64, [q0, q1, q2]: [f64; 3], bounds: (f64, f64)) -> [f64; 3
     // x₃ ≥ 1 − u₀: g(1 − u₀) = f(1) = −(b − a)² ≤ 0
     let mut lo = one_minus_u0;
     let mut hi = lo.max(1.0);
-    while g(hi) <= 0.0 && hi < 1e300 {
+    // from beyond `1 − u₀` itself: there `g` is `−(b − a)²`, and at `b = a` its rounding can
+    // be positive (a swing through the upward vertical had taken `u₃ = 1`, the band for none)
+    while (g(hi) <= 0.0 || hi <= one_minus_u0) && hi < 1e300 {
         lo = hi;
         hi *= 2.0;
     }
