@@ -147,14 +147,16 @@ def test_a_top_passing_by_the_upward_vertical_keeps_its_digits(spin, offset):
 @pytest.mark.parametrize(
     "theta0, thetadot, spin",
     [(2.583, -26.04530642, 0.0), (0.6219, -91.15, 0.0), (1.0, 30.0, 1e-9), (0.002, 0.0, 0.0),
-     (1.0, 3.0, 0.0)],
+     (1.0, 3.0, 0.0), (1.55, -7.22155097, -1.98e-4)],
 )  # fmt: skip
 def test_a_swing_in_a_vertical_plane(theta0, thetadot, spin):
     """Without precession or spin the axis swings in a vertical plane: over the top and through
     both verticals (the first three: the band is all of [−1, 1], ψ steps by π at each), or
     through the hanging one. Within 5e-12 of DOP853 (rtol 1e-13). The first had been taken for
     no nutation (the rounding of `f(1) = −(b − a)² = 0` gave `u₃ = 1`), the looping ones had NaN
-    precession rates and angles (`F₊ Π(n₊)` at `n₊ = 1`)."""
+    precession rates and angles (`F₊ Π(n₊)` at `n₊ = 1`). The last passes within 8e-6 rad of
+    the upward vertical and 3e-6 of the hanging one: ψ's step there had taken the rounding of
+    `1 − u₂` (formed as a difference), 4e-6 rad, 7e-6 in Q."""
     from poinsot.rotation import body_rates_from_euler
 
     angles, rates = np.array([0.3, theta0, -0.2]), np.array([0.0, thetadot, spin])
@@ -166,6 +168,33 @@ def test_a_swing_in_a_vertical_plane(theta0, thetadot, spin):
     assert np.isfinite(exact.mean_precession_rate) and np.isfinite(exact.nutation_period)
     assert np.abs(exact.Q - ref.Q).max() < 5e-12
     assert np.abs(exact.omega - ref.omega).max() < 5e-12 * max(1.0, abs(thetadot))
+
+
+@pytest.mark.parametrize(
+    "theta0, rates",
+    [(1.611, [3.12357268e-08, 6.08246667, -4.18428012e-04]),
+     (3.088, [0.0, -8.43085224, 3.82955724e-05]),
+     (0.799, [3.17499745e-10, 3.28015873, 2.07041846e-09])],
+)  # fmt: skip
+def test_near_its_separatrix_the_period_keeps_its_digits(theta0, rates):
+    """Thrown almost hard enough to swing over the top (m1 = 3e-5, 6e-6, 2e-5), the upper roots
+    u₂, u₃ of (T1) nearly meet: their separation is found about u = 1 (`upper_pair`), where
+    Newton about u₀ had kept few digits of it (period 4e-9 and 5e-7 off). The nutation period
+    2K(m)/λ within 1e-11 of mpmath's from the cubic's roots at 60 digits, from the same double
+    inputs."""
+    import mpmath as mp
+
+    A, C, mgl = TOP.A, TOP.C, TOP.mgl
+    _, summary = _core.heavy_top_motions(A, C, mgl, [[0.0, theta0, 0.0]], [rates], [0.0])
+    with mp.workdps(60):
+        th, pd, td, fd = (mp.mpf(v) for v in (theta0, *rates))
+        u0, s2 = mp.cos(th), mp.sin(th) ** 2
+        a, beta = mp.mpf(C) * (fd + pd * u0) / A, 2 * mp.mpf(mgl) / A
+        b, alpha = pd * s2 + a * u0, beta * u0 + td**2 + pd**2 * s2
+        cubic = [beta, -(alpha + a * a), 2 * a * b - beta, alpha - b * b]
+        u1, u2, u3 = sorted(mp.re(r) for r in mp.polyroots(cubic, maxsteps=800, extraprec=800))
+        period = 2 * mp.ellipk((u2 - u1) / (u3 - u1)) / (mp.sqrt(beta * (u3 - u1)) / 2)
+    assert summary[0, 3] == pytest.approx(float(period), rel=1e-11)
 
 
 @pytest.mark.parametrize("offset", [1e-4, 1e-6])

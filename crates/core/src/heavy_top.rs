@@ -67,6 +67,8 @@ pub struct TopMotion {
     /// come from the cubic's values at `∓1` (`gap_by_product`).
     pub gaps: [f64; 2],
     pub gap_by_product: [bool; 2],
+    /// `u₃ − 1` ([`upper_pair`] where the band's top nears `u₃`).
+    pub u3_minus_1: f64,
     /// No nutation: θ constant, ψ̇ and φ̇ constant (`rates`).
     pub steady: bool,
     pub rates: [f64; 2],
@@ -118,15 +120,7 @@ impl TopMotion {
             top.lam = 0.5 * (beta * (x3 - x1)).sqrt();
             return top;
         }
-        top.m = width / (x3 - x1);
-        top.m1 = (x3 - x2) / (x3 - x1);
-        top.lam = 0.5 * (beta * (x3 - x1)).sqrt();
-        top.quarter = ellipk_m1(top.m1);
-        // sn²τ₀ = −x₁/(x₂ − x₁), cn²τ₀ = x₂/(x₂ − x₁), sn τ₀ of the sign of u̇₀ = −θ̇₀ sin θ₀
-        let sn0 = (-x1 / width).sqrt().copysign(-thd * s);
-        let cn0 = (x2 / width).sqrt();
-        top.tau0 = first_kind_from_sn_cn(sn0, cn0, top.m, top.m1);
-        top.gap_by_product = gap_by_product((one_minus_u0, one_plus_u0), top.x);
+        top.gap_by_product = gap_by_product((one_minus_u0, one_plus_u0), top.x, w, a);
         top.gaps = gaps(
             top.gap_by_product,
             [one_minus_u0, one_plus_u0],
@@ -135,11 +129,31 @@ impl TopMotion {
             a,
             beta,
         );
+        let mut upper = x3 - x2;
+        top.u3_minus_1 = x3 - one_minus_u0;
+        if upper < 0.5 * one_minus_u0 {
+            let one_minus_u1 = one_minus_u0 - x1;
+            let [y, z] = upper_pair(beta, e, a, w, one_minus_u0, one_minus_u1, top.gaps[0]);
+            top.x = [x1, one_minus_u0 - z, one_minus_u0 + y];
+            top.gaps[1] = z;
+            top.u3_minus_1 = y;
+            upper = y + z;
+        }
+        let [x1, x2, x3] = top.x;
+        let width = x2 - x1;
+        top.m = width / (x3 - x1);
+        top.m1 = upper / (x3 - x1);
+        top.lam = 0.5 * (beta * (x3 - x1)).sqrt();
+        top.quarter = ellipk_m1(top.m1);
+        // sn²τ₀ = −x₁/(x₂ − x₁), cn²τ₀ = x₂/(x₂ − x₁), sn τ₀ of the sign of u̇₀ = −θ̇₀ sin θ₀
+        let sn0 = (-x1 / width).sqrt().copysign(-thd * s);
+        let cn0 = (x2 / width).sqrt();
+        top.tau0 = first_kind_from_sn_cn(sn0, cn0, top.m, top.m1);
         top.terms = Terms::new::<Libm>(TermsOf {
             x: top.x,
             bounds: [one_minus_u0, one_plus_u0],
             gaps: top.gaps,
-            by_product: top.gap_by_product,
+            u3_minus_1: top.u3_minus_1,
             w,
             a,
             beta,
@@ -350,13 +364,16 @@ impl TopTangent {
             }
             Dual::new(top.tau0, d)
         };
-        let gaps = gaps(top.gap_by_product, bounds, x, w, a, beta);
+        let mut gaps = gaps(top.gap_by_product, bounds, x, w, a, beta);
+        // the values TopMotion::new refined ([`upper_pair`]), with these derivatives
+        gaps[1] = Dual::new(top.gaps[1], gaps[1].d);
+        let u3_minus_1 = Dual::new(top.u3_minus_1, (x3 - bounds[0]).d);
         let m1 = Dual::new(top.m1, m.d.map(|d| -d));
         let terms = Terms::new::<OnDuals>(TermsOf {
             x,
             bounds,
             gaps,
-            by_product: top.gap_by_product,
+            u3_minus_1,
             w,
             a,
             beta,
@@ -480,13 +497,12 @@ impl TopTangent {
 }
 
 /// What [`Terms::new`] takes of a motion: the roots `x` about `u₀`, `(1 − u₀, 1 + u₀)`, the
-/// gaps `(1 + u₁, 1 − u₂)` ([`gaps`]) and whether they came from the cubic's values at `∓1`,
-/// `w = b − a u₀`, `a`, `β`, `λ`, `m` and `m1`.
+/// gaps `(1 + u₁, 1 − u₂)` ([`gaps`]), `w = b − a u₀`, `a`, `β`, `λ`, `m` and `m1`.
 struct TermsOf<T> {
     x: [T; 3],
     bounds: [T; 2],
     gaps: [T; 2],
-    by_product: [bool; 2],
+    u3_minus_1: T,
     w: T,
     a: T,
     beta: T,
@@ -507,14 +523,14 @@ struct TermsOf<T> {
 ///   (1 − u₁)/(u₃ − u₁)`: `Π(n₊; φ) = −(ν/3) s³ R_J(c², d², 1, 1 − ν s²) + atan2(s g, c d)/g`,
 ///   `g² = (1 − n₊)(n₊ − m)/n₊ = (1 − u₂)(u₃ − 1)/((1 − u₁)(u₃ − u₁))`, with
 ///   `1 − ν s² = (u₃ − 1 + (1 − u₁) cn²)/(u₃ − u₁)`; and `F₊/g = ±√(β (u₃ − u₁))/(2λ) = ±1`
-///   where `1 − u₂` came from `f(1) = −(b − a)² = −β (1 − u₁)(1 − u₂)(u₃ − 1)`: finite at
-///   `1 − u₂ = 0` (a swing through the upward vertical, where ψ steps by π).
+///   by `f(1) = −(b − a)² = −β (1 − u₁)(1 − u₂)(u₃ − 1)`: finite at `1 − u₂ = 0` (a swing
+///   through the upward vertical, where ψ steps by π), and free of the rounding of `b − a`.
 /// - `n₋ = −(u₂ − u₁)/(1 + u₁)` tends to −∞ as it reaches the hanging vertical (a top with
 ///   little spin), where `F₋ → ∞` as `1/√(1 + u₁)` and `s R_F + (n/3) s³ R_J` cancels:
 ///   [`third_kind_negative`] with `p = u₂ − u₁`, `q = 1 + u₁`, so `F₋ Π = (b + a)/(2λ) X +
-///   (b + a)/(2λ √q) Y`, and `(b + a)/√q = ±√(β (1 + u₂)(1 + u₃))` where `q` came from
-///   `f(−1) = −(b + a)² = −β q (1 + u₂)(1 + u₃)` ([`gaps`]): finite even at `q = 0` (no spin,
-///   the axis through the vertical, where ψ steps by π).
+///   (b + a)/(2λ √q) Y`, and `(b + a)/√q = ±√(β (1 + u₂)(1 + u₃))` by
+///   `f(−1) = −(b + a)² = −β q (1 + u₂)(1 + u₃)`: finite even at `q = 0` (no spin, the axis
+///   through the vertical, where ψ steps by π).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Terms<T> {
     /// `n₊`, `F₊`.
@@ -558,21 +574,15 @@ impl<T: Real<Mask = bool>> Terms<T> {
         let b_minus_a = t.w - t.a * one_minus_u0;
         let two_lam = c(2.0) * t.lam;
         let f_plus = b_minus_a / (two_lam * one_minus_u1);
-        let u3_minus_1 = x3 - one_minus_u0;
+        let u3_minus_1 = t.u3_minus_1;
         let u3_minus_u1 = x3 - x1;
         let g_plus = (gap_top * u3_minus_1 / (one_minus_u1 * u3_minus_u1)).sqrt();
-        let yp_factor = if t.by_product[1] {
-            (t.beta * u3_minus_u1).sqrt().copysign(b_minus_a) / two_lam
-        } else {
-            T::select(b_minus_a.equal(c(0.0)), c(0.0), f_plus / g_plus)
-        };
-        let root = if t.by_product[0] {
-            (t.beta * (one_plus_u0 + x2) * (one_plus_u0 + x3))
-                .sqrt()
-                .copysign(b_plus_a)
-        } else {
-            b_plus_a / gap_bottom.sqrt()
-        };
+        // F₊/g and F₋√q by the cubic's factored values at ±1, exact whichever way the gaps
+        // were found, and free of the rounding of b ∓ a but for its sign
+        let yp_factor = (t.beta * u3_minus_u1).sqrt().copysign(b_minus_a) / two_lam;
+        let root = (t.beta * (one_plus_u0 + x2) * (one_plus_u0 + x3))
+            .sqrt()
+            .copysign(b_plus_a);
         let mut terms = Terms {
             n_plus: width / one_minus_u1,
             f_plus,
@@ -643,13 +653,74 @@ impl<T: Real<Mask = bool>> Terms<T> {
 }
 
 /// Whether the band's gaps to the vertical, `1 + u₁` and `1 − u₂`, are better found from the
-/// cubic's values at `∓1` ([`gaps`]) than as `(1 + u₀) + x₁` and `(1 − u₀) − x₂`: when that
-/// sum cancels (the band reaches near a vertical), and, for `1 − u₂`, `u₃ − 1` does not.
-fn gap_by_product((one_minus_u0, one_plus_u0): (f64, f64), [x1, x2, x3]: [f64; 3]) -> [bool; 2] {
+/// cubic's values at `∓1` ([`gaps`]) than as `(1 + u₀) + x₁` and `(1 − u₀) − x₂`: whichever
+/// rounds less, relative to the gap. The sum loses `(1 ∓ u₀)/gap` where it cancels (the band
+/// reaching near a vertical); the product carries the rounding of `(b ∓ a)² = (w ∓ a (1 ∓
+/// u₀))²`, `2 (|w| + |a| (1 ∓ u₀))/|b ∓ a|`, and for `1 − u₂` that of `u₃ − 1 = x₃ − (1 − u₀)`,
+/// `x₃/(u₃ − 1)`; its other factors are sums of positive numbers. (Only a swing that reaches a
+/// vertical makes `b ∓ a` exactly 0: the gap is then 0.)
+fn gap_by_product(
+    (one_minus_u0, one_plus_u0): (f64, f64),
+    [x1, x2, x3]: [f64; 3],
+    w: f64,
+    a: f64,
+) -> [bool; 2] {
+    let cancel = |gap: f64, bound: f64| {
+        if gap > 0.0 {
+            bound / gap
+        } else {
+            f64::INFINITY
+        }
+    };
+    let square = |b: f64, bound: f64| {
+        let b_a = w + b * a * bound;
+        if b_a == 0.0 {
+            0.0
+        } else {
+            2.0 * (w.abs() + a.abs() * bound) / b_a.abs()
+        }
+    };
+    let u3_minus_1 = x3 - one_minus_u0;
+    let top = if u3_minus_1 > 0.0 {
+        square(-1.0, one_minus_u0) + x3 / u3_minus_1
+    } else {
+        f64::INFINITY
+    };
     [
-        one_plus_u0 + x1 < 0.5 * one_plus_u0,
-        one_minus_u0 - x2 < 0.5 * one_minus_u0 && x3 - one_minus_u0 > one_minus_u0,
+        square(1.0, one_plus_u0) < cancel(one_plus_u0 + x1, one_plus_u0),
+        top < cancel(one_minus_u0 - x2, one_minus_u0),
     ]
+}
+
+/// `[u₃ − 1, 1 − u₂]`, the upper pair of roots of (T1) about `u = 1`, where the top of the band
+/// nears `u₃` (the motion near its separatrix: an upright top below the sleeping threshold,
+/// a pendulum about to swing over the top), and `x₃ − x₂` found about `u₀` would keep few
+/// digits (Newton's accuracy at a near-double root: 1e-5 relative in `m1 = 6e-6`). About 1
+/// the cubic is `f(1 + v) = β v³ + (2β − E − a²) v² + 2(a D − E) v − D²`, `E = α − β`,
+/// `D = b − a`; deflated by its root `v₁ = u₁ − 1`, its small roots `y = u₃ − 1 ≥ 0` and
+/// `−z = u₂ − 1 ≤ 0` have `y − z = (E + a²)/β − (1 + u₁)` and `y z = D²/(β (1 − u₁))`, each
+/// from the initial state as directly as the motion allows (`E = θ̇₀² + ψ̇₀² sin²θ₀ − β (1 −
+/// u₀)`), and `y + z = √((y − z)² + 4 y z)` without cancellation.
+fn upper_pair(
+    beta: f64,
+    e: f64,
+    a: f64,
+    w: f64,
+    one_minus_u0: f64,
+    one_minus_u1: f64,
+    one_plus_u1: f64,
+) -> [f64; 2] {
+    let d = w - a * one_minus_u0;
+    let diff = (e + a * a) / beta - (one_minus_u0 + one_plus_u1);
+    let prod = d * d / (beta * one_minus_u1);
+    let r = (diff * diff + 4.0 * prod).sqrt();
+    if diff >= 0.0 {
+        let y = 0.5 * (diff + r);
+        [y, if y > 0.0 { prod / y } else { 0.0 }]
+    } else {
+        let z = 0.5 * (r - diff);
+        [prod / z, z]
+    }
 }
 
 /// `1 + u₁` and `1 − u₂`, the gaps of the nutation band to the two verticals. Where
