@@ -170,6 +170,21 @@ def test_a_swing_in_a_vertical_plane(theta0, thetadot, spin):
     assert np.abs(exact.omega - ref.omega).max() < 5e-12 * max(1.0, abs(thetadot))
 
 
+def _roots_at_digits(theta0, rates):
+    """The roots `u₁ ≤ u₂ ≤ u₃` of (T1) and `β`, at mpmath's working precision, from the double
+    inputs θ₀ and `(ψ̇₀, θ̇₀, φ̇₀)` of `TOP` (Goldstein §5.7)."""
+    import mpmath as mp
+
+    A, C, mgl = (mp.mpf(v) for v in (TOP.A, TOP.C, TOP.mgl))
+    th, pd, td, fd = (mp.mpf(v) for v in (theta0, *rates))
+    u0, s2 = mp.cos(th), mp.sin(th) ** 2
+    a, beta = C * (fd + pd * u0) / A, 2 * mgl / A
+    b, alpha = pd * s2 + a * u0, beta * u0 + td**2 + pd**2 * s2
+    cubic = [beta, -(alpha + a * a), 2 * a * b - beta, alpha - b * b]
+    roots = sorted(mp.re(r) for r in mp.polyroots(cubic, maxsteps=800, extraprec=800))
+    return roots, beta
+
+
 @pytest.mark.parametrize(
     "theta0, rates",
     [(1.611, [3.12357268e-08, 6.08246667, -4.18428012e-04]),
@@ -187,12 +202,7 @@ def test_near_its_separatrix_the_period_keeps_its_digits(theta0, rates):
     A, C, mgl = TOP.A, TOP.C, TOP.mgl
     _, summary = _core.heavy_top_motions(A, C, mgl, [[0.0, theta0, 0.0]], [rates], [0.0])
     with mp.workdps(60):
-        th, pd, td, fd = (mp.mpf(v) for v in (theta0, *rates))
-        u0, s2 = mp.cos(th), mp.sin(th) ** 2
-        a, beta = mp.mpf(C) * (fd + pd * u0) / A, 2 * mp.mpf(mgl) / A
-        b, alpha = pd * s2 + a * u0, beta * u0 + td**2 + pd**2 * s2
-        cubic = [beta, -(alpha + a * a), 2 * a * b - beta, alpha - b * b]
-        u1, u2, u3 = sorted(mp.re(r) for r in mp.polyroots(cubic, maxsteps=800, extraprec=800))
+        (u1, u2, u3), beta = _roots_at_digits(theta0, rates)
         period = 2 * mp.ellipk((u2 - u1) / (u3 - u1)) / (mp.sqrt(beta * (u3 - u1)) / 2)
     assert summary[0, 3] == pytest.approx(float(period), rel=1e-11)
 
@@ -213,12 +223,7 @@ def test_the_band_keeps_its_digits_by_the_upward_vertical(offset):
     angles, rates = [0.0, th0, 0.0], [psid, thd, spin - psid * u0]
     _, summary = _core.heavy_top_motions(A, C, mgl, [angles], [rates], [0.0])
     with mp.workdps(50):
-        th, pd, td, fd = (mp.mpf(v) for v in (th0, *rates))
-        u0m, s2m = mp.cos(th), mp.sin(th) ** 2
-        a, beta = mp.mpf(C) * (fd + pd * u0m) / A, 2 * mp.mpf(mgl) / A
-        b, alpha = pd * s2m + a * u0m, beta * u0m + td**2 + pd**2 * s2m
-        cubic = [beta, -(alpha + a * a), 2 * a * b - beta, alpha - b * b]
-        u1, u2, _ = sorted(mp.re(r) for r in mp.polyroots(cubic, maxsteps=400, extraprec=400))
+        (u1, u2, _), _ = _roots_at_digits(th0, rates)
         theta_min, theta_max = float(mp.acos(u2)), float(mp.acos(u1))
     assert summary[0, 7] == pytest.approx(theta_min, rel=1e-9)
     assert summary[0, 8] == pytest.approx(theta_max, rel=1e-13)
