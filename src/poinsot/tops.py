@@ -386,7 +386,9 @@ def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
     as ``u₁ + (u₂ − u₁) sn²(τ | m)``; ψ and φ are elliptic integrals of the third kind
     (``docs/theory.md`` §6, eqs (T1)–(T3); Goldstein §5.7, Whittaker §71). Every regime is the
     same formula: nutation between two angles, cusps (a top released from rest), steady
-    precession and the sleeping top (no nutation: θ constant, ψ and φ uniform). Vectorised:
+    precession and the sleeping top (no nutation: θ constant, ψ and φ uniform), and swings
+    through a vertical (no spin; a top thrown over the top), where ψ steps by π and the
+    attitude and ω stay continuous (``docs/theory.md`` §6, (T5)–(T6)). Vectorised:
     ``omega0`` (N, 3) and ``Q0`` (N, 3, 3) give a list of N motions, from one call of the core.
 
     Examples
