@@ -542,8 +542,9 @@ pub struct Terms<T> {
     one_minus_u1: T,
     gap_bottom: T,
     m: T,
-    /// Whether `n₊ > ½`, where its transformed form is taken: `ν s³ R_J`'s factor
-    /// `−F₊ ν/3 = −(b − a)/(6λ (u₃ − u₁))`, `u₃ − 1`, `u₃ − u₁`, `g` and `F₊/g`.
+    /// Whether `n₊ > ½` and `1 − u₂ < u₃ − 1`, where its transformed form is taken; then
+    /// `ν s³ R_J`'s factor `−F₊ ν/3 = −(b − a)/(6λ (u₃ − u₁))`, `u₃ − 1`, `u₃ − u₁`, `g` and
+    /// `F₊/g`.
     top_transformed: bool,
     xp_factor: T,
     u3_minus_1: T,
@@ -552,7 +553,7 @@ pub struct Terms<T> {
     yp_factor: T,
     /// Whether `n₋ < −1`, where the transformed form is taken (above, `s R_F + (n₋/3) s³ R_J`
     /// does not cancel, and `R_J`'s `1 − n₋ sn² = (1 + u)/(1 + u₁)`), and `F₋`.
-    transformed: bool,
+    bottom_transformed: bool,
     f_minus: T,
     /// `(b + a)/(2λ)` and `(b + a)/(2λ √(1 + u₁))`: the factors of `X` and `Y`.
     x_factor: T,
@@ -598,7 +599,7 @@ impl<T: Real<Mask = bool>> Terms<T> {
             one_minus_u1,
             gap_bottom,
             m: t.m,
-            transformed: width.gt(gap_bottom),
+            bottom_transformed: width.gt(gap_bottom),
             f_minus: b_plus_a / (two_lam * gap_bottom),
             x_factor: b_plus_a / two_lam,
             y_factor: root / two_lam,
@@ -641,7 +642,7 @@ impl<T: Real<Mask = bool>> Terms<T> {
             let p_plus = (self.gap_top + self.width * c * c) / self.one_minus_u1;
             self.f_plus * third_kind_with_p::<T, R>(self.n_plus, s, c, d, p_plus)
         };
-        if !self.transformed {
+        if !self.bottom_transformed {
             let n_minus = -self.width / self.gap_bottom;
             let p_minus = (self.gap_bottom + self.width * s * s) / self.gap_bottom;
             let minus = third_kind_with_p::<T, R>(n_minus, s, c, d, p_minus);
