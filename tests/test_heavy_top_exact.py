@@ -354,6 +354,11 @@ def test_no_times_give_empty_results_and_unresolved_times_are_refused():
     assert empty.nutation_period == pytest.approx(0.433236, rel=1e-6)
     with pytest.raises(ValueError, match="`t` reaches 1e\\+16 s"):
         exact_motion(TOP, (0.0, 0.0, 100.0), Q0, [0.0, 1e16])
+    # and so are its derivatives' (they had given numbers at t = 1e14, a phase of 6e15 rad)
+    from poinsot.tops import exact_derivatives
+
+    with pytest.raises(ValueError, match=r"`t` reaches 1e\+14 s.*beyond 2⁵² rad"):
+        exact_derivatives(TOP, (0.1, 0.0, 100.0), Q0, [0.0, 1e14])
 
 
 def test_a_top_built_by_hand_is_checked():

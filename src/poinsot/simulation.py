@@ -213,7 +213,17 @@ class PreparedRun:
             traj.sensitivities = sens
             return traj
 
-        return solve(aug, y0, self.settings, trajectory=trajectory, progress=progress)
+        try:
+            return solve(aug, y0, self.settings, trajectory=trajectory, progress=progress)
+        except SimulationError as exc:
+            if self.settings.solver.kind != "exact-splitting" or "sensitivities" not in str(exc):
+                raise
+            raise SimulationError(
+                f"{exc}: an exact-flow splitting differentiates each free flow's closed form, "
+                "which has no derivative on the separatrix (the motion through the unstable "
+                "intermediate axis); use 'rkmk4', 'rk4' or 'dop853' for this start",
+                exc.trajectory,
+            ) from None
 
 
 def simulate(

@@ -341,7 +341,7 @@ def _check_top(top) -> HeavyTop:
     return top
 
 
-def _refuse_unresolved_phases(times, w, summary) -> None:
+def _refuse_unresolved_phases(times, w, periods_and_rates) -> None:
     """Refuse times at which double precision no longer resolves the motion's phases (the
     nutation's ``2π t/T``, the spin's and the precession's, bounded by ``(|ω₀| + |Ω|) |t|``):
     beyond :data:`~poinsot.torquefree.solution.MAX_PHASE` radians, as the torque-free closed
@@ -351,8 +351,7 @@ def _refuse_unresolved_phases(times, w, summary) -> None:
     if not len(times):
         return
     span = float(np.abs(times).max())
-    for k, (row, wk) in enumerate(zip(summary, w, strict=True)):
-        period, rate = row[3], row[4]
+    for k, ((period, rate), wk) in enumerate(zip(periods_and_rates, w, strict=True)):
         frequency = max(2 * np.pi / period if np.isfinite(period) else 0.0,
                         float(np.linalg.norm(wk)) + abs(rate))  # fmt: skip
         if frequency * span > MAX_PHASE:
@@ -417,7 +416,7 @@ def exact_motion(top: HeavyTop, omega0, Q0, t) -> TopMotion | list[TopMotion]:
     F, S = top.frame(), top.space()
     angles, rates = _initial_angles(top, w, Q)
     motion, summary = core_tops.heavy_top_motions(top.A, top.C, top.mgl, angles, rates, times)
-    _refuse_unresolved_phases(times, w, summary)
+    _refuse_unresolved_phases(times, w, [(row[3], row[4]) for row in summary])
     out = []
     for m, (_, _, _, period, rate, spin, _, theta_min, theta_max) in zip(
         motion, summary, strict=True
@@ -549,6 +548,8 @@ def exact_derivatives(top: HeavyTop, omega0, Q0, t) -> TopDerivatives:
     motion, d, summary, ds, R, dR, w_axis, dw_axis = core_tops.heavy_top_derivatives(
         top.A, top.C, top.mgl, angles[0], rates[0], times
     )
+    # as exact_motion refuses them (it had returned numbers at t = 1e14, the phase 6e15 rad)
+    _refuse_unresolved_phases(times, w[None], [(summary[2], summary[3])])
     F, S = top.frame(), top.space()  # body ← axis frame, and the space axes (rows)
     # the rates are linear in ω: their Jacobian is their value at the unit vectors
     _, J = _initial_angles(top, np.eye(3), np.repeat(Q[None], 3, axis=0))

@@ -144,6 +144,17 @@ CASES = [
     ("1e-6 above the separatrix", (1.0, 2.0, 3.0), near_separatrix((1.0, 2.0, 3.0), 1e-6, 1), 9.0),
     ("1e-6 below the separatrix", (1.0, 2.0, 3.0), near_separatrix((1.0, 2.0, 3.0), 1e-6, -1),
      9.0),
+    # u0 in its second half period (cn u0 < 0): the 2n ∂K/∂m of u0 and u had cancelled, to
+    # 1.5e-10 at 1e-6 from the separatrix
+    ("1e-6 above the separatrix, cn u0 < 0", (1.0, 2.0, 3.0),
+     np.array(near_separatrix((1.0, 2.0, 3.0), 1e-6, 1)) * (-1, 1, 1), 4.0),
+    # 1e-3 from the intermediate axis (1e-6 from the separatrix): 1 − m sn² by subtraction
+    # had cost ε/|ω⊥|² (4e-9 at 1e-4, 5e-6 at 1e-6; below, closer still)
+    ("near the intermediate axis", (1.0, 2.0, 3.0), (1e-3, 1.0, 1e-3), 2.0),
+    # I2 − I1 rounds where I1 < I2/2: the separatrix distance now carries it exactly (the
+    # period had been 2e-12 off at 1e-6, its gradient 4e-11)
+    ("a light axis, near the separatrix", (0.3, 1.0, 1.2),
+     near_separatrix((0.3, 1.0, 1.2), 1e-6, 1), 3.0),
 ]  # fmt: skip
 
 
@@ -184,6 +195,21 @@ def test_derivatives_of_the_closed_form_equal_mpmaths(name, I, w0, t):
     size = max(1.0, np.abs(got).max())
     np.testing.assert_allclose(d.d_attitude_d_omega0[0], 0.0, atol=1e-14 * size)
     np.testing.assert_allclose(d.d_attitude_d_moments[0], 0.0, atol=1e-14 * size)
+
+
+def test_a_millionth_from_the_intermediate_axis():
+    # 1e-12 from the separatrix, beyond the 1e-6 promised: ω's derivatives and the period's
+    # stay at round-off (they had been 5e-6 and 6e-11 off: 1 − m sn² by subtraction, and m's
+    # derivatives from a ratio within m1 of 1). The attitude's lose ε/√m1: where u crosses K
+    # (the saddle) within the run, 2Π(n|m) and G(v) − G(v0), whose derivatives grow as
+    # 1/√m1, cancel (2.7e-10 here)
+    I, w0, t = (1.0, 2.0, 3.0), (-1e-6, 1.0, 1e-6), 2.0
+    d = FreeRigidBody(I).exact_derivatives(w0, [0.0, t], Q0=Q0)
+    D, dP, _, DQ = reference(I, w0, t, Q0)
+    assert relative(np.hstack([d.d_omega_d_moments[-1], d.d_omega_d_omega0[-1]]), D) <= 1e-14
+    assert relative(np.r_[d.d_period_d_moments, d.d_period_d_omega0], dP) <= 1e-14
+    got = np.concatenate([d.d_attitude_d_moments[-1], d.d_attitude_d_omega0[-1]], axis=-1)
+    assert relative(got, DQ) <= 1e-9
 
 
 @pytest.mark.parametrize("case", [CASES[0], CASES[1]], ids=["around e3", "around e1"])

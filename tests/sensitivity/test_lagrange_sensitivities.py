@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from poinsot.lagrange.engine import compile_system, compile_tangent
-from poinsot.models import pendulum_on_cart, rolling_disk, sliding_ladder
+from poinsot.models import pendulum_cartesian, pendulum_on_cart, rolling_disk, sliding_ladder
 
 MODELS = {
     "pendulum-on-cart": (pendulum_on_cart, 1.5, {}),
@@ -187,6 +187,17 @@ def test_what_a_run_cannot_differentiate_is_refused_and_named(kwargs, message):
     mdl = sliding_ladder()
     with pytest.raises((ValueError, TypeError), match=message):
         mdl.simulate((0, 0.3), method="rk4", dt=1e-3, **kwargs)
+
+
+def test_a_column_the_constraints_hold_still_is_named_by_its_label():
+    # the Cartesian pendulum's default start gives x, y and both velocities: moving q0[x]
+    # alone leaves x² + y² = l² broken (the message had named "direction 0")
+    mdl = pendulum_cartesian()
+    with pytest.raises(ValueError, match=r"the column 'q0\[x\]': the constraints do not let "
+                                         r"it move alone .* give fewer coordinates"):  # fmt: skip
+        mdl.simulate((0, 0.1), method="rk4", dt=1e-3, sensitivities="q0")
+    with pytest.raises(ValueError, match=r"the column 'params\[l\]'"):
+        mdl.simulate((0, 0.1), method="rk4", dt=1e-3, sensitivities="params")
 
 
 def test_a_run_through_a_release_is_refused():

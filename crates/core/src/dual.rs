@@ -219,6 +219,11 @@ impl<const P: usize, const F: bool> Real for Dual<P, F> {
     fn unequal(self, o: Self) -> bool {
         self.v != o.v
     }
+    /// Zero with zero derivatives.
+    #[inline(always)]
+    fn vanishes(self) -> bool {
+        self.v == 0.0 && self.d.iter().all(|x| *x == 0.0)
+    }
     #[inline(always)]
     fn select(m: bool, a: Self, b: Self) -> Self {
         if m {

@@ -809,9 +809,15 @@ pub fn third_kind_u(n: f64, u: f64, m: f64, m1: f64, k: f64) -> f64 {
 /// |φ| ≤ π/2, and `F(φ + nπ) = F(φ) + 2nK`): Carlson's form, with no cancellation as
 /// `m → 0` or `m → 1`.
 pub fn first_kind_dm(sn: f64, cn: f64, dn: f64, n: f64, k_m: f64) -> f64 {
+    first_kind_dm_reduced(sn, cn, dn, n) + 2.0 * n * k_m
+}
+
+/// [`first_kind_dm`] less its `2n ∂K/∂m`: `(−1)^n (sn³/6) R_D(cn², 1, dn²)`, the derivative
+/// within the half period `n`.
+pub fn first_kind_dm_reduced(sn: f64, cn: f64, dn: f64, n: f64) -> f64 {
     let sign = if n.rem_euclid(2.0) == 0.0 { 1.0 } else { -1.0 };
     let (c2, d2) = (cn * cn, dn * dn);
-    sign * sn * sn * sn / 6.0 * carlson_rj(c2, 1.0, d2, d2) + 2.0 * n * k_m
+    sign * sn * sn * sn / 6.0 * carlson_rj(c2, 1.0, d2, d2)
 }
 
 /// `(sn u, cn u, dn u)` of a dual `u` and parameter `m` (`m1 = 1 − m`, `k = K(m)`,
@@ -819,7 +825,13 @@ pub fn first_kind_dm(sn: f64, cn: f64, dn: f64, n: f64, k_m: f64) -> f64 {
 /// 22.13.1–3) and, at fixed `u`, in `m` through the amplitude,
 /// `∂am/∂m = −dn ∂F(φ|m)/∂m` ([`first_kind_dm`]); and the reduction's `p`
 /// (`u = 2pK + v`, |v| ≤ K, [`jacobi_reduced_with`]).
+///
+/// `carried` half periods of `u` have their `2 carried ∂K/∂m` left out of `u`'s own
+/// derivatives by the caller, and are left out here too: `u = u0 + λt` with `u0` in its
+/// half period `n0` then differentiates `2(n − n0) ∂K/∂m`, not `2n ∂K/∂m` twice over, which
+/// near the separatrix (`∂K/∂m ~ 1/m1`) had cancelled to `ε/m1`.
 #[allow(clippy::type_complexity)]
+#[allow(clippy::too_many_arguments)]
 pub fn jacobi_dual<const P: usize>(
     u: Dual<P>,
     m: Dual<P>,
@@ -827,10 +839,11 @@ pub fn jacobi_dual<const P: usize>(
     k: f64,
     k_m: f64,
     agm: &Agm,
+    carried: f64,
 ) -> (Dual<P>, Dual<P>, Dual<P>, f64) {
     let (sn, cn, dn, p, _) = jacobi_reduced_with(u.v, m.v, m1, k, agm);
     let n = (u.v / (2.0 * k)).round();
-    let am_m = -dn * first_kind_dm(sn, cn, dn, n, k_m);
+    let am_m = -dn * (first_kind_dm_reduced(sn, cn, dn, n) + 2.0 * (n - carried) * k_m);
     let dual = |v: f64, du: f64, dm: f64| {
         let mut out = Dual::new(v, [0.0; P]);
         for j in 0..P {

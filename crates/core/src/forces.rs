@@ -231,7 +231,8 @@ fn spring<T: Scalar>(p: &[T; FORCE_PARAMS], y: &[T; STATE_SIZE]) -> [T; 6] {
         uy = dy / length;
         uz = dz / length;
         tension = p[6] * stretch;
-        if p[8].unequal(zero) {
+        // no damper, and none asked of a derivative: the term is skipped (`vanishes`)
+        if !p[8].vanishes() {
             let (w0, w1, w2) = (y[OMEGA_AT], y[OMEGA_AT + 1], y[OMEGA_AT + 2]);
             let c0 = w1 * b[2] - w2 * b[1];
             let c1 = w2 * b[0] - w0 * b[2];

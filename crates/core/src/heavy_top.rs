@@ -345,7 +345,7 @@ impl TopTangent {
         let quarter = Dual::new(top.quarter, m.d.map(|d| k_m * d));
         // τ₀: u₀ = u(τ₀) (P) and u̇₀ = u̇(τ₀) (V), differentiated; each `a dτ + r = 0`
         let tau0 = {
-            let (sn, cn, dn, _) = jacobi_dual(c(top.tau0), m, top.m1, top.quarter, k_m, &agm);
+            let (sn, cn, dn, _) = jacobi_dual(c(top.tau0), m, top.m1, top.quarter, k_m, &agm, 0.0);
             let (l, wv) = (lam.v, width.v);
             // (P) x₁ + (x₂ − x₁) sn² = 0, times λ to the units of (V)
             let p = x1 + width * sn * sn;
@@ -414,6 +414,7 @@ impl TopTangent {
             self.top.quarter,
             self.k_m,
             &self.agm,
+            0.0,
         )
     }
 

@@ -86,6 +86,14 @@ pub trait Real:
     fn ge(self, o: Self) -> Self::Mask;
     fn equal(self, o: Self) -> Self::Mask;
     fn unequal(self, o: Self) -> Self::Mask;
+    /// Whether `self` is zero and stays zero to first order: its value, and on dual numbers
+    /// its derivatives too. A formula that skips a term whose coefficient vanishes (a spring
+    /// with no damper) asks this, not `equal(0)`, so that a derivative along the coefficient
+    /// keeps the skipped term's.
+    #[inline(always)]
+    fn vanishes(self) -> Self::Mask {
+        self.equal(Self::splat(0.0))
+    }
     /// Lane by lane, `a` where `m` is set, else `b`.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
     /// `√(a² + b²)`. For `f64`, the square root of the sum where the squares neither overflow
@@ -134,6 +142,19 @@ fn scaled_square<T: Real>((c, c_lo): (T, T), z: T) -> (T, T) {
 pub fn two_product<T: Real>(x: T, y: T) -> (T, T) {
     let hi = x * y;
     (hi, x.mul_add(y, -hi))
+}
+
+/// `c (a − b)` as an unevaluated sum `(hi, lo)`: the difference itself carried exactly
+/// (Knuth's TwoSum; it rounds where `a` and `b` are more than a factor of two apart, as
+/// `I2 − I1` of a body with `I1 < I2/2`), then the product ([`two_product`]), its low part
+/// with `c` times the difference's.
+#[inline(always)]
+pub fn two_product_of_difference<T: Real>(c: T, a: T, b: T) -> (T, T) {
+    let d = a - b;
+    let bv = d - a;
+    let d_lo = (a - (d - bv)) + (-b - bv);
+    let (hi, lo) = two_product(c, d);
+    (hi, lo + c * d_lo)
 }
 
 /// Whether `√(a² + b²)` may be taken as the square root of the sum `s = a² + b²`.

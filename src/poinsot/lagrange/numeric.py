@@ -19,6 +19,7 @@ with ``stab`` the constraint stabilisation:
 
 from __future__ import annotations
 
+import re
 import warnings
 from dataclasses import dataclass, replace
 
@@ -570,9 +571,12 @@ class PreparedLagrangianRun:
         seeds = np.ascontiguousarray(dirs.seeds)
         if seeds.shape[1] == 0:
             seeds = np.zeros((dirs.size, 0))
-        y0 = core_lagrange.lagrange_sensitivity_start(tangent, t0, y_init, p, u, dirs.kinds,
-                                                      dirs.components, seeds, ~given_q,
-                                                      ~given_v)  # fmt: skip
+        try:
+            y0 = core_lagrange.lagrange_sensitivity_start(tangent, t0, y_init, p, u, dirs.kinds,
+                                                          dirs.components, seeds, ~given_q,
+                                                          ~given_v)  # fmt: skip
+        except ValueError as exc:
+            raise ValueError(_named_direction(str(exc), dirs.labels)) from None
         ode = _SensitiveODE(self.num, st.stabilization, st.gains, tangent, p, u, seeds,
                             self.control_sensitivities)  # fmt: skip
         y, sens = sensitivities(run(ode, t0, y0, st.t_span[1], st.t_eval), dirs, n, t0)
@@ -588,6 +592,16 @@ class PreparedLagrangianRun:
                 )
         solution.sensitivities = sens
         return solution
+
+
+def _named_direction(message, labels) -> str:
+    """The core's message about the initial column of direction ``j`` with the column's label
+    (``'q0[x]'``) in place of its index."""
+    m = re.search(r"direction (\d+): ", message)
+    if m is None or int(m.group(1)) >= len(labels):
+        return message
+    label = labels[int(m.group(1))]
+    return message.replace(m.group(0), f"the column {label!r}: ", 1)
 
 
 def _at_start(exc, t0, y0, n) -> str:

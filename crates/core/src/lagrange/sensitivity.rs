@@ -486,9 +486,10 @@ pub fn initial_tangents(
         }
         if worst > 1e-9 * scale {
             return Err(format!(
-                "direction {j}: the constraints do not let it move (a residual of {worst:.3e} \
-                 is left): omit a coordinate or velocity from the initial state so that it is \
-                 solved from the constraints"
+                "direction {j}: the constraints do not let it move alone (they are left \
+                 violated at a rate of {worst:.3e}): give fewer coordinates or velocities in \
+                 the initial state, so that the others are solved from the constraints and \
+                 move with it"
             ));
         }
         for k in 0..2 * n {

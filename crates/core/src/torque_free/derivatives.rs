@@ -27,7 +27,7 @@ use super::{jacobi_omega, polhode_radii, JacobiForm, Radicals, Regime, AROUND_E1
 use crate::cmath::{frexp, ldexp};
 use crate::dual::Dual;
 use crate::elliptic::{
-    carlson_rj, first_kind_dm, jacobi_dual, parity, third_kind_from_roots, OnDuals,
+    carlson_rj, first_kind_dm_reduced, jacobi_dual, parity, third_kind_from_roots, OnDuals,
 };
 use crate::real::Real;
 use crate::so3::{Mat3, Vec3};
@@ -43,10 +43,12 @@ type D = Dual<DIRECTIONS>;
 pub struct ExactTangent {
     regime: Regime,
     /// `λ`, `m`, `u0` and `K(m)` with their derivatives (the amplitudes `σ_i α_i` are the
-    /// attitude's, `motion.sa`).
+    /// attitude's, `motion.sa`); `u0`'s leave out the `2 n0 ∂K/∂m` of its half period `n0`,
+    /// and every later `u` counts its half periods from `n0` ([`jacobi_dual`]'s `carried`).
     lam: D,
     m: D,
     u0: D,
+    n0: f64,
     quarter: D,
     /// `∂K/∂m`.
     k_m: f64,
@@ -88,15 +90,25 @@ impl ExactTangent {
         let up = D::splat(ldexp(1.0, e));
         let alpha = f.alpha.map(|a| a * up);
         let lam = f.lam * up;
-        let m = f.m;
+        // m's derivatives are m1's, negated: m1 comes from the separatrix distance
+        // a² − 2k I2, whose derivatives are formed without cancellation, where `m` itself,
+        // a ratio within m1 of 1, had its derivatives cancel to ε/√m1 (6e-11 of the period's
+        // gradient at 1e-6 from the intermediate axis)
+        let m = Dual::new(f.m.v, f.m1.d.map(|x| -x));
         // K(m) and u0 = F(φ0 | m), φ0 = am u0 from (sn u0, cn u0) as the form gives them
         let k_m = carlson_rj(0.0, 1.0, regime.m1, regime.m1) / 6.0;
         let quarter = Dual::new(regime.quarter, m.d.map(|x| k_m * x));
         let a_cn = if f.e3 { f.alpha[0] } else { f.alpha[2] };
         let (sn0, cn0) = (f.sn0 / f.alpha[1], f.cn0 / a_cn);
-        let dn0 = (1.0 - regime.m * sn0.v * sn0.v).sqrt();
+        // dn² = 1 − m sn² as m1 + m cn²: two positive terms. Near the intermediate axis
+        // (sn → 1, m → 1) the difference had cancelled to ε/dn² relative, and `u0`'s
+        // derivative `dφ/dn` with it (4e-9 at ω⊥ = 1e-4, 5e-6 at 1e-6; every flow of an
+        // exact splitting's sensitivities paid it again)
+        let dn0 = (regime.m1 + regime.m * cn0.v * cn0.v).sqrt();
         let n0 = (regime.u0 / (2.0 * regime.quarter)).round();
-        let f_m = first_kind_dm(sn0.v, cn0.v, dn0, n0, k_m);
+        // within u0's half period n0: its 2 n0 ∂K/∂m is carried by `jacobi_at` and
+        // `third_kind` as a count (`n0`), not in the derivatives
+        let f_m = first_kind_dm_reduced(sn0.v, cn0.v, dn0, n0);
         let mut u0 = Dual::new(regime.u0, [0.0; DIRECTIONS]);
         for j in 0..DIRECTIONS {
             let dphi = cn0.v * sn0.d[j] - sn0.v * cn0.d[j];
@@ -129,6 +141,7 @@ impl ExactTangent {
             lam,
             m,
             u0,
+            n0,
             quarter,
             k_m,
             moments: im,
@@ -145,18 +158,20 @@ impl ExactTangent {
     fn jacobi_at(&self, t: f64) -> (D, D, D, f64) {
         let reg = &self.regime;
         let u = self.u0 + self.lam * D::splat(t);
-        jacobi_dual(u, self.m, reg.m1, reg.quarter, self.k_m, &reg.agm)
+        jacobi_dual(u, self.m, reg.m1, reg.quarter, self.k_m, &reg.agm, self.n0)
     }
 
-    /// `Π(u) = 2pΠ(n|m) + G(v)` with its derivatives, from [`ExactTangent::jacobi_at`]:
-    /// `G` on `sn v = (−1)^p sn u`, `cn v = (−1)^p cn u ≥ 0`, `dn v = dn u`.
+    /// `Π(u) − 2 n0 Π(n|m) = 2(p − n0)Π(n|m) + G(v)` with its derivatives, from
+    /// [`ExactTangent::jacobi_at`]: `G` on `sn v = (−1)^p sn u`, `cn v = (−1)^p cn u ≥ 0`,
+    /// `dn v = dn u`. The `2 n0 Π(n|m)` that `Π(u)` and `Π(u0)` share is left out of both (near
+    /// the separatrix its derivative, `~ 1/m1`, had cancelled in their difference).
     fn third_kind(&self, (sn, cn, dn, p): (D, D, D, f64)) -> D {
         let par = D::splat(parity(p));
         let g = third_kind_from_roots::<_, OnDuals>(self.motion.n, par * sn, par * cn, dn);
-        if p == 0.0 {
+        if p == self.n0 {
             g
         } else {
-            g + D::splat(2.0 * p) * self.motion.pi_complete
+            g + D::splat(2.0 * (p - self.n0)) * self.motion.pi_complete
         }
     }
 

@@ -12,7 +12,7 @@ use super::{
 use crate::cmath::{frexp, ldexp};
 use crate::elliptic::{first_kind_from_sn_cn, first_kind_in_period, jacobi_reduced_with, Agm};
 use crate::invariants::principal_invariants;
-use crate::real::{py_max, py_min, squares_difference, two_product, Real};
+use crate::real::{py_max, py_min, squares_difference, two_product_of_difference, Real};
 use crate::so3::Vec3;
 
 /// A motion whose distance from the separatrix, `|a² − 2k I2|`, is within this many times the
@@ -120,8 +120,12 @@ impl<T: Real> JacobiForm<T> {
         // a² − 2k I2 = I3 (I3 − I2) x3² − I1 (I2 − I1) x1², the two terms nearly equal near
         // the separatrix: formed without their rounding errors; within the rounding of the
         // terms themselves (a point made on the separatrix in floating point), zero
-        let (d2, size) =
-            squares_difference(two_product(i3, i3 - i2), x2, two_product(i1, i2 - i1), x0);
+        let (d2, size) = squares_difference(
+            two_product_of_difference(i3, i3, i2),
+            x2,
+            two_product_of_difference(i1, i2, i1),
+            x0,
+        );
         let d2 = T::select(d2.abs().le(c(SEPARATRIX_ROUNDING) * size), c(0.0), d2);
         // around e3 (d2 > 0), or the separatrix (d2 = 0); else around e1
         let e3 = d2.ge(c(0.0));
