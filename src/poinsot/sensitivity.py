@@ -407,6 +407,12 @@ class Sensitivities:
                 labels = self.directions.labels
                 cols = [j for j, x in enumerate(labels) if x == wrt or x.startswith(wrt + "[")]
             if not cols:
+                labels = self.directions.labels
+                base = wrt.rpartition("[")[0]
+                siblings = [x for x in labels if base and x.startswith(base + "[")]
+                if siblings:  # "omega0[5]": a name asked for, a column it does not have
+                    raise ValueError(f"`wrt` {wrt!r}: no such column; those of {base!r} are "
+                                     f"{', '.join(map(repr, siblings))}")  # fmt: skip
                 asked = ", ".join(map(repr, self.directions.names))
                 raise ValueError(f"`wrt` {wrt!r} was not asked of this run; it has: {asked} "
                                  "(simulate(..., sensitivities=...))")  # fmt: skip

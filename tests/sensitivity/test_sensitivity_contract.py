@@ -139,6 +139,10 @@ def test_asking_what_the_run_did_not_carry():
     traj = run(sensitivities="omega0")
     with pytest.raises(ValueError, match="was not asked"):
         traj.sensitivity("omega", "inertia")
+    # a column the name asked for does not have is named as such, with the ones it has
+    with pytest.raises(ValueError, match=r"'omega0\[5\]': no such column; .*'omega0\[2\]'"):
+        traj.sensitivity("omega", "omega0[5]")
+    assert traj.sensitivity("omega", "omega0[2]").shape[-1] == 1
     with pytest.raises(ValueError, match="`output`"):
         traj.sensitivity("L", "omega0")
     with pytest.raises(ValueError, match="`output`"):
