@@ -194,9 +194,11 @@ def check_directions(system, solver, dirs: Directions) -> None:
         len(dirs.labels), -1, layout.FORCE_PARAMS
     )
     for k, force in enumerate(system.forces):
-        damping = [offset for name, offset, *_ in force.sensitive_parameters()
-                   if force.kind == "spring" and name == "damping"]  # fmt: skip
-        if damping and np.any(force_seeds[:, k, damping[0]] != 0):
+        if force.kind != "spring":
+            continue
+        (damping,) = [offset for name, offset, *_ in force.sensitive_parameters()
+                      if name == "damping"]  # fmt: skip
+        if np.any(force_seeds[:, k, damping] != 0):
             raise ValueError(
                 f"`sensitivities` along 'forces[{k}].damping' with {solver.name!r}: its kicks "
                 "take position-only forces, and a damper makes the spring's force depend on "
@@ -402,12 +404,11 @@ class Sensitivities:
                             f"all of them; found {wrt!r}")  # fmt: skip
         cols = slice(None)
         if wrt is not None:
+            labels = self.directions.labels
             cols = self.directions.columns.get(wrt)
             if cols is None:  # a part of what was asked: "forces[0].g", "omega0[1]"
-                labels = self.directions.labels
                 cols = [j for j, x in enumerate(labels) if x == wrt or x.startswith(wrt + "[")]
             if not cols:
-                labels = self.directions.labels
                 base = wrt.rpartition("[")[0]
                 siblings = [x for x in labels if base and x.startswith(base + "[")]
                 if siblings:  # "omega0[5]": a name asked for, a column it does not have

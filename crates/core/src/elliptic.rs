@@ -803,17 +803,12 @@ pub fn third_kind_u(n: f64, u: f64, m: f64, m1: f64, k: f64) -> f64 {
 
 // ------------------------------------------------------------------- on dual numbers
 
-/// `∂F(am u | m)/∂m` at fixed amplitude, from `(sn, cn, dn)` of `u`, `n = round(u / 2K)` and
-/// `∂K/∂m = R_D(0, 1, m1)/6`: `(−1)^n (sn³/6) R_D(cn², 1, dn²) + 2n ∂K/∂m` (differentiating
+/// `∂F(am u | m)/∂m` at fixed amplitude within the half period `n = round(u / 2K)` of `u`, from
+/// `(sn, cn, dn)` of `u`: `(−1)^n (sn³/6) R_D(cn², 1, dn²)` (differentiating
 /// `F = sin φ R_F(cos²φ, 1 − m sin²φ, 1)`, DLMF 19.25.5, with `∂R_F/∂z = −R_D/6`, on
-/// |φ| ≤ π/2, and `F(φ + nπ) = F(φ) + 2nK`): Carlson's form, with no cancellation as
-/// `m → 0` or `m → 1`.
-pub fn first_kind_dm(sn: f64, cn: f64, dn: f64, n: f64, k_m: f64) -> f64 {
-    first_kind_dm_reduced(sn, cn, dn, n) + 2.0 * n * k_m
-}
-
-/// [`first_kind_dm`] less its `2n ∂K/∂m`: `(−1)^n (sn³/6) R_D(cn², 1, dn²)`, the derivative
-/// within the half period `n`.
+/// |φ| ≤ π/2): Carlson's form, with no cancellation as `m → 0` or `m → 1`. The whole
+/// derivative adds `2n ∂K/∂m` (`F(φ + nπ) = F(φ) + 2nK`, `∂K/∂m = R_D(0, 1, m1)/6`), which
+/// [`jacobi_dual`] adds for the half periods its caller does not carry.
 pub fn first_kind_dm_reduced(sn: f64, cn: f64, dn: f64, n: f64) -> f64 {
     let sign = if n.rem_euclid(2.0) == 0.0 { 1.0 } else { -1.0 };
     let (c2, d2) = (cn * cn, dn * dn);
@@ -823,7 +818,7 @@ pub fn first_kind_dm_reduced(sn: f64, cn: f64, dn: f64, n: f64) -> f64 {
 /// `(sn u, cn u, dn u)` of a dual `u` and parameter `m` (`m1 = 1 − m`, `k = K(m)`,
 /// `∂K/∂m = k_m`, `agm` the sequence of `m1`), with their derivatives: in `u` (DLMF
 /// 22.13.1–3) and, at fixed `u`, in `m` through the amplitude,
-/// `∂am/∂m = −dn ∂F(φ|m)/∂m` ([`first_kind_dm`]); and the reduction's `p`
+/// `∂am/∂m = −dn ∂F(φ|m)/∂m` ([`first_kind_dm_reduced`] and `2n ∂K/∂m`); and the reduction's `p`
 /// (`u = 2pK + v`, |v| ≤ K, [`jacobi_reduced_with`]).
 ///
 /// `carried` half periods of `u` have their `2 carried ∂K/∂m` left out of `u`'s own
