@@ -18,7 +18,7 @@ DTYPES = ["float64", "float32", "int64", "int32", "int16", "int8", "uint8", "uin
 
 def values(dtype, shape, rng):
     if dtype == "str":
-        words = np.array(["", "a", "ω₀", "flip", "long name"])
+        words = np.array(["", "a", "ω₀", "flip", "long name", "trailing "])
         return words[rng.integers(0, len(words), shape)]
     if dtype == "bool":
         return rng.integers(0, 2, shape).astype(bool)
@@ -63,9 +63,10 @@ def test_scipy_reads_back_what_was_written(tmp_path, dtypes, n, k, seed, attr):
             v = f.variables[name]
             read = v[:]
             if data.dtype.kind == "U":
-                read = np.array([b"".join(row).decode().rstrip() for row in
+                # NUL-padded, as NetCDF-3 pads text: the labels come back exactly
+                read = np.array([b"".join(row).decode() for row in
                                  read.reshape(-1, read.shape[-1])]).reshape(data.shape)  # fmt: skip
-                assert np.array_equal(read, np.char.rstrip(data))
+                assert np.array_equal(read, data)
             else:
                 assert np.array_equal(read, data.astype(read.dtype))
             assert name == "member" or v.long_name == attrs["long_name"].encode()
@@ -91,6 +92,23 @@ def test_xarray_reads_back_what_was_written(tmp_path):
         assert ds["omega0"].attrs["units"] == "rad/s" and ds.attrs["method"] == "rk4"
         np.testing.assert_array_equal(ds["status"].values, status)
         assert (ds["name"].values == "a").all()
+
+
+def test_labels_come_back_exactly_and_select_by_name(tmp_path):
+    """Text was padded with spaces, which readers keep: ``'omega0[0] '`` read back, and
+    ``.sel(parameter="omega0[0]")`` on the file raised KeyError where it worked in memory.
+    NetCDF-3 pads with NULs, which readers strip; a NUL inside a label is refused."""
+    xr = pytest.importorskip("xarray")
+    labels = np.array(["omega0[0]", "inertia[10]", "q0[y1]", "a b "])
+    path = tmp_path / "l.nc"
+    write_netcdf(path, {"parameter": (("parameter",), labels, {}),
+                        "x": (("parameter",), np.arange(4.0), {})})  # fmt: skip
+    with xr.open_dataset(path) as ds:
+        assert ds["parameter"].values.tolist() == labels.tolist()
+        assert float(ds["x"].sel(parameter="inertia[10]")) == 1.0
+    with pytest.raises(ValueError, match=r"`parameter`: the text b'a\\x00b' holds a NUL"):
+        write_netcdf(tmp_path / "n.nc", {"parameter": (("parameter",), np.array(["a\0b"]), {})})
+    assert not (tmp_path / "n.nc").exists()
 
 
 def test_integers_beyond_32_bits_and_a_second_empty_dimension_are_refused(tmp_path):

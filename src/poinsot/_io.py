@@ -237,8 +237,9 @@ def write_netcdf(path, variables: dict, attrs: dict | None = None) -> None:
 
     ``variables``: ``name → (dims, data, attrs)``; a variable named like its dimension is that
     dimension's coordinate. NetCDF-3 has no 64-bit integers: int64 is written as int32 (refused
-    if it does not fit), bool as int8, strings as characters along a ``NAME_strlen`` dimension
-    (xarray reads them back as strings). Attribute values are numbers (integers as int32,
+    if it does not fit), bool as int8, strings as characters along a ``NAME_strlen`` dimension,
+    padded with NULs as NetCDF-3 pads text (xarray reads them back as the same strings; text
+    holding a NUL is refused). Attribute values are numbers (integers as int32,
     others as double) or strings (UTF-8).
 
     Examples
@@ -261,8 +262,14 @@ def write_netcdf(path, variables: dict, attrs: dict | None = None) -> None:
         dims = tuple(dims)
         if a.dtype.kind in "US":  # strings: UTF-8 bytes along a dimension of the longest
             raw = [x if isinstance(x, bytes) else str(x).encode() for x in a.ravel()]
+            if any(b"\0" in r for r in raw):
+                # NetCDF-3 pads text with NULs and readers strip them: refused, not altered
+                bad = next(r for r in raw if b"\0" in r)
+                raise ValueError(f"`{name}`: the text {bad!r} holds a NUL character, which "
+                                 "NetCDF-3 cannot keep")  # fmt: skip
             width = max(1, max(map(len, raw), default=1))
-            a = np.frombuffer(b"".join(r.ljust(width, b" ") for r in raw) or b" ",
+            # padded with NULs, as NetCDF-3 pads text: readers strip them, and only them
+            a = np.frombuffer(b"".join(r.ljust(width, b"\0") for r in raw) or b"\0",
                               dtype="S1")[: len(raw) * width].reshape(*a.shape, width)  # fmt: skip
             dims = (*dims, f"{name}_strlen")
             var_attrs = {**(var_attrs or {}), "_Encoding": "utf-8"}  # read back as str

@@ -260,9 +260,9 @@ def test_the_netcdf_export_carries_them_with_named_dimensions(tmp_path):
         v = f.variables["sensitivity"]
         assert v.dimensions == ("time", "state_component", "parameter")
         np.testing.assert_array_equal(v[:], sol.sensitivities.S)
-        labels = [b"".join(r).decode().strip() for r in f.variables["parameter"][:]]
+        labels = [b"".join(r).decode() for r in f.variables["parameter"][:]]
         assert labels == list(sol.sensitivities.directions.labels)
-        comps = [b"".join(r).decode().strip() for r in f.variables["state_component"][:]]
+        comps = [b"".join(r).decode() for r in f.variables["state_component"][:]]
         assert comps[:3] == ["q[x_c]", "q[y_c]", "q[theta]"] and comps[3] == "qd[x_c]"
         assert f.variables["q"].dimensions == ("time", "coordinate")
         assert f.variables["multipliers"].dimensions == ("time", "constraint")

@@ -192,7 +192,7 @@ def test_the_export_names_the_dimensions(tmp_path):
         v = f.variables["sensitivity"]
         assert v.dimensions == ("time", "state_component", "parameter")
         assert np.array_equal(v[:], traj.sensitivity("state"))
-        names = [b"".join(row).decode().strip() for row in f.variables["parameter"][:]]
+        names = [b"".join(row).decode() for row in f.variables["parameter"][:]]
         assert names[3] == "inertia[0]"
     traj.to_csv(tmp_path / "run.csv")  # a table: the sensitivities stay out of it
     header = (tmp_path / "run.csv").read_text().splitlines()[0]
@@ -211,7 +211,7 @@ def test_the_npz_export_labels_the_sensitivitys_rows_and_columns(tmp_path):
     assert rows.dtype.kind == cols.dtype.kind == "U"  # no pickle needed
     with netcdf_file(tmp_path / "run.nc", mmap=False) as f:
         for name, labels in (("state_component", rows), ("parameter", cols)):
-            nc = [b"".join(row).decode().strip() for row in f.variables[name][:]]
+            nc = [b"".join(row).decode() for row in f.variables[name][:]]
             assert labels.tolist() == nc
     assert cols.tolist() == list(traj.sensitivities.directions.labels)
     assert cols[0] == "omega0[0]" and cols[3] == "inertia[0]"
