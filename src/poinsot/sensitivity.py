@@ -395,7 +395,9 @@ class Sensitivities:
     def of(self, output, wrt=None) -> np.ndarray:
         """``∂output/∂wrt`` (samples, size of ``output``, size of ``wrt``); ``wrt`` None: every
         column. ``wrt`` is a name the run asked for, or a part of one: a force's parameter
-        (``"forces[0].g"`` of ``"forces[0]"``) or one column (``"omega0[1]"``)."""
+        (``"forces[0].g"`` of ``"forces[0]"``) or one column (``"omega0[1]"``). A name that
+        covers more than the run asked (``"params"`` of a run that asked ``"params[m2]"``) is
+        refused, naming what was asked: its columns are not all there."""
         if not isinstance(output, str) or output not in self.outputs:
             raise ValueError(f"`output` must be one of {', '.join(map(repr, self.outputs))}, "
                              f"found {output!r}")  # fmt: skip
@@ -404,19 +406,35 @@ class Sensitivities:
                             f"all of them; found {wrt!r}")  # fmt: skip
         cols = slice(None)
         if wrt is not None:
-            labels = self.directions.labels
             cols = self.directions.columns.get(wrt)
-            if cols is None:  # a part of what was asked: "forces[0].g", "omega0[1]"
-                cols = [j for j, x in enumerate(labels) if x == wrt or x.startswith(wrt + "[")]
-            if not cols:
-                base = wrt.rpartition("[")[0]
-                siblings = [x for x in labels if base and x.startswith(base + "[")]
-                if siblings:  # "omega0[5]": a name asked for, a column it does not have
-                    raise ValueError(f"`wrt` {wrt!r}: no such column; those of {base!r} are "
-                                     f"{', '.join(map(repr, siblings))}")  # fmt: skip
-                asked = ", ".join(map(repr, self.directions.names))
-                raise ValueError(f"`wrt` {wrt!r} was not asked of this run; it has: {asked} "
-                                 "(simulate(..., sensitivities=...))")  # fmt: skip
+            if cols is None:
+                cols = self._part(wrt)
+        return self.S[:, self.outputs[output], cols]
+
+    def _part(self, wrt: str) -> list:
+        """The columns of ``wrt``, a part of a name the run asked for (``"forces[0].g"`` of
+        ``"forces[0]"``, ``"omega0[1]"`` of ``"omega0"``); refused otherwise, saying why."""
+        names, labels = self.directions.names, self.directions.labels
+
+        def within(name, whole):  # name is a part of whole: "whole[...", "whole.…"
+            return name.startswith((whole + "[", whole + "."))
+
+        owner = next((n for n in names if within(wrt, n)), None)
+        if owner is None:
+            parts = [n for n in names if within(n, wrt)]
+            if parts:  # "params" of a run that asked "params[m2]": only some of its columns
+                raise ValueError(f"`wrt` {wrt!r}: this run asked only part of it "
+                                 f"({', '.join(map(repr, parts))}); name one of those")  # fmt: skip
+            asked = ", ".join(map(repr, names))
+            raise ValueError(f"`wrt` {wrt!r} was not asked of this run; it has: {asked} "
+                             "(simulate(..., sensitivities=...))")  # fmt: skip
+        cols = [j for j, x in enumerate(labels) if x == wrt or within(x, wrt)]
+        if not cols:  # "omega0[5]": a name asked for, a column it does not have
+            own = [labels[j] for j in range(len(labels))[self.directions.columns[owner]]]
+            raise ValueError(f"`wrt` {wrt!r}: no such column; those of {owner!r} are "
+                             f"{', '.join(map(repr, own))}")  # fmt: skip
+        return cols
+
         return self.S[:, self.outputs[output], cols]
 
 

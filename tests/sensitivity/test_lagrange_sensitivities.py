@@ -124,6 +124,11 @@ def test_columns_of_a_constrained_start_follow_the_constraints():
     np.testing.assert_allclose(S0[:, 1], [np.sin(th) / 2, np.cos(th) / 2, 0.0], atol=1e-13)
     # a single column of a name asked for
     assert sol.sensitivity("qd", "q0[theta]").shape == (201, 3, 1)
+    # "params" means all of them, in the order of `params`: a run that asked one has not
+    # them all, and is refused (it had given that one column alone, as if it were all)
+    with pytest.raises(ValueError, match=r"'params': this run asked only part of it "
+                                         r"\('params\[L\]'\)"):  # fmt: skip
+        sol.sensitivity("q", "params")
 
 
 def test_the_pendulum_on_a_cart_keeps_its_conserved_momentum_to_first_order():

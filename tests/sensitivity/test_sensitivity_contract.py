@@ -1,6 +1,8 @@
 """The sensitivities through the run contract: how they are asked, refused, framed and
 exported."""
 
+import re
+
 import numpy as np
 import pytest
 from scipy.io import netcdf_file
@@ -143,6 +145,14 @@ def test_asking_what_the_run_did_not_carry():
     with pytest.raises(ValueError, match=r"'omega0\[5\]': no such column; .*'omega0\[2\]'"):
         traj.sensitivity("omega", "omega0[5]")
     assert traj.sensitivity("omega", "omega0[2]").shape[-1] == 1
+    # a name that covers more than was asked is refused, naming what was: 'forces' had
+    # silently given the columns of 'forces[0].g'
+    forced = run(forces=[Gravity()], sensitivities=("omega0", "forces[0].g"))
+    for wrt in ("forces", "forces[0]"):
+        with pytest.raises(ValueError, match=rf"`wrt` '{re.escape(wrt)}': this run asked only "
+                                             r"part of it \('forces\[0\]\.g'\)"):  # fmt: skip
+            forced.sensitivity("omega", wrt)
+    assert forced.sensitivity("omega", "forces[0].g[2]").shape[-1] == 1
     with pytest.raises(ValueError, match="`output`"):
         traj.sensitivity("L", "omega0")
     with pytest.raises(ValueError, match="`output`"):
