@@ -117,3 +117,40 @@ def test_baumgarte_gains_without_baumgarte_stabilisation_are_refused():
     a = pendulum_cartesian().simulate((0, 0.5), baumgarte=(1, 1), t_eval=[0.5])
     b = pendulum_cartesian().simulate((0, 0.5), t_eval=[0.5])
     assert not np.array_equal(a.q, b.q)  # the gains have an effect where they apply
+
+
+def test_a_whole_initial_state_is_checked_and_replaces_the_other_arguments():
+    """``run(y0=...)`` had ignored ``omega0`` and ``Q0`` given beside it, taken a Q with
+    det 8, and named a wrong shape only by a reshape's message."""
+    from poinsot import Gravity
+    from poinsot.simulation import prepare
+
+    top = RigidBody(1.0, np.diag([0.02, 0.03, 0.04]), (0, 0, 0.2))
+    run = prepare(top, (0, 0.1), forces=[Gravity()], pivot=(0, 0, 0), method="rk4", dt=0.01)
+    y0 = run.initial_state(omega0=(0.3, 0.1, 5.0))
+    a, b = run.run(y0=y0), run.run(omega0=(0.3, 0.1, 5.0))
+    np.testing.assert_array_equal(a.omega, b.omega)
+    for kw in ({"omega0": (5, 5, 5)}, {"Q0": np.eye(3)}, {"R0": (0, 0, 1)}):
+        name = next(iter(kw))
+        with pytest.raises(ValueError, match=rf"give `y0` or `{name}`, not both"):
+            run.run(y0=y0, **kw)
+    with pytest.raises(ValueError, match=r"`y0` must have shape \(18,\), found shape \(5,\)"):
+        run.run(y0=y0[:5])
+    bad = y0.copy()
+    bad[17] = np.nan
+    with pytest.raises(ValueError, match=r"`y0\[17\]` must be finite"):
+        run.run(y0=bad)
+    bad = y0.copy()
+    bad[6:15] *= 2  # det 8
+    with pytest.raises(ValueError, match=r"`y0\[6:15\] \(Q, row by row\)` is not a rotation"):
+        run.run(y0=bad)
+    bad = y0.copy()
+    bad[3:6] += 1.0  # the centre of mass moving off the pivot's sphere
+    with pytest.raises(ValueError, match=r"`y0\[3:6\]` \(V\): with a pivot the velocity follows"):
+        run.run(y0=bad)
+    with pytest.raises(ValueError, match="`omega_frame` has no effect with `y0`"):
+        run.run(y0=y0, omega_frame="space")
+    # with sensitivities it says the frame of the omega0 columns: accepted
+    sens = prepare(top, (0, 0.1), forces=[Gravity()], pivot=(0, 0, 0), method="rk4", dt=0.01,
+                   sensitivities="omega0")  # fmt: skip
+    assert sens.run(y0=y0, omega_frame="space").sensitivity("omega", "omega0").shape[1:] == (3, 3)

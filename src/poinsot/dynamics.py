@@ -337,6 +337,28 @@ class RigidBodySystem:
             [float(x) for x in line],
         )[0]
 
+    def checked_state(self, y0, name="y0") -> np.ndarray:
+        """A body-frame state (18,) given whole (``R, V, Q`` row by row, ``ω``; as
+        :meth:`initial_state` returns it), checked: finite, ``Q`` a rotation (within
+        :data:`~poinsot._validation.ROTATION_TOLERANCE`, then projected onto SO(3) as ``Q0``
+        is) and, with a pivot, ``V`` the velocity that ``ω`` gives the centre of mass about
+        the pivot where ``R`` and ``Q`` put it (to 1e-9 of the state's velocities, then
+        reset from ``ω`` exactly)."""
+        y = as_array(y0, name, (layout.STATE_SIZE,)).copy()
+        q = layout.STATE_SLICES["Q"]
+        y[q] = as_rotation_matrix(y[q].reshape(3, 3), f"{name}[6:15] (Q, row by row)").ravel()
+        if self.pivot is None:
+            return y
+        held = self.constrain(y, self.pivot_point(y))
+        v = layout.STATE_SLICES["V"]
+        off = float(np.abs(held[v] - y[v]).max())
+        scale = max(float(np.abs(held[v]).max()), float(np.abs(y[v]).max()), 1e-300)
+        if off > 1e-9 * scale:
+            raise ValueError(f"`{name}[3:6]` (V): with a pivot the velocity follows from ω, "
+                             f"{held[v].tolist()}, found {y[v].tolist()} (off by {off:.3g}); "
+                             "give the state that `initial_state` returns")  # fmt: skip
+        return held
+
     def degenerate_line(self) -> np.ndarray:
         """The unit line of a degenerate body (all mass on it), zeros for any other body."""
         return self.principal_axes[:, 0].copy() if self.degenerate else np.zeros(3)

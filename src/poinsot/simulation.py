@@ -186,11 +186,20 @@ class PreparedRun:
             particle_velocities=None, scalar_first=True, y0=None,
             progress=None) -> Trajectory:  # fmt: skip
         """Integrate from the initial state (:func:`simulate`'s arguments, or ``y0``, a state
-        from :meth:`initial_state`): a :class:`~poinsot.trajectory.Trajectory`."""
+        from :meth:`initial_state`): a :class:`~poinsot.trajectory.Trajectory`.
+
+        ``y0`` is the whole body-frame state (18,), checked as a start (finite, its ``Q`` a
+        rotation, its ``V`` the pivot's where there is one), in place of the other initial
+        arguments, which are then refused; ``omega_frame`` then only says the frame of the
+        ``omega0`` sensitivities' columns, and is refused without them."""
         if y0 is None:
             y0 = self.initial_state(omega0=omega0, Q0=Q0, R0=R0, V0=V0, omega_frame=omega_frame,
                                     particle_velocities=particle_velocities,
                                     scalar_first=scalar_first)  # fmt: skip
+        else:
+            y0 = self._given_state(y0, omega0=omega0, Q0=Q0, R0=R0, V0=V0,
+                                   particle_velocities=particle_velocities,
+                                   omega_frame=omega_frame)  # fmt: skip
         if self.sensitivities is not None:
             return self._run_sensitive(y0, omega_frame == "space", progress)
         if self.events is not None:
@@ -199,6 +208,21 @@ class PreparedRun:
         return solve(self.system, y0, self.settings,
                      trajectory=lambda r: _trajectory(r, self.system), progress=progress,
                      backend=self.backend)  # fmt: skip
+
+    def _given_state(self, y0, omega_frame, **others) -> np.ndarray:
+        """``run(y0=...)``: the state checked whole, the arguments it replaces refused."""
+        given = [name for name, value in others.items() if value is not None]
+        if given:
+            raise ValueError(f"give `y0` or {', '.join(f'`{n}`' for n in given)}, not both: "
+                             "`y0` is the whole initial state")  # fmt: skip
+        if omega_frame not in ("body", "space"):
+            raise ValueError(f"`omega_frame` must be 'body' or 'space', found {omega_frame!r}")
+        if omega_frame != "body" and self.sensitivities is None:
+            raise ValueError("`omega_frame` has no effect with `y0` (a body-frame state) and "
+                             "no sensitivities: omit it")  # fmt: skip
+        y0 = self.system.checked_state(y0)
+        _check_forces_at_start(self.system, self.settings.t0, y0)
+        return y0
 
     def _run_sensitive(self, y0, omega_space, progress) -> Trajectory:
         """The run with its sensitivities: the augmented system through the same driver."""
