@@ -435,8 +435,6 @@ class Sensitivities:
                              f"{', '.join(map(repr, own))}")  # fmt: skip
         return cols
 
-        return self.S[:, self.outputs[output], cols]
-
 
 def split(y_aug, dirs: Directions, size=layout.STATE_SIZE,
           outputs=None, t0=None) -> tuple[np.ndarray, Sensitivities]:  # fmt: skip
