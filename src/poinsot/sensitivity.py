@@ -391,6 +391,8 @@ class Sensitivities:
     #: The time of the initial state the derivatives are taken at (the run's start, which
     #: need not be a sample); None: the first sample.
     t0: float | None = None
+    #: The frame the ``omega0`` columns' ω0 was given in (``omega_frame`` of the run).
+    omega_frame: str = "body"
 
     def of(self, output, wrt=None) -> np.ndarray:
         """``∂output/∂wrt`` (samples, size of ``output``, size of ``wrt``); ``wrt`` None: every

@@ -234,7 +234,9 @@ class PreparedRun:
         def trajectory(result):
             y, sens = split(result.y, self.sensitivities, t0=self.settings.t0)
             traj = _trajectory(dataclasses.replace(result, y=y), self.system)
-            traj.sensitivities = sens
+            traj.sensitivities = dataclasses.replace(
+                sens, omega_frame="space" if omega_space else "body"
+            )
             return traj
 
         try:

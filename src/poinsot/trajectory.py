@@ -576,7 +576,13 @@ def _sensitivity_variables(sens) -> dict:
     return {
         "sensitivity": (("time", "state_component", "parameter"), sens.S,
                         {"long_name": "forward sensitivity d state / d parameter",
-                         "frames": "R, V space frame; Q body to space; omega body frame"}),
+                         "frames": "R, V space frame; Q body to space; omega body frame",
+                         "units": "the state component's over the parameter's (SI)",
+                         "omega0_frame": sens.omega_frame,
+                         **({} if sens.t0 is None else
+                            {"t0": sens.t0,
+                             "t0_long_name": "time of the initial state the derivatives "
+                                             "are taken at"})}),
         "state_component": (("state_component",), np.array(names), {}),
         "parameter": (("parameter",), np.array(sens.directions.labels), {}),
     }  # fmt: skip

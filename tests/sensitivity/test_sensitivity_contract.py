@@ -204,6 +204,14 @@ def test_the_export_names_the_dimensions(tmp_path):
         assert np.array_equal(v[:], traj.sensitivity("state"))
         names = [b"".join(row).decode() for row in f.variables["parameter"][:]]
         assert names[3] == "inertia[0]"
+        # what the columns are taken at: the initial state's time and ω0's frame
+        assert v.t0 == 0.0 and v.omega0_frame == b"body"
+    later = simulate(BODY, (0.5, 1), omega0=(0.4, -1.1, 0.7), method="rk4", dt=1e-2,
+                     t_eval=[0.75, 1.0], omega_frame="space", sensitivities="omega0")  # fmt: skip
+    later.to_netcdf(tmp_path / "later.nc")
+    with netcdf_file(tmp_path / "later.nc", mmap=False) as f:
+        v = f.variables["sensitivity"]
+        assert v.t0 == 0.5 and v.omega0_frame == b"space"  # the first sample is at 0.75
     traj.to_csv(tmp_path / "run.csv")  # a table: the sensitivities stay out of it
     header = (tmp_path / "run.csv").read_text().splitlines()[0]
     assert "sensitivity" not in header
