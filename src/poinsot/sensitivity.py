@@ -141,6 +141,25 @@ class Floquet:
         return cls(float(period), M, mu, exponents, drift, method)
 
 
+#: How far (relative to the state's scale) a run over a given ``period`` may end from where a
+#: periodic motion returns to before its monodromy is refused: the multipliers of a run that
+#: does not close are those of no periodic motion.
+RETURN_RTOL = 1e-6
+
+
+def check_returned(end, expected, scale, period, what, hint="") -> None:
+    """Refuse a monodromy over ``period`` whose run ended at ``end``, not at ``expected``
+    (where a periodic or steady motion is after one period), by more than
+    :data:`RETURN_RTOL` of ``scale``: ``period`` is not a period of the motion, or the run
+    left an unstable one (round-off grows there as ``exp(σ T)``)."""
+    miss = float(np.abs(np.asarray(end, float) - np.asarray(expected, float)).max())
+    if not miss <= RETURN_RTOL * scale:
+        raise ValueError(f"`period` {period:.9g}: the motion does not return over it ({what} "
+                         f"is {miss:.3g} from where it started, {miss / scale:.3g} of its "
+                         "scale): the multipliers would be those of no periodic "
+                         f"motion{hint}")  # fmt: skip
+
+
 def check_control(control, solver, asked: bool) -> bool:
     """``control_sensitivities`` checked: a bool (NumPy's included), else refused; ``False``
     refused where it has no effect: without ``sensitivities`` (``asked``) or with a

@@ -148,7 +148,8 @@ def test_a_tolerance_given_to_the_closed_form_is_refused(name):
     with pytest.raises(ValueError, match=rf"`{name}` has no effect here: .*closed form"):
         body.floquet((0.1, 1.0, 0.1), **{name: 1e-10})
     # where a DOP853 run gives the monodromy, it takes them
-    assert body.floquet((0.1, 1.0, 0.1), period=2.0, **{name: 1e-10}).method == "dop853"
+    twice = 2 * body.period((0.1, 1.0, 0.1))  # a period, not the motion's own
+    assert body.floquet((0.1, 1.0, 0.1), period=twice, **{name: 1e-10}).method == "dop853"
     assert body.floquet((0.0, 1.0, 0.0), **{name: 1e-10}).method == "dop853"
     loose = body.floquet((0.0, 1.0, 0.0), period=5.0, rtol=1e-4, atol=1e-6)
     tight = body.floquet((0.0, 1.0, 0.0), period=5.0)
@@ -222,6 +223,28 @@ def test_floquet_of_a_linearisation_says_what_it_needs():
         lin.floquet()
     with pytest.raises(ValueError, match="positive finite"):
         lin.floquet(period=-1.0)
+    # over 20 s round-off (exp(σ T) ~ 1e27 times) has thrown the pendulum off the top and
+    # round once: its "exponents" had been 1.5 and 1.2, det M 1e23, without a word
+    with pytest.raises(ValueError, match=r"`period` 20: the motion does not return over it "
+                                         r"\(the state \(q, q̇\) is 6\.2\d from where"):  # fmt: skip
+        lin.floquet(period=20.0)
+
+
+def test_floquet_over_a_time_that_is_not_a_period_is_refused():
+    """A free body's monodromy over 5 s, a fifth of its period, had given multipliers of
+    modulus 12, 0.06 and 1.4, which read as unstable."""
+    body = FreeRigidBody(MOMENTS)
+    w = (0.1, 1.0, 0.1)
+    own = body.period(w)
+    with pytest.raises(ValueError, match=rf"`period` 5: the motion does not return over it "
+                                         rf"\(ω is .*; its own period is {own:.5f}"):  # fmt: skip
+        body.floquet(w, period=5.0)
+    # two periods are a period; at a fixed point every time is one
+    f = body.floquet(w, period=2 * own)
+    # a Jordan block's double 1 splits by about √(its error): 7e-7 here
+    np.testing.assert_allclose(np.abs(f.multipliers), 1.0, atol=1e-5)
+    assert abs(np.linalg.det(f.monodromy) - 1) < 1e-9
+    assert body.floquet((0.0, 1.0, 0.0), period=5.0).method == "dop853"
 
 
 @pytest.mark.parametrize("angle", [0.0, math.pi], ids=["hanging", "inverted"])

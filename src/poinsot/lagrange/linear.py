@@ -104,7 +104,7 @@ class Linearization:
         (3.132092, 3.132092)
         """
         from .._validation import as_scalar
-        from ..sensitivity import Floquet
+        from ..sensitivity import Floquet, check_returned
 
         system, params, inputs, t, constrained = self._run
         q0 = np.array(list(self.equilibrium.values()), dtype=float)
@@ -129,6 +129,12 @@ class Linearization:
             qd0={c: x for c, x, f in zip(coords, v0, free_v, strict=True) if f},
             guess=self.equilibrium if constrained else None,
         )  # fmt: skip
+        # a steady motion returns to its start, its ignorable coordinates moved on uniformly
+        moved = np.concatenate([q0 + v0 * period, v0])
+        scale = max(float(np.abs(moved).max()), float(np.abs(np.r_[q0, v0]).max()), 1e-300)
+        check_returned(np.concatenate([sol.q[-1], sol.qd[-1]]), moved, scale, period,
+                       "the state (q, q̇)",
+                       "; a shorter one keeps the run by the steady motion")  # fmt: skip
         rows = np.concatenate([np.flatnonzero(free_q), n + np.flatnonzero(free_v)])
         return Floquet.of(sol.sensitivity("state")[-1][rows], period, "dop853")
 

@@ -215,12 +215,13 @@ class StabilityMixin:
         >>> round(float(f.exponents[0]), 9), round(body.stability((0, 1, 0)).growth_rate, 9)
         (0.577350269, 0.577350269)
         """
+        from .. import layout
         from .._validation import as_scalar
         from ..bodies import RigidBody
         from ..dynamics import RigidBodySystem
         from ..integrate.driver import integrate
         from ..integrate.solve import check_tolerances
-        from ..sensitivity import SensitiveSystem, directions, split
+        from ..sensitivity import SensitiveSystem, check_returned, directions, split
 
         # every argument checked here, whichever path follows
         w = self._spin(omega0, "omega0")
@@ -260,6 +261,15 @@ class StabilityMixin:
             y0 = system.initial_state(omega0=w)
             result = integrate(SensitiveSystem(system, dirs), "dop853", (0.0, period), y0,
                                t_eval=[period], rtol=rtol, atol=atol)  # fmt: skip
-            M = split(result.y, dirs)[1].of("omega", "omega0")[-1]
+            y, sens = split(result.y, dirs)
+            if not self.is_fixed_point(w):  # a fixed point returns whatever the time
+                hint = (
+                    f"; its own period is {float(self.period(w)):.9g} s"
+                    if self.symmetry == "asymmetric"
+                    else ""
+                )
+                check_returned(y[-1, layout.STATE_SLICES["omega"]], w,
+                               float(np.abs(w).max()), period, "ω", hint)  # fmt: skip
+            M = sens.of("omega", "omega0")[-1]
             method = "dop853"
         return Floquet.of(M, period, method)
