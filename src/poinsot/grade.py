@@ -63,8 +63,8 @@ def read_motion(path, log_map=None, **options) -> Motion:
     path = Path(path)
     if path.suffix.lower() != ".npz":
         given = options.get("attitude") or (log_map is not None and log_map.attitude)
-        if not given:  # poinsot's own CSV export names its quaternion columns
-            found = _quaternion_columns(path)
+        if not given:  # poinsot's own CSV export names its attitude columns
+            found = _attitude_columns(path)
             if found:
                 options = {**options, "attitude": found}
         log = read_log(path, log_map, **options)
@@ -82,10 +82,10 @@ def read_motion(path, log_map=None, **options) -> Motion:
         t = np.asarray(data["t"], dtype=float)
         omega = np.asarray(data["omega"], dtype=float)
         Q = None
-        if "quaternion" in data.files:
-            Q = matrix_from_quat(np.asarray(data["quaternion"], dtype=float))
-        elif "Q" in data.files:
+        if "Q" in data.files:  # the matrix as integrated: its drift off SO(3) is graded
             Q = np.asarray(data["Q"], dtype=float)
+        elif "quaternion" in data.files:
+            Q = matrix_from_quat(np.asarray(data["quaternion"], dtype=float))
     n = len(t)
     if t.ndim != 1 or omega.shape != (n, 3) or (Q is not None and Q.shape != (n, 3, 3)):
         raise LogMapError(f"{path}: expected t (n,), omega (n, 3) and an attitude of n "
@@ -98,17 +98,22 @@ def read_motion(path, log_map=None, **options) -> Motion:
     return Motion(t, omega, Q, str(path))
 
 
-def _quaternion_columns(path) -> tuple | None:
-    """The header names ``quaternion_w [1]`` … ``quaternion_z [1]`` of poinsot's CSV export,
-    when the file's first line has them."""
+def _attitude_columns(path) -> tuple | None:
+    """The attitude columns of poinsot's CSV export when the file's first line has them: the
+    matrix ``Q_11 [1]`` … ``Q_33 [1]`` (row by row; as integrated, so its drift off SO(3) is
+    graded), else the quaternion ``quaternion_w [1]`` … ``quaternion_z [1]`` (normalised when
+    written: it hides that drift)."""
     try:
         with open(path, encoding="utf-8-sig") as fh:
             header = fh.readline()
     except (OSError, UnicodeDecodeError):
         return None  # read_log says what is wrong with the file
     names = [n.strip().strip('"') for n in header.split(",")]
-    wanted = tuple(f"quaternion_{c} [1]" for c in "wxyz")
-    return wanted if all(w in names for w in wanted) else None
+    for wanted in (tuple(f"Q_{i}{j} [1]" for i in "123" for j in "123"),
+                   tuple(f"quaternion_{c} [1]" for c in "wxyz")):  # fmt: skip
+        if all(w in names for w in wanted):
+            return wanted
+    return None
 
 
 @dataclass(frozen=True)
@@ -425,6 +430,7 @@ def grade_top(t, omega, Q, top) -> Grade:
     exact = motion.exact
     if exact is None:
         raise ValueError("the top starts with its axis on the vertical, where ψ is undefined")
+
     return Grade(
         kind="heavy top",
         t=t,
@@ -434,8 +440,5 @@ def grade_top(t, omega, Q, top) -> Grade:
         orthogonality_error=orthogonality_error(Q),
         omega_exact=exact.omega,
         Q_exact=exact.Q,
-        angle_errors={
-            name: np.abs(getattr(motion, name) - getattr(exact, name))
-            for name in ("theta", "psi", "phi")
-        },
+        angle_errors=motion.angle_errors(),
     )

@@ -206,6 +206,14 @@ class TopMotion:
     :func:`exact_motion` gives the theta band and the mean precession rate exactly (the
     turning points of ``cos θ`` and ψ's advance over a nutation period), :func:`top_motion`
     from the samples (their extremes and the least-squares slope of ψ).
+
+    Through a vertical (the band reaching θ = 0 or π) ψ and φ step by ±π, and the side is
+    undefined where the vertical and axial momenta are equal there: the closed form takes
+    +π, the limit of a small positive spin, and its mean precession rate counts π per
+    passage. A top released from rest with no spin swings in one plane, which stands still,
+    yet "precesses" at π per nutation period by this convention; a simulated run's ψ steps
+    by ±π as round-off decides, so its least-squares rate means little there.
+    :meth:`angle_errors` compares ψ and φ modulo 2π in that case.
     """
 
     t: np.ndarray
@@ -253,19 +261,34 @@ class TopMotion:
             **(self._against_exact() if self.exact is not None else {}),
         }
 
+    def angle_errors(self) -> dict:
+        """``|θ − θ_exact|``, ``|ψ − ψ_exact|``, ``|φ − φ_exact|`` (n,) each [rad], against
+        :attr:`exact`. Where the exact motion passes through a vertical (a swing with no spin
+        in one plane, or over the top), ψ and φ step by ±π there, the side a matter of
+        round-off: they are then compared as angles, modulo 2π."""
+        e = self.exact
+        through = e.theta_band[0] == 0.0 or e.theta_band[1] == np.pi
+
+        def error(name):
+            d = getattr(self, name) - getattr(e, name)
+            if through and name != "theta":
+                d = np.remainder(d + np.pi, 2 * np.pi) - np.pi
+            return np.abs(d)
+
+        return {name: error(name) for name in ("theta", "psi", "phi")}
+
     def _against_exact(self) -> dict:
         """The closed form's band, period and mean rate, and the largest differences of θ, ψ
         and φ from it over the samples."""
         e = self.exact
+        errors = self.angle_errors()
         return {
             "exact": {
                 "theta_min": e.theta_band[0],
                 "theta_max": e.theta_band[1],
                 "nutation_period": e.nutation_period,
                 "mean_precession_rate": e.mean_precession_rate,
-                "max_theta_error": float(np.abs(self.theta - e.theta).max()),
-                "max_psi_error": float(np.abs(self.psi - e.psi).max()),
-                "max_phi_error": float(np.abs(self.phi - e.phi).max()),
+                **{f"max_{name}_error": float(err.max()) for name, err in errors.items()},
             }
         }
 
@@ -320,14 +343,22 @@ def top_motion(traj, top: HeavyTop) -> TopMotion:
 
 def _exact_or_none(top, traj):
     """The closed form of the run's top from its first sample, or None where the axis starts
-    on the vertical (Euler angles undefined)."""
+    on the vertical (Euler angles undefined); any other refusal of :func:`exact_motion` (a
+    first attitude that is not a rotation, times beyond double precision's phases) is
+    raised, saying it is the closed form's."""
     from dataclasses import replace
 
     try:
         exact = exact_motion(top, traj.omega[0], traj.Q[0], traj.t - traj.t[0])
-    except ValueError:
+    except VerticalAxisError:
         return None
+    except ValueError as exc:
+        raise ValueError(f"the closed form from the first sample: {exc}") from None
     return replace(exact, t=traj.t)
+
+
+class VerticalAxisError(ValueError):
+    """A top whose axis starts on the vertical, where its Euler angles are undefined."""
 
 
 def _check_top(top) -> HeavyTop:
@@ -370,8 +401,9 @@ def _initial_angles(top: HeavyTop, w, Q):
     F, S = top.frame(), top.space()
     angles = euler_from_matrix(np.einsum("ij,njk,kl->nil", S, Q, F), "ZXZ")
     if np.any(np.abs(np.sin(angles[:, 1])) < EULER_SINGULAR):
-        raise ValueError("`Q0` puts the top's axis on the vertical, where ψ is undefined: "
-                         "tilt it (a sleeping top is the limit of a small tilt)")  # fmt: skip
+        raise VerticalAxisError("`Q0` puts the top's axis on the vertical, where ψ is "
+                                "undefined: tilt it (a sleeping top is the limit of a small "
+                                "tilt)")  # fmt: skip
     return angles, euler_rates_from_body(angles, w @ F)
 
 
