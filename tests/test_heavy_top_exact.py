@@ -292,8 +292,12 @@ def test_bad_input_is_refused_by_name():
         _core.heavy_top_motions(1.0, 1.0, -1.0, [[0, 1, 0]], [[0, 0, 1]], [0.0])
     with pytest.raises(ValueError, match=r"`rates\[0\]` must be finite"):
         _core.heavy_top_motions(1.0, 1.0, 1.0, [[0, 1, 0]], [[np.nan, 0, 1]], [0.0])
-    with pytest.raises(ValueError, match="on the vertical"):
+    with pytest.raises(ValueError, match=r"`Q0` puts the top's axis on the vertical"):
         exact_motion(TOP, (0, 0, 50.0), np.eye(3), [0.0])
+    # in a batch, the member is named
+    Q0 = np.stack([matrix_from_euler([0.0, 0.5, 0.0]), np.eye(3)])
+    with pytest.raises(ValueError, match=r"`Q0\[1\]` puts the top's axis on the vertical"):
+        exact_motion(TOP, np.tile((0, 0, 50.0), (2, 1)), Q0, [0.0])
 
 
 def test_exact_grading_of_a_top_ensemble():

@@ -400,8 +400,10 @@ def _initial_angles(top: HeavyTop, w, Q):
 
     F, S = top.frame(), top.space()
     angles = euler_from_matrix(np.einsum("ij,njk,kl->nil", S, Q, F), "ZXZ")
-    if np.any(np.abs(np.sin(angles[:, 1])) < EULER_SINGULAR):
-        raise VerticalAxisError("`Q0` puts the top's axis on the vertical, where ψ is "
+    vertical = np.flatnonzero(np.abs(np.sin(angles[:, 1])) < EULER_SINGULAR)
+    if len(vertical):
+        which = "" if len(Q) == 1 else f"[{vertical[0]}]"
+        raise VerticalAxisError(f"`Q0{which}` puts the top's axis on the vertical, where ψ is "
                                 "undefined: tilt it (a sleeping top is the limit of a small "
                                 "tilt)")  # fmt: skip
     return angles, euler_rates_from_body(angles, w @ F)
