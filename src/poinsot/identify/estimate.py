@@ -18,7 +18,13 @@ import numpy as np
 from .._bindings import inertia as core_inertia
 from .._validation import as_array, as_positive_scalar, as_vector3
 from .flight import find_free_flight
-from .result import IdentifyResult, ModelMismatchWarning, NotIdentifiableError
+from .result import (
+    IdentifyResult,
+    ModelMismatchWarning,
+    NotIdentifiableError,
+    _robust_std,
+    _total_noise,
+)
 from .signals import white_noise_std
 
 __all__ = [
@@ -230,7 +236,11 @@ def identify(
         The gyro's range [rad/s]; default: recognised as a clipped plateau.
     loss : str
         The fit's loss, ``"linear"`` (least squares) or a robust one of
-        :data:`poinsot.identify.output_error.LOSSES`.
+        :data:`poinsot.identify.output_error.LOSSES`, which down-weights residuals beyond the
+        gyro's noise (estimated from the readings). With a robust loss the standard errors
+        are the M-estimator's (Huber's sandwich covariance; ``poinsot.identify.output_error``),
+        and the residuals are judged by their robust scale (``residual_scale``), not their
+        RMS.
     segment : float
         Longest stretch [s] integrated from one initial ω (longer windows are split).
     max_nfev : int
@@ -240,7 +250,8 @@ def identify(
     -------
     IdentifyResult
         With ``flags`` (and a :class:`ModelMismatchWarning`) when the fitted model does not
-        explain the readings: residuals more than :data:`MISMATCH_RATIO` times the noise.
+        explain the readings: residuals more than :data:`MISMATCH_RATIO` times the noise (their
+        RMS; with a robust loss their robust scale).
 
     Raises
     ------
@@ -289,7 +300,7 @@ def identify(
             "identifiable from them",
             ("I1/I3", "I2/I3", "e1", "e2", "e3"),
         ) from exc
-    result = _result(oe, ts, ws, flight, speed is not None, J, loss != "linear")
+    result = _result(oe, ts, ws, flight, speed is not None, J, loss)
     if not result.residual_ratio > MISMATCH_RATIO:
         # standard errors mean something only when the model explains the readings; when it
         # does not, the result is returned flagged (its standard errors inflated by the misfit)
@@ -362,36 +373,45 @@ def _moments_stderr(oe, moments, ratios, absolute: bool):
 
 
 def _misfit(oe, ws, robust: bool):
-    """The residuals against the gyro's noise: ``(noise (3,), residual RMS (3,), total noise
-    RMS, ratio)``, the ratio of a robust scale (1.4826 MAD) of the residuals when ``robust``."""
+    """The residuals against the gyro's noise: ``(noise (3,), residual RMS (3,), robust scale
+    (3,), total noise RMS, ratio)``; the ratio is that of the residuals' total RMS, or of their
+    total robust scale (1.4826 MAD) when ``robust``, to the total noise."""
     noise = white_noise_std(ws)
     rms = np.sqrt(np.mean(oe.residuals**2, axis=0))
-    floor = 1e-9 * float(np.sqrt(np.mean(ws**2)))
-    total_noise = max(float(np.sqrt(np.mean(noise**2))), floor)
-    if robust:  # outliers are expected: compare the residuals' robust scale (1.4826 MAD)
-        r = oe.residuals
-        spread = 1.482602218505602 * np.median(np.abs(r - np.median(r, axis=0)), axis=0)
-        ratio = float(np.sqrt(np.mean(spread**2)) / total_noise)
-    else:
-        ratio = float(np.sqrt(np.mean(rms**2)) / total_noise)
-    return noise, rms, total_noise, ratio
+    spread = _robust_std(oe.residuals)
+    noise_rms = _total_noise(noise, ws)
+    # outliers are expected with a robust loss: compare the residuals' robust scale
+    size = spread if robust else rms
+    ratio = float(np.sqrt(np.mean(size**2)) / noise_rms)
+    return noise, rms, spread, noise_rms, ratio
 
 
-def _flags(oe, ratio: float, total_noise: float, has_rotor: bool, moments) -> list[str]:
+def _flags(oe, ratio: float, noise_rms: float, has_rotor: bool, moments, loss: str) -> list[str]:
     """What is wrong with the fit, in words: a model that does not explain the readings, no
-    convergence, moments that no body has."""
+    convergence, moments that no body has. Each number says what it is: the residuals' RMS, or
+    with a robust ``loss`` their robust scale (the size ``ratio`` measures), and the scale the
+    standard errors are calibrated to (``oe.sigma``)."""
     flags = []
     if ratio > MISMATCH_RATIO:
         model = "gyrostat" if has_rotor else "torque-free"
+        size = ratio * noise_rms
+        if loss == "linear":
+            measured = (f"the residuals are {ratio:.3g}× the gyro noise ({size:.3g} against "
+                        f"{noise_rms:.3g} rad/s RMS)")  # fmt: skip
+            scale = f"{oe.sigma:.3g} rad/s, their standard deviation"
+        else:
+            rms = float(np.sqrt(np.mean(oe.residuals**2)))
+            measured = (f"the residuals' robust scale (1.4826 MAD) is {ratio:.3g}× the gyro "
+                        f"noise ({size:.3g} rad/s against {noise_rms:.3g} rad/s RMS; their RMS "
+                        f"is {rms:.3g} rad/s)")  # fmt: skip
+            scale = f"{oe.sigma:.3g} rad/s, the {loss} loss's M-estimator scale"
         flags.append(
-            f"the residuals are {ratio:.3g}× the gyro noise ({ratio * total_noise:.3g} "
-            f"against {total_noise:.3g} rad/s RMS): the {model} model does not explain the "
-            "motion"
+            f"{measured}: the {model} model does not explain the motion"
             + ("" if has_rotor else " (a spinning rotor that was not given?)")
             + "; check the window (was the body free?), the units and the sensor frame. The "
-            f"standard errors above are calibrated to the residuals ({ratio * total_noise:.3g} "
-            "rad/s, not the gyro's noise): they count the misfit as noise, and hold if it is "
-            "random; a systematic misfit biases the numbers beyond them"
+            f"standard errors above are calibrated to the residuals ({scale}; not the gyro's "
+            "noise): they count the misfit as noise, and hold if it is random; a systematic "
+            "misfit biases the numbers beyond them"
         )
     if not oe.success:
         flags.append(f"the fit did not converge: {oe.message}")
@@ -405,7 +425,7 @@ def _flags(oe, ratio: float, total_noise: float, has_rotor: bool, moments) -> li
     return flags
 
 
-def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyResult:
+def _result(oe, ts, ws, flight, has_rotor: bool, J, loss: str) -> IdentifyResult:
     """The :class:`IdentifyResult` of the output-error fit ``oe`` over the window ``ts``."""
     m, E = oe.moments, oe.axes
     absolute = oe.absolute
@@ -424,8 +444,8 @@ def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyRes
         else:
             rotor_inertia = float(oe.rotor_inertia) * float(m[2]) / scale
             dJ = oe.stderr("kappa") * float(m[2]) / scale
-    noise, rms, total_noise, ratio = _misfit(oe, ws, robust)
-    flags = _flags(oe, ratio, total_noise, has_rotor, moments)
+    noise, rms, spread, noise_rms, ratio = _misfit(oe, ws, loss != "linear")
+    flags = _flags(oe, ratio, noise_rms, has_rotor, moments, loss)
     bias_k = [oe.names.index(x) for x in ("bias.x", "bias.y", "bias.z")]
     return IdentifyResult(
         inertia=inertia,
@@ -458,6 +478,8 @@ def _result(oe, ts, ws, flight, has_rotor: bool, J, robust: bool) -> IdentifyRes
         found_by=flight.found_by,
         flags=tuple(flags),
         nfev=oe.nfev,
+        loss=loss,
+        residual_scale=spread,
     )
 
 

@@ -38,6 +38,25 @@ def _floats(a):
     return np.asarray(a, dtype=float).tolist()
 
 
+#: The standard deviation of Gaussian noise over its median absolute deviation, 1/Φ⁻¹(3/4).
+_MAD_TO_STD = 1.482602218505602
+
+
+def _robust_std(residuals) -> np.ndarray:
+    """The residuals' robust scale per column, ``1.4826 · MAD`` (the median absolute deviation
+    from the median) [their unit]: their standard deviation for Gaussian noise, a few outliers
+    aside."""
+    r = np.asarray(residuals, dtype=float)
+    return _MAD_TO_STD * np.median(np.abs(r - np.median(r, axis=0)), axis=0)
+
+
+def _total_noise(noise_std, omega) -> float:
+    """The gyro's total noise ``√(mean σ_k²)`` [rad/s] from its per-axis ``noise_std``, at least
+    1e-9 of the readings' RMS (noiseless readings would otherwise divide by zero)."""
+    floor = 1e-9 * float(np.sqrt(np.mean(np.asarray(omega, dtype=float) ** 2)))
+    return max(float(np.sqrt(np.mean(np.asarray(noise_std, dtype=float) ** 2))), floor)
+
+
 @dataclass(frozen=True, eq=False)
 class IdentifyResult:
     """The inertia of a body identified from a gyro log.
@@ -72,8 +91,9 @@ class IdentifyResult:
     noise_std : ndarray (3,)
         The gyro's white noise, estimated from the readings alone [rad/s].
     residual_ratio : float
-        Total RMS residual over total noise (with a robust loss, the residuals' robust scale
-        1.4826 · MAD instead of their RMS): about 1 when the model explains the readings.
+        Total RMS residual over total noise; with a robust ``loss``, the residuals' total robust
+        scale (``residual_scale``) over total noise instead, so that the outliers the loss is
+        there to ignore do not count. About 1 when the model explains the readings.
     condition : float
         Condition number of the (column-scaled) fit's Jacobian: the identifiability of the
         whole set of unknowns (large: some combination is barely determined).
@@ -102,6 +122,12 @@ class IdentifyResult:
         What is wrong with the fit, in words; empty when nothing is (see :attr:`ok`).
     nfev : int
         Model evaluations (each one integration of the window).
+    loss : str
+        The fit's loss: ``"linear"`` (least squares) or a robust one. With a robust loss the
+        standard errors are those of an M-estimator (``poinsot.identify.output_error``).
+    residual_scale : ndarray (3,)
+        The residuals' robust scale per sensor axis, ``1.4826 · MAD`` [rad/s]: their standard
+        deviation for Gaussian noise, outliers aside.
     """
 
     inertia: np.ndarray
@@ -134,6 +160,8 @@ class IdentifyResult:
     found_by: str = "window"
     flags: tuple = ()
     nfev: int = 0
+    loss: str = "linear"
+    residual_scale: np.ndarray = field(default_factory=lambda: np.full(3, np.nan))
 
     # ------------------------------------------------------------------ reading it
     @property
@@ -218,8 +246,10 @@ class IdentifyResult:
             "accel_bias": None if self.accel_bias is None else _floats(self.accel_bias),
             "found_by": self.found_by,
             "residual_rms": _floats(self.residual_rms),
+            "residual_scale": _floats(self.residual_scale),
             "noise_std": _floats(self.noise_std),
             "residual_ratio": float(self.residual_ratio),
+            "loss": self.loss,
             "condition": float(self.condition),
             "samples": len(self.t),
             "flags": list(self.flags),
@@ -236,6 +266,7 @@ class IdentifyResult:
                 "lever_arm": "m",
                 "accel_bias": "m/s²",
                 "residual_rms": "rad/s",
+                "residual_scale": "rad/s",
                 "noise_std": "rad/s",
             },
         }
@@ -284,10 +315,18 @@ class IdentifyResult:
             p = 1000 * self.lever_arm
             lines.append(f"lever arm     ({p[0]:+.1f}, {p[1]:+.1f}, {p[2]:+.1f}) mm "
                          "(accelerometer from the centre of mass)")  # fmt: skip
+        noise = _total_noise(self.noise_std, self.omega_measured)
+        rms = float(np.sqrt(np.mean(np.asarray(self.residual_rms) ** 2)))
         lines.append(
-            f"residuals     {np.sqrt(np.mean(self.residual_rms**2)):.4g} rad/s RMS, "
-            f"{self.residual_ratio:.3g}× the gyro noise; condition {self.condition:.3g}"
+            f"residuals     {rms:.4g} rad/s RMS, {rms / noise:.3g}× the gyro noise; "
+            f"condition {self.condition:.3g}"
         )
+        if self.loss != "linear":  # the scale the robust fit judges itself by
+            scale = float(np.sqrt(np.mean(np.asarray(self.residual_scale) ** 2)))
+            lines.append(
+                f"robust scale  {scale:.4g} rad/s (1.4826 MAD of the residuals), "
+                f"{scale / noise:.3g}× the gyro noise; loss {self.loss}"
+            )
         for f in self.flags:
             lines.append(f"warning       {f}")
         return lines
