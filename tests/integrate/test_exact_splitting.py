@@ -98,6 +98,26 @@ def test_torque_free_the_method_is_the_closed_form(name):
     np.testing.assert_allclose(traj.Q, free.exact_attitude(w0, t, np.eye(3)), rtol=0, atol=1e-12)
 
 
+@pytest.mark.parametrize("gap", [1e-6, 1e-9, 1e-11])
+def test_a_nearly_symmetric_body_about_its_middle_axis_keeps_its_digits(gap):
+    """I2 − I1 = gap, spun about e2: the polhode's rate λ ~ √gap, and ψ's factor 1/λ had
+    magnified the rounding of Π(u) − Π(u0)'s first-kind part, the difference of two rounded
+    arguments: Q was 4e-12, 6e-11 and 2e-10 off at t = 40, in the closed form and in every
+    flow. The first-kind part is λt, taken exactly. Reference: DOP853 at rtol 1e-13, an
+    independent route (its own error about 2e-13)."""
+    from poinsot.torquefree import FreeRigidBody
+
+    moments = np.array([1.0, 1.0 + gap, 2.0])
+    body = RigidBody(1.0, np.diag(moments))
+    w0 = np.array([1e-7, 1.0, 1e-7])
+    t = np.linspace(0, 40, 9)
+    ref = simulate(body, (0, 40), omega0=w0, method="dop853", rtol=1e-13, atol=1e-16, t_eval=t)
+    closed = FreeRigidBody(moments).exact_attitude(w0, t)
+    flows = simulate(body, (0, 40), omega0=w0, method="exact-splitting4", dt=0.37, t_eval=t)
+    for Q in (closed, flows.Q):
+        assert np.abs(Q - ref.Q).max() < 2e-12
+
+
 def _order(errors, hs):
     return np.polyfit(np.log(hs), np.log(errors), 1)[0]
 

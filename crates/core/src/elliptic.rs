@@ -603,6 +603,17 @@ pub fn ellippi_complete(n: f64, m: f64, m1: f64) -> f64 {
     carlson_rf(0.0, m1, 1.0) + n / 3.0 * carlson_rj(0.0, m1, 1.0, 1.0 - n)
 }
 
+/// `Π(n|m) − K(m)`, what the complete integral of the third kind adds to that of the first
+/// kind: `(n/3) R_J(0, m1, 1, 1 − n)` for `n ≥ −1` (DLMF 19.25.2, no `K` formed, so that it
+/// keeps its digits as `n → 0`: a nearly symmetric body's `n ~ (I2 − I1)`), else
+/// [`ellippi_complete`] less `k`, the quarter period given (nothing cancels there).
+pub fn ellippi_excess_complete(n: f64, m: f64, m1: f64, k: f64) -> f64 {
+    if n < -1.0 {
+        return ellippi_complete(n, m, m1) - k;
+    }
+    n / 3.0 * carlson_rj(0.0, m1, 1.0, 1.0 - n)
+}
+
 /// The incomplete integral of the third kind
 /// `Π(n; φ | m) = ∫₀^φ dθ / ((1 − n sin²θ) √(1 − m sin²θ))` for `n < 1` and any real φ:
 /// `s R_F(c², Δ², 1) + (n/3) s³ R_J(c², Δ², 1, 1 − n s²)` on |φ| ≤ π/2 (DLMF 19.25.14),
@@ -666,12 +677,24 @@ pub fn third_kind_separatrix(n: f64, u: f64) -> f64 {
     u / (1.0 - n) - r / (1.0 - n) * cmath::atanh(r * u.tanh())
 }
 
+/// `Π(n; am u | m) − u` for `n ≤ 0` from the quarter-period reduction `u = 2pK + v` of its
+/// argument ([`reduce_quarter`]): `s = sn v`, `c = cn v ≥ 0`, `d = dn v` and `p`, with
+/// `Π(n|m) − K` given ([`ellippi_excess_complete`]): `X(v) + 2p (Π(n|m) − K)`, where
+/// `X(v) = (n/3) s³ R_J(c², d², 1, 1 − n s²)` (DLMF 19.25.14, whose first-kind part
+/// `s R_F(c², d², 1) = F(am v)` is `v` itself for |v| ≤ K). Left out, the first-kind part
+/// `u` is known exactly (`u − u0 = λt`), so ψ does not take it from a difference of rounded
+/// arguments, which ψ's factor `1/λ` had magnified. Generic over [`Real`] (the attitude of
+/// free bodies in lanes); the reduction is the one ω(t) already made.
+#[inline(always)]
+pub fn third_kind_excess_reduced<T: Real>(n: T, s: T, c: T, d: T, p: T, excess: T) -> T {
+    let k = T::splat;
+    let x = third_kind_excess(n, s, c, d);
+    T::select(p.unequal(k(0.0)), x + k(2.0) * p * excess, x)
+}
+
 /// [`third_kind_u`] for `n ≤ 0` from the quarter-period reduction `u = 2pK + v` of its
-/// argument ([`reduce_quarter`]): `s = sn v`, `c = cn v ≥ 0`, `d = dn v`, `v` and `p`, with
-/// `Π(n|m)` given: `2p Π(n|m) + v + (n/3) s³ R_J(c², d², 1, 1 − n s²)` (DLMF 19.25.14, whose
-/// first-kind part `s R_F(c², d², 1) = F(am v)` is `v` itself for |v| ≤ K: no `R_F` is taken,
-/// and the integral keeps the very phase `v` of the Jacobi functions). Generic over [`Real`]
-/// (the attitude of free bodies in lanes); the reduction is the one ω(t) already made.
+/// argument, as [`third_kind_excess_reduced`] but whole: `v + X(v) + 2p Π(n|m)`, with
+/// `Π(n|m)` given. Generic over [`Real`].
 #[inline(always)]
 pub fn third_kind_reduced<T: Real>(n: T, s: T, c: T, d: T, v: T, p: T, pi_complete: T) -> T {
     let k = T::splat;

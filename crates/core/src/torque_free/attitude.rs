@@ -10,8 +10,8 @@
 
 use super::{jacobi_omega, Regime, FIXED, PRECESSION, SPHERICAL};
 use crate::elliptic::{
-    ellippi_complete, jacobi_reduced_with, parity, third_kind_excess, third_kind_reduced,
-    third_kind_u, TINY_M1,
+    ellippi_excess_complete, jacobi_reduced_with, parity, third_kind_excess,
+    third_kind_excess_reduced, third_kind_u, TINY_M1,
 };
 use crate::real::{sin_cos, Mask, Real, Wide, WideMask};
 use crate::so3::{exp_so3, matmul, zxz_matrix, zxz_matrix_sc, Mat3, Vec3};
@@ -116,9 +116,13 @@ pub struct AttitudeSetup {
     pub i_pole: f64,
     /// The moment about the other end axis, `I_q`.
     pub i_other: f64,
-    /// `Π(u0) = ∫₀^u0 du/(1 − n sn² u)`.
+    /// `Π(u0) = ∫₀^u0 du/(1 − n sn² u)` on the separatrix and where `m1 <` [`TINY_M1`]
+    /// (their forms, [`third_kind_u`]); elsewhere `Π(u0) − u0`, the part beyond the first
+    /// kind ([`third_kind_excess_reduced`]: `ψ = a t/I_q + a (I_p − I_q)/(I_p I_q λ)
+    /// [(Π(u) − u) − (Π(u0) − u0)]`, with `u − u0 = λt` taken exactly).
     pub pi_u0: f64,
-    /// The complete integral `Π(n|m)` (zero on the separatrix and where `m1 <` [`TINY_M1`]).
+    /// `Π(n|m) − K(m)` ([`ellippi_excess_complete`]; zero on the separatrix and where
+    /// `m1 <` [`TINY_M1`]).
     pub pi_complete: f64,
     /// `ψ`'s factor of `Π(u) − Π(u0)`: `a (I_p − I_q)/(I_p I_q λ)`.
     pub psi_pi: f64,
@@ -141,8 +145,8 @@ impl AttitudeSetup {
         }
         let mut att = AttitudeSetup::frame(moments, reg, w, q0);
         att.pi_u0 = if reduced_third_kind(reg) {
-            att.pi_complete = ellippi_complete(att.n, reg.m, reg.m1);
-            // Π at t = 0 by the very route of every later time, so that ψ(0) = 0 exactly
+            att.pi_complete = ellippi_excess_complete(att.n, reg.m, reg.m1, reg.quarter);
+            // Π(u0) − u0 by the very route of every later time, so that ψ(0) = 0 exactly
             let red = jacobi_reduced_with(reg.u0, reg.m, reg.m1, reg.quarter, &reg.agm);
             EllipticMotion::of(reg, &att).third_kind(red)
         } else {
@@ -171,24 +175,25 @@ impl AttitudeSetup {
     }
 }
 
-/// `Π(u) − Π(u0)` of an elliptic motion from the reductions of `u` and `u0` (the exact-flow
-/// splitting's free flow, [`crate::exact_splitting::FreeFlow`]; `docs/theory.md` §5): with
-/// `u = 2pK + v`, `u0 = 2p0 K + v0` (|v|, |v0| ≤ K), `Π = 2pΠ(n|m) + G(v)` and
-/// `G(v) = v + X(v)` (DLMF 19.25.14: the first-kind part of `G`, `s R_F(c², d², 1)`, is `v`
-/// itself; [`third_kind_excess`]), so
-/// `Π(u) − Π(u0) = (v − v0) + X(v) − X(v0) + 2(p − p0) Π(n|m)`.
-/// The first-kind parts are never evaluated: they are the reduced arguments, `v` the very one
-/// ω(t) is made from, so that ψ keeps ω's phase over many periods. `X(v0)` comes from the
-/// start's own Jacobi functions, `(sn, cn, dn)(u0) = ω_i/(σ_i α_i)` (no reduction of `u0`),
-/// and the complete `Π(n|m)` only once `p ≠ p0` (a short flow stays in its half period and
-/// never needs it).
+/// `Π(u) − Π(u0)` of an elliptic motion less its first-kind part `u − u0 = λt`, from the
+/// reductions of `u` and `u0` (the exact-flow splitting's free flow,
+/// [`crate::exact_splitting::FreeFlow`]; `docs/theory.md` §5): with `u = 2pK + v`,
+/// `u0 = 2p0 K + v0` (|v|, |v0| ≤ K), `Π = 2pΠ(n|m) + G(v)` and `G(v) = v + X(v)` (DLMF
+/// 19.25.14: the first-kind part of `G`, `s R_F(c², d², 1)`, is `v` itself;
+/// [`third_kind_excess`]), so
+/// `Π(u) − Π(u0) − λt = X(v) − X(v0) + 2(p − p0) (Π(n|m) − K)`.
+/// The first-kind part is never evaluated: ψ takes it as `λt`, exactly, where its difference
+/// `v − v0` of rounded arguments, times ψ's factor `1/λ`, had lost digits as `λ → 0` (a
+/// nearly symmetric body about its middle axis: 2e-10 in Q at `I2 − I1 = 1e-11`). `X(v0)`
+/// comes from the start's own Jacobi functions, `(sn, cn, dn)(u0) = ω_i/(σ_i α_i)` (no
+/// reduction of `u0`), and `Π(n|m) − K` only once `p ≠ p0` (a short flow stays in its half
+/// period and never needs it).
 #[derive(Clone, Copy, Debug)]
 pub struct ThirdKindStart {
-    /// `v0`, `X(v0)` and `p0`.
-    v0: f64,
+    /// `X(v0)` and `p0`.
     x0: f64,
     p0: f64,
-    /// `Π(n|m)`, once needed.
+    /// `Π(n|m) − K`, once needed.
     pi_complete: Option<f64>,
 }
 
@@ -213,35 +218,24 @@ impl ThirdKindStart {
         let p0 = (reg.u0 / two_k).round_ties_even();
         let par = parity(p0);
         Some(ThirdKindStart {
-            v0: reg.u0 - two_k * p0,
             x0: third_kind_excess(att.n, par * sn, par * cn, dn),
             p0,
             pi_complete: None,
         })
     }
 
-    /// `Π(u) − Π(u0)` from the reduction `(sn u, cn u, dn u, p, v)` of `u`
+    /// `Π(u) − Π(u0) − λt` from the reduction `(sn u, cn u, dn u, p)` of `u`
     /// ([`jacobi_reduced_with`]).
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn difference(
-        &mut self,
-        reg: &Regime,
-        n: f64,
-        sn: f64,
-        cn: f64,
-        dn: f64,
-        p: f64,
-        v: f64,
-    ) -> f64 {
+    fn difference(&mut self, reg: &Regime, n: f64, sn: f64, cn: f64, dn: f64, p: f64) -> f64 {
         let par = parity(p);
-        let g = (v - self.v0) + (third_kind_excess(n, par * sn, par * cn, dn) - self.x0);
+        let g = third_kind_excess(n, par * sn, par * cn, dn) - self.x0;
         if p == self.p0 {
             return g;
         }
         let pc = *self
             .pi_complete
-            .get_or_insert_with(|| ellippi_complete(n, reg.m, reg.m1));
+            .get_or_insert_with(|| ellippi_excess_complete(n, reg.m, reg.m1, reg.quarter));
         g + 2.0 * (p - self.p0) * pc
     }
 }
@@ -258,13 +252,13 @@ pub fn motion_from_start(
     t: f64,
 ) -> (Vec3, Mat3) {
     let u = reg.u0 + reg.lam * t;
-    let (sn, cn, dn, p, v) = jacobi_reduced_with(u, reg.m, reg.m1, reg.quarter, &reg.agm);
+    let (sn, cn, dn, p, _) = jacobi_reduced_with(u, reg.m, reg.m1, reg.quarter, &reg.agm);
     let motion = EllipticMotion::of(reg, att);
     let omega = jacobi_omega(reg.pole == 2, motion.sa, sn, cn, dn);
-    let big_pi = start.difference(reg, att.n, sn, cn, dn, p, v);
+    let excess = start.difference(reg, att.n, sn, cn, dn, p);
     (
         omega,
-        motion.attitude_with(moments, t, omega, big_pi, &mut true),
+        motion.attitude_with_excess(moments, t, omega, excess, &mut true),
     )
 }
 
@@ -277,13 +271,16 @@ pub(super) struct EllipticMotion<T: Real> {
     /// The signed amplitudes `σ_i α_i` and the pole (e3 where set).
     pub(super) sa: [T; 3],
     pub(super) e3: T::Mask,
-    /// [`AttitudeSetup`]'s `n`, `Π(n|m)`, `Π(u0)`, ψ's factor; `a`, `I_p`; the invariable frame.
+    /// [`AttitudeSetup`]'s `n`, `Π(n|m) − K`, `Π(u0) − u0`, ψ's factor; `a`, `I_p`, `I_q`;
+    /// the invariable frame. (The closed form's derivatives keep the whole `Π(n|m)` and
+    /// `Π(u0)` here, for their own third-kind integral on dual numbers.)
     pub(super) n: T,
     pub(super) pi_complete: T,
     pub(super) pi_u0: T,
     pub(super) psi_pi: T,
     pub(super) momentum: T,
     pub(super) i_pole: T,
+    pub(super) i_other: T,
     pub(super) p0: [[T; 3]; 3],
 }
 
@@ -298,6 +295,7 @@ impl EllipticMotion<f64> {
             psi_pi: att.psi_pi,
             momentum: reg.momentum,
             i_pole: att.i_pole,
+            i_other: att.i_other,
             p0: att.p0,
         }
     }
@@ -327,26 +325,30 @@ impl<const N: usize> EllipticMotion<Wide<N>> {
             psi_pi: wide(&|m| m.psi_pi),
             momentum: wide(&|m| m.momentum),
             i_pole: wide(&|m| m.i_pole),
+            i_other: wide(&|m| m.i_other),
             p0: [0, 1, 2].map(|r| [0, 1, 2].map(|c| wide(&|m| m.p0[r][c]))),
         }
     }
 }
 
 impl<T: Real> EllipticMotion<T> {
-    /// `Π(u) = ∫₀^u du/(1 − n sn² u)` from the reduction `(sn u, cn u, dn u, p, v)` of
-    /// `u = 2pK + v` ([`third_kind_reduced`] on `sn v = (−1)^p sn u`, `cn v = (−1)^p cn u`).
+    /// `Π(u) − u`, `Π(u) = ∫₀^u du/(1 − n sn² u)`, from the reduction `(sn u, cn u, dn u, p,
+    /// v)` of `u = 2pK + v` ([`third_kind_excess_reduced`] on `sn v = (−1)^p sn u`,
+    /// `cn v = (−1)^p cn u`).
     #[inline(always)]
-    fn third_kind(&self, (sn, cn, dn, p, v): (T, T, T, T, T)) -> T {
+    fn third_kind(&self, (sn, cn, dn, p, _): (T, T, T, T, T)) -> T {
         let par = parity(p);
-        third_kind_reduced(self.n, par * sn, par * cn, dn, v, p, self.pi_complete)
+        third_kind_excess_reduced(self.n, par * sn, par * cn, dn, p, self.pi_complete)
     }
 
     /// `Q(t)` (sorted principal frame → space) from the reduction `(sn, cn, dn, p, v)` of
     /// `u = u0 + λt`: ω(t) in the Jacobi form, the angles θ, φ of the body momentum `π = Iω`
     /// (relabelled `(π3, −π2, π1)` about e1) as ratios, `cos θ = π_p/a`,
-    /// `tan φ = π_1'/π_2'`, and `ψ = a t/I_p + a (I_p − I_q)/(I_p I_q λ) [Π(u) − Π(u0)]`:
-    /// `Q = P0 Rzxz(ψ, θ, φ)` (columns relabelled back about e1). `plain` is cleared in the
-    /// lanes whose sums of squares `f64` would take by `hypot` ([`Real::norm2`]).
+    /// `tan φ = π_1'/π_2'`, and `ψ = a t/I_p + a (I_p − I_q)/(I_p I_q λ) [Π(u) − Π(u0)]`
+    /// as `a t/I_q + a (I_p − I_q)/(I_p I_q λ) [(Π(u) − u) − (Π(u0) − u0)]`
+    /// ([`EllipticMotion::attitude_with_excess`]): `Q = P0 Rzxz(ψ, θ, φ)` (columns relabelled
+    /// back about e1). `plain` is cleared in the lanes whose sums of squares `f64` would take
+    /// by `hypot` ([`Real::norm2`]).
     #[inline(always)]
     pub(super) fn attitude(
         &self,
@@ -357,12 +359,29 @@ impl<T: Real> EllipticMotion<T> {
     ) -> [[T; 3]; 3] {
         let (sn, cn, dn, _, _) = red;
         let w = jacobi_omega(self.e3, self.sa, sn, cn, dn);
-        let big_pi = self.third_kind(red) - self.pi_u0;
-        self.attitude_with(moments.map(T::splat), t, w, big_pi, plain)
+        let excess = self.third_kind(red) - self.pi_u0;
+        self.attitude_with_excess(moments.map(T::splat), t, w, excess, plain)
+    }
+
+    /// [`EllipticMotion::attitude`] from ω(t) `v` (the Jacobi form) and
+    /// `(Π(u) − u) − (Π(u0) − u0)` `excess`: `ψ = a t/I_q + a (I_p − I_q)/(I_p I_q λ) excess`,
+    /// the first-kind part `a (I_p − I_q)/(I_p I_q λ) (u − u0)` of ψ's integral joined to
+    /// `a t/I_p` exactly (`u − u0 = λt`).
+    #[inline(always)]
+    pub(super) fn attitude_with_excess(
+        &self,
+        moments: [T; 3],
+        t: T,
+        v: [T; 3],
+        excess: T,
+        plain: &mut T::Mask,
+    ) -> [[T; 3]; 3] {
+        let psi = self.momentum * t / self.i_other + self.psi_pi * excess;
+        self.attitude_with_psi(moments, v, psi, plain)
     }
 
     /// [`EllipticMotion::attitude`] from ω(t) `v` (the Jacobi form) and `Π(u) − Π(u0)`
-    /// `big_pi`.
+    /// `big_pi` whole (the closed form's derivatives, on dual numbers).
     #[inline(always)]
     pub(super) fn attitude_with(
         &self,
@@ -372,8 +391,20 @@ impl<T: Real> EllipticMotion<T> {
         big_pi: T,
         plain: &mut T::Mask,
     ) -> [[T; 3]; 3] {
-        let c = T::splat;
         let psi = self.momentum * t / self.i_pole + self.psi_pi * big_pi;
+        self.attitude_with_psi(moments, v, psi, plain)
+    }
+
+    /// `Q = P0 Rzxz(ψ, θ, φ)` from ω(t) `v` and ψ.
+    #[inline(always)]
+    fn attitude_with_psi(
+        &self,
+        moments: [T; 3],
+        v: [T; 3],
+        psi: T,
+        plain: &mut T::Mask,
+    ) -> [[T; 3]; 3] {
+        let c = T::splat;
         let pi = [moments[0] * v[0], moments[1] * v[1], moments[2] * v[2]];
         let (sps, cps) = sin_cos(psi);
         let rot = body_rotation(self.e3, pi, [sps, cps], plain);

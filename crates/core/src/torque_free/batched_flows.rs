@@ -9,7 +9,7 @@
 use super::attitude::{invariable_frame_with, psi_terms, EllipticMotion};
 use super::batched_omegas::{times_pow2, LaneMotion};
 use super::{jacobi_omega, Radicals};
-use crate::elliptic::{ellippi_complete, parity, reduce_quarter, third_kind_excess};
+use crate::elliptic::{ellippi_excess_complete, parity, reduce_quarter, third_kind_excess};
 use crate::invariants::principal_invariants;
 use crate::real::{Mask, Real, Wide, WideMask};
 use crate::so3::Vec3;
@@ -58,8 +58,9 @@ fn free_flows_any<const N: usize>(
     let about3 = psi_terms(true, im, momentum, lm.lam);
     let about1 = psi_terms(false, im, momentum, lm.lam);
     let pick = |a: Wide<N>, b: Wide<N>| Wide::select(lm.e3, a, b);
-    let (ip, n, psi_pi) = (
+    let (ip, iq, n, psi_pi) = (
         pick(about3.0, about1.0),
+        pick(about3.1, about1.1),
         pick(about3.2, about1.2),
         pick(about3.3, about1.3),
     );
@@ -70,22 +71,22 @@ fn free_flows_any<const N: usize>(
     let two_k = c(2.0) * lm.quarter;
     let start_p = (lm.u0 / two_k).round_ties_even();
     let start_par = parity(start_p);
-    let v0 = lm.u0 - two_k * start_p;
     let x0 = third_kind_excess(n, start_par * sn0, start_par * cn0, dn0);
     // the motion at t ([`motion_from_start`])
     let u = lm.u0 + lm.lam * t;
-    let (sn, cn, dn, p, v) = reduce_quarter(u, lm.rm1, lm.quarter, &lm.agm);
+    let (sn, cn, dn, p, _) = reduce_quarter(u, lm.rm1, lm.quarter, &lm.agm);
     let omega = jacobi_omega(lm.e3, lm.sa, sn, cn, dn);
     let par = parity(p);
-    let g = (v - v0) + (third_kind_excess(n, par * sn, par * cn, dn) - x0);
+    // Π(u) − Π(u0) less its first-kind part λt, which ψ takes exactly
+    let g = third_kind_excess(n, par * sn, par * cn, dn) - x0;
     let crossed = p.unequal(start_p);
     let mut big_pi = g;
     if crossed.any() {
-        // the lanes whose flow left its half period: the complete Π(n|m), each its own
+        // the lanes whose flow left its half period: Π(n|m) − K, each its own
         let mut pc = [0.0; N];
         for (l, x) in pc.iter_mut().enumerate() {
             if crossed.get(l) && plain.get(l) {
-                *x = ellippi_complete(n.0[l], lm.m.0[l], lm.m1.0[l]);
+                *x = ellippi_excess_complete(n.0[l], lm.m.0[l], lm.m1.0[l], lm.quarter.0[l]);
             }
         }
         big_pi = Wide::select(crossed, g + c(2.0) * (p - start_p) * Wide(pc), g);
@@ -99,8 +100,9 @@ fn free_flows_any<const N: usize>(
         psi_pi,
         momentum,
         i_pole: ip,
+        i_other: iq,
         p0,
     };
-    let q = motion.attitude_with(im, t, omega, big_pi, &mut plain);
+    let q = motion.attitude_with_excess(im, t, omega, big_pi, &mut plain);
     (omega, q, plain)
 }

@@ -121,7 +121,7 @@ impl ExactTangent {
         let pi0 = [0, 1, 2].map(|i| im[i] * seed(w[i], 3 + i));
         let a = D::norm2(D::norm2(pi0[0], pi0[1], &mut true), pi0[2], &mut true);
         let e3 = regime.pole == 2;
-        let (ip, _, n, psi_pi) = psi_terms(e3, im, a, lam);
+        let (ip, iq, n, psi_pi) = psi_terms(e3, im, a, lam);
         let m1 = Dual::new(regime.m1, m.d.map(|x| -x));
         let pi_complete =
             third_kind_from_roots::<_, OnDuals>(n, D::splat(1.0), D::splat(0.0), m1.sqrt());
@@ -134,6 +134,7 @@ impl ExactTangent {
             psi_pi,
             momentum: a,
             i_pole: ip,
+            i_other: iq,
             p0: [[D::splat(0.0); 3]; 3],
         };
         let mut tangent = ExactTangent {
