@@ -747,6 +747,15 @@ pub fn third_kind_from_roots<T: Real, R: RcOnePlus<T>>(n: T, s: T, c: T, d: T) -
     third_kind_with_p::<T, R>(n, s, c, d, T::splat(1.0) - n * s * s)
 }
 
+/// [`third_kind_from_roots`] less its first-kind part `s R_F(c², d², 1) = F(am v) = v`:
+/// `X(v) = (n/3) s³ R_J(c², d², 1, 1 − n s²)` by [`carlson_rf_rj_from_roots`] (the closed
+/// form's derivatives on dual numbers, which take `u − u0 = λt` apart, exactly; at `s = 1`,
+/// `c = 0`, `d = √m1`, `Π(n|m) − K`).
+pub fn third_kind_excess_from_roots<T: Real, R: RcOnePlus<T>>(n: T, s: T, c: T, d: T) -> T {
+    let (_, rj) = carlson_rf_rj_from_roots::<T, R>(c, d, T::splat(1.0) - n * s * s);
+    n / T::splat(3.0) * s * s * s * rj
+}
+
 /// [`third_kind_from_roots`] with `p = 1 − n s²` given: where `n → 1` and `s → ±1` it is small,
 /// and a caller that knows it as a sum of positive numbers (the heavy top's `(1 − u)/(1 − u₁)`)
 /// keeps the digits `1 − n s²` would lose.

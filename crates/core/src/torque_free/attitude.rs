@@ -271,15 +271,13 @@ pub(super) struct EllipticMotion<T: Real> {
     /// The signed amplitudes `σ_i α_i` and the pole (e3 where set).
     pub(super) sa: [T; 3],
     pub(super) e3: T::Mask,
-    /// [`AttitudeSetup`]'s `n`, `Π(n|m) − K`, `Π(u0) − u0`, ψ's factor; `a`, `I_p`, `I_q`;
-    /// the invariable frame. (The closed form's derivatives keep the whole `Π(n|m)` and
-    /// `Π(u0)` here, for their own third-kind integral on dual numbers.)
+    /// [`AttitudeSetup`]'s `n`, `Π(n|m) − K`, `Π(u0) − u0`, ψ's factor; `a`, `I_q`; the
+    /// invariable frame.
     pub(super) n: T,
     pub(super) pi_complete: T,
     pub(super) pi_u0: T,
     pub(super) psi_pi: T,
     pub(super) momentum: T,
-    pub(super) i_pole: T,
     pub(super) i_other: T,
     pub(super) p0: [[T; 3]; 3],
 }
@@ -294,7 +292,6 @@ impl EllipticMotion<f64> {
             pi_u0: att.pi_u0,
             psi_pi: att.psi_pi,
             momentum: reg.momentum,
-            i_pole: att.i_pole,
             i_other: att.i_other,
             p0: att.p0,
         }
@@ -324,7 +321,6 @@ impl<const N: usize> EllipticMotion<Wide<N>> {
             pi_u0: wide(&|m| m.pi_u0),
             psi_pi: wide(&|m| m.psi_pi),
             momentum: wide(&|m| m.momentum),
-            i_pole: wide(&|m| m.i_pole),
             i_other: wide(&|m| m.i_other),
             p0: [0, 1, 2].map(|r| [0, 1, 2].map(|c| wide(&|m| m.p0[r][c]))),
         }
@@ -380,24 +376,9 @@ impl<T: Real> EllipticMotion<T> {
         self.attitude_with_psi(moments, v, psi, plain)
     }
 
-    /// [`EllipticMotion::attitude`] from ω(t) `v` (the Jacobi form) and `Π(u) − Π(u0)`
-    /// `big_pi` whole (the closed form's derivatives, on dual numbers).
+    /// `Q = P0 Rzxz(ψ, θ, φ)` from ω(t) `v` (the Jacobi form) and ψ.
     #[inline(always)]
-    pub(super) fn attitude_with(
-        &self,
-        moments: [T; 3],
-        t: T,
-        v: [T; 3],
-        big_pi: T,
-        plain: &mut T::Mask,
-    ) -> [[T; 3]; 3] {
-        let psi = self.momentum * t / self.i_pole + self.psi_pi * big_pi;
-        self.attitude_with_psi(moments, v, psi, plain)
-    }
-
-    /// `Q = P0 Rzxz(ψ, θ, φ)` from ω(t) `v` and ψ.
-    #[inline(always)]
-    fn attitude_with_psi(
+    pub(super) fn attitude_with_psi(
         &self,
         moments: [T; 3],
         v: [T; 3],

@@ -58,8 +58,7 @@ fn free_flows_any<const N: usize>(
     let about3 = psi_terms(true, im, momentum, lm.lam);
     let about1 = psi_terms(false, im, momentum, lm.lam);
     let pick = |a: Wide<N>, b: Wide<N>| Wide::select(lm.e3, a, b);
-    let (ip, iq, n, psi_pi) = (
-        pick(about3.0, about1.0),
+    let (iq, n, psi_pi) = (
         pick(about3.1, about1.1),
         pick(about3.2, about1.2),
         pick(about3.3, about1.3),
@@ -99,7 +98,6 @@ fn free_flows_any<const N: usize>(
         pi_u0: c(0.0),
         psi_pi,
         momentum,
-        i_pole: ip,
         i_other: iq,
         p0,
     };

@@ -15,19 +15,24 @@
 //! where they grow as `1/m1`.
 //!
 //! The attitude `Q(t) = P0 Rzxz(ψ, θ, φ) B` is the engine's own formula
-//! ([`EllipticMotion::attitude_with`], [`invariable_frame`], [`psi_terms`]) on the same dual
-//! numbers: θ and φ from `π = Iω`, and `ψ = a t/I_p + a (I_p − I_q)/(I_p I_q λ) [Π(u) − Π(u0)]`
-//! with `Π(u) = 2pΠ(n|m) + G(v)` differentiated through Carlson's duplication itself
-//! ([`third_kind_from_roots`], whose first step takes `cn v` and `dn v` as they are, so that
-//! `cn v = 0` keeps its derivative; `R_C(1, 1 + e)` by its series where `e` is small, so
-//! that its derivative does not cancel).
+//! ([`EllipticMotion::attitude_with_excess`], [`invariable_frame`], [`psi_terms`]) on the
+//! same dual numbers: θ and φ from `π = Iω`, and
+//! `ψ = a t/I_q + a (I_p − I_q)/(I_p I_q λ) [(Π(u) − u) − (Π(u0) − u0)]` (the first-kind part
+//! `u − u0 = λt` joined to `a t/I_p` exactly; where `|n| > 1`, `ψ = a t/I_p + a (I_p − I_q)/
+//! (I_p I_q λ) [Π(u) − Π(u0)]` whole, [`third_kind_from_roots`]) with
+//! `Π(u) − u = 2p(Π(n|m) − K) + X(v)`
+//! differentiated through Carlson's duplication itself ([`third_kind_excess_from_roots`],
+//! whose first step takes `cn v` and `dn v` as they are, so that `cn v = 0` keeps its
+//! derivative; `R_C(1, 1 + e)` by its series where `e` is small, so that its derivative does
+//! not cancel).
 
 use super::attitude::{invariable_frame, psi_terms, EllipticMotion};
 use super::{jacobi_omega, polhode_radii, JacobiForm, Radicals, Regime, AROUND_E1, AROUND_E3};
 use crate::cmath::{frexp, ldexp};
 use crate::dual::Dual;
 use crate::elliptic::{
-    carlson_rj, first_kind_dm_reduced, jacobi_dual, parity, third_kind_from_roots, OnDuals,
+    carlson_rj, first_kind_dm_reduced, jacobi_dual, parity, third_kind_excess_from_roots,
+    third_kind_from_roots, OnDuals,
 };
 use crate::real::Real;
 use crate::so3::{Mat3, Vec3};
@@ -57,6 +62,12 @@ pub struct ExactTangent {
     moments: [D; 3],
     pi0: [D; 3],
     motion: EllipticMotion<D>,
+    /// ψ takes `Π(u) − Π(u0)` whole (`|n| > 1`), with `I_p`: its first-kind part `λt` is
+    /// then not split off, as where `n` is small ([`EllipticMotion::attitude_with_excess`]):
+    /// near the intermediate axis (`n = −3` for moments 1, 2, 3) that split cost ∂Q/∂ω⊥ a
+    /// few ulps more than mpmath's derivatives allow (1.1e-12 at ω⊥ = 1e-3).
+    whole: bool,
+    i_pole: D,
 }
 
 impl ExactTangent {
@@ -123,8 +134,14 @@ impl ExactTangent {
         let e3 = regime.pole == 2;
         let (ip, iq, n, psi_pi) = psi_terms(e3, im, a, lam);
         let m1 = Dual::new(regime.m1, m.d.map(|x| -x));
-        let pi_complete =
-            third_kind_from_roots::<_, OnDuals>(n, D::splat(1.0), D::splat(0.0), m1.sqrt());
+        // Π(n|m), or Π(n|m) − K where ψ splits off the first-kind part: G or X at v = K
+        let whole = n.v.abs() > 1.0;
+        let (one, zero) = (D::splat(1.0), D::splat(0.0));
+        let pi_complete = if whole {
+            third_kind_from_roots::<_, OnDuals>(n, one, zero, m1.sqrt())
+        } else {
+            third_kind_excess_from_roots::<_, OnDuals>(n, one, zero, m1.sqrt())
+        };
         let motion = EllipticMotion {
             sa,
             e3,
@@ -133,7 +150,6 @@ impl ExactTangent {
             pi_u0: D::splat(0.0),
             psi_pi,
             momentum: a,
-            i_pole: ip,
             i_other: iq,
             p0: [[D::splat(0.0); 3]; 3],
         };
@@ -148,8 +164,10 @@ impl ExactTangent {
             moments: im,
             pi0,
             motion,
+            whole,
+            i_pole: ip,
         };
-        // Π(u0) by the route of every later time, so that ψ(0) and its derivatives are 0
+        // Π(u0) (− u0) by the route of every later time, so that ψ(0) and its derivatives are 0
         tangent.motion.pi_u0 = tangent.third_kind(tangent.jacobi_at(0.0));
         Ok(tangent)
     }
@@ -162,13 +180,19 @@ impl ExactTangent {
         jacobi_dual(u, self.m, reg.m1, reg.quarter, self.k_m, &reg.agm, self.n0)
     }
 
-    /// `Π(u) − 2 n0 Π(n|m) = 2(p − n0)Π(n|m) + G(v)` with its derivatives, from
-    /// [`ExactTangent::jacobi_at`]: `G` on `sn v = (−1)^p sn u`, `cn v = (−1)^p cn u ≥ 0`,
-    /// `dn v = dn u`. The `2 n0 Π(n|m)` that `Π(u)` and `Π(u0)` share is left out of both (near
-    /// the separatrix its derivative, `~ 1/m1`, had cancelled in their difference).
+    /// `Π(u) − u − 2 n0 (Π(n|m) − K) = 2(p − n0)(Π(n|m) − K) + X(v)` with its derivatives
+    /// (where [`ExactTangent::whole`], `Π(u) − 2 n0 Π(n|m) = 2(p − n0)Π(n|m) + G(v)`), from
+    /// [`ExactTangent::jacobi_at`]: `X` (`G`) on `sn v = (−1)^p sn u`, `cn v = (−1)^p cn u ≥ 0`,
+    /// `dn v = dn u`. The `2 n0 (Π(n|m) − K)` that `u` and `u0` share is left out of both
+    /// (near the separatrix its derivative, `~ 1/m1`, had cancelled in their difference).
     fn third_kind(&self, (sn, cn, dn, p): (D, D, D, f64)) -> D {
         let par = D::splat(parity(p));
-        let g = third_kind_from_roots::<_, OnDuals>(self.motion.n, par * sn, par * cn, dn);
+        let (n, s, c) = (self.motion.n, par * sn, par * cn);
+        let g = if self.whole {
+            third_kind_from_roots::<_, OnDuals>(n, s, c, dn)
+        } else {
+            third_kind_excess_from_roots::<_, OnDuals>(n, s, c, dn)
+        };
         if p == self.n0 {
             g
         } else {
@@ -185,8 +209,14 @@ impl ExactTangent {
         let mut motion = self.motion;
         motion.p0 = invariable_frame(motion.e3, self.pi0, q0);
         let v = jacobi_omega(motion.e3, motion.sa, sn, cn, dn);
-        let big_pi = self.third_kind(jac) - motion.pi_u0;
-        let x = motion.attitude_with(self.moments, D::splat(t), v, big_pi, &mut true);
+        let part = self.third_kind(jac) - motion.pi_u0;
+        let t = D::splat(t);
+        let x = if self.whole {
+            let psi = motion.momentum * t / self.i_pole + motion.psi_pi * part;
+            motion.attitude_with_psi(self.moments, v, psi, &mut true)
+        } else {
+            motion.attitude_with_excess(self.moments, t, v, part, &mut true)
+        };
         (x.map(|r| r.map(|e| e.v)), x.map(|r| r.map(|e| e.d)))
     }
 
