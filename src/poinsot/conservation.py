@@ -13,8 +13,8 @@ the integrator (``docs/theory.md``, "Conservation laws"):
 * **angular momentum about a fixed pivot** ``L_P = Q A ω + M (R − P) × Ṙ`` (eq. (03) about
   ``P``) with no force; with uniform gravity only its **vertical component** ``L_P·ĝ``
   (the torque of gravity about the pivot is horizontal) and, for a **symmetric top** (two
-  equal moments about the pivot, the centre of mass on the third axis ``e₃``), also
-  ``L_P·e₃ = I₃ ω₃`` (Euler–Lagrange top);
+  equal moments about the pivot, the centre of mass on the other axis, the symmetry axis
+  ``a``), also ``L_P·a = C ω·a`` (Euler–Lagrange top);
 * **angular momentum about the attracting centre** (orbit plus spin) under one
   :class:`~poinsot.forces.CentralGravity`, whose force and gravity-gradient torque derive
   from one potential that is invariant under rotations about the centre.
@@ -190,8 +190,8 @@ def _norm_scale(v0):
 
 
 def _symmetry_axis(system):
-    """The body-frame unit axis ``e₃`` of a symmetric top about the pivot (two equal moments
-    about the pivot and the centre of mass on the third axis), or None."""
+    """The body-frame unit symmetry axis ``a`` of a symmetric top about the pivot (two equal
+    moments about the pivot and the centre of mass on the other axis), or None."""
     axis = core_invariants.symmetric_top_axis(  # the one criterion of a symmetric top (tops.rs)
         [float(x) for x in system.principal_moments],
         np.asarray(system.principal_axes, float).tolist(),
@@ -210,7 +210,7 @@ _QUANTITIES = {
     "p": ("linear momentum M Ṙ", "kg·m/s"),
     "L_P": ("angular momentum about the pivot (space frame)", "kg·m²/s"),
     "L_P·ĝ": ("angular momentum about the pivot · vertical", "kg·m²/s"),
-    "L_P·e₃": ("angular momentum about the pivot · symmetry axis", "kg·m²/s"),
+    "L_P·a": ("angular momentum about the pivot · symmetry axis", "kg·m²/s"),
     "L_O": ("angular momentum about the attracting centre (orbit + spin)", "kg·m²/s"),
 }
 
@@ -273,8 +273,8 @@ def _about_pivot(traj, motion, g, uniform) -> list[Invariant]:
     axis = _symmetry_axis(system)
     if axis is not None:
         Lb = np.einsum("nji,nj->ni", Q, L)  # body components Qᵀ L_P
-        why = "symmetric top: gravity's torque about the pivot is perpendicular to e₃"
-        out.append(_invariant("L_P·e₃", Lb @ axis, True, why, scale))
+        why = "symmetric top: gravity's torque about the pivot is perpendicular to its axis a"
+        out.append(_invariant("L_P·a", Lb @ axis, True, why, scale))
     out.append(_invariant("L_P", L, False, "gravity has a torque about the pivot", scale))
     return out
 
@@ -300,7 +300,7 @@ def invariants_of(traj) -> list[Invariant]:
     >>> traj = simulate(top, (0, 1), omega0=(0.5, 0, 30), pivot=(0, 0, 0),
     ...                 Q0=[0.96, 0.28, 0, 0], forces=[Gravity((0, 0, -9.8))])
     >>> [i.symbol for i in invariants_of(traj) if i.conserved]
-    ['E', 'L_P·ĝ', 'L_P·e₃']
+    ['E', 'L_P·ĝ', 'L_P·a']
     """
     from .forces import CentralGravity, Gravity
 

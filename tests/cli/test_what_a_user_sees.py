@@ -174,7 +174,7 @@ _TOP_REGIMES = {
     "too-slow": ("omega = [0, 1.5, 5]", None, "steady_precession_rate_slow", None,
                  "steady at the mean θ: none (the top spins too slowly"),
     "no-spin": ("omega = [0, 0, 0]", None, "gyroscopic_precession_rate", "inf",
-                "gyroscopic estimate M g l/(C ω₃) ∞ rad/s"),
+                "gyroscopic estimate M g l/(C ω·a) ∞ rad/s"),
     "sleeping": ("omega = [0, 0, 100]", "euler = [0.0, 0.0, 0.0]", "mean_precession_rate", None,
                  "mean precession none (ψ is undefined with the axis on the vertical)"),
 }  # fmt: skip

@@ -202,6 +202,20 @@ def test_the_summary_prints_the_rms_and_the_robust_scale_each_by_name():
     a, b, _ = _numbers(line)
     assert _close(a, rms, 4) and _close(b, plain.residual_ratio, 3)
     assert _close(b, rms / np.sqrt(np.mean(plain.noise_std**2)), 3)
+    # the fit figure's title names the ratio it shows (it had said "RMS" of the robust one)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from poinsot.viz.identify import plot_identified_fit
+
+    for r, size in ((res, "robust scale, 1.4826 MAD"), (plain, "RMS")):
+        fig = plot_identified_fit(r)
+        titles = [ax.get_title() for ax in fig.axes]
+        ratio = f"{r.residual_ratio:.3g}× the gyro noise ({size})"
+        assert any(ratio in title for title in titles), titles
+        plt.close(fig)
 
 
 @pytest.mark.parametrize("loss", ["linear", "huber"])

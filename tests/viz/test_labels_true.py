@@ -56,8 +56,9 @@ def test_omega_legend_gives_the_moments_about_the_pivot_for_a_pivoted_top():
     fig = plot_omega_series(traj)
     labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
     plt.close(fig)
-    assert labels[0] == "ω·e₁ (I₁ = 0.045 kg·m² about the pivot)"  # ascending
-    assert labels[2] == "ω·e₃ (I₃ = 0.2758 kg·m² about the pivot)"  # not 0.02583 about G
+    # ascending; the axes about the pivot are e₁ᴾ, e₂ᴾ, e₃ᴾ (e₁, e₂, e₃ are those about G)
+    assert labels[0] == "ω·e₁ᴾ (I₁ᴾ = 0.045 kg·m² about the pivot)"
+    assert labels[2] == "ω·e₃ᴾ (I₃ᴾ = 0.2758 kg·m² about the pivot)"  # not 0.02583 about G
     free = simulate(TOP, (0, 0.2), omega0=(0, 1.5, 100))
     fig = plot_omega_series(free)
     assert fig.axes[0].get_legend().get_texts()[0].get_text().endswith("kg·m² about G)")

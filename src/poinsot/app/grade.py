@@ -43,15 +43,29 @@ def _reference(args):
     from ..tops import HeavyTop
 
     A, C, mgl = args.top
-    if not (A > 0 and C > 0 and mgl > 0):
-        raise BadInput(f"--top: A, C and M g l must be positive, found {A}, {C}, {mgl}")
-    axis = np.asarray(args.axis, dtype=float)
-    up = np.asarray(args.up, dtype=float)
-    for name, v in (("--axis", axis), ("--up", up)):
-        if not np.linalg.norm(v) > 0:
-            raise BadInput(f"{name}: expected a non-zero direction, found {v.tolist()}")
-    return "heavy top", HeavyTop(A, C, mgl, axis / np.linalg.norm(axis),
-                                 up / np.linalg.norm(up), math.nan)  # fmt: skip
+    if not all(math.isfinite(x) and x > 0 for x in (A, C, mgl)):
+        raise BadInput(f"--top: A, C and M g l must be positive and finite, found {A}, {C}, "
+                       f"{mgl}")  # fmt: skip
+    axis, up = _direction(args.axis, "--axis"), _direction(args.up, "--up")
+    return "heavy top", HeavyTop(A, C, mgl, axis, up, math.nan)
+
+
+def _direction(values, option: str):
+    """The unit vector along the three numbers of ``option``, refused naming the option when
+    they are not finite or all zero. Scaled by the largest first, so that no square
+    overflows (``1e308 1e308 0``) or underflows (``1e-320 0 0``) on the way."""
+    import numpy as np
+
+    from .commands import BadInput
+
+    v = np.asarray(values, dtype=float)
+    if not np.isfinite(v).all():
+        raise BadInput(f"{option}: expected three finite numbers, found {v.tolist()}")
+    largest = float(np.abs(v).max())
+    if not largest > 0:
+        raise BadInput(f"{option}: expected a non-zero direction, found {v.tolist()}")
+    v = v / largest
+    return v / np.linalg.norm(v)
 
 
 def _options(args) -> dict:

@@ -3,7 +3,7 @@ legend never covers a curve), and the labels of principal-axis components."""
 
 from __future__ import annotations
 
-__all__ = ["PRINCIPAL_LABELS", "legend_outside", "omega_axis_labels"]
+__all__ = ["PRINCIPAL_LABELS", "fit_titles", "legend_outside", "omega_axis_labels"]
 
 #: Axis labels of angular-velocity components along the sorted principal axes e1, e2, e3.
 PRINCIPAL_LABELS = ("ω·e₁ [rad/s]", "ω·e₂ [rad/s]", "ω·e₃ [rad/s]")
@@ -45,6 +45,28 @@ def omega_axis_labels(ax, moments=None):
     if moments is not None:
         labels = [f"ω·e{'₁₂₃'[k]} (I{'₁₂₃'[k]} = {moments[k]:.4g}) [rad/s]" for k in range(3)]
     label_3d(ax, *labels)
+
+
+def fit_titles(fig) -> None:
+    """Wrap each axes' title of ``fig`` onto as many lines as it needs to stay within the
+    width of its axes (measured as drawn, so for any text: a long label of a tilted vertical
+    no longer runs into its neighbour's title, nor off the figure), then lay the figure out
+    again (``tight_layout``) with room for the extra lines. Words are never broken."""
+    import textwrap
+
+    fig.tight_layout()
+    for ax in fig.axes:
+        title = ax.title
+        text = " ".join(title.get_text().split())
+        if not text:
+            continue
+        width = ax.get_window_extent().width
+        n = len(text)
+        title.set_text(text)
+        while n > 10 and title.get_window_extent().width > width:
+            n = int(n * 0.9)
+            title.set_text(textwrap.fill(text, n, break_long_words=False))
+    fig.tight_layout()
 
 
 def label_3d(ax, xlabel, ylabel, zlabel, ticks=5, pad=14):

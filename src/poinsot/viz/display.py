@@ -101,7 +101,7 @@ def _trajectory_html(traj) -> str:
         rows += [
             ("nutation: θ between", [s["theta_min"], s["theta_max"]], "rad"),
             ("mean precession rate", s["mean_precession_rate"], "rad/s"),
-            ("gyroscopic estimate M g l/(C ω₃)", s["gyroscopic_precession_rate"], "rad/s"),
+            ("gyroscopic estimate M g l/(C ω·a)", s["gyroscopic_precession_rate"], "rad/s"),
             ("steady precession at mean θ (slow, fast)",
              [s["steady_precession_rate_slow"], s["steady_precession_rate_fast"]], "rad/s"),
         ]  # fmt: skip
@@ -127,7 +127,15 @@ def _trajectory_plot(traj, kind="omega"):
                              "this run is not a heavy symmetric top")  # fmt: skip
         return T.plot_attitude(top)
     if kind == "axis_trace":
-        return T.plot_axis_trace(traj.axis_trace())
+        from ..tops import heavy_top
+
+        system = traj.system
+        top = heavy_top(traj.body, system.pivot, system.forces)
+        if top is None:  # the body's own symmetry axis, either way along it
+            return T.plot_axis_trace(traj.axis_trace())
+        return T.plot_axis_trace(traj.axis_trace(top.axis), label="direction of a",
+                                 title="Trace of the symmetry axis a (tip → centre of mass) on "
+                                 "the unit sphere")  # fmt: skip
     if kind == "polhodes":
         from .torquefree import plot_polhode_family
 

@@ -61,7 +61,9 @@ def plot_identified_fit(result, *, fig=None):
     bottom.set_ylabel("measured − fitted [rad/s]")
     bottom.grid(alpha=0.3)
     bottom.legend(ncol=4, fontsize=8, loc="upper right")
-    bottom.set_title(f"Residuals: {result.residual_ratio:.3g}× the gyro noise (RMS)"
+    # the ratio is of the residuals' RMS, or of their robust scale with a robust loss
+    size = "RMS" if result.loss == "linear" else "robust scale, 1.4826 MAD"
+    bottom.set_title(f"Residuals: {result.residual_ratio:.3g}× the gyro noise ({size})"
                      + ("" if result.ok else " — flagged"), fontsize=10)  # fmt: skip
     return fig
 

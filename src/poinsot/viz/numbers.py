@@ -30,16 +30,25 @@ UNCERTAINTY = {
 #: Groups of error estimates: two significant digits say all they can.
 ERROR_GROUPS = ("Accuracy", "Integrators compared at the same step")
 
-#: ``(group, name, key path, unit)`` of a rigid-body run ("1": dimensionless).
+#: ``(group, name, key path, unit)`` of a rigid-body run ("1": dimensionless). A row whose
+#: group is None gives its number's unit to ``summary.json`` and no row to the report (the
+#: number is shown under another key).
 RIGID = (
     ("Body", "mass", "body.mass", "kg"),
     ("Body", "centre of mass (reference frame of the body's definition)",
      "body.center_of_mass", "m"),
-    ("Body", "principal moments A_G ≤ B_G ≤ C_G about the centre of mass",
+    ("Body", "principal moments A_G ≤ B_G ≤ C_G about the centre of mass G (along e₁, e₂, e₃)",
      "body.principal_moments", "kg·m²"),
     ("Body", "inertia tensor about the centre of mass", "body.inertia", "kg·m²"),
-    ("Body", "principal axes (columns e₁, e₂, e₃)", "body.principal_axes", "1"),
+    ("Body", "principal axes e₁, e₂, e₃ about the centre of mass G (columns, body frame)",
+     "body.principal_axes", "1"),
     ("Body", "symmetry", "body.symmetry", ""),
+    ("Pivot", "P (reference frame of the body's definition)", "pivot.body_position", "m"),
+    ("Pivot", "P in space (fixed)", "pivot.position", "m"),
+    ("Pivot", "principal moments about P, ascending (along e₁ᴾ, e₂ᴾ, e₃ᴾ)",
+     "pivot.principal_moments", "kg·m²"),
+    ("Pivot", "principal axes e₁ᴾ, e₂ᴾ, e₃ᴾ about P (columns, body frame)",
+     "pivot.principal_axes", "1"),
     ("Body", "particles", "body.particles", ""),
     ("Initial state", "angular velocity ω₀ (body frame)", "initial.omega", "rad/s"),
     ("Initial state", "rotational energy k = ½ ω·A_G ω about the centre of mass",
@@ -51,21 +60,36 @@ RIGID = (
     ("Initial state", "|L_P| about the pivot", "initial.angular_momentum_magnitude_pivot",
      "kg·m²/s"),
     ("Initial state", "a²/2k (sets the polhode family)", "initial.a2_over_2k", "kg·m²"),
-    ("Heavy top", "A_P: moment about the tip, across the axis", "top.A", "kg·m²"),
-    ("Heavy top", "C: moment about the symmetry axis (the same at the tip and at G)", "top.C",
+    ("Heavy top", "symmetry axis a, from the tip to the centre of mass (body frame)",
+     "top.axis", "1"),
+    ("Heavy top", "l: distance from the tip to the centre of mass", "top.length", "m"),
+    ("Heavy top", "A_P: moment about the tip, across a", "top.A", "kg·m²"),
+    ("Heavy top", "C: moment about the symmetry axis a (the same at the tip and at G)", "top.C",
      "kg·m²"),
     ("Heavy top", "M g l", "top.mgl", "N·m"),
-    ("Heavy top", "spin ω₃ about the symmetry axis", "top.spin_omega3", "rad/s"),
-    ("Heavy top", "θ min (axis from the upward vertical)", "top.theta_min", "rad"),
+    ("Heavy top", "spin ω·a about the symmetry axis a", "top.spin_omega3", "rad/s"),
+    ("Heavy top", "θ min (angle of a from the upward vertical)", "top.theta_min", "rad"),
     ("Heavy top", "θ max", "top.theta_max", "rad"),
     ("Heavy top", "mean θ", "top.theta_mean", "rad"),
+    ("Heavy top", "nutation amplitude (θ max − θ min)/2", "top.nutation_amplitude", "rad"),
+    ("Heavy top", "nutation period", "top.nutation_period", "s"),
+    ("Heavy top", "samples with a on the vertical (ψ undefined there)", "top.singular_samples",
+     ""),
     ("Heavy top", "mean precession rate (slope of ψ(t))", "top.mean_precession_rate", "rad/s"),
-    ("Heavy top", "gyroscopic estimate M g l/(C ω₃)", "top.gyroscopic_precession_rate",
+    ("Heavy top", "gyroscopic estimate M g l/(C ω·a)", "top.gyroscopic_precession_rate",
      "rad/s"),
     ("Heavy top", "steady precession at mean θ, slow", "top.steady_precession_rate_slow",
      "rad/s"),
     ("Heavy top", "steady precession at mean θ, fast", "top.steady_precession_rate_fast",
      "rad/s"),
+    ("Heavy top: closed form (Lagrange's top from the first sample)", "θ min",
+     "top.exact.theta_min", "rad"),
+    ("Heavy top: closed form (Lagrange's top from the first sample)", "θ max",
+     "top.exact.theta_max", "rad"),
+    ("Heavy top: closed form (Lagrange's top from the first sample)", "nutation period",
+     "top.exact.nutation_period", "s"),
+    ("Heavy top: closed form (Lagrange's top from the first sample)", "mean precession rate",
+     "top.exact.mean_precession_rate", "rad/s"),
     ("Torque-free motion", "polhode family", "torque_free.family", ""),
     ("Torque-free motion", "period of ω(t)", "torque_free.period", "s"),
     ("Torque-free motion", "time between sign changes of ω·e₂ (half the period)",
@@ -94,11 +118,21 @@ RIGID = (
      "torque_free.exact_solution_error.attitude", "1"),
     ("Accuracy", "max relative error of k", "torque_free.exact_solution_error.energy", "1"),
     ("Accuracy", "max relative error of |L|", "torque_free.exact_solution_error.momentum", "1"),
+    ("Accuracy", "max |θ − θ_exact| against the closed-form top", "top.exact.max_theta_error",
+     "rad"),
+    ("Accuracy", "max |ψ − ψ_exact| against the closed-form top", "top.exact.max_psi_error",
+     "rad"),
+    ("Accuracy", "max |φ − φ_exact| against the closed-form top", "top.exact.max_phi_error",
+     "rad"),
     ("Final state", "t", "final.t", "s"),
     ("Final state", "centre of mass R", "final.R", "m"),
     ("Final state", "angular velocity ω (body frame)", "final.omega", "rad/s"),
     ("Run", "simulation, with its set-up", "timings.simulation_s", "s"),
     ("Run", "total, with figures and files", "timings.total_s", "s"),
+    # units only: the report shows these numbers once, in the body's rows
+    (None, "mass", "integration.mass", "kg"),
+    (None, "principal moments about the centre of mass", "integration.principal_moments",
+     "kg·m²"),
 )  # fmt: skip
 
 #: The same for a run of a constrained (Lagrangian) model; coordinates add their own rows.
@@ -225,11 +259,12 @@ def _rows(summary):
     rows = []
     for g, name, path, unit in spec:
         value = _get(summary, path)
-        if value is None:
+        if value is None or g is None:
             continue
         unc = _get(summary, UNCERTAINTY[path]) if path in UNCERTAINTY else None
         rows.append((g, name, value, unit, unc if isinstance(unc, int | float) else None))
-    order = ["System", "Body", "Initial state", "Invariants", "Reactions", "Heavy top",
+    order = ["System", "Body", "Pivot", "Initial state", "Invariants", "Reactions", "Heavy top",
+             "Heavy top: closed form (Lagrange's top from the first sample)",
              "Torque-free motion",
              "Integration", "Accuracy", "Integrators compared at the same step", "Final state",
              "Run"]  # fmt: skip
@@ -238,9 +273,18 @@ def _rows(summary):
 
 
 def units_of(summary: dict) -> dict:
-    """``{key path: unit}`` of the fixed rows present in ``summary`` (for ``summary.json``)."""
+    """``{key path: unit}`` of the fixed rows present in ``summary`` (for ``summary.json``),
+    and of the numbers of each conserved quantity, by the unit its entry carries (its relative
+    change: "1")."""
     spec = _spec(summary)
-    return {path: unit for _, _, path, unit in spec if unit and _get(summary, path) is not None}
+    out = {path: unit for _, _, path, unit in spec if unit and _get(summary, path) is not None}
+    for base in ("integration.diagnostics.invariants", "conserved"):
+        for name, v in (_get(summary, base) or {}).items():
+            for key, unit in (("initial", v.get("unit")), ("max_change", v.get("unit")),
+                              ("max_relative_change", "1")):  # fmt: skip
+                if unit and v.get(key) is not None:
+                    out[f"{base}.{name}.{key}"] = unit
+    return out
 
 
 def _scale(value) -> float:

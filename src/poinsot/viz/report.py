@@ -68,24 +68,27 @@ def _box_lines(half):
 
 
 def _body_figure(traj, go):
+    """The body's equivalent box and its principal axes e₁, e₂, e₃ about its centre of mass G
+    (those of the report's body table), animated. A body on a pivot is drawn in space
+    coordinates, as the trajectory and the numbers give them: the box at the centre of mass
+    R(t), the pivot P at the fixed position the library gives it, and the segment P → G. A
+    free body is drawn about its centre of mass (its path has a figure of its own), on axes
+    that say so: x − x_G, y − y_G, z − z_G."""
     body = traj.body
     E = body.principal_axes
     half = np.maximum(body.equivalent_box_half_extents, 1e-3 * max(1.0, body.mass))
     corners, edges = _box_lines(half)
     idx = _frame_indices(len(traj.t))
     particles = body.u if body.has_particles else None
-
-    # the body about its centre of mass (or about its fixed pivot): translation has its own plot
-    pivot = getattr(traj.system, "pivot", None)
-    c = traj.system.c if pivot is not None else np.zeros(3)  # centre of mass from the pivot
+    pivot = traj.pivot_position  # in space (fixed), or None for a free body
 
     def traces(i):
         Q = traj.Q[i]
-        R = Q @ c
+        R = traj.R[i] if pivot is not None else np.zeros(3)
         pts = (corners @ E.T) @ Q.T + R  # box in principal axes, then attitude and position
         out = [_box_trace(go, pts, edges), *_axes_traces(go, Q, R, E, half)]
         if pivot is not None:
-            out.append(_pivot_trace(go, R))
+            out.append(_pivot_trace(go, pivot, R))
         if particles is not None:
             out.append(_particles_trace(go, particles @ Q.T + R))
         return out
@@ -98,15 +101,29 @@ def _body_figure(traj, go):
     )
     if particles is not None:
         reach = max(reach, float(np.max(np.linalg.norm(particles, axis=1))) * 1.15)
-    axes = {f"{c}axis": {"range": [-reach, reach], "title": f"{c} [m]"} for c in "xyz"}
-    where = "about the fixed pivot" if pivot is not None else "about the centre of mass"
+    if pivot is not None:  # space coordinates, centred on the pivot
+        axes = {f"{c}axis": {"range": [pivot[k] - reach, pivot[k] + reach], "title": f"{c} [m]"}
+                for k, c in enumerate("xyz")}  # fmt: skip
+        where = f"about the fixed pivot P at {_position(pivot)} m, in space coordinates"
+    else:  # about the centre of mass
+        axes = {f"{c}axis": {"range": [-reach, reach], "title": f"{c} − {c}_G [m]"}
+                for c in "xyz"}  # fmt: skip
+        where = "about its centre of mass G, on axes relative to G"
     fig.update_layout(
-        title=f"Body attitude {where} (animated; red e₁, green e₂, blue e₃)",
+        title=f"Body attitude {where} (animated)<br>red e₁, green e₂, blue e₃: the principal "
+        "axes about the centre of mass G (the body table's)",
         scene={**axes, "aspectmode": "cube", "camera": SCENE_CAMERA},
         height=640,
         **_animation_controls(fig.frames, traj.t[idx]),
     )
     return fig
+
+
+def _position(p) -> str:
+    """A position as the numbers table shows one: ``(0, 0, -0.5)``, round-off shown as 0."""
+    from .numbers import format_value
+
+    return format_value([float(x) for x in p], digits=4)
 
 
 def _box_trace(go, pts, edges):
@@ -132,8 +149,8 @@ def _box_trace(go, pts, edges):
 
 
 def _axes_traces(go, Q, R, E, half):
-    """The principal axes e₁, e₂, e₃ (red, green, blue) from the centre of mass ``R``, turned
-    by ``Q``, each 1.3 times the box's half extent."""
+    """The principal axes e₁, e₂, e₃ about the centre of mass (red, green, blue) from the
+    centre of mass ``R``, turned by ``Q``, each 1.3 times the box's half extent."""
     out = []
     for k, color in enumerate(("#d62728", "#2ca02c", "#1f77b4")):
         tip = R + Q @ E[:, k] * 1.3 * half[k]
@@ -144,22 +161,22 @@ def _axes_traces(go, Q, R, E, half):
                 z=[R[2], tip[2]],
                 mode="lines",
                 line={"color": color, "width": 7},
-                name=f"e{k + 1}",
+                name=f"e{'₁₂₃'[k]} (principal axis about G)",
             )
         )
     return out
 
 
-def _pivot_trace(go, R):
-    """The segment from the fixed pivot (the origin) to the centre of mass ``R``."""
+def _pivot_trace(go, P, R):
+    """The segment from the fixed pivot ``P`` to the centre of mass ``R`` (space)."""
     return go.Scatter3d(
-        x=[0, R[0]],
-        y=[0, R[1]],
-        z=[0, R[2]],
+        x=[P[0], R[0]],
+        y=[P[1], R[1]],
+        z=[P[2], R[2]],
         mode="lines+markers",
         line={"color": "#8c564b", "width": 5},
         marker={"size": [5, 2]},
-        name="pivot → centre of mass",
+        name="pivot P → centre of mass G",
     )
 
 
@@ -263,10 +280,11 @@ def _series_figure(traj, go):
     lost = [i for i in traj.invariants if not i.conserved]
     middle = ("Conserved by this problem: relative change" if kept
               else "Total energy: not conserved here (forces do work)")  # fmt: skip
-    from .trajectory import omega_components
+    from .trajectory import omega_axes, omega_components
 
+    names, point = omega_axes(traj)
     fig = make_subplots(rows=1, cols=3, horizontal_spacing=0.09, subplot_titles=(
-        "Angular velocity along the principal axes", middle,
+        f"ω along the principal axes about {point}", middle,
         "Attitude: distance from a rotation"))  # fmt: skip
     w, labels = omega_components(traj)
     for i, name in enumerate(labels):
@@ -285,7 +303,7 @@ def _series_figure(traj, go):
     fig.add_trace(go.Scatter(x=traj.t, y=traj.orthogonality_error + tiny,
                              name="max |QᵀQ − I|"), row=1, col=3)  # fmt: skip
     fig.update_yaxes(type="log", title_text="max |QᵀQ − I| (dimensionless)", row=1, col=3)
-    fig.update_yaxes(title_text="ω along e₁, e₂, e₃ [rad/s]", row=1, col=1)
+    fig.update_yaxes(title_text=f"ω along {', '.join(names)} [rad/s]", row=1, col=1)
     fig.update_xaxes(title_text="t [s]")
     note = ("Not conserved here: " + "; ".join(f"{i.symbol} ({i.reason})" for i in lost)
             if lost else None)  # fmt: skip
@@ -338,8 +356,8 @@ def _top_figure(motion, go):
     t = m.t
     lo, hi = m.theta_band
     fig = make_subplots(rows=1, cols=2, horizontal_spacing=0.1, subplot_titles=(
-        "Nutation: angle θ of the axis from the upward vertical",
-        f"Precession ψ (unwrapped): {m.psi_reference()}"))  # fmt: skip
+        _wrapped("Nutation: θ, the angle of the symmetry axis a from the upward vertical"),
+        _wrapped(f"Precession ψ (unwrapped): {m.psi_reference()}")))  # fmt: skip
     band = go.Scatter(x=[t[0], t[-1], t[-1], t[0], t[0]], y=[lo, lo, hi, hi, lo], fill="toself",
                       mode="lines", line={"width": 0}, fillcolor="rgba(31,119,180,0.15)",
                       name=f"nutation band {lo:.4g} – {hi:.4g} rad")  # fmt: skip
@@ -364,7 +382,7 @@ def _top_figure(motion, go):
             "#8c564b",
             "exact mean rate (closed form)",
         ),
-        (m.gyroscopic_rate, "dot", "#d62728", "gyroscopic M g l/(C ω₃)"),
+        (m.gyroscopic_rate, "dot", "#d62728", "gyroscopic M g l/(C ω·a)"),
         (m.steady_rates[0], "dashdot", "#9467bd", "steady precession at mean θ"),
     ):
         if np.isfinite(rate):
@@ -375,8 +393,25 @@ def _top_figure(motion, go):
     fig.update_yaxes(title_text="θ [rad]", row=1, col=1)
     fig.update_yaxes(title_text="ψ [rad]", row=1, col=2)
     fig.update_xaxes(title_text="t [s]")
-    legend_per_subplot(fig, cols=2, top=60)
+    legend_per_subplot(fig, cols=2, top=60 + 20 * _extra_lines(fig))
     return fig
+
+
+#: The most characters on one line of a title over half a report's width (two panels side by
+#: side, 1200 px): longer titles are wrapped (:func:`_wrapped`), never run into the next one.
+HALF_WIDTH_CHARS = 60
+
+
+def _wrapped(text: str, width: int = HALF_WIDTH_CHARS) -> str:
+    """``text`` on lines of at most ``width`` characters (plotly's ``<br>``), words unbroken."""
+    import textwrap
+
+    return "<br>".join(textwrap.wrap(text, width, break_long_words=False))
+
+
+def _extra_lines(fig) -> int:
+    """How many lines the longest subplot title of ``fig`` has beyond its first."""
+    return max((a.text.count("<br>") for a in fig.layout.annotations), default=0)
 
 
 def _axis_trace_figure(trace, go):
@@ -387,14 +422,14 @@ def _axis_trace_figure(trace, go):
                         hoverinfo="skip", name="unit sphere", showlegend=True)  # fmt: skip
     path = go.Scatter3d(x=trace[:, 0], y=trace[:, 1], z=trace[:, 2], mode="lines",
                         line={"color": "#1f77b4", "width": 5},
-                        name="symmetry axis (tip → centre of mass)")  # fmt: skip
+                        name="symmetry axis a (tip → centre of mass)")  # fmt: skip
     ends = go.Scatter3d(x=trace[[0, -1], 0], y=trace[[0, -1], 1], z=trace[[0, -1], 2],
                         mode="markers", marker={"size": 5, "color": ["green", "red"]},
                         name="start (green), end (red)")  # fmt: skip
     fig = go.Figure(data=[sphere, path, ends])
     scene = {f"{c}axis": {"range": [-1.05, 1.05], "title": f"{c} (dimensionless)"} for c in "xyz"}
-    fig.update_layout(title="The symmetry axis's direction on the unit sphere: precession and "
-                      "nutation loops", height=640,
+    fig.update_layout(title="The direction of the symmetry axis a on the unit sphere: "
+                      "precession and nutation loops", height=640,
                       scene={**scene, "aspectmode": "cube", "camera": SCENE_CAMERA})  # fmt: skip
     return fig
 
@@ -408,17 +443,21 @@ def write_report(
     levels=7,
     comparison=None,
     top=None,
+    top_axis=None,
     plotlyjs="inline",
 ) -> None:
     """Write the interactive report for ``traj`` to ``path`` (atomically); ``comparison``:
     the per-sample errors of :func:`poinsot.app.runs.rigid.compare_methods`, drawn second;
-    ``top``: a heavy top's :class:`~poinsot.tops.TopMotion` (its nutation, precession and
-    the trace of its axis); ``plotlyjs``: one of :data:`PLOTLYJS_MODES`."""
+    ``top``: a heavy top's :class:`~poinsot.tops.TopMotion` (its nutation and precession);
+    ``top_axis``: that top's symmetry axis a (body frame, from the tip towards the centre of
+    mass: :attr:`poinsot.tops.HeavyTop.axis`), whose direction is traced on the unit sphere
+    (no trace without it); ``plotlyjs``: one of :data:`PLOTLYJS_MODES`."""
     go, pio = _plotly()
     figures = [_body_figure(traj, go)]
     if top is not None:
         figures.append(_top_figure(top, go))
-        figures.append(_axis_trace_figure(traj.axis_trace(), go))
+    if top_axis is not None:
+        figures.append(_axis_trace_figure(traj.axis_trace(top_axis), go))
     if comparison is not None:
         figures.append(_comparison_figure(traj.t, comparison, go))
     if free is not None and np.any(traj.omega[0]):
@@ -750,7 +789,8 @@ def write_identify_report(path, summary: dict, images: dict) -> None:
         ("free flight", f"{w[0]:.4f} … {w[1]:.4f}", "s", f"found by the {summary['found_by']}"
          f", {summary['samples']} samples"),
         ("gyro bias", ", ".join(f"{x:+.4g}" for x in summary["gyro_bias"]), "rad/s", "fitted"),
-        ("residuals / noise", f"{summary['residual_ratio']:.3g}", "1",
+        ("residuals / noise" if summary.get("loss", "linear") == "linear"
+         else "residuals' robust scale / noise", f"{summary['residual_ratio']:.3g}", "1",
          "about 1 when the model explains the readings"),
         ("condition", f"{summary['condition']:.3g}", "1", "of the fit's scaled Jacobian"),
     ]  # fmt: skip

@@ -264,12 +264,15 @@ def _box_edges(half):
     return corners, edges
 
 
-def plot_attitude_frames(Q, t=None, *, indices=None, axes=None, half_extents=(0.3, 0.5, 0.8)):
+def plot_attitude_frames(Q, t=None, *, indices=None, axes=None, half_extents=(0.3, 0.5, 0.8),
+                         about=None):  # fmt: skip
     """The body (a box with the given half extents, along its e1, e2, e3) and its axes at a few
     instants, one 3D panel each: attitudes ``Q`` (n, 3, 3). ``indices`` picks the samples
-    (default: five evenly spaced); ``axes`` a sequence of 3D axes to draw into. The axes are
-    scaled to the body: the limits are the box's circumscribed radius (its arrows, 1.3 half
-    extents long, included), the same in every panel, so the body fills them at any size."""
+    (default: five evenly spaced); ``axes`` a sequence of 3D axes to draw into; ``about``: the
+    point the axes e1, e2, e3 are principal about, for the title (e.g. ``"the centre of mass
+    G"``), when they are principal axes. The axes are scaled to the body: the limits are the
+    box's circumscribed radius (its arrows, 1.3 half extents long, included), the same in
+    every panel, so the body fills them at any size."""
     plt = _plt()
     Q = np.asarray(Q)
     idx = np.linspace(0, len(Q) - 1, 5).astype(int) if indices is None else np.asarray(indices)
@@ -294,7 +297,8 @@ def plot_attitude_frames(Q, t=None, *, indices=None, axes=None, half_extents=(0.
         ax.set_axis_off()
         if t is not None:
             ax.set_title(f"t = {t[i]:.3g} s", fontsize=10)
-    fig.suptitle(f"Body attitude (red e₁, green e₂, blue e₃); panels ±{r:.3g} m")
+    which = f": the principal axes about {about}" if about else ""
+    fig.suptitle(f"Body attitude (red e₁, green e₂, blue e₃{which}); panels ±{r:.3g} m")
     return fig
 
 

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import label_3d, legend_below, legend_outside
+from ._style import fit_titles, label_3d, legend_below, legend_outside
 from .torquefree import _plt
 
 __all__ = [
+    "omega_axes",
     "omega_components",
     "plot_attitude",
     "plot_axis_trace",
@@ -18,20 +19,35 @@ __all__ = [
 ]
 
 
+def omega_axes(traj) -> tuple[list[str], str]:
+    """``(names, point)``: the names of the three axes :func:`omega_components` projects ω on
+    and the point they are principal about. A free body's are the principal axes e₁, e₂, e₃
+    about its centre of mass G, those of the body's own table; a body on a pivot's are the
+    principal axes about the pivot P, named e₁ᴾ, e₂ᴾ, e₃ᴾ: they are other axes (the symmetry
+    axis of the heavy-top example is e₃ about G and e₁ᴾ about its tip), and no label calls
+    them e₁, e₂, e₃."""
+    if traj.system.pivot is None:
+        return ["e₁", "e₂", "e₃"], "the centre of mass G"
+    return ["e₁ᴾ", "e₂ᴾ", "e₃ᴾ"], "the pivot P"
+
+
 def omega_components(traj):
-    """``(components (n, 3), labels)``: ω along the sorted principal axes e1, e2, e3 of the
-    inertia about the run's reference point (``ω·e_k``): the centre of mass G for a free body,
-    the pivot for a body on one; each label names its axis, its moment and that point."""
+    """``(components (n, 3), labels)``: ω along the sorted principal axes of the inertia about
+    the run's reference point (``ω·e_k``): e₁, e₂, e₃ about the centre of mass G for a free
+    body; e₁ᴾ, e₂ᴾ, e₃ᴾ about the pivot for a body on one (:func:`omega_axes`; a run's report
+    lists both sets). Each label names its axis, its moment and that point."""
     system = traj.system
     E, I = system.principal_axes, system.principal_moments
+    names, _ = omega_axes(traj)
     point = "G" if system.pivot is None else "the pivot"
-    labels = [f"ω·e{'₁₂₃'[k]} (I{'₁₂₃'[k]} = {I[k]:.4g} kg·m² about {point})" for k in range(3)]
+    labels = [f"ω·{n} (I{n[1:]} = {I[k]:.4g} kg·m² about {point})" for k, n in enumerate(names)]
     return traj.omega @ E, labels
 
 
 def plot_omega_series(traj, *, ax=None):
-    """ω against time, by its components along the principal axes e1, e2, e3 (ascending
-    moments), and ``|ω|``.
+    """ω against time, by its components along the principal axes about the run's reference
+    point (ascending moments: e₁, e₂, e₃ about G, or e₁ᴾ, e₂ᴾ, e₃ᴾ about a pivot), and
+    ``|ω|``.
 
     Examples
     --------
@@ -48,9 +64,10 @@ def plot_omega_series(traj, *, ax=None):
     for i, name in enumerate(labels):
         ax.plot(traj.t, w[:, i], label=name)
     ax.plot(traj.t, np.linalg.norm(traj.omega, axis=1), "k--", lw=1, label="|ω|")
+    names, point = omega_axes(traj)
     ax.set_xlabel("t [s]")
-    ax.set_ylabel("ω along e₁, e₂, e₃ [rad/s]")
-    ax.set_title(f"Angular velocity along the principal axes ({traj.method})")
+    ax.set_ylabel(f"ω along {', '.join(names)} [rad/s]")
+    ax.set_title(f"Angular velocity along the principal axes about {point} ({traj.method})")
     ax.grid(alpha=0.3)
     legend_outside(ax)
     ax.figure.tight_layout()
@@ -58,9 +75,11 @@ def plot_omega_series(traj, *, ax=None):
 
 
 def plot_attitude(motion, *, axes=None, title=None):
-    """A top's nutation and precession (:class:`~poinsot.tops.TopMotion`): θ(t) with its
-    nutation band, and the unwrapped ψ(t) with its mean precession rate against the
-    gyroscopic estimate ``M g l/(C ω₃)`` and the slow steady precession at the mean θ."""
+    """A top's nutation and precession (:class:`~poinsot.tops.TopMotion`): θ(t), the tilt of
+    its symmetry axis a from the upward vertical, with its nutation band, and the unwrapped
+    ψ(t) with its mean precession rate against the gyroscopic estimate ``M g l/(C ω·a)``
+    (``ω·a`` the spin, the library's ω₃) and the slow steady precession at the mean θ. Each
+    panel's title is wrapped to the panel's width (:func:`~poinsot.viz._style.fit_titles`)."""
     plt = _plt()
     if axes is None:
         fig, axes = plt.subplots(1, 2, figsize=(13, 4.4))
@@ -70,11 +89,12 @@ def plot_attitude(motion, *, axes=None, title=None):
     lo, hi = m.theta_band
     band = f"nutation band {lo:.4g} – {hi:.4g} rad"
     ax.fill_between(t, lo, hi, color="tab:blue", alpha=0.12, label=band)
-    ax.plot(t, m.theta, color="tab:blue", lw=1, label="θ(t): tilt of the axis")
+    ax.plot(t, m.theta, color="tab:blue", lw=1, label="θ(t): tilt of a")
     ax.axhline(m.theta_mean, color="0.3", ls=":", lw=1, label=f"mean θ = {m.theta_mean:.4g} rad")
     ax.set_xlabel("t [s]")
     ax.set_ylabel("θ [rad]")
-    ax.set_title("Nutation: the symmetry axis's angle from the upward vertical", fontsize=10)
+    ax.set_title("Nutation: θ, the angle of the symmetry axis a from the upward vertical",
+                 fontsize=10)  # fmt: skip
     ax.grid(alpha=0.3)
     legend_below(ax, ncol=1, bbox_to_anchor=(0.0, -0.16))
     ax = axes[1]
@@ -82,7 +102,7 @@ def plot_attitude(motion, *, axes=None, title=None):
     psi0 = m.psi[0]
     for rate, style, name in (
         (m.mean_precession_rate, {"color": "black", "ls": "--"}, "mean rate (fit of ψ)"),
-        (m.gyroscopic_rate, {"color": "tab:red", "ls": ":"}, "gyroscopic M g l/(C ω₃)"),
+        (m.gyroscopic_rate, {"color": "tab:red", "ls": ":"}, "gyroscopic M g l/(C ω·a)"),
         (m.steady_rates[0], {"color": "tab:purple", "ls": "-."}, "steady precession at mean θ"),
     ):
         if np.isfinite(rate):
@@ -95,13 +115,15 @@ def plot_attitude(motion, *, axes=None, title=None):
     fig = axes[0].figure
     if title:
         fig.suptitle(title, fontsize=11)
-    fig.tight_layout()
+    fit_titles(fig)
     return fig
 
 
-def plot_axis_trace(trace, *, ax=None, title="Trace of the symmetry axis on the unit sphere"):
+def plot_axis_trace(trace, *, ax=None, title="Trace of the symmetry axis on the unit sphere",
+                    label="axis direction"):  # fmt: skip
     """The path of a body axis's direction (n, 3 unit vectors, :meth:`~poinsot.trajectory.
-    Trajectory.axis_trace`) on the unit sphere (3D, equal axes, dimensionless)."""
+    Trajectory.axis_trace`) on the unit sphere (3D, equal axes, dimensionless); ``title`` and
+    ``label`` (the path's legend entry) say which axis it is."""
     plt = _plt()
     if ax is None:
         fig = plt.figure(figsize=(8.5, 6.5))
@@ -109,7 +131,7 @@ def plot_axis_trace(trace, *, ax=None, title="Trace of the symmetry axis on the 
     u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 36), np.linspace(0, np.pi, 19))
     ax.plot_wireframe(np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v), color="0.8",
                       lw=0.4)  # fmt: skip
-    ax.plot(*trace.T, color="tab:blue", lw=1.2, label="axis direction")
+    ax.plot(*trace.T, color="tab:blue", lw=1.2, label=label)
     ax.scatter(*trace[0], color="green", depthshade=False, label="start")
     ax.scatter(*trace[-1], color="red", depthshade=False, label="end")
     for setter in (ax.set_xlim, ax.set_ylim, ax.set_zlim):

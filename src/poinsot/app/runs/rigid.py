@@ -46,6 +46,7 @@ class RigidRun(Run):
     free = None  # the torque-free analysis, where it applies
     comparison = None  # (errors, table) of compare_methods, where it applies
     top = None  # a heavy top's TopMotion (nutation, precession), where the body is one
+    top_axis = None  # that top's symmetry axis a (body frame, tip → centre of mass)
 
     def simulate(self, progress=None):
         self.result = self.scenario.simulate(progress=progress)
@@ -67,9 +68,10 @@ class RigidRun(Run):
 
         top = heavy_top(scenario.body, scenario.pivot, scenario.forces)
         if top is not None:
-            self.top = top_motion(traj, top)
+            self.top, self.top_axis = top_motion(traj, top), top.axis
             summary["top"] = jsonable({"A": top.A, "C": top.C, "mgl": top.mgl,
-                                       "length": top.length, **self.top.summary()})  # fmt: skip
+                                       "axis": top.axis.tolist(), "length": top.length,
+                                       **self.top.summary()})  # fmt: skip
             summary["lead"] = top_lead(self.top)
         add_units(summary)
         if self.comparison is not None:
@@ -89,7 +91,8 @@ class RigidRun(Run):
     def figures(self, folder, *, for_report):
         if folder is None and not for_report:
             return {}
-        figures = _figures(self.scenario, self.result, self.free, self.comparison, self.top)
+        figures = _figures(self.scenario, self.result, self.free, self.comparison, self.top,
+                           self.top_axis)  # fmt: skip
         return png_images(figures, folder, dpi=110)
 
     def write_report(self, path, summary, images, *, plotlyjs="inline"):
@@ -97,7 +100,7 @@ class RigidRun(Run):
 
         comparison = None if self.comparison is None else self.comparison[0]
         write_report(path, self.result, summary, free=self.free, comparison=comparison,
-                     top=self.top, plotlyjs=plotlyjs)  # fmt: skip
+                     top=self.top, top_axis=self.top_axis, plotlyjs=plotlyjs)  # fmt: skip
 
     def finish(self, summary):
         add_units(summary)
@@ -177,7 +180,7 @@ def _top_lines(tp: dict, files=()) -> list[str]:
         f"{shown(tp.get('theta_max'), '.4g', unit='rad')}, mean precession "
         f"{shown(tp.get('mean_precession_rate'), '.4g', unit=rads, none=_NO_MEAN_PRECESSION)}"
         + (" (attitude.png)" if "attitude.png" in files else ""),
-        f"  predicted precession: gyroscopic estimate M g l/(C ω₃) "
+        f"  predicted precession: gyroscopic estimate M g l/(C ω·a) "
         f"{shown(tp.get('gyroscopic_precession_rate'), '.4g', unit=rads)}; steady at the mean θ: "
         f"{steady}",
     ]
@@ -225,6 +228,14 @@ def summarize(scenario, traj, free=None) -> dict:
         },
         "integration": traj.summary(),
     }
+    if scenario.pivot is not None:  # the pivot, and the principal axes about it (e₁ᴾ, e₂ᴾ, e₃ᴾ)
+        system = traj.system
+        out["pivot"] = {
+            "body_position": np.asarray(scenario.pivot, float).tolist(),
+            "position": traj.pivot_position.tolist(),
+            "principal_moments": system.principal_moments.tolist(),
+            "principal_axes": system.principal_axes.tolist(),
+        }
     if free is not None and k0 > 0:
         analysis = free.describe(w0)
         if exact_solution_applies(scenario.forces):
@@ -252,16 +263,19 @@ def top_lead(motion) -> str:
                   f"{shown(slow, '.4g', unit='rad/s')} (slow) and "
                   f"{shown(fast, '.4g', unit='rad/s')} (fast)")  # fmt: skip
     return (
-        f"A heavy top spinning at ω₃ = {shown(m.spin, '.4g', unit='rad/s')}: its axis nutates "
+        f"A heavy top spinning at ω·a = {shown(m.spin, '.4g', unit='rad/s')} about its "
+        "symmetry axis a: a nutates "
         f"between θ = {shown(m.theta_band[0], '.4g')} and "
         f"{shown(m.theta_band[1], '.4g', unit='rad')} from the upward vertical and {precesses}; "
-        f"the gyroscopic estimate M g l/(C ω₃) gives "
+        f"the gyroscopic estimate M g l/(C ω·a) gives "
         f"{shown(m.gyroscopic_rate, '.4g', unit='rad/s')}, and {steady}."
     )
 
 
-def _figures(scenario, traj, free, comparison=None, top=None):
-    """The run's matplotlib figures, one at a time, as ``(figure, file name, caption)``."""
+def _figures(scenario, traj, free, comparison=None, top=None, top_axis=None):
+    """The run's matplotlib figures, one at a time, as ``(figure, file name, caption)``;
+    ``top``, ``top_axis``: a heavy top's motion and its symmetry axis a (body frame, tip →
+    centre of mass), whose direction in space is traced on the unit sphere."""
     from ...viz import (
         plot_attitude_frames,
         plot_center_of_mass_path,
@@ -282,15 +296,18 @@ def _figures(scenario, traj, free, comparison=None, top=None):
         from ...viz.trajectory import plot_attitude, plot_axis_trace
 
         yield plot_attitude(top, title=scenario.name), "attitude.png", "Euler angles of the top"
-        yield plot_axis_trace(traj.axis_trace()), "axis_trace.png", "Trace of the body axis"
+        trace = plot_axis_trace(traj.axis_trace(top_axis), label="direction of a",
+                                title="Trace of the symmetry axis a (tip → centre of mass) on "
+                                "the unit sphere")  # fmt: skip
+        yield trace, "axis_trace.png", "Trace of the symmetry axis a on the unit sphere"
     if np.ptp(traj.R, axis=0).max() > 0:  # a centre of mass at rest has no path to draw
         yield (plot_center_of_mass_path(traj), "center_of_mass.png",
                "Path of the centre of mass")  # fmt: skip
     half = scenario.body.equivalent_box_half_extents
     QE = traj.Q @ scenario.body.principal_axes  # draw the box in principal axes
     half = np.maximum(half, 1e-3 * half.max())  # a flat body is drawn as a thin box
-    yield (plot_attitude_frames(QE, traj.t, half_extents=half), "body.png",
-           "The body's attitude (its equivalent box) at a few times")  # fmt: skip
+    yield (plot_attitude_frames(QE, traj.t, half_extents=half, about="the centre of mass G"),
+           "body.png", "The body's attitude (its equivalent box) at a few times")  # fmt: skip
     if free is not None:
         from ...conservation import rotational_energy
 
