@@ -176,8 +176,10 @@ class LagrangianSolution(SensitivityMixin, Displayable):
                                           self.constraint_residual, g)  # fmt: skip
         if self.sensitivities is not None:
             labels = [f"q[{n}]" for n in names] + [f"qd[{n}]" for n in names]
-            sens = {"long_name": "forward sensitivity d state / d parameter",
-                    "units": "the state component's over the parameter's"}
+            sens = {
+                "long_name": "forward sensitivity d state / d parameter",
+                "units": "the state component's over the parameter's",
+            }
             if self.sensitivities.t0 is not None:
                 sens |= {"t0": self.sensitivities.t0, "t0_long_name": "time of the initial "
                          "state the derivatives are taken at"}  # fmt: skip
