@@ -109,6 +109,13 @@ class Floquet:
     linearisation ``A`` is constant, the multipliers are ``exp(λ T)`` for the eigenvalues λ of
     ``A``: the run checks the linearisation's verdict on the nonlinear motion itself.
 
+    A multiplier is known to about the monodromy's own accuracy times ``‖M‖``: over a long
+    period of an unstable motion, where the largest is ``exp(σ T)``, the small ones drown in
+    it (on the intermediate axis of moments 1, 2, 3 over 50 s, the contracting exponent comes
+    out −0.17 for −0.58). The largest exponent and the drift stay meaningful; take a shorter
+    period to see the rest. A run over a given period that does not return to its start is
+    refused (:func:`check_returned`).
+
     Attributes
     ----------
     period : float
