@@ -114,7 +114,7 @@ class Floquet:
     it (on the intermediate axis of moments 1, 2, 3 over 50 s, the contracting exponent comes
     out −0.17 for −0.58). The largest exponent and the drift stay meaningful; take a shorter
     period to see the rest. A run over a given period that does not return to its start is
-    refused (:func:`check_returned`).
+    refused (``check_returned``).
 
     Attributes
     ----------
