@@ -282,6 +282,19 @@ def test_polhodes_command(tmp_path, capsys):
     assert "I1 + I2 ≥ I3" in capsys.readouterr().err
 
 
+def test_negative_numbers_in_scientific_notation_are_values(tmp_path, capsys):
+    """``--omega0 -1e-3 …`` is three numbers, not an unknown option (Python 3.11's argparse
+    reads only ``-2`` and ``-.5`` as negative numbers)."""
+    out = tmp_path / "p"
+    args = ["polhodes", "--moments", "1", "2", "3", "--omega0", "-1e-3", "-1", "-1E-3"]
+    assert main([*args, "--out", str(out), "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["flip_interval"] == pytest.approx(27.530840553733, rel=1e-12)
+    with pytest.raises(SystemExit) as exit_:  # argparse's own exit: two numbers for three
+        main(["polhodes", "--moments", "1", "2", "3", "--omega0", "-1e-3", "1"])
+    assert exit_.value.code == 2 and "expected 3 arguments" in capsys.readouterr().err
+
+
 def test_help_explains_every_option(capsys):
     with pytest.raises(SystemExit):
         main(["run", "--help"])

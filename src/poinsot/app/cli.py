@@ -69,8 +69,18 @@ _seconds = _quantity("s", "--time-limit", positive=True)
 
 def _parser():
     import argparse
+    import re
 
-    p = argparse.ArgumentParser(
+    class Parser(argparse.ArgumentParser):
+        """argparse's parser, reading ``-2e-3`` and ``-1E+5`` as numbers where Python 3.11
+        reads only ``-2`` and ``-.5`` (``--up -2e-3 0 1`` was "expected 3 arguments").
+        ``add_subparsers`` makes every subcommand's parser of this class."""
+
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+
+    p = Parser(
         prog="poinsot",
         description="Dynamics of rigid bodies and constrained mechanical systems.",
         epilog="Exit codes: 0 success, 2 bad input, 1 numerical failure or --time-limit "
