@@ -98,6 +98,14 @@ def as_vector3(value, name: str) -> np.ndarray:
     return as_array(value, name, (3,))
 
 
+def as_frame(value, name: str = "omega_frame") -> str:
+    """``value`` checked as the name of a frame a vector is given in: ``'body'`` or
+    ``'space'``."""
+    if not isinstance(value, str) or value not in ("body", "space"):
+        raise ValueError(f"`{name}` must be 'body' or 'space', found {value!r}")
+    return value
+
+
 def as_scalar(value, name: str) -> float:
     """A finite real number (bools refused)."""
     if type(value) is float or type(value) is int:  # the common case, without NumPy

@@ -26,7 +26,7 @@ from . import layout
 from ._bindings import inertia as core_inertia
 from ._bindings import invariants as core_invariants
 from ._bindings import rigid as core_rigid
-from ._validation import as_array, as_rotation_matrix, as_vector3
+from ._validation import as_array, as_frame, as_rotation_matrix, as_vector3
 from .forces import BodyFrame, Force, ForceContext, _call_user
 
 __all__ = ["DegenerateBodyWarning", "RigidBodySystem", "rigid_velocity_from_particles"]
@@ -309,10 +309,8 @@ class RigidBodySystem:
         """
         Q = np.eye(3) if Q0 is None else as_rotation_matrix(Q0, "Q0")
         w = as_vector3(omega0, "omega0")
-        if omega_frame == "space":
+        if as_frame(omega_frame) == "space":
             w = Q.T @ w
-        elif omega_frame != "body":
-            raise ValueError(f"`omega_frame` must be 'body' or 'space', found {omega_frame!r}")
         if self.pivot is not None and V0 is not None:
             raise ValueError("`V0` must be omitted with a `pivot`: it follows from `omega0`")
         line = self.degenerate_line()

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import _rotation_input
+from ._validation import _rotation_input, as_frame
 from .dynamics import RigidBodySystem, rigid_velocity_from_particles
 from .integrate.base import CORE_METHODS, get_solver
 from .integrate.driver import IntegrationError, check_backend, check_solver_fits, integrate
@@ -215,9 +215,7 @@ class PreparedRun:
         if given:
             raise ValueError(f"give `y0` or {', '.join(f'`{n}`' for n in given)}, not both: "
                              "`y0` is the whole initial state")  # fmt: skip
-        if omega_frame not in ("body", "space"):
-            raise ValueError(f"`omega_frame` must be 'body' or 'space', found {omega_frame!r}")
-        if omega_frame != "body" and self.sensitivities is None:
+        if as_frame(omega_frame) != "body" and self.sensitivities is None:
             raise ValueError("`omega_frame` has no effect with `y0` (a body-frame state) and "
                              "no sensitivities: omit it")  # fmt: skip
         y0 = self.system.checked_state(y0)

@@ -451,7 +451,7 @@ impl<const P: usize> RcOnePlus<Dual<P>> for OnDuals {
 /// [`carlson_rj`] where `p ≥ max(x, y, z)` (so that every `R_C(1, 1 + e)` of the duplication
 /// has `e ≥ 0`: `atan(√e)/√e`, with [`atan`]), generic over [`Real`]: the form of the
 /// third-kind integral `Π(n; ·)` with `n ≤ 0` that the attitude of a free body needs
-/// ([`third_kind_reduced`]), in lanes each lane duplicating until its own run stops (DLMF
+/// ([`third_kind_excess_reduced`]), in lanes each lane duplicating until its own run stops (DLMF
 /// 19.36.1, Carlson 1995, algorithm 3).
 #[inline(always)]
 pub fn carlson_rj_above<T: Real>(x: T, y: T, z: T, p: T) -> T {
@@ -692,19 +692,9 @@ pub fn third_kind_excess_reduced<T: Real>(n: T, s: T, c: T, d: T, p: T, excess: 
     T::select(p.unequal(k(0.0)), x + k(2.0) * p * excess, x)
 }
 
-/// [`third_kind_u`] for `n ≤ 0` from the quarter-period reduction `u = 2pK + v` of its
-/// argument, as [`third_kind_excess_reduced`] but whole: `v + X(v) + 2p Π(n|m)`, with
-/// `Π(n|m)` given. Generic over [`Real`].
-#[inline(always)]
-pub fn third_kind_reduced<T: Real>(n: T, s: T, c: T, d: T, v: T, p: T, pi_complete: T) -> T {
-    let k = T::splat;
-    let g = v + third_kind_excess(n, s, c, d);
-    T::select(p.unequal(k(0.0)), g + k(2.0) * p * pi_complete, g)
-}
-
 /// `X(v) = (n/3) s³ R_J(c², d², 1, 1 − n s²)` from `s = sn v`, `c = cn v ≥ 0`, `d = dn v`
 /// (|v| ≤ K, `n ≤ 0`): what the reduced integral of the third kind `G(v)`
-/// ([`third_kind_reduced`]) adds to its first-kind part `s R_F(c², d², 1) = F(am v) = v`
+/// ([`third_kind_excess_reduced`]) adds to its first-kind part `s R_F(c², d², 1) = F(am v) = v`
 /// (DLMF 19.25.14 and 19.25.5), so that `Π(u) − Π(u0) = (u − u0) + X(v) − X(v0)` within a half
 /// period. Generic over [`Real`].
 #[inline(always)]
@@ -741,7 +731,7 @@ pub fn carlson_rf_rj_from_roots<T: Real, R: RcOnePlus<T>>(c: T, d: T, p: T) -> (
     (carlson_rf(x1, y1, z1), rj)
 }
 
-/// [`third_kind_reduced`]'s `G = s R_F(c², d², 1) + (n/3) s³ R_J(c², d², 1, 1 − n s²)` (n < 1,
+/// The reduced integral of the third kind `G = s R_F(c², d², 1) + (n/3) s³ R_J(c², d², 1, 1 − n s²)` (n < 1,
 /// `c ≥ 0`) by [`carlson_rf_rj_from_roots`].
 pub fn third_kind_from_roots<T: Real, R: RcOnePlus<T>>(n: T, s: T, c: T, d: T) -> T {
     third_kind_with_p::<T, R>(n, s, c, d, T::splat(1.0) - n * s * s)

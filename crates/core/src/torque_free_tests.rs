@@ -381,7 +381,7 @@ fn attitude_lanes_equal_single_runs_bit_for_bit() {
     }
 }
 
-/// The attitude from the reduction ω(t) makes (`third_kind_reduced`, `carlson_rj_above`,
+/// The attitude from the reduction ω(t) makes (`third_kind_excess_reduced`, `carlson_rj_above`,
 /// the angles as ratios) equals the one from the angles by atan2 and `third_kind_u`
 /// (libm's atan, the integral's own reduction) to round-off.
 #[test]

@@ -129,7 +129,7 @@ pub struct AttitudeSetup {
 }
 
 /// Whether the attitude of an elliptic regime takes `Π(u)` from the reduction ω(t) made
-/// ([`third_kind_reduced`], in lanes too): off the separatrix and `m1 ≥` [`TINY_M1`] (below,
+/// ([`third_kind_excess_reduced`], in lanes too): off the separatrix and `m1 ≥` [`TINY_M1`] (below,
 /// [`third_kind_u`]'s separatrix forms).
 #[inline(always)]
 pub(super) fn reduced_third_kind(reg: &Regime) -> bool {
