@@ -15,7 +15,7 @@ from .display import Displayable
 from .layout import STATE_SIZE, STATE_SLICES
 from .sensitivity import SensitivityMixin
 
-__all__ = ["Trajectory"]
+__all__ = ["Exportable", "Trajectory"]
 
 
 def _readonly(a):
@@ -58,7 +58,95 @@ _SCALAR_VARIABLES = (
 )  # fmt: skip
 
 
-class Trajectory(SensitivityMixin, Displayable):
+class Exportable:
+    """The writers of a sampled motion: :meth:`to_npz`, :meth:`to_csv`, :meth:`to_netcdf` and
+    :meth:`to_xarray`, all of the one list :meth:`variables` (``name → (dims, values,
+    attrs)``) that the class defines, with its ``t``, ``method`` and :meth:`summary`."""
+
+    t: np.ndarray
+    method: str
+
+    def variables(self) -> dict:  # pragma: no cover - each result defines its own
+        raise NotImplementedError
+
+    def summary(self) -> dict:  # pragma: no cover - each result defines its own
+        raise NotImplementedError
+
+    def _table_fields(self, table) -> dict:
+        """The fields ``name → (dims, values, attrs)`` of one table of exported fields
+        (:data:`_MOTION_VARIABLES`, :data:`_SCALAR_VARIABLES`), each with its own attrs."""
+        return {name: (dims, getattr(self, attr), dict(attrs)) for name, attr, dims, attrs in table}
+
+    def _fields(self, table=False):
+        """The exported fields, ``t`` first, without the labels of the time, axis and
+        component dimensions (implied by the field names); with the sensitivities' labels,
+        ``state_component`` and ``parameter`` (which row and column is which), as the NetCDF
+        export has them. A ``table`` has no sensitivities, nor their labels."""
+        fields = {"t": ((), self.t, {"units": "s"})}
+        for name, value in self.variables().items():
+            if name in ("time", "axis", "component"):
+                continue
+            if not (table and any(d in _SENSITIVITY_COORDS for d in value[0])):
+                fields[name] = value
+        return fields
+
+    def to_npz(self, path) -> None:
+        """Write every field of :meth:`variables` to a compressed ``.npz`` file (atomically),
+        with ``attributes`` (JSON: each field's units, frame and reference point) and
+        ``summary`` (JSON). With sensitivities, ``sensitivity (time, state_component,
+        parameter)`` comes with its labels ``state_component`` and ``parameter`` (NumPy
+        unicode arrays, as the NetCDF coordinates: ``numpy.load`` reads them without
+        pickle)."""
+        fields = self._fields()
+        atomic_savez(
+            path,
+            **{name: value for name, (_, value, _) in fields.items()},
+            attributes=np.array(json.dumps({n: a for n, (_, _, a) in fields.items()})),
+            summary=np.array(json.dumps(self.summary())),
+        )
+
+    def csv_columns(self) -> list[str]:
+        """The CSV header: each column's name and SI unit (``omega_x [rad/s]``; ``[1]``
+        dimensionless); a moment's name carries its reference point
+        (``angular_momentum_com_x``), frames are those of :meth:`variables`."""
+        cols = []
+        for name, (dims, value, attrs) in self._fields(table=True).items():
+            unit = f" [{attrs.get('units', '1')}]"
+            if name == "t" or value.ndim == 1:
+                cols.append(name + unit)
+            elif dims[-1] == "col":
+                cols += [f"{name}_{i}{j}{unit}" for i in range(1, 4) for j in range(1, 4)]
+            else:
+                cols += [f"{name}_{c}{unit}" for c in ("xyz" if dims[-1] == "axis" else "wxyz")]
+        return cols
+
+    def to_csv(self, path) -> None:
+        """Write one row per sample with every field of :meth:`variables` to CSV, atomically;
+        the header is :meth:`csv_columns`. The sensitivities (three axes) are not a table's:
+        the other formats carry them."""
+        table = np.column_stack([v.reshape(len(self.t), -1)
+                                 for _, v, _ in self._fields(table=True).values()])  # fmt: skip
+        with atomic_path(path) as tmp:
+            np.savetxt(tmp, table, delimiter=",", header=",".join(self.csv_columns()),
+                       comments="", fmt="%.17g")  # fmt: skip
+
+    def to_xarray(self):
+        """An ``xarray.Dataset`` of :meth:`variables` (needs the ``xarray`` extra)."""
+        from ._io import xarray_dataset
+
+        attrs = {"method": self.method, "summary": json.dumps(self.summary())}
+        return xarray_dataset(self.variables(), attrs)
+
+    def to_netcdf(self, path) -> None:
+        """Write :meth:`variables` to a NetCDF-3 file (atomically, with SciPy's writer: no
+        xarray needed)."""
+        from ._io import write_netcdf
+
+        write_netcdf(path, self.variables(), {"method": self.method,
+                                              "summary": json.dumps(self.summary())})  # fmt: skip
+
+
+class Trajectory(Exportable, SensitivityMixin, Displayable):
     """Samples of a rigid-body motion and everything computed from them.
 
     Attributes
@@ -489,96 +577,27 @@ class Trajectory(SensitivityMixin, Displayable):
         out["component"] = (("component",), np.array(list("wxyz")), {})
         return out
 
-    def _table_fields(self, table) -> dict:
-        """The fields ``name → (dims, values, attrs)`` of one table of exported fields
-        (:data:`_MOTION_VARIABLES`, :data:`_SCALAR_VARIABLES`), each with its own attrs."""
-        return {name: (dims, getattr(self, attr), dict(attrs)) for name, attr, dims, attrs in table}
-
-    def _fields(self, table=False):
-        """The exported fields, ``t`` first, without the labels of the time, axis and
-        component dimensions (implied by the field names); with the sensitivities' labels,
-        ``state_component`` and ``parameter`` (which row and column is which), as the NetCDF
-        export has them. A ``table`` has no sensitivities, nor their labels."""
-        fields = {"t": ((), self.t, {"units": "s"})}
-        for name, value in self.variables().items():
-            if name in ("time", "axis", "component"):
-                continue
-            if not (table and any(d in _SENSITIVITY_COORDS for d in value[0])):
-                fields[name] = value
-        return fields
-
-    def to_npz(self, path) -> None:
-        """Write every field of :meth:`variables` to a compressed ``.npz`` file (atomically),
-        with ``attributes`` (JSON: each field's units, frame and reference point) and
-        ``summary`` (JSON). With sensitivities, ``sensitivity (time, state_component,
-        parameter)`` comes with its labels ``state_component`` and ``parameter`` (NumPy
-        unicode arrays, as the NetCDF coordinates: ``numpy.load`` reads them without
-        pickle)."""
-        fields = self._fields()
-        atomic_savez(
-            path,
-            **{name: value for name, (_, value, _) in fields.items()},
-            attributes=np.array(json.dumps({n: a for n, (_, _, a) in fields.items()})),
-            summary=np.array(json.dumps(self.summary())),
-        )
-
-    def csv_columns(self) -> list[str]:
-        """The CSV header: each column's name and SI unit (``omega_x [rad/s]``; ``[1]``
-        dimensionless); a moment's name carries its reference point
-        (``angular_momentum_com_x``), frames are those of :meth:`variables`."""
-        cols = []
-        for name, (dims, value, attrs) in self._fields(table=True).items():
-            unit = f" [{attrs.get('units', '1')}]"
-            if name == "t" or value.ndim == 1:
-                cols.append(name + unit)
-            elif dims[-1] == "col":
-                cols += [f"{name}_{i}{j}{unit}" for i in range(1, 4) for j in range(1, 4)]
-            else:
-                cols += [f"{name}_{c}{unit}" for c in ("xyz" if dims[-1] == "axis" else "wxyz")]
-        return cols
-
-    def to_csv(self, path) -> None:
-        """Write one row per sample with every field of :meth:`variables` to CSV, atomically;
-        the header is :meth:`csv_columns`. The sensitivities (three axes) are not a table's:
-        the other formats carry them."""
-        table = np.column_stack([v.reshape(len(self.t), -1)
-                                 for _, v, _ in self._fields(table=True).values()])  # fmt: skip
-        with atomic_path(path) as tmp:
-            np.savetxt(tmp, table, delimiter=",", header=",".join(self.csv_columns()),
-                       comments="", fmt="%.17g")  # fmt: skip
-
-    def to_xarray(self):
-        """An ``xarray.Dataset`` of :meth:`variables` (needs the ``xarray`` extra)."""
-        from ._io import xarray_dataset
-
-        attrs = {"method": self.method, "summary": json.dumps(self.summary())}
-        return xarray_dataset(self.variables(), attrs)
-
-    def to_netcdf(self, path) -> None:
-        """Write :meth:`variables` to a NetCDF-3 file (atomically, with SciPy's writer: no
-        xarray needed)."""
-        from ._io import write_netcdf
-
-        write_netcdf(path, self.variables(), {"method": self.method,
-                                              "summary": json.dumps(self.summary())})  # fmt: skip
-
 
 #: The coordinates of the exported sensitivities.
 _SENSITIVITY_COORDS = ("state_component", "parameter")
 
 
-def _sensitivity_variables(sens) -> dict:
+def _sensitivity_variables(sens, names=None, frames=None, **attrs) -> dict:
     """The exported sensitivities: ``sensitivity (time, state_component, parameter)`` with
-    its two label coordinates."""
-    names = [f"{b}_{c}" for b in ("R", "V") for c in "xyz"]
-    names += [f"Q_{i}{j}" for i in range(1, 4) for j in range(1, 4)]
-    names += [f"omega_{c}" for c in "xyz"]
+    its two label coordinates; ``names`` label the state's components and ``frames`` says
+    theirs (default: a rigid body's state, ``[R, V, Q, ω]``), ``attrs`` are added."""
+    if names is None:
+        names = [f"{b}_{c}" for b in ("R", "V") for c in "xyz"]
+        names += [f"Q_{i}{j}" for i in range(1, 4) for j in range(1, 4)]
+        names += [f"omega_{c}" for c in "xyz"]
+        frames = "R, V space frame; Q body to space; omega body frame"
+        attrs = {"omega0_frame": sens.omega_frame, **attrs}
     return {
         "sensitivity": (("time", "state_component", "parameter"), sens.S,
                         {"long_name": "forward sensitivity d state / d parameter",
-                         "frames": "R, V space frame; Q body to space; omega body frame",
+                         "frames": frames,
                          "units": "the state component's over the parameter's (SI)",
-                         "omega0_frame": sens.omega_frame,
+                         **attrs,
                          **({} if sens.t0 is None else
                             {"t0": sens.t0,
                              "t0_long_name": "time of the initial state the derivatives "

@@ -150,6 +150,12 @@ def test_turntable_says_what_happens(tmp_path, capsys):
     csv = np.genfromtxt(tmp_path / "o" / "relative.csv", delimiter=",", names=True)
     assert np.abs(csv["omega_abs_z_rads"]).max() < 1e-12  # the brick never moves
     assert np.abs(csv["omega_r_z_rads"]).max() > 1.0  # the table turns under it
+    full = np.load(tmp_path / "o" / "relative.npz")  # every field, with frames and units
+    np.testing.assert_array_equal(full["omega_r"][:, 2], csv["omega_r_z_rads"])
+    np.testing.assert_array_equal(full["omega_absolute"][:, 2], csv["omega_abs_z_rads"])
+    assert json.loads(str(full["attributes"]))["omega_r"]["frame"] == "body"
+    assert (tmp_path / "o" / "relative.nc").exists()
+    assert 'href="relative.npz"' in (tmp_path / "o" / "report.html").read_text(encoding="utf-8")
 
 
 def _heavy_top(tmp_path, name, omega=None, euler=None, span=None, output=""):

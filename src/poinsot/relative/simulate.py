@@ -15,7 +15,7 @@ from ..display import Displayable
 from ..integrate.solve import check_run, solve
 from ..rotation import body_rates_from_euler, euler_from_matrix, euler_rates_from_body
 from ..sensitivity import SensitivityMixin
-from ..trajectory import Trajectory
+from ..trajectory import Exportable, Trajectory, _sensitivity_variables
 from .carrier import Carrier
 from .moments import coriolis_moment, transport_moment
 from .system import RELATIVE_SLICES, RelativeMotionSystem
@@ -318,7 +318,49 @@ RELATIVE_OUTPUTS = {**{k: v for k, v in RELATIVE_SLICES.items()
                     "state": slice(0, RELATIVE_SIZE)}  # fmt: skip
 
 
-class RelativeTrajectory(SensitivityMixin, Displayable):
+_VEC = ("time", "axis")
+_MAT = ("time", "row", "col")
+#: The exported fields of a relative motion, in order (:meth:`RelativeTrajectory.variables`):
+#: ``(name, the attribute holding the values, dims, attrs)``.
+_RELATIVE_VARIABLES = (
+    ("r", "r", _VEC, {"units": "m", "frame": "carrier",
+                      "long_name": "position of the centre of mass from the carrier's origin"}),
+    ("v_r", "v_r", _VEC, {"units": "m/s", "frame": "carrier",
+                          "long_name": "velocity of the centre of mass relative to the carrier"}),
+    ("Q_r", "Q_r", _MAT, {"units": "1", "long_name": "attitude relative to the carrier, "
+                                                     "body → carrier"}),
+    ("omega_r", "omega_r", _VEC, {"units": "rad/s", "frame": "body",
+                                  "long_name": "angular velocity relative to the carrier"}),
+    ("Q_carrier", "Q_carrier", _MAT, {"units": "1",
+                                      "long_name": "the carrier's attitude, carrier → space"}),
+    ("origin", "origin", _VEC, {"units": "m", "frame": "space",
+                                "long_name": "the carrier's origin"}),
+    ("origin_velocity", "origin_velocity", _VEC,
+     {"units": "m/s", "frame": "space", "long_name": "velocity of the carrier's origin"}),
+    ("omega_e", "omega_e", _VEC, {"units": "rad/s", "frame": "body",
+                                  "long_name": "the carrier's angular velocity ω_e"}),
+    ("epsilon_e", "epsilon_e", _VEC, {"units": "rad/s2", "frame": "body",
+                                      "long_name": "the carrier's angular acceleration ε_e"}),
+    ("transport_moment", "transport_moment", _VEC,
+     {"units": "N m", "frame": "body", "about": "centre of mass", "symbol": "M_e",
+      "long_name": "transport moment −J ε_e + Jω_e × ω_e (eq. 11)"}),
+    ("coriolis_moment", "coriolis_moment", _VEC,
+     {"units": "N m", "frame": "body", "about": "centre of mass", "symbol": "M_c",
+      "long_name": "Coriolis moment 2 ω_r × (J'ω_e) (eq. 11)"}),
+    ("relative_energy", "relative_energy", ("time",),
+     {"units": "J", "long_name": "relative rotational energy ½ ω_r·Jω_r (eq. 17)"}),
+    ("R_absolute", "R_absolute", _VEC, {"units": "m", "frame": "space",
+                                        "long_name": "position of the centre of mass"}),
+    ("V_absolute", "V_absolute", _VEC, {"units": "m/s", "frame": "space",
+                                        "long_name": "velocity of the centre of mass"}),
+    ("Q_absolute", "Q_absolute", _MAT, {"units": "1", "long_name": "attitude, body → space"}),
+    ("omega_absolute", "omega_absolute", _VEC, {"units": "rad/s", "frame": "body",
+                                                "long_name": "absolute angular velocity"}),
+    ("time", "t", ("time",), {"units": "s"}),
+)  # fmt: skip
+
+
+class RelativeTrajectory(Exportable, SensitivityMixin, Displayable):
     """Samples of a motion relative to a carrier frame, and the absolute motion they map to.
 
     Attributes
@@ -487,6 +529,61 @@ class RelativeTrajectory(SensitivityMixin, Displayable):
             )
         return euler_rates_from_body(angles, self.omega_r)
 
+    # ----------------------------------------------------------------- export
+    def summary(self) -> dict:
+        """A JSON-ready summary: the run, the body and the carrier."""
+        ratio = self.hodograph_ratio()
+        return {
+            "method": self.method,
+            "backend": self.backend,
+            "success": self.success,
+            "message": self.message,
+            "samples": len(self.t),
+            "t_start": float(self.t[0]) if len(self.t) else None,
+            "t_end": float(self.t[-1]) if len(self.t) else None,
+            "nfev": int(self.nfev),
+            "nsteps": int(self.nsteps),
+            "wall_time_s": float(self.wall_time),
+            "mass": self.body.mass,
+            "principal_moments": self.body.principal_moments.tolist(),
+            "carrier": repr(self.carrier),
+            "balance_transport": self.system.balance_transport,
+            "hold_com": self.system.hold_com,
+            "hodograph_ratio": ratio if np.isfinite(ratio) else None,
+            "hodograph_bound": self.hodograph_bound(),
+        }
+
+    def variables(self) -> dict:
+        """Every exported field as ``name → (dims, values, attrs)``: the relative state
+        (``r``, ``v_r``, ``Q_r``, ``omega_r``) and the carrier's (``Q_carrier``, ``origin``,
+        ``origin_velocity``), ω_e and ε_e on the body axes, the transport and Coriolis
+        moments, the relative energy, and the absolute motion they map to; each vector's
+        attributes name its frame (``carrier``: the carrier's axes). The one list that
+        :meth:`to_npz`, :meth:`to_csv`, :meth:`to_netcdf` and :meth:`to_xarray` write; with
+        sensitivities, ``sensitivity (time, state_component, parameter)`` of the 33-number
+        relative state and its labels."""
+        out = self._table_fields(_RELATIVE_VARIABLES)
+        if self.sensitivities is not None:
+            out |= _sensitivity_variables(
+                self.sensitivities,
+                _state_labels(),
+                "r, v_r carrier frame; Q_r body to carrier; omega_r body frame; Q_carrier "
+                "carrier to space; origin, origin_velocity space frame",
+            )
+        out["axis"] = (("axis",), np.array(list("xyz")), {})
+        return out
+
     def __repr__(self):
         span = f"t = [{self.t[0]:g}, {self.t[-1]:g}], " if len(self.t) else ""
         return f"RelativeTrajectory({len(self.t)} samples, {span}{self.method}, {self.carrier!r})"
+
+
+def _state_labels() -> list[str]:
+    """The names of the relative state's 33 components (:data:`RELATIVE_SLICES`)."""
+    names = []
+    for part, sl in RELATIVE_SLICES.items():
+        if sl.stop - sl.start == 9:
+            names += [f"{part}_{i}{j}" for i in range(1, 4) for j in range(1, 4)]
+        else:
+            names += [f"{part}_{c}" for c in "xyz"]
+    return names

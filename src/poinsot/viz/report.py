@@ -736,9 +736,11 @@ figcaption {{ color: #555; font-size: 0.9em; }}
     atomic_write_text(path, page)
 
 
-def write_relative_report(path, summary: dict, images: dict) -> None:
+def write_relative_report(path, summary: dict, images: dict,
+                          links=("summary.json", "relative.csv")) -> None:  # fmt: skip
     """A self-contained HTML page of a motion relative to a carrier: the carrier, the numbers
-    (with units and meanings) and the figures (``images``: caption → PNG bytes)."""
+    (with units and meanings), the figures (``images``: caption → PNG bytes) and ``links`` to
+    the run's data files."""
     from .numbers import format_value
 
     rows = []
@@ -754,7 +756,7 @@ def write_relative_report(path, summary: dict, images: dict) -> None:
     )
     c = summary.get("carrier", {})
     lead = f"Carrier: {c.get('description', '')}. " + summary.get("lead", "")
-    _image_page(path, summary, lead, table, images, ("summary.json", "relative.csv"))
+    _image_page(path, summary, lead, table, images, links)
 
 
 def write_identify_report(path, summary: dict, images: dict) -> None:

@@ -13,8 +13,10 @@ __all__ = ["RelativeRun", "carrier_only_note", "summarize_relative"]
 
 
 class RelativeRun(Run):
-    """A :class:`~poinsot.app.scenario.RelativeScenario` (``[carrier]``); writes relative.csv,
-    relative.png, hodograph.png (when the transport moment is balanced) and report.html."""
+    """A :class:`~poinsot.app.scenario.RelativeScenario` (``[carrier]``); writes relative.csv
+    (the report's quantities), relative.npz and relative.nc (every field of the motion, with
+    frames and units: :meth:`~poinsot.relative.RelativeTrajectory.variables`), relative.png,
+    hodograph.png (when the transport moment is balanced) and report.html."""
 
     def simulate(self, progress=None):
         self.result = self.scenario.simulate(progress=progress)
@@ -24,6 +26,8 @@ class RelativeRun(Run):
 
     def write_data(self, folder, summary):
         _relative_csv(folder / "relative.csv", self.result)
+        self.result.to_npz(folder / "relative.npz")
+        self.result.to_netcdf(folder / "relative.nc")
 
     def figures(self, folder, *, for_report):
         scenario, sol = self.scenario, self.result
@@ -49,10 +53,12 @@ class RelativeRun(Run):
             )
         return png_images(figures, folder)
 
+    report_links = ("summary.json", "relative.csv", "relative.npz", "relative.nc")
+
     def write_report(self, path, summary, images, *, plotlyjs="inline"):
         from ...viz.report import write_relative_report
 
-        write_relative_report(path, summary, images)
+        write_relative_report(path, summary, images, self.report_links)
 
     def terminal_lines(self, summary, out):
         lines = [f"  carrier: {summary['carrier']['description']}"]
