@@ -155,6 +155,19 @@ def test_turntable_says_what_happens(tmp_path, capsys):
     np.testing.assert_array_equal(full["omega_absolute"][:, 2], csv["omega_abs_z_rads"])
     assert json.loads(str(full["attributes"]))["omega_r"]["frame"] == "body"
     assert (tmp_path / "o" / "relative.nc").exists()
+    # no balancing moment: no conservation (17) nor bound (18) is claimed, anywhere
+    assert "hodograph" not in summary and "relative_drift" not in summary["relative_energy"]
+    assert "hodograph_bound" not in json.loads(str(full["summary"]))
+    header = (tmp_path / "o" / "relative.csv").read_text().splitlines()[0]
+    assert header.endswith("transport_moment_magnitude [N m],coriolis_moment_magnitude [N m]")
+
+
+def test_a_balanced_carrier_run_reports_its_bound(tmp_path, capsys):
+    assert main(["run", "--example", "hodograph-bound", "--out", str(tmp_path / "o")]) == 0
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    h = summary["hodograph"]
+    assert 1 <= h["ratio"] <= h["bound_sqrt_C_over_A"]
+    assert summary["relative_energy"]["relative_drift"] < 1e-8
     assert 'href="relative.npz"' in (tmp_path / "o" / "report.html").read_text(encoding="utf-8")
 
 

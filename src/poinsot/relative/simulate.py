@@ -10,7 +10,7 @@ import numpy as np
 
 from .._bindings import invariants as core_invariants
 from .._bindings import relative as core_relative
-from .._validation import as_rotation_matrix, as_vector3
+from .._validation import as_array, as_rotation_matrix, as_vector3
 from ..display import Displayable
 from ..integrate.solve import check_run, solve
 from ..rotation import body_rates_from_euler, euler_from_matrix, euler_rates_from_body
@@ -265,18 +265,44 @@ class PreparedRelativeRun:
 
     def run(self, *, y0=None, progress=None, **initial) -> RelativeTrajectory:
         """Integrate from the initial state given as :func:`simulate_relative` takes it
-        (``omega_r0``, ``Q_r0``, ``euler_angles0``, ...), or from ``y0``, a state that
-        :meth:`initial_state` returned: nothing is lowered or checked again."""
+        (``omega_r0``, ``Q_r0``, ``euler_angles0``, ...), or from ``y0``, the whole state (33,)
+        as :meth:`initial_state` returns it, checked as a start (:meth:`_given_state`)."""
         if y0 is None:
             y0 = self.initial_state(**initial)
         elif initial:
             raise TypeError(f"give `y0` or the initial state's parts, not both: {sorted(initial)}")
+        else:
+            y0 = self._given_state(y0)
         system = self.system
         if self.sensitivities is not None:
             return self._run_sensitive(y0, progress)
         return solve(system, y0, self.settings,
                      trajectory=lambda r: RelativeTrajectory(r, system), progress=progress,
                      backend=self.backend)  # fmt: skip
+
+    def _given_state(self, y0) -> np.ndarray:
+        """``run(y0=...)``: the relative state (33,) checked whole: finite, ``Q_r`` and
+        ``Q_carrier`` rotations (within the tolerance ``Q_r0`` has, then projected onto SO(3)
+        as it is), ``Q_carrier`` the carrier's own attitude at the start where the carrier
+        gives one, ``v_r`` zero under ``hold_com``, and the rates finite there."""
+        s, system, t0 = RELATIVE_SLICES, self.system, self.settings.t0
+        y = as_array(y0, "y0", (RELATIVE_SIZE,)).copy()
+        for part, start in (("Q_r", 6), ("Q_carrier", 18)):
+            name = f"y0[{start}:{start + 9}] ({part}, row by row)"
+            y[s[part]] = as_rotation_matrix(y[s[part]].reshape(3, 3), name).ravel()
+        carrier = system.carrier
+        if carrier.has_attitude:
+            Qc = carrier.initial_attitude(t0)
+            off = float(np.abs(y[s["Q_carrier"]] - Qc.ravel()).max())
+            if off > 1e-9:
+                raise ValueError(f"`y0[18:27]` (Q_carrier) must be the carrier's attitude at "
+                                 f"t0 = {t0:g}, given by its `{carrier.given}` (off by "
+                                 f"{off:.3g}); give the state `initial_state` returns")  # fmt: skip
+            y[s["Q_carrier"]] = Qc.ravel()
+        if system.hold_com and np.any(y[s["v_r"]] != 0):
+            raise ValueError("`y0[3:6]` (v_r) must be zero with `hold_com`")
+        _check_start(system, t0, y)
+        return y
 
     def _run_sensitive(self, y0, progress) -> RelativeTrajectory:
         """The run with its sensitivities: the augmented system through the same driver."""
@@ -532,7 +558,7 @@ class RelativeTrajectory(Exportable, SensitivityMixin, Displayable):
     # ----------------------------------------------------------------- export
     def summary(self) -> dict:
         """A JSON-ready summary: the run, the body and the carrier."""
-        ratio = self.hodograph_ratio()
+        ratio = self.hodograph_ratio() if self.system.balance_transport else None
         return {
             "method": self.method,
             "backend": self.backend,
@@ -549,9 +575,11 @@ class RelativeTrajectory(Exportable, SensitivityMixin, Displayable):
             "carrier": repr(self.carrier),
             "balance_transport": self.system.balance_transport,
             "hold_com": self.system.hold_com,
-            "hodograph_ratio": ratio if np.isfinite(ratio) else None,
-            "hodograph_bound": self.hodograph_bound(),
-        }
+            # the bound (18) holds only under the balancing moment (16)
+            **({"hodograph_ratio": ratio if np.isfinite(ratio) else None,
+                "hodograph_bound": self.hodograph_bound()}
+               if self.system.balance_transport else {}),
+        }  # fmt: skip
 
     def variables(self) -> dict:
         """Every exported field as ``name → (dims, values, attrs)``: the relative state

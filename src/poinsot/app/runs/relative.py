@@ -100,6 +100,11 @@ def summarize_relative(scenario, sol) -> dict:
     drift = float(np.ptp(E) / abs(E[0])) if E[0] != 0 else None
     ratio, bound = sol.hodograph_ratio(), sol.hodograph_bound()
     table = _relative_table(scenario, sol, drift, ratio, bound)
+    energy = {"initial": float(E[0]), "min": float(E.min()), "max": float(E.max())}
+    balanced = {}  # conservation (17) and the bound (18) hold only in case (16)
+    if c["balance_transport"]:
+        energy["relative_drift"] = drift
+        balanced["hodograph"] = {"ratio": ratio, "bound_sqrt_C_over_A": bound}
     return jsonable(
         {
             "scenario": scenario_header(scenario),
@@ -111,13 +116,8 @@ def summarize_relative(scenario, sol) -> dict:
                 + carrier_only_note(sol)
             ),
             "body": scenario.body.mass_properties(),
-            "relative_energy": {
-                "initial": float(E[0]),
-                "min": float(E.min()),
-                "max": float(E.max()),
-                "relative_drift": drift,
-            },
-            "hodograph": {"ratio": ratio, "bound_sqrt_C_over_A": bound},
+            "relative_energy": energy,
+            **balanced,
             "final": {
                 "t": float(sol.t[-1]),
                 "omega_r": sol.omega_r[-1].tolist(),
@@ -222,6 +222,6 @@ def _relative_csv(path: Path, sol):
     header = ("t [s],omega_r_x [rad/s],omega_r_y [rad/s],omega_r_z [rad/s],"
               "omega_abs_x [rad/s],omega_abs_y [rad/s],omega_abs_z [rad/s],"
               "psi [rad],theta [rad],phi [rad],relative_energy [J],"
-              "transport_moment [N m],coriolis_moment [N m]")  # fmt: skip
+              "transport_moment_magnitude [N m],coriolis_moment_magnitude [N m]")  # fmt: skip
     with atomic_path(path) as tmp:
         np.savetxt(tmp, np.hstack(cols), delimiter=",", header=header, comments="", fmt="%.17g")
