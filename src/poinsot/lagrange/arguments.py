@@ -10,11 +10,50 @@ import numpy as np
 
 from .._validation import as_scalar
 
-__all__ = ["as_params", "consistent_initial_state", "input_function", "input_values"]
+__all__ = [
+    "as_params",
+    "consistent_initial_state",
+    "input_function",
+    "input_values",
+    "key_index",
+    "key_name",
+    "refuse_off_constraints",
+]
+
+
+def key_name(key) -> str:
+    """The name a coordinate, an input or a parameter is given by: ``x(t)`` → ``'x'``."""
+    return str(key).replace("(t)", "")
+
+
+def key_index(keys):
+    """``key → position in keys`` (None when it is none of them) for a key given as itself (a
+    coordinate, an input, a parameter's symbol) or by its name, a string (:func:`key_name`):
+    the one reading of dict keys by single runs, ensembles and linearisations. ``.names`` lists
+    the names accepted, for the error that refuses another."""
+    by_key = {k: i for i, k in enumerate(keys)}  # hashing: no SymPy comparison
+    by_name = {key_name(k): i for i, k in enumerate(keys)}
+
+    def index(key):
+        if isinstance(key, str):
+            return by_name.get(key)
+        try:
+            return by_key.get(key)
+        except TypeError:  # unhashable: none of the keys
+            return None
+
+    index.names = list(by_name)
+    return index
+
+
+def named(names) -> str:
+    """``'x', 'y'``: the names a dict may be keyed by, quoted as a user writes them."""
+    return ", ".join(map(repr, names)) or "none"
 
 
 def _keyed(values, system, name, allow_missing):
-    """Array (n,) from ``{coordinate: value}``; missing → NaN (to be solved for)."""
+    """Array (n,) from ``{coordinate: value}`` (by coordinate or by name, :func:`key_index`);
+    missing → NaN (to be solved for)."""
     out = np.full(system.n_coordinates, np.nan)
     if values is None:
         return out
@@ -22,13 +61,13 @@ def _keyed(values, system, name, allow_missing):
         raise TypeError(
             f"`{name}` must be a dict {{coordinate: value}}, found {type(values).__name__}"
         )
-    index = {c: i for i, c in enumerate(system.coordinates)}  # hashing: no SymPy comparison
+    index = key_index(system.coordinates)
     for key, value in values.items():
-        i = index.get(key)
+        i = index(key)
         if i is None:
             raise ValueError(
-                f"`{name}`: {key} is not a coordinate of the system "
-                f"(coordinates: {system.coordinates})"
+                f"`{name}`: {key!r} is not a coordinate of the system (coordinates: "
+                f"{', '.join(map(str, system.coordinates))}, or by name {named(index.names)})"
             )
         if type(value) is float and np.isfinite(value):  # the common case, without a label
             out[i] = value
@@ -96,14 +135,14 @@ def input_function(inputs, system):
             raise ValueError("`inputs`: the system has no inputs (functions of t that are "
                              "neither coordinates nor parameters)")  # fmt: skip
         return None
-    by_name = {str(u).replace("(t)", ""): u for u in names}
+    index = key_index(names)
     given = {}
     for key, value in (inputs or {}).items():
-        u = by_name.get(key) if isinstance(key, str) else key
-        if u not in names:
+        i = index(key)
+        if i is None:
             raise ValueError(f"`inputs`: {key!r} is not an input of the system (inputs: "
-                             f"{', '.join(by_name)})")  # fmt: skip
-        given[u] = value
+                             f"{', '.join(index.names)})")  # fmt: skip
+        given[names[i]] = value
     missing = [str(u) for u in names if u not in given]
     if missing:
         raise ValueError(
@@ -113,7 +152,7 @@ def input_function(inputs, system):
     funcs, constants, exprs = [], [], []
     sp = _sympy_if_needed(given.values())
     for u in names:
-        value, label = given[u], f"inputs[{str(u).replace('(t)', '')}]"
+        value, label = given[u], f"inputs[{key_name(u)}]"
         if sp is not None and isinstance(value, sp.Basic) and not value.is_Number:
             exprs.append(_input_expression(value, system, label))
             funcs.append(None)
@@ -148,7 +187,7 @@ def input_function(inputs, system):
 
         funcs = [component(i) if f is None else f for i, f in enumerate(funcs)]
 
-    labels = [f"inputs[{str(u).replace('(t)', '')}]" for u in names]
+    labels = [f"inputs[{key_name(u)}]" for u in names]
 
     def u_of(t, q, qd):
         return np.array([_input_value(f, label, t, q, qd)
@@ -217,22 +256,41 @@ def _input_expression(value, system, label):
     return value
 
 
-def consistent_initial_state(system, num, t0, q0, qd0, guess=None, tol=1e-9):
+def consistent_initial_state(system, num, t0, q0, qd0, guess=None, tol=1e-9, *,
+                             guessable=True):  # fmt: skip
     """Complete and check ``q0``, ``qd0`` (arrays with NaN where omitted) against the
     constraints: omitted coordinates solve ``g(q) = 0`` by Newton from ``guess`` (default 0),
     omitted velocities solve ``G q̇ + b = 0``; given values that violate the constraints by more
-    than ``tol`` (scaled) are refused with the residual."""
+    than ``tol`` (scaled) are refused with the residual (:func:`refuse_off_constraints`), and
+    a failed solve with where it started. A ``guess`` for a coordinate given in ``q0`` (or for
+    a system without holonomic constraints, where nothing is solved for) is refused: it would
+    have no effect. ``guessable``: whether the caller takes a ``guess`` (an ensemble does not),
+    for the advice of a failed solve."""
     n, m, nh = system.n_coordinates, system.n_constraints, system.n_holonomic
     q = q0.copy()
     free_q = np.isnan(q)
+    if guess is not None:
+        idle = ~np.isnan(guess) & ~free_q
+        if idle.any() and not nh:
+            raise ValueError("`guess`: the system has no holonomic constraints, so no coordinate "
+                             "is solved for and a guess has no effect: drop it")  # fmt: skip
+        if idle.any():
+            names = ", ".join(str(system.coordinates[i]) for i in np.flatnonzero(idle))
+            verb = "is" if idle.sum() == 1 else "are"
+            raise ValueError(f"`guess`: {names} {verb} given in `q0`, so not solved for: a "
+                             "guess starts only the coordinates `q0` omits; drop it from "
+                             "`guess`")  # fmt: skip
+    note = ""
     if free_q.any():
         if free_q.sum() > nh:
             raise ValueError(
                 f"`q0` leaves {int(free_q.sum())} coordinates to solve for but "
                 f"there are only {nh} holonomic constraints"
             )
+        defaulted = free_q if guess is None else free_q & np.isnan(guess)
         q[free_q] = 0.0 if guess is None else guess[free_q]
-        q[free_q & np.isnan(q)] = 0.0
+        q[defaulted] = 0.0
+        note = _solve_note(system, q, free_q, defaulted, guess is not None, guessable)
         zeros = np.zeros(n)
         for _ in range(50):
             g = num.mat(num.g, q, zeros, t0, (nh,))
@@ -240,16 +298,8 @@ def consistent_initial_state(system, num, t0, q0, qd0, guess=None, tol=1e-9):
                 break
             J = num.mat(num.G, q, zeros, t0, (m, n))[:nh][:, free_q]
             q[free_q] -= np.linalg.lstsq(J, g, rcond=None)[0]
+    refuse_off_constraints(num, t0, q, None, tol=tol, notes=(note, ""))
     qd = qd0.copy()
-    if nh:
-        g = num.mat(num.g, q, np.zeros(n), t0, (nh,))
-        scale = 1 + np.max(np.abs(q))
-        if np.max(np.abs(g)) > tol * scale:
-            solved = " (the coordinates solved for from `guess`)" if free_q.any() else ""
-            raise ValueError(
-                f"`q0`: inconsistent initial conditions: the holonomic constraints are "
-                f"violated by max |g(q0)| = {np.max(np.abs(g)):.3g}{solved}"
-            )
     free_v = np.isnan(qd)
     if m:
         G = num.mat(num.G, q, np.zeros(n), t0, (m, n))
@@ -259,12 +309,7 @@ def consistent_initial_state(system, num, t0, q0, qd0, guess=None, tol=1e-9):
             sol = np.linalg.lstsq(G[:, free_v], -(G @ known + b), rcond=None)[0]
             qd = known.copy()
             qd[free_v] = sol
-        r = G @ qd + b
-        if np.max(np.abs(r)) > tol * (1 + np.max(np.abs(qd))):
-            raise ValueError(
-                f"`qd0`: inconsistent initial conditions: the velocity constraints are "
-                f"violated by max |G q̇0 + b| = {np.max(np.abs(r)):.3g}"
-            )
+        refuse_off_constraints(num, t0, q, qd, tol=tol)
     elif free_v.any():
         qd[free_v] = 0.0
     try:  # the equations of motion must be solvable here
@@ -279,6 +324,52 @@ def consistent_initial_state(system, num, t0, q0, qd0, guess=None, tol=1e-9):
             "coordinate that does not enter the kinetic energy"
         )
     return q, qd
+
+
+def _solve_note(system, start, free, defaulted, guessed, guessable) -> str:
+    """What a failed solve for the coordinates ``free`` adds to its message: the coordinates,
+    the start of Newton's method (``start``: from ``guess``, or the default 0 where
+    ``defaulted``) and what to do."""
+    coords = system.coordinates
+
+    def values(mask):
+        return ", ".join(f"{coords[i]} = {start[i]:.6g}" for i in np.flatnonzero(mask))
+
+    starts = []
+    if (free & ~defaulted).any():
+        starts.append(f"`guess` {values(free & ~defaulted)}")
+    if defaulted.any() and guessable:
+        why = "not in `guess`" if guessed else "no `guess` given"
+        starts.append(f"the default start {values(defaulted)}, {why}")
+    elif defaulted.any():
+        starts.append(f"{values(defaulted)}")
+    solved = ", ".join(str(coords[i]) for i in np.flatnonzero(free))
+    example = ", ".join(f"{key_name(coords[i])!r}: ..." for i in np.flatnonzero(free))
+    if not guessable:
+        advice = f"give {solved} in `q0` (an ensemble takes no `guess`)"
+    elif defaulted.any():
+        advice = f"pass `guess`={{{example}}} near a solution"
+    else:
+        advice = "pass another `guess` nearer a solution"
+    return f" ({solved} solved for by Newton's method from {' and '.join(starts)}: {advice})"
+
+
+def refuse_off_constraints(num, t, q, qd, *, tol=1e-9, names=("q0", "qd0"),
+                           point="initial conditions", at="0", notes=("", "")):  # fmt: skip
+    """Refuse coordinates ``q`` off the holonomic constraints, max |g(q, t)| above ``tol`` ×
+    (1 + max |q|), then velocities ``qd`` (unless None) off the velocity constraints,
+    max |G q̇ + b| above ``tol`` × (1 + max |q̇|): the engine's residuals
+    (``num.residuals``), one rule for initial states and operating points. The error names
+    the argument (``names``: of the coordinates, of the velocities), the ``point`` and the
+    size of the violation, with ``notes`` (how the values were completed) after it."""
+    pos, vel = num.residuals(t, q, np.zeros(len(q)) if qd is None else qd)
+    checks = [(pos, q, f"holonomic constraints are violated by max |g(q{at})|")]
+    if qd is not None:
+        checks.append((vel, qd, f"velocity constraints are violated by max |G q̇{at} + b|"))
+    for name, note, (residual, values, what) in zip(names, notes, checks, strict=False):
+        worst = float(np.max(np.abs(residual), initial=0.0))
+        if not worst <= tol * (1 + float(np.max(np.abs(values), initial=0.0))):  # NaN too
+            raise ValueError(f"`{name}`: inconsistent {point}: the {what} = {worst:.3g}{note}")
 
 
 def input_values(u_of, t, y, n, k):

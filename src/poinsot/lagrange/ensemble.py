@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import as_scalar
+from .arguments import key_index, key_name
 from .numeric import check_settings
 
 __all__ = [
@@ -45,17 +46,19 @@ def _column(value, where):
 
 
 def _by_key(values, keys, name, required):
-    """``{key: column}`` for a dict given by key or by name; unknown keys refused, named."""
+    """``{key: column}`` for a dict given by key or by name
+    (:func:`~poinsot.lagrange.arguments.key_index`); unknown keys refused, named."""
     if values is None:
         values = {}
     if not isinstance(values, dict):
         raise TypeError(f"`{name}` must be a dict, found {type(values).__name__}")
-    by_name = {str(k).replace("(t)", ""): k for k in keys}
+    index = key_index(keys)
     out = {}
     for key, value in values.items():
-        k = by_name.get(key) if isinstance(key, str) else key
-        if k not in keys:
-            raise ValueError(f"`{name}`: {key!r} is not one of {', '.join(by_name) or 'none'}")
+        i = index(key)
+        if i is None:
+            raise ValueError(f"`{name}`: {key!r} is not one of {', '.join(index.names) or 'none'}")
+        k = keys[i]
         if callable(value):
             raise TypeError(f"`{name}[{key}]`: an ensemble takes numbers (one or one per "
                             "member), not functions")  # fmt: skip
@@ -74,7 +77,7 @@ def _by_key(values, keys, name, required):
             i = int(np.argmax(out[k] <= 0 if sign == "positive" else out[k] < 0))
             raise ValueError(f"`{name}[{key}]` must be {sign} ({k} is declared {sign}), found "
                              f"{out[k][i]} (member {i})")  # fmt: skip
-    missing = [str(k).replace("(t)", "") for k in keys if k not in out]
+    missing = [key_name(k) for k in keys if k not in out]
     if required and missing:
         raise ValueError(f"`{name}` must give every {required}: missing {', '.join(missing)}")
     return out
@@ -83,7 +86,7 @@ def _by_key(values, keys, name, required):
 def _members(*tables) -> int:
     """The number of members: the one length of the per-member arrays of ``tables``
     (``(name, {key: column})``: params, inputs, q0, qd0; q0 and qd0 share their keys)."""
-    columns = [(f"{name}[{str(k).replace('(t)', '')}]", c)
+    columns = [(f"{name}[{key_name(k)}]", c)
                for name, cols in tables for k, c in cols.items()]  # fmt: skip
     sizes = {len(c) for _, c in columns} - {1}
     if len(sizes) > 1:
@@ -441,7 +444,8 @@ def _complete_states(system, engine, t0, Z0, P, U, tol):
         num.u_of = lambda t, q, qd, c=constant: c
         try:
             q, qd = consistent_initial_state(system, num, t0, Z0[i, :n].copy(),
-                                             Z0[i, n:].copy(), tol=tol)  # fmt: skip
+                                             Z0[i, n:].copy(), tol=tol,
+                                             guessable=False)  # fmt: skip
         except ValueError as exc:
             raise ValueError(f"member {i}: {exc}") from None
         Z0[i, :n], Z0[i, n:] = q, qd

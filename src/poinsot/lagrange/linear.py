@@ -127,7 +127,7 @@ class Linearization:
             atol=atol, t_eval=[t, t + period], sensitivities=("q0", "qd0"),
             q0={c: x for c, x, f in zip(coords, q0, free_q, strict=True) if f},
             qd0={c: x for c, x, f in zip(coords, v0, free_v, strict=True) if f},
-            guess=self.equilibrium if constrained else None,
+            guess={c: x for c, x, f in zip(coords, q0, free_q, strict=True) if not f} or None,
         )  # fmt: skip
         # a steady motion returns to its start, its ignorable coordinates moved on uniformly
         moved = np.concatenate([q0 + v0 * period, v0])
@@ -360,14 +360,18 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
     Parameters
     ----------
     equilibrium : dict {coordinate: value}
-        The operating point: every coordinate, and optionally velocities keyed by the speeds
+        The operating point: every coordinate (by coordinate or by name, ``{"x": 0.0}``, as
+        ``simulate`` reads ``q0``), and optionally velocities keyed by the speeds
         ``q.diff(t)`` (``Derivative(q, t)``, the entries of ``system.speeds``), as one
         operating-point dict for SymPy's ``Linearizer.linearize(op_point=...)`` holds both.
         A key that is neither a coordinate nor a speed is refused, named (see
-        :func:`operating_point`).
+        :func:`operating_point`). The point must satisfy the constraints as an initial state
+        must (``simulate``'s rule and tolerance): coordinates off the holonomic constraints,
+        or velocities off the velocity constraints, are refused with the violation.
     speeds : dict {coordinate: value}, optional
-        Its velocities, by coordinate (or by speed), the same as velocities in
-        ``equilibrium`` (default zero: an equilibrium); a velocity given both ways must agree.
+        Its velocities, by coordinate, name or speed, the same as velocities in
+        ``equilibrium`` (default zero: an equilibrium; a velocity not given is zero, not
+        solved from the constraints); a velocity given both ways must agree.
         With speeds the point must be a steady motion: the accelerations vanish there (a
         spinning top's steady precession, a disk rolling upright).
     inputs : dict {input: number}, optional
@@ -382,11 +386,12 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
         compiled Jacobian along the state and the inputs).
     """
     from .._validation import as_scalar
-    from .arguments import input_function
+    from .arguments import input_function, refuse_off_constraints
     from .engine import compile_tangent
 
     t = as_scalar(t, "t")
-    q0, v0 = operating_point(system, equilibrium, speeds)
+    q0, given_v, origin = _operating_point(system, equilibrium, speeds)
+    v0 = np.nan_to_num(given_v, nan=0.0)
     num = _numeric(system, params)
     n, m, nh = system.n_coordinates, num.m, num.n_hol
     k = len(system.inputs)
@@ -394,6 +399,14 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
     u0 = u_of(t, q0, v0) if u_of is not None else np.zeros(0)
     # the inputs held at their values at the operating point (B is their matrix)
     num = num.bound((lambda tt, qq, vv: u0) if k else None)
+    # on the constraints, by the rule and tolerance of an initial state: elsewhere the
+    # linearisation would be another system's
+    zero = [str(c) for c, v in zip(system.coordinates, given_v, strict=True) if np.isnan(v)]
+    note = (f" (velocities not given are zero: {', '.join(zero)}; give the values the "
+            "constraints require)" if zero else "")  # fmt: skip
+    velocities = "equilibrium" if "equilibrium" in origin and "speeds" not in origin else "speeds"
+    refuse_off_constraints(num, t, q0, v0, names=("equilibrium", velocities),
+                           point="operating point", at="", notes=("", note))  # fmt: skip
     y0 = np.concatenate([q0, v0])
     unsolvable = ValueError(
         "`equilibrium`, `params`: the equations of motion cannot be solved at the operating "
@@ -455,9 +468,9 @@ def linearize(system, equilibrium, params=None, *, speeds=None, inputs=None, t=0
 
 def operating_point(system, equilibrium, speeds=None):
     """``(q, q̇)`` arrays (n,) of an operating point: ``equilibrium`` keyed by coordinates
-    (all of them) and optionally by speeds ``q.diff(t)``; ``speeds`` keyed by coordinates or
-    speeds (missing velocities are zero). Unknown keys, non-numbers and a velocity given twice
-    with two values are refused, named.
+    (all of them, by coordinate or by name) and optionally by speeds ``q.diff(t)``; ``speeds``
+    keyed by coordinates, their names or speeds (missing velocities are zero). Unknown keys,
+    non-numbers and a velocity given twice with two values are refused, named.
 
     Examples
     --------
@@ -471,15 +484,23 @@ def operating_point(system, equilibrium, speeds=None):
     ...
     ValueError: `equilibrium`: 'omega' is neither a coordinate of the system nor a speed (...)
     """
+    q0, v0, _ = _operating_point(system, equilibrium, speeds)
+    return q0, np.nan_to_num(v0, nan=0.0)
+
+
+def _operating_point(system, equilibrium, speeds):
+    """:func:`operating_point` with the velocities not given NaN, and where each velocity was
+    given (``"equilibrium"``, ``"speeds"`` or ``""``)."""
     from collections.abc import Mapping
 
     from .._validation import as_scalar
+    from .arguments import key_index, named
 
     n = system.n_coordinates
-    coords = {q: i for i, q in enumerate(system.coordinates)}  # hashing: no SymPy comparison
-    rates = {v: i for i, v in enumerate(system.speeds)}
-    known = (f"coordinates: {', '.join(map(str, system.coordinates))}; speeds: "
-             f"{', '.join(map(str, system.speeds))}")  # fmt: skip
+    coords = key_index(system.coordinates)  # by coordinate or by name, as simulate reads q0
+    rates = {v: i for i, v in enumerate(system.speeds)}  # hashing: no SymPy comparison
+    known = (f"coordinates: {', '.join(map(str, system.coordinates))} (by name "
+             f"{named(coords.names)}); speeds: {', '.join(map(str, system.speeds))}")  # fmt: skip
     q0, v0 = np.full(n, np.nan), np.full(n, np.nan)
     origin = [""] * n  # where each velocity was given
 
@@ -497,7 +518,11 @@ def operating_point(system, equilibrium, speeds=None):
             raise TypeError(f"`{name}` must be a dict {{coordinate: value}}, found "
                             f"{type(given).__name__}")  # fmt: skip
         for key, value in given.items():
-            i, j = coords.get(key), rates.get(key)
+            try:
+                j = None if isinstance(key, str) else rates.get(key)
+            except TypeError:  # unhashable: neither
+                j = None
+            i = coords(key)
             if j is not None:
                 velocity(j, value, f"{name}[{key}]")
             elif i is not None and name == "speeds":
@@ -510,7 +535,7 @@ def operating_point(system, equilibrium, speeds=None):
     missing = [str(system.coordinates[i]) for i in np.flatnonzero(np.isnan(q0))]
     if missing:
         raise ValueError(f"`equilibrium` must give every coordinate: missing {', '.join(missing)}")
-    return q0, np.nan_to_num(v0, nan=0.0)
+    return q0, v0, [label.split("[")[0] for label in origin]
 
 
 def _on_manifold(J, B, G, nh, positions):

@@ -277,11 +277,14 @@ def simulate(
     ----------
     t_span : (t0, t1)
     q0, qd0 : dict {coordinate: value}
-        Initial coordinates and velocities. With constraints, dependent coordinates and
-        velocities may be omitted and are solved for (``guess`` {coordinate: value} starts the
-        Newton iteration for omitted coordinates); given values inconsistent with the
-        constraints are refused with the residual. Omitted velocities of an unconstrained
-        system are zero.
+        Initial coordinates and velocities, by coordinate or by name (``{"x": 0.6}``, as
+        ensembles read them). With constraints, dependent coordinates and velocities may be
+        omitted and are solved for (``guess`` {coordinate: value} starts the Newton iteration
+        for omitted coordinates, from 0 where it gives none; a guess for a coordinate given
+        in ``q0``, or for a system without holonomic constraints, has no effect and is
+        refused); given values inconsistent with the constraints are refused with the
+        residual, and a failed solve with where it started. Omitted velocities of an
+        unconstrained system are zero.
     params : dict {symbol: number}
         Values of every parameter (``system.parameters``).
     method, dt, rtol, atol, t_eval
