@@ -124,8 +124,14 @@ class Model(HTMLDisplay):
         kwargs.setdefault("q0", self.q0)
         kwargs.setdefault("qd0", self.qd0)
         kwargs.setdefault("params", self.params)
-        if self.guess:
-            kwargs.setdefault("guess", self.guess)
+        if self.guess and "guess" not in kwargs:  # only for the coordinates q0 leaves out
+            from .lagrange.arguments import key_index
+
+            index = key_index(self.system.coordinates)
+            given = {index(k) for k in kwargs["q0"]}
+            guess = {k: v for k, v in self.guess.items() if index(k) not in given}
+            if guess:
+                kwargs["guess"] = guess
         sol = self.system.simulate(t_span, **kwargs)
         sol.model = self  # its reactions named, its mechanism drawn (sol.plot(), sol.show())
         return sol

@@ -180,3 +180,14 @@ def test_floquet_of_a_constrained_point_still_runs(cartesian):
     expected = np.exp(lin.eigenvalues * 0.5)
     np.testing.assert_allclose(np.sort_complex(f.multipliers), np.sort_complex(expected),
                                atol=1e-9)  # fmt: skip
+
+
+def test_a_model_guesses_only_the_coordinates_q0_leaves_out():
+    """``Model.simulate`` passes its default ``guess`` for the coordinates ``q0`` omits: a user
+    who gives every coordinate is not refused for a guess they never passed."""
+    m = models.sliding_ladder()
+    L, theta = float(m.params[m.symbols["L"]]), 0.3
+    x_c, y_c = (L / 2) * math.sin(theta), (L / 2) * math.cos(theta)
+    full = m.simulate((0, 0.2), q0={"x_c": x_c, "y_c": y_c, "theta": theta})
+    part = m.simulate((0, 0.2))  # theta alone: x_c, y_c solved from the model's guess
+    np.testing.assert_allclose(full.q, part.q, rtol=0, atol=1e-12)
