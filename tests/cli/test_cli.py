@@ -457,6 +457,37 @@ def test_ensemble_example_writes_statistics_against_the_exact_flips(tmp_path, ca
     ds.close()
 
 
+def test_ensemble_statistics_are_over_the_samples_kept_or_not(tmp_path, capsys):
+    """``[time].samples`` sets the times the members' statistics run over, whether their
+    states are kept or not (the command line had dropped them without ``keep_states``: the
+    drifts compared only t0 and t1). The energy errors equal the largest relative change of
+    ½ ω·Iω over the kept samples, computed here from the states themselves."""
+    from scipy.io import netcdf_file
+
+    from poinsot.app.scenario import example_text
+
+    text = example_text("tennis-racket-ensemble")
+    text = re.sub(r"members = \d+", "members = 20", text)
+    errors = {}
+    for keep in (False, True):
+        path = tmp_path / f"e{keep}.toml"
+        path.write_text(
+            text.replace("[ensemble]", f"[ensemble]\nkeep_states = {str(keep).lower()}")
+        )
+        assert main(["run", str(path), "--out", str(tmp_path / f"o{keep}"), "--quiet"]) == 0
+        summary = json.loads((tmp_path / f"o{keep}" / "summary.json").read_text())
+        assert summary["ensemble"]["samples"] == 201  # [time]'s default
+        with netcdf_file(tmp_path / f"o{keep}" / "ensemble.nc", "r", mmap=False) as nc:
+            errors[keep] = nc.variables["energy_error"].data.copy()
+            if keep:
+                w = nc.variables["omega"].data  # (member, time, axis), body frame
+                I = np.array([0.00121, 0.01638, 0.01748])
+                E = 0.5 * np.einsum("mti,i,mti->mt", w, I, w)
+                mine = np.abs(E / E[:, :1] - 1).max(axis=1)
+    np.testing.assert_array_equal(errors[False], errors[True])
+    np.testing.assert_allclose(errors[True], mine, rtol=1e-6, atol=1e-15)
+
+
 def test_polhodes_refuses_conflicting_energy_and_honours_omega0(tmp_path, capsys):
     """--energy and --omega0 that disagree are refused; with --omega0 alone the figure's
     ellipsoid is the energy of ω0, the value polhodes.json reports (issue 12/13)."""

@@ -595,12 +595,11 @@ def _prepared_rigid(s: Scenario):
                        t_eval=s.t_eval)  # fmt: skip
     from ..ensemble import prepare_ensemble
 
-    keep = s.ensemble["keep_states"]
+    # the members' statistics (drifts, errors) are over the [time] samples, kept or not
     return prepare_ensemble(s.body, s.t_span, forces=s.forces,
                             pivot=s.pivot, method=s.method, dt=s.dt,
-                            rtol=s.rtol, atol=s.atol,
-                            t_eval=s.t_eval if keep else None,
-                            keep_states=keep)  # fmt: skip
+                            rtol=s.rtol, atol=s.atol, t_eval=s.t_eval,
+                            keep_states=s.ensemble["keep_states"])  # fmt: skip
 
 
 def _prepared_relative(s: Scenario):
