@@ -204,6 +204,16 @@ GOOD = "\n" + BOX_SCENARIO
             GOOD + '[ensemble]\nmembers = 10\ndistribution = "sphere"\nspeed = 1\nsed = 3\n',
             r"ensemble\.sed: unknown key.*seed",
         ),
+        (
+            GOOD
+            + '[ensemble]\nmembers = 10\ndistribution = "sphere"\nspeed = 1\nstd = [1, 0, 0]\n',
+            r"ensemble\.std: not used with distribution = 'sphere'; it belongs to 'gaussian'",
+        ),
+        (
+            GOOD + '[ensemble]\nmembers = 10\ndistribution = "gaussian"\nstd = [1, 0, 0]\n'
+            "speed = 3\n",
+            r"ensemble\.speed: not used with distribution = 'gaussian'; it belongs to 'sphere'",
+        ),
     ],
 )
 def test_malformed_scenarios_exit_2_naming_the_key(text, match, tmp_path, capsys):
@@ -280,6 +290,26 @@ def test_polhodes_command(tmp_path, capsys):
     assert (out / "polhodes.png").exists() and (out / "energy_ellipsoid.png").exists()
     assert main(["polhodes", "--moments", "1", "1", "3", "--out", str(tmp_path / "q")]) == 2
     assert "I1 + I2 ≥ I3" in capsys.readouterr().err
+
+
+def test_polhodes_json_pairs_omega0_with_the_moments_it_lists(tmp_path, capsys):
+    """Unsorted ``--moments``: ``omega0`` is listed along the sorted principal axes, as
+    ``principal_moments`` are (the report labels it so), so that ½ Σ I ω² of the two lists is
+    the energy; ``omega0_given`` is ω0 as given. ``--energy`` alone is reported too."""
+    args = ["polhodes", "--moments", "3", "1", "2", "--omega0", "0.05", "0.1", "1", "--json"]
+    assert main([*args, "--out", str(tmp_path / "a")]) == 0
+    r = json.loads(capsys.readouterr().out)
+    I, w = np.array(r["principal_moments"]), np.array(r["omega0"])
+    assert r["omega0_given"] == [0.05, 0.1, 1.0]
+    np.testing.assert_allclose(np.abs(w), [0.1, 1.0, 0.05], rtol=0, atol=0)
+    assert 0.5 * I @ w**2 == pytest.approx(r["energy"], rel=1e-14)
+    assert 0.5 * np.array([3, 1, 2]) @ np.array(r["omega0_given"]) ** 2 == pytest.approx(
+        r["energy"], rel=1e-14
+    )
+    assert r["flips"]  # near the intermediate axis (body z, moment 2): the tennis racket
+    base = ["polhodes", "--moments", "1", "2", "3", "--energy", "2", "--json"]
+    assert main([*base, "--out", str(tmp_path / "b")]) == 0
+    assert json.loads(capsys.readouterr().out)["energy"] == 2.0
 
 
 def test_negative_numbers_in_scientific_notation_are_values(tmp_path, capsys):

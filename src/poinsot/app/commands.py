@@ -261,7 +261,10 @@ def cmd_polhodes(args):
         w0 = np.array(args.omega0, dtype=float)
         if not np.all(np.isfinite(w0)) or not np.any(w0):
             raise BadInput("--omega0: expected three finite numbers, not all zero")
-        result["omega0"] = w0.tolist()
+        # ω0 along the sorted principal axes, as principal_moments are listed (the label
+        # says so), and as given, along the axes of --moments
+        result["omega0"] = free.principal_components(w0).tolist()
+        result["omega0_given"] = w0.tolist()
         result.update(free.describe(w0))
         k = result["energy"]
         if energy is not None and not math.isclose(energy, k, rel_tol=1e-9):
@@ -273,6 +276,7 @@ def cmd_polhodes(args):
     energy = 0.5 if energy is None else energy
     if not energy > 0:
         raise BadInput(f"--energy: expected a positive number, found {energy}")
+    result.setdefault("energy", energy)  # the drawn ellipsoid's, given or by default
     try:
         free.check_energy_range(energy)
     except ValueError as exc:

@@ -496,6 +496,11 @@ def _parse(data: dict, source: str, base_dir: Path):
 MAX_MEMBERS = 10**8
 
 
+#: The keys of the other distribution than ``distribution``: ``sphere`` draws spins of one
+#: ``speed``, ``gaussian`` about a ``mean`` with ``std``.
+_OTHER_DISTRIBUTION_KEYS = {"sphere": ("mean", "std"), "gaussian": ("speed",)}
+
+
 def _ensemble(et: _Table, initial: dict) -> dict:
     """``[ensemble]``: how many members, their distribution of initial spins, the seed."""
     from ..ensemble.sampling import DISTRIBUTIONS
@@ -519,6 +524,11 @@ def _ensemble(et: _Table, initial: dict) -> dict:
     if out["seed"] != int(out["seed"]):
         raise ScenarioError(f"{et.where('seed')}: expected an integer, found {out['seed']}")
     out["seed"] = int(out["seed"])
+    for key in _OTHER_DISTRIBUTION_KEYS[out["distribution"]]:
+        if key in et.data:
+            other = "gaussian" if out["distribution"] == "sphere" else "sphere"
+            raise ScenarioError(f"{et.where(key)}: not used with distribution = "
+                                f"{out['distribution']!r}; it belongs to {other!r}")  # fmt: skip
     if out["distribution"] == "sphere":
         out["speed"] = et.get("speed", "positive", unit="rad/s")
     else:

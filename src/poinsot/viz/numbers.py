@@ -162,6 +162,7 @@ POLHODES = (
     ("Body", "principal moments A ≤ B ≤ C", "principal_moments", "kg·m²"),
     ("Body", "symmetry", "symmetry", ""),
     ("Initial state", "angular velocity ω₀ (principal frame)", "omega0", "rad/s"),
+    ("Initial state", "ω₀ as given (the axes of --moments)", "omega0_given", "rad/s"),
     ("Torque-free motion", "polhode family", "family", ""),
     ("Torque-free motion", "rotational energy k of the drawn ellipsoid", "energy", "J"),
     ("Torque-free motion", "|L|", "momentum", "kg·m²/s"),
