@@ -65,12 +65,36 @@ class Exportable:
 
     t: np.ndarray
     method: str
+    backend: str
+    success: bool
+    message: str
+    nfev: int
+    nsteps: int
+    wall_time: float
+    body: object
 
     def variables(self) -> dict:  # pragma: no cover - each result defines its own
         raise NotImplementedError
 
     def summary(self) -> dict:  # pragma: no cover - each result defines its own
         raise NotImplementedError
+
+    def _run_summary(self) -> dict:
+        """The part of :meth:`summary` every run has: how it ran, its span, its body."""
+        return {
+            "method": self.method,
+            "backend": self.backend,
+            "success": self.success,
+            "message": self.message,
+            "samples": len(self.t),
+            "t_start": float(self.t[0]) if len(self.t) else None,
+            "t_end": float(self.t[-1]) if len(self.t) else None,
+            "nfev": int(self.nfev),
+            "nsteps": int(self.nsteps),
+            "wall_time_s": float(self.wall_time),
+            "mass": self.body.mass,
+            "principal_moments": self.body.principal_moments.tolist(),
+        }
 
     def _table_fields(self, table) -> dict:
         """The fields ``name → (dims, values, attrs)`` of one table of exported fields
@@ -537,21 +561,7 @@ class Trajectory(Exportable, SensitivityMixin, Displayable):
 
     def summary(self) -> dict:
         """A JSON-ready summary: the run, the body and the diagnostics."""
-        return {
-            "method": self.method,
-            "backend": self.backend,
-            "success": self.success,
-            "message": self.message,
-            "samples": len(self.t),
-            "t_start": float(self.t[0]) if len(self.t) else None,
-            "t_end": float(self.t[-1]) if len(self.t) else None,
-            "nfev": int(self.nfev),
-            "nsteps": int(self.nsteps),
-            "wall_time_s": float(self.wall_time),
-            "mass": self.body.mass,
-            "principal_moments": self.body.principal_moments.tolist(),
-            "diagnostics": self.diagnostics(),
-        }
+        return {**self._run_summary(), "diagnostics": self.diagnostics()}
 
     # ----------------------------------------------------------------- export
     def variables(self) -> dict:

@@ -560,18 +560,7 @@ class RelativeTrajectory(Exportable, SensitivityMixin, Displayable):
         """A JSON-ready summary: the run, the body and the carrier."""
         ratio = self.hodograph_ratio() if self.system.balance_transport else None
         return {
-            "method": self.method,
-            "backend": self.backend,
-            "success": self.success,
-            "message": self.message,
-            "samples": len(self.t),
-            "t_start": float(self.t[0]) if len(self.t) else None,
-            "t_end": float(self.t[-1]) if len(self.t) else None,
-            "nfev": int(self.nfev),
-            "nsteps": int(self.nsteps),
-            "wall_time_s": float(self.wall_time),
-            "mass": self.body.mass,
-            "principal_moments": self.body.principal_moments.tolist(),
+            **self._run_summary(),
             "carrier": repr(self.carrier),
             "balance_transport": self.system.balance_transport,
             "hold_com": self.system.hold_com,
