@@ -16,6 +16,7 @@ import pytest
 from poinsot import FreeRigidBody, Gravity, RigidBody, simulate
 from poinsot.app.cli import main
 from poinsot.grade import grade_free, grade_top, read_motion
+from poinsot.identify.log import LogMapError
 from poinsot.tops import heavy_top
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -213,6 +214,20 @@ def test_csv_with_quaternion_or_matrix_columns_and_npz_read_the_same(tmp_path):
     for m in (a, b, c):
         np.testing.assert_allclose(m.Q, Q, atol=1e-15)
         np.testing.assert_array_equal(m.omega, w)
+
+
+@pytest.mark.parametrize("count", [1, 3, 5, 8])
+def test_attitude_columns_given_as_options_are_checked_as_a_maps(tmp_path, count):
+    """``attitude=`` (``--attitude``) of neither four nor nine columns is refused by name, as
+    ``columns.attitude`` of a map file is (it had reached NumPy's reshape)."""
+    t = np.linspace(0.0, 1.0, 11)
+    w, Q = _exact(t)
+    _write_csv(tmp_path / "q.csv", t, w, Q)
+    with pytest.raises(LogMapError, match=r"`attitude` must list four quaternion columns"):
+        read_motion(tmp_path / "q.csv", gyro=("wx", "wy", "wz"),
+                    attitude=("qw", "qx", "qy", "qz", "qw", "qx", "qy", "qz")[:count])  # fmt: skip
+    with pytest.raises(LogMapError, match=r"`gyro` must list three columns"):
+        read_motion(tmp_path / "q.csv", gyro=("wx", "wy"))
 
 
 def test_poinsots_own_csv_export_needs_no_options(tmp_path):

@@ -219,6 +219,25 @@ def test_rotation_objects_and_scalar_last_quaternions():
         np.testing.assert_allclose(other.Q, ref.Q, atol=1e-14)
 
 
+def test_scalar_first_without_a_quaternion_is_refused():
+    """``scalar_first`` orders a quaternion's numbers: beside a matrix, a Rotation, no ``Q0``
+    or a whole state ``y0`` it has no effect, and is refused."""
+    from scipy.spatial.transform import Rotation
+
+    from poinsot.simulation import prepare
+
+    w0 = (0.1, 1.0, 0.2)
+    for Q0, what in ((np.eye(3), r"has shape \(3, 3\)"), (Rotation.identity(), "Rotation"),
+                     (None, "none is given")):  # fmt: skip
+        with pytest.raises(
+            ValueError, match=f"`scalar_first` applies to a quaternion `Q0`.*{what}"
+        ):
+            simulate(BODY, (0, 1), omega0=w0, Q0=Q0, scalar_first=False)
+    p = prepare(BODY, (0, 1))
+    with pytest.raises(ValueError, match="`scalar_first` has no effect with `y0`"):
+        p.run(y0=p.initial_state(omega0=w0), scalar_first=False)
+
+
 def test_method_names_are_case_insensitive_and_trajectory_reports_success():
     traj = simulate(BODY, (0, 1), omega0=(0, 1, 0.1), method="DOP853")
     assert traj.success is True and isinstance(traj.message, str)
@@ -293,19 +312,22 @@ def test_a_huge_quaternion_is_refused_without_a_warning():
 
 
 def test_an_omega_whose_square_overflows_fails_cleanly():
-    """ω = 1e200: Euler's equation overflows; the run fails with its named error, and no
-    numpy overflow warning escapes on the way (the degenerate-spin check used |ω|²)."""
+    """ω = 1e200: Euler's equation overflows at the start; the run is refused up front naming
+    the rate (it had been left to the step-size control, "the step size fell below the
+    resolution of t = 0"), and no numpy overflow warning escapes on the way (the
+    degenerate-spin check used |ω|²)."""
     import warnings
 
     import numpy as np
 
-    from poinsot import RigidBody, SimulationError, simulate
+    from poinsot import RigidBody, simulate
 
     body = RigidBody(1.0, np.diag([1.0, 2.0, 3.0]))
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)
-        with pytest.raises(SimulationError, match="step size fell below"):
-            simulate(body, (0, 1), omega0=(1e200, 1e200, 1e200), method="dop853")
+        for w in (1e200, 1e308):
+            with pytest.raises(ValueError, match="the rate of omega is not finite at the initial"):
+                simulate(body, (0, 1), omega0=(w, w, w), method="dop853")
 
 
 def test_a2_over_2k_of_huge_moments_is_finite():

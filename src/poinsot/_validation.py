@@ -202,9 +202,15 @@ def _rotation_input(value, name: str, scalar_first: bool = True) -> np.ndarray:
     """An array from a rotation input: a ``scipy.spatial.transform.Rotation`` (one or many,
     as matrices), or numbers; quaternions come back scalar-first."""
     if type(value).__name__ == "Rotation" and hasattr(value, "as_matrix"):
+        if not scalar_first:
+            raise ValueError(f"`scalar_first` applies to a quaternion `{name}`; this one is a "
+                             "scipy Rotation: omit it")  # fmt: skip
         return np.asarray(value.as_matrix(), dtype=float)
     arr = _real_array(value, name)
-    if not scalar_first and arr.ndim in (1, 2) and arr.shape[-1] == 4:
+    if not scalar_first:
+        if not (arr.ndim in (1, 2) and arr.shape[-1] == 4):
+            raise ValueError(f"`scalar_first` applies to a quaternion `{name}` (4 numbers); "
+                             f"this one has shape {arr.shape}: omit it")  # fmt: skip
         arr = np.roll(arr, 1, axis=-1)  # (x, y, z, w) → (w, x, y, z)
     return arr
 

@@ -177,6 +177,8 @@ class PreparedRun:
             raise ValueError("`omega0` must be given (or `particle_velocities`)")
         if Q0 is not None:  # a Rotation, or SciPy's quaternion order, as an array
             Q0 = _rotation_input(Q0, "Q0", scalar_first)
+        elif not scalar_first:
+            raise ValueError("`scalar_first` applies to a quaternion `Q0`; none is given: omit it")
         y0 = self.system.initial_state(omega0=omega0, Q0=Q0, R0=R0, V0=V0,
                                        omega_frame=omega_frame)  # fmt: skip
         _check_forces_at_start(self.system, self.settings.t0, y0)
@@ -197,6 +199,9 @@ class PreparedRun:
                                     particle_velocities=particle_velocities,
                                     scalar_first=scalar_first)  # fmt: skip
         else:
+            if not scalar_first:
+                raise ValueError("`scalar_first` has no effect with `y0` (Q is a matrix in "
+                                 "it): omit it")  # fmt: skip
             y0 = self._given_state(y0, omega0=omega0, Q0=Q0, R0=R0, V0=V0,
                                    particle_velocities=particle_velocities,
                                    omega_frame=omega_frame)  # fmt: skip
@@ -446,6 +451,15 @@ def _check_forces_at_start(system, t0, y0):
     for i, (f, (F, tau)) in enumerate(zip(system.forces, wrenches, strict=True)):
         if not (np.all(np.isfinite(F)) and np.all(np.isfinite(tau))):
             raise ForceUndefinedError(i, f.name)
+    with np.errstate(all="ignore"):
+        rates = system.rhs(t0, y0)
+    if not np.all(np.isfinite(rates)):  # the forces are finite: the motion's own terms overflow
+        from .layout import STATE_SLICES
+
+        part = next(k for k, sl in STATE_SLICES.items() if not np.all(np.isfinite(rates[sl])))
+        raise ValueError(f"the rate of {part} is not finite at the initial state: the state "
+                         "is beyond the double range (ω × Iω, or ω², overflows); choose other "
+                         "units")  # fmt: skip
 
 
 def _trajectory(result, system) -> Trajectory:

@@ -164,7 +164,11 @@ class LogMap:
         for key in changes:
             if key not in names:
                 raise LogMapError(f"unknown map key `{key}`")
-        return replace(self, **{k: v for k, v in changes.items() if v is not None})
+        changes = {k: v for k, v in changes.items() if v is not None}
+        for key, check in _COLUMN_CHECKS.items():  # as a map file's columns are checked
+            if key in changes:
+                changes[key] = check(changes[key], key)
+        return replace(self, **changes)
 
 
 def _column(value, name: str) -> Column:
@@ -188,6 +192,11 @@ def _attitude_columns(value, name: str) -> tuple:
         raise LogMapError(f"`{name}` must list four quaternion columns (w, x, y, z) or nine "
                           f"matrix columns (row by row), found {value!r}")  # fmt: skip
     return tuple(_column(v, f"{name}[{i}]") for i, v in enumerate(value))
+
+
+#: The checks of the column keys, the same for a map file's ``[columns]`` and for options.
+_COLUMN_CHECKS = {"time": _column, "gyro": _three, "accel": _three, "rotor_speed": _column,
+                  "attitude": _attitude_columns}  # fmt: skip
 
 
 def load_map(path) -> LogMap:

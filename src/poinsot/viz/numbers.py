@@ -91,6 +91,8 @@ RIGID = (
     ("Heavy top: closed form (Lagrange's top from the first sample)", "mean precession rate",
      "top.exact.mean_precession_rate", "rad/s"),
     ("Torque-free motion", "polhode family", "torque_free.family", ""),
+    ("Torque-free motion", "rotational energy k", "torque_free.energy", "J"),
+    ("Torque-free motion", "|L|", "torque_free.momentum", "kg·m²/s"),
     ("Torque-free motion", "period of ω(t)", "torque_free.period", "s"),
     ("Torque-free motion", "time between sign changes of ω·e₂ (half the period)",
      "torque_free.flip_interval", "s"),
