@@ -29,6 +29,9 @@ __all__ = ["build_lagrangian_model"]
 
 #: The keys of ``[lagrangian]`` (``docs/scenario-reference.md`` lists them from the reads).
 ENERGY_KEYS = ("lagrangian", "kinetic", "potential")
+#: The units a coordinate may be declared in: lengths and angles, in SI (``lagrangian.q0``
+#: converts a quantity such as ``"20 deg"`` or ``"5 cm"`` to them).
+COORDINATE_UNITS = ("m", "rad")
 
 
 def _sp():
@@ -111,7 +114,7 @@ def build_lagrangian_model(lt: _Table, name: str, description: str):
     _read_inputs(lt, names, symbols, t)
     # ---------------------------------------------------------------- the system
     kwargs = _read_energies(lt, names)
-    bodies, points = _read_bodies(lt, names)
+    bodies, points, positive = _read_bodies(lt, names)
     if not (kwargs or bodies):
         raise ScenarioError(f"{lt.path}: give kinetic (and potential) energy, the lagrangian, or "
                             "[[lagrangian.bodies]]")  # fmt: skip
@@ -131,9 +134,75 @@ def build_lagrangian_model(lt: _Table, name: str, description: str):
     guess = _values(lt, "guess", coords, units, "")
     reactions = _read_reactions(lt, names, system)
     points, links, outline, view, trail = _read_drawing(lt, names, symbols, t, points)
+    _check_positive(positive, params)
+    # every parameter has an effect or is refused; the system takes those of its equations,
+    # the others (a drawing's size, a reaction's factor) are put in as numbers where used
+    used = _free_symbols(kwargs, bodies, constraints, forces, hidden, reactions, points,
+                         outline)  # fmt: skip
+    for pname, sym in symbols.items():
+        if sym in params and sym not in used:
+            raise ScenarioError(f"{lt.where('parameters')}.{pname}: used by nothing (not by the "
+                                "energies, the bodies, the constraints, the forces, the "
+                                "reactions or the drawing): remove it")  # fmt: skip
+    taken = set(system.parameters)
+    fixed = {sym: sp.Float(v) for sym, v in params.items() if sym not in taken}
+    if fixed:
+        reactions = {k: (e.xreplace(fixed), u, m) for k, (e, u, m) in reactions.items()}
+        points = {k: tuple(sp.sympify(c).xreplace(fixed) for c in p) for k, p in points.items()}
+        outline = {k: [tuple(sp.sympify(c).xreplace(fixed) for c in v) for v in vs]
+                   for k, vs in outline.items()}  # fmt: skip
+    params = {sym: v for sym, v in params.items() if sym in taken}
+    param_units = {sym: u for sym, u in param_units.items() if sym in taken}
     return Model(name, description, system, {**coords, **symbols}, params, q0, qd0,
                  guess=guess, reactions=reactions, points=points, links=links, outline=outline,
                  view=view, trail=trail, param_units=param_units)  # fmt: skip
+
+
+def _free_symbols(*objects) -> set:
+    """The free symbols of every expression in ``objects`` (expressions, matrices, bodies,
+    hidden constraints, and lists, tuples and dicts of them)."""
+    sp, _ = _sp()
+    out, stack = set(), list(objects)
+    while stack:
+        obj = stack.pop()
+        if isinstance(obj, sp.Basic | sp.MatrixBase):
+            out |= obj.free_symbols
+        elif isinstance(obj, dict):
+            stack += list(obj.values())
+        elif isinstance(obj, list | tuple):
+            stack += list(obj)
+        elif isinstance(obj, int | float | str) or obj is None:
+            continue
+        else:  # a point mass, a rigid body's namespace, a hidden constraint
+            stack += [v for v in getattr(obj, "__dict__", {}).values() if not callable(v)]
+    return out
+
+
+def _check_positive(positive, params):
+    """The bodies' masses and moments of inertia, ``(where, expression or matrix)``, positive
+    (a matrix: symmetric, positive definite) once the parameters' values are put in; one that
+    still depends on the coordinates or the time is not checked."""
+    import numpy as np
+
+    sp, _ = _sp()
+    values = {sym: sp.Float(v) for sym, v in params.items()}
+    for where, expr in positive:
+        x = expr.xreplace(values)
+        if isinstance(x, sp.MatrixBase):
+            if not all(c.is_number for c in x):
+                continue
+            A = np.array(x.evalf(), dtype=float)
+            if not np.allclose(A, A.T, rtol=1e-12, atol=0.0):
+                raise ScenarioError(f"{where}: an inertia matrix must be symmetric, found "
+                                    f"{A.tolist()}")  # fmt: skip
+            moments = np.linalg.eigvalsh(A)
+            if not moments.min() > 0:
+                raise ScenarioError(f"{where}: an inertia matrix must be positive definite "
+                                    f"(principal moments > 0), found principal moments "
+                                    f"{moments.tolist()} with the parameters' values")  # fmt: skip
+        elif x.is_number and not float(x) > 0:
+            raise ScenarioError(f"{where}: must be positive, found {expr} = {float(x):g} with "
+                                "the parameters' values")  # fmt: skip
 
 
 def _read_coordinates(lt: _Table):
@@ -145,6 +214,14 @@ def _read_coordinates(lt: _Table):
     for cname in coord_table.data:
         unit = coord_table.get(cname, "string")
         _check_name(cname, coord_table.where(cname))
+        if unit not in COORDINATE_UNITS:  # the equations are integrated in SI units
+            example = f'q0 = {{ {cname} = "20 {unit.strip()}" }}' if unit.strip() else "q0"
+            raise ScenarioError(
+                f"{coord_table.where(cname)}: a coordinate's unit must be "
+                f"{' or '.join(map(repr, COORDINATE_UNITS))} (the equations are integrated in "
+                f"SI units), found {unit!r}; initial values may still be given in another "
+                f"unit as quantities, converted ({example})"
+            )
         q = dynamicsymbols(cname)
         coords[cname], units[q] = q, unit
     coord_table.finish()
@@ -211,24 +288,27 @@ def _read_energies(lt: _Table, names):
 
 
 def _read_bodies(lt: _Table, names):
-    """The ``[[bodies]]``, point masses or rigid bodies, and the named ones' positions as
-    points to draw."""
+    """The ``[[bodies]]``, point masses or rigid bodies, the named ones' positions as points
+    to draw, and ``(key path, expression)`` of the masses and inertia matrices, to be positive
+    (:func:`_check_positive`)."""
     from ..lagrange import PointMass
 
-    bodies, points = [], {}
+    bodies, points, positive = [], {}, []
     for bt in lt.tables("bodies"):
         kind = bt.get("type", "string", "point", choices=("point", "rigid"))
         label = bt.get("name", "string", None)  # named: drawn as a point of the mechanism
         mass = _expr(bt.get("mass", "expression"), names, bt.where("mass"))
+        positive.append((bt.where("mass"), mass))
         position = _exprs(bt, "position", names, 3)
         if kind == "point":
             bodies.append(PointMass(mass, position))
         else:  # T = ½ M |Ṙ|² + ½ ωᵀ A ω, ω from the orientation (the library forms it)
             bodies.append(_rigid(bt, mass, position, names))
+            positive.append((bt.where("inertia"), bodies[-1][0].inertia))
         bt.finish()
         if label is not None:
             points[label] = tuple(position)
-    return bodies, points
+    return bodies, points, positive
 
 
 def _read_forces(lt: _Table, coords, names):

@@ -13,6 +13,13 @@ from .arguments import input_values
 __all__ = ["LagrangianSolution"]
 
 
+def generalized_force_unit(coordinate_unit: str) -> str:
+    """The unit of a generalized force conjugate to a coordinate in ``coordinate_unit``: the
+    work per unit of the coordinate (``"N"`` for m, ``"N·m"`` for rad, ``"J"`` for none)."""
+    return {"m": "N", "rad": "N·m", "": "J", "1": "J"}.get(coordinate_unit,
+                                                          f"J/{coordinate_unit}")  # fmt: skip
+
+
 class LagrangianSolution(SensitivityMixin, Displayable):
     """Samples of a Lagrangian motion (with the notebook displays and figures of every
     result: ``_repr_html_``, ``.plot()``, ``.show()``).
@@ -135,6 +142,24 @@ class LagrangianSolution(SensitivityMixin, Displayable):
         return out
 
     # ----------------------------------------------------------------- export
+    def export_units(self) -> dict:
+        """The units of the exported per-coordinate and per-constraint fields, one per column:
+        ``constraint_forces`` (a generalized force, :func:`generalized_force_unit`), and for
+        the constraints, whose units the system does not know, what they are in terms of
+        them: ``multipliers`` (``J/(unit of g1)`` for a holonomic g1 = 0, ``W/(unit of G3 qd +
+        b3)`` for a velocity constraint: ``λ_k G_kj`` is a generalized force),
+        ``constraint_residual`` and ``constraint_velocity_residual``."""
+        m, nh = self.multipliers.shape[1], self.constraint_residual.shape[1]
+        holo = [f"unit of g{k + 1}" for k in range(nh)]
+        rate = [f"unit of G{k + 1} qd + b{k + 1}" for k in range(nh, m)]
+        return {
+            "constraint_forces": [generalized_force_unit(self.system.unit_of(q))
+                                  for q in self.coordinates],
+            "multipliers": [f"J/({u})" for u in holo] + [f"W/({u})" for u in rate],
+            "constraint_residual": holo,
+            "constraint_velocity_residual": [f"({u})/s" for u in holo] + rate,
+        }  # fmt: skip
+
     def variables(self) -> dict:
         """Every exported field as ``name → (dims, values, attrs)``, coordinates included
         (:meth:`to_netcdf`, :meth:`to_xarray`): ``q``, ``qd``, ``accelerations`` and
@@ -147,6 +172,11 @@ class LagrangianSolution(SensitivityMixin, Displayable):
         units = ", ".join(f"{n}: {self.system.unit_of(q) or '1'}"
                           for n, q in zip(names, self.coordinates, strict=True))  # fmt: skip
         per = {"units_by_coordinate": units}
+        more = self.export_units()
+        forces = ", ".join(f"{n}: {u}" for n, u in zip(names, more["constraint_forces"],
+                                                       strict=True))  # fmt: skip
+        by_constraint = {k: ", ".join(f"{i + 1}: {u}" for i, u in enumerate(v))
+                         for k, v in more.items()}  # fmt: skip
         out = {
             "time": (("time",), self.t, {"units": "s"}),
             "coordinate": (("coordinate",), np.array(names), {}),
@@ -156,22 +186,26 @@ class LagrangianSolution(SensitivityMixin, Displayable):
             "accelerations": (("time", "coordinate"), self.accelerations,
                               {**per, "long_name": "accelerations (per second squared)"}),
             "constraint_forces": (("time", "coordinate"), self.constraint_forces,
-                                  {"long_name": "generalized constraint forces G^T lambda"}),
-            "energy": (("time",), self.energy, {"long_name": "Jacobi integral h"}),
+                                  {"long_name": "generalized constraint forces G^T lambda",
+                                   "units_by_coordinate": forces}),
+            "energy": (("time",), self.energy, {"long_name": "Jacobi integral h", "units": "J"}),
         }  # fmt: skip
         m, nh = self.multipliers.shape[1], self.constraint_residual.shape[1]
         exprs = [str(g) for g in self.system.holonomic] + [
             str(c) for c in getattr(self.system, "nonholonomic", ())]  # fmt: skip
         if m:
             out["constraint"] = (("constraint",), np.array((exprs + [""] * m)[:m]), {})
-            lam = {"long_name": "Lagrange multipliers, sign as in (6.60)"}
+            lam = {"long_name": "Lagrange multipliers, sign as in (6.60)",
+                   "units_by_constraint": by_constraint["multipliers"]}  # fmt: skip
             out["multipliers"] = (("time", "constraint"), self.multipliers, lam)
-            out["constraint_velocity_residual"] = (("time", "constraint"),
-                                                   self.constraint_velocity_residual,
-                                                   {"long_name": "G qd + b"})  # fmt: skip
+            out["constraint_velocity_residual"] = (
+                ("time", "constraint"), self.constraint_velocity_residual,
+                {"long_name": "G qd + b",
+                 "units_by_constraint": by_constraint["constraint_velocity_residual"]})  # fmt: skip
         if nh:
             out["holonomic_constraint"] = (("holonomic_constraint",), np.array(exprs[:nh]), {})
-            g = {"long_name": "g(q, t)"}
+            g = {"long_name": "g(q, t)",
+                 "units_by_constraint": by_constraint["constraint_residual"]}  # fmt: skip
             out["constraint_residual"] = (("time", "holonomic_constraint"),
                                           self.constraint_residual, g)  # fmt: skip
         if self.sensitivities is not None:

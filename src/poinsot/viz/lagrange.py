@@ -111,6 +111,8 @@ def plot_lagrangian_solution(sol, *, model=None, title=None):
 def plot_mechanism_frames(model, sol, *, frames=6, ax=None):
     """The mechanism drawn at a few instants, later ones darker (a stroboscope), from the
     model's geometry: points, links and fixed outlines, in metres, equal axes."""
+    if not model.points:
+        raise ValueError("the model has no points to draw (name a body, or give [draw] points)")
     plt = _plt()
     names, P = model.positions(sol)
     index = {n: k for k, n in enumerate(names)}

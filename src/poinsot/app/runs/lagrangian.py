@@ -46,42 +46,24 @@ class LagrangianRun(Run):
 
     def write_data(self, folder, summary):
         sol, model = self.result, self.scenario.model
-        names = [str(q).replace("(t)", "") for q in sol.coordinates]
+        fields = solution_fields(sol, model)
         reactions = model.reaction_values(sol)
         atomic_savez(
             folder / "solution.npz",
-            t=sol.t,
-            q=sol.q,
-            qd=sol.qd,
-            multipliers=sol.multipliers,
-            constraint_forces=sol.constraint_forces,
-            constraint_residual=sol.constraint_residual,
-            constraint_velocity_residual=sol.constraint_velocity_residual,
-            energy=sol.energy,
-            coordinates=np.array(names),
-            units=np.array(json.dumps(summary["units"])),
+            **{name: values for name, (values, _, _) in fields.items()},
+            coordinates=np.array([_name(q) for q in sol.coordinates]),
+            constraints=np.array(_constraint_texts(sol.system), dtype=str),
+            reaction_names=np.array(list(reactions), dtype=str),
+            units=np.array(json.dumps({name: units for name, (_, _, units) in fields.items()})),
         )
-        units = _coordinate_units(sol)
-        header = (
-            ["t [s]"]
-            + [f"{n} [{units[n]}]" if units[n] else n for n in names]
-            + [f"{n}_dot [{units[n + '_dot']}]" for n in names]
-            + [f"lambda{k + 1}" for k in range(sol.multipliers.shape[1])]
-            + [f"{n} [{u}]" for n, (_, u, _) in reactions.items()]
-            + ["energy_h [J]"]
-        )
-        table = np.column_stack(
-            [
-                sol.t,
-                sol.q,
-                sol.qd,
-                sol.multipliers,
-                *[v for v, _, _ in reactions.values()],
-                sol.energy,
-            ]
-        )
+        header, columns = [], []
+        for values, labels, units in fields.values():
+            per_column = [units] * len(labels) if isinstance(units, str) else units
+            header += [f"{c} [{u}]" for c, u in zip(labels, per_column, strict=True)]
+            columns.append(values.reshape(len(sol.t), -1))
         with atomic_path(folder / "solution.csv") as tmp:
-            np.savetxt(tmp, table, delimiter=",", header=",".join(header), comments="", fmt="%.17g")
+            np.savetxt(tmp, np.column_stack(columns), delimiter=",", header=",".join(header),
+                       comments="", fmt="%.17g")  # fmt: skip
 
     interactive_report = True
     report_links = ("summary.json", "solution.npz", "solution.csv")
@@ -97,7 +79,9 @@ class LagrangianRun(Run):
         def figures():  # one at a time: each is drawn, rendered and closed before the next
             yield (plot_lagrangian_solution(sol, model=model, title=model.description),
                    "solution.png", "The coordinates, the reactions and the residuals")  # fmt: skip
-            yield plot_mechanism_frames(model, sol), "mechanism.png", "The mechanism at a few times"
+            if model.points:  # nothing to draw (no named body, no [draw]): no mechanism figure
+                yield (plot_mechanism_frames(model, sol), "mechanism.png",
+                       "The mechanism at a few times")  # fmt: skip
 
         return png_images(figures(), folder, dpi=110)
 
@@ -138,14 +122,56 @@ class LagrangianRun(Run):
         return lines
 
 
+def _name(q) -> str:
+    return str(q).replace("(t)", "")
+
+
+def _constraint_texts(system) -> list[str]:
+    """The constraints as text, in the multipliers' order (holonomic and one-sided g = 0,
+    then the velocity constraints)."""
+    from sympy.physics.vector.printing import vsprint  # q̇ printed as q'
+
+    return [vsprint(c) for c in (*system.holonomic, *system.nonholonomic)]
+
+
 def _coordinate_units(sol):
     """``{name: unit}`` of the coordinates and ``{name_dot: unit/s}`` of their speeds."""
     units = {}
     for q in sol.coordinates:
-        name, unit = str(q).replace("(t)", ""), sol.system.unit_of(q)
+        name, unit = _name(q), sol.system.unit_of(q)
         units[name] = unit
         units[f"{name}_dot"] = f"{unit}/s" if unit else "1/s"
     return units
+
+
+def solution_fields(sol, model) -> dict:
+    """Every field of solution.npz, as solution.csv carries it too: ``name → (values
+    (n_samples,) or (n_samples, k), column labels, unit or one unit per column)``. A unit the
+    run cannot know (a constraint's, a reaction declared without one) is said in words."""
+    names = [_name(q) for q in sol.coordinates]
+    units = _coordinate_units(sol)
+    more = sol.export_units()
+    m, nh = sol.multipliers.shape[1], sol.constraint_residual.shape[1]
+    reactions = model.reaction_values(sol)
+    values = [v for v, _, _ in reactions.values()]
+    return {
+        "t": (sol.t, ["t"], "s"),
+        "q": (sol.q, names, [units[n] or "unit not given" for n in names]),
+        "qd": (sol.qd, [f"{n}_dot" for n in names], [units[f"{n}_dot"] for n in names]),
+        "multipliers": (sol.multipliers, [f"lambda{k + 1}" for k in range(m)],
+                        more["multipliers"]),
+        "constraint_forces": (sol.constraint_forces, [f"constraint_force_{n}" for n in names],
+                              more["constraint_forces"]),
+        "reactions": (np.column_stack(values) if values else np.zeros((len(sol.t), 0)),
+                      list(reactions), [u or "unit not given" for _, u, _ in reactions.values()]),
+        "constraint_residual": (sol.constraint_residual, [f"g{k + 1}" for k in range(nh)],
+                                more["constraint_residual"]),
+        "constraint_velocity_residual": (
+            sol.constraint_velocity_residual,
+            [f"G{k + 1}_qd_plus_b{k + 1}" for k in range(m)],
+            more["constraint_velocity_residual"]),
+        "energy": (sol.energy, ["energy_h"], "J"),
+    }  # fmt: skip
 
 
 def summarize_lagrangian(scenario, sol) -> dict:
