@@ -187,6 +187,34 @@ def test_the_integrated_matrix_is_graded_not_the_quaternion(tmp_path):
         assert graded["max_orthogonality_error"] == pytest.approx(drift, rel=1e-6)
 
 
+def test_an_attitude_that_does_not_follow_the_gyro_is_named_with_its_likely_cause(tmp_path):
+    """Mislabelled columns grade as large errors; the grade also says the attitude's steps
+    ``Q_kᵀQ_k+1`` do not follow ω Δt and what they follow instead. The exact motion (the
+    closed form, sampled every 10 ms) follows it to the trapezoid's O(Δt²)."""
+    from poinsot.app.grade import gyro_note
+    from poinsot.grade import FOLLOW_RTOL
+    from poinsot.rotation import matrix_from_quat, quat_from_matrix
+
+    t = np.linspace(0.0, 10.0, 1001)
+    w, Q = _exact(t)
+    good = grade_free(t, w, MOMENTS, Q)
+    assert good.gyro_mismatch < 1e-3 and good.gyro_verdict == "" and gyro_note(good.summary()) == ""
+    space = np.einsum("nij,nj->ni", Q, w)  # ω in the space frame, labelled as the body's
+    q = quat_from_matrix(Q)
+    cases = {
+        "space": (space, Q),
+        "transposed": (w, np.swapaxes(Q, 1, 2)),
+        "degrees": (np.degrees(w), Q),
+        "": (w, matrix_from_quat(np.roll(q, -1, axis=1))),  # x, y, z, w read as w, x, y, z
+    }
+    for verdict, (omega, attitude) in cases.items():
+        g = grade_free(t, omega, MOMENTS, attitude)
+        assert g.gyro_mismatch > FOLLOW_RTOL and g.gyro_verdict == verdict, verdict
+        assert gyro_note(g.summary()).startswith("the attitude does not follow the gyro")
+    coarse = grade_free(t[::100], w[::100], MOMENTS, Q[::100])  # 2 rad a step: cannot tell
+    assert coarse.gyro_mismatch is None
+
+
 def _write_csv(path, t, w, Q=None, quaternion=True):
     from poinsot.rotation import quat_from_matrix
 

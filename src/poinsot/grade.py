@@ -150,6 +150,10 @@ class Grade:
         Heavy top: ``"theta"``, ``"psi"``, ``"phi"`` → ``|angle − angle_exact|`` (n,) [rad].
     omega_exact, Q_exact : ndarray
         The exact motion at the same times.
+    gyro_mismatch : float or None
+        How far the attitude's steps are from the gyro's (:func:`gyro_attitude_mismatch`):
+        above :data:`FOLLOW_RTOL` the columns are likely mislabelled; ``gyro_verdict`` says
+        what the steps match instead, if anything.
     """
 
     kind: str
@@ -172,6 +176,8 @@ class Grade:
     #: the exact polhode through ω₀ (m, 3), body frame (free body)
     polhode: np.ndarray | None = None
     omega: np.ndarray | None = None
+    gyro_mismatch: float | None = None
+    gyro_verdict: str = ""
 
     def flip_errors(self) -> np.ndarray:
         """``|t_measured − t_exact|`` of the flips, paired in order (as many as both have)."""
@@ -192,9 +198,12 @@ class Grade:
             "max_omega_error": peak(self.omega_error),
             "max_attitude_error": peak(self.attitude_error),
             "max_orthogonality_error": peak(self.orthogonality_error),
+            "gyro_attitude_mismatch": self.gyro_mismatch,
+            "gyro_attitude_verdict": self.gyro_verdict,
         }
         units = {"t_start": "s", "t_end": "s", "max_omega_error": "rad/s",
-                 "max_attitude_error": "1", "max_orthogonality_error": "1"}  # fmt: skip
+                 "max_attitude_error": "1", "max_orthogonality_error": "1",
+                 "gyro_attitude_mismatch": "1 (relative)"}  # fmt: skip
         if self.kind == "free body":
             flips = self.flip_errors()
             out |= {
@@ -227,6 +236,55 @@ def _attitude_errors(Q, R) -> np.ndarray:
     comparisons use (about the angle between them when small; defined for a ``Q`` that has
     drifted off SO(3), as an integrator's may)."""
     return np.abs(Q - R).max(axis=(1, 2))
+
+
+#: Above this median relative mismatch, the attitude does not follow the gyro.
+FOLLOW_RTOL = 0.05
+
+
+def gyro_attitude_mismatch(t, omega, Q) -> tuple[float | None, str]:
+    """Whether the attitude ``Q`` (n, 3, 3) follows the body-frame ``omega`` (n, 3): the
+    median over the steps of ``|log(Q_kᵀQ_{k+1}) − ½(ω_k + ω_{k+1})Δt| / |½(ω_k +
+    ω_{k+1})Δt|`` (Q̇ = Q ω̂ over one step), and what the increments match when they do not:
+    ``"space"`` (``log(Q_{k+1}Q_kᵀ)``: ω in the space frame), ``"transposed"`` (``log(Q_k
+    Q_{k+1}ᵀ)``: a space → body matrix, or a conjugate quaternion), ``"degrees"`` (``ω·π/180``:
+    a gyro in deg/s), or ``""``. ``(None, "")`` where the attitude turns more than 1 rad a
+    step (its steps are then ambiguous), or the gyro too little to tell."""
+    from .rotation import rotvec_from_matrix
+
+    if Q is None or len(t) < 3:
+        return None, ""
+    step = 0.5 * (omega[1:] + omega[:-1]) * np.diff(t)[:, None]
+    size = np.linalg.norm(step, axis=1)
+    turning = size > 1e-9
+    if turning.sum() < 2:
+        return None, ""
+    step, size = step[turning], size[turning]
+    a, b = Q[:-1][turning], Q[1:][turning]
+    body = rotvec_from_matrix(np.swapaxes(a, 1, 2) @ b)
+    if np.median(np.linalg.norm(body, axis=1)) > 1.0:
+        return None, ""
+
+    def mismatch(increment, scale=1.0):
+        return float(np.median(np.linalg.norm(increment - scale * step, axis=1) / (scale * size)))
+
+    first = mismatch(body)
+    if first <= FOLLOW_RTOL:
+        return first, ""
+    for verdict, increment, scale in (
+        ("space", rotvec_from_matrix(b @ np.swapaxes(a, 1, 2)), 1.0),
+        ("transposed", rotvec_from_matrix(a @ np.swapaxes(b, 1, 2)), 1.0),
+        ("degrees", body, math.pi / 180),
+    ):
+        if mismatch(increment, scale) <= FOLLOW_RTOL:
+            return first, verdict
+    return first, ""
+
+
+def _follows(t, omega, Q) -> dict:
+    """The Grade's ``gyro_mismatch`` and ``gyro_verdict``."""
+    mismatch, verdict = gyro_attitude_mismatch(t, omega, Q)
+    return {"gyro_mismatch": mismatch, "gyro_verdict": verdict}
 
 
 def _crossings(t, x) -> np.ndarray:
@@ -333,6 +391,7 @@ def grade_free(t, omega, inertia, Q=None) -> Grade:
         flips=flips,
         exact_flips=exact,
         flip_interval=interval,
+        **_follows(t, omega, Q),
     )
 
 
@@ -441,4 +500,5 @@ def grade_top(t, omega, Q, top) -> Grade:
         omega_exact=exact.omega,
         Q_exact=exact.Q,
         angle_errors=motion.angle_errors(),
+        **_follows(t, omega, Q),
     )

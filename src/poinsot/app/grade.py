@@ -101,6 +101,27 @@ def _grade_one(path, args, kind, ref):
         raise BadInput(f"{path}: {exc}") from None
 
 
+#: What the attitude's steps match when they do not follow the gyro's body-frame ω.
+_VERDICTS = {
+    "space": "they follow ω taken in the space frame: is the gyro's ω in the body frame?",
+    "transposed": "they follow Qᵀ: is the matrix space → body, or the quaternion conjugate?",
+    "degrees": "they follow ω·π/180: is the gyro in deg/s?",
+    "": "check the attitude's column order (w, x, y, z; a matrix row by row) and frames",
+}
+
+
+def gyro_note(s) -> str:
+    """A line when the attitude's steps do not follow the gyro (``summary()``'s
+    ``gyro_attitude_mismatch`` above :data:`poinsot.grade.FOLLOW_RTOL`), else ""."""
+    from ..grade import FOLLOW_RTOL
+
+    m = s.get("gyro_attitude_mismatch")
+    if m is None or m <= FOLLOW_RTOL:
+        return ""
+    return (f"the attitude does not follow the gyro: its steps Q_kᵀQ_k+1 differ from ω Δt by "
+            f"{100 * m:.3g} % (median); {_VERDICTS[s['gyro_attitude_verdict']]}")  # fmt: skip
+
+
 def lines_of(grade, path) -> list[str]:
     """The grade of one file, as ``poinsot grade`` prints it."""
     s = grade.summary()
@@ -121,6 +142,9 @@ def lines_of(grade, path) -> list[str]:
     if s["max_attitude_error"] is not None:
         out.append(f"attitude      max |Q − Q_exact| = {s['max_attitude_error']:.3e}; "
                    f"max |QᵀQ − I| = {s['max_orthogonality_error']:.3e}")  # fmt: skip
+        note = gyro_note(s)
+        if note:
+            out.append(f"check         {note}")
     if s["kind"] == "free body":
         out += [f"energy        max |k/k₀ − 1| = {s['max_energy_error']:.3e}",
                 f"momentum      max ||L|/|L₀| − 1| = {s['max_momentum_error']:.3e}"]  # fmt: skip
