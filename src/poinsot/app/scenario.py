@@ -347,12 +347,25 @@ def _parse_model(root: _Table, name: str, description: str, source: str) -> Lagr
     q_units = {name: model.system.unit_of(q) for name, q in coords.items()}
     qd_units = {name: f"{u}/s" if u else None for name, u in q_units.items()}
     params = {**model.params, **_by_name(mt, "params", params_known, "parameters", p_units)}
-    q0 = (_by_name(mt, "q0", coords, "coordinates", q_units) if mt.has("q0")
-          else dict(model.q0))  # fmt: skip
+    q0, guess = _model_start(model, _by_name(mt, "q0", coords, "coordinates", q_units))
     qd0 = (_by_name(mt, "qd0", coords, "coordinates", qd_units) if mt.has("qd0")
            else dict(model.qd0))  # fmt: skip
     mt.finish()
-    return _lagrangian_scenario(root, name, description, source, model, params, q0, qd0, "model")
+    return _lagrangian_scenario(root, name, description, source, model, params, q0, qd0, "model",
+                                guess=guess)  # fmt: skip
+
+
+def _model_start(model, given: dict):
+    """``(q0, guess)`` of a ``[model]`` run from the coordinates ``q0`` gives: the model's own
+    values for the others. Without holonomic constraints they are kept; with them, the ones
+    ``q0`` omits are solved for from the constraints, starting from the model's values (its
+    ``q0``, else its ``guess``), and a guess goes only to those."""
+    if not given:
+        return dict(model.q0), dict(model.guess)
+    if not model.system.n_holonomic:
+        return {**model.q0, **given}, {}
+    seed = {**model.guess, **model.q0}
+    return given, {q: v for q, v in seed.items() if q not in given}
 
 
 def _parse_lagrangian(root: _Table, name: str, description: str,
@@ -367,9 +380,12 @@ def _parse_lagrangian(root: _Table, name: str, description: str,
                                 dict(model.q0), dict(model.qd0), "lagrangian")  # fmt: skip
 
 
-def _lagrangian_scenario(root, name, description, source, model, params, q0, qd0, table):
+def _lagrangian_scenario(root, name, description, source, model, params, q0, qd0, table, *,
+                         guess=None):  # fmt: skip
     """The rest of a constrained system's scenario — integrator, time, output — and its run
-    prepared and its initial state made consistent, once, when the file is read."""
+    prepared and its initial state made consistent, once, when the file is read (``guess``:
+    the start of the coordinates solved for; default the model's)."""
+    guess = model.guess if guess is None else guess
     stab_choices = ("baumgarte", "projection", "none")
     method, dt, rtol, atol, more = _integrator(
         root, ("dop853", "rk4"), {"stabilization": ("string", "baumgarte", stab_choices)}
@@ -407,7 +423,7 @@ def _lagrangian_scenario(root, name, description, source, model, params, q0, qd0
             scenario.t_span[0],
             _keyed(q0, system, "q0", allow_missing=system.n_holonomic > 0),
             _keyed(qd0, system, "qd0", allow_missing=True),
-            _keyed(model.guess, system, "guess", allow_missing=True) if model.guess else None,
+            _keyed(guess, system, "guess", allow_missing=True) if guess else None,
         )
     except StepBudgetError as exc:
         raise ScenarioError(_budget_message(exc)) from None
