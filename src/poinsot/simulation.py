@@ -451,6 +451,8 @@ def _check_forces_at_start(system, t0, y0):
     for i, (f, (F, tau)) in enumerate(zip(system.forces, wrenches, strict=True)):
         if not (np.all(np.isfinite(F)) and np.all(np.isfinite(tau))):
             raise ForceUndefinedError(i, f.name)
+    if system.c_forces:  # called by address in the core's loops only: rhs cannot call them
+        return
     with np.errstate(all="ignore"):
         rates = system.rhs(t0, y0)
     if not np.all(np.isfinite(rates)):  # the forces are finite: the motion's own terms overflow
