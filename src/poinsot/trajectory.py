@@ -25,6 +25,7 @@ def _readonly(a):
 
 
 _VEC = ("time", "axis")
+_MAT = ("time", "row", "col")
 _MOMENTUM = {"units": "kg m2/s", "frame": "space"}
 #: The exported fields of the motion, in order (:meth:`Trajectory.variables`):
 #: ``(name, the attribute holding the values, dims, attrs)``.
@@ -33,7 +34,7 @@ _MOTION_VARIABLES = (
                       "long_name": "position of the centre of mass from the space origin"}),
     ("V", "V", _VEC, {"units": "m/s", "frame": "space",
                       "long_name": "velocity of the centre of mass"}),
-    ("Q", "Q", ("time", "row", "col"), {"units": "1", "long_name": "attitude, body → space"}),
+    ("Q", "Q", _MAT, {"units": "1", "long_name": "attitude, body → space"}),
     ("omega", "omega", _VEC, {"units": "rad/s", "frame": "body",
                               "long_name": "angular velocity"}),
     ("omega_space", "omega_space", _VEC, {"units": "rad/s", "frame": "space",

@@ -15,7 +15,7 @@ from ..display import Displayable
 from ..integrate.solve import check_run, solve
 from ..rotation import body_rates_from_euler, euler_from_matrix, euler_rates_from_body
 from ..sensitivity import SensitivityMixin
-from ..trajectory import Exportable, Trajectory, _sensitivity_variables
+from ..trajectory import _MAT, _VEC, Exportable, Trajectory, _sensitivity_variables
 from .carrier import Carrier
 from .moments import coriolis_moment, transport_moment
 from .system import RELATIVE_SLICES, RelativeMotionSystem
@@ -344,8 +344,6 @@ RELATIVE_OUTPUTS = {**{k: v for k, v in RELATIVE_SLICES.items()
                     "state": slice(0, RELATIVE_SIZE)}  # fmt: skip
 
 
-_VEC = ("time", "axis")
-_MAT = ("time", "row", "col")
 #: The exported fields of a relative motion, in order (:meth:`RelativeTrajectory.variables`):
 #: ``(name, the attribute holding the values, dims, attrs)``.
 _RELATIVE_VARIABLES = (
